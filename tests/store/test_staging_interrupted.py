@@ -25,8 +25,9 @@ EXIT_WAIT = 300
 def _writer_script(target, hold):
     return textwrap.dedent(f"""
         import sys, time
-        from gd_analyze.store.staging import install_signal_handlers, staged_output
-        install_signal_handlers()
+        from gd_analyze.store.signals import install
+        from gd_analyze.store.staging import staged_output
+        install()
         with staged_output({str(target)!r}, ("big.bin",)) as stage:
             (stage / "big.bin").write_bytes(b"x" * 100000)
             print("staged", flush=True)
@@ -78,8 +79,9 @@ def _mover_script(target, hold, mount=False):
     return textwrap.dedent(f"""
         import os, time
         from gd_analyze.store import staging
-        from gd_analyze.store.staging import install_signal_handlers, staged_output
-        install_signal_handlers()
+        from gd_analyze.store.signals import install
+        from gd_analyze.store.staging import staged_output
+        install()
         target = os.path.realpath({str(target)!r})
         if {mount!r}:
             ismount = os.path.ismount

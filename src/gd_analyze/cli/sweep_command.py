@@ -22,7 +22,7 @@ from ..store.schema import write_dataset
 from ..store.staging import staged_output, writing
 from ..store.sweep_datasets import beyond_the_floor
 from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import SweepRun, with_more_tasks
+from ..store.sweep_view import StoredSweep, with_more_tasks
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.planning import acceleration_limits, check_velocity_limits, random_trajectories
@@ -275,15 +275,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                                paper=args.paper, latex=args.latex))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
-        run = SweepRun.from_dataset(ds)
+        run = StoredSweep.from_dataset(ds)
+        s = run.settings
         print(f"{robot.name}: {run.trajectories} trajectories in "
-              f"{run.elapsed_s:.1f} s on {run.n_workers} dask workers "
-              f"({run.scheduler_address})")
+              f"{float(s.elapsed_s):.1f} s on {int(s.n_workers)} dask workers "
+              f"({s.scheduler_address})")
         print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
               + f"{'min':>8}{'median':>8}{'max':>8}  merged")
         for k, lab in enumerate(run.elements):
             print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in run.class_fraction[k])
                   + f"{run.share_min[k]:>8.3f}{run.share_median[k]:>8.3f}"
-                  + f"{run.share_max[k]:>8.3f}  {run.merged_choice[k]}")
+                  + f"{run.share_max[k]:>8.3f}  {run.merged.choice[k]}")
         print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

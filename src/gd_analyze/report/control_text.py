@@ -12,6 +12,7 @@ import numpy as np
 from .._version import VERSION as __version__
 from ..ranking.ranking import ROUND_OFF_CLAUSE, element_label, is_round_off
 from ..store.control_dataset import gain_units
+from ..store.schema import from_attrs
 from ..store.stored_control import ModelFacts, StoredControl
 from .common import cost_table, fmt_column, utc_now
 from .common import table as _table
@@ -392,7 +393,7 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     ...                  "model_guarantee_coverage": "it is not the trajectory"}, 0.01)[-68:]
     'trajectory. The open-loop error along this motion is not guaranteed.'
     """
-    m = attrs if isinstance(attrs, ModelFacts) else ModelFacts.from_attrs(attrs)
+    m = attrs if isinstance(attrs, ModelFacts) else from_attrs(ModelFacts, attrs, "model_")
     rule, kind = str(_or(m.rule, "")), str(_or(m.guarantee_kind, ""))
     scope = scope_markup(str(_or(m.scope, "")))
     if kind not in ("region", "trajectory"):

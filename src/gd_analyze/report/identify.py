@@ -157,7 +157,7 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
 
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
-    stored = StoredIdentification.from_datasets(root, groups)
+    stored = StoredIdentification.from_dataset(root, groups)
     ctx = identify_context(stored)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

@@ -16,7 +16,7 @@ import numpy as np
 from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
 from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
-from .schema import global_attributes, joint_coordinate, var, write_dataset
+from .schema import flag, global_attributes, joint_coordinate, joint_type_var, var, write_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -93,10 +93,8 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     per_joint = gain_units(prismatic)
     U.update({k: units_attribute(v, f"{k}_units") for k, v in per_joint.items()})
     data_vars = {
-        "is_setpoint": var(("time",), result.is_setpoint.astype(np.int8), "1",
-                            "sample is a set point of the trajectory (1) or on the fine grid (0)",
-                            flag_values=np.array([0, 1], dtype=np.int8),
-                            flag_meanings="fine_grid set_point"),
+        "is_setpoint": flag(("time",), result.is_setpoint, "sample is a set point of the "
+                            "trajectory (1) or on the fine grid (0)", "fine_grid set_point"),
         "q_d": var(("time", "joint"), result.q_d, U["q"], "desired joint position"),
         "qd_d": var(("time", "joint"), result.qd_d, U["qd"], "desired joint velocity"),
         "qdd_d": var(("time", "joint"), result.qdd_d, U["qdd"], "desired joint acceleration"),
@@ -127,8 +125,7 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
                       "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
         "Kv_pd": var(("joint",), g.Kv_pd, U["Kv_pd"],
                       "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
-        "joint_type": var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-                          "joint type: revolute (q in rad) or prismatic (q in m)"),
+        "joint_type": joint_type_var(robot),
         "q0_offset": var(("joint",), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
                           U["q"], "initial position error q(0) - q_d(0)"),
         "choice": var(("element",), np.array([result.choices[k] for k in element_labels(n)],

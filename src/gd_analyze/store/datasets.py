@@ -39,7 +39,15 @@ from ..ranking.ranking import (
     is_round_off,
 )
 from .names import ELEMENT_UNITS_RULE, RANKING_COLUMNS, VERIFICATION_PREFIX, Attr, Var
-from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
+from .schema import (
+    MIXED_UNITS,
+    element_coords,
+    flag,
+    global_attributes,
+    joint_coordinate,
+    joint_type_var,
+    var,
+)
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -177,29 +185,23 @@ def region_fields(region: Region | None) -> tuple[dict[str, Any], dict[str, Any]
     def units(which):
         return units_attribute(joint_units(pris, which), f"{which}_units")
 
-    flag = {"flag_values": np.array([0, 1], dtype=np.int8)}
+    J = ("joint",)
     out = {
-        Var.REGION_Q_MIN: (("joint",), np.where(full, np.nan, region.q_min),
-                         {"units": units("q"), "long_name": "lower position limit of the "
-                          "guarantee's region (NaN: any angle, full turn)"}),
-        Var.REGION_Q_MAX: (("joint",), np.where(full, np.nan, region.q_max),
-                         {"units": units("q"), "long_name": "upper position limit of the "
-                          "guarantee's region (NaN: any angle, full turn)"}),
-        Var.REGION_Q_FULL_TURN: (("joint",), full.astype(np.int8),
-                               {"units": "1", "long_name": "1: a revolute joint at any angle "
-                                "(its region spans a full turn)", **flag,
-                                "flag_meanings": "range full_turn"}),
-        Var.REGION_QD_MAX: (("joint",), np.asarray(region.qd_max, float),
-                          {"units": units("qd"), "long_name": "velocity limit of the "
-                           "guarantee's region"}),
-        Var.REGION_QDD_MAX: (("joint",), np.asarray(region.qdd_max, float),
-                           {"units": units("qdd"), "long_name": "acceleration limit of the "
-                            "guarantee's region"}),
-        Var.REGION_QDD_MAX_ASSUMED: (("joint",), region.assumed.astype(np.int8),
-                                   {"units": "1", "long_name": "1: the acceleration limit is "
-                                    f"assumed ({region.qdd_rule or 'not given'}): the robot "
-                                    "gives none and none was set", **flag,
-                                    "flag_meanings": "given assumed"}),
+        Var.REGION_Q_MIN: var(J, np.where(full, np.nan, region.q_min), units("q"), "lower "
+                              "position limit of the guarantee's region (NaN: any angle, full "
+                              "turn)"),
+        Var.REGION_Q_MAX: var(J, np.where(full, np.nan, region.q_max), units("q"), "upper "
+                              "position limit of the guarantee's region (NaN: any angle, full "
+                              "turn)"),
+        Var.REGION_Q_FULL_TURN: flag(J, full, "1: a revolute joint at any angle (its region "
+                                     "spans a full turn)", "range full_turn"),
+        Var.REGION_QD_MAX: var(J, np.asarray(region.qd_max, float), units("qd"),
+                               "velocity limit of the guarantee's region"),
+        Var.REGION_QDD_MAX: var(J, np.asarray(region.qdd_max, float), units("qdd"),
+                                "acceleration limit of the guarantee's region"),
+        Var.REGION_QDD_MAX_ASSUMED: flag(J, region.assumed, "1: the acceleration limit is "
+                                         f"assumed ({region.qdd_rule or 'not given'}): the "
+                                         "robot gives none and none was set", "given assumed"),
     }
     attrs = {Attr.REGION_SUMMARY: "\n".join(region.lines()), Attr.REGION_SOURCE: region.source}
     if region.notes:
@@ -437,12 +439,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                         "peak |tau_simplified - tau| / peak |tau|"),
         Var.TAU_ERROR_RELATIVE_RMS: var(("joint",), np.array(error["relative_rms_error"]), "1",
                                        "RMS |tau_simplified - tau| / peak |tau|"),
-        **({} if "round_off" not in error else {Var.TAU_ERROR_ROUND_OFF: var(
-            ("joint",), np.array(error["round_off"], dtype=np.int8), "1",
-            "1 where the torque error is floating-point round-off (shown as \u2261 0), not data",
-            flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")}),
-        Var.JOINT_TYPE: var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-                          "joint type: revolute (q in rad) or prismatic (q in m)"),
+        **({} if "round_off" not in error else {Var.TAU_ERROR_ROUND_OFF: flag(
+            ("joint",), error["round_off"],
+            "1 where the torque error is floating-point round-off (shown as \u2261 0), not data")}),
+        Var.JOINT_TYPE: joint_type_var(robot),
         Var.DH_D: var(("joint",), robot.d, "m",
                     "DH link offset d (prismatic joint: its constant part, d = q + dh_d)"),
         Var.DH_A: var(("joint",), robot.a, "m", "DH link length a"),
@@ -478,8 +478,9 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                              "constant joint torque offset"),
     })
     # the round-off marks, decided once here (the reports' one rule) and read by every output
-    data_vars[Var.ELEMENT_ROUND_OFF] = _flag(zero, "1 where the element is zero in every part: "
-                                             "round-off (shown as \u2261 0), no share")
+    data_vars[Var.ELEMENT_ROUND_OFF] = flag(("element",), zero, "1 where the element is zero "
+                                            "in every part: round-off (shown as \u2261 0), no "
+                                            "share")
     coords = element_coords(n, prismatic)
     coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
@@ -537,15 +538,9 @@ def _ranking_variables(ranking, zero, arm, other):
         units = MIXED_UNITS if column.units == ELEMENT_UNITS_RULE else column.units
         out[column.name] = var(("element",), values, units, column.long_name)
         if column.round_off is not None:
-            out[column.round_off] = _flag(is_round_off(values, ranking.scale, arm_scale=arm),
-                                          column.round_off_long_name)
+            out[column.round_off] = flag(("element",), is_round_off(
+                values, ranking.scale, arm_scale=arm), column.round_off_long_name)
     return out
-
-
-def _flag(mask, long_name):
-    """A 0/1 flag variable over ``element`` (CF ``flag_values``/``flag_meanings``)."""
-    return var(("element",), np.asarray(mask, bool).astype(np.int8), "1", long_name,
-               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
 
 
 def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,

@@ -26,7 +26,7 @@ from ..ranking.ranking import arm_scales, identically_zero, is_round_off
 from .datasets import joint_units as _units_of
 from .datasets import stored_guarantee, stored_region
 from .names import RANKING_COLUMNS, VERIFICATION_PREFIX, Attr, Var, verification_attribute
-from .schema import open_results, strings
+from .schema import View, open_results, optional, stored_prismatic, strings
 from .stored_comparisons import ChapterComparison, FormulationComparison
 from .stored_model import BaseParameters, CostTable
 from .stored_provenance import Provenance
@@ -80,20 +80,6 @@ class RankingRow:
         except KeyError:
             raise AttributeError(name) from None
         return value.item() if isinstance(value, np.generic) else value
-
-    def off(self, field: str) -> bool:
-        """Whether the value of a column with a round-off flag is round-off.
-
-        Parameters
-        ----------
-        field : str
-            A field whose column declares a round-off flag (``"peak_total"`` ...).
-
-        Returns
-        -------
-        bool
-        """
-        return bool(self._table.off(field)[self._k])
 
 
 class _Rows:
@@ -313,7 +299,7 @@ class Verification:
 
 
 @dataclass(frozen=True, eq=False)
-class Results:
+class Results(View):
     """The main job's results as the report and the command line read them.
 
     Attributes
@@ -445,25 +431,6 @@ class Results:
         return cls.from_dataset(open_results(path, lazy=lazy), source=str(path))
 
     @classmethod
-    def of(cls, results: Results | xr.Dataset) -> Results:
-        """The view itself, or the view of a results dataset.
-
-        Parameters
-        ----------
-        results : Results or xarray.Dataset
-
-        Returns
-        -------
-        Results
-
-        Raises
-        ------
-        InputError
-            As :meth:`from_dataset`.
-        """
-        return results if isinstance(results, Results) else cls.from_dataset(results)
-
-    @classmethod
     def from_dataset(cls, ds: xr.Dataset, source: str = "<memory>") -> Results:
         """The view of a results dataset (in memory, or opened by :meth:`open`).
 
@@ -492,10 +459,7 @@ class Results:
             if name not in ds.attrs:
                 raise InputError(f"missing attribute {name!r}: not a gd-analyze results file",
                                  source)
-        n = int(ds.sizes[Var.JOINT])
-        types_ = (strings(ds[Var.JOINT_TYPE].values) if Var.JOINT_TYPE in ds.variables
-                  else ["revolute"] * n)
-        prismatic = tuple(t == "prismatic" for t in types_)
+        prismatic = stored_prismatic(ds)
         joint_units = types.MappingProxyType(
             {q: tuple(strings(ds[name].values)) if name in ds.variables
              else _default_units(q, prismatic)
@@ -513,7 +477,7 @@ class Results:
                    verification=_verification(attrs),
                    robot_record=StoredRobot.from_dataset(ds),
                    trajectory=StoredTrajectory.from_dataset(ds),
-                   share_arm=ds[Var.SHARE_ARM].values if Var.SHARE_ARM in ds.variables else None,
+                   share_arm=optional(ds, Var.SHARE_ARM),
                    costs=CostTable.from_dataset(ds),
                    region_screen=str(attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, "")),
                    base_parameters=BaseParameters.from_dataset(ds),

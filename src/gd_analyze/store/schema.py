@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import datetime
 import os
-from typing import TYPE_CHECKING, Any
+from collections.abc import Mapping
+from dataclasses import fields
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -30,9 +32,9 @@ if TYPE_CHECKING:
 
     from ..model.robot import Robot
 
-__all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "attribute_value", "global_attributes",
-           "element_coords", "joint_coordinate", "strings", "write_dataset", "append_dataset", "open_results",
-           "open_sweep"]
+__all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
+           "element_coords", "joint_coordinate", "joint_type_var", "strings", "optional", "stored_prismatic",
+           "from_attrs", "View", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
@@ -237,6 +239,45 @@ def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
     }
 
 
+def flag(dims: tuple[str, ...], mask: ArrayLike, long_name: str,
+         meanings: str = "data round_off") -> tuple[Any, ...]:
+    """A 0/1 flag variable (int8, CF ``flag_values`` and ``flag_meanings``), as :func:`var`.
+
+    Parameters
+    ----------
+    dims : tuple of str
+        Dimension names.
+    mask : array_like of bool
+        Where the flag is 1.
+    long_name : str
+        What 1 means.
+    meanings : str, optional
+        The CF ``flag_meanings`` of 0 and 1.
+
+    Returns
+    -------
+    tuple
+    """
+    return var(dims, np.asarray(mask, bool).astype(np.int8), "1", long_name,
+               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings=meanings)
+
+
+def joint_type_var(robot: Robot) -> tuple[Any, ...]:
+    """The variable ``joint_type``, as :func:`var`: each joint's type, from which the units of
+    its q and tau follow.
+
+    Parameters
+    ----------
+    robot : Robot
+
+    Returns
+    -------
+    tuple
+    """
+    return var(("joint",), np.array(robot.joint_types, dtype=str), "1",
+               "joint type: revolute (q in rad) or prismatic (q in m)")
+
+
 def strings(values: ArrayLike) -> list[str]:
     """Decode an array of bytes or str read from a file into a list of str.
 
@@ -250,6 +291,87 @@ def strings(values: ArrayLike) -> list[str]:
     list of str
     """
     return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
+
+
+def optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
+    """A variable's values, or None where the dataset has none.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    name : str
+
+    Returns
+    -------
+    ndarray or None
+    """
+    return ds[name].values if name in ds.variables else None
+
+
+def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
+    """The prismatic joints, as the variable ``joint_type`` stores them.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        With dim ``joint``.
+
+    Returns
+    -------
+    tuple of bool, length n
+        All False (revolute) where ``joint_type`` is not stored.
+    """
+    if Var.JOINT_TYPE not in ds.variables:
+        return (False,) * int(ds.sizes[Var.JOINT])
+    return tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
+
+
+_D = TypeVar("_D")
+
+
+def from_attrs(cls: type[_D], attrs: Mapping[str, Any], prefix: str = "", /, **given: Any) -> _D:
+    """A dataclass whose fields are global attributes, as stored.
+
+    Parameters
+    ----------
+    cls : type
+        A dataclass.
+    attrs : Mapping
+        The global attributes.
+    prefix : str, optional
+        Each field not given is the attribute ``prefix + field`` (None where missing).
+    **given
+        Fields given, not read.
+
+    Returns
+    -------
+    An instance of ``cls``.
+    """
+    return cls(**{f.name: attrs.get(prefix + f.name)                   # type: ignore[call-arg]
+                  for f in fields(cls) if f.name not in given}, **given)  # type: ignore[arg-type]
+
+
+_V = TypeVar("_V", bound="View")
+
+
+class View:
+    """A typed view read from a dataset by its class's ``from_dataset``."""
+
+    @classmethod
+    def of(cls: type[_V], ds: _V | xr.Dataset, *args: Any) -> _V:
+        """The view itself, or ``from_dataset`` of a dataset (its errors as there).
+
+        Parameters
+        ----------
+        ds : the view, or xarray.Dataset
+        *args
+            More arguments of ``from_dataset``.
+
+        Returns
+        -------
+        The view.
+        """
+        return ds if isinstance(ds, cls) else cls.from_dataset(ds, *args)  # type: ignore[attr-defined]
 
 
 def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:

@@ -53,11 +53,11 @@ from pathlib import Path
 from .._version import VERSION as __version__
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
-from .signals import Terminated, install
+from .signals import Terminated
 from .write_errors import is_inside, write_error, writing
 
 __all__ = ["safe_name", "staged_output", "writing", "check_free_space", "check_output_file",
-           "install_signal_handlers", "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
+           "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
 
 LOCK_SUFFIX = ".gd-lock"
 TMP_MARK = ".gd-tmp-"
@@ -65,14 +65,6 @@ TMP_MARK = ".gd-tmp-"
 RECORD_LIMIT = 1 << 16
 #: Free space kept besides the estimate [bytes].
 SPACE_MARGIN = 16 << 20
-
-
-def install_signal_handlers() -> None:
-    """Turn SIGTERM and SIGHUP into :class:`Terminated` and SIGINT into KeyboardInterrupt so
-    that ``finally`` blocks run: the one handler of :func:`gd_analyze.store.signals.install`.
-    Call from the main thread only.
-    """
-    install()
 
 
 def safe_name(name: str, fallback: str = "robot") -> str:

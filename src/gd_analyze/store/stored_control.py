@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import types
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING, Any, ClassVar
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
-from .schema import strings
+from .schema import View, from_attrs, optional, stored_prismatic, strings
 from .stored_model import EvaluatorCosts
 from .stored_provenance import RunRecord
 
@@ -35,36 +35,15 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
                       "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
 #: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
 _TYPED_GAINS = ("inertia_scale", "Kp_pd", "Kv_pd")
-
-
-def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    return ds[name].values if name in ds.variables else None
-
-
-class _Attributes:
-    """A record of global attributes: each field is the attribute ``_PREFIX + field``, as
-    stored (None where missing)."""
-
-    _PREFIX: ClassVar[str] = ""
-
-    @classmethod
-    def from_attrs(cls, attrs: Mapping[str, Any]) -> Any:
-        """The record of a control dataset's global attributes.
-
-        Parameters
-        ----------
-        attrs : Mapping
-
-        Returns
-        -------
-        The record (an instance of the class it is called on).
-        """
-        names = [f.name for f in fields(cls)]      # type: ignore[arg-type]  # a dataclass
-        return cls(**{k: attrs.get(cls._PREFIX + k) for k in names})
+#: The fields of :class:`StoredControl` that are the variable of the same name (None where
+#: not stored).
+_OPTIONAL = ("tau_difference", "tau_difference_floor", "tau_difference_peak",
+             "tau_difference_rms", "tau_difference_peak_setpoints",
+             "tau_difference_rms_setpoints", "q0_offset")
 
 
 @dataclass(frozen=True)
-class ControlSettings(_Attributes):
+class ControlSettings:
     """The run's files, settings and provenance, as stored (None where missing).
 
     Each field is the global attribute of the same name.
@@ -129,7 +108,7 @@ class ControlSettings(_Attributes):
 
 
 @dataclass(frozen=True)
-class ModelFacts(_Attributes):
+class ModelFacts:
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
     them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
     missing.
@@ -166,11 +145,9 @@ class ModelFacts(_Attributes):
     guarantee_covered: Any
     guarantee_coverage: Any
 
-    _PREFIX: ClassVar[str] = "model_"
-
 
 @dataclass(frozen=True, eq=False)
-class StoredControl:
+class StoredControl(View):
     """A control dataset as the control report reads it.
 
     Attributes
@@ -256,14 +233,6 @@ class StoredControl:
         return len(self.prismatic)
 
     @classmethod
-    def of(cls, control: StoredControl | xr.Dataset, source: str = "<dataset>"
-           ) -> StoredControl:
-        """The view itself (``control`` a view), or :meth:`from_dataset` of ``control`` and
-        ``source`` (``control`` a dataset; InputError as there)."""
-        return control if isinstance(control, StoredControl) else cls.from_dataset(control,
-                                                                                   source)
-
-    @classmethod
     def from_dataset(cls, ds: xr.Dataset, source: str = "<dataset>") -> StoredControl:
         """The view of a control dataset.
 
@@ -297,14 +266,11 @@ class StoredControl:
         def optional_by_controller(name):
             return by_controller(name) if name in ds.variables else None
 
-        n = int(ds.sizes["joint"])
-        prismatic = (tuple(t == "prismatic" for t in strings(ds["joint_type"].values))
-                     if "joint_type" in ds.variables else (False,) * n)
         return cls(
             controllers=names,
             descriptions=(tuple(strings(ds["controller_description"].values))
                           if "controller_description" in ds.variables else None),
-            prismatic=prismatic, time=ds["time"].values,
+            prismatic=stored_prismatic(ds), time=ds["time"].values,
             is_setpoint=np.asarray(ds["is_setpoint"].values).astype(bool),
             q_d=ds["q_d"].values, error=by_controller("error"), tau=by_controller("tau"),
             error_peak_setpoints=by_controller("error_peak_setpoints"),
@@ -313,21 +279,15 @@ class StoredControl:
             error_rms_grid=by_controller("error_rms_grid"),
             tau_peak=optional_by_controller("tau_peak"),
             tau_rms=optional_by_controller("tau_rms"),
-            tau_difference=_optional(ds, "tau_difference"),
-            tau_difference_floor=_optional(ds, "tau_difference_floor"),
-            tau_difference_peak=_optional(ds, "tau_difference_peak"),
-            tau_difference_rms=_optional(ds, "tau_difference_rms"),
-            tau_difference_peak_setpoints=_optional(ds, "tau_difference_peak_setpoints"),
-            tau_difference_rms_setpoints=_optional(ds, "tau_difference_rms_setpoints"),
+            **{k: optional(ds, k) for k in _OPTIONAL},
             gains=types.MappingProxyType({k: ds[k].values for k in (
                 "wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}),
             gain_units=types.MappingProxyType({
                 k: tuple(strings(ds[f"{k}_units"].values)) if f"{k}_units" in ds.coords
                 else None for k in _TYPED_GAINS}),
-            q0_offset=_optional(ds, "q0_offset"),
             elements=(tuple(strings(ds["element"].values)) if "element" in ds.variables
                       else ()),
             choice=tuple(strings(ds["choice"].values)),
             costs=EvaluatorCosts.from_dataset(ds),
-            settings=ControlSettings.from_attrs(ds.attrs),
-            model=ModelFacts.from_attrs(ds.attrs), run=RunRecord.from_attrs(ds.attrs))
+            settings=from_attrs(ControlSettings, ds.attrs),
+            model=from_attrs(ModelFacts, ds.attrs, "model_"), run=RunRecord.from_attrs(ds.attrs))

@@ -5,7 +5,7 @@ parameters with their standard deviations and identifiability, the links' consis
 noise per joint, the run's statements and provenance) and, per recording group, a
 :class:`StoredRecording` (its file, role, series and errors), as the identify command's
 ``gd_analyze.store.identification_dataset`` wrote them. Read once, by
-:meth:`StoredIdentification.from_datasets`, which checks what a report needs. Names, roles and
+:meth:`StoredIdentification.from_dataset`, which checks what a report needs. Names, roles and
 statements are kept as stored (the report cleans them of its markup characters); a number that
 is missing or not a number is NaN.
 """
@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from .schema import View, from_attrs, optional
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -33,10 +34,6 @@ REQUIRED_RECORDING = ("tau_measured", "tau_predicted")
 #: The torque series a recording may store, measured and by model.
 TORQUES = ("tau_measured", "tau_predicted", "tau_prior", "tau_simplified")
 _FILE = "identification.h5"
-
-
-def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    return ds[name].values if name in ds.variables else None
 
 
 def _number(ds: xr.Dataset, key: str) -> float:
@@ -141,10 +138,9 @@ class StoredRecording:
         return cls(name=name, file=a.get("file"), sha256=a.get("sha256"), role=role,
                    t=np.asarray(ds["t"].values, float),
                    torques={v: ds[v].values for v in TORQUES if v in ds.variables},
-                   joint=_joint(ds), rms_error=_optional(ds, "rms_error"),
-                   relative_error=_optional(ds, "relative_error"),
-                   prior_relative_error=_optional(ds, "prior_relative_error"),
-                   simplified_relative_error=_optional(ds, "simplified_relative_error"),
+                   joint=_joint(ds), **{k: optional(ds, k) for k in (
+                       "rms_error", "relative_error", "prior_relative_error",
+                       "simplified_relative_error")},
                    total_relative_error=_number(ds, "total_relative_error"),
                    prior_total_relative_error=_number(ds, "prior_total_relative_error"),
                    simplified_total_relative_error=_number(ds,
@@ -155,7 +151,7 @@ class StoredRecording:
 
 
 @dataclass(frozen=True, eq=False)
-class StoredIdentification:
+class StoredIdentification(View):
     """An identification: its root group and its recordings.
 
     Attributes
@@ -219,17 +215,8 @@ class StoredIdentification:
     recordings: Mapping[str, StoredRecording]
 
     @classmethod
-    def of(cls, root: StoredIdentification | xr.Dataset,
-           groups: Mapping[str, xr.Dataset] | None = None) -> StoredIdentification:
-        """The view itself (``root`` a view), or :meth:`from_datasets` of ``root`` and
-        ``groups`` (InputError as there)."""
-        if isinstance(root, StoredIdentification):
-            return root
-        return cls.from_datasets(root, groups or {})
-
-    @classmethod
-    def from_datasets(cls, root: xr.Dataset, groups: Mapping[str, xr.Dataset]
-                      ) -> StoredIdentification:
+    def from_dataset(cls, root: xr.Dataset, groups: Mapping[str, xr.Dataset]
+                     ) -> StoredIdentification:
         """The view of ``identification.h5``'s root group and recording groups.
 
         Parameters
@@ -257,20 +244,12 @@ class StoredIdentification:
             raise InputError("not an identification (no recording group)", _FILE)
         recordings = {name: StoredRecording.from_dataset(name, ds)
                       for name, ds in groups.items()}
-        a = root.attrs
-        return cls(
-            robot=a.get("robot"), robot_source=a.get("robot_source"),
-            robot_sha256=a.get("robot_sha256"), gd_analyze_version=a.get("gd_analyze_version"),
-            standard_method=a.get("standard_method"), coulomb_model=a.get("coulomb_model"),
-            inputs=a.get("inputs"), settings=a.get("settings"),
-            unidentifiable=a.get("unidentifiable"), preprocessing=a.get("preprocessing"),
-            condition_number=_number(root, "condition_number"),
+        return from_attrs(
+            cls, root.attrs, condition_number=_number(root, "condition_number"),
             parameter=root["parameter"].values if "parameter" in root.coords else None,
             value=np.asarray(root["value"].values, float),
-            std=np.asarray(root["std"].values, float), kind=_optional(root, "kind"),
-            prior=_optional(root, "prior"), identifiable=_optional(root, "identifiable"),
-            link=root["link"].values if "link" in root.coords else None,
-            link_consistent=_optional(root, "link_consistent"),
-            pseudo_inertia_min_eigenvalue=_optional(root, "pseudo_inertia_min_eigenvalue"),
-            noise_std=_optional(root, "noise_std"), joint=_joint(root),
-            prismatic=_optional(root, "prismatic"), recordings=recordings)
+            std=np.asarray(root["std"].values, float),
+            link=root["link"].values if "link" in root.coords else None, joint=_joint(root),
+            recordings=recordings, **{k: optional(root, k) for k in (
+                "kind", "prior", "identifiable", "link_consistent",
+                "pseudo_inertia_min_eigenvalue", "noise_std", "prismatic")})

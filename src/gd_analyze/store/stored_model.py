@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .names import Var
-from .schema import strings
+from .schema import optional, strings
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -118,15 +118,12 @@ class BaseParameters:
         if Var.BASE_PARAMETER_DROPPED not in ds.variables:
             return None
 
-        def optional(name):
-            return ds[name].values if name in ds.variables else None
-
         return cls(names=tuple(strings(ds[Var.BASE_PARAMETER].values)),
                    parts=tuple(strings(ds[Var.TORQUE_PART].values)),
                    dropped=ds[Var.BASE_PARAMETER_DROPPED].values,
                    units=tuple(strings(ds[Var.BASE_PARAMETER_UNITS].values)),
-                   relative_peak=optional(Var.BASE_PARAMETER_RELATIVE_PEAK),
-                   value=optional(Var.BASE_PARAMETER_VALUE))
+                   relative_peak=optional(ds, Var.BASE_PARAMETER_RELATIVE_PEAK),
+                   value=optional(ds, Var.BASE_PARAMETER_VALUE))
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .names import Attr, Var
-from .schema import strings
+from .schema import optional, strings
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -26,11 +26,6 @@ __all__ = ["ROBOT_VARIABLES", "StoredRobot", "StoredTrajectory"]
 #: The robot's variables every results file holds.
 ROBOT_VARIABLES = (Var.LINK_MASS, Var.LINK_COM, Var.LINK_INERTIA, Var.DH_D, Var.DH_A,
                    Var.DH_ALPHA, Var.DH_OFFSET)
-
-
-def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    """A variable's values, or None where the file has none."""
-    return ds[name].values if name in ds.variables else None
 
 
 @dataclass(frozen=True, eq=False)
@@ -112,11 +107,11 @@ class StoredRobot:
             link_inertia=ds[Var.LINK_INERTIA].values,
             dh=np.stack([ds[v].values for v in (Var.DH_D, Var.DH_A, Var.DH_ALPHA,
                                                 Var.DH_OFFSET)]),
-            joint_rotation=_optional(ds, Var.JOINT_ROTATION),
-            joint_translation=_optional(ds, Var.JOINT_TRANSLATION),
-            armature=_optional(ds, Var.D_ARM), viscous=_optional(ds, Var.VISCOUS),
-            coulomb=_optional(ds, Var.COULOMB), torque_offset=_optional(ds, Var.TORQUE_OFFSET),
-            effort_limit=_optional(ds, Var.TAU_MAX),
+            joint_rotation=optional(ds, Var.JOINT_ROTATION),
+            joint_translation=optional(ds, Var.JOINT_TRANSLATION),
+            armature=optional(ds, Var.D_ARM), viscous=optional(ds, Var.VISCOUS),
+            coulomb=optional(ds, Var.COULOMB), torque_offset=optional(ds, Var.TORQUE_OFFSET),
+            effort_limit=optional(ds, Var.TAU_MAX),
             placeholder_inertia=bool(a.get(Attr.ROBOT_PLACEHOLDER_INERTIA)))
 
     @property
@@ -188,4 +183,4 @@ class StoredTrajectory:
     def tau_f(self) -> np.ndarray | None:
         """ndarray, shape (N, n), or None: the drives' friction torque [N m or N]; None for a
         robot without drives."""
-        return _optional(self.dataset, Var.TAU_F)
+        return optional(self.dataset, Var.TAU_F)

@@ -20,7 +20,7 @@ import numpy as np
 
 from .datasets import joint_units, stored_guarantee, stored_region
 from .names import Attr, Var
-from .schema import strings
+from .schema import View, optional, stored_prismatic, strings
 from .stored_model import CostTable
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -31,10 +31,6 @@ __all__ = ["InertiaCheck", "Ladder", "StoredSimplified"]
 #: The stored counts that say why a pruned explicit model can cost more than the full one.
 _STRUCTURE = (Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMONICS,
               Attr.OTHER_RULE_COEFFICIENTS)
-
-
-def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    return ds[name].values if name in ds.variables else None
 
 
 def _structure(attrs: Mapping[str, Any]) -> tuple[int, int, int, int] | None:
@@ -131,7 +127,7 @@ class Ladder:
 
 
 @dataclass(frozen=True, eq=False)
-class StoredSimplified:
+class StoredSimplified(View):
     """The simplified model's record of a results dataset.
 
     Attributes
@@ -239,13 +235,15 @@ class StoredSimplified:
     dataset: xr.Dataset
 
     @classmethod
-    def of(cls, results: StoredSimplified | xr.Dataset) -> StoredSimplified:
+    def of(cls, results: StoredSimplified | xr.Dataset, *args: Any) -> StoredSimplified:
         """The view itself, or the view of a results dataset.
 
         Parameters
         ----------
         results : StoredSimplified or xarray.Dataset
             With the simplified model (``simplified_bound``).
+        *args
+            None.
 
         Returns
         -------
@@ -256,9 +254,7 @@ class StoredSimplified:
         ValueError
             If the dataset holds no simplified model.
         """
-        if isinstance(results, StoredSimplified):
-            return results
-        view = cls.from_dataset(results)
+        view = super().of(results)
         if view is None:
             raise ValueError(f"no simplified model stored (no {Var.SIMPLIFIED_BOUND!r})")
         return view
@@ -280,9 +276,6 @@ class StoredSimplified:
         if Var.SIMPLIFIED_BOUND not in ds.variables:
             return None
         a = ds.attrs
-        n = int(ds.sizes[Var.JOINT])
-        prismatic = (tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
-                     if Var.JOINT_TYPE in ds.variables else (False,) * n)
         b = int(ds.sizes.get(Var.BASE_PARAMETER, 0))
         ladder = None
         if Var.LADDER_OPERATIONS in ds.variables:
@@ -290,7 +283,7 @@ class StoredSimplified:
                             operations=ds[Var.LADDER_OPERATIONS].values,
                             trig=ds[Var.LADDER_TRIG].values,
                             worst_error=ds[Var.LADDER_WORST_ERROR].values,
-                            worst_bound=_optional(ds, Var.LADDER_WORST_BOUND))
+                            worst_bound=optional(ds, Var.LADDER_WORST_BOUND))
         drives = any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
                      for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))
         return cls(
@@ -312,15 +305,15 @@ class StoredSimplified:
             other_rule=str(a.get(Attr.OTHER_RULE, "")),
             other_rule_multiplications=a.get(Attr.OTHER_RULE_MULTIPLICATIONS),
             other_rule_additions=a.get(Attr.OTHER_RULE_ADDITIONS),
-            other_rule_error_relative_peak=_optional(ds, Var.OTHER_RULE_ERROR_RELATIVE_PEAK),
+            other_rule_error_relative_peak=optional(ds, Var.OTHER_RULE_ERROR_RELATIVE_PEAK),
             structure=_structure(a),
-            scale=_optional(ds, Var.SIMPLIFIED_SCALE), bound=ds[Var.SIMPLIFIED_BOUND].values,
-            bound_inertia=_optional(ds, Var.SIMPLIFIED_BOUND_INERTIA),
-            bound_coriolis=_optional(ds, Var.SIMPLIFIED_BOUND_CORIOLIS),
-            bound_gravity=_optional(ds, Var.SIMPLIFIED_BOUND_GRAVITY),
-            bound_whole=_optional(ds, Var.SIMPLIFIED_BOUND_WHOLE),
-            tau_error_peak=_optional(ds, Var.TAU_ERROR_PEAK),
-            tau_peak=_optional(ds, Var.TAU_PEAK),
+            scale=optional(ds, Var.SIMPLIFIED_SCALE), bound=ds[Var.SIMPLIFIED_BOUND].values,
+            bound_inertia=optional(ds, Var.SIMPLIFIED_BOUND_INERTIA),
+            bound_coriolis=optional(ds, Var.SIMPLIFIED_BOUND_CORIOLIS),
+            bound_gravity=optional(ds, Var.SIMPLIFIED_BOUND_GRAVITY),
+            bound_whole=optional(ds, Var.SIMPLIFIED_BOUND_WHOLE),
+            tau_error_peak=optional(ds, Var.TAU_ERROR_PEAK),
+            tau_peak=optional(ds, Var.TAU_PEAK),
             costs=CostTable.from_dataset(ds), ladder=ladder,
             ladder_skipped=str(a.get(Attr.SIMPLIFIED_LADDER_SKIPPED, "")),
             ladder_form=str(a.get(Attr.SIMPLIFIED_LADDER_FORM, "explicit")),
@@ -330,7 +323,8 @@ class StoredSimplified:
             region=stored_region(ds),
             region_source=str(a.get(Attr.REGION_SOURCE, "the robot limits")),
             region_notes=str(a.get(Attr.REGION_NOTES) or ""),
-            guarantee=stored_guarantee(ds), prismatic=prismatic, has_drives=bool(drives),
+            guarantee=stored_guarantee(ds), prismatic=stored_prismatic(ds),
+            has_drives=bool(drives),
             dataset=ds)
 
     @property

@@ -26,7 +26,15 @@ from ..ranking.ranking import (
     parse_element_label,
 )
 from .datasets import joint_units, units_attribute
-from .schema import MIXED_UNITS, element_coords, global_attributes, joint_coordinate, var
+from .schema import (
+    MIXED_UNITS,
+    element_coords,
+    flag,
+    global_attributes,
+    joint_coordinate,
+    joint_type_var,
+    var,
+)
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -214,11 +222,9 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
                        "(tran, rot, both, none)"),
         "peak_total": var(("trajectory", "element"), peak_total, MIXED_UNITS,
                            "peak |translational + rotational| along the trajectory"),
-        "round_off": var(("trajectory", "element"), round_off.astype(np.int8), "1",
-                          "every part of the element is round-off on the trajectory (1: at "
-                          "most 1e-12 of its scale; its share_tran is noise), else 0",
-                          flag_values=np.array([0, 1], dtype=np.int8),
-                          flag_meanings="data round_off"),
+        "round_off": flag(("trajectory", "element"), round_off, "every part of the element is "
+                          "round-off on the trajectory (1: at most 1e-12 of its scale; its "
+                          "share_tran is noise), else 0"),
         "source": var(("trajectory",), np.array([s["source"] for s in summ], dtype=str), "1",
                        "trajectory source (file name or random-<seed>-<index>)"),
         "input_sha256": var(("trajectory",), np.array([s["sha256"] for s in summ], dtype=str),
@@ -276,7 +282,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
-    data_vars["joint_type"] = _joint_type_var(robot)
+    data_vars["joint_type"] = joint_type_var(robot)
     coords = element_coords(n, robot.prismatic, robot.joint_names())
     coords["trajectory"] = ("trajectory", np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
@@ -356,7 +362,7 @@ def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, co
             ("payload", "joint"),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
             "own simplified model: peak |tau_simplified - tau| / peak |tau|"),    }
-    data_vars["joint_type"] = _joint_type_var(robot)
+    data_vars["joint_type"] = joint_type_var(robot)
     coords = element_coords(n, robot.prismatic, robot.joint_names())
     coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
                                              "units": "kg"})
@@ -429,7 +435,7 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
                        "merged share-based choice (chapter rule, no error bound)"),
          "tau_peak": var(("payload", "joint"), tau, torque,
                          "peak |tau| over all trajectories"),
-         "joint_type": _joint_type_var(robot)},
+         "joint_type": joint_type_var(robot)},
         coords={"payload": ("payload", np.asarray(masses, float),
                             {"units": "kg", "long_name": "load mass on the last link"}),
                 "element": ("element", np.array(element_labels(n), dtype=str),
@@ -448,19 +454,11 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
                "payload_inertia_units": "kg m2 (principal moments)"})
 
 
-def _joint_type_var(robot):
-    """Each joint's type (the units of its q and tau follow from it)."""
-    return var(("joint",), np.array(robot.joint_types, dtype=str), "1",
-               "joint type: revolute (q in rad) or prismatic (q in m)")
-
-
 def _round_off_var(flags, where):
     """The (payload, element) flag: every part of the element is round-off (its share is
     noise, :func:`gd_analyze.ranking.ranking.is_round_off`)."""
-    return var(("payload", "element"), np.asarray(flags, bool).astype(np.int8), "1",
-               f"every part of the element is round-off {where} (1: at most 1e-12 of its "
-               "scale; its share_tran is noise), else 0",
-               flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="data round_off")
+    return flag(("payload", "element"), flags, f"every part of the element is round-off {where} "
+                "(1: at most 1e-12 of its scale; its share_tran is noise), else 0")
 
 
 def embed_pair_peaks(ds: xr.Dataset, names: Sequence[str], tau_peak: np.ndarray,

@@ -1,28 +1,27 @@
 """Typed views of a sweep's dataset, for the command line's summary and the report.
 
-:class:`SweepRun` reads, once, what ``gd-analyze sweep`` prints after a run: where and how the
-trajectories were spread over the dask workers, and per element the fraction of the
-trajectories in each dominance class, the spread of its translational share and the part the
-merged model keeps (:func:`gd_analyze.store.sweep_datasets.sweep_dataset`,
+:class:`StoredSweep` is the whole sweep as its report reads it and the command line prints it
+after a run (where and how the trajectories were spread over the dask workers, and per element
+the fraction of the trajectories in each dominance class, the spread of its translational share
+and the part the merged model keeps: :func:`gd_analyze.store.sweep_datasets.sweep_dataset`,
 :func:`gd_analyze.jobs.sweep.run_sweep`). :class:`MergedModel` is the merged model's
 record as the sweep report says it: its rule, form, what it keeps, its bound and guarantee,
 its costs and its error on the held-out trajectories
 (:func:`gd_analyze.jobs.sweep_merged.with_budget_model`,
-:func:`gd_analyze.jobs.sweep_merged.with_model_cost`). :class:`StoredSweep` is the whole
-sweep as its report reads it, :class:`PayloadSweep` a payload sweep (the ranking against the
-load on the last link). :func:`with_more_tasks` counts
+:func:`gd_analyze.jobs.sweep_merged.with_model_cost`). :class:`PayloadSweep` is a payload
+sweep (the ranking against the load on the last link). :func:`with_more_tasks` counts
 tasks the run added after the sweep itself (the workers' error measurement).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
-from .schema import strings
+from .schema import View, from_attrs, optional, stored_prismatic, strings
 from .stored_model import EvaluatorCosts
 from .stored_provenance import RunRecord
 from .sweep_datasets import beyond_the_floor
@@ -31,7 +30,7 @@ from .sweep_guarantee import merged_guarantee
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
-__all__ = ["SweepRun", "MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
+__all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks"]
 
 #: The variables of a payload sweep the report reads.
@@ -59,103 +58,12 @@ SAID = frozenset({
     "merged_dropped_pairs", "merged_gravity_dropped", "merged_guarantee_kind",
     "merged_guarantee_statement", "held_out_inside_region"})
 
-#: The per-element variables of the summary, and the run's attributes.
-_VARIABLES = ("class_fraction", "share_tran_min", "share_tran_median", "share_tran_max",
-              "merged_choice")
-_ATTRIBUTES = ("elapsed_s", "n_workers", "scheduler_address", "batch_size", "n_tasks")
-
-
-@dataclass(frozen=True, eq=False)
-class SweepRun:
-    """A sweep as the command line summarises it.
-
-    Attributes
-    ----------
-    trajectories : int
-        K, the trajectories swept.
-    elapsed_s : float
-        The run's wall time [s].
-    n_workers : int
-        The dask workers.
-    scheduler_address : str
-        The dask scheduler's address.
-    batch_size : int
-        The trajectories per task.
-    n_tasks : int
-        The tasks submitted.
-    classes : tuple of str, length C
-        The dominance classes.
-    elements : tuple of str, length M
-        ``"D11"`` .. ``"hn"``.
-    class_fraction : ndarray, shape (M, C)
-        The fraction of the trajectories in which each class holds [1].
-    share_min, share_median, share_max : ndarray, shape (M,)
-        The translational share's spread over the trajectories [1].
-    merged_choice : tuple of str, length M
-        The part the merged model keeps.
-    """
-
-    trajectories: int
-    elapsed_s: float
-    n_workers: int
-    scheduler_address: str
-    batch_size: int
-    n_tasks: int
-    classes: tuple[str, ...]
-    elements: tuple[str, ...]
-    class_fraction: np.ndarray
-    share_min: np.ndarray
-    share_median: np.ndarray
-    share_max: np.ndarray
-    merged_choice: tuple[str, ...]
-
-    @classmethod
-    def from_dataset(cls, ds: xr.Dataset, source: str = "<memory>") -> SweepRun:
-        """The view of a sweep's dataset.
-
-        Parameters
-        ----------
-        ds : xarray.Dataset
-            As :func:`gd_analyze.jobs.sweep.run_sweep` returns it.
-        source : str, optional
-            The file it was read from, for the message.
-
-        Returns
-        -------
-        SweepRun
-
-        Raises
-        ------
-        InputError
-            If a variable or attribute of the summary is missing (one line naming it).
-        """
-        for name in _VARIABLES:
-            if name not in ds.variables:
-                raise InputError(f"missing variable {name!r}: not a gd-analyze sweep", source)
-        for name in _ATTRIBUTES:
-            if name not in ds.attrs:
-                raise InputError(f"missing attribute {name!r}: not a gd-analyze sweep",
-                                 source)
-        a = ds.attrs
-        return cls(trajectories=int(ds.sizes["trajectory"]), elapsed_s=float(a["elapsed_s"]),
-                   n_workers=int(a["n_workers"]), scheduler_address=str(a["scheduler_address"]),
-                   batch_size=int(a["batch_size"]), n_tasks=int(a["n_tasks"]),
-                   classes=tuple(strings(ds["class"].values)),
-                   elements=tuple(strings(ds["element"].values)),
-                   class_fraction=ds["class_fraction"].values,
-                   share_min=ds["share_tran_min"].values,
-                   share_median=ds["share_tran_median"].values,
-                   share_max=ds["share_tran_max"].values,
-                   merged_choice=tuple(strings(ds["merged_choice"].values)))
-
-
-def _optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    return ds[name].values if name in ds.variables else None
-
-
-_V = TypeVar("_V", bound="_View")
-
-
+#: The fields of :class:`StoredSweep` that are the variable of the same name, as stored.
+_AS_STORED = ("class_fraction", "share_tran", "duration", "tau_peak", "tau_error_peak",
+              "tau_error_relative_peak", "merged_tau_error_peak",
+              "merged_tau_error_relative_peak", "merged_error_peak", "merged_error_rms",
+              "merged_error_tau_peak", "merged_error_relative_peak",
+              "merged_error_relative_rms")
 def _require(ds: xr.Dataset, names: tuple[str, ...], what: str) -> None:
     """Raise InputError naming the variables of ``names`` that ``ds`` lacks."""
     missing = [v for v in names if v not in ds.variables]
@@ -164,26 +72,8 @@ def _require(ds: xr.Dataset, names: tuple[str, ...], what: str) -> None:
                          + ", ".join(missing))
 
 
-class _View:
-    """A view read from a dataset by its class's ``from_dataset``."""
-
-    @classmethod
-    def of(cls: type[_V], ds: _V | xr.Dataset) -> _V:
-        """The view itself, or ``from_dataset`` of a dataset (its errors as there).
-
-        Parameters
-        ----------
-        ds : the view, or xarray.Dataset
-
-        Returns
-        -------
-        The view.
-        """
-        return ds if isinstance(ds, cls) else cls.from_dataset(ds)  # type: ignore[attr-defined]
-
-
 @dataclass(frozen=True, eq=False)
-class MergedModel(_View):
+class MergedModel(View):
     """The sweep's merged model as the sweep report says it.
 
     Attributes
@@ -280,7 +170,6 @@ class MergedModel(_View):
             Attributes missing in an older file take the defaults said above.
         """
         a = ds.attrs
-        n = int(ds.sizes["joint"])
         return cls(
             rule=str(a.get("merged_rule", "chapter")),
             form=str(a.get("merged_form", "explicit")),
@@ -298,14 +187,12 @@ class MergedModel(_View):
             c_terms=int(a.get("merged_c_terms", -1)),
             elements=tuple(strings(ds["element"].values)),
             choice=tuple(strings(ds["merged_choice"].values)),
-            bound=_optional(ds, "merged_bound"), scale=_optional(ds, "merged_scale"),
-            held_out_error_peak=_optional(ds, "held_out_error_peak"),
-            held_out_tau_peak=_optional(ds, "held_out_tau_peak"),
+            bound=optional(ds, "merged_bound"), scale=optional(ds, "merged_scale"),
+            held_out_error_peak=optional(ds, "held_out_error_peak"),
+            held_out_tau_peak=optional(ds, "held_out_tau_peak"),
             held_out_trajectories=int(a.get("held_out_trajectories", 0)),
             held_out_inside_region=int(a.get("held_out_inside_region", 0)),
-            costs=EvaluatorCosts.from_dataset(ds),
-            prismatic=(tuple(t == "prismatic" for t in strings(ds["joint_type"].values))
-                       if "joint_type" in ds.variables else (False,) * n))
+            costs=EvaluatorCosts.from_dataset(ds), prismatic=stored_prismatic(ds))
 
 
 @dataclass(frozen=True)
@@ -358,7 +245,7 @@ class SweepSettings:
 
 
 @dataclass(frozen=True, eq=False)
-class StoredSweep(_View):
+class StoredSweep(View):
     """A sweep as its report reads it.
 
     Attributes
@@ -367,6 +254,8 @@ class StoredSweep(_View):
         K and n.
     elements : tuple of str, length M
         ``"D11"`` .. ``"hn"``.
+    classes : tuple of str, length C
+        The dominance classes.
     class_fraction : ndarray, shape (M, C)
         The fraction of the trajectories in each dominance class [1].
     share_tran : ndarray, shape (K, M)
@@ -401,6 +290,7 @@ class StoredSweep(_View):
     trajectories: int
     joints: int
     elements: tuple[str, ...]
+    classes: tuple[str, ...]
     class_fraction: np.ndarray
     share_tran: np.ndarray
     share_min: np.ndarray
@@ -445,37 +335,27 @@ class StoredSweep(_View):
         """
         _require(ds, REQUIRED, "sweep")
         a = ds.attrs
-        names = [f for f in SweepSettings.__dataclass_fields__ if f != "others"]
-        settings = SweepSettings(**{k: a.get(k) for k in names},
-                                 others=tuple((k, a[k]) for k in sorted(set(a) - SAID)))
+        settings = from_attrs(SweepSettings, a,
+                              others=tuple((k, a[k]) for k in sorted(set(a) - SAID)))
         return cls(
             trajectories=int(ds.sizes["trajectory"]), joints=int(ds.sizes["joint"]),
             elements=tuple(strings(ds["element"].values)),
-            class_fraction=ds["class_fraction"].values, share_tran=ds["share_tran"].values,
+            classes=tuple(strings(ds["class"].values)),
             share_min=ds["share_tran_min"].values, share_median=ds["share_tran_median"].values,
             share_max=ds["share_tran_max"].values,
             round_off=(ds["round_off"].values.astype(bool) if "round_off" in ds.variables
                        else np.zeros(ds["share_tran"].shape, bool)),
             round_off_stored="round_off" in ds.variables,
-            duration=ds["duration"].values,
             setpoints=(ds["setpoints"].values if "setpoints" in ds.variables
                        else np.array([])),
-            sources=tuple(strings(ds["source"].values)), tau_peak=ds["tau_peak"].values,
-            tau_error_peak=ds["tau_error_peak"].values,
-            tau_error_relative_peak=ds["tau_error_relative_peak"].values,
-            merged_tau_error_peak=ds["merged_tau_error_peak"].values,
-            merged_tau_error_relative_peak=ds["merged_tau_error_relative_peak"].values,
-            merged_error_peak=ds["merged_error_peak"].values,
-            merged_error_rms=ds["merged_error_rms"].values,
-            merged_error_tau_peak=ds["merged_error_tau_peak"].values,
-            merged_error_relative_peak=ds["merged_error_relative_peak"].values,
-            merged_error_relative_rms=ds["merged_error_relative_rms"].values,
+            sources=tuple(strings(ds["source"].values)),
+            **{k: ds[k].values for k in _AS_STORED},
             merged=MergedModel.from_dataset(ds), settings=settings,
             run=RunRecord.from_attrs(a))
 
 
 @dataclass(frozen=True, eq=False)
-class PayloadSweep(_View):
+class PayloadSweep(View):
     """The ranking repeated for each load mass on the last link
     (:func:`gd_analyze.jobs.payload.payload_sweep`, or the part a results file stores,
     :func:`gd_analyze.store.sweep_datasets.payload_part`).
@@ -535,23 +415,15 @@ class PayloadSweep(_View):
             If a variable of :data:`PAYLOAD_REQUIRED` is missing (one line naming them).
         """
         _require(ds, PAYLOAD_REQUIRED, "payload sweep")
-        a = ds.attrs
-        n = int(ds.sizes["joint"])
-        share = ds["share_tran"].values
-        return cls(
+        return from_attrs(
+            cls, ds.attrs,
             masses=ds["payload"].values, elements=tuple(strings(ds["element"].values)),
-            share_tran=share,
+            share_tran=ds["share_tran"].values,
             round_off=(ds["round_off"].values.astype(bool) if "round_off" in ds.variables
                        else None),
             dominance=np.array(strings(ds["dominance"].values)).reshape(
                 ds["dominance"].shape),
-            tau_peak=ds["tau_peak"].values,
-            prismatic=(tuple(t == "prismatic" for t in strings(ds["joint_type"].values))
-                       if "joint_type" in ds.variables else (False,) * n),
-            input_file=a.get("input_file"), input_sha256=a.get("input_sha256"),
-            payload_com=a.get("payload_com"), payload_inertia=a.get("payload_inertia"),
-            dominance_threshold=a.get("dominance_threshold"),
-            negligible_threshold=a.get("negligible_threshold"))
+            tau_peak=ds["tau_peak"].values, prismatic=stored_prismatic(ds))
 
 
 def with_more_tasks(ds: xr.Dataset, tasks: int) -> xr.Dataset:
