@@ -205,7 +205,7 @@ class AnalysisPass:
     model : SimplifiedModel or None
         The explicit simplified model, when asked for (``simplify``).
     simplified : xarray.Dataset or None
-        Its bound, cost table and ladder (:func:`gd_analyze.jobs.simplify.simplified_dataset`).
+        Its bound, cost table and ladder (:func:`gd_analyze.jobs.simplified_dataset.simplified_dataset`).
     chapter_error : dict or None
         For the chapter's PUMA 560: the torque error of the chapter's own simplified model
         (:data:`gd_analyze.ranking.chapter_comparison.CHAPTER_CHOICES`), as ``error``.
