@@ -41,7 +41,6 @@ from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_lab
 from ..simplify.budget import DEFAULT_TOLERANCE, Selection
 from ..simplify.guarantee import Guarantee
 from ..simplify.simplified import SimplifiedModel
-from ..store.model_trust import remember_claim
 from ..store.search_cache import read_search, search_key, write_search
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.pruning import prune_bounds, settle_restored, zero_parts
@@ -61,7 +60,7 @@ if TYPE_CHECKING:
 __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "region_model",
            "region_search", "RegionSearch", "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
-           "SCOUT_RATIO", "screened_exact", "region_simplified"]
+           "SCOUT_RATIO", "screened_exact"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -643,42 +642,6 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
     return RegionSearch(rec, guarantee, store=lambda exact_forms, pruned_forms: write_search(
                             key, pr.dropped, pr.whole, exact_forms, pruned_forms))
-
-
-def region_simplified(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
-                      torque_floor: float = 0.0, trajectory_sha256: str = "",
-                      provenance: Mapping[str, Any] | None = None) -> SimplifiedModel:
-    """:func:`region_model` as a :class:`SimplifiedModel`, searched without the pre-screen,
-    its searches taken from the derivation cache where an entry passes its checks and kept
-    there otherwise (:func:`region_search`).
-
-    Parameters
-    ----------
-    robot, base, region, tolerance, torque_floor
-        As :func:`region_model` takes them (EPS; the floor in [N m or N]).
-    trajectory_sha256, provenance
-        As :func:`recursive_simplified` records them.
-
-    Returns
-    -------
-    SimplifiedModel
-        :func:`recursive_simplified` of :func:`region_model`'s model and guarantee: the same
-        pairs dropped, bound and programs whether the searches ran or were read back. Its
-        claim is kept as proved in this process
-        (:func:`gd_analyze.store.model_trust.remember_claim`).
-
-    Notes
-    -----
-    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters; the bounds of
-    :func:`gd_analyze.certify.certify.certify` over the region.
-    """
-    found = region_search(robot, base, region, tolerance, torque_floor, screen=False)
-    model = recursive_simplified(robot, found.rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, trajectory_sha256=trajectory_sha256,
-                                 provenance=provenance, guarantee=found.guarantee,
-                                 forms=found.forms, searched=found.store)
-    remember_claim(model)           # its bound proved here: not proved again by its checks
-    return model
 
 
 def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance: float,

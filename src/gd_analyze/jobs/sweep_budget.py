@@ -35,6 +35,7 @@ from ..errors import InputError
 from ..simplify.budget import DEFAULT_TOLERANCE
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
+from ..store.model_trust import remember_claim
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import dropped_peaks, settle_restored
 from ..symbolic.recursive_model import sweep_recursive_model
@@ -42,7 +43,7 @@ from .deploy import (
     guarantee_region,
     rebuilt,
     recursive_simplified,
-    region_simplified,
+    region_search,
     restored_rebuild,
     trajectory_guarantee,
 )
@@ -279,9 +280,10 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
     Returns
     -------
     (SimplifiedModel, callable or None) or None
-        The model: the main job's region model
-        (:func:`gd_analyze.jobs.deploy.region_simplified`, as the main job prunes it; its
-        cost never above the exact recursive model's) or the exact explicit model
+        The model: the main job's region model (:func:`gd_analyze.jobs.deploy.region_search`
+        without the pre-screen, its claim kept as proved in this process,
+        :func:`gd_analyze.store.model_trust.remember_claim`; its cost never above the exact
+        recursive model's) or the exact explicit model
         (:func:`gd_analyze.jobs.deployment.exact_explicit_model`) as
         :func:`gd_analyze.jobs.deployment.choose_form` decides it over the region, its
         inertia check done (:func:`gd_analyze.jobs.deployment.inertia_checked`),
@@ -307,8 +309,13 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
 def _region_merged(robot, trajectories, region, tolerance, torque_floor, provenance, digest,
                    derive, form):
     """:func:`budget_region_model`'s model and reference, for the settings it checked."""
-    first = region_simplified(robot, base_parameters(robot), region, tolerance, torque_floor,
-                              digest, provenance)
+    base = base_parameters(robot)
+    found = region_search(robot, base, region, tolerance, torque_floor, screen=False)
+    first = recursive_simplified(robot, found.rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, trajectory_sha256=digest,
+                                 provenance=provenance, guarantee=found.guarantee,
+                                 forms=found.forms, searched=found.store)
+    remember_claim(first)           # its bound proved here: not proved again by its checks
     costs = recursive_costs(first)
     terms: Any = None
     if derive:
