@@ -328,3 +328,31 @@ def test_a_trajectory_model_s_sampled_error_is_pinocchios_over_the_samples():
     np.testing.assert_allclose(stored, expected, rtol=1e-6, atol=1e-9)
     ref = _rnea(puma, where[:, :n], where[:, n:2 * n], where[:, 2 * n:])
     np.testing.assert_allclose(np.abs(ref[np.arange(n), np.arange(n)]), scale, rtol=1e-9)
+
+
+def _cost(total):
+    return {"multiplications": total, "additions": 0}
+
+
+@pytest.mark.parametrize("rule, form, proved, rec, ex, full, expected", [
+    ("chapter", "cheapest", False, 100, 900, 900, "explicit"),
+    ("budget", "explicit", True, 100, 900, 900, "explicit"),        # pruned, on the trajectory
+    ("budget", "explicit", True, 100, None, 900, "exact explicit"),  # a sweep over the region
+    ("budget", "cheapest", False, 100, 99, 50, "explicit"),
+    ("budget", "cheapest", False, 100, 100, 50, "recursive"),        # a tie: the recursive one
+    ("budget", "cheapest", True, 100, 10, 99, "exact explicit"),
+    ("budget", "cheapest", True, 100, 10, 100, "recursive"),
+    ("budget", "recursive", False, 100, 10, 10, "recursive"),
+    ("budget", "cheapest", False, 100, None, None, "recursive"),
+])
+def test_one_decision_chooses_the_form(rule, form, proved, rec, ex, full, expected):
+    """The form deployed by operation counts, rule, --form and where the bound is proved."""
+    from gd_analyze.jobs.deployment import choose_form
+
+    choice = choose_form(rule, form, proved, _cost(rec), None if ex is None else _cost(ex),
+                         None if full is None else _cost(full))
+    assert choice.form == expected
+    if expected == "recursive" and ex is not None:     # it says why the explicit one is not
+        assert f"{rec:,} operations against the pruned explicit one's {ex:,}" in choice.why
+        assert ("--form recursive" in choice.why) == (form == "recursive")
+        assert ("proved over the joint-limit region" in choice.why) == (proved and ex < rec)

@@ -54,6 +54,24 @@ def test_error_within_bound_within_eps_of_the_scale(eps, floor):
     assert np.all(model.relative_peak[model.dropped] <= eps * (1 + 1e-12))
 
 
+def test_chosen_pairs_keep_their_bound_against_rnea():
+    """A model of given pairs (some of the search's restored) holds its bound against rnea;
+    pairs over the budget are refused."""
+    arm, (q, qd, qdd), tau, model = case(0.05, 20.0)
+    dropped = model.dropped.copy()
+    dropped[np.argwhere(dropped)[0][0]] = False              # one parameter restored
+    chosen = recursive_model(arm, q, qd, qdd, 0.05, torque_floor=20.0,
+                             chosen=(dropped, np.zeros(dropped.shape[0], bool)))
+    np.testing.assert_array_equal(chosen.dropped, dropped)
+    error = np.abs(python_function(chosen.program(arm))(q, qd, qdd) - tau).max(axis=0)
+    assert np.all(error <= chosen.bound + ROUND * chosen.scale.max())
+    assert np.all(chosen.bound <= 0.05 * chosen.scale * (1 + 1e-12))
+    everything = np.ones_like(dropped)
+    with pytest.raises(ValueError):
+        recursive_model(arm, q, qd, qdd, 0.05, torque_floor=20.0,
+                        chosen=(everything, everything.all(axis=1)))
+
+
 def test_exact_model_is_rnea():
     arm, (q, qd, qdd), tau, model = case(0.0)
     assert not model.dropped.any() and np.all(model.bound == 0)

@@ -205,7 +205,7 @@ class AnalysisPass:
     model : SimplifiedModel or None
         The explicit simplified model, when asked for (``simplify``).
     simplified : xarray.Dataset or None
-        Its bound, cost table and ladder (:func:`gd_analyze.jobs.simplify.simplified_dataset`).
+        Its bound, cost table and ladder (:func:`gd_analyze.jobs.simplified_dataset.simplified_dataset`).
     chapter_error : dict or None
         For the chapter's PUMA 560: the torque error of the chapter's own simplified model
         (:data:`gd_analyze.ranking.chapter_comparison.CHAPTER_CHOICES`), as ``error``.
@@ -441,7 +441,8 @@ def _provenance(trajectory, settings):
             "derivatives": trajectory.derivatives, **(settings or {})}
 
 
-def _with_simplified(ds, extra):
+def _with(ds, extra):
+    """The dataset with another's variables and attributes (None: as it is)."""
     if extra is not None:
         ds = ds.assign(extra.data_vars)
         ds.attrs.update(extra.attrs)
@@ -506,13 +507,6 @@ def _model(robot, trajectory, result, options, settings):
                            provenance=provenance)
 
 
-def _with_costs(ds, costs):
-    if costs is not None:
-        ds = ds.assign(costs.data_vars)
-        ds.attrs.update(costs.attrs)
-    return ds
-
-
 def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
             settings: Mapping[str, Any] | None = None) -> Analysis:
     """Compute, verify, rank and simplify the G-D terms along a trajectory, in memory.
@@ -553,8 +547,8 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
                        result.tau_simplified, result.choices, result.error,
                        verification=result.verification, settings=settings)
-    ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
-    return Analysis(dataset=_with_costs(ds, result.costs),
+    ds = _with_chapter(_with(ds, result.simplified), result.chapter_error)
+    return Analysis(dataset=_with(ds, result.costs),
                     model=_model(robot, trajectory, result, options, settings),
                     verification=result.verification)
 
@@ -624,10 +618,10 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
                                    progress=progress)
         ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
                              result.verification, settings)
-        ds = _with_costs(ds, result.costs)
+        ds = _with(ds, result.costs)
         if extra is not None:
             ds = ds.assign(extra.data_vars)
-        ds = _with_chapter(_with_simplified(ds, result.simplified), result.chapter_error)
+        ds = _with_chapter(_with(ds, result.simplified), result.chapter_error)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
     if result.terms is not None:        # one chunk, held: the result in memory is whole
         ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,

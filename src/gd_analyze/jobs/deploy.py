@@ -10,7 +10,9 @@ ones is :mod:`.deployment`'s. Nothing here prints or writes files.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -39,34 +41,33 @@ from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_lab
 from ..simplify.budget import DEFAULT_TOLERANCE, Selection
 from ..simplify.guarantee import Guarantee
 from ..simplify.simplified import SimplifiedModel
-from ..store.model_trust import remember_claim
 from ..store.search_cache import read_search, search_key, write_search
 from ..symbolic.drive_regressor import with_drives
-from ..symbolic.pruning import dropped_peaks, prune, prune_bounds, settle_restored, zero_parts
+from ..symbolic.pruning import prune_bounds, settle_restored, zero_parts
 from ..symbolic.recursive import recursive_program
 from ..symbolic.recursive_model import RecursiveModel, recursive_model
 from ..trajectory.planning import DEFAULT_QDD_PER_QD, acceleration_limits
 from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
+from .simplify import total_operations
 
 if TYPE_CHECKING:
-    from ..certify.certify import PairBounds
     from ..certify.region import Region, RegionLimits
     from ..certify.screen import RegionScreen
     from ..dynamics.base_parameters import BaseParameters
     from ..model.robot import Robot
     from ..ranking.ranking import Ranking
 
-__all__ = ["build_recursive", "recursive_simplified", "replace_cost", "region_model",
-           "region_search", "trajectory_guarantee", "certified", "robot_region", "guarantee_region",
-           "REGION_SAMPLES", "restored_rebuild", "joint_bound", "SCOUT_BOXES",
-           "SCOUT_RATIO", "screened_exact", "region_simplified"]
+__all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "region_model",
+           "region_search", "RegionSearch", "trajectory_guarantee", "certified", "robot_region",
+           "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
+           "SCOUT_RATIO", "screened_exact"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
 #: reader allows, :data:`gd_analyze.store.model_trust.BOUND_RTOL`).
 TILING_RTOL = 1e-12
 #: Boxes of the first, quick branch and bound on a dropped set's joint sum while the pairs
-#: are chosen (:func:`joint_bound`), and the share of the budget above which its bound
+#: are chosen (:class:`_JointBound`), and the share of the budget above which its bound
 #: rejects the set without the full one.
 SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
 
@@ -188,48 +189,29 @@ def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
     and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`)."""
 
-    joint = joint_bound(robot, base, region, pb, tolerance)
+    joint = _JointBound(robot, base, region, pb, tolerance)
     pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
                       tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero, joint=joint)
     return pr, joint.tilings(pr.dropped, pr.bound)
 
 
-def joint_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
-                tolerance: float) -> Callable[..., Any]:
-    """The bound of a dropped set's joint sum over the region, for
-    :func:`~gd_analyze.symbolic.pruning.prune_bounds`.
-
-    Parameters
-    ----------
-    robot : Robot
-    base : BaseParameters
-        Its base parameters (b of them).
-    region : Region
-    pb : PairBounds
-        The region's certification (:func:`.region_memo.certified`).
-    tolerance : float
-        EPS: the budget is EPS s_i.
-
-    Returns
-    -------
-    callable
-        ``joint(dropped, enough)`` -> ndarray (n,) [N m or N]: with ``enough`` None,
-        :func:`gd_analyze.certify.certify.region_bound` (the pairs that fit the budget
-        alone held in the joint sums on the certification's final boxes), which
-        :func:`gd_analyze.store.model_trust.reproved_bound` derives again. With ``enough`` (only
-        whether the set fits matters), a bound that decides it more cheaply where one does:
-        :func:`~gd_analyze.certify.certify.leaf_bound` when it fits, or when the
-        dropped set's largest error found at the certification's sampled states exceeds
-        ``enough`` (no bound can then fit), or when a branch and bound of
-        :data:`SCOUT_BOXES` boxes ends above :data:`SCOUT_RATIO` times ``enough``.
-        Results are kept per dropped set.
-    """
-    return _JointBound(robot, base, region, pb, tolerance)
-
-
 class _JointBound:
-    """:func:`joint_bound`'s callable, with the cheap answer ``quick`` for the search, which
-    keeps per dropped set the trees of boxes its bound was found on (:meth:`tilings`)."""
+    """The bound of a dropped set's joint sum over the region, for
+    :func:`~gd_analyze.symbolic.pruning.prune_bounds` (``joint``), from the region's
+    certification ``pb`` (:func:`.region_memo.certified`) and the budget EPS s_i.
+
+    ``joint(dropped, enough)`` -> ndarray (n,) [N m or N]: with ``enough`` None,
+    :func:`gd_analyze.certify.certify.region_bound` (the pairs that fit the budget alone held
+    in the joint sums on the certification's final boxes), which
+    :func:`gd_analyze.store.model_trust.reproved_bound` derives again. With ``enough`` (only
+    whether the set fits matters), a bound that decides it more cheaply where one does:
+    :func:`~gd_analyze.certify.certify.leaf_bound` when it fits, or when the dropped set's
+    largest error found at the certification's sampled states exceeds ``enough`` (no bound
+    can then fit), or when a branch and bound of :data:`SCOUT_BOXES` boxes ends above
+    :data:`SCOUT_RATIO` times ``enough``. Results, and the trees of boxes each bound was found
+    on (:meth:`tilings`), are kept per dropped set; ``quick`` is the cheap answer for the
+    search.
+    """
 
     def __init__(self, robot, base, region, pb, tolerance):
         self.robot, self.base, self.region, self.pb = robot, base, region, pb
@@ -427,62 +409,80 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     1987; Gautier 1990), pruned as :func:`gd_analyze.symbolic.recursive_model.recursive_model`.
     """
     base, peaks = (base_parameters(robot), None) if contributions is None else contributions
-    forms, store, screen = None, None, None
-    if region is not None:
-        rec, guarantee, forms, store, screen = region_search(robot, base, region, tolerance,
-                                                             torque_floor)
-        if screen is not None:      # no region model could save enough: nothing searched
-            provenance = {**(provenance or {}), "region_screen": screen.to_dict()}
-    else:
+    if region is None:
         rec = recursive_model(robot, q, qd, qdd, tolerance, torque_floor, base=base,
                               peaks=peaks)
-        guarantee = trajectory_guarantee(robot, base, rec, tolerance, trajectory_sha256,
-                                         sample_region, region_missing)
-    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, ranking=ranking,
-                                 trajectory_sha256=trajectory_sha256, provenance=provenance,
-                                 guarantee=guarantee, forms=forms, searched=store)
-    if region is not None and screen is None and torque_floor > 0:
-        found = _floor_zero_choice(robot, base, region, tolerance, torque_floor)
-        if found is not None:
-            alt = recursive_simplified(robot, found[0], base, tolerance=tolerance,
-                                       torque_floor=torque_floor, ranking=ranking,
-                                       trajectory_sha256=trajectory_sha256,
-                                       provenance=provenance, guarantee=found[1])
-            if _operations(alt) < _operations(model):
-                model, rec = alt, found[0]
-    sel = Selection(rule="budget", tolerance=float(tolerance), choices=model.choices,
-                    kept=None, scale=rec.scale, bound=rec.bound,
-                    bound_by_kind={"D": rec.bound_by_part[0], "h": rec.bound_by_part[1],
-                                   "c": rec.bound_by_part[2], "whole": rec.bound_by_part[3]},
-                    element_bound=np.full(robot.n, np.nan))
-    return model, sel
+        found = RegionSearch(rec, trajectory_guarantee(robot, base, rec, tolerance,
+                                                       trajectory_sha256, sample_region,
+                                                       region_missing))
+    else:
+        found = region_search(robot, base, region, tolerance, torque_floor)
+        if found.screen is not None:    # no region model could save enough: nothing searched
+            provenance = {**(provenance or {}), "region_screen": found.screen.to_dict()}
+    if region is not None and found.screen is None and torque_floor > 0:
+        candidates = [found, _floor_zero_choice(robot, base, region, tolerance, torque_floor)]
+    else:
+        candidates = [found]
+    models = [recursive_simplified(robot, c.rec, base, tolerance=tolerance,
+                                   torque_floor=torque_floor, ranking=ranking,
+                                   trajectory_sha256=trajectory_sha256, provenance=provenance,
+                                   guarantee=c.guarantee, forms=c.forms, searched=c.store)
+              for c in candidates if c is not None]
+    model = min(models, key=lambda m: total_operations(m.cost))     # the first on a tie
+    return model, recursive_selection(model)
 
 
-def _operations(model):
-    """Multiplications + additions of a model's program."""
-    return int(model.cost["multiplications"]) + int(model.cost["additions"])
+def recursive_selection(model: SimplifiedModel) -> Selection:
+    """A recursive model's scale and bound as the explicit model's selection gives them.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        Of the recursive form (its ``recursive`` not None), with n joints.
+
+    Returns
+    -------
+    Selection
+        Of the budget rule, ``kept`` None; ``scale``, ``bound`` and ``bound_by_kind``
+        (``"D"``: inertial, ``"h"``: velocity, ``"c"``: gravity, ``"whole"``: parameters
+        dropped whole) of :class:`~gd_analyze.symbolic.recursive_model.RecursiveModel`
+        [N m or N]; ``element_bound`` NaN.
+    """
+    rec: Any = model.recursive
+    return Selection(rule="budget", tolerance=float(model.tolerance), choices=model.choices,
+                     kept=None, scale=rec.scale, bound=rec.bound,
+                     bound_by_kind=dict(zip(("D", "h", "c", "whole"), rec.bound_by_part)),
+                     element_bound=np.full(model.robot.n, np.nan))
 
 
 def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
     """The pairs the search drops without a torque floor, proved under the floor's
-    certification: (RecursiveModel, Guarantee), or None if they do not fit.
+    certification (a :class:`RegionSearch`), or None if they do not fit.
 
     With a floor every s_i only grows, so the budget only grows and those pairs fit it; the
     greedy search under the larger budget may end dearer (a pair it drops first, restored
     later for the proof that D_s is positive definite), so a floor is never to cost more than
     this choice.
     """
-    rec0 = _searched(robot, base, region, tolerance, 0.0, sampled=False)[0]
+    rec0 = region_search(robot, base, region, tolerance, sampled=False, screen=False).rec
     pb = certified(robot, base, region, torque_floor)
-    dropped = np.asarray(rec0.dropped, bool)
+    try:
+        pr = _fitting(np.asarray(rec0.dropped, bool),
+                      lambda c: _region_pruning(base, pb, robot, region, tolerance, c))
+    except ValueError:
+        return None
+    return RegionSearch(*_region_model(robot, base, region, tolerance, pb, pr))
+
+
+def _fitting(dropped, select):
+    """``select((dropped, whole))`` with the parameters whose parts are all dropped counted
+    whole, else pair by pair where that does not fit; ValueError if neither does."""
     for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
         try:
-            pr = _region_pruning(base, pb, robot, region, tolerance, (dropped, whole))
+            return select((dropped, whole))
         except ValueError:
             continue
-        return _region_model(robot, base, region, tolerance, pb, pr)
-    return None
+    raise ValueError("the pairs do not fit the budget")
 
 
 def recursive_simplified(robot: Robot, rec: RecursiveModel, base: BaseParameters,
@@ -553,17 +553,41 @@ def recursive_simplified(robot: Robot, rec: RecursiveModel, base: BaseParameters
         costs={"exact recursive": exact}, program_cache=program,
         choice_cache=(*choice, exact_program),
         guarantee=guarantee)
-    return replace_cost(model, program.cost())
+    return dataclasses.replace(model, cost=dict(program.cost()))
+
+
+@dataclass(frozen=True)
+class RegionSearch:
+    """A region model at one EPS as :func:`region_search` found it.
+
+    Attributes
+    ----------
+    rec : RecursiveModel
+    guarantee : Guarantee or None
+        Of kind ``"region"``; None where it was not asked for (``sampled=False``).
+    forms : (exact forms, pruned forms) or None
+        The programs' forms read from the derivation cache.
+    store : callable or None
+        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
+    screen : RegionScreen or None
+        The pre-screen where it chose the exact model; None where the model was searched.
+    """
+
+    rec: RecursiveModel
+    guarantee: Guarantee | None
+    forms: tuple | None = None
+    store: Callable[..., Any] | None = None
+    screen: RegionScreen | None = None
 
 
 def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
-                  torque_floor: float = 0.0, sampled: bool = True
-                  ) -> tuple[RecursiveModel, Guarantee | None, tuple | None,
-                             Callable | None, RegionScreen | None]:
+                  torque_floor: float = 0.0, sampled: bool = True, screen: bool = True
+                  ) -> RegionSearch:
     """The region model at one EPS as the main job deploys it: the exact recursive model
     where the sampled pre-screen finds that no region model could save enough
-    (:func:`screened_exact`), else the model searched (:func:`region_model`, its searches
-    taken from the derivation cache where an entry passes its checks).
+    (:func:`screened_exact`), else the model searched (:func:`region_model`), its searches
+    taken from the derivation cache where an entry passes its checks
+    (:mod:`gd_analyze.store.search_cache`).
 
     Parameters
     ----------
@@ -579,98 +603,45 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     sampled : bool, optional
         False: a searched model's guarantee is not built (None) and its error over the region
         not sampled (the tolerance ladder's rungs).
+    screen : bool, optional
+        False: the model is searched without the pre-screen.
 
     Returns
     -------
-    rec : RecursiveModel
-    guarantee : Guarantee or None
-    forms : (exact forms, pruned forms) or None
-        The forms read from the derivation cache.
-    store : callable or None
-        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
-    screen : RegionScreen or None
-        The pre-screen where it chose the exact model; None where the model was searched.
+    RegionSearch
 
     Notes
     -----
     A search in the derivation cache was made by a run whose screen chose to search: the
     screen only chooses between two sound paths, so it is not run again (the entry itself is
-    checked as :func:`region_simplified` checks it).
+    checked: its pairs must pass the budget, its forms only choose among programs that compute
+    the same torques). A bad entry is ignored with a warning.
     """
-    stored = isinstance(read_search(search_key(robot, region, tolerance, torque_floor,
-                                               REGION_SAMPLES), robot.n, base.rank), dict)
-    exact = None if stored else screened_exact(robot, base, region, tolerance, torque_floor)
-    if exact is not None:
-        return exact[0], exact[1], None, None, exact[2]
-    return (*_searched(robot, base, region, tolerance, torque_floor, sampled), None)
-
-
-def _searched(robot, base, region, tolerance, torque_floor, sampled=True):
-    """:func:`region_model` with its searches taken from the derivation cache when an entry
-    passes its checks (:mod:`gd_analyze.store.search_cache`): (model, guarantee, forms or None,
-    a callable that keeps the searches' outcome or None); ``sampled=False``: no guarantee
-    (None), the model's error over the region not sampled."""
-    import warnings
-
-
-    pb = certified(robot, base, region, torque_floor)
     key = search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES)
     found = read_search(key, robot.n, base.rank)
+    exact = None if isinstance(found, dict) or not screen else screened_exact(
+        robot, base, region, tolerance, torque_floor)
+    if exact is not None:
+        return RegionSearch(exact[0], exact[1], screen=exact[2])
+    pb = certified(robot, base, region, torque_floor)
     if isinstance(found, dict):
         try:
             pr = _region_pruning(base, pb, robot, region, tolerance,
-                                  (found["dropped"], found["whole"]))
+                                 (found["dropped"], found["whole"]))
         except ValueError:
             found = "holds dropped pairs over the budget"
         else:
-            return (*_region_model(robot, base, region, tolerance, pb, pr, sampled),
-                    (found["exact_forms"], found["pruned_forms"]), None)
+            rec, guarantee = _region_model(robot, base, region, tolerance, pb, pr, sampled)
+            return RegionSearch(rec, guarantee, (found["exact_forms"], found["pruned_forms"]))
     if isinstance(found, str):
         warnings.warn(one_line(f"{entry_path(key)}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
     pruned = _region_pruning(base, pb, robot, region, tolerance)
     pr = pruned[0]
-    return (*_region_model(robot, base, region, tolerance, pb, pruned, sampled), None,
-            lambda exact_forms, pruned_forms: write_search(key, pr.dropped, pr.whole,
-                                                           exact_forms, pruned_forms))
-
-
-def region_simplified(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
-                      torque_floor: float = 0.0, trajectory_sha256: str = "",
-                      provenance: Mapping[str, Any] | None = None) -> SimplifiedModel:
-    """:func:`region_model` as a :class:`SimplifiedModel`, its searches taken from the
-    derivation cache where an entry passes its checks (:mod:`gd_analyze.store.search_cache`)
-    and kept there otherwise, as the main job's (:func:`build_recursive`) are.
-
-    Parameters
-    ----------
-    robot, base, region, tolerance, torque_floor
-        As :func:`region_model` takes them (EPS; the floor in [N m or N]).
-    trajectory_sha256, provenance
-        As :func:`recursive_simplified` records them.
-
-    Returns
-    -------
-    SimplifiedModel
-        :func:`recursive_simplified` of :func:`region_model`'s model and guarantee: the same
-        pairs dropped, bound and programs whether the searches ran or were read back (an
-        entry's pairs pass the same budget check, its forms only choose among programs that
-        compute the same torques). Its claim is kept as proved in this process
-        (:func:`gd_analyze.store.model_trust.remember_claim`).
-
-    Notes
-    -----
-    Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters; the bounds of
-    :func:`gd_analyze.certify.certify.certify` over the region.
-    """
-    rec, guarantee, forms, store = _searched(robot, base, region, tolerance, torque_floor)
-    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, trajectory_sha256=trajectory_sha256,
-                                 provenance=provenance, guarantee=guarantee, forms=forms,
-                                 searched=store)
-    remember_claim(model)           # its bound proved here: not proved again by its checks
-    return model
+    rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
+    return RegionSearch(rec, guarantee, store=lambda exact_forms, pruned_forms: write_search(
+                            key, pr.dropped, pr.whole, exact_forms, pruned_forms))
 
 
 def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
@@ -725,23 +696,6 @@ def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance
     return rec, guarantee, found
 
 
-def replace_cost(model: SimplifiedModel, cost: dict) -> SimplifiedModel:
-    """The model with its ``cost`` set (a new frozen value; its ``program_cache`` field, and
-    so a program built before, is carried over by :func:`dataclasses.replace`).
-
-    Parameters
-    ----------
-    model : SimplifiedModel
-    cost : dict
-        ``multiplications``, ``additions``, ``sin``, ``cos``.
-
-    Returns
-    -------
-    SimplifiedModel
-    """
-    return dataclasses.replace(model, cost=dict(cost))
-
-
 def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,
                      region: Region | None = None, sample_region: Region | None = None,
                      region_missing: str = "",
@@ -780,42 +734,50 @@ def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarra
         robot, tol, floor = model.robot, model.tolerance, model.torque_floor
         base = model.recursive.base(robot) if contributions is None else contributions[0]
         dropped = settle_restored(robot, base, model.recursive.dropped, dropped)
-
-        def chosen(select):
-            for whole in (dropped.all(axis=1), np.zeros(dropped.shape[0], bool)):
-                try:
-                    return select((dropped, whole))
-                except ValueError:
-                    continue
-            raise ValueError("the restored pairs do not fit the budget")
         if region is not None:
             pb = certified(robot, base, region, floor)
-            pr = chosen(lambda c: _region_pruning(base, pb, robot, region, tol, c))
-            rec, guarantee = _region_model(robot, base, region, tol, pb, pr)
+            rec, guarantee = _region_model(robot, base, region, tol, pb, _fitting(
+                dropped, lambda c: _region_pruning(base, pb, robot, region, tol, c)))
         else:
-            pr0 = prune(robot, base, q, qd, qdd, tol, torque_floor=floor,
-                        peaks=None if contributions is None else contributions[1])
-            pr = chosen(lambda c: prune_bounds(robot, base, pr0.scale, pr0.peak,
-                                               pr0.whole_peak, tol, chosen=c))
-            safe = np.where(pr.scale > 0, pr.scale, 1.0)
-            rel = np.where(pr.scale > 0, pr.peak / safe,
-                           np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
-            rec = RecursiveModel(names=tuple(base.names()), beta=np.array(base.beta, float),
-                                 dropped=np.array(pr.dropped, bool),
-                                 scale=np.array(pr.scale, float),
-                                 bound=np.array(pr.bound, float),
-                                 bound_by_part=dropped_peaks(pr.peak, pr.whole_peak,
-                                                             pr.dropped, pr.whole),
-                                 relative_peak=rel)
+            rec = _fitting(dropped, lambda c: recursive_model(
+                robot, q, qd, qdd, tol, floor, base=base, chosen=c,
+                peaks=None if contributions is None else contributions[1]))
             guarantee = trajectory_guarantee(robot, base, rec, tol, model.trajectory_sha256,
                                              sample_region, region_missing)
-        new = recursive_simplified(robot, rec, base, tolerance=tol, torque_floor=floor,
-                                   trajectory_sha256=model.trajectory_sha256,
-                                   provenance=model.provenance, guarantee=guarantee)
-        costs = {**model.costs, "recursive, budget": dict(new.cost)} if model.costs else \
-            dict(new.costs)
-        return dataclasses.replace(
-            new, dominance_threshold=model.dominance_threshold,
-            negligible_threshold=model.negligible_threshold, validation=model.validation,
-            costs=costs, full_cost=dict(model.full_cost), program_cache=new.program())
+        return rebuilt(model, rec, base, guarantee)
     return rebuild
+
+
+def rebuilt(model: SimplifiedModel, rec: RecursiveModel, base: BaseParameters,
+            guarantee: Guarantee | None = None) -> SimplifiedModel:
+    """A recursive model with other pairs dropped, as a ``rebuild`` of
+    :func:`gd_analyze.certify.positive_definite.with_inertia_check` returns it.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model rebuilt.
+    rec : RecursiveModel
+        Its new pruned model.
+    base : BaseParameters
+        The robot's base parameters.
+    guarantee : Guarantee, optional
+        The new model's.
+
+    Returns
+    -------
+    SimplifiedModel
+        :func:`recursive_simplified` of ``rec``, with the model's settings, provenance,
+        thresholds, validation and compared costs kept, ``costs["recursive, budget"]`` its
+        new count.
+    """
+    new = recursive_simplified(model.robot, rec, base, tolerance=model.tolerance,
+                               torque_floor=model.torque_floor,
+                               trajectory_sha256=model.trajectory_sha256,
+                               provenance=model.provenance, guarantee=guarantee)
+    costs = {**model.costs, "recursive, budget": dict(new.cost)} if model.costs else \
+        dict(new.costs)
+    return dataclasses.replace(
+        new, dominance_threshold=model.dominance_threshold,
+        negligible_threshold=model.negligible_threshold, validation=model.validation,
+        costs=costs, full_cost=dict(model.full_cost), program_cache=new.program())

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
-from concurrent.futures import Future
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -19,18 +20,18 @@ from ..simplify.choices import full_choices
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
 from ..store.names import Attr
-from .deploy import build_recursive, guarantee_region, restored_rebuild
+from .deploy import build_recursive, guarantee_region, recursive_selection, restored_rebuild
 from .recursive_ladder import recursive_ladder
+from .simplified_dataset import cost_rows, simplified_dataset
 from .simplify import (
     LADDER,
     build_model,
     collect_peaks,
-    cost_rows,
     full_program,
     full_torque,
     ladder,
     ladder_skipped,
-    simplified_dataset,
+    total_operations,
 )
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -44,8 +45,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..trajectory.trajectory import Trajectory
     from .options import SimplifyOptions
 
-__all__ = ["deploy_models", "exact_explicit_wins", "exact_explicit_model", "region_coverage",
-           "region_screen_attrs"]
+__all__ = ["deploy_models", "FormChoice", "choose_form", "inertia_checked", "recursive_costs",
+           "exact_explicit_model", "region_coverage", "region_screen_attrs"]
 
 
 def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_peaks: PartPeaks,
@@ -77,7 +78,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         the trajectory.
     finish : callable
         ``finish(other_error)``: the dataset of
-        :func:`gd_analyze.jobs.simplify.simplified_dataset`.
+        :func:`gd_analyze.jobs.simplified_dataset.simplified_dataset`.
 
     Notes
     -----
@@ -85,119 +86,89 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     The pruned recursive model is always built; the explicit G-D model is derived when the
     chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is ``"always"``, or
     (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
-    size is cheap
-    (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`). Under the budget rule and
-    ``form="cheapest"`` the cheaper of the pruned recursive and pruned explicit models is
-    deployed (multiplications + additions; the recursive one on a tie). The tolerance ladder
-    is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the recursive one,
-    pruned as it is).
+    size is cheap (:func:`.peak_jobs.derives_explicit`). Which one is deployed is
+    :func:`choose_form`'s decision, its D_s checked by :func:`inertia_checked`. The tolerance
+    ladder is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the
+    recursive one, pruned as it is).
     """
-    tolerance, rule, torque_floor = options.tolerance, options.rule, options.torque_floor
-    form = options.form
+    tolerance, rule, torque_floor, form = (options.tolerance, options.rule,
+                                           options.torque_floor, options.form)
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     common: dict[str, Any] = dict(ranking=ranking, trajectory_sha256=trajectory.sha256,
                                   provenance=provenance)
     counts = operation_counts(robot)
     region, missing, proved = guarantee_region(robot, options.guarantee, options.region) \
         if rule == "budget" else (None, "", False)
-    rec, rec_sel = build_recursive(robot, q, qd, qdd, tolerance=tolerance,
-                                   torque_floor=torque_floor,
-                                   contributions=background["recursive"].result(),
-                                   region=region if proved else None, sample_region=region,
-                                   region_missing=missing, **common)
-    exact = rec.costs["exact recursive"]
-    ne = counts["newton-euler"]
-    ne = {"multiplications": int(ne["multiplications"]), "additions": int(ne["additions"])}
-    derive = "explicit" in background
-    rows: Any                   # the ladder's rows, or their Future (recursive_ladder)
-    model, sel, other, rows, skipped, form_note = rec, rec_sel, None, [], "", ""
-    costs = {"exact recursive": exact, "recursive, budget": dict(rec.cost),
-             "newton-euler": ne}
-    if derive:
+    contributions = background["recursive"].result()
+    rec, _ = build_recursive(robot, q, qd, qdd, tolerance=tolerance, torque_floor=torque_floor,
+                          contributions=contributions, region=region if proved else None,
+                          sample_region=region, region_missing=missing, **common)
+    costs = recursive_costs(rec, counts)
+    ex: Any = None                 # the explicit model of the rule, its terms and peaks
+    terms: Any = None
+    other: SimplifiedModel | None = None
+    if "explicit" in background:
         terms, term = background["explicit"].result()
         peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks, term=term)
         ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
                                  torque_floor=torque_floor,
                                  chapter_choices=ranking.choices(), **common)
-        other_rule = "chapter" if rule == "budget" else "budget"
-        other, _ = build_model(robot, terms, peaks, tolerance=tolerance, rule=other_rule,
+        other, _ = build_model(robot, terms, peaks, tolerance=tolerance,
+                               rule="chapter" if rule == "budget" else "budget",
                                torque_floor=torque_floor, chapter_choices=ranking.choices(),
                                **common)
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        deployed = rule == "chapter" or form == "explicit" or (
-            form == "cheapest" and not proved and _ops(ex.cost) < _ops(rec.cost))
-        # proved over the region: the exact explicit model (bound 0) where it is cheaper
-        exact_explicit = (not deployed and proved and form == "cheapest"
-                          and exact_explicit_wins(rec.cost, ex.full_cost))
-        if deployed:                            # the ladder of the form deployed
-            model, sel = ex, ex_sel
-            skipped = ladder_skipped(ex.full_cost, counts)
-            rows = [] if skipped else ladder(robot, terms, peaks, [(q, qd, qdd)],
-                                             torque_floor=torque_floor,
-                                             reference=full_torque(robot, terms))
-        elif exact_explicit:
-            full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
-                                    torque_floor=torque_floor,
-                                    chapter_choices=ranking.choices(), **common)
-            model = exact_explicit_model(full, rec.guarantee, tolerance)  # type: ignore[arg-type]  # proved: a region guarantee
-            skipped = ("not built: the deployed model is the exact explicit one, which holds "
-                       "over the whole region, and the ladder prunes on the trajectory")
-        else:
-            form_note = _not_deployed(rec, ex, form, proved)
+    choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
+                         None if ex is None else ex.full_cost)
     # the sampled pre-screen skipped the region's certification: no ladder is certified either
     screened = rec.provenance.get("region_screen") if proved else None
-    ladder_recursive = model is rec and not screened
-    if model is rec and screened:
-        skipped = _screened_ladder(screened)
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)),
-                                program_cache=model.program(),
-                                guarantee=model.guarantee if model.guarantee is not None
-                                else _trajectory_guarantee(model, sel, trajectory, missing,
-                                                           region))
+    rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
+    model, sel, skipped = rec, None, _screened_ladder(screened)
+    if choice.form == "explicit":               # the ladder of the form deployed
+        model, sel = ex, ex_sel
+        skipped = ladder_skipped(ex.full_cost, counts)
+        rows = [] if skipped else ladder(robot, terms, peaks, (q, qd, qdd),
+                                         torque_floor=torque_floor,
+                                         reference=full_torque(robot, terms))
+    elif choice.form == "exact explicit":
+        full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                                **common)
+        model = exact_explicit_model(full, rec.guarantee, tolerance, choice.why)  # type: ignore[arg-type]  # proved: a region guarantee
+        skipped = ("not built: the deployed model is the exact explicit one, which holds "
+                   "over the whole region, and the ladder prunes on the trajectory")
+    form_note = choice.why if choice.form == "recursive" else ""
+
+    def with_costs(m):
+        return dataclasses.replace(m, costs=costs, program_cache=m.program(),
+                                   full_cost=dict(costs.get("explicit, full", m.full_cost)))
+    model = with_costs(model)
+    if model.guarantee is None:
+        model = dataclasses.replace(model, guarantee=_trajectory_guarantee(
+            model, sel, trajectory, missing, region))
     # D_s proved positive definite where the bound holds; parameters restored where it is
     # not, the bound and sampled error derived again for the model finally deployed
     rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
                                sample_region=region, region_missing=missing,
-                               contributions=background["recursive"].result())
-    model = with_inertia_check(model, q, rebuild=rebuild)
-    check = model.inertia_check
-    region_claim = model.guarantee is not None and model.guarantee.proved
-    # NaN is not positive: a model whose D_s is singular or indefinite at a sampled position
-    sampled_indefinite = not check["sampled_min_eigenvalue"] > 0
-    if model.recursive is None and not check["proved"] and (region_claim or sampled_indefinite):
-        # an explicit model whose D_s is not proved is not deployed under a region guarantee,
-        # nor one whose D_s is not positive definite at the sampled positions, where the
-        # recursive one's is proved
-        fallback = with_inertia_check(dataclasses.replace(
-            rec, costs=costs, full_cost=dict(costs.get("explicit, full", rec.full_cost)),
-            program_cache=rec.program()), q, rebuild=rebuild)
-        if fallback.inertia_check["proved"]:
-            model, sel, form_note = fallback, rec_sel, (
-                "The deployed model is the " + ("exact" if screened else "pruned")
-                + " recursive one: the explicit model's D_s "
-                + ("was not proved positive definite over the region." if region_claim else
-                   "is not positive definite at the sampled positions of the trajectory "
-                   f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
-            ladder_recursive = not screened
-            skipped = _screened_ladder(screened) if screened else ""
-    if model.recursive is not None and model.recursive is not rec.recursive:    # restored
-        sel = dataclasses.replace(
-            sel, scale=model.recursive.scale, bound=model.recursive.bound,
-            bound_by_kind={"D": model.recursive.bound_by_part[0],
-                           "h": model.recursive.bound_by_part[1],
-                           "c": model.recursive.bound_by_part[2],
-                           "whole": model.recursive.bound_by_part[3]})
+                               contributions=contributions)
+    model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
+    if replaced is not None:
+        check: Any = replaced.inertia_check
+        form_note = ("The deployed model is the " + ("exact" if screened else "pruned")
+                     + " recursive one: the explicit model's D_s "
+                     + ("was not proved positive definite over the region."
+                        if replaced.guarantee is not None and replaced.guarantee.proved else
+                        "is not positive definite at the sampled positions of the trajectory "
+                        f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
+    if model.recursive is not None:             # its own bound, restored pairs included
+        sel, skipped, rows = recursive_selection(model), _screened_ladder(screened), []
     pool = None
-    if ladder_recursive:                        # the recursive form's ladder
-        from concurrent.futures import ThreadPoolExecutor
-
-        base, contributions = background["recursive"].result()
+    if model.recursive is not None and not screened:        # the recursive form's ladder
         # measured over the trajectory in a thread, beside the error pass
         pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
-        rows = recursive_ladder(robot, base, (q, qd, qdd), LADDER, torque_floor,
-                                region=region if proved else None, contributions=contributions,
-                                deployed=model, pool=pool)
+        rows = recursive_ladder(robot, contributions[0], (q, qd, qdd), LADDER, torque_floor,
+                                region=region if proved else None,
+                                contributions=contributions[1], deployed=model, pool=pool)
         pool.shutdown(wait=False)               # the thread ends when its one job has
 
     def finish(other_error):
@@ -206,7 +177,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
                           formulation_counts=counts)
         extra = simplified_dataset(model, sel, other=other, ladder_rows=rungs, cost_table=table,
                                    other_error=other_error,
-                                   full_terms=terms if derive else None)
+                                   full_terms=terms)
         if skipped:
             extra.attrs["simplified_ladder_skipped"] = skipped
         if rungs:
@@ -219,6 +190,141 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         return extra
 
     return model, other, finish
+
+
+@dataclass(frozen=True)
+class FormChoice:
+    """Which form of the simplified model is deployed, and why.
+
+    Attributes
+    ----------
+    form : {"recursive", "explicit", "exact explicit"}
+        The pruned recursive model; the explicit model of the rule (pruned within the budget,
+        or the chapter's choices); or the exact explicit model (nothing dropped), under a
+        region guarantee.
+    why : str
+        For ``"exact explicit"``: why it is deployed (the clause its guarantee's ``method``
+        gives); for ``"recursive"`` where a pruned explicit model was a candidate: the
+        sentence saying why that one is not deployed; else "".
+    """
+
+    form: str
+    why: str = ""
+
+
+def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any],
+                explicit: Mapping[str, Any] | None = None,
+                full: Mapping[str, Any] | None = None) -> FormChoice:
+    """The one decision of which model is deployed: recursive, explicit or exact explicit.
+
+    Parameters
+    ----------
+    rule : {"budget", "chapter"}
+        The selection rule.
+    form : {"cheapest", "recursive", "explicit"}
+        The ``--form`` choice.
+    proved : bool
+        The recursive model's bound is proved over the joint-limit region.
+    recursive : mapping
+        The pruned recursive model's ``multiplications`` and ``additions``.
+    explicit : mapping, optional
+        The explicit model's of the rule, where one is a candidate (None: not derived, or,
+        as in a sweep over the region, not built).
+    full : mapping, optional
+        The full explicit model's, where it is derived.
+
+    Returns
+    -------
+    FormChoice
+        The chapter rule's model is explicit. ``form="explicit"`` deploys the pruned explicit
+        model where it is a candidate, else the exact one under a region guarantee.
+        ``form="cheapest"`` deploys the model that counts fewest operations
+        (multiplications + additions, the recursive one on a tie) among the recursive one
+        and, on the trajectory, the pruned explicit one or, over the region, the exact
+        explicit one (a pruned explicit model's bound holds on the trajectory only).
+    """
+    rec = total_operations(recursive)
+    if rule == "chapter" or explicit is not None and (form == "explicit" or (
+            form == "cheapest" and not proved and total_operations(explicit) < rec)):
+        return FormChoice("explicit")
+    if proved and full is not None and form == "explicit":
+        return FormChoice("exact explicit", "asked for (--form explicit): the explicit model "
+                                            "proved over the region")
+    if proved and full is not None and form == "cheapest" and total_operations(full) < rec:
+        return FormChoice("exact explicit",
+                          "cheaper than the recursive model pruned over the region")
+    if explicit is None:
+        return FormChoice("recursive")
+    ex = total_operations(explicit)
+    why = (", --form recursive" if form != "cheapest" else
+           ", whose bound holds on this trajectory only, while the recursive one's is proved "
+           "over the joint-limit region" if proved and ex < rec else "")
+    return FormChoice("recursive", f"The deployed model is the pruned recursive one ({rec:,} "
+                                   f"operations against the pruned explicit one's {ex:,}{why}).")
+
+
+def inertia_checked(model: SimplifiedModel, recursive: SimplifiedModel,
+                    rebuild: Callable[..., SimplifiedModel], q: np.ndarray | None = None
+                    ) -> tuple[SimplifiedModel, SimplifiedModel | None]:
+    """The deployed model with D_s proved positive definite, or the recursive one in place of
+    an explicit model whose D_s is not.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The model chosen (:func:`choose_form`).
+    recursive : SimplifiedModel
+        The pruned recursive model built beside it.
+    rebuild : callable
+        :func:`gd_analyze.certify.positive_definite.with_inertia_check`'s ``rebuild``.
+    q : ndarray, shape (N, n), optional
+        The positions of a trajectory guarantee [rad; m].
+
+    Returns
+    -------
+    model : SimplifiedModel
+        :func:`gd_analyze.certify.positive_definite.with_inertia_check` of ``model``; an
+        explicit model whose D_s is not proved, where its bound is claimed over the region or
+        where D_s is not positive definite at a sampled position (NaN is not positive), is
+        replaced by the recursive model where that one's D_s is proved.
+    replaced : SimplifiedModel or None
+        The explicit model replaced, with its check.
+    """
+    model = with_inertia_check(model, q, rebuild=rebuild)
+    check: Any = model.inertia_check
+    claim = model.guarantee is not None and model.guarantee.proved
+    if model.recursive is None and not check["proved"] and (
+            claim or not check["sampled_min_eigenvalue"] > 0):
+        fallback = with_inertia_check(recursive, q, rebuild=rebuild)
+        if (fallback.inertia_check or {}).get("proved"):
+            return fallback, model
+    return model, None
+
+
+def recursive_costs(model: SimplifiedModel, counts: Mapping[str, Any] | None = None
+                    ) -> dict[str, dict[str, int]]:
+    """The ``costs`` compared with a deployed model: the exact recursive model's, the pruned
+    recursive model's and Newton-Euler's as implemented.
+
+    Parameters
+    ----------
+    model : SimplifiedModel
+        The pruned recursive model (:func:`gd_analyze.jobs.deploy.build_recursive`).
+    counts : dict, optional
+        :func:`gd_analyze.dynamics.opcount.operation_counts` of the robot; counted if not
+        given.
+
+    Returns
+    -------
+    dict
+        ``"exact recursive"``, ``"recursive, budget"`` and ``"newton-euler"``, each with
+        ``multiplications`` and ``additions``.
+    """
+    ne = (operation_counts(model.robot) if counts is None else counts)["newton-euler"]
+    return {"exact recursive": model.costs["exact recursive"],
+            "recursive, budget": dict(model.cost),
+            "newton-euler": {"multiplications": int(ne["multiplications"]),
+                             "additions": int(ne["additions"])}}
 
 
 def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
@@ -239,24 +345,6 @@ def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
     return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
             Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
             Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"])}
-
-
-def exact_explicit_wins(recursive_cost: Mapping[str, Any], full_cost: Mapping[str, Any]) -> bool:
-    """Under a region guarantee (``form="cheapest"``): whether the exact explicit model is
-    deployed rather than the recursive model pruned over the region.
-
-    Parameters
-    ----------
-    recursive_cost, full_cost : dict
-        ``multiplications`` and ``additions`` of the region's recursive model (never dearer
-        than the exact recursive one) and of the full explicit model.
-
-    Returns
-    -------
-    bool
-        The full explicit model counts fewer operations (the recursive one wins a tie).
-    """
-    return _ops(full_cost) < _ops(recursive_cost)
 
 
 def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance: float,
@@ -330,20 +418,9 @@ def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
                             "(triangle inequality)")
 
 
-def _not_deployed(rec, ex, form, proved):
-    """Why the pruned explicit model is not deployed beside the recursive one."""
-    why = (", --form recursive" if form != "cheapest" else
-           ", whose bound holds on this trajectory only, while the recursive one's is proved "
-           "over the joint-limit region" if proved and _ops(ex.cost) < _ops(rec.cost) else "")
-    return (f"The deployed model is the pruned recursive one ({_ops(rec.cost):,} operations "
-            f"against the pruned explicit one's {_ops(ex.cost):,}{why}).")
-
-
 def _screened_ladder(screen):
-    """Why the ladder is not built when the pre-screen skipped the region's certification."""
-    return ("not built: the region was not certified (" + str(screen["statement"])
-            + "), and each rung would need its certification")
-
-
-def _ops(cost):
-    return int(cost["multiplications"]) + int(cost["additions"])
+    """Why the ladder is not built when the pre-screen skipped the region's certification
+    (or "" without a screen)."""
+    return "" if not screen else (
+        "not built: the region was not certified (" + str(screen["statement"])
+        + "), and each rung would need its certification")

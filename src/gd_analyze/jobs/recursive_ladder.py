@@ -105,8 +105,8 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
             rec, program = deployed.recursive, deployed.choice_cache[0]  # type: ignore[index]  # a deployed model has its choice
         else:
             if region is not None:      # as the main job would deploy it at this EPS
-                rec, _, forms, store, _ = region_search(robot, base, region, eps,
-                                                        torque_floor, sampled=False)
+                found = region_search(robot, base, region, eps, torque_floor, sampled=False)
+                rec, forms, store = found.rec, found.forms, found.store
             else:
                 rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,
                                       peaks=contributions)

@@ -24,8 +24,6 @@ from ..symbolic.codegen import build_program
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.emit import python_function
 from ..symbolic.explicit import term_peaks
-from .deploy import build_recursive, replace_cost  # noqa: F401  (re-exported)
-from .simplified_dataset import AKB_COSTS, cost_rows, simplified_dataset  # noqa: F401
 
 if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import NDArray
@@ -47,7 +45,7 @@ if TYPE_CHECKING:                       # for the type hints only
                                 tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
 __all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder",
-           "cost_rows", "AKB_COSTS", "simplified_dataset", "build_recursive", "replace_cost"]
+           "total_operations"]
 
 #: The tolerance ladder of the report and README.
 LADDER = (0.0, 0.001, 0.01, 0.05)
@@ -325,24 +323,22 @@ def validate(model: SimplifiedModel, trajectories: Iterable[States], chunk: int 
 __all__ += ["validate", "full_torque"]
 
 
-def ladder(robot: Robot, terms: Term, peaks: Peaks, trajectories: Sequence[States],
-           tolerances: Sequence[float] = LADDER, torque_floor: float = 0.0,
-           held_out: Sequence[States] | None = None,
-           reference: TorqueFunction | None = None) -> list[dict[str, Any]]:
-    """The tolerance ladder: cost and worst per-joint error for each EPS.
+def ladder(robot: Robot, terms: Term, peaks: Peaks, trajectory: States,
+           torque_floor: float = 0.0, reference: TorqueFunction | None = None
+           ) -> list[dict[str, Any]]:
+    """The explicit model's tolerance ladder: cost and worst per-joint error for each EPS of
+    :data:`LADDER`.
 
     Parameters
     ----------
     robot : Robot
     terms : Term
     peaks : Peaks
-        Along the analysed trajectories.
-    trajectories : list of (q, qd, qdd)
-        The analysed trajectories (the error there is guaranteed within EPS).
-    tolerances : sequence of float, optional
+        Along the analysed trajectory.
+    trajectory : (q, qd, qdd)
+        The analysed trajectory, arrays of shape (N, n) (the error there is guaranteed
+        within EPS).
     torque_floor : float, optional
-    held_out : list of (q, qd, qdd), optional
-        Other trajectories (the error there is not guaranteed).
     reference : callable, optional
         tau_full(q, qd, qdd) for :func:`validate`.
 
@@ -351,23 +347,15 @@ def ladder(robot: Robot, terms: Term, peaks: Peaks, trajectories: Sequence[State
     list of dict
         Per EPS: ``tolerance``, ``multiplications``, ``additions``, ``sin``, ``cos``,
         ``worst_relative_error`` (max over joints of peak |tau_s - tau| / scale_i on the
-        analysed trajectories), ``worst_relative_error_held_out`` (NaN without held-out ones).
+        trajectory).
     """
     scale = np.maximum(peaks.parts.tau_peak, torque_floor)
     rows = []
-    for eps in tolerances:
+    for eps in LADDER:
         model, _ = build_model(robot, terms, peaks, tolerance=eps, torque_floor=torque_floor)
-        err = validate(model, trajectories, reference=reference)
-        worst = float(np.max(np.array(err["peak_abs_error"]) / np.where(scale > 0, scale,
-                                                                         np.inf)))
-        held = np.nan
-        if held_out:
-            e2 = validate(model, held_out, reference=reference)
-            pt = np.array(e2["peak_tau"])
-            held = float(np.max(np.array(e2["peak_abs_error"])
-                                / np.where(pt > 0, np.maximum(pt, torque_floor), np.inf)))
-        rows.append({"tolerance": float(eps), **model.cost,
-                     "worst_relative_error": worst, "worst_relative_error_held_out": held})
+        err = np.array(validate(model, [trajectory], reference=reference)["peak_abs_error"])
+        rows.append({"tolerance": float(eps), **model.cost, "worst_relative_error": float(
+            np.max(err / np.where(scale > 0, scale, np.inf)))})
     return rows
 
 

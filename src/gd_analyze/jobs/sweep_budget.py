@@ -4,7 +4,7 @@ joint-limit region or on every swept trajectory.
 The explicit G-D form alone would cost more than the
 exact customized recursive Newton-Euler model on every arm measured (the Panda's 97,074
 operations against 610). Here the recursive model is pruned over all swept trajectories
-together (:func:`recursive_sweep_model`), from the peaks of its (base parameter, part)
+together (:func:`gd_analyze.symbolic.recursive_model.sweep_recursive_model`), from the peaks of its (base parameter, part)
 contributions that the dask workers computed per trajectory
 (:func:`gd_analyze.jobs.sweep.run_sweep` with ``recursive_peaks=True``), each taken
 relative to its own trajectory's scale, so that the budget holds on every one of them. The
@@ -16,7 +16,7 @@ model: at worst it is that model (:func:`gd_analyze.symbolic.pruning.pruned_prog
 
 Under a region guarantee (``guarantee="region"``, or ``"auto"`` where the robot gives its
 limits, as the main job's ``--guarantee``) the region does not depend on the trajectories: the
-merged model is the main job's region model (:func:`region_sweep_model`), checked on every
+merged model is the main job's region model (:func:`budget_region_model`), checked on every
 swept trajectory, each said to lie inside the region or not.
 """
 
@@ -31,23 +31,23 @@ import numpy as np
 from ..certify.positive_definite import with_inertia_check
 from ..config import defaults
 from ..dynamics.base_parameters import base_parameters
-from ..dynamics.opcount import operation_counts
 from ..errors import InputError
 from ..simplify.budget import DEFAULT_TOLERANCE
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
+from ..store.model_trust import remember_claim
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import dropped_peaks, settle_restored
 from ..symbolic.recursive_model import sweep_recursive_model
 from .deploy import (
     guarantee_region,
+    rebuilt,
     recursive_simplified,
-    region_simplified,
+    region_search,
     restored_rebuild,
-    robot_region,
     trajectory_guarantee,
 )
-from .deployment import exact_explicit_model, exact_explicit_wins
+from .deployment import choose_form, exact_explicit_model, inertia_checked, recursive_costs
 from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
 from .simplified_dataset import sweep_choices
@@ -56,23 +56,20 @@ from .simplify import (
     full_program,
     full_torque,
     sweep_validation,
-    total_operations,
     trajectories_sha256,
 )
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
-    from numpy.typing import ArrayLike, NDArray
+    from numpy.typing import NDArray
 
-    from ..certify.region import Region, RegionLimits
-    from ..dynamics.base_parameters import BaseParameters
+    from ..certify.region import RegionLimits
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
     from ..trajectory.trajectory import Trajectory
     from .simplify import TorqueFunction, TrajectoryErrors
 
-__all__ = ["pair_peaks", "recursive_sweep_model", "budget_sweep_model", "region_sweep_model",
-           "sweep_guarantee", "budget_region_model", "region_merged_model"]
+__all__ = ["pair_peaks", "budget_sweep_model", "budget_region_model"]
 
 
 def pair_peaks(sweep_ds: xr.Dataset) -> tuple[NDArray[np.float64], ...]:
@@ -103,63 +100,6 @@ def pair_peaks(sweep_ds: xr.Dataset) -> tuple[NDArray[np.float64], ...]:
         raise InputError("the sweep holds no peaks of the recursive model's contributions "
                          "(run_sweep(..., recursive_peaks=True)): missing " + ", ".join(missing))
     return tuple(np.asarray(sweep_ds[v].values, float) for v in names)
-
-
-def recursive_sweep_model(robot: Robot, scale: ArrayLike, peak: ArrayLike, whole_peak: ArrayLike,
-                          tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
-                          trajectory_sha256: str = "", provenance: Mapping[str, Any] | None = None,
-                          base: BaseParameters | None = None
-                          ) -> tuple[SimplifiedModel, NDArray[np.float64]]:
-    """The pruned recursive model within EPS x scale_{t,i} on each of K trajectories.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    scale : array_like, shape (K, n)
-        scale_{t,i} = max(peak |tau_i| on t, TAU) [N m or N].
-    peak : array_like, shape (K, b, 3, n)
-        Per trajectory, a bound on |contribution| of each (base parameter, part): its peak
-        there (:func:`gd_analyze.symbolic.pruning.stacked_peaks`), or a bound proved on a
-        region of states, which the guarantee then carries over [N m or N].
-    whole_peak : array_like, shape (K, b, n)
-        The same per base parameter, all parts together [N m or N].
-    tolerance : float, optional
-        EPS >= 0.
-    torque_floor : float, optional
-        TAU [N m], recorded with the model (``scale`` already holds it).
-    trajectory_sha256 : str, optional
-        Digest of the trajectories (:func:`gd_analyze.jobs.simplify.trajectories_sha256`).
-    provenance : dict, optional
-    base : BaseParameters, optional
-        The robot's base parameters (those the peaks are of); derived if not given.
-
-    Returns
-    -------
-    model : SimplifiedModel
-        Of the recursive form (:func:`gd_analyze.jobs.deploy.recursive_simplified`),
-        ``validation`` empty.
-    bound : ndarray, shape (K, n)
-        The guaranteed bound on |tau_s - tau| on each trajectory: the dropped units' peaks
-        there [N m or N], at most EPS x scale.
-
-    Raises
-    ------
-    ValueError
-        As :func:`gd_analyze.symbolic.pruning.prune_on_peaks`.
-
-    Notes
-    -----
-    :func:`gd_analyze.symbolic.recursive_model.sweep_recursive_model`; Fu, Gonzalez & Lee
-    (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger 1987; Gautier 1990).
-    """
-
-    base = base_parameters(robot) if base is None else base
-    rec, each = sweep_recursive_model(robot, scale, peak, whole_peak, tolerance, base=base)
-    model = recursive_simplified(robot, rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, trajectory_sha256=trajectory_sha256,
-                                 provenance=provenance)
-    return model, each.sum(axis=1)
 
 
 def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_ds: xr.Dataset,
@@ -216,15 +156,15 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     Returns
     -------
     SimplifiedModel
-        Over the region (:func:`region_sweep_model`): the recursive model pruned on bounds
+        Over the region (:func:`budget_region_model`): the recursive model pruned on bounds
         proved there (never dearer than the exact recursive model), or the exact explicit
         model where that counts fewer operations (``form="cheapest"``) or is asked for
         (``form="explicit"``); its guarantee of kind ``"region"``. On the trajectories: with
         ``form="cheapest"`` the recursive model, or the explicit one where it counts fewer
         operations (multiplications + additions; the recursive one on a tie), so never more
         than the exact recursive model; its guarantee of kind ``"trajectory"``
-        (:func:`sweep_guarantee`). ``costs`` holds the counts of the candidates, the exact
-        recursive model and Newton-Euler; ``validation`` as
+        (scale: the largest scale_{t,i} over the trajectories). ``costs`` holds the counts
+        of the candidates, the exact recursive model and Newton-Euler; ``validation`` as
         :func:`gd_analyze.jobs.simplify.sweep_validation`, ``per_trajectory["bound"]``
         the bound on each trajectory [N m] and ``per_trajectory["scale"]`` the scale it is
         relative to (s_i over the region for a region model) [N m]; a region model's
@@ -255,42 +195,55 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
                          f"{sweep_ds.sizes['trajectory']}")
     provenance, digest, derive, (region, missing, proved) = _settings(
         robot, trajectories, provenance, explicit, form, guarantee, region)
-    if proved:
-        return sweep_choices(region_sweep_model(
-            robot, trajectories, region,  # type: ignore[arg-type]  # a Region (guarantee_region)
-            tolerance, torque_floor, held_out, provenance, digest, derive, form,
-            prepared=prepared, errors=errors), trajectories)
+    K, n = len(trajectories), robot.n
+    if proved:              # the bound holds at every state of the region: checked on each
+        merged, reference = prepared if prepared is not None else _region_merged(
+            robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive,
+            form)
+        g: Any = merged.guarantee                # a region model's guarantee: never None
+        s_i, proved_bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(proved_bound > 0, proved_bound / s_i, 0.0)
+        validation = sweep_validation(merged, trajectories, np.broadcast_to(s_i, (K, n)),
+                                      ratio, held_out=held_out, reference=reference,
+                                      bound=np.broadcast_to(proved_bound, (K, n)), errors=errors)
+        said = coverages(merged, [*trajectories, *held_out])    # one outside: not covered
+        validation["per_trajectory"].update(covered=[c["covered"] for c in said[:K]],
+                                            coverage=[c["reason"] for c in said[:K]])
+        validation["held_out_inside_region"] = sum(c["covered"] for c in said[K:])
+        return sweep_choices(dataclasses.replace(merged, validation=validation), trajectories)
     tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
     scales = np.maximum(tau_peak, float(torque_floor))
-    model, bound = recursive_sweep_model(robot, scales, peak, whole_peak, tolerance,
-                                         torque_floor, digest, provenance)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
-    costs = _recursive_costs(robot, model)
-    reference = None                           # the G-D terms, D qdd + h + c
+    base = base_parameters(robot)
+    rec, _ = sweep_recursive_model(robot, scales, peak, whole_peak, tolerance, base=base)
+    model: Any = recursive_simplified(robot, rec, base, tolerance=tolerance,
+                                      torque_floor=torque_floor, trajectory_sha256=digest,
+                                      provenance=provenance)
+    costs = recursive_costs(model)
+    reference, ex = None, None                  # the G-D terms, D qdd + h + c
     if derive:
-        ex, _, ex_scales, ex_relative, terms = explicit_sweep_model(
+        ex, _, ex_scales, relative, terms = explicit_sweep_model(
             robot, trajectories, tolerance, torque_floor, provenance)
         costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-        if form == "explicit" or (form == "cheapest" and total_operations(ex.cost) < total_operations(model.cost)):
-            model, scales, relative, bound = ex, ex_scales, ex_relative, None  # type: ignore[assignment]  # no recursive bound
-            reference = full_torque(robot, terms)
+    if choose_form("budget", form, False, model.cost,
+                   None if ex is None else ex.cost).form == "explicit":
+        model, scales, reference = ex, ex_scales, full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,
                                 full_cost=dict(costs.get("explicit, full", model.full_cost)))
     # D_s positive definite on the swept positions, before the model is measured; a restore
     # derives the bound on each trajectory again for the pairs still dropped
     model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]),
                                rebuild=_sweep_rebuild(peak, whole_peak, scales, tolerance))
-    if bound is not None and model.recursive is not None:
+    bound: Any = None                           # an explicit model's: relative x scales
+    if model.recursive is not None:
         bound = _trajectory_bounds(peak, whole_peak, model.recursive.dropped).sum(axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
             relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=reference, bound=bound, errors=errors)
     return sweep_choices(dataclasses.replace(
-        model, validation=validation, guarantee=sweep_guarantee(
-            robot, model, trajectories, scales, relative, tolerance,
-            region, missing)),  # type: ignore[arg-type]  # a Region (guarantee_region)
+        model, validation=validation, guarantee=_sweep_guarantee(
+            robot, model, trajectories, scales, relative, tolerance, region, missing)),
         trajectories)
 
 
@@ -327,9 +280,17 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
     Returns
     -------
     (SimplifiedModel, callable or None) or None
-        :func:`region_merged_model`'s model and the reference its errors are measured
-        against, for ``budget_sweep_model(..., prepared=...)``; None where the guarantee is
-        on the trajectories (that model is pruned on the ranking's peaks).
+        The model: the main job's region model (:func:`gd_analyze.jobs.deploy.region_search`
+        without the pre-screen, its claim kept as proved in this process,
+        :func:`gd_analyze.store.model_trust.remember_claim`; its cost never above the exact
+        recursive model's) or the exact explicit model
+        (:func:`gd_analyze.jobs.deployment.exact_explicit_model`) as
+        :func:`gd_analyze.jobs.deployment.choose_form` decides it over the region, its
+        inertia check done (:func:`gd_analyze.jobs.deployment.inertia_checked`),
+        ``validation`` empty; and the reference tau_full(q, qd, qdd) its errors are measured
+        against (the full explicit model for an explicit model, else None: the G-D terms).
+        None where the guarantee is on the trajectories (that model is pruned on the
+        ranking's peaks).
 
     Raises
     ------
@@ -341,8 +302,41 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
         robot, trajectories, provenance, explicit, form, guarantee, region)
     if not proved:
         return None
-    return region_merged_model(robot, trajectories, region,  # type: ignore[arg-type]  # a Region (guarantee_region)
-                               tolerance, torque_floor, provenance, digest, derive, form)
+    return _region_merged(robot, trajectories, region, tolerance, torque_floor, provenance,
+                          digest, derive, form)
+
+
+def _region_merged(robot, trajectories, region, tolerance, torque_floor, provenance, digest,
+                   derive, form):
+    """:func:`budget_region_model`'s model and reference, for the settings it checked."""
+    base = base_parameters(robot)
+    found = region_search(robot, base, region, tolerance, torque_floor, screen=False)
+    first = recursive_simplified(robot, found.rec, base, tolerance=tolerance,
+                                 torque_floor=torque_floor, trajectory_sha256=digest,
+                                 provenance=provenance, guarantee=found.guarantee,
+                                 forms=found.forms, searched=found.store)
+    remember_claim(first)           # its bound proved here: not proved again by its checks
+    costs = recursive_costs(first)
+    terms: Any = None
+    if derive:
+        terms, _ = explicit_cache.explicit_terms(robot)
+        costs["explicit, full"] = dict(full_program(robot, terms).cost())
+    choice = choose_form("budget", form, True, first.cost, full=costs.get("explicit, full"))
+    model, reference = first, None              # the G-D terms, D qdd + h + c
+    if choice.form == "exact explicit":
+        full = explicit_sweep_model(robot, trajectories, 0.0, torque_floor, provenance)[0]
+        model = exact_explicit_model(full, first.guarantee,  # type: ignore[arg-type]  # a region model's
+                                     tolerance, choice.why)
+        reference = full_torque(robot, terms)
+    model = dataclasses.replace(model, costs=costs,
+                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
+    # D_s proved positive definite over the region, parameters restored where it is not (bound
+    # and sampled error derived again); an explicit model not proved is not deployed under it
+    model, replaced = inertia_checked(
+        model, dataclasses.replace(first, costs=costs,
+                                   full_cost=dict(costs.get("explicit, full", {}))),
+        restored_rebuild(None, None, None, region=region))
+    return model, None if replaced is not None else reference
 
 
 def _trajectory_bounds(peak, whole_peak, dropped):
@@ -351,7 +345,6 @@ def _trajectory_bounds(peak, whole_peak, dropped):
 
     dropped = np.asarray(dropped, bool)
     return dropped_peaks(peak, whole_peak, dropped, dropped.all(axis=1))
-
 
 def _sweep_rebuild(peak, whole_peak, scales, tolerance):
     """A ``rebuild`` for :func:`gd_analyze.certify.positive_definite.with_inertia_check`
@@ -371,191 +364,20 @@ def _sweep_rebuild(peak, whole_peak, scales, tolerance):
         new_rec = dataclasses.replace(rec, dropped=dropped,
                                       bound=each.sum(axis=1).max(axis=0),
                                       bound_by_part=each.max(axis=0))
-        new = recursive_simplified(robot, new_rec, base, tolerance=model.tolerance,
-                                   torque_floor=model.torque_floor,
-                                   trajectory_sha256=model.trajectory_sha256,
-                                   provenance=model.provenance)
-        return dataclasses.replace(
-            new, dominance_threshold=model.dominance_threshold,
-            negligible_threshold=model.negligible_threshold,
-            costs={**model.costs, "recursive, budget": dict(new.cost)},
-            full_cost=dict(model.full_cost))
+        return rebuilt(model, new_rec, base)
     return rebuild
 
 
-def region_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], region: Region,
-                       tolerance: float, torque_floor: float = 0.0,
-                       held_out: Sequence[Trajectory] = (),
-                       provenance: Mapping[str, Any] | None = None, digest: str = "",
-                       derive: bool = True, form: str = "cheapest",
-                       prepared: tuple[SimplifiedModel, TorqueFunction | None] | None = None,
-                       errors: TrajectoryErrors | None = None) -> SimplifiedModel:
-    """The sweep's merged model under a region guarantee: the main job's region model,
-    checked on every swept trajectory.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    trajectories : sequence of Trajectory
-        The K swept trajectories.
-    region : Region
-        The robot's joint-limit region (:func:`gd_analyze.jobs.deploy.robot_region`).
-    tolerance : float
-        EPS >= 0.
-    torque_floor : float, optional
-        TAU [N m].
-    held_out : sequence of Trajectory, optional
-        Trajectories not swept (measured; the proof covers those inside the region).
-    provenance : dict, optional
-    digest : str, optional
-        :func:`gd_analyze.jobs.simplify.trajectories_sha256` of the trajectories.
-    derive : bool, optional
-        Whether the explicit model may be derived (its full cost compared).
-    form : {"cheapest", "recursive", "explicit"}, optional
-    prepared : (SimplifiedModel, callable or None), optional
-        :func:`region_merged_model` of the same arguments, built earlier.
-    errors : callable, optional
-        How its errors are measured (:func:`gd_analyze.jobs.simplify.sweep_validation`).
-
-    Returns
-    -------
-    SimplifiedModel
-        The recursive model pruned on bounds proved over the region
-        (:func:`gd_analyze.jobs.deploy.region_model`, as the main job prunes it; its
-        cost never above the exact recursive model's), or the exact explicit model
-        (:func:`gd_analyze.jobs.deployment.exact_explicit_model`) where ``form="cheapest"`` and it
-        counts fewer operations (:func:`gd_analyze.jobs.deployment.exact_explicit_wins`) or
-        ``form="explicit"``; a trajectory-pruned model never. Its guarantee is of kind
-        ``"region"``; ``validation`` as :func:`budget_sweep_model` says, every error relative
-        to the region's s_i, the bound the proved bound_i [N m] on every trajectory.
-
-    Notes
-    -----
-    The bound holds at every state of the region, so on a swept trajectory only where every
-    set point lies in it (:meth:`gd_analyze.simplify.guarantee.Guarantee.covers`);
-    one outside is reported, not covered.
-    """
-    model, reference = prepared if prepared is not None else region_merged_model(
-        robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive, form)
-    K, n = len(trajectories), robot.n
-    g: Any = model.guarantee                    # a region model's guarantee: never None
-    scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        relative = np.where(bound > 0, bound / scale, 0.0)
-    validation = sweep_validation(model, trajectories, np.broadcast_to(scale, (K, n)),
-                                  relative, held_out=held_out, reference=reference,
-                                  bound=np.broadcast_to(bound, (K, n)), errors=errors)
-    said = coverages(model, [*trajectories, *held_out])
-    validation["per_trajectory"].update(covered=[c["covered"] for c in said[:K]],
-                                        coverage=[c["reason"] for c in said[:K]])
-    validation["held_out_inside_region"] = sum(c["covered"] for c in said[K:])
-    return dataclasses.replace(model, validation=validation)
-
-
-def region_merged_model(robot: Robot, trajectories: Sequence[Trajectory], region: Region,
-                        tolerance: float, torque_floor: float = 0.0,
-                        provenance: Mapping[str, Any] | None = None, digest: str = "",
-                        derive: bool = True, form: str = "cheapest"
-                        ) -> tuple[SimplifiedModel, TorqueFunction | None]:
-    """:func:`region_sweep_model`'s model before it is measured on the trajectories.
-
-    Parameters
-    ----------
-    robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive, form
-        As :func:`region_sweep_model` takes them.
-
-    Returns
-    -------
-    model : SimplifiedModel
-        The main job's region model (:func:`gd_analyze.jobs.deploy.region_simplified`)
-        or the exact explicit model, its inertia check done, ``validation`` empty.
-    reference : callable or None
-        tau_full(q, qd, qdd) its errors are measured against: the full explicit model for an
-        explicit model, else None (the G-D terms).
-    """
-    base = base_parameters(robot)
-    first = region_simplified(robot, base, region, tolerance, torque_floor, digest, provenance)
-    g: Any                                      # a region model's guarantee: never None
-    model, g = first, first.guarantee
-    costs = _recursive_costs(robot, model)
-    reference = None                           # the G-D terms, D qdd + h + c
-    if derive:
-        terms, _ = explicit_cache.explicit_terms(robot)
-        costs["explicit, full"] = dict(full_program(robot, terms).cost())
-        if form == "explicit" or (form == "cheapest" and exact_explicit_wins(
-                model.cost, costs["explicit, full"])):
-            full = explicit_sweep_model(robot, trajectories, 0.0, torque_floor, provenance)[0]
-            model = exact_explicit_model(full, g, tolerance) if form == "cheapest" else \
-                exact_explicit_model(full, g, tolerance, why="asked for (--form explicit): the "
-                               "explicit model proved over the region")
-            reference = full_torque(robot, terms)
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    # D_s proved positive definite over the region, parameters restored where it
-    # is not (bound and sampled error derived again); an explicit model not proved is not
-    # deployed under the region guarantee
-    rebuild = restored_rebuild(None, None, None, region=region)
-    recursive = model if model.recursive is not None else dataclasses.replace(
-        first, costs=costs, full_cost=dict(costs.get("explicit, full", {})))
-    model = with_inertia_check(model, rebuild=rebuild)
-    if not model.inertia_check["proved"] and model.recursive is None:
-        fallback = with_inertia_check(recursive, rebuild=rebuild)
-        if fallback.inertia_check["proved"]:
-            model, reference = fallback, None
-    return model, reference
-
-
-def _recursive_costs(robot, model):
-    """The ``costs`` of a merged model built as recursive: the exact recursive model, this
-    pruned one and Newton-Euler as implemented (multiplications, additions)."""
-
-    ne = operation_counts(robot)["newton-euler"]
-    return {"exact recursive": model.costs["exact recursive"],
-            "recursive, budget": dict(model.cost),
-            "newton-euler": {"multiplications": int(ne["multiplications"]),
-                             "additions": int(ne["additions"])}}
-
-
-def sweep_guarantee(robot: Robot, model: SimplifiedModel, trajectories: Sequence[Trajectory],
-                    scales: NDArray[np.float64], relative: NDArray[np.float64], tolerance: float,
-                    region: Region | None = None, missing: str | None = None) -> Guarantee:
-    """The merged model's guarantee: on the swept trajectories only.
-
-    Parameters
-    ----------
-    robot : Robot
-    model : SimplifiedModel
-        The merged model.
-    trajectories : sequence of Trajectory
-        The K swept trajectories.
-    scales : ndarray, shape (K, n)
-        scale_{t,i} [N m or N].
-    relative : ndarray, shape (n,)
-        max over t of bound_{t,i} / scale_{t,i} [1].
-    tolerance : float
-        EPS.
-    region : Region, optional
-        The robot's region, if the caller has it (with ``missing``; otherwise
-        :func:`gd_analyze.jobs.deploy.robot_region` is asked).
-    missing : str, optional
-        Why the robot has no region, or "".
-
-    Returns
-    -------
-    Guarantee
-        Of kind ``"trajectory"``: ``scale`` the largest scale_{t,i} over the trajectories,
-        ``bound`` ``relative`` times it (on trajectory t the error is at most relative_i
-        scale_{t,i}); for the recursive form the error sampled over the robot's region
-        relative to s_i there, where the robot gives the limits.
-    """
+def _sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, region, missing):
+    """The merged model's guarantee on the swept trajectories (kind ``"trajectory"``):
+    ``scale`` the largest scale_{t,i} over them, ``bound`` ``relative`` (n,) times it (on
+    trajectory t the error is at most relative_i scale_{t,i}); for the recursive form the
+    error sampled over the robot's region relative to s_i there, where it has one."""
     scale = np.asarray(scales, float).max(axis=0)
     bound = np.asarray(relative, float) * scale
     shas = tuple(getattr(t, "sha256", "") or "" for t in trajectories)
     method = ("the dropped pairs' (or terms') largest peaks relative to each swept "
               "trajectory's scale_i, summed (triangle inequality)")
-    if missing is None:
-        region, missing = robot_region(robot)
     sampled = None
     if model.recursive is not None and region is not None:
         sampled = trajectory_guarantee(robot, base_parameters(robot), model.recursive,

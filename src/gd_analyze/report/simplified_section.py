@@ -3,7 +3,7 @@
 Kept self-contained (one context function, one figure function) so that it carries over to any
 report engine: :func:`simplified_context` gives the tables and text, :func:`error_figure` the
 per-joint plots of tau_s - tau with the guaranteed bound. Everything is read from the variables
-and attributes that :func:`gd_analyze.jobs.simplify.simplified_dataset` stored at analysis
+and attributes that :func:`gd_analyze.jobs.simplified_dataset.simplified_dataset` stored at analysis
 time; nothing is recomputed.
 """
 

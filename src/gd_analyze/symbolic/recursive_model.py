@@ -25,7 +25,7 @@ from ..dynamics.base_parameters import (
     standard_parameters,
 )
 from ..errors import InputError
-from .pruning import dropped_peaks, prune, prune_on_peaks, pruned_choice
+from .pruning import dropped_peaks, prune, prune_bounds, prune_on_peaks, pruned_choice
 from .recursive import PARTS
 
 if TYPE_CHECKING:
@@ -288,7 +288,8 @@ class RecursiveModel:
 
 def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, tolerance: float,
                     torque_floor: float = 0.0, base: BaseParameters | None = None,
-                    peaks: tuple[np.ndarray, ...] | None = None) -> RecursiveModel:
+                    peaks: tuple[np.ndarray, ...] | None = None,
+                    chosen: tuple[np.ndarray, np.ndarray] | None = None) -> RecursiveModel:
     """Prune the recursive model within the error budget on a trajectory.
 
     Parameters
@@ -307,6 +308,9 @@ def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     peaks : tuple of ndarray, optional
         :func:`.pruning.contribution_peaks` of ``base`` on the trajectory, if already
         computed.
+    chosen : (ndarray of bool, ndarray of bool), optional
+        The pairs (b, 3) and the parameters counted whole (b,) to drop, instead of searching
+        them (:func:`.pruning.prune_bounds`): e.g. a model's pairs with some restored.
 
     Returns
     -------
@@ -315,7 +319,8 @@ def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     Raises
     ------
     ValueError
-        If tolerance or torque_floor is negative or not finite, or the arrays are not (N, n).
+        If tolerance or torque_floor is negative or not finite, the arrays are not (N, n), or
+        the ``chosen`` pairs do not fit the budget.
 
     Notes
     -----
@@ -327,6 +332,9 @@ def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
 
     base = base_parameters(robot) if base is None else base
     pr = prune(robot, base, q, qd, qdd, tolerance, torque_floor=torque_floor, peaks=peaks)
+    if chosen is not None:
+        pr = prune_bounds(robot, base, pr.scale, pr.peak, pr.whole_peak, tolerance,
+                          chosen=chosen)
     by_part = dropped_peaks(pr.peak, pr.whole_peak, pr.dropped, pr.whole)
     safe = np.where(pr.scale > 0, pr.scale, 1.0)
     rel = np.where(pr.scale > 0, pr.peak / safe, np.where(pr.peak > 0, np.inf, 0.0)).max(axis=2)
