@@ -397,7 +397,7 @@ def count_operations(robot: Robot, method: str, q: ArrayLike | None = None,
                    np.array([count_value(t) for t in tau]))
 
 
-#: The counts of :func:`_count` for revolute chains of 1 to 10 joints, per method of
+#: The counts of :func:`count_chain` for revolute chains of 1 to 10 joints, per method of
 #: :data:`METHODS`: (multiplications, additions). A fact of the code, counted once and kept
 #: here (Table 3.5's rows of every report); ``tests/dynamics/test_opcount.py`` counts them
 #: afresh and fails when the code's operations change without this table.
