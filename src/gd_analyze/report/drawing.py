@@ -43,12 +43,20 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     """
     import matplotlib
 
+    meta = {"Date": None, "Creator": None, "Format": None, "Type": None}
+    extent = []         # measured on the drawing itself: its text laid out once
+    cid = fig.canvas.mpl_connect("draw_event", lambda e: extent.append(text_extent(fig, e.renderer)))
     buf = io.BytesIO()
     with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
-        fig.savefig(buf, format="svg", bbox_inches=text_extent(fig), metadata={"Date": None, "Creator": None,
-                                                 "Format": None, "Type": None})
+        try:
+            fig.savefig(buf, format="svg", metadata=meta)
+        finally:
+            fig.canvas.mpl_disconnect(cid)
+        if extent[0].height > fig.bbox_inches.height:   # text sticks out: drawn again, taller
+            buf = io.BytesIO()
+            fig.savefig(buf, format="svg", bbox_inches=extent[0], metadata=meta)
     text = buf.getvalue().decode("utf-8")
     start = text.find("<svg")
     return text[start:] if start >= 0 else text

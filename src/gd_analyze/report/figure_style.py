@@ -11,13 +11,16 @@ import io
 import math
 import re
 import textwrap
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from markupsafe import Markup
+    from matplotlib.artist import Artist
+    from matplotlib.backend_bases import RendererBase
     from matplotlib.figure import Figure
     from matplotlib.gridspec import GridSpec
+    from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
 __all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
@@ -69,23 +72,24 @@ def raise_small_text(fig: Figure, least: float) -> int:
     A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
     as plain characters, so ``least`` is the size of every glyph drawn.
     """
-    from matplotlib.text import Text
+    from matplotlib.backends.backend_agg import RendererAgg
 
-    fig.draw_without_rendering()        # makes the tick labels the axes will draw
     raised = 0
-    for ax in fig.axes:
+    for ax in fig.axes:             # the tick labels made when the figure is drawn too
         for axis in (ax.xaxis, ax.yaxis):
-            labels = axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
-            if any(float(t.get_fontsize()) < least for t in labels):
+            made = [float(t.label1.get_fontsize()) for t in (axis.majorTicks[0],
+                                                             axis.minorTicks[0])]
+            if min(made) < least:
                 axis.set_tick_params(which="both", labelsize=least)
                 raised += 1
     right = fig.bbox.width
-    for t in fig.findobj(Text):
+    renderer = RendererAgg(int(right), int(fig.bbox.height), fig.dpi)      # measures only
+    for t in _texts(fig):
         if t.get_text() and float(t.get_fontsize()) < least:
             t.set_fontsize(least)
             raised += 1
             for _ in range(4):
-                box = t.get_window_extent()
+                box = t.get_window_extent(renderer)
                 if box.x1 <= right + 0.5 or box.x0 >= right:
                     break
                 # a note wrapped for the smaller size: wrapped again, as many characters a
@@ -96,7 +100,24 @@ def raise_small_text(fig: Figure, least: float) -> int:
     return raised
 
 
-def text_extent(fig: Figure) -> Bbox:
+def _texts(fig: Figure) -> Iterator[Text]:
+    """Every text of a figure but its tick labels, none made that is not made yet (an axis's
+    ticks are made when the figure is drawn)."""
+    from matplotlib.axis import Axis
+    from matplotlib.text import Text
+
+    stack: list[Artist] = [fig]
+    while stack:
+        a = stack.pop()
+        if isinstance(a, Axis):
+            yield from (a.label, a.offsetText)
+            continue
+        if isinstance(a, Text):
+            yield a
+        stack.extend(a.get_children())
+
+
+def text_extent(fig: Figure, renderer: RendererBase | None = None) -> Bbox:
     """The figure's box grown up or down to hold every text drawn above or below it (never
     wider: the width is the one the figure is printed at).
 
@@ -104,6 +125,9 @@ def text_extent(fig: Figure) -> Bbox:
     ----------
     fig : matplotlib.figure.Figure
         The figure.
+    renderer : matplotlib.backend_bases.RendererBase, optional
+        The renderer that has just drawn the figure (its text measured then, not again); the
+        figure's own if not given.
 
     Returns
     -------
@@ -113,7 +137,7 @@ def text_extent(fig: Figure) -> Bbox:
     """
     from matplotlib.transforms import Bbox
 
-    page, drawn = fig.bbox_inches, fig.get_tightbbox()           # in inches
+    page, drawn = fig.bbox_inches, fig.get_tightbbox(renderer)           # in inches
     return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
 
 
