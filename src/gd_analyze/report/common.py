@@ -30,13 +30,11 @@ from .figure_style import (
     SUPTITLE_RC,
     grid_shape,
     gridspec,
-    inline_svgs,
     joint_colours,
     joint_style,
     markevery,
     panel_markevery,
     style,
-    svg,
 )
 from .markup import clean, label, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
@@ -52,18 +50,17 @@ from .units import (
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "style", "utc_now",
            "keep_units",
            "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "thresholds", "check", "table",
            "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "MIN_MARKERS", "markevery", "panel_markevery",
-           "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "gridspec", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
            "element_units_of", "units_text", "units_said_once", "cost_table"]
 
-#: A4 portrait and landscape [in].
+#: A4 portrait [in].
 A4 = (8.27, 11.69)
-A4_LANDSCAPE = (11.69, 8.27)
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",

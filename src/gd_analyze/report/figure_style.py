@@ -1,5 +1,5 @@
 """Figure style of the reports: matplotlib settings, joint line styles and markers, fixed
-grids, and figures as inline SVG.
+grids, and the text raised to the printed minimum.
 
 Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
 """
@@ -7,15 +7,12 @@ Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
 from __future__ import annotations
 
 import contextlib
-import io
 import math
-import re
 import textwrap
 from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from markupsafe import Markup
     from matplotlib.artist import Artist
     from matplotlib.backend_bases import RendererBase
     from matplotlib.figure import Figure
@@ -26,7 +23,7 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "svg", "inline_svgs", "raise_small_text", "text_extent"]
+           "gridspec", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
 BASE_RC = {
@@ -340,59 +337,3 @@ def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: 
     ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
     return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
                             top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
-
-
-def svg(fig: Figure, prefix: str | None = None, rc: Mapping[str, Any] | None = None) -> str:
-    """A figure as an inline ``<svg>`` element.
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-        The figure.
-    prefix : str, optional
-        Put before every id, and the references to it, so that several figures can share one
-        HTML document without clashing ids.
-    rc : dict, optional
-        rcParams to draw with (:func:`style`).
-
-    Returns
-    -------
-    str
-        The SVG without XML declaration and DOCTYPE (whose DTD is an external resource) and
-        without date or creator metadata.
-    """
-    buf = io.StringIO()
-    with style(rc) if rc is not None else contextlib.nullcontext():
-        fig.savefig(buf, format="svg",
-                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
-    text = buf.getvalue()
-    start = text.find("<svg")
-    text = text[start:] if start >= 0 else text
-    if prefix is None:
-        return text
-    text = re.sub(r'\bid="', f'id="{prefix}-', text)
-    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-    return re.sub(r"url\(#", f"url(#{prefix}-", text)
-
-
-def inline_svgs(figures: Mapping[str, Figure], rc: Mapping[str, Any],
-                prefix_ids: bool = True) -> dict[str, Markup]:
-    """Figures as inline SVG markup for a template.
-
-    Parameters
-    ----------
-    figures : dict of str to matplotlib.figure.Figure
-        The figures by name.
-    rc : dict
-        rcParams to draw with.
-    prefix_ids : bool, optional
-        Prefix the ids of each figure with ``fig-<name>`` (:func:`svg`).
-
-    Returns
-    -------
-    dict of str to markupsafe.Markup
-    """
-    from markupsafe import Markup
-
-    return {name: Markup(svg(fig, f"fig-{name}" if prefix_ids else None, rc))
-            for name, fig in figures.items()}
