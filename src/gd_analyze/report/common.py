@@ -34,7 +34,6 @@ from .figure_style import (
     joint_style,
     markevery,
     panel_markevery,
-    style,
 )
 from .markup import clean, label, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
@@ -50,7 +49,7 @@ from .units import (
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "style", "utc_now",
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "utc_now",
            "keep_units",
            "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "thresholds", "check", "table",
            "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 from ..store.schema import open_results
 from ..store.stored_control import REQUIRED_VARIABLES, StoredControl
-from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
+from .control_figures import COLUMN_WIDTH, FIGURE_RC, control_figures
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
 from .drawing import draw_figures, html_document, write_documents
@@ -32,8 +32,6 @@ from .typeset import PAPER
 if TYPE_CHECKING:                       # for the type hints only
     import os
 
-    import xarray as xr
-    from matplotlib.figure import Figure
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
            "write_control_report"]
@@ -42,39 +40,9 @@ __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "c
 CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
 
 
-# --------------------------------------------------------------------------------------------
-# Figures (report/control_figures.py)
-# --------------------------------------------------------------------------------------------
+#: The report's figures (:func:`gd_analyze.report.control_figures.control_figures`).
+make_control_figures = control_figures
 
-def make_control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
-                         ) -> dict[str, Figure]:
-    """The report's figures, drawn from a stored control dataset.
-
-    Parameters
-    ----------
-    ds : StoredControl or xarray.Dataset
-        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
-        control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
-    width : float, optional
-        7.2 in (a page, default) or 3.5 in (a column, one panel a row).
-
-    Returns
-    -------
-    dict of str to matplotlib.figure.Figure
-        As :func:`gd_analyze.report.control_figures.control_figures`: ``"error"``,
-        ``"tau_difference"`` (if stored) and ``"tau"``.
-
-    Raises
-    ------
-    InputError
-        If the dataset lacks a variable of a control dataset.
-    """
-    return control_figures(StoredControl.of(ds), width)
-
-
-# --------------------------------------------------------------------------------------------
-# HTML and PDF
-# --------------------------------------------------------------------------------------------
 
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau_difference": "fig_control_torque_difference",

@@ -6,10 +6,9 @@ Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
 
 from __future__ import annotations
 
-import contextlib
 import math
 import textwrap
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -20,12 +19,12 @@ if TYPE_CHECKING:
     from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
-__all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
+__all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
            "gridspec", "raise_small_text", "text_extent"]
 
-#: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
+#: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
     "font.family": "DejaVu Sans",  # the reports' text font too: one family on the page
     "font.size": 8.0,
@@ -62,12 +61,14 @@ def raise_small_text(fig: Figure, least: float) -> int:
     Returns
     -------
     int
-        How many texts were raised.
+        How many texts, and axes' tick labels, were raised.
 
     Notes
     -----
     A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
-    as plain characters, so ``least`` is the size of every glyph drawn.
+    as plain characters, so ``least`` is the size of every glyph drawn. Nothing is drawn: the
+    tick labels are raised through the axes' tick parameters, and only a raised text is
+    measured, to wrap it again where it now runs past the figure's right edge.
     """
     from matplotlib.backends.backend_agg import RendererAgg
 
@@ -136,24 +137,6 @@ def text_extent(fig: Figure, renderer: RendererBase | None = None) -> Bbox:
 
     page, drawn = fig.bbox_inches, fig.get_tightbbox(renderer)           # in inches
     return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
-
-
-def style(rc: Mapping[str, Any]) -> contextlib.AbstractContextManager[Any]:
-    """A context in which matplotlib draws with the settings ``rc``.
-
-    Parameters
-    ----------
-    rc : dict
-        rcParams to set, e.g. :data:`SUPTITLE_RC`; the others keep their current values.
-
-    Returns
-    -------
-    contextlib.AbstractContextManager
-        :func:`matplotlib.rc_context` of ``rc``.
-    """
-    import matplotlib
-
-    return matplotlib.rc_context(rc)  # type: ignore[arg-type]  # rc keys typed as literals
 
 
 def grid_shape(n: int, max_cols: int) -> tuple[int, int]:
