@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
     from .sections import Outline
 
-__all__ = ["figure_svg", "svg_size", "draw_figures", "write_figure_files", "html_document",
+__all__ = ["figure_svg", "svg_size", "draw_figures", "write_figure_files", "prefix_ids", "html_document",
            "write_documents"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
@@ -161,6 +161,26 @@ def write_figure_files(stack: contextlib.ExitStack,
     return files
 
 
+def prefix_ids(svg: str, prefix: str) -> str:
+    """An SVG with ``prefix-`` put before every id and every reference to one, so that several
+    figures share one HTML document without clashing ids.
+
+    Parameters
+    ----------
+    svg : str
+        The SVG text (:func:`figure_svg`).
+    prefix : str
+        E.g. ``"fig-D"``.
+
+    Returns
+    -------
+    str
+    """
+    text = re.sub(r'\bid="', f'id="{prefix}-', svg)
+    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
+    return re.sub(r"url\(#", f"url(#{prefix}-", text)
+
+
 def html_document(template: str, context: Mapping[str, Any], outline: Outline,
                   drawn: Mapping[str, Drawn], env_globals: Mapping[str, Any] | None = None
                   ) -> str:
@@ -187,12 +207,7 @@ def html_document(template: str, context: Mapping[str, Any], outline: Outline,
     """
     from markupsafe import Markup
 
-    def inline(svg, prefix):
-        text = re.sub(r'\bid="', f'id="{prefix}-', svg)
-        text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-        return Markup(re.sub(r"url\(#", f"url(#{prefix}-", text))
-
-    figures = {k: inline(svg, f"fig-{k}") for k, (svg, _, _) in drawn.items()}
+    figures = {k: Markup(prefix_ids(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
     return render_template(template, {**context, "figures": figures, "outline": outline},
                            env_globals)
 
