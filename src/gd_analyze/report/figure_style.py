@@ -68,7 +68,8 @@ def raise_small_text(fig: Figure, least: float) -> int:
     A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
     as plain characters, so ``least`` is the size of every glyph drawn. Nothing is drawn: the
     tick labels are raised through the axes' tick parameters, and only a raised text is
-    measured, to wrap it again where it now runs past the figure's right edge.
+    measured (a legend's once its legend is laid out on a measuring renderer), to wrap it
+    again where it now runs past the figure's right edge.
     """
     from matplotlib.backends.backend_agg import RendererAgg
 
@@ -81,21 +82,31 @@ def raise_small_text(fig: Figure, least: float) -> int:
                 axis.set_tick_params(which="both", labelsize=least)
                 raised += 1
     right = fig.bbox.width
+    small = [t for t in _texts(fig) if t.get_text() and float(t.get_fontsize()) < least]
+    for t in small:
+        t.set_fontsize(least)
     renderer = RendererAgg(int(right), int(fig.bbox.height), fig.dpi)      # measures only
-    for t in _texts(fig):
-        if t.get_text() and float(t.get_fontsize()) < least:
-            t.set_fontsize(least)
-            raised += 1
-            for _ in range(4):
-                box = t.get_window_extent(renderer)
-                if box.x1 <= right + 0.5 or box.x0 >= right:
-                    break
-                # a note wrapped for the smaller size: wrapped again, as many characters a
-                # line as the room from its left end to the figure's edge holds
-                lines = t.get_text().split("\n")
-                chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
-                t.set_text(textwrap.fill(" ".join(lines), chars))
-    return raised
+    legends = [*fig.legends, *(leg for ax in fig.axes if (leg := ax.get_legend()) is not None)]
+    owner = {id(t): leg for leg in legends for t in (*leg.get_texts(), leg.get_title())}
+    for leg in legends:             # a legend places its texts when it is drawn
+        leg.draw(renderer)
+    for _ in range(4):              # again after a text is wrapped anew: its legend moves
+        wrapped = False
+        for t in small:
+            box = t.get_window_extent(renderer)
+            if box.x1 <= right + 0.5 or box.x0 >= right:
+                continue
+            # a note wrapped for the smaller size: wrapped again, as many characters a
+            # line as the room from its left end to the figure's edge holds
+            lines = t.get_text().split("\n")
+            chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
+            t.set_text(textwrap.fill(" ".join(lines), chars))
+            wrapped = True
+            if id(t) in owner:
+                owner[id(t)].draw(renderer)
+        if not wrapped:
+            break
+    return raised + len(small)
 
 
 def _texts(fig: Figure) -> Iterator[Text]:
