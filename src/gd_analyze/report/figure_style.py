@@ -85,11 +85,16 @@ def raise_small_text(fig: Figure, least: float) -> int:
     small = [t for t in _texts(fig) if t.get_text() and float(t.get_fontsize()) < least]
     for t in small:
         t.set_fontsize(least)
+    raised += len(small)
     renderer = RendererAgg(int(right), int(fig.bbox.height), fig.dpi)      # measures only
     legends = [*fig.legends, *(leg for ax in fig.axes if (leg := ax.get_legend()) is not None)]
     owner = {id(t): leg for leg in legends for t in (*leg.get_texts(), leg.get_title())}
-    for leg in legends:             # a legend places its texts when it is drawn
-        leg.draw(renderer)
+    for leg in legends:             # a legend within the figure holds its texts; another is
+        box = leg.get_window_extent(renderer)      # laid out (drawn) to measure them
+        if box.x1 <= right + 0.5:
+            small = [t for t in small if owner.get(id(t)) is not leg]
+        else:
+            leg.draw(renderer)
     for _ in range(4):              # again after a text is wrapped anew: its legend moves
         wrapped = False
         for t in small:
@@ -106,7 +111,7 @@ def raise_small_text(fig: Figure, least: float) -> int:
                 owner[id(t)].draw(renderer)
         if not wrapped:
             break
-    return raised + len(small)
+    return raised
 
 
 def _texts(fig: Figure) -> Iterator[Text]:
