@@ -112,16 +112,25 @@ def test_grid_shape():
     assert rp.grid_shape(5, 3) == (2, 3)
 
 
-def test_svg_with_and_without_prefix():
+def test_svg_ids_prefixed_and_still_resolved():
+    """Every id of a figure's SVG gets the prefix, and every reference still names an id of
+    the figure (the clip paths of the axes)."""
+    import re
+
     from matplotlib.figure import Figure
+
+    from gd_analyze.report.drawing import figure_svg, prefix_ids
 
     fig = Figure(figsize=(2, 1))
     fig.add_subplot().plot([0, 1], [0, 1])
-    plain = rp.svg(fig, rc=rp.BASE_RC)
-    prefixed = rp.svg(fig, "fig-a", rc=rp.BASE_RC)
+    plain = figure_svg(fig, rp.BASE_RC)
+    prefixed = prefix_ids(plain, "fig-a")
     assert plain.startswith("<svg") and prefixed.startswith("<svg")
-    assert 'id="fig-a-' in prefixed and 'id="fig-a-' not in plain
-    assert "url(#fig-a-" in prefixed or 'href="#fig-a-' in prefixed
+    ids = re.findall(r'\bid="([^"]+)"', prefixed)
+    assert ids and all(i.startswith("fig-a-") for i in ids)
+    assert not re.findall(r'\bid="fig-a-', plain)
+    refs = re.findall(r'url\(#([^)]+)\)', prefixed) + re.findall(r'href="#([^"]+)"', prefixed)
+    assert refs and set(refs) <= set(ids)
 
 
 def test_fmt_inside_the_range_is_never_e_notation():

@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ..store.names import Attr
 from ..store.schema import strings
 from ..store.stored_model import EvaluatorCosts
 from . import markup
@@ -26,22 +25,15 @@ from .figure_style import (
     BASE_RC,
     JOINT_STYLES,
     MAX_MARKERS,
-    MIN_MARKERS,
     SUPTITLE_RC,
     grid_shape,
     gridspec,
-    inline_svgs,
-    joint_colours,
     joint_style,
-    markevery,
     panel_markevery,
-    style,
-    svg,
 )
 from .markup import clean, label, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
 from .units import (
-    element_units_of,
     keep_units,
     prismatic_joints,
     torque_units,
@@ -52,18 +44,14 @@ from .units import (
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "A4", "A4_LANDSCAPE", "style", "utc_now",
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
            "keep_units",
-           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "thresholds", "check", "table",
-           "grid_shape", "joint_colours", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
-           "MIN_MARKERS", "markevery", "panel_markevery",
-           "gridspec", "svg", "inline_svgs", "render_template", "check_formats",
+           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "check", "table",
+           "grid_shape", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
+           "panel_markevery",
+           "gridspec", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
-           "element_units_of", "units_text", "units_said_once", "cost_table"]
-
-#: A4 portrait and landscape [in].
-A4 = (8.27, 11.69)
-A4_LANDSCAPE = (11.69, 8.27)
+           "units_text", "units_said_once", "cost_table"]
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
@@ -139,23 +127,6 @@ def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
 
     text = clean(str(value))            # no sub/superscript marks from a file's text
     return powers(text) if text else default      # unit powers (s^-1) as superscripts
-
-
-def thresholds(ds: xr.Dataset) -> tuple[float, float]:
-    """The dominance threshold s and the negligibility threshold e stored in a dataset.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        With attributes ``dominance_threshold`` and ``negligible_threshold``.
-
-    Returns
-    -------
-    s, e : float
-        NaN where an attribute is missing.
-    """
-    return (float(ds.attrs.get(Attr.DOMINANCE_THRESHOLD, np.nan)),
-            float(ds.attrs.get(Attr.NEGLIGIBLE_THRESHOLD, np.nan)))
 
 
 def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:

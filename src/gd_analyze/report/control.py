@@ -16,97 +16,32 @@ atomically (:func:`gd_analyze.files.atomic_path`).
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Mapping
+import functools
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..files import atomic_path
 from ..store.schema import open_results
 from ..store.stored_control import REQUIRED_VARIABLES, StoredControl
-from .common import render_template
-from .control_figures import COLUMN_WIDTH, FIGURE_RC, PAGE_WIDTH, control_figures
+from .control_figures import COLUMN_WIDTH, FIGURE_RC, control_figures
 from .control_text import control_context as _context
 from .control_verdict import VERDICT_TOLERANCE, control_verdict
-from .drawing import draw_figures, figure_svg, write_figure_files
+from .drawing import draw_figures, html_document, write_documents
 from .sections import Outline
-from .table_export import write_tables
-from .typeset import PAPER, write_pdf
+from .typeset import PAPER
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
 
-    import xarray as xr
-    from matplotlib.figure import Figure
 
 __all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
-           "render_control_html", "render_control_pdf", "write_control_report"]
+           "write_control_report"]
 
 #: Names of the files written into the output folder.
 CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
 
 
-# --------------------------------------------------------------------------------------------
-# Figures (report/control_figures.py)
-# --------------------------------------------------------------------------------------------
-
-def make_control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
-                         ) -> dict[str, Figure]:
-    """The report's figures, drawn from a stored control dataset.
-
-    Parameters
-    ----------
-    ds : StoredControl or xarray.Dataset
-        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
-        control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
-    width : float, optional
-        7.2 in (a page, default) or 3.5 in (a column, one panel a row).
-
-    Returns
-    -------
-    dict of str to matplotlib.figure.Figure
-        As :func:`gd_analyze.report.control_figures.control_figures`: ``"error"``,
-        ``"tau_difference"`` (if stored) and ``"tau"``.
-
-    Raises
-    ------
-    InputError
-        If the dataset lacks a variable of a control dataset.
-    """
-    return control_figures(StoredControl.of(ds), width)
-
-
-# --------------------------------------------------------------------------------------------
-# HTML and PDF
-# --------------------------------------------------------------------------------------------
-
-def render_control_html(ds: StoredControl | xr.Dataset,
-                        figures: Mapping[str, Figure] | None = None) -> str:
-    """Render the control report as one self-contained HTML document.
-
-    Parameters
-    ----------
-    ds : StoredControl or xarray.Dataset
-        A stored control run, or its dataset.
-    figures : dict of str to matplotlib.figure.Figure, optional
-        :func:`make_control_figures` of it; made here if not given.
-
-    Returns
-    -------
-    str
-        The HTML: inline CSS, figures as inline SVG, no external resources (Jinja2 template
-        ``templates/control_report.html.j2``, autoescape on).
-
-    Raises
-    ------
-    InputError
-        If the dataset lacks a variable of a control dataset.
-    """
-    s = StoredControl.of(ds)
-    ctx = _context(s)
-    if figures is None:
-        figures = make_control_figures(s)
-    return _html(ctx, {k: (figure_svg(f, FIGURE_RC), None, None) for k, f in figures.items()})
+#: The report's figures (:func:`gd_analyze.report.control_figures.control_figures`).
+make_control_figures = control_figures
 
 
 _FIGURE_FILES = {"error": "fig_control_tracking_error",
@@ -162,58 +97,6 @@ def _outline(ctx, figures):
     return o
 
 
-def _html(ctx, drawn):
-    from markupsafe import Markup
-
-    svgs = {k: Markup(svg) for k, (svg, _, _) in drawn.items()}
-    return render_template("control_report.html.j2", {**ctx, "figures": svgs,
-                                                      "outline": _outline(ctx, drawn)})
-
-
-def render_control_pdf(ds: StoredControl | xr.Dataset, path: str | os.PathLike[str],
-                       figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
-    """Write the control report as a PDF document.
-
-    Parameters
-    ----------
-    ds : StoredControl or xarray.Dataset
-        A stored control run, or its dataset.
-    path : str or os.PathLike
-        The PDF to write (not atomically; :func:`write_control_report` passes a temporary
-        name).
-    figures : dict of str to matplotlib.figure.Figure, optional
-        :func:`make_control_figures` of it; made here if not given.
-    paper : {"a4", "letter"}, optional
-        The size of every page.
-
-    Returns
-    -------
-    int
-        Number of pages written.
-
-    Raises
-    ------
-    InputError
-        If the dataset lacks a variable of a control dataset.
-    OSError
-        If the file cannot be written.
-    """
-    s = StoredControl.of(ds)
-    ctx = _context(s)
-    if figures is None:
-        figures = make_control_figures(s)
-    return _pdf(ctx, draw_figures(figures, FIGURE_RC), path, paper)
-
-
-def _pdf(ctx, drawn, path, paper="a4"):
-    metadata = {"Author": f"gd-analyze {ctx['version']}",
-                "Subject": "Computed-torque control with the simplified G-D model (Fu, Gonzalez "
-                           "& Lee 1987, Sec. 3.4.1 and Ch. 5)",
-                "Keywords": ctx["keywords"]}
-    return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
-                     paper, metadata, footer=f"gd-analyze {ctx['version']}: control report")
-
-
 def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
                          paper: str = "a4", latex: bool = False) -> list[Path]:
     """Write control_report.html and control_report.pdf for a stored control dataset.
@@ -254,19 +137,15 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
     ctx = _context(s)
-    outdir = Path(outdir)
-    (outdir / "figures").mkdir(parents=True, exist_ok=True)
     figures = make_control_figures(s)
     column = control_figures(s, COLUMN_WIDTH)
     drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
-    html_path, pdf_path = (outdir / name for name in CONTROL_REPORT_FILES)
-    files = []
-    with contextlib.ExitStack() as stack:
-        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
-        drawn = {k: drawn[k] for k in figures}          # the report shows the page versions
-        Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
-                                                                     encoding="utf-8")
-        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
-        tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
-                              "control")
-    return [html_path, pdf_path] + files + tables
+    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
+                        "Subject": "Computed-torque control with the simplified G-D model (Fu, "
+                                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)",
+                        "Keywords": ctx["keywords"]},
+           "footer": f"gd-analyze {ctx['version']}: control report"}
+    return write_documents(
+        Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
+        lambda o, d: html_document("control_report.html.j2", ctx, o, d), pdf,
+        stem="control_report", paper=paper, latex=latex, prefix="control")

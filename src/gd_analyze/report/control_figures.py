@@ -19,7 +19,6 @@ import numpy as np
 from ..ranking.ranking import ROUND_OFF, is_round_off, joint_motion_units, joint_torque_units
 from ..store.stored_control import StoredControl
 from .common import BASE_RC, grid_shape, panel_markevery
-from .common import style as _style
 from .markup import sub
 from .ticks import decade_formatter, label_axes, set_ticks
 
@@ -400,7 +399,9 @@ def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
     s = StoredControl.of(ds)
     names = s.controllers
     q_floor, tau_floor = noise_floors(s)
-    with _style(FIGURE_RC):
+    import matplotlib
+
+    with matplotlib.rc_context(FIGURE_RC):  # type: ignore[arg-type]  # keys typed as literals
         figs = {"error": _joint_panels(
             s, {c: s.error[c] for c in names},
             _TRACKING_ERROR, "Tracking error per joint", log=True, floor=q_floor,

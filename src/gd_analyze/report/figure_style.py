@@ -1,31 +1,30 @@
 """Figure style of the reports: matplotlib settings, joint line styles and markers, fixed
-grids, and figures as inline SVG.
+grids, and the text raised to the printed minimum.
 
 Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import math
-import re
 import textwrap
-from collections.abc import Mapping
+from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from markupsafe import Markup
+    from matplotlib.artist import Artist
+    from matplotlib.backend_bases import RendererBase
     from matplotlib.figure import Figure
     from matplotlib.gridspec import GridSpec
+    from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
-__all__ = ["BASE_RC", "SUPTITLE_RC", "style", "grid_shape", "joint_colours", "joint_style",
+__all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "svg", "inline_svgs", "raise_small_text", "text_extent"]
+           "gridspec", "raise_small_text", "text_extent"]
 
-#: matplotlib settings every report uses; each adds its own to them (see :func:`style`).
+#: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
     "font.family": "DejaVu Sans",  # the reports' text font too: one family on the page
     "font.size": 8.0,
@@ -62,41 +61,77 @@ def raise_small_text(fig: Figure, least: float) -> int:
     Returns
     -------
     int
-        How many texts were raised.
+        How many texts, and axes' tick labels, were raised.
 
     Notes
     -----
     A mathtext script is drawn at 0.7 of its text's size; the reports' figures write indices
-    as plain characters, so ``least`` is the size of every glyph drawn.
+    as plain characters, so ``least`` is the size of every glyph drawn. Nothing is drawn: the
+    tick labels are raised through the axes' tick parameters, and only a raised text is
+    measured (a legend's once its legend is laid out on a measuring renderer), to wrap it
+    again where it now runs past the figure's right edge.
     """
-    from matplotlib.text import Text
+    from matplotlib.backends.backend_agg import RendererAgg
 
-    fig.draw_without_rendering()        # makes the tick labels the axes will draw
     raised = 0
-    for ax in fig.axes:
+    for ax in fig.axes:             # the tick labels made when the figure is drawn too
         for axis in (ax.xaxis, ax.yaxis):
-            labels = axis.get_ticklabels(minor=False) + axis.get_ticklabels(minor=True)
-            if any(float(t.get_fontsize()) < least for t in labels):
+            made = [float(t.label1.get_fontsize()) for t in (axis.majorTicks[0],
+                                                             axis.minorTicks[0])]
+            if min(made) < least:
                 axis.set_tick_params(which="both", labelsize=least)
                 raised += 1
     right = fig.bbox.width
-    for t in fig.findobj(Text):
-        if t.get_text() and float(t.get_fontsize()) < least:
-            t.set_fontsize(least)
-            raised += 1
-            for _ in range(4):
-                box = t.get_window_extent()
-                if box.x1 <= right + 0.5 or box.x0 >= right:
-                    break
-                # a note wrapped for the smaller size: wrapped again, as many characters a
-                # line as the room from its left end to the figure's edge holds
-                lines = t.get_text().split("\n")
-                chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
-                t.set_text(textwrap.fill(" ".join(lines), chars))
+    small = [t for t in _texts(fig) if t.get_text() and float(t.get_fontsize()) < least]
+    for t in small:
+        t.set_fontsize(least)
+    raised += len(small)
+    renderer = RendererAgg(int(right), int(fig.bbox.height), fig.dpi)      # measures only
+    legends = [*fig.legends, *(leg for ax in fig.axes if (leg := ax.get_legend()) is not None)]
+    owner = {id(t): leg for leg in legends for t in (*leg.get_texts(), leg.get_title())}
+    for leg in legends:             # a legend within the figure holds its texts; another is
+        box = leg.get_window_extent(renderer)      # laid out (drawn) to measure them
+        if box.x1 <= right + 0.5:
+            small = [t for t in small if owner.get(id(t)) is not leg]
+        else:
+            leg.draw(renderer)
+    for _ in range(4):              # again after a text is wrapped anew: its legend moves
+        wrapped = False
+        for t in small:
+            box = t.get_window_extent(renderer)
+            if box.x1 <= right + 0.5 or box.x0 >= right:
+                continue
+            # a note wrapped for the smaller size: wrapped again, as many characters a
+            # line as the room from its left end to the figure's edge holds
+            lines = t.get_text().split("\n")
+            chars = max(12, int(max(map(len, lines)) * (right - box.x0) / box.width) - 1)
+            t.set_text(textwrap.fill(" ".join(lines), chars))
+            wrapped = True
+            if id(t) in owner:
+                owner[id(t)].draw(renderer)
+        if not wrapped:
+            break
     return raised
 
 
-def text_extent(fig: Figure) -> Bbox:
+def _texts(fig: Figure) -> Iterator[Text]:
+    """Every text of a figure but its tick labels, none made that is not made yet (an axis's
+    ticks are made when the figure is drawn)."""
+    from matplotlib.axis import Axis
+    from matplotlib.text import Text
+
+    stack: list[Artist] = [fig]
+    while stack:
+        a = stack.pop()
+        if isinstance(a, Axis):
+            yield from (a.label, a.offsetText)
+            continue
+        if isinstance(a, Text):
+            yield a
+        stack.extend(a.get_children())
+
+
+def text_extent(fig: Figure, renderer: RendererBase | None = None) -> Bbox:
     """The figure's box grown up or down to hold every text drawn above or below it (never
     wider: the width is the one the figure is printed at).
 
@@ -104,6 +139,9 @@ def text_extent(fig: Figure) -> Bbox:
     ----------
     fig : matplotlib.figure.Figure
         The figure.
+    renderer : matplotlib.backend_bases.RendererBase, optional
+        The renderer that has just drawn the figure (its text measured then, not again); the
+        figure's own if not given.
 
     Returns
     -------
@@ -113,26 +151,8 @@ def text_extent(fig: Figure) -> Bbox:
     """
     from matplotlib.transforms import Bbox
 
-    page, drawn = fig.bbox_inches, fig.get_tightbbox()           # in inches
+    page, drawn = fig.bbox_inches, fig.get_tightbbox(renderer)           # in inches
     return Bbox.from_extents(page.x0, min(page.y0, drawn.y0), page.x1, max(page.y1, drawn.y1))
-
-
-def style(rc: Mapping[str, Any]) -> contextlib.AbstractContextManager[Any]:
-    """A context in which matplotlib draws with the settings ``rc``.
-
-    Parameters
-    ----------
-    rc : dict
-        rcParams to set, e.g. :data:`SUPTITLE_RC`; the others keep their current values.
-
-    Returns
-    -------
-    contextlib.AbstractContextManager
-        :func:`matplotlib.rc_context` of ``rc``.
-    """
-    import matplotlib
-
-    return matplotlib.rc_context(rc)  # type: ignore[arg-type]  # rc keys typed as literals
 
 
 def grid_shape(n: int, max_cols: int) -> tuple[int, int]:
@@ -316,59 +336,3 @@ def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: 
     ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
     return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
                             top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
-
-
-def svg(fig: Figure, prefix: str | None = None, rc: Mapping[str, Any] | None = None) -> str:
-    """A figure as an inline ``<svg>`` element.
-
-    Parameters
-    ----------
-    fig : matplotlib.figure.Figure
-        The figure.
-    prefix : str, optional
-        Put before every id, and the references to it, so that several figures can share one
-        HTML document without clashing ids.
-    rc : dict, optional
-        rcParams to draw with (:func:`style`).
-
-    Returns
-    -------
-    str
-        The SVG without XML declaration and DOCTYPE (whose DTD is an external resource) and
-        without date or creator metadata.
-    """
-    buf = io.StringIO()
-    with style(rc) if rc is not None else contextlib.nullcontext():
-        fig.savefig(buf, format="svg",
-                    metadata={"Date": None, "Creator": None, "Format": None, "Type": None})
-    text = buf.getvalue()
-    start = text.find("<svg")
-    text = text[start:] if start >= 0 else text
-    if prefix is None:
-        return text
-    text = re.sub(r'\bid="', f'id="{prefix}-', text)
-    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-    return re.sub(r"url\(#", f"url(#{prefix}-", text)
-
-
-def inline_svgs(figures: Mapping[str, Figure], rc: Mapping[str, Any],
-                prefix_ids: bool = True) -> dict[str, Markup]:
-    """Figures as inline SVG markup for a template.
-
-    Parameters
-    ----------
-    figures : dict of str to matplotlib.figure.Figure
-        The figures by name.
-    rc : dict
-        rcParams to draw with.
-    prefix_ids : bool, optional
-        Prefix the ids of each figure with ``fig-<name>`` (:func:`svg`).
-
-    Returns
-    -------
-    dict of str to markupsafe.Markup
-    """
-    from markupsafe import Markup
-
-    return {name: Markup(svg(fig, f"fig-{name}" if prefix_ids else None, rc))
-            for name, fig in figures.items()}

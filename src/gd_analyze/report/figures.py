@@ -14,7 +14,7 @@ import numpy as np
 from ..ranking.ranking import joint_torque_units
 from ..store.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from ..store.sweep_view import PayloadSweep
-from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style, style
+from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style
 from .markup import label
 
 if TYPE_CHECKING:
@@ -77,7 +77,9 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
 
     part = PayloadSweep.of(ds)
     column = width < PAGE_WIDTH
-    with style(SUPTITLE_RC):
+    import matplotlib
+
+    with matplotlib.rc_context(SUPTITLE_RC):  # type: ignore[arg-type]  # keys typed as literals
         masses = part.masses
         labels = [label(lab) for lab in part.elements]
         share = part.share_tran

@@ -17,21 +17,18 @@ each figure as ``figures/fig_identify_*.pdf`` and ``.svg``, are written atomical
 
 from __future__ import annotations
 
-import contextlib
+import functools
 import os
 from collections.abc import Collection
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..files import atomic_path
 from ..store.stored_identification import StoredIdentification
-from .common import render_template
-from .drawing import draw_figures, write_figure_files
+from .drawing import draw_figures, html_document, write_documents
 from .identify_figures import FIGURE_RC, figure_key, identify_figures
 from .identify_text import identify_context
 from .sections import Outline
-from .table_export import write_tables
-from .typeset import PAPER, write_pdf
+from .typeset import PAPER
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -98,25 +95,6 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     return o
 
 
-def _html(ctx, drawn):
-    from markupsafe import Markup
-
-    svgs = {k: Markup(svg) for k, (svg, _, _) in drawn.items()}
-    return render_template("control_report.html.j2", {
-        "title": ctx["title"], "version": ctx["version"], "figures": svgs,
-        "outline": identify_outline(ctx, drawn)})
-
-
-def _pdf(ctx, drawn, path, paper):
-    metadata = {"Author": f"gd-analyze {ctx['version']}",
-                "Subject": "Identification of a robot's base parameters and drives from "
-                           "recorded torques",
-                "Keywords": ctx["keywords"]}
-    return write_pdf(identify_outline(ctx, drawn),
-                     {k: (d[0], d[2]) for k, d in drawn.items()}, path, paper, metadata,
-                     footer=f"gd-analyze {ctx['version']}: identify report")
-
-
 def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
                           folder: str | os.PathLike[str], paper: str = "a4",
                           latex: bool = False) -> list[Path]:
@@ -162,12 +140,14 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     drawn = draw_figures(identify_figures(stored), FIGURE_RC)
-    html_path, pdf_path = (folder / name for name in IDENTIFY_REPORT_FILES)
-    with contextlib.ExitStack() as stack:
-        files = write_figure_files(stack, drawn, folder / "figures",
-                                   {k: f"fig_identify_{k}" for k in drawn})
-        Path(stack.enter_context(atomic_path(html_path))).write_text(_html(ctx, drawn),
-                                                                     encoding="utf-8")
-        _pdf(ctx, drawn, stack.enter_context(atomic_path(pdf_path)), paper)
-        tables = write_tables(stack, identify_outline(ctx, drawn), folder / "tables", latex)
-    return [html_path, pdf_path] + files + tables
+    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
+                        "Subject": "Identification of a robot's base parameters and drives "
+                                   "from recorded torques",
+                        "Keywords": ctx["keywords"]},
+           "footer": f"gd-analyze {ctx['version']}: identify report"}
+    html = {"title": ctx["title"], "version": ctx["version"]}
+    return write_documents(
+        folder, drawn, {k: f"fig_identify_{k}" for k in drawn},
+        functools.partial(identify_outline, ctx),
+        lambda o, d: html_document("control_report.html.j2", html, o, d), pdf, paper=paper,
+        latex=latex)

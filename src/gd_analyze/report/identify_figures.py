@@ -18,7 +18,6 @@ import numpy as np
 
 from ..store.stored_identification import StoredIdentification, StoredRecording
 from .common import BASE_RC, grid_shape
-from .figure_style import style
 from .markup import clean
 from .ticks import label_axes, set_ticks
 
@@ -212,7 +211,9 @@ def identify_figures(root: StoredIdentification | xr.Dataset,
 
     ident = StoredIdentification.of(root, groups)
     out = {}
-    with style(FIGURE_RC):
+    import matplotlib
+
+    with matplotlib.rc_context(FIGURE_RC):  # type: ignore[arg-type]  # keys typed as literals
         for k, name in enumerate(shown_recordings(ident.recordings)):
             rec = ident.recordings[name]
             t = rec.t

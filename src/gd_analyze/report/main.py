@@ -26,23 +26,20 @@ for 100,000 set points of a 6-joint arm).
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import os
-import re
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..files import atomic_path
 from ..store.results_view import Results
 from ..store.schema import open_results
 from .budget_figures import budget_makers
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import check_formats, prismatic_joints, render_template
-from .drawing import draw_figures, write_figure_files
+from .common import check_formats, prismatic_joints
+from .drawing import draw_figures, html_document, write_documents
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -60,9 +57,8 @@ from .main_figures import RC as FIG_RC
 from .main_outline import main_outline
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import error_figure
-from .table_export import write_tables
 from .ticks import decade_formatter, scaled_formatter
-from .typeset import PAPER, write_pdf
+from .typeset import PAPER
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -74,7 +70,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "REPORT_FORMATS", "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope",
-    "COLUMN_FIGURES", "FIGURE_PARTS", "make_figures", "figure_makers", "render_html", "render_pdf", "write_report",
+    "COLUMN_FIGURES", "FIGURE_PARTS", "make_figures", "figure_makers", "render_html", "write_report",
 ]
 
 #: The formats :func:`write_report` can write.
@@ -367,17 +363,6 @@ def _drawn(figures, pdf=True, created=None):
     return draw_figures(figures, FIG_RC, pdf=pdf, created=created)
 
 
-def _in_report(figures):
-    """The figures the report shows, in its order (not the column-width files)."""
-    return {k: figures[k] for k in _FIGURE_ORDER if k in figures}
-
-
-def _inline(svg_text, prefix):
-    text = re.sub(r'\bid="', f'id="{prefix}-', svg_text)
-    text = re.sub(r'\bhref="#', f'href="#{prefix}-', text)
-    return re.sub(r"url\(#", f"url(#{prefix}-", text)
-
-
 def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
     """Render the report as one self-contained HTML document.
 
@@ -406,71 +391,13 @@ def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> 
     ctx = report_context(ds)
     if figures is None:
         figures = make_figures(ds, keys=_FIGURE_ORDER)
-    return _html(ctx, _drawn(_in_report(figures), pdf=False))
+    drawn = _drawn({k: figures[k] for k in _FIGURE_ORDER if k in figures}, pdf=False)
+    return _html(ctx)(main_outline(ctx, drawn), drawn)
 
 
-def _html(ctx, drawn):
-    from markupsafe import Markup
-
-    svgs = {k: Markup(_inline(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
-    return render_template("report.html.j2", {**ctx, "figures": svgs,
-                                              "outline": main_outline(ctx, drawn)},
-                           {"class_colours": _CLASS_COLOURS})
-
-
-def render_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
-               figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
-    """Write the report as a PDF document.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A stored analysis (see :func:`make_figures` for the variables used).
-    path : str or os.PathLike
-        The PDF file to write (not atomically: :func:`write_report` passes a temporary name).
-    figures : dict of str to matplotlib.figure.Figure, optional
-        The figures of :func:`make_figures`; made here if not given.
-    paper : {"a4", "letter"}, optional
-        The size of every page.
-
-    Returns
-    -------
-    int
-        The number of pages written.
-
-    Raises
-    ------
-    InputError
-        If ``ds`` lacks a variable of a gd-analyze results dataset.
-    OSError
-        If the file cannot be written.
-
-    Notes
-    -----
-    The same sections and numbers as the HTML, numbered figures with captions, a bookmark per
-    section, typeset by Typst (:func:`gd_analyze.report.typeset.write_pdf`). Source: Sec. 3.4.1 and Figs.
-    3.10-3.11 of Fu, Gonzalez & Lee (1987).
-    """
-    ctx = report_context(ds)
-    if figures is None:
-        figures = make_figures(ds, keys=_FIGURE_ORDER)
-    return _pdf(ctx, _drawn(_in_report(figures)), path, paper)
-
-
-def _pdf(ctx, drawn, path, paper="a4"):
-    """Typeset the report (:func:`gd_analyze.report.typeset.write_pdf`) from the one section
-    list of the report (:func:`gd_analyze.report.main_outline.main_outline`), with the
-    provenance in the document information; the number of pages."""
-    metadata = {
-        "Author": f"gd-analyze {ctx['version']}",
-        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
-                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-        "Keywords": ctx["keywords"],
-    }
-    return write_pdf(main_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()},
-                     path, paper, metadata,
-                     footer=f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} "
-                            "set points", created=ctx["created"])
+def _html(ctx):
+    return lambda outline, drawn: html_document("report.html.j2", ctx, outline, drawn,
+                                                {"class_colours": _CLASS_COLOURS})
 
 
 # --------------------------------------------------------------------------------------------
@@ -548,16 +475,13 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     drawn = {}
     for key, make in figure_makers(results, data, column=column).items():  # one alive
         drawn.update(_drawn({key: make()}, created=ctx["created"]))
-    with contextlib.ExitStack() as stack:
-        paths = {fmt: outdir / f"report.{fmt}" for fmt in formats}
-        files = write_figure_files(stack, drawn, outdir / "figures", FIGURE_FILES)
-        drawn = _in_report(drawn)
-        tmp = {fmt: stack.enter_context(atomic_path(paths[fmt])) for fmt in formats}
-        if "html" in tmp:
-            with open(tmp["html"], "w", encoding="utf-8") as fh:
-                fh.write(_html(ctx, drawn))
-        if "pdf" in tmp:
-            _pdf(ctx, drawn, tmp["pdf"], paper)
-        tables = write_tables(stack, main_outline(ctx, drawn), outdir / "tables", latex)
-    return [paths[fmt] for fmt in formats] + files + tables
-
+    pdf = {"metadata": {
+        "Author": f"gd-analyze {ctx['version']}",
+        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
+                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+        "Keywords": ctx["keywords"]},
+        "footer": f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set points",
+        "created": ctx["created"]}
+    return write_documents(outdir, drawn, FIGURE_FILES, functools.partial(main_outline, ctx),
+                           _html(ctx), pdf, formats, paper=paper, latex=latex,
+                           shown=_FIGURE_ORDER)

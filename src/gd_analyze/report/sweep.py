@@ -27,38 +27,35 @@ Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are wr
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Mapping, Sequence
+import functools
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..files import atomic_path
 from ..ranking.ranking import ROUND_OFF
 from ..store.schema import open_sweep
 from ..store.sweep_view import PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
-from .common import check_formats, render_template
-from .drawing import draw_figures, figure_svg, write_figure_files
+from .common import check_formats
+from .drawing import draw_figures, html_document, write_documents
 from .numbers import decade_label
 from .sections import Outline
 from .sweep_figures import make_sweep_figures
 from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
 from .sweep_text import sweep_context as _context
-from .table_export import write_tables
-from .typeset import PAPER, TABLE_COLOURS, write_pdf
+from .typeset import PAPER, TABLE_COLOURS
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
 
     import xarray as xr
-    from matplotlib.figure import Figure
 
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
 _TINY = decade_label(ROUND_OFF)
 
-__all__ = ["SWEEP_REPORT_FORMATS", "render_sweep_html", "render_sweep_pdf", "write_sweep_report"]
+__all__ = ["SWEEP_REPORT_FORMATS", "write_sweep_report"]
 
 #: The formats :func:`write_sweep_report` can write.
 SWEEP_REPORT_FORMATS = ("html", "pdf")
@@ -67,41 +64,6 @@ SWEEP_REPORT_FORMATS = ("html", "pdf")
 # --------------------------------------------------------------------------------------------
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
-
-def render_sweep_html(ds: xr.Dataset, payload: xr.Dataset | None = None,
-                      figures: Mapping[str, Figure] | None = None) -> str:
-    """Render the sweep report as one self-contained HTML document.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A sweep dataset (:func:`gd_analyze.jobs.sweep.run_sweep`).
-    payload : xarray.Dataset, optional
-        A payload sweep (:func:`gd_analyze.jobs.payload.payload_sweep`).
-    figures : dict of str to matplotlib.figure.Figure, optional
-        From :func:`make_sweep_figures`; made here if not given.
-
-    Returns
-    -------
-    str
-        HTML with inline CSS and inline SVG figures, no external resources; from the Jinja2
-        template ``templates/sweep_report.html.j2`` (autoescape on).
-
-    Raises
-    ------
-    InputError
-        If ``ds`` (or ``payload``) lacks a variable the report needs.
-
-    Notes
-    -----
-    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
-    """
-    stored, part = _views(ds, payload)
-    ctx = _context(stored, part)
-    if figures is None:
-        figures = make_sweep_figures(stored, part)
-    return _html(ctx, {k: (figure_svg(f, _RC), None, None) for k, f in figures.items()})
-
 
 def _outline(ctx, figures):
     """The sweep report's sections, once, for the HTML and the PDF
@@ -154,15 +116,10 @@ def _outline(ctx, figures):
     return o
 
 
-def _html(ctx, figures):
-    from markupsafe import Markup
-
-
-    svgs = {k: Markup(svg) for k, (svg, _, _) in figures.items()}
-    return render_template("sweep_report.html.j2", {**ctx, "figures": svgs,
-                                                    "outline": _outline(ctx, figures)},
-                           {"class_colours": _CLASS_COLOURS,
-                            "pruned_colour": TABLE_COLOURS["pruned"]})
+def _html(ctx):
+    return lambda outline, drawn: html_document(
+        "sweep_report.html.j2", ctx, outline, drawn,
+        {"class_colours": _CLASS_COLOURS, "pruned_colour": TABLE_COLOURS["pruned"]})
 
 
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
@@ -172,43 +129,6 @@ _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
 #: report).
 _FIGURE_FILES.update({f"{k}_column": f"{_FIGURE_FILES[k]}_column"
                       for k in ("D", "h", "classes", "error", "payload")})
-
-
-def render_sweep_pdf(ds: xr.Dataset, path: str | os.PathLike[str],
-                     payload: xr.Dataset | None = None,
-                     figures: Mapping[str, Figure] | None = None, paper: str = "a4") -> int:
-    """Write the sweep report as a PDF document.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A sweep dataset.
-    path : str or os.PathLike
-        The PDF file (written as is; :func:`write_sweep_report` passes a temporary name).
-    payload : xarray.Dataset, optional
-        A payload sweep.
-    figures : dict of str to matplotlib.figure.Figure, optional
-        From :func:`make_sweep_figures`; made here if not given.
-    paper : {"a4", "letter"}, optional
-        The size of every page.
-
-    Returns
-    -------
-    int
-        Number of pages.
-
-    Raises
-    ------
-    InputError
-        If a dataset lacks a variable the report needs.
-    OSError
-        If the file cannot be written.
-    """
-    stored, part = _views(ds, payload)
-    ctx = _context(stored, part)
-    if figures is None:
-        figures = make_sweep_figures(stored, part)
-    return _pdf(ctx, draw_figures(figures, _RC), path, paper)
 
 
 #: The settings of the sweep whose values are the PDF's keywords: its provenance.
@@ -222,15 +142,6 @@ def _keywords(ctx):
     rows = dict((markup.plain(k), markup.plain(v)) for k, v in ctx["settings"]["rows"])
     return "; ".join(["G-D dominance sweep", f"gd-analyze {ctx['version']}"]
                      + [f"{k}: {rows[k]}" for k in _KEYWORD_ROWS if k in rows])
-
-
-def _pdf(ctx, drawn, path, paper="a4"):
-    metadata = {"Author": f"gd-analyze {ctx['version']}",
-                "Subject": "Dominance of the translational and rotational G-D terms over a "
-                           "sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                "Keywords": _keywords(ctx)}
-    return write_pdf(_outline(ctx, drawn), {k: (d[0], d[2]) for k, d in drawn.items()}, path,
-                     paper, metadata, footer=f"gd-analyze {ctx['version']}: {ctx['title']}")
 
 
 def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
@@ -289,24 +200,14 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
     ctx = _context(stored, part)
     drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
-    outdir = Path(outdir)
-    (outdir / "figures").mkdir(parents=True, exist_ok=True)
-    written, files = [], []
-    with contextlib.ExitStack() as stack:
-        files = write_figure_files(stack, drawn, outdir / "figures", _FIGURE_FILES)
-        drawn = {k: v for k, v in drawn.items() if not k.endswith("_column")}   # the report's
-        for fmt in formats:
-            path = outdir / f"sweep_report.{fmt}"
-            tmp = stack.enter_context(atomic_path(path))
-            if fmt == "html":
-                with open(tmp, "w", encoding="utf-8") as fh:
-                    fh.write(_html(ctx, drawn))
-            else:
-                _pdf(ctx, drawn, tmp, paper)
-            written.append(path)
-        tables = write_tables(stack, _outline(ctx, drawn), outdir / "tables", latex,
-                              "sweep")
-    return written + files + tables
+    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
+                        "Subject": "Dominance of the translational and rotational G-D terms "
+                                   "over a sweep of trajectories (Fu, Gonzalez & Lee 1987, "
+                                   "Sec. 3.4.1)",
+                        "Keywords": _keywords(ctx)},
+           "footer": f"gd-analyze {ctx['version']}: {ctx['title']}"}
+    return write_documents(Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
+                           _html(ctx), pdf, formats, "sweep_report", paper, latex, "sweep")
 
 
 def _views(ds, payload):

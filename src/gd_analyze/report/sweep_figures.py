@@ -18,7 +18,6 @@ from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
 from .common import grid_shape, torque_units
 from .common import gridspec as _gridspec
-from .common import style as _style
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
 from .markup import ROT as _ROT
@@ -415,7 +414,9 @@ def make_sweep_figures(ds: StoredSweep | xr.Dataset,
         If a variable the figures need is missing.
     """
     w = StoredSweep.of(ds)
-    with _style(_RC):
+    import matplotlib
+
+    with matplotlib.rc_context(_RC):  # type: ignore[arg-type]  # keys typed as literals
         figs = {"D": _fig_D(w), "h": _fig_h(w), "classes": _fig_classes(w),
                 "error": _fig_error(w)}
         if column:
