@@ -101,6 +101,18 @@ def golden_run(name):
 
 
 @pytest.fixture(scope="session")
+def puma_analysis(puma, shipped):
+    """The PUMA 560's analysis of its shipped trajectory in memory, default simplification,
+    without verification and formulations (``analyze``'s :class:`Analysis`): once a session
+    per xdist worker, for the tests that read its model or dataset. Shared: tests must not
+    modify it."""
+    from gd_analyze.jobs.analyze import analyze
+    from gd_analyze.jobs.options import AnalysisOptions
+
+    return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False))
+
+
+@pytest.fixture(scope="session")
 def shipped_dataset():
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.
 
