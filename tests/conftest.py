@@ -101,6 +101,18 @@ def golden_run(name):
 
 
 @pytest.fixture(scope="session")
+def puma_analysis(puma, shipped):
+    """The PUMA 560's analysis of its shipped trajectory in memory, default simplification,
+    without verification and formulations (``analyze``'s :class:`Analysis`): once a session
+    per xdist worker, for the tests that read its model or dataset. Shared: tests must not
+    modify it."""
+    from gd_analyze.jobs.analyze import analyze
+    from gd_analyze.jobs.options import AnalysisOptions
+
+    return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False))
+
+
+@pytest.fixture(scope="session")
 def shipped_dataset():
     """The stored dataset of a built-in robot's shipped trajectory, by robot name.
 
@@ -139,13 +151,17 @@ def shared_main():
     test that reads the same run: the same arguments, the same outputs.
 
     ``shared_main(robot, trajectory, *options)`` runs ``gd-analyze robot trajectory -o
-    <folder> -q *options`` (with its report unless ``--no-report`` is among the options) the
+    <folder> *options`` (with its report unless ``--no-report`` is among the options) the
     first time any xdist worker asks for those arguments, and returns its output folder; a
-    command's arguments likewise (``shared_main("sweep", robot, *options)``). Shared:
+    command's arguments likewise (``shared_main("sweep", robot, *options)``). What the run
+    printed is kept beside its folder (:func:`printed_by`), for the tests of the printed
+    summary; the command line it records is the one given, without ``-q``. Shared:
     tests must not modify it; a test that writes next to a run writes in its own ``tmp_path``
     (a symbolic link to the run where it needs the run in its folder).
     """
+    import contextlib
     import hashlib
+    import io
 
     from gd_analyze.cli import main
 
@@ -154,9 +170,18 @@ def shared_main():
         key = hashlib.sha256("\0".join(args).encode()).hexdigest()[:16]
 
         def build(folder):
-            assert main([*args, "-o", str(folder / "out"), "-q"]) == 0
+            printed = io.StringIO()
+            with contextlib.redirect_stdout(printed):
+                code = main([*args, "-o", str(folder / "out")])
+            assert code == 0
+            (folder / "printed.txt").write_text(printed.getvalue(), encoding="utf-8")
         return built_once(f"main-{key}", build) / "out"
     return get
+
+
+def printed_by(run):
+    """What the shared run ``run`` (an output folder :func:`shared_main` returned) printed."""
+    return (run.parent / "printed.txt").read_text(encoding="utf-8")
 
 
 @pytest.fixture(scope="session")

@@ -11,7 +11,6 @@ from conftest import ROOT, SHIPPED, golden_run
 
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
-from gd_analyze.jobs.options import AnalysisOptions
 
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
 
@@ -256,7 +255,7 @@ def test_evaluate_under_a_payload(capsys, shared_main):
 
 
 @pytest.mark.slow
-def test_sweep_command_on_csv_files(tmp_path, capsys):
+def test_sweep_command_on_csv_files(tmp_path, capsys, puma_analysis):
     other = tmp_path / "other.csv"
     assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
                  "90,100,-30,45,-30,90"], capsys)[0] == 0
@@ -267,12 +266,9 @@ def test_sweep_command_on_csv_files(tmp_path, capsys):
     assert "2 trajectories" in out
     with xr.open_dataset(out_dir / "sweep.h5", engine="h5netcdf") as ds:
         assert ds.sizes["trajectory"] == 2
-        # the shipped trajectory's row is its own ranking, as the main job gives it
-        from gd_analyze import load_robot
-        from gd_analyze.jobs.analyze import analyze
-        from gd_analyze.trajectory.trajectory import read_trajectory
-
-        single = analyze(load_robot("puma560"), read_trajectory(SHIPPED, 6), AnalysisOptions(verify=False, formulations=False)).dataset
+        # the shipped trajectory's row is its own ranking, as the main job gives it (the
+        # session's analysis of it, default options, read only)
+        single = puma_analysis.dataset
         # (results.h5 stores no share for an element zero in every part: the sweep flags it)
         data = np.isfinite(single.share_tran.values)
         np.testing.assert_allclose(ds.share_tran.values[0][data],

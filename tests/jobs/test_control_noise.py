@@ -24,9 +24,7 @@ import numpy as np
 import pytest
 from conftest import SHIPPED
 
-from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.control import run_control
-from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.jobs.tracking import desired_motion, track
 from gd_analyze.store.control_dataset import control_dataset
 from gd_analyze.trajectory.planning import default_motion, plan_quintic
@@ -40,9 +38,8 @@ REFERENCE = 1000.0
 
 
 @pytest.fixture(scope="module")
-def dense(puma):
-    model = analyze(puma, read_trajectory(SHIPPED, n_joints=6),
-                    AnalysisOptions(verify=False, formulations=False)).model
+def dense(puma, puma_analysis):
+    model = puma_analysis.model         # the session's analysis (default options), read only
     traj = plan_quintic(puma, *default_motion(puma), n_setpoints=5000)
     result = run_control(model, traj, controllers=("full", "simplified"), cost=False,
                          t_end=0.25, grid_points=201)
@@ -130,8 +127,8 @@ def test_a_real_difference_is_still_drawn(dense):
         np.abs(result.tau_difference[:, 0]).max(), rel=0.05)
 
 
-def test_a_noise_measurement_that_cannot_finish_falls_back_to_the_rtol_floor(puma,
-                                                                             monkeypatch):
+def test_a_noise_measurement_that_cannot_finish_falls_back_to_the_rtol_floor(
+        puma, monkeypatch, puma_analysis):
     """When the tighter runs fail (e.g. too many steps), the check still writes its report:
     no measured floor is stored, the report applies the rtol floor and says why it was not
     measured (it stopped with an error before)."""
@@ -142,8 +139,7 @@ def test_a_noise_measurement_that_cannot_finish_falls_back_to_the_rtol_floor(pum
         raise ValueError("the full controller's run failed: too many steps")
 
     monkeypatch.setattr(control, "difference_noise", fails)
-    model = analyze(puma, read_trajectory(SHIPPED, n_joints=6),
-                    AnalysisOptions(verify=False, formulations=False)).model
+    model = puma_analysis.model         # the session's analysis (default options), read only
     result = run_control(model, read_trajectory(SHIPPED, n_joints=6),
                          controllers=("full", "simplified"), cost=False, t_end=0.5,
                          grid_points=21)

@@ -32,8 +32,8 @@ def test_cost_table_lists_each_model_once():
     assert "explicit, budget EPS=0.01" in rows
 
 
-def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change(puma,
-                                                                                  shipped):
+def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change(
+        puma, shipped, puma_analysis):
     """Results.h5 stored choice "both" for all 27 elements although the model drops
     XY2's inertial and velocity parts. Oracle: the base regressor (Khalil & Kleinfinger;
     Gautier): a dropped inertial part changes D_ij where its column at qdd = e_j moves tau_i,
@@ -41,10 +41,8 @@ def test_choice_of_a_recursive_model_names_the_elements_its_dropped_terms_change
     import dataclasses
 
     from gd_analyze.dynamics.base_parameters import base_parameters, base_regressor
-    from gd_analyze.jobs.analyze import analyze
-    from gd_analyze.jobs.options import AnalysisOptions
 
-    ds = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).dataset
+    ds = puma_analysis.dataset          # the session's analysis (default options), read only
     dropped = {}
     for pair in str(ds.attrs["simplified_dropped_pairs"]).split(", "):
         name, part = pair[:-1].split(" (")

@@ -56,17 +56,15 @@ def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
     np.testing.assert_allclose(motion(t), np.hstack([q, qd, qdd]), atol=1e-12)
 
 
-def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_model(puma,
-                                                                                   shipped):
+def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_model(
+        puma, shipped, puma_analysis):
     """The simplified controller's run, its model evaluated at each right-hand-side call in
     floats (torque_at), equals the run with the batch numpy model (an object without
     torque_at) bit for bit: the same operations in the same order. The model is the PUMA 560's
     pruned recursive one, with sines, cosines and products of every kind."""
-    from gd_analyze.jobs.analyze import analyze
-    from gd_analyze.jobs.options import AnalysisOptions
     from gd_analyze.jobs.tracking import track
 
-    model = analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
+    model = puma_analysis.model         # the session's analysis (default options), read only
 
     class BatchOnly:                       # the model without its one-state function
         robot = model.robot

@@ -4,9 +4,8 @@ drawn above the combined curve, and column-width figures only on request."""
 
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import SHIPPED
 
-from gd_analyze import load_robot
 from gd_analyze.report import main as report
 from gd_analyze.report.main_context import zero_mask
 from gd_analyze.report.main_figures import PART_STYLE
@@ -61,16 +60,12 @@ def test_no_panel_of_an_element_zero_in_every_part(shipped_dataset):
 
 
 @pytest.fixture(scope="module")
-def drives(tmp_path_factory):
-    from gd_analyze.jobs.analyze import analyze_to_file
-    from gd_analyze.jobs.options import AnalysisOptions
+def drives(shared_main):
+    """The PUMA 560 with drives' default run on its shipped trajectory (shared, read only:
+    tests/conftest.py): its results.h5 and the dataset, loaded."""
     from gd_analyze.store.schema import open_results
-    from gd_analyze.trajectory.trajectory import read_trajectory
 
-    robot = load_robot("puma560-drives")
-    traj = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", robot.n)
-    path = tmp_path_factory.mktemp("drives") / "results.h5"
-    analyze_to_file(robot, traj, path, AnalysisOptions(formulations=False, verify=False))
+    path = shared_main("puma560-drives", SHIPPED) / "results.h5"
     with open_results(path, lazy=True) as ds:
         return path, ds.load()
 

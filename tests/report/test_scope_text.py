@@ -7,19 +7,17 @@ import re
 
 import numpy as np
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, printed_by
 from html_checks import html_text
 
-from gd_analyze.cli import main
 from gd_analyze.store.datasets import stored_guarantee
 from gd_analyze.store.model_file import load_model
 from gd_analyze.store.schema import open_results
 
 
-def test_the_main_jobs_outputs_state_the_models_scope(tmp_path, capsys):
-    out = tmp_path / "o"
-    assert main(["puma560", str(SHIPPED), "-o", str(out)]) == 0
-    printed = capsys.readouterr().out.splitlines()
+def test_the_main_jobs_outputs_state_the_models_scope(shared_main):
+    out = shared_main("puma560", SHIPPED)   # the default run and what it printed, read only
+    printed = printed_by(out).splitlines()
     g = load_model(out / "simplified_model.json").guarantee
     statement = g.statement()
     # the CLI summary: after the model's cost line, the region (one line per limit kind,

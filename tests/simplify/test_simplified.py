@@ -3,16 +3,13 @@ import json
 
 import numpy as np
 import pytest
-from conftest import SHIPPED, random_states
+from conftest import random_states
 
 from gd_analyze import InputError, SimplifiedModel, gd_terms
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.jobs.analyze import analyze
-from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.ranking.ranking import element_labels
 from gd_analyze.simplify.simplified import choice_masks, merge_choices, simplified_torque
 from gd_analyze.store.model_file import load_model, save_model
-from gd_analyze.trajectory.trajectory import read_trajectory
 
 
 def _model(robot, choice):
@@ -96,9 +93,8 @@ def test_masks_are_symmetric_and_complete():
         choice_masks(choices, 3)
 
 
-def test_save_load_and_reuse_on_new_states(tmp_path, puma):
-    traj = read_trajectory(SHIPPED, 6)
-    analysis = analyze(puma, traj, AnalysisOptions(verify=False, formulations=False))
+def test_save_load_and_reuse_on_new_states(tmp_path, puma, shipped, puma_analysis):
+    traj, analysis = shipped, puma_analysis          # the session's analysis, read only
     path = tmp_path / "simplified_model.json"
     save_model(analysis.model, path)
     spec = json.loads(path.read_text())
