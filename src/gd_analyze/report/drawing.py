@@ -55,7 +55,11 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
 
     meta = {"Date": None, "Creator": None, "Format": None, "Type": None}
     extent = []         # measured on the drawing itself: its text laid out once
-    cid = fig.canvas.mpl_connect("draw_event", lambda e: extent.append(text_extent(fig, e.renderer)))
+
+    def measure(event: Any) -> None:    # a DrawEvent (typed as a bare Event by some versions)
+        extent.append(text_extent(fig, event.renderer))
+
+    cid = fig.canvas.mpl_connect("draw_event", measure)
     buf = io.BytesIO()
     with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
