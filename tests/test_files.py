@@ -42,7 +42,6 @@ def test_package_sha256_covers_every_source(tmp_path):
 
 def test_every_cache_key_carries_the_package_sha256(puma):
     from gd_analyze.certify.region import joint_region
-    from gd_analyze.dynamics import opcount
     from gd_analyze.store.certification_cache import certification_key
     from gd_analyze.store.explicit_cache import cache_key
     from gd_analyze.store.search_cache import search_key
@@ -52,4 +51,3 @@ def test_every_cache_key_carries_the_package_sha256(puma):
     assert cache_key(puma)["code"]["sha256"] == code
     assert certification_key(puma, region, {})["code"]["sha256"] == code
     assert search_key(puma, region, 0.01, 0.0, 8)["code"]["sha256"] == code
-    assert opcount._cache_key("RRR")["code"]["sha256"] == code
