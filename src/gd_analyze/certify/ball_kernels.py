@@ -175,6 +175,17 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
         Per box, joint i <= k, column and channel of the link (Ck = 1 + (k + 1) + (k + 1)^2:
         gravity, the accelerations of joints 0..k, the velocity pairs (j, l) of joints 0..k),
         lo <= torque <= hi [N m or N per unit parameter].
+
+    Raises
+    ------
+    None: the caller (``regressor_bounds._ball_links``) passes checked boxes.
+
+    Notes
+    -----
+    Source: the backward recursion of the Newton-Euler equations (Fu, Gonzalez & Lee 1987,
+    Table 3.3) written per standard parameter, as the regressor of Khalil & Kleinfinger (1987):
+    f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + p_i x f_i, and tau_i the z component of n_i (of f_i
+    for a prismatic joint), in the ball arithmetic of :mod:`.balls`.
     """
     B = mid.shape[0]
     kk = k + 1
