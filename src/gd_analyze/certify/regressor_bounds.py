@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from . import balls
 from . import intervals as iv
 from .ball_kernels import backward_kernel
+from .vertex_kernel import vertex_extremes
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
@@ -477,13 +478,12 @@ class _QuadraticBound:
     Only the joints whose coefficients are not all exactly zero in the batch (the support S:
     a column of link k has none beyond joint k) take part, so the vertices are 2^(|S| - 1),
     not 2^(n - 1); the other joints change no value. Beyond :attr:`VERTEX_LIMIT` joints in S
-    the centre is bounded by sum |S_jl| a_j a_l instead of searched.
+    the centre is bounded by sum |S_jl| a_j a_l instead of searched. The search is
+    :func:`.vertex_kernel.vertex_extremes`'s, in Gray-code order, with its round-off bounded.
     """
 
     #: Largest support searched over its vertices.
     VERTEX_LIMIT = 13
-    #: Elements of each (rows, vertices) product (32 MB).
-    _ELEMENTS = 1 << 22
 
     def __init__(self, n, a):
         self.n, self.a = n, np.asarray(a, float)
@@ -494,15 +494,8 @@ class _QuadraticBound:
         if plan is None:
             n, S = self.n, np.asarray(support, int)
             j, l = np.triu_indices(S.size, 1)
-            w_off = self.a[S[j]] * self.a[S[l]]
-            prod = None
-            if S.size <= self.VERTEX_LIMIT:
-                signs = np.array(list(itertools.product([-1.0, 1.0],
-                                                        repeat=max(S.size - 1, 0))), float)
-                signs = np.hstack([np.ones((signs.shape[0], 1)),
-                                   signs.reshape(signs.shape[0], -1)])
-                prod = (signs[:, j] * signs[:, l]) * w_off[None, :]
-            plan = (S[j] * n + S[l], S[l] * n + S[j], S * (n + 1), w_off, self.a[S] ** 2, prod)
+            plan = (S[j] * n + S[l], S[l] * n + S[j], S * (n + 1), self.a[S[j]] * self.a[S[l]],
+                    self.a[S] ** 2, j, l)
             self._plans[support] = plan
         return plan
 
@@ -525,21 +518,17 @@ class _QuadraticBound:
         n = self.n
         used = ((lo != 0) | (hi != 0)).any(axis=0).reshape(n, n)
         support = tuple(int(x) for x in np.flatnonzero(used.any(axis=0) | used.any(axis=1)))
-        off, mirror, diag, w_off, w_diag, prod = self._plan(support)
+        off, mirror, diag, w_off, w_diag, j, l = self._plan(support)
         s_lo = lo[:, off] + lo[:, mirror]
         s_hi = hi[:, off] + hi[:, mirror]
         mid, rad = 0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo)
         d_hi = np.maximum(hi[:, diag], 0.0) @ w_diag
         d_lo = np.minimum(lo[:, diag], 0.0) @ w_diag
         spread = rad @ w_off
-        if prod is None:
+        if len(support) > self.VERTEX_LIMIT:
             top = np.abs(mid) @ w_off + spread
             return -top + d_lo, top + d_hi, False
-        c_max, c_min = np.empty(lo.shape[0]), np.empty(lo.shape[0])
-        rows = max(1, self._ELEMENTS // prod.shape[0])
-        for r in range(0, lo.shape[0], rows):
-            centre = mid[r:r + rows] @ prod.T                          # (rows, vertices)
-            c_max[r:r + rows], c_min[r:r + rows] = centre.max(axis=1), centre.min(axis=1)
+        c_max, c_min = vertex_extremes(mid, j, l, w_off, max(len(support), 1))
         return c_min - spread + d_lo, c_max + spread + d_hi, True
 
 
