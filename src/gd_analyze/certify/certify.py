@@ -31,6 +31,7 @@ from .regressor_bounds import (
     combined_bound,
     pair_magnitudes,
 )
+from .vertex_kernel import vertex_extremes
 
 if TYPE_CHECKING:
     from ..dynamics.base_parameters import BaseParameters
@@ -117,6 +118,8 @@ class PairBounds:
 
 #: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
 _GEMM_ELEMENTS = 1 << 22
+#: Largest set of joints whose velocity vertices are all searched (:func:`.region.qd_vertices`'s).
+SEARCHED_JOINTS = 13
 
 
 def pair_magnitudes_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,
@@ -169,6 +172,9 @@ def _magnitudes(V, qd_max, qdd_max):
         if not S:
             continue                    # no velocity term: 0
         S, ms = np.asarray(S), np.asarray(ms)
+        if S.size <= SEARCHED_JOINTS:
+            out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
+            continue
         verts = qd_vertices(qd_max[S])
         outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
         chans = packed[(S[:, None] * n + S[None, :]).reshape(-1)]
@@ -180,6 +186,26 @@ def _magnitudes(V, qd_max, qdd_max):
             quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
             peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
             out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
+    return out
+
+
+def _vertex_peaks(V, S, ms, packed, qd_max):
+    """max |qd^T C qd| over the vertices of the velocity box of the joints S, at every
+    position (B, g, n), for the columns ms: at a vertex qd_j^2 = a_j^2, so the diagonal part
+    is a constant and the rest is :func:`.vertex_kernel.vertex_extremes`'s form in the signs."""
+    B, n = V.shape[0], V.shape[2]
+    j, l = np.triu_indices(S.size, 1)
+    pairs, diag = packed[S[j] * n + S[l]], packed[S * (n + 1)]
+    w_off, w_diag = qd_max[S[j]] * qd_max[S[l]], qd_max[S] ** 2
+    out = np.empty((B, ms.size, n))
+    rows = max(1, _GEMM_ELEMENTS // (max(j.size, 1) * n * ms.size))
+    for a in range(0, B, rows):
+        block = V[a:a + rows][:, :, :, ms]                              # (r, C, n, g)
+        d = np.einsum("rcig,c->rgi", block[:, diag], w_diag)
+        mid = 2.0 * block[:, pairs].transpose(0, 3, 2, 1).reshape(-1, j.size)   # (r g n, P)
+        top, bottom = vertex_extremes(mid, j, l, w_off, S.size, widen=False)
+        top, bottom = top.reshape(d.shape), bottom.reshape(d.shape)
+        out[a:a + rows] = np.maximum(d + top, -(d + bottom))
     return out
 
 

@@ -94,8 +94,8 @@ def _extremes(mid, j_of, l_of, w_off, s, c_max, c_min):
 
 
 def vertex_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
-                    l: npt.NDArray[np.int64], w_off: npt.NDArray[np.float64], s: int
-                    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+                    l: npt.NDArray[np.int64], w_off: npt.NDArray[np.float64], s: int,
+                    widen: bool = True) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Enclosures of the largest and the smallest f(v) over the vertices v in {-1, 1}^s.
 
     Parameters
@@ -108,12 +108,16 @@ def vertex_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
         The weights a_j a_l >= 0 of the pairs.
     s : int
         The number of signs, 1 <= s (2^(s - 1) vertices are searched).
+    widen : bool, optional
+        Widen the computed extremes by the bound of their round-off (default), so that they
+        enclose the exact ones; without, they are the computed values (for sampled peaks,
+        which are found, not proved).
 
     Returns
     -------
     top, bottom : ndarray, shape (R,)
         top >= max_v f(v) and bottom <= min_v f(v), f(v) = sum_p m_p w_p v_j v_l, each the
-        computed extreme widened by the bound of its round-off.
+        computed extreme widened by the bound of its round-off (``widen``).
 
     Raises
     ------
@@ -140,6 +144,8 @@ def vertex_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
     c_max, c_min = np.zeros(R), np.zeros(R)
     if P and R:
         _extremes(mid, j, l, w_off, s, c_max, c_min)
+    if not widen:
+        return c_max, c_min
     F = np.abs(mid) @ np.abs(w_off)
     slack = 2 * (1 + 2 * s + (BLOCK - 1) * (2 * (2 * (s + BLOCK) + 1) + 2)) * _U * F
     return c_max + slack, c_min - slack
