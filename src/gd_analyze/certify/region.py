@@ -239,9 +239,8 @@ def channel_values(robot, q, columns, chunk=512):
     qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
     qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
     S = jj.size
-    where = 1 + n + velocity_channels(n).reshape(n, n)[jj, ll]    # packed channel of each
-    out = np.empty((min(q.shape[0], max(1, int(chunk))), packed_channel_count(n), n,
-                    columns.size))
+    state = np.empty((n, n), int)                             # the state of each pair j <= l
+    state[jj, ll] = np.arange(S)
     links = columns // 10
     groups = tuple((int(k) + 1, np.flatnonzero(links == k),
                     np.empty((q.shape[0], packed_channel_count(int(k) + 1), int(k) + 1,
@@ -253,13 +252,17 @@ def channel_values(robot, q, columns, chunk=512):
         B = qc.shape[0]
         # each part at the states it is read at only: 1 + n + S per position
         grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
-        diag = velocity[:, :n]                                # C_jj: (B, j, i, m)
-        out[:B, where[:n]] = diag
-        out[:B, where[n:]] = 0.5 * (velocity[:, n:] - diag[:, jj[n:]] - diag[:, ll[n:]])
-        out[:B, 0] = grav
-        out[:B, 1:1 + n] = inertial
-        for M, idx, Vm in groups:
-            Vm[a:a + B] = out[:B][np.ix_(np.arange(B), _first_joints(n, M), np.arange(M), idx)]
+        rows = np.arange(B)
+        for M, idx, Vm in groups:       # the link's joints, channels and columns only
+            jM, lM = np.triu_indices(M)
+            joints = np.arange(M)
+            vel = velocity[np.ix_(rows, state[jM, lM], joints, idx)]
+            diag = velocity[np.ix_(rows, state[joints, joints], joints, idx)]   # C_jj (B, j, i, m)
+            off = jM != lM
+            vel[:, off] = 0.5 * (vel[:, off] - diag[:, jM[off]] - diag[:, lM[off]])
+            Vm[a:a + B, 0] = grav[np.ix_(rows, joints, idx)]
+            Vm[a:a + B, 1:1 + M] = inertial[np.ix_(rows, joints, joints, idx)]
+            Vm[a:a + B, 1 + M:] = vel
     return ChannelValues(n=n, columns=int(columns.size), groups=groups)
 
 
