@@ -232,55 +232,63 @@ def channel_values(robot, q, columns, chunk=512):
     if q.ndim != 2 or q.shape[1] != n:
         raise ValueError(f"q must have shape (B, {n}), got {q.shape}")
     columns = np.asarray(columns, int)
-    eye = np.eye(n)
-    jj, ll = np.triu_indices(n)                               # j <= l; the diagonal first
-    order = np.argsort(jj != ll, kind="stable")
-    jj, ll = jj[order], ll[order]
-    qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
-    qdd_units = eye[jj] * (jj == ll)[:, None]                 # e_j on the diagonal
-    S = jj.size
-    state = np.empty((n, n), int)                             # the state of each pair j <= l
-    state[jj, ll] = np.arange(S)
     links = columns // 10
     groups = tuple((int(k) + 1, np.flatnonzero(links == k),
                     np.empty((q.shape[0], packed_channel_count(int(k) + 1), int(k) + 1,
                               int((links == k).sum()))))
                    for k in np.unique(links))
+    S = n * (n + 1) // 2
     chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
     for a in range(0, q.shape[0], chunk):
         qc = q[a:a + chunk]
         B = qc.shape[0]
-        # each part at the states it is read at only: 1 + n + S per position
-        grav, inertial, velocity = _channel_parts(robot, columns, qc, qd_units, qdd_units)
-        rows = np.arange(B)
-        for M, idx, Vm in groups:       # the link's joints, channels and columns only
+        grav = regressor_columns(robot, columns, qc, np.zeros_like(qc), np.zeros_like(qc))
+        for M, idx, Vm in groups:       # the link's joints, states and columns only
+            cs = _as_slice(idx)
+            inertial, velocity, state = _link_parts(robot, columns[idx], qc, M)
             jM, lM = np.triu_indices(M)
+            vel = velocity[:, state[jM, lM]]                  # packed order (B, P_M, M, m)
             joints = np.arange(M)
-            vel = velocity[np.ix_(rows, state[jM, lM], joints, idx)]
-            diag = velocity[np.ix_(rows, state[joints, joints], joints, idx)]   # C_jj (B, j, i, m)
+            diag = velocity[:, state[joints, joints]]         # C_jj (B, j, i, m)
             off = jM != lM
             vel[:, off] = 0.5 * (vel[:, off] - diag[:, jM[off]] - diag[:, lM[off]])
-            Vm[a:a + B, 0] = grav[np.ix_(rows, joints, idx)]
-            Vm[a:a + B, 1:1 + M] = inertial[np.ix_(rows, joints, joints, idx)]
+            Vm[a:a + B, 0] = grav[:, :M, cs]
+            Vm[a:a + B, 1:1 + M] = inertial
             Vm[a:a + B, 1 + M:] = vel
     return ChannelValues(n=n, columns=int(columns.size), groups=groups)
 
 
-def _channel_parts(robot, columns, qc, qd_units, qdd_units):
-    """The parts of :func:`channel_values` on B positions, as array code: the gravity part at rest
-    (B, n, m), the inertial part at qdd = e_j (B, n, n, m) and the velocity part at every
-    state's qd (B, S, n, m), all with g = 0 but gravity's."""
+def _as_slice(idx):
+    """Ascending indices as a slice where they are a run (a basic index: no copy), else as
+    they are."""
+    if idx.size and idx[-1] - idx[0] == idx.size - 1:
+        return slice(int(idx[0]), int(idx[-1]) + 1)
+    return idx
+
+
+def _link_parts(robot, columns, qc, M):
+    """The inertial and velocity parts of columns of link M - 1 on B positions, at the states
+    that can move them: qdd = e_j (j < M), and qd = e_j + e_l or e_j (j <= l < M), g = 0.
+
+    Returns the inertial part (B, j, i, m) and the velocity part (B, state, i, m), both on the
+    joints i < M only, and the state of each pair j <= l (M, M): the pairs are ordered by l,
+    then j."""
     B, n = qc.shape
-    S = qd_units.shape[0]
-    z, g0 = np.zeros((B * S, n)), np.zeros(3)
-    grav = regressor_columns(robot, columns, qc, z[:B], z[:B])
-    qn = np.repeat(qc, n, axis=0)
-    inertial = regressor_columns(robot, columns, qn, z[:B * n], np.tile(qdd_units[:n], (B, 1)),
-                                 gravity=g0)
-    velocity = regressor_columns(robot, columns, np.repeat(qc, S, axis=0),
-                                 np.tile(qd_units, (B, 1)), z, gravity=g0)
-    m = columns.size
-    return grav, inertial.reshape(B, n, n, m), velocity.reshape(B, S, n, m)
+    jj, ll = np.triu_indices(M)
+    order = np.lexsort((jj, ll))                              # by l, then j
+    jj, ll = jj[order], ll[order]
+    state = np.zeros((M, M), int)
+    state[jj, ll] = np.arange(jj.size)
+    eye = np.eye(n)
+    qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
+    g0, m = np.zeros(3), columns.size
+    zi, zv = np.zeros((B * M, n)), np.zeros((B * jj.size, n))
+    inertial = regressor_columns(robot, columns, np.repeat(qc, M, axis=0), zi,
+                                 np.tile(eye[:M], (B, 1)), gravity=g0)
+    velocity = regressor_columns(robot, columns, np.repeat(qc, jj.size, axis=0),
+                                 np.tile(qd_units, (B, 1)), zv, gravity=g0)
+    return (inertial.reshape(B, M, n, m)[:, :, :M], velocity.reshape(B, jj.size, n, m)[:, :, :M],
+            state)
 
 
 #: How a revolute joint whose region spans a full turn (2 pi or more) is stored and printed.

@@ -33,12 +33,13 @@ _JA = (0, 0, 0, 1, 1, 2)
 _JB = (0, 1, 2, 1, 2, 2)
 
 
-def _frames(robot, q):
-    """Per joint ^{i-1}R_i (3 x 3 entries) and ^{i-1}p_i (3 entries), each (N,) or a float."""
+def _frames(robot, q, top=None):
+    """Per joint ^{i-1}R_i (3 x 3 entries) and ^{i-1}p_i (3 entries), each (N,) or a float,
+    of the first ``top`` joints (default all)."""
     Rp = np.asarray(robot.rotation, float)
     tp = np.asarray(robot.translation, float)
     out = []
-    for i in range(robot.n):
+    for i in range(robot.n if top is None else top):
         P = Rp[i]
         if robot.prismatic[i]:
             R = [[P[r, 0], P[r, 1], P[r, 2]] for r in range(3)]
@@ -213,9 +214,10 @@ def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
     link, param, back = _sorted(columns)
     N = q.shape[0]
     out = np.empty((N, robot.n, columns.size))
+    top = int(link.max()) + 1 if link.size else 0      # the links the columns can see
     for a in range(0, N, BLOCK):
         sl = slice(a, a + BLOCK)
-        _put(out[sl], _block_columns(robot, _frames(robot, q[sl]), link, param, qd[sl],
+        _put(out[sl], _block_columns(robot, _frames(robot, q[sl], top), link, param, qd[sl],
                                      qdd[sl], g), back)
     return out
 
