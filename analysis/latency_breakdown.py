@@ -48,8 +48,8 @@ TIMED = (
     ("gd_analyze.report.main", "write_report", "write_report"),
     ("gd_analyze.store.schema", "open_results", "report_read_results"),
     ("gd_analyze.report.main", "_html", "report_html"),
-    ("gd_analyze.report.main", "_pdf", "report_pdf"),
-    ("gd_analyze.report.main", "write_figure_files", "report_figure_files"),
+    ("gd_analyze.report.typeset", "write_pdf", "report_pdf"),
+    ("gd_analyze.report.drawing", "write_figure_files", "report_figure_files"),
 )
 
 _CHILD = r"""
