@@ -60,15 +60,16 @@ def _range(values):
     return {"median": float(np.median(v)), "min": float(v.min()), "max": float(v.max())}
 
 
-def run_child(command):
-    """Run ``command`` under a small parent that reports its children's peak RSS and CPU time
-    (the job's alone); returns (wall [s], CPU [s], peak RSS [MiB])."""
+def run_child(command, env=None):
+    """Run ``command`` (in environment ``env``, default this one) under a small parent that
+    reports its children's peak RSS and CPU time (the job's alone); returns (wall [s], CPU [s],
+    peak RSS [MiB])."""
     wrapper = [sys.executable, "-c", "import resource, subprocess, sys; "
                f"subprocess.run({command!r}, check=True, capture_output=True); "
                "u = resource.getrusage(resource.RUSAGE_CHILDREN); "
                "print(u.ru_maxrss / 1024, u.ru_utime + u.ru_stime)"]
     t0 = time.perf_counter()
-    out = subprocess.run(wrapper, check=True, capture_output=True, text=True).stdout
+    out = subprocess.run(wrapper, check=True, capture_output=True, text=True, env=env).stdout
     wall = time.perf_counter() - t0
     rss, cpu = (float(v) for v in out.split()[-2:])
     return wall, cpu, rss

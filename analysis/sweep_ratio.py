@@ -1,7 +1,7 @@
 """A sweep of K random PUMA 560 trajectories against a Pinocchio loop over the same states,
 interleaved.
 
-    python analysis/sweep_ratio.py [-k 1000] [--runs R] [--workers W]
+    python analysis/sweep_ratio.py [-k 1000] [--runs R] [--workers W] [--baseline SRC]
 
 Times, in interleaved rounds with the same number of runs on each side (a, b, b, a, ...;
 default 3 each):
@@ -17,7 +17,11 @@ default 3 each):
       sweep's own seeds; analysis/benchmark.py's ``pinocchio_loop``), in this process.
 
 The sweep runs with a derivation cache of its own, filled by one untimed warm-up run (reported
-apart), as a user's later runs do.
+apart), as a user's later runs do, with Python's default settings (a ``PYTHONDONTWRITEBYTECODE``
+in the caller's environment is dropped, so that the warm-up leaves gd_analyze's byte-code as a
+user's first run does). ``--baseline SRC`` also times another checkout's sweep (its ``src``
+folder first on ``PYTHONPATH``, its own warm-up) in the same rounds, against the same loop,
+the order of the sides rotated each round.
 
 Prints one JSON line: per side the median wall and CPU times [s], the per-round ratios a / b
 of wall and CPU time (median and [min, max]), the sweep's peak RSS per run [MiB], and the
@@ -65,6 +69,8 @@ def main(argv=None):
     p.add_argument("-k", type=int, default=1000, help="swept trajectories")
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--workers", type=int, default=None, help="LocalCluster workers")
+    p.add_argument("--baseline", metavar="SRC", default=None,
+                   help="another checkout's src folder, timed in the same rounds")
     args = p.parse_args(argv)
     from gd_analyze import load_robot
     from gd_analyze.trajectory.planning import random_trajectories
@@ -81,21 +87,29 @@ def main(argv=None):
         if args.workers:
             command += ["--workers", str(args.workers)]
 
-        def job():
-            return run_child(command)
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        env.pop("GD_ANALYZE_NO_CACHE", None)
+        env["GD_ANALYZE_CACHE_DIR"] = str(Path(tmp) / "cache")
+
+        def job(src=None):
+            return run_child(command, env if src is None else {**env, "PYTHONPATH": os.pathsep.join(
+                [str(Path(src).resolve())] + [v for v in [env.get("PYTHONPATH")] if v])})
 
         def loop():
             t0, c0 = time.perf_counter(), time.process_time()
             pinocchio_loop(robot, q, qd)
             return time.perf_counter() - t0, time.process_time() - c0
 
-        os.environ.pop("GD_ANALYZE_NO_CACHE", None)
-        os.environ["GD_ANALYZE_CACHE_DIR"] = str(Path(tmp) / "cache")
         first_wall, _, first_rss = job()
         loads.append(os.getloadavg()[0])
-        jobs, loops = [], []
+        jobs, loops, bases = [], [], []
+        sides = [(job, jobs), (loop, loops)]
+        if args.baseline:
+            job(args.baseline)                  # its own warm-up: its code, its cache keys
+            loads.append(os.getloadavg()[0])
+            sides.append((lambda: job(args.baseline), bases))
         for k in range(args.runs):
-            for side in ((job, jobs), (loop, loops))[:: 1 if k % 2 == 0 else -1]:
+            for side in sides[k % len(sides):] + sides[:k % len(sides)]:
                 side[1].append(side[0]())
                 loads.append(os.getloadavg()[0])
     wall = [a[0] / b[0] for a, b in zip(jobs, loops)]
@@ -114,6 +128,15 @@ def main(argv=None):
         "ratio_limit": RATIO_LIMIT,
         "load_average_1min": {"min": min(loads), "max": max(loads), "each": loads},
     }
+    if args.baseline:
+        result.update({
+            "baseline_src": str(Path(args.baseline).resolve()),
+            "baseline_over_pinocchio_loop_wall": _range([a[0] / b[0]
+                                                         for a, b in zip(bases, loops)]),
+            "baseline_over_pinocchio_loop_cpu": _range([a[1] / b[1]
+                                                        for a, b in zip(bases, loops)]),
+            "baseline_wall_s": _range([a[0] for a in bases]),
+            "sweep_over_baseline_wall": _range([a[0] / b[0] for a, b in zip(jobs, bases)])})
     print(json.dumps(result))
     print(f"within_ratio_limit: {'true' if np.median(wall) <= RATIO_LIMIT else 'false'}")
     return 0

@@ -250,3 +250,50 @@ def test_users_region_is_printed_and_stored_by_the_sweep(tmp_path, capsys):
     spec = json.loads((out / "merged_model.json").read_text())
     np.testing.assert_allclose(spec["guarantee"]["region"]["qd_max"], np.radians([30, 30]))
     np.testing.assert_allclose(spec["guarantee"]["qd_max"], np.radians([30, 30]))
+
+
+@pytest.mark.slow
+def test_a_small_sweep_without_workers_runs_in_the_command_process(tmp_path, capsys,
+                                                                    monkeypatch):
+    """Without --workers or --scheduler, a sweep of at most IN_PROCESS_SETPOINTS_MAX set points
+    is ranked, and its merged model built and checked, in the command's own process, and the
+    provenance and the printed line say so; above that limit the command starts a
+    LocalCluster. Both give the same files: the ranking and the model to the last bit, the
+    measured errors up to round-off (their set points are grouped otherwise)."""
+    from gd_analyze.jobs import sweep as sweep_job
+    from gd_analyze.report.sweep_text import sweep_context
+
+    args = ["puma560", "--random", "3", "--seed", "4", "--held-out", "2", "--no-report"]
+    code, printed = _sweep([*args, "-o", tmp_path / "here"], capsys)
+    assert code == 0, printed
+    assert "puma560: 3 trajectories in " in printed
+    assert " s in this process (no dask cluster)" in printed and "dask workers" not in printed
+    monkeypatch.setattr(sweep_job, "IN_PROCESS_SETPOINTS_MAX", 3 * 31 - 1)
+    code, printed = _sweep([*args, "-o", tmp_path / "cluster"], capsys)
+    assert code == 0, printed
+    assert re.search(r"in [0-9.]+ s on \d+ dask workers \(tcp://", printed), printed
+    with xr.open_dataset(tmp_path / "here" / "sweep.h5") as here, \
+            xr.open_dataset(tmp_path / "cluster" / "sweep.h5") as there:
+        here, there = here.load(), there.load()
+    assert here.attrs["cluster"] == sweep_job.IN_PROCESS and int(here.attrs["n_workers"]) == 0
+    assert there.attrs["cluster"].startswith("a LocalCluster of ")
+    assert int(there.attrs["n_workers"]) >= 1 and int(there.attrs["n_tasks"]) >= 2
+    rows = dict(sweep_context(here, None)["settings"]["rows"])
+    assert rows["computed on"].startswith(f"{sweep_job.IN_PROCESS} (the 3 trajectories in 1 "
+                                          "batch: ranked, and the merged model built and "
+                                          "checked on every trajectory, in the process"), rows
+    assert set(here.variables) == set(there.variables)
+    for name in here.variables:
+        a, b = here[name].values, there[name].values
+        if a.dtype.kind == "f" and "error" in name:
+            np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12, err_msg=name)
+        else:
+            np.testing.assert_array_equal(a, b, err_msg=name)
+    for name in ("merged_model.json", "merged_model.c", "merged_model.py"):
+        a, b = ((tmp_path / side / name).read_text() for side in ("here", "cluster"))
+        if name.endswith(".json"):
+            a, b = json.loads(a), json.loads(b)
+            for spec in (a, b):         # measured on the trajectories: up to round-off
+                spec.pop("validation", None)
+                spec.get("provenance", {}).pop("command", None)
+        assert a == b, name

@@ -15,7 +15,7 @@ from gd_analyze.cli import parse_range
 from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.jobs.payload import payload_sweep
-from gd_analyze.jobs.sweep import analyze_one, run_sweep
+from gd_analyze.jobs.sweep import IN_PROCESS, analyze_one, run_sweep
 from gd_analyze.jobs.sweep_merged import merged_model
 from gd_analyze.ranking.ranking import CLASSES, element_labels
 from gd_analyze.simplify.simplified import choice_masks
@@ -224,6 +224,33 @@ def test_sweep_starts_and_closes_its_own_cluster(puma, trajectories):
     np.testing.assert_allclose(ds["share_tran"].values[1],
                                analyze_one(puma, trajectories[1])["share_tran"], rtol=0,
                                atol=1e-12)
+
+
+def test_in_process_sweep_equals_the_cluster_sweep(sweep, puma, trajectories):
+    """Ranked in this process (one batch, no cluster), every variable of the dataset is the
+    cluster's: the ranking to the last bit, the chapter merge's errors up to round-off (the
+    set points are grouped otherwise); the provenance says where it ran."""
+    ds = run_sweep(puma, trajectories, in_process=True, settings={"command": "test"})
+    assert set(ds.variables) == set(sweep.variables)
+    for name in ds.variables:
+        a, b = ds[name].values, sweep[name].values
+        if a.dtype.kind == "f":
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12, err_msg=name)
+        else:
+            np.testing.assert_array_equal(a, b, err_msg=name)
+    for name in ("share_tran", "peak_total", "tau_peak"):
+        np.testing.assert_array_equal(ds[name].values, sweep[name].values, err_msg=name)
+    a = ds.attrs
+    assert a["cluster"] == IN_PROCESS and a["scheduler_address"] == "none"
+    assert (a["n_workers"], a["n_tasks"], a["batch_size"]) == (0, 0, K)
+    assert run_sweep(puma, trajectories[:3], in_process=True, batch=2).attrs["batch_size"] == 2
+
+
+def test_in_process_takes_no_cluster(puma, trajectories, cluster):
+    _, client = cluster
+    for where in ({"client": client}, {"scheduler": "tcp://127.0.0.1:1"}, {"n_workers": 1}):
+        with pytest.raises(ValueError, match="without a dask cluster"):
+            run_sweep(puma, trajectories[:1], in_process=True, **where)
 
 
 def test_sweep_rejects_bad_input_before_starting(puma, two_link, trajectories):

@@ -171,3 +171,48 @@ def test_round_off_torque_errors_are_marked_as_such(shipped_dataset):
     assert oracle.any() and not oracle.all()                     # the case at hand
     np.testing.assert_array_equal(flags, oracle)
     assert ds["tau_error_round_off"].attrs["flag_meanings"] == "data round_off"
+
+
+def test_a_dataset_is_written_as_to_netcdf_writes_it_without_importing_distributed(
+        written, tmp_path):
+    """write_dataset writes the file xarray's to_netcdf (h5netcdf, the same encoding) writes,
+    object for object, attribute for attribute, with the same compression; and, in a fresh
+    interpreter, without importing dask.distributed (to_netcdf asks dask for its scheduler)."""
+    import subprocess
+    import sys
+
+    path = written[0]
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        ds = ds.load()
+    for var in ds.variables.values():
+        var.encoding = {}
+    mine, theirs = tmp_path / "mine.h5", tmp_path / "theirs.h5"
+    write_dataset(ds, mine)
+    ds.to_netcdf(theirs, engine="h5netcdf", invalid_netcdf=False, encoding={
+        name: {"zlib": True, "complevel": 4} for name, var in ds.data_vars.items()
+        if var.dtype.kind == "f" and var.ndim >= 2})
+
+    def contents(name):
+        out = {}
+        with h5py.File(name) as f:
+            def visit(key, obj):
+                attrs = {k: str(v) for k, v in obj.attrs.items()
+                         if k not in ("DIMENSION_LIST", "REFERENCE_LIST")}
+                if isinstance(obj, h5py.Dataset):
+                    attrs.update(dtype=str(obj.dtype), shape=str(obj.shape),
+                                 filters=str((obj.compression, obj.compression_opts,
+                                              obj.shuffle, obj.chunks)),
+                                 data=str(obj[()].tolist()))
+                out[key] = attrs
+            f.visititems(visit)
+            out["/"] = {k: str(v) for k, v in f.attrs.items()}
+        return out
+
+    assert contents(mine) == contents(theirs)
+    code = ("import sys, xarray as xr\n"
+            "from gd_analyze.store.schema import write_dataset\n"
+            f"write_dataset(xr.Dataset({{'a': (('x',), [1.0, 2.0])}}), {str(tmp_path / 'x.h5')!r})\n"
+            "print('distributed' in sys.modules)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.split() == ["False"], done.stdout + done.stderr

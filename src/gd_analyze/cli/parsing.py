@@ -16,6 +16,7 @@ from ..config import defaults
 from ..errors import InputError
 from ..estimation.regressor import DRIVE_KINDS
 from ..jobs.identify import DEFAULT_DRIVES
+from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX
 from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
 from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN
@@ -606,9 +607,12 @@ def sweep_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-sweep/)")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="address of a running dask scheduler (default: start a LocalCluster)")
+                   help="address of a running dask scheduler (default: start a LocalCluster; "
+                        f"a sweep of at most {IN_PROCESS_SETPOINTS_MAX:,} set points without "
+                        "--workers runs in the command's own process)")
     p.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
-                   help="workers of the LocalCluster (default: one per core)")
+                   help="workers of the LocalCluster, started even for a small sweep "
+                        "(default: one per core)")
     p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
                    default=defaults["dominance"], help=f"default {defaults['dominance']}")
     p.add_argument("--negligible", metavar="E",

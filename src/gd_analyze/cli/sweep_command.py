@@ -172,7 +172,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         On bad input; the command line prints it as one line and exits 2.
     """
     from ..jobs.dask_cluster import dask_client
-    from ..jobs.sweep import WorkerErrors, run_sweep
+    from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX, WorkerErrors, run_sweep
 
     robot = load_robot_arg(args)
     if (args.random is None) == (not args.csv):
@@ -230,9 +230,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                                 **_model_settings(args, settings, limits))
 
     model = None
+    # a small sweep with no cluster asked for is ranked here: a LocalCluster's start and its
+    # workers' warm-up would cost more than the ranking
+    local = args.scheduler is None and args.workers is None and \
+        sum(len(t.q) for t in trajectories) <= IN_PROCESS_SETPOINTS_MAX
     with contextlib.ExitStack() as stack:
+        client = cluster = None
         try:                            # only the connection: the sweep's errors are its own
-            client, cluster = stack.enter_context(dask_client(args.scheduler, args.workers))
+            if not local:
+                client, cluster = stack.enter_context(dask_client(args.scheduler,
+                                                                  args.workers))
         except (OSError, ValueError, TypeError) as exc:
             if args.scheduler is None:
                 raise InputError(f"cannot start a local dask cluster: {exc}") from None
@@ -242,16 +249,18 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                        settings=settings, progress=not args.quiet and sys.stderr.isatty(),
                        recursive_peaks=budget and not proved, cluster=cluster,
                        chapter_errors=not budget,
-                       meanwhile=region_model if budget and proved else None)
+                       meanwhile=region_model if budget and proved else None,
+                       in_process=local)
         payload = None if masses is None else sweep_payloads(
             robot, trajectories, masses, args.payload_com, args.payload_inertia,
-            args.dominance, args.negligible, client=client)
-        if budget:                      # measured on every trajectory by the workers
-            errors = WorkerErrors(client)       # one task per worker
+            args.dominance, args.negligible, client=client, in_process=local)
+        if budget:                      # measured on every trajectory (by the workers)
+            errors = None if client is None else WorkerErrors(client)  # one task per worker
             model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
                                        prepared=prepared.get("model"), errors=errors,
                                        **_model_settings(args, settings, limits))
-            ds = with_more_tasks(ds, errors.tasks)
+            if errors is not None:
+                ds = with_more_tasks(ds, errors.tasks)
 
     with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
@@ -277,9 +286,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if not args.quiet:
         run = StoredSweep.from_dataset(ds)
         s = run.settings
+        where = (f"on {int(s.n_workers)} dask workers ({s.scheduler_address})"
+                 if int(s.n_workers) else "in this process (no dask cluster)")
         print(f"{robot.name}: {run.trajectories} trajectories in "
-              f"{float(s.elapsed_s):.1f} s on {int(s.n_workers)} dask workers "
-              f"({s.scheduler_address})")
+              f"{float(s.elapsed_s):.1f} s {where}")
         print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
               + f"{'min':>8}{'median':>8}{'max':>8}  merged")
         for k, lab in enumerate(run.elements):

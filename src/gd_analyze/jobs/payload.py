@@ -96,7 +96,7 @@ def payload_sweep(robot: Robot, trajectory: Trajectory, masses: ArrayLike,
 def sweep_payloads(robot: Robot, trajectories: Sequence[Trajectory], masses: Sequence[float],
                    com: ArrayLike = (0.0, 0.0, 0.0), inertia: ArrayLike = (0.0, 0.0, 0.0),
                    dominance: float = DEFAULT_DOMINANCE, negligible: float = DEFAULT_NEGLIGIBLE,
-                   client: Any = None) -> xr.Dataset:
+                   client: Any = None, in_process: bool = False) -> xr.Dataset:
     """Repeat a sweep for each load mass: how the classes over many trajectories move with it.
 
     Parameters
@@ -115,6 +115,8 @@ def sweep_payloads(robot: Robot, trajectories: Sequence[Trajectory], masses: Seq
         s and e of the ranking.
     client : distributed.Client
         The cluster to run on (see :func:`~gd_analyze.jobs.dask_cluster.dask_client`).
+    in_process : bool, optional
+        Rank in this process, without a cluster (``client`` None), as :func:`run_sweep`.
 
     Returns
     -------
@@ -142,7 +144,7 @@ def sweep_payloads(robot: Robot, trajectories: Sequence[Trajectory], masses: Seq
     parts = []
     for mass in masses:
         ds = run_sweep(with_payload(robot, mass, com, inertia), trajectories, dominance,
-                       negligible, client=client)
+                       negligible, client=client, in_process=in_process)
         frac = ds["class_fraction"].values
         parts.append((frac, ds["share_tran_median"].values,
                       np.array(CLASSES)[np.argmax(frac, axis=1)],

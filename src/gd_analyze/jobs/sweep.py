@@ -22,7 +22,8 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
 
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster (:mod:`gd_analyze.jobs.dask_cluster`) by
-:func:`run_sweep`. The dataset's schema is in :mod:`gd_analyze.store.sweep_datasets`; the merged
+:func:`run_sweep`, or, for a small sweep (``in_process``), in one batch in the caller's process,
+where a cluster's start would cost more than the ranking. The dataset's schema is in :mod:`gd_analyze.store.sweep_datasets`; the merged
 models read from it are in :mod:`gd_analyze.jobs.sweep_merged`; random trajectories come
 from :func:`gd_analyze.trajectory.planning.random_trajectories`; payload sweeps are in
 :mod:`gd_analyze.jobs.payload`.
@@ -61,7 +62,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..simplify.simplified import SimplifiedModel
     from ..trajectory.trajectory import Trajectory
 
-__all__ = ["DEFAULT_BATCH_MAX", "ERRORS_SETPOINTS_MAX", "analyze_one", "run_sweep", "check_thresholds",
+__all__ = ["DEFAULT_BATCH_MAX", "ERRORS_SETPOINTS_MAX", "IN_PROCESS", "IN_PROCESS_SETPOINTS_MAX",
+           "analyze_one", "run_sweep", "check_thresholds",
            "check_trajectory", "WorkerErrors"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
@@ -70,6 +72,13 @@ DEFAULT_BATCH_MAX = 50
 _TASKS_PER_WORKER = 4
 #: Set points of consecutive trajectories whose G-D terms are computed in one call.
 _GROUP_SETPOINTS = 4096
+#: Most set points of a sweep that the command line ranks in its own process when it is given
+#: no dask scheduler and no number of workers (:func:`run_sweep`'s ``in_process``): up to
+#: about 8,000 trajectories of 31 set points, ranked at roughly 1 ms each, the ranking costs
+#: less than a LocalCluster's start and the numba warm-up of each of its workers.
+IN_PROCESS_SETPOINTS_MAX = 2**18
+#: What a sweep ranked in its own process ran on (its ``cluster`` attribute).
+IN_PROCESS = "this process, without a dask cluster"
 #: Most set points in one task of :class:`WorkerErrors` cutting the trajectories by itself
 #: (about 38 MB of q, qd, qdd for 6 joints).
 ERRORS_SETPOINTS_MAX = 2**18
@@ -367,7 +376,8 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
               settings: Mapping[str, Any] | None = None, progress: bool = False,
               recursive_peaks: bool = False, cluster: str | None = None,
               chapter_errors: bool = True,
-              meanwhile: Callable[[], object] | None = None) -> xr.Dataset:
+              meanwhile: Callable[[], object] | None = None,
+              in_process: bool = False) -> xr.Dataset:
     """Rank K trajectories on a dask.distributed cluster and merge their simplified models.
 
     Parameters
@@ -418,6 +428,14 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         while the workers run them (work that does not depend on the ranking, e.g. the
         merged model over a region, :func:`gd_analyze.jobs.sweep_budget.budget_region_model`);
         its errors pass unchanged, the tasks then dropped.
+    in_process : bool, optional
+        Rank in this process, without a dask cluster (``client``, ``scheduler`` and
+        ``n_workers`` must then be None): the trajectories in one batch (``batch`` unless
+        given), their G-D terms computed :data:`_GROUP_SETPOINTS` set points at a time,
+        ``meanwhile`` called first. The provenance then says so: ``cluster`` =
+        :data:`IN_PROCESS`, ``scheduler_address`` "none", ``n_workers`` and ``n_tasks`` 0.
+        For a small sweep this is faster than a LocalCluster, whose start and per-worker
+        warm-up cost more than the ranking itself (:data:`IN_PROCESS_SETPOINTS_MAX`).
 
     Returns
     -------
@@ -442,7 +460,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     ------
     ValueError
         If there are no trajectories, one does not fit the robot, a threshold is out of range,
-        or batch < 1.
+        batch < 1, or ``in_process`` is asked for with a client, scheduler or workers.
     ClusterLost
         (An :class:`~gd_analyze.errors.InputError`: exit 2 on the command line.) If no worker
         joins the cluster within 60 s, the scheduler goes away, or a task's workers are lost
@@ -468,9 +486,53 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         check_trajectory(robot, tr)
     if batch is not None and int(batch) < 1:
         raise ValueError(f"batch must be >= 1, got {batch}")
+    if in_process and (client is not None or scheduler is not None or n_workers is not None):
+        raise ValueError("in_process runs without a dask cluster: give no client, scheduler "
+                         "or n_workers")
+    started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    base = base_parameters(robot) if recursive_peaks else None
+    passes = 2 if base is None and chapter_errors else 1
+    if in_process:
+        t_compute = time.perf_counter()
+        size = int(batch) if batch is not None else len(trajectories)
+        batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
+        if meanwhile is not None:
+            meanwhile()
+        results = [r for b in batches
+                   for r in _analyze_batch(robot, b, float(dominance), float(negligible), base)]
+        merged = merge_choices([r["choices"] for r in results])
+        merged_stats = None if passes == 1 else [
+            r for b in batches for r in _error_batch(robot, b, merged)]
+        address, n_w, how, tasks = "none", 0, IN_PROCESS, 0
+        compute_s = time.perf_counter() - t_compute
+    else:
+        results, merged, merged_stats, address, n_w, size, how, tasks, compute_s = _on_dask(
+            robot, trajectories, float(dominance), float(negligible), client, cluster,
+            scheduler, batch, n_workers, progress, base, passes, meanwhile)
+    ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
+                       negligible)
+    if base is not None:
+        ds = embed_pair_peaks(ds, base.names(), *(np.array([r["recursive_peaks"][k]
+                                                            for r in results])
+                                                  for k in range(3)))
+    ds.attrs.update({
+        "scheduler_address": address, "n_workers": n_w, "batch_size": size,
+        "n_tasks": tasks, "cluster": how,
+        "compute_s": round(compute_s, 4), "started": started.isoformat(),
+    })
+    for key, value in (settings or {}).items():
+        ds.attrs[key] = attribute_value(value)
+    ds.attrs["elapsed_s"] = round(time.perf_counter() - t0, 4)
+    return ds
+
+
+def _on_dask(robot, trajectories, dominance, negligible, client, cluster, scheduler, batch,
+             n_workers, progress, base, passes, meanwhile):
+    """:func:`run_sweep`'s ranking (and the chapter merge's errors) in tasks on a dask
+    cluster: (results, merged choices, merged errors or None, scheduler address, workers,
+    batch size, the cluster in words, tasks, seconds computing once a worker joined)."""
     from distributed import as_completed
 
-    started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     own = contextlib.ExitStack()
     if client is None:
         client, how = own.enter_context(dask_client(scheduler, n_workers))
@@ -488,10 +550,6 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
             size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
             batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
             t_compute = time.perf_counter()
-            base = None
-            if recursive_peaks:
-                base = base_parameters(robot)
-            passes = 2 if base is None and chapter_errors else 1
             bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
                        desc="sweep: ranking", leave=False)
 
@@ -510,7 +568,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
                     bar.update(1)
                 return [item for part in out for item in part]
 
-            ranking = submit(_analyze_batch, float(dominance), float(negligible), base)
+            ranking = submit(_analyze_batch, dominance, negligible, base)
         if meanwhile is not None:               # in this process, its errors its own
             meanwhile()
         with cluster_failures(address):
@@ -524,19 +582,5 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
             compute_s = time.perf_counter() - t_compute
     finally:
         own.close()
-    ds = sweep_dataset(robot, trajectories, results, merged, merged_stats, dominance,
-                        negligible)
-    if base is not None:
-        ds = embed_pair_peaks(ds, base.names(), *(np.array([r["recursive_peaks"][k]
-                                                            for r in results])
-                                                  for k in range(3)))
-    ds.attrs.update({
-        "scheduler_address": address, "n_workers": n_w, "batch_size": size,
-        "n_tasks": passes * len(batches),
-        "cluster": how,
-        "compute_s": round(compute_s, 4), "started": started.isoformat(),
-    })
-    for key, value in (settings or {}).items():
-        ds.attrs[key] = attribute_value(value)
-    ds.attrs["elapsed_s"] = round(time.perf_counter() - t0, 4)
-    return ds
+    return (results, merged, merged_stats, address, n_w, size, how,
+            passes * len(batches), compute_s)

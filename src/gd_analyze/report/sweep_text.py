@@ -242,6 +242,10 @@ def _settings(w, inputs, setpoints, durations, version):
                          str(st.random_qdd_max_source),
                          _text(st.random_qdd_max_source))))
     rows += [
+        ("computed on", f"{_text(st.cluster)} (the {K} trajectories in {batches} "
+                        f"batch{'es' if batches != 1 else ''}: ranked, and the merged model "
+                        "built and checked on every trajectory, in the process of the command)")
+        if not int(_or(st.n_workers, 1)) else
         ("computed on", f"dask, {_text(st.cluster)} ({_text(st.n_workers)} "
                         f"worker{'s' if str(st.n_workers) != '1' else ''} "
                         f"joined; scheduler at {_text(st.scheduler_address)}); {tasks} "

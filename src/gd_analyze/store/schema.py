@@ -63,15 +63,7 @@ def append_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
     public h5netcdf store with an explicit lock: ``to_netcdf`` asks dask for its scheduler
     (importing dask where it is installed), which the main job has no use for.
     """
-    from xarray.backends import H5NetCDFStore
-    from xarray.backends.locks import HDF5_LOCK
-
-    # an explicit lock: the default one asks dask for its scheduler
-    store = H5NetCDFStore.open(str(path), mode="a", lock=HDF5_LOCK)
-    try:
-        ds.dump_to_store(store)
-    finally:
-        store.close()
+    _dump(ds, path, "a")
 
 
 def var(dims: tuple[str, ...], data: ArrayLike, units: str, long_name: str,
@@ -392,7 +384,25 @@ def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
     encoding = {name: {"zlib": True, "complevel": 4}
                 for name, var in ds.data_vars.items() if var.dtype.kind == "f" and var.ndim >= 2}
     with atomic_path(path) as tmp:
-        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
+        # what ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
+        # writes (dask arrays computed first: the store writes numpy arrays)
+        _dump(ds.load() if ds.chunks else ds, tmp, "w", encoding=encoding,
+              invalid_netcdf=False)
+
+
+def _dump(ds, path, mode, encoding=None, **options):
+    """Write ``ds`` (numpy-backed) into the file at ``path`` opened in ``mode`` through
+    xarray's public h5netcdf store, with an explicit lock: ``to_netcdf`` and the default lock
+    ask dask for its scheduler, importing dask.distributed (about 0.5 s of CPU time) where dask
+    is installed, which these writes have no use for."""
+    from xarray.backends import H5NetCDFStore
+    from xarray.backends.locks import HDF5_LOCK
+
+    store = H5NetCDFStore.open(str(path), mode=mode, lock=HDF5_LOCK, **options)
+    try:
+        ds.dump_to_store(store, encoding=encoding or {})
+    finally:
+        store.close()
 
 
 def open_results(path: str | os.PathLike[str], lazy: bool = False) -> xr.Dataset:
