@@ -9,8 +9,10 @@ or ``*bold*`` in a robot's name is printed as it is.
 
 Typst numbers the sections, tables (within their section, "Table 5.2") and figures ("Figure
 3."), checks each section's number against the outline's (the HTML and the sentences of the
-report cite them), sets each figure where the outline puts it (beside the text citing it), never
-splits a paragraph over two pages, keeps each heading with
+report cite them), sets each figure where the outline puts it (beside the text citing it) if it
+fits there, else at the top of the next page with the text after it filling the page (a figure
+that opens its section stays under its heading; the figures keep their order), never splits a
+paragraph over two pages, keeps each heading with
 what follows it, breaks long tables over pages with their header repeated, sets the sub- and
 superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
@@ -27,6 +29,7 @@ import functools
 import json
 import os
 import re
+import warnings
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -76,15 +79,22 @@ def _fonts():
 
 
 def _compile(template, inputs, created):
-    """PDF bytes of a fixed template compiled with the given sys.inputs (all data)."""
+    """PDF bytes of a fixed template compiled with the given sys.inputs (all data).
+
+    Typst's warnings (a layout that did not converge: the figures' placement reads the
+    positions of the previous layout pass) are issued as :class:`RuntimeWarning`.
+    """
     import typst
 
     compiler = typst.Compiler(font_paths=_fonts(), ignore_system_fonts=True)
     try:
-        return compiler.compile(input=_template(template), sys_inputs=inputs,
-                                timestamp=_timestamp(created))
+        pdf, found = compiler.compile_with_warnings(input=_template(template), sys_inputs=inputs,
+                                                    timestamp=_timestamp(created))
     except typst.TypstError as exc:
         raise RuntimeError(f"typst: {exc.message}") from None
+    for w in found:
+        warnings.warn(f"typst: {w.message}", RuntimeWarning, stacklevel=3)
+    return pdf
 
 
 def _font_folder():
