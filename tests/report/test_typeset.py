@@ -19,7 +19,7 @@ from pdf_checks import font_types, info, text, words
 
 from gd_analyze.report import markup
 from gd_analyze.report.sections import Outline
-from gd_analyze.report.typeset import MARGINS, document_data, write_pdf
+from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY, document_data, write_pdf
 
 #: Typst markup and code that would run, or restyle the page, if it reached the template as
 #: markup: a panic, a function call, strong and emphasis, mathematics, a closing bracket, a
@@ -370,3 +370,22 @@ def test_figures_stay_in_order_beside_the_text_citing_them(tmp_path, seed):
         if lowest < 72 * MARGINS[1] + 0.5 * (h - 72 * (MARGINS[1] + MARGINS[2])):
             # what comes next could not stand there: a figure, or a heading and its figure
             assert _lines(laid[p + 1][2], h)[0] in alone | {"axis [s]"}, p
+
+
+@pytest.mark.parametrize("tail", [240, 320])
+def test_no_last_page_of_a_few_lines(tmp_path, tail):
+    """A report whose last page would hold a few lines (a fifth of its body here) is set with
+    less space between lines, blocks and rows, one page shorter (the PUMA 560 report's last
+    page was 80 % empty, the Panda's 95 %); its last page is then over a third full."""
+    o = Outline("Report")
+    for k in range(1, 9):
+        o.section(str(k), f"Section {k}")
+        o.paragraph(" ".join(["word"] * 160) + ".")
+        o.table({"header": ["name", "value"], "rows": [[f"row{j}", str(j)] for j in range(10)],
+                 "align": ["left", "right"]}, f"table {k}")
+    o.paragraph(" ".join(["tail"] * tail) + ".")
+    path, pages = _write(tmp_path, o)
+    w, h, ws = words(path)[-1]
+    lowest = max(y1 for *_, y1 in ws if y1 < h - 72 * MARGINS[2])
+    assert pages == 4
+    assert lowest - 72 * MARGINS[1] > NEAR_EMPTY * (h - 72 * (MARGINS[1] + MARGINS[2]))
