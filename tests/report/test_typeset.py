@@ -14,6 +14,7 @@ import random
 import re
 import warnings
 
+import pdf_checks
 import pytest
 from pdf_checks import font_types, info, text, words
 
@@ -279,7 +280,8 @@ def test_no_word_of_a_wide_table_runs_into_the_next_column(tmp_path, header):
 def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
     """A table that breaks over pages puts at least two of its rows on each page: a single row
     under its header and caption at a page's foot (830 and 840 words before it), or alone over
-    the next page's top (850 to 890), is split off no more."""
+    the next page's top (850 to 890), is split off no more; its header heads its rows on every
+    page."""
     o = Outline("Report")
     o.section("1", "Filler")
     o.paragraph(" ".join(["word"] * words) + ".")
@@ -290,6 +292,11 @@ def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
     counts = [c for c in counts if c]
     assert sum(counts) == 60
     assert min(counts) >= 2, counts
+    for w, h, ws in pdf_checks.words(path):         # each page's part under its header
+        lines = _lines(ws, h)
+        first = next((k for k, line in enumerate(lines) if re.match(r"row\d+x ", line)), None)
+        if first is not None:
+            assert lines[first - 1] == "name value", lines[first - 2:first + 1]
 
 
 def _pages(path):
