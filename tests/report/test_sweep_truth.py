@@ -215,3 +215,13 @@ def test_the_h_figure_s_key_stays_clear_of_the_panels(chapter):
     box = key[0].get_window_extent(renderer)
     for ax in fig.axes:
         assert not box.overlaps(ax.get_tightbbox(renderer)), ax.get_title()
+
+
+def test_sweep_report_prints_no_text_under_8_pt(chapter):
+    """Every text of the sweep report's PDF, its figures' included, prints at 8 pt or more
+    (the torque-error figure's log axis wrote its decades 10⁻⁶ with mathtext exponents, 0.7
+    of the tick labels' size: 5.6 pt)."""
+    from pdf_checks import printed_sizes
+
+    small = [s for s in printed_sizes(chapter / "sweep_report.pdf") if s[1] < 8.0 - 1e-6]
+    assert not small, small[:5]

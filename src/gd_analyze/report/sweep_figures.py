@@ -24,6 +24,7 @@ from .markup import ROT as _ROT
 from .markup import TRAN as _TRAN
 from .markup import label as _math
 from .numbers import decade_label
+from .ticks import decade_formatter
 from .typeset import TABLE_COLOURS
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -310,6 +311,7 @@ def _fig_classes(w, width=_PAGE_WIDTH):
 def _fig_error(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullFormatter
 
     m = w.merged
     n = w.joints
@@ -352,6 +354,9 @@ def _fig_error(w, width=_PAGE_WIDTH):
             ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
                     ha="center", va="center", fontsize=7, color="0.35")
     ax.set_yscale("log")
+    # decades written 10⁻⁶ in the tick labels' own size (mathtext's exponents: 0.7 of it)
+    ax.yaxis.set_major_formatter(decade_formatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
     ax.set_xticks(np.arange(1, n + 1), [f"{j + 1}" if column else f"joint {j + 1}"
                                          for j in range(n)])
     if column:

@@ -9,9 +9,13 @@ or ``*bold*`` in a robot's name is printed as it is.
 
 Typst numbers the sections, tables (within their section, "Table 5.2") and figures ("Figure
 3."), checks each section's number against the outline's (the HTML and the sentences of the
-report cite them), sets each figure where the outline puts it (beside the text citing it), never
-splits a paragraph over two pages, keeps each heading with
-what follows it, breaks long tables over pages with their header repeated, sets the sub- and
+report cite them), sets each figure where the outline puts it (beside the text citing it) if it
+fits there, else at the top of the next page with the text after it filling the page (a figure
+that opens its section stays under its heading; the figures keep their order), never splits a
+paragraph over two pages, keeps each heading with
+what follows it, breaks long tables over pages with their header repeated, sets a report whose
+last page would hold a few lines (:data:`NEAR_EMPTY`) again with less space between lines,
+blocks and table rows if that saves the page, sets the sub- and
 superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
 DejaVu Sans, the font matplotlib measured it in, embedded as a TrueType subset: the PDF holds
@@ -27,6 +31,7 @@ import functools
 import json
 import os
 import re
+import warnings
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -36,8 +41,8 @@ from .common import keep_units
 if TYPE_CHECKING:
     from .sections import Outline
 
-__all__ = ["PAPER", "MIN_PRINTED_PT", "printed_scale", "TABLE_COLOURS", "PARAGRAPH_STYLES", "document_data", "write_pdf",
-           "figure_pdfs"]
+__all__ = ["PAPER", "MIN_PRINTED_PT", "NEAR_EMPTY", "printed_scale", "TABLE_COLOURS",
+           "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_pdfs"]
 
 #: Page sizes [in] and their Typst names.
 PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
@@ -58,13 +63,6 @@ _CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
 
 
 @functools.cache
-def _template(name="report.typ"):
-    from importlib import resources
-
-    return resources.files("gd_analyze.report").joinpath(f"templates/{name}").read_bytes()
-
-
-@functools.cache
 def _fonts():
     """The fonts every Typst document of a process is set in, loaded once: matplotlib's DejaVu
     folder (the reports use DejaVu Sans and DejaVu Sans Mono) and Typst's own; never the
@@ -75,16 +73,29 @@ def _fonts():
                        font_paths=[_font_folder()])
 
 
-def _compile(template, inputs, created):
-    """PDF bytes of a fixed template compiled with the given sys.inputs (all data)."""
+def _compile(template, inputs, created, end=False):
+    """PDF bytes of a fixed template compiled with the given sys.inputs (all data), and with
+    ``end`` where its text ends (the template's ``<gd-end>`` metadata: page, fill), else None.
+
+    Typst's warnings (a layout that did not converge: the figures' placement reads the
+    positions of the previous layout pass) are issued as :class:`RuntimeWarning`.
+    """
+    from importlib import resources
+
     import typst
 
-    compiler = typst.Compiler(font_paths=_fonts(), ignore_system_fonts=True)
-    try:
-        return compiler.compile(input=_template(template), sys_inputs=inputs,
-                                timestamp=_timestamp(created))
-    except typst.TypstError as exc:
-        raise RuntimeError(f"typst: {exc.message}") from None
+    source = resources.files("gd_analyze.report").joinpath(f"templates/{template}")
+    with resources.as_file(source) as path:           # a file: a query reuses the layout
+        compiler = typst.Compiler(input=str(path), sys_inputs=inputs, font_paths=_fonts(),
+                                  ignore_system_fonts=True)
+        try:
+            pdf, found = compiler.compile_with_warnings(timestamp=_timestamp(created))
+            where = json.loads(compiler.query("<gd-end>", field="value", one=True)) if end else None
+        except typst.TypstError as exc:
+            raise RuntimeError(f"typst: {exc.message}") from None
+    for w in found:
+        warnings.warn(f"typst: {w.message}", RuntimeWarning, stacklevel=3)
+    return pdf, where
 
 
 def _font_folder():
@@ -117,6 +128,11 @@ def _figure_width(size, paper):
     height = PAPER[paper][1] - MARGINS[1] - MARGINS[2] - _CAPTION_ROOM
     return w * min(1.0, width / w, height / h)
 
+
+#: A last page whose text fills less than this share of its body is "near-empty": the report
+#: is set again with less space between lines, blocks and table rows, and that setting kept
+#: if it ends a page earlier.
+NEAR_EMPTY = 1 / 3
 
 #: The least size [pt] of any text of a printed report, figures' text included.
 MIN_PRINTED_PT = 8.0
@@ -255,7 +271,14 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
                          metadata, footer)
     inputs = {"gd-data": json.dumps(data, ensure_ascii=False)}
     inputs.update({f"gd-figure-{k}": svg for k, (svg, _) in figures.items()})
-    pdf = _compile("report.typ", inputs, created)
+    pdf, end = _compile("report.typ", inputs, created, end=True)
+    if end["page"] > 1 and end["fill"] < NEAR_EMPTY:
+        # a last page of a few lines: set tighter, kept if that saves the page
+        data["tight"] = True
+        inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
+        tight, end_tight = _compile("report.typ", inputs, created, end=True)
+        if end_tight["page"] < end["page"]:
+            pdf = tight
     with open(path, "wb") as fh:
         fh.write(pdf)
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
@@ -292,7 +315,7 @@ def figure_pdfs(figures: Mapping[str, tuple[str, tuple[float, float]]],
     """
     return {k: _compile("figure.typ", {"gd-figure": svg, "gd-width": repr(float(size[0])),
                                        "gd-height": repr(float(size[1])), "gd-title": str(k)},
-                        created)
+                        created)[0]
             for k, (svg, size) in figures.items()}
 
 
