@@ -302,9 +302,9 @@ def pytest_configure(config):
     against an independent computation (the explicit terms against the G-D engine at fixed
     states; a certification's boxes, bounds and scales against the torques at its sampled
     positions). Tests about a cache itself, or that need a cold one, set their own folder
-    (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
-    G-D engine's set points, ``tests/jobs/test_analyze.py``: a cache read adds its
-    self-check's).
+    (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE``. The tests that count the
+    G-D engine's set points (``tests/jobs/test_analyze.py``) count only the trajectory's, not
+    the states of a cache read's self-check.
     """
     import tempfile
 
