@@ -230,6 +230,35 @@ def shared_puma(shared_main):
     return {"puma": (puma, "report"), "control": (tmp / "control", "control_report")}
 
 
+@pytest.fixture(scope="session")
+def shared_control(shared_main):
+    """The control command, with its report, on the model of a built-in robot's default run
+    (:func:`shared_main` on its shipped trajectory), all defaults: built once a session
+    (:func:`built_once`) for the tests that read it (tests/report/test_sweep_control_tables.py,
+    test_units.py). Shared: tests must not modify it.
+
+    ``shared_control(name)`` -> ``(folder, argv)``: ``folder / "main"`` links to the run,
+    ``folder / "control"`` holds the control run's output; ``argv`` is its command line as
+    given (with ``-q``).
+    """
+    from gd_analyze.cli import main
+
+    def get(name):
+        csv = str(ROOT / "data" / f"{name}_trajectory.csv")
+        run = shared_main(name, csv)
+
+        def argv(folder):
+            return ["control", str(folder / "main" / "simplified_model.json"), csv,
+                    "-o", str(folder / "control"), "-q"]
+
+        def build(folder):
+            (folder / "main").symlink_to(run, target_is_directory=True)
+            assert main(argv(folder)) == 0
+        folder = built_once(f"control-{name}", build)
+        return folder, argv(folder)
+    return get
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)
@@ -273,9 +302,9 @@ def pytest_configure(config):
     against an independent computation (the explicit terms against the G-D engine at fixed
     states; a certification's boxes, bounds and scales against the torques at its sampled
     positions). Tests about a cache itself, or that need a cold one, set their own folder
-    (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE`` (the tests that count the
-    G-D engine's set points, ``tests/jobs/test_analyze.py``: a cache read adds its
-    self-check's).
+    (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE``. The tests that count the
+    G-D engine's set points (``tests/jobs/test_analyze.py``) count only the trajectory's, not
+    the states of a cache read's self-check.
     """
     import tempfile
 

@@ -7,11 +7,13 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import built_once, printed_by
 from urdf_oracle import UrdfOracle
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.model.urdf import builtin_urdf_path
+from gd_analyze.report.main import write_report
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
@@ -31,21 +33,24 @@ def _summary_rows(out):
 
 
 @pytest.fixture(scope="module")
-def weak_ur5(tmp_path_factory):
-    """ur5.urdf with the wrist's limits (28 N m) cut to 0.5 N m: joints 4 and 5 exceed them."""
-    text = builtin_urdf_path("ur5").read_text().replace('effort="28.0"', 'effort="0.5"')
-    assert text.count('effort="0.5"') == 3
-    path = tmp_path_factory.mktemp("weak") / "weak_ur5.urdf"
-    path.write_text(text)
-    return path
+def weak_ur5():
+    """ur5.urdf with the wrist's limits (28 N m) cut to 0.5 N m: joints 4 and 5 exceed them;
+    written once a session (:func:`conftest.built_once`), so that its runs are shared."""
+    def build(folder):
+        text = builtin_urdf_path("ur5").read_text().replace('effort="28.0"', 'effort="0.5"')
+        assert text.count('effort="0.5"') == 3
+        (folder / "weak_ur5.urdf").write_text(text)
+    return built_once("weak-ur5", build) / "weak_ur5.urdf"
 
 
-def test_summary_and_dataset_give_peak_tau_against_the_urdf_effort(tmp_path, capsys,
-                                                                   weak_ur5):
-    out_dir = tmp_path / "out"
-    code = main([str(weak_ur5), str(UR5_CSV), "-o", str(out_dir), "--no-report"])
-    out, err = capsys.readouterr()
-    assert code == 0, err
+@pytest.fixture(scope="module")
+def weak_run(weak_ur5, shared_main):
+    """The main job on the weak UR5 without report, shared (read only): its output folder."""
+    return shared_main(weak_ur5, UR5_CSV, "--no-report")
+
+
+def test_summary_and_dataset_give_peak_tau_against_the_urdf_effort(weak_ur5, weak_run):
+    out_dir, out = weak_run, printed_by(weak_run)
     names = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint",
              "wrist_2_joint", "wrist_3_joint"]
     limit = _efforts(weak_ur5.read_text(), names)
@@ -69,12 +74,11 @@ def test_summary_and_dataset_give_peak_tau_against_the_urdf_effort(tmp_path, cap
 
 
 @pytest.mark.slow
-def test_report_has_the_effort_table(tmp_path, capsys, weak_ur5):
-    out_dir = tmp_path / "out"
-    code = main([str(weak_ur5), str(UR5_CSV), "-o", str(out_dir)])
-    capsys.readouterr()
-    assert code == 0
-    html = (out_dir / "report.html").read_text()
+def test_report_has_the_effort_table(tmp_path, weak_run):
+    # the main job's report is written from its results (never recomputed): the HTML alone,
+    # from the shared run's results.h5
+    write_report(weak_run / "results.h5", tmp_path / "out", formats=("html",))
+    html = (tmp_path / "out" / "report.html").read_text()
     assert "effort limit" in html and html.count("EXCEEDED") >= 1
     assert "exceeds" in html or "exceed their" in html
 

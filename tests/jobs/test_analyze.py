@@ -92,38 +92,44 @@ def test_progress_bar_on_request_and_silent_otherwise(tmp_path, puma, capsys, mo
 
     traj = read_trajectory(SHIPPED, 6)
     monkeypatch.setattr(pipeline, "PROGRESS_DELAY", 0.0)
-    analyze_to_file(puma, traj, tmp_path / "a.h5", AnalysisOptions(verify=False, formulations=False), progress=True, chunk=8)
+    # both passes run and report whatever model is built on the ranking: ranked only
+    ranked = AnalysisOptions(verify=False, formulations=False, simplify=None)
+    analyze_to_file(puma, traj, tmp_path / "a.h5", ranked, progress=True, chunk=8)
     err = capsys.readouterr().err
     # it counts set points, not passes: each pass restarts at 0 of the 31 set points
     assert "set points/s" in err and "/31" in err and "/62" not in err
     assert "G-D terms" in err and "simplified model" in err
-    analyze_to_file(puma, traj, tmp_path / "b.h5", AnalysisOptions(verify=False, formulations=False), progress=False, chunk=8)
+    analyze_to_file(puma, traj, tmp_path / "b.h5", ranked, progress=False, chunk=8)
     assert capsys.readouterr().err == ""
 
 
 class _CountingEngine:
-    """Wraps the G-D kernel and counts the set points it is asked for; attribute access (e.g.
-    the kernel's ``py_func``) passes through."""
+    """Wraps the G-D kernel and counts the trajectory's set points it is asked for (rows of q
+    equal to one of the trajectory's positions, once per time asked); attribute access (e.g.
+    the kernel's ``py_func``) passes through. States of other positions are not counted: the
+    derivation cache's self-check evaluates the engine at check states of its own."""
 
-    def __init__(self, fn, q_arg):
+    def __init__(self, fn, q_arg, positions):
         self.fn, self.q_arg, self.setpoints = fn, q_arg, 0
+        self.positions = {np.ascontiguousarray(p, float).tobytes()
+                          for p in np.asarray(positions, float)}
+        assert len(self.positions) == len(positions)         # each set point its own
 
     def __call__(self, *args, **kwargs):
-        self.setpoints += np.shape(args[self.q_arg])[0]
+        q = np.asarray(args[self.q_arg], float)
+        self.setpoints += sum(np.ascontiguousarray(p).tobytes() in self.positions
+                              for p in q.reshape(-1, q.shape[-1]))
         return self.fn(*args, **kwargs)
 
     def __getattr__(self, name):
         return getattr(self.fn, name)
 
 
-def _count_gd(monkeypatch):
-    """The G-D engine, counting its set points; the derivation cache off (its self-check
-    evaluates the engine at check states of its own, which are not the trajectory's)."""
+def _count_gd(monkeypatch, positions):
+    """The G-D engine, counting the set points of the trajectory of ``positions`` (N, n)."""
     from gd_analyze.dynamics import kernels
 
-    monkeypatch.setenv("GD_ANALYZE_NO_CACHE", "1")
-
-    compiled = _CountingEngine(kernels.gd_kernel, 0)            # gd_kernel(q, qd, ...)
+    compiled = _CountingEngine(kernels.gd_kernel, 0, positions)     # gd_kernel(q, qd, ...)
     monkeypatch.setattr(kernels, "gd_kernel", compiled)
     return lambda: compiled.setpoints
 
@@ -133,7 +139,7 @@ def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch
     all read the one set of G-D terms; the command computes each set point's terms once."""
     from gd_analyze.cli import main
 
-    counted = _count_gd(monkeypatch)
+    counted = _count_gd(monkeypatch, read_trajectory(SHIPPED, n_joints=6).q)
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "out"), "--no-report",
                  "-q"]) == 0
     assert counted() == read_trajectory(SHIPPED, n_joints=6).q.shape[0] == 31
@@ -141,18 +147,18 @@ def test_the_main_job_computes_the_terms_once_per_setpoint(tmp_path, monkeypatch
 
 def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch, puma):
     traj = read_trajectory(SHIPPED, n_joints=6)
-    counted = _count_gd(monkeypatch)
+    counted = _count_gd(monkeypatch, traj.q)
     result = analyze_to_file(puma, traj, tmp_path / "r.h5", chunk=7)     # 5 chunks
     assert result.verification["passed"] == 1
     assert counted() == 31
-    counted_mem = _count_gd(monkeypatch)
+    counted_mem = _count_gd(monkeypatch, traj.q)
     analyze(puma, traj, AnalysisOptions(formulations=True))
     assert counted_mem() == 31
 
 
 def test_the_count_can_fail(monkeypatch, puma):
     traj = read_trajectory(SHIPPED, n_joints=6)
-    counted = _count_gd(monkeypatch)
+    counted = _count_gd(monkeypatch, traj.q)
     verify(puma, traj.q, traj.qd)            # without terms, verify computes its own
     assert counted() == 31
 

@@ -18,9 +18,7 @@ from gd_analyze import gd_terms, load_robot
 from gd_analyze.dynamics.opcount import count_operations
 from gd_analyze.errors import InputError
 from gd_analyze.files import file_sha256
-from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.control import run_control
-from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.jobs.tracking import CONTROLLERS
 from gd_analyze.ranking.ranking import element_labels
 from gd_analyze.report.control import write_control_report
@@ -45,8 +43,10 @@ FULL_MODEL_BOUND = 1e-6
 
 
 @pytest.fixture(scope="module")
-def model(puma, shipped):
-    return analyze(puma, shipped, AnalysisOptions(verify=False, formulations=False)).model
+def model(puma_analysis):
+    """The PUMA 560's simplified model of its shipped trajectory (conftest's shared
+    analysis, without verification and formulations)."""
+    return puma_analysis.model
 
 
 @pytest.fixture(scope="module")

@@ -17,13 +17,14 @@ from gd_analyze.dynamics.base_parameters import base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.errors import InputError
 from gd_analyze.estimation.consistent import base_map, pseudo_inertia
+from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.identify import IdentifyOptions, identify
-from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
-from gd_analyze.jobs.run import results_dataset
+from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.model.robot_file import robot_toml
 from gd_analyze.ranking.labels import element_labels
 from gd_analyze.symbolic.recursive_model import recursive_model
 from gd_analyze.trajectory.recording import recording_from_arrays
+from gd_analyze.trajectory.trajectory import as_trajectory
 
 ARMS = [("puma560", None), ("panda", "panda"), ("xarm7", XARM7)]
 
@@ -156,12 +157,13 @@ def test_identified_robot_file_reproduces_the_identified_model(tmp_path, consist
     assert np.abs(tau_pin - pred).max() <= 1e-9 * scale
     if not consistent:      # noise-free: the Pinocchio truth, known drives and offsets
         assert np.abs(tau_pin - tau_true).max() <= 1e-8 * np.abs(tau_true).max()
-    # the main job on the file, as it is: its full torque, the offsets included. tau is the
-    # G-D terms' torque before any model is built, so the model is pruned on the trajectory
-    # alone and no formulations are counted: the same tau without the region certification
-    # and the operation counts, which took most of this test's time
-    ds = results_dataset(loaded, (t, q, qd, qdd), AnalysisOptions(
-        formulations=False, simplify=SimplifyOptions(guarantee="trajectory")))
+    # the main analysis on the file, as it is: its full torque, the offsets included. tau is
+    # the G-D terms' torque of the analysis pass, before any model is built or checked, so no
+    # model is built, nothing verified and no formulations are counted: the same tau without
+    # the simplification (the 7-joint model's program, ladder and inertia proof) and the
+    # operation counts, which took most of this test's time
+    ds = analyze(loaded, as_trajectory((t, q, qd, qdd), n), AnalysisOptions(
+        verify=False, formulations=False, simplify=None)).dataset
     assert np.abs(ds["tau"].values - pred).max() <= 1e-9 * scale
     # the API's emitted numpy model of the file (its exact model, drives and offsets)
     model = SimplifiedModel(robot=loaded, choices=dict.fromkeys(element_labels(n), "both"),

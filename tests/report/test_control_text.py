@@ -14,7 +14,7 @@ import shlex
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import SHIPPED, two_link_control
+from conftest import SHIPPED, built_once, two_link_control
 from html_checks import html_text
 
 from gd_analyze import load_robot
@@ -42,20 +42,23 @@ def _text(html):
 
 
 @pytest.fixture(scope="module", params=list(CONFIGS))
-def built(request, tmp_path_factory, shared_main):
-    folder = tmp_path_factory.mktemp(request.param)
+def built(request, shared_main):
+    """The main job of a configuration and the control report of its model, built once a
+    session (conftest's built_once: a folder shared by the xdist workers, read only)."""
     # the main job (shared, read only: tests/report/test_text_truth.py runs the same ones)
-    (folder / "main").symlink_to(shared_main("puma560", SHIPPED, *CONFIGS[request.param]),
-                                 target_is_directory=True)
-    # the control dataset and report of the model as read from its file; the full-model
-    # controller alone (the model's statements do not depend on the closed loop, and a model
-    # with EPS = 0.05 makes the simplified loop too stiff to integrate)
-    path = folder / "main" / "simplified_model.json"
-    result = run_control(load_model(path), read_trajectory(SHIPPED, n_joints=6),
-                         controllers=("full",), grid_points=31, model_path=path)
-    write_control_dataset(result, folder / "control.h5")
-    write_control_report(folder / "control.h5", folder / "control")
-    return request.param, folder
+    run = shared_main("puma560", SHIPPED, *CONFIGS[request.param])
+
+    def build(folder):
+        (folder / "main").symlink_to(run, target_is_directory=True)
+        # the control dataset and report of the model as read from its file; the full-model
+        # controller alone (the model's statements do not depend on the closed loop, and a
+        # model with EPS = 0.05 makes the simplified loop too stiff to integrate)
+        path = folder / "main" / "simplified_model.json"
+        result = run_control(load_model(path), read_trajectory(SHIPPED, n_joints=6),
+                             controllers=("full",), grid_points=31, model_path=path)
+        write_control_dataset(result, folder / "control.h5")
+        write_control_report(folder / "control.h5", folder / "control")
+    return request.param, built_once(f"control-text-{request.param}", build)
 
 
 def _c_whole(name, folder):

@@ -1,6 +1,7 @@
 """Tests of the HTML and PDF report (gd_analyze.report.main)."""
 
 import ast
+import json
 import re
 from html import unescape
 from html.parser import HTMLParser
@@ -8,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, built_once
 
 import gd_analyze
 from gd_analyze.errors import InputError
@@ -88,23 +89,30 @@ def make_results(robot, trajectory, folder, check=True):
 # Fixtures: one dataset and one report per robot, shared by the module's tests
 # ------------------------------------------------------------------------------------------
 
-@pytest.fixture(scope="module")
-def puma_report(tmp_path_factory, puma):
-    folder = tmp_path_factory.mktemp("puma")
-    results = make_results(puma, read_trajectory(SHIPPED, puma.n), folder)
-    written = report.write_report(results, folder / "out")
-    return {"results": results, "out": folder / "out", "written": written,
+def _shared_report(name, robot, trajectory):
+    """The robot's dataset (:func:`make_results`) and its report, built once a session
+    (conftest's built_once: a folder shared by the xdist workers, read only)."""
+    def build(folder):
+        written = report.write_report(make_results(robot, trajectory, folder), folder / "out")
+        (folder / "written.json").write_text(
+            json.dumps([str(p.relative_to(folder)) for p in written]), encoding="utf-8")
+    folder = built_once(f"test-main-{name}", build)
+    results = folder / "results.h5"
+    return {"results": results, "out": folder / "out",
+            "written": [folder / p for p in json.loads((folder / "written.json").read_text(
+                encoding="utf-8"))],
             "ds": open_results(results)}
 
 
 @pytest.fixture(scope="module")
-def two_link_report(tmp_path_factory, two_link):
-    folder = tmp_path_factory.mktemp("two")
+def puma_report(puma):
+    return _shared_report("puma", puma, read_trajectory(SHIPPED, puma.n))
+
+
+@pytest.fixture(scope="module")
+def two_link_report(two_link):
     trajectory = plan_quintic(two_link, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=21)
-    results = make_results(two_link, trajectory, folder)
-    written = report.write_report(results, folder / "out")
-    return {"results": results, "out": folder / "out", "written": written,
-            "ds": open_results(results)}
+    return _shared_report("two", two_link, trajectory)
 
 
 @pytest.fixture(params=["puma", "two"])
@@ -612,13 +620,10 @@ def test_report_module_imports_no_dynamics():
     assert not imported & forbidden
 
 
-def test_formulations_section_from_the_stored_counts(tmp_path, puma):
+def test_formulations_section_from_the_stored_counts(tmp_path, shared_main):
     """The main job's dataset carries the formulations; the report shows them as stored."""
-    from gd_analyze.jobs.analyze import analyze_to_file
-
-    traj = read_trajectory(SHIPPED, 6)
-    results = tmp_path / "results.h5"
-    analyze_to_file(puma, traj, results, AnalysisOptions(verify=False))
+    # the main job's default run on the shipped trajectory (conftest's shared_main, read only)
+    results = shared_main("puma560", SHIPPED) / "results.h5"
     paths = report.write_report(results, tmp_path, formats=("html",))
     html = Path(paths[0]).read_text()
     assert "Formulations: Lagrange-Euler, Newton-Euler, G-D" in html

@@ -15,7 +15,7 @@ import shlex
 
 import numpy as np
 import pytest
-from conftest import ROOT, built_once
+from conftest import built_once
 from table_checks import csv_matches_html, number, reads_back
 from table_checks import tables as _tables
 
@@ -32,29 +32,23 @@ pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module", params=("puma560", "stanford"))
-def runs(request, shared_main):
-    """The main job (shared, read only, linked as ``main``), the control run on its model and
-    a 3-trajectory sweep, by the command line; the control run's argv as given. Built once a
-    session per robot (:func:`conftest.built_once`), shared by the xdist workers: read only."""
+def runs(request, shared_control):
+    """The main job (shared, read only, linked as ``main``) and the control run on its model
+    (conftest's shared_control), and a 3-trajectory sweep, by the command line; the control
+    run's argv as given. Built once a session per robot (:func:`conftest.built_once`), shared
+    by the xdist workers: read only."""
     name = request.param
-    csv = str(ROOT / "data" / f"{name}_trajectory.csv")
-    run = shared_main(name, csv)
+    folder, argv = shared_control(name)
 
-    def control_argv(folder):
-        return ["control", str(folder / "main" / "simplified_model.json"), csv,
-                "-o", str(folder / "control"), "-q"]
-
-    def build(folder):
-        (folder / "main").symlink_to(run, target_is_directory=True)
-        assert main(control_argv(folder)) == 0
+    def build(tmp):
         assert main(["sweep", name, "--random", "3", "--seed", "2", "--workers", "1",
-                     "--held-out", "0", "-o", str(folder / "sweep"), "-q", "--no-report"]) == 0
+                     "--held-out", "0", "-o", str(tmp / "sweep"), "-q", "--no-report"]) == 0
 
     tmp = built_once(f"sweep-control-tables-{name}", build)
-    argv = control_argv(tmp)
     sweep = open_sweep(tmp / "sweep" / "sweep.h5", "sweep")
-    control = open_results(str(tmp / "control" / "control.h5"))
-    return {"name": name, "argv": argv, "folder": tmp, "sweep": sweep, "control": control,
+    control = open_results(str(folder / "control" / "control.h5"))
+    return {"name": name, "argv": argv, "folder": folder, "sweep_folder": tmp, "sweep": sweep,
+            "control": control,
             "sweep_ctx": sweep_context(sweep), "control_ctx": control_context(control)}
 
 
@@ -204,7 +198,7 @@ def test_control_and_sweep_tables_are_written_as_csv(runs, tmp_path):
     folder = runs["folder"] / "control"
     html = (folder / "control_report.html").read_text(encoding="utf-8")
     assert csv_matches_html(folder / "tables", "control_table_", html) > 20
-    written = write_sweep_report(runs["folder"] / "sweep" / "sweep.h5", tmp_path,
+    written = write_sweep_report(runs["sweep_folder"] / "sweep" / "sweep.h5", tmp_path,
                                  formats=("html",), latex=True)
     html = (tmp_path / "sweep_report.html").read_text(encoding="utf-8")
     assert csv_matches_html(tmp_path / "tables", "sweep_table_", html) > 20

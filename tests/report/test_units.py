@@ -194,11 +194,10 @@ def _gain_units(i):
 
 
 @pytest.fixture(scope="module")
-def stanford_control(stanford, tmp_path_factory):
-    out = tmp_path_factory.mktemp("stanford_control") / "control"
-    assert main(["control", str(stanford / "simplified_model.json"),
-                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "-q"]) == 0
-    return out
+def stanford_control(shared_control):
+    """The control run, with its report, on the model of the Stanford arm's default run
+    (conftest's shared_control: shared with test_sweep_control_tables, read only)."""
+    return shared_control("stanford")[0] / "control"
 
 
 def test_control_gains_carry_the_units_of_their_joint(stanford_control):
