@@ -193,3 +193,29 @@ def test_nothing_dropped_never_crosses_the_budgets_dash(shipped_dataset, width, 
     for b in boxes:
         assert b.y0 > dash + 1 or b.y1 < dash - 1, (b, dash)
         assert frame.y0 <= b.y0 and b.y1 <= frame.y1, (b, frame)
+
+
+def test_wide_tick_labels_leave_room_for_every_panels_axis_label(shipped_dataset):
+    """A joint whose torques are a few hundredths of a N m gets tick labels like -0.050: the
+    panels move right so that every axis label, drawn, lies inside the figure with a margin
+    (with a fixed margin of 0.55 in it came within 0.02 in of the edge, and on the Panda's
+    joint 7 was cut off)."""
+    import dataclasses
+
+    ds = shipped_dataset("puma560")
+    data = plot_data(ds)
+    peak = np.abs(np.asarray(data.series["tau"], float)).max(axis=0)          # (n,)
+    small = {k: np.asarray(v, float) * (0.061 / peak) for k, v in data.series.items()}
+    data = dataclasses.replace(data, series=small)
+    with matplotlib.rc_context(FIG_RC):
+        fig = fig_torque_contributions(data, ["N m"] * ds.sizes["joint"])
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        for ax in fig.axes:
+            label = ax.yaxis.label.get_window_extent(renderer)
+            ticks = ax.yaxis.get_tightbbox(renderer)
+            margin = 0.05 * fig.dpi                     # 0.05 in clear of the figure's edge
+            assert label.x0 >= margin and ticks.x0 >= margin, (ax.get_title(), label.x0)

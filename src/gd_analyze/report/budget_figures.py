@@ -25,7 +25,7 @@ import numpy as np
 from ..store.stored_simplified import StoredSimplified
 from .common import torque_units
 from .figure_style import markevery
-from .ticks import label_axes, set_ticks
+from .ticks import label_axes, set_ticks, tick_label_width
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -174,6 +174,15 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
         ax.set_ylabel(f"[{units[i]}]", labelpad=1.0)
         ys.append(ax.yaxis)
     label_axes(ys)
+    # room for the widest tick labels, the tick marks and the axis label left of each panel
+    room = max(tick_label_width(y) for y in ys) + 0.30
+    if room > left:
+        left, gap = room, max(gap, room)
+        w = (width - left - right - (cols - 1) * gap) / cols
+        for i, ax in enumerate(fig.axes):
+            r, c = divmod(i, cols)
+            ax.set_position(((left + c * (w + gap)) / width,
+                             1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center",
                ncol=2 if column else (4 if len(keys) > 6 else 3), frameon=False, fontsize=7,
                handlelength=3.0,

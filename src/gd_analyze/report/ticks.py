@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from matplotlib.axis import Axis
     from matplotlib.ticker import Formatter, ScalarFormatter
 
-__all__ = ["nice_ticks", "set_ticks", "label_axes", "with_power", "scaled_formatter",
+__all__ = ["nice_ticks", "set_ticks", "label_axes", "tick_label_width", "with_power", "scaled_formatter",
            "decade_formatter"]
 
 #: :func:`label_axes` writes ticks as they are while the largest |tick| is in this range,
@@ -199,3 +199,29 @@ def decade_formatter() -> Formatter:
     from matplotlib.ticker import FuncFormatter
 
     return FuncFormatter(lambda x, pos=None: decade_label(x))
+
+
+def tick_label_width(axis: Axis, size: float = 7.0) -> float:
+    """The width of the widest tick label an axis will print, as text of ``size`` points.
+
+    Parameters
+    ----------
+    axis : matplotlib.axis.Axis
+        An axis whose ticks and formatter are set (:func:`set_ticks`, :func:`label_axes`).
+    size : float, optional
+        The tick labels' font size [pt].
+
+    Returns
+    -------
+    float
+        [in], measured on the glyphs' outlines (:class:`matplotlib.textpath.TextPath`), so
+        that a fixed layout can leave room for the labels without drawing the figure.
+    """
+    from matplotlib.textpath import TextPath
+
+    lo, hi = sorted(axis.get_view_interval())
+    locs = [x for x in axis.get_ticklocs() if lo <= x <= hi]
+    texts = axis.get_major_formatter().format_ticks(locs) if locs else []
+    return max((TextPath((0, 0), t, size=size).get_extents().width / 72.0
+                for t in texts if t), default=0.0)
+
