@@ -22,8 +22,8 @@ if TYPE_CHECKING:
     from matplotlib.axis import Axis
     from matplotlib.ticker import Formatter, ScalarFormatter
 
-__all__ = ["nice_ticks", "set_ticks", "label_axes", "tick_label_width", "with_power", "scaled_formatter",
-           "decade_formatter"]
+__all__ = ["nice_ticks", "set_ticks", "label_axes", "tick_label_width", "with_power",
+           "scaled_formatter", "decade_formatter"]
 
 #: :func:`label_axes` writes ticks as they are while the largest |tick| is in this range,
 #: in units of a power of ten outside (no 0.0015, no 20000 on a small panel).
@@ -201,27 +201,28 @@ def decade_formatter() -> Formatter:
     return FuncFormatter(lambda x, pos=None: decade_label(x))
 
 
-def tick_label_width(axis: Axis, size: float = 7.0) -> float:
-    """The width of the widest tick label an axis will print, as text of ``size`` points.
+def tick_label_width(axis: Axis) -> float:
+    """The width of the widest tick label an axis will print.
 
     Parameters
     ----------
     axis : matplotlib.axis.Axis
         An axis whose ticks and formatter are set (:func:`set_ticks`, :func:`label_axes`).
-    size : float, optional
-        The tick labels' font size [pt].
 
     Returns
     -------
     float
-        [in], measured on the glyphs' outlines (:class:`matplotlib.textpath.TextPath`), so
-        that a fixed layout can leave room for the labels without drawing the figure.
+        [in], each label measured on its glyphs' outlines
+        (:class:`matplotlib.textpath.TextPath`) at the axis' own tick-label size, so that a
+        fixed layout can leave room for the labels without drawing the figure.
     """
     from matplotlib.textpath import TextPath
 
     lo, hi = sorted(axis.get_view_interval())
     locs = [x for x in axis.get_ticklocs() if lo <= x <= hi]
-    texts = axis.get_major_formatter().format_ticks(locs) if locs else []
+    if not locs:
+        return 0.0
+    size = float(axis.get_major_ticks()[0].label1.get_fontsize())         # [pt]
+    texts = axis.get_major_formatter().format_ticks(locs)
     return max((TextPath((0, 0), t, size=size).get_extents().width / 72.0
                 for t in texts if t), default=0.0)
-

@@ -386,7 +386,7 @@ def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
     with atomic_path(path) as tmp:
         # what ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding, invalid_netcdf=False)
         # writes (dask arrays computed first: the store writes numpy arrays)
-        _dump(ds.load() if ds.chunks else ds, tmp, "w", encoding=encoding,
+        _dump(ds.compute() if ds.chunks else ds, tmp, "w", encoding=encoding,
               invalid_netcdf=False)
 
 
