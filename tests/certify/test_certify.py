@@ -313,3 +313,41 @@ def test_the_stored_trees_give_the_bound_again_and_it_holds_at_every_sampled_sta
         assert np.all(tilings_bound(robot, base, region, rec.dropped, (forged,)) == np.inf)
         with pytest.raises(ValueError):
             tiling(region, forged)
+
+
+def test_boxes_are_cut_along_the_joints_their_open_columns_depend_on():
+    """A column of link k is a function of q_1..q_k alone (its torques come from link k's
+    motion), checked here on Pinocchio's joint torque regressor; the cut of a box goes to the
+    joint of the largest width times the number of its open columns that depend on it."""
+    from gd_analyze.certify.certify import _bisect, _demand
+
+    robot = load_robot("puma560")
+    model = pinocchio_model(robot)
+    data = model.createData()
+    rng = np.random.default_rng(5)
+    q, qd, qdd = (rng.uniform(-1, 1, robot.n) for _ in range(3))
+    Y = pin.computeJointTorqueRegressor(model, data, q, qd, qdd).copy()
+    for j in range(robot.n):                    # moving joint j changes no column below it
+        q2 = q.copy()
+        q2[j] += 0.7
+        Y2 = pin.computeJointTorqueRegressor(model, data, q2, qd, qdd)
+        assert np.allclose(Y2[:, :10 * j], Y[:, :10 * j], atol=1e-12)
+        if j:                                   # (joint 1 turns about gravity: no change)
+            assert not np.allclose(Y2[:, 10 * j:], Y[:, 10 * j:], atol=1e-9)
+    cols = np.array([10 * 1 + 5, 10 * 4 + 2, 10 * 4 + 8])               # link 2, link 5 (two)
+    above = np.zeros((3, 3, robot.n, cols.size), bool)
+    above[0, 1, 2, 0] = True                                            # link 2's column
+    above[1, 0, 0, 1] = above[1, 2, 3, 2] = True                        # link 5's columns
+    above[2, :, :, 0] = True
+    above[2, :, :, 1] = True
+    demand = _demand(above, cols)
+    assert np.allclose(demand, np.array([[1, 1, 0, 0, 0, 0], [2, 2, 2, 2, 2, 0],
+                                         [2, 2, 1, 1, 1, 0]]) + 1e-3)
+    lo = np.tile([-3.0, -1.0, -1.0, -1.0, -1.0, -3.0], (3, 1))
+    hi = -lo
+    rel = np.array([False, True, True, True, True, True])
+    joints = _bisect(lo, hi, rel, demand)[2]
+    # box 0: joint 2 (widths 2, demand 1 on joints 1-2 only); box 1: joints 2-5 tie, the
+    # first; box 2: joint 2 (demand 2 against 1); joint 6 is the widest but wanted by none
+    assert joints.tolist() == [1, 1, 1]
+    assert _bisect(lo, hi, rel)[2].tolist() == [5, 5, 5]

@@ -248,14 +248,25 @@ def _relevant(robot):
     return rel
 
 
-def _bisect(lo, hi, rel):
-    """Boxes halved along their widest relevant joint: the lower halves, then the upper ones
+def _bisect(lo, hi, rel, demand=None):
+    """Boxes halved along their widest relevant joint (with ``demand`` (B, n) >= 0: the
+    relevant joint of the largest width times demand): the lower halves, then the upper ones
     (copies; ``lo``, ``hi`` of shape (B, n) are not changed), the joints and the mid points."""
-    width = np.where(rel[None, :], hi - lo, -1.0)
+    width = hi - lo if demand is None else (hi - lo) * demand
+    width = np.where(rel[None, :], width, -1.0)
     d = width.argmax(axis=1)
     rows = np.arange(lo.shape[0])
     mid = 0.5 * (lo[rows, d] + hi[rows, d])
     return (*_halves(lo, hi, d, mid), d, mid)
+
+
+def _demand(above, cols):
+    """Per box and joint, how many of the box's columns with a pair above its target depend on
+    the joint (a column of link k on joints 1..k), plus 1e-3: shape (B, n) from ``above``
+    (B, 3, n, b) and the columns' flat indices ``cols`` (b,)."""
+    n = above.shape[2]
+    depends = (cols[:, None] // 10 >= np.arange(n)[None, :]).astype(float)   # (b, n)
+    return above.any(axis=(1, 2)).astype(float) @ depends + 1e-3
 
 
 def _halves(lo, hi, d, at):
@@ -387,9 +398,12 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
 
     Notes
     -----
-    Each round splits, along its widest relevant joint, every box whose enclosure of an open
-    pair exceeds (1 + rtol) that pair's sampled peak; the bound is the largest enclosure over
-    the final boxes, so it holds whatever the number of rounds.
+    Each round splits every box whose enclosure of an open pair exceeds (1 + rtol) that
+    pair's sampled peak, along the relevant joint of the largest width times the number of
+    the box's columns above their targets that depend on it (a column of link k depends on
+    joints 1..k, so the joints that most of the box's open columns need are halved first).
+    The bound is the largest enclosure over the final boxes, so it holds whatever the
+    number of rounds and wherever the boxes are cut.
     """
     t0 = time.perf_counter()
     n = robot.n
@@ -430,7 +444,8 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
             boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
-        lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel)
+        demand = _demand((U[split] > target[None]) & open_[None], cols)
+        lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel, demand)
         inherited = np.concatenate([U[split], U[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
     leaf = _pair_major(leaves)                                    # (b, 3, L, n)
@@ -1197,5 +1212,6 @@ def _prove_pairs(robot, base, region, dropped, limit, max_boxes):
             return True
         if evaluated + 2 * int(open_.sum()) > max_boxes:
             return False
-        lo, hi = _bisect(lo[open_], hi[open_], rel)[:2]
+        above = (U[open_] * weight[None, :, None, :]) > 0                  # (B, 3, n, k)
+        lo, hi = _bisect(lo[open_], hi[open_], rel, _demand(above, cols))[:2]
         inherited = np.concatenate([U[open_], U[open_]])
