@@ -178,8 +178,9 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                     ha="center", va="center", fontsize=7, color="0.35")
             ax.set_yticks([])
         ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:
+        if j // cols == rows - 1 or j + cols >= n:     # the lowest panel of its column
             ax.set_xlabel("time t [s]")
+            ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
     if handles:
