@@ -271,12 +271,17 @@ def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
         assert drawn == labels - {"computed torque, full model"}
         assert ax.get_ylim()[0] == pytest.approx(rtol * scale[j])
         assert ax.get_ylabel().endswith("[rad]")
-    assert any("\u2261 0 on every joint (integrator noise)" in t.get_text() for t in fig.texts)
+    assert any("\u2261 0 on every joint (integrator noise)" in " ".join(t.get_text().split())
+               for t in fig.texts)
 
 
-def test_control_figures_letter_mathematics_at_print_size(result):
-    """The control figures at page and column width: q_d, tau_s, tau_f as mathematics
-    (mathtext), no label collisions or text past the edge, column type of at least 7 pt."""
+def test_control_figures_label_without_scripts_at_print_size(result):
+    """The control figures at page and column width: the axes name |e| and delta tau (no
+    mathtext, whose subscripts of q_d, tau_s, tau_f printed at 5.6 pt), no label collisions
+    or text past the edge, column type of at least 7 pt; a six-joint arm's panels three a
+    row at page width (two rows: half a page)."""
+    from matplotlib.text import Text
+
     from gd_analyze.report.control import FIGURE_RC, make_control_figures
     from gd_analyze.report.control_figures import COLUMN_WIDTH, control_figures
 
@@ -285,4 +290,8 @@ def test_control_figures_letter_mathematics_at_print_size(result):
             **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
     check_print_ready(figs, FIGURE_RC)
     labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]
-    assert labels and all(lab.startswith("$") for lab in labels)
+    assert labels == ["|e| [rad]"] * 6
+    texts = [t.get_text() for f in figs.values() for t in f.findobj(Text)]
+    assert texts and not any("$" in t for t in texts)
+    rows = {round(ax.get_position().y0, 6) for ax in figs["error"].axes if ax.get_visible()}
+    assert len(rows) == 2

@@ -192,7 +192,7 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
     # the torque difference is integrator noise on every joint here (Table 3.1 says so), so
     # neither the summary nor the verdict gives its digits (the table's last row is the
     # noise floor itself)
-    table = text[text.index("Table 3.1:"):text.index("Figure 2.")]
+    table = text[text.index("Table 3.1:"):text.index("Applied torques:")]
     rows = table.split("data.")[1].split("noise floor")
     assert table.count("\u2261 0") >= 2 * len(ds["joint"]) and "e-0" not in rows[0]
     assert len(rows) == 2 and "e-0" in rows[1]
@@ -212,7 +212,7 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
                  if line.get_marker() in ("o", "s", "^")}
         if key == "tau_difference" and not drawn:     # nothing dropped: all integrator noise
             assert "\u2261 0 on every joint (integrator noise)" in " ".join(
-                t.get_text() for t in figures[key].texts)
+                " ".join(t.get_text().split()) for t in figures[key].texts)
             continue
         strides = {m[1] if isinstance(m, tuple) else m for m in drawn}   # (start, k): staggered
         assert strides == {k}, (key, drawn, k)

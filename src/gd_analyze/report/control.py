@@ -52,6 +52,11 @@ _FIGURE_FILES = {"error": "fig_control_tracking_error",
 _FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
 
 
+def _next_figure(o):
+    """"Fig. N": how the text cites the next figure of the outline ``o``."""
+    return f"Fig. {o.n_figures + 1}"
+
+
 def _outline(ctx, figures):
     """The control report's sections, once, for the HTML and the PDF
     (:class:`gd_analyze.report.sections.Outline`)."""
@@ -65,22 +70,31 @@ def _outline(ctx, figures):
     o.table(ctx["setup"], "The closed-loop run.", kv=True)
     o.paragraph(ctx["gains_note"], "note")
     o.table(ctx["gains"], "Gains per joint.")
+    # each figure right under the sentence citing it, its table after it: a figure that does
+    # not fit there goes to the next page's top, and the table fills this page
     o.section("2", "Tracking error", "tracking")
-    o.paragraph(ctx["error_note"], "note")
+    o.paragraph(f"{ctx['error_note']}: along the run in {_next_figure(o)}, its peak |e| and "
+                "RMS at the set points of the trajectory and on the fine grid (set points "
+                "included) in Table 2.1.", "note")
+    o.figure("error", ctx["captions"]["error"])
     o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
                            f"noise ({ctx['noise_rule']['q']}), not data.", size=7)
-    o.figure("error", ctx["captions"]["error"])
     o.section("3", "Torques", "torque")
-    o.paragraph(ctx["diff_note"], "note")
-    o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
-                             "controller minus full-model controller; \u2261 0: integrator "
-                             f"noise ({ctx['noise_rule']['tau']}), not data.")
-    if "tau_difference" in o.available:
+    drawn = "tau_difference" in o.available
+    o.paragraph(f"{ctx['diff_note']} ({_next_figure(o) + ', ' if drawn else ''}Table 3.1). "
+                f"{ctx['diff_not']}", "note")
+    if drawn:
         o.figure("tau_difference", ctx["captions"]["tau_difference"])
     else:
         o.paragraph("No torque difference stored.", "body")
-    o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
+    o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
+                             "controller minus full-model controller; \u2261 0: integrator "
+                             f"noise ({ctx['noise_rule']['tau']}), not data.")
+    o.paragraph(f"Applied torques: the torque each controller applies along its own "
+                f"closed-loop run in {_next_figure(o)}, its peak |\u03c4| and RMS per joint "
+                "in Table 3.2.", "note")
     o.figure("tau", ctx["captions"]["tau"])
+    o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
     o.section("4", "Evaluation cost of the model", "cost")
     o.paragraph(ctx["cost_note"], "note")
     if ctx["cost"]:

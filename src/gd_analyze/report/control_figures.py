@@ -26,7 +26,7 @@ if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["control_figures", "noise_scales", "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH",
+__all__ = ["control_figures", "noise_scales", "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns",
            "CONTROLLER_LABELS", "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words"]
 
 #: Figure widths [in]: the text of a page, one column.
@@ -45,14 +45,43 @@ _VISIBLE_BAND = 0.01
 CONTROLLER_LABELS = CONTROL_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
-#: Axis labels ({u}: the joint's units) in mathematics: q_d (desired) and tau_s, tau_f (the
-#: simplified- and the full-model controller) have subscripts that Unicode has no character
-#: for, so mathtext writes them, in the regular (upright) font of the other labels.
-_TRACKING_ERROR = "$\\mathregular{{|q_d - q|}}$ [{u}]"
-_TAU_DIFFERENCE = "$\\mathregular{{\\tau_s - \\tau_f}}$ [{u}]"
+#: Axis labels ({u}: the joint's units) without subscripts: q_d (desired), tau_s and tau_f
+#: (the simplified- and the full-model controller) have subscripts that Unicode has no
+#: character for, and mathtext's print at 70 % of the label (5.6 pt), under the reports'
+#: 8 pt; the labels name the tracking error e = q_d - q and the difference
+#: delta tau = tau_s - tau_f, which the captions and the text define.
+_TRACKING_ERROR = "|e| [{u}]"
+_TAU_DIFFERENCE = "\u0394\u03c4 [{u}]"
 #: The key's entry of the shaded band within +-floor of a torque difference.
 _BAND = "integrator noise floor (\u00b1): not drawn"
 FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+
+
+#: Height [in] of a row of panels at page width, by the number of columns (three narrower
+#: panels a row are drawn lower: a six-joint figure in two rows is half a page, so that a
+#: figure prints on the page of the text citing it or the next).
+_ROW_HEIGHT = {1: 1.9, 2: 1.9, 3: 1.5}
+#: Horizontal room between panels at page width [share of a panel's width], by the number of
+#: columns: a narrower panel needs a larger share for its neighbour's tick labels and label.
+_WSPACE = {1: 0.3, 2: 0.3, 3: 0.5}
+#: A page-width note's characters a line, and the height [in] of each line after the first.
+_NOTE_CHARS, _NOTE_LINE = 110, 0.15
+
+
+def page_columns(n: int) -> int:
+    """Panels a row at page width: two for up to four joints, else three.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints (panels).
+
+    Returns
+    -------
+    int
+        2 or 3: a six-joint arm's figure has two rows, not three.
+    """
+    return 2 if n <= 4 else 3
 
 
 def _stride(m):
@@ -79,16 +108,17 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     n = s.n
     units = joint_units_of(s, which)
     column = width < PAGE_WIDTH
-    rows, cols = grid_shape(n, 1 if column else 2)
+    rows, cols = grid_shape(n, 1 if column else page_columns(n))
     top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
                                               else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
-    height = (1.35 if column else 1.9) * rows + bottom - 0.35 + top
+    height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
     W = width
     fig = Figure(figsize=(W, height))
     # fixed margins [in] instead of a layout engine: drawing stays fast
     fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / height,
-                        bottom=bottom / height, wspace=0.3, hspace=0.35)
+                        bottom=bottom / height, wspace=0.3 if column else _WSPACE[cols],
+                        hspace=0.35)
     axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
     k = _stride(t.size)
     keep = np.zeros(t.size, dtype=bool)
@@ -148,16 +178,16 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                     ha="center", va="center", fontsize=7, color="0.35")
             ax.set_yticks([])
         ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:
+        if j // cols == rows - 1 or j + cols >= n:     # the lowest panel of its column
             ax.set_xlabel("time t [s]")
+            ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
     if handles:
         fig.legend(list(handles.values()), list(handles), loc="lower center",
                    ncols=1 if column else min(3, len(handles)), frameon=False,
                    bbox_to_anchor=(0.5, 0.0))
-    fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
-                 fontweight="bold", y=1 - 0.12 / height, va="top")
+    note = ""
     if floor is not None:
         notes = [f"Integrator noise ({noise_words(s, which, figure=True)}) is not drawn"]
         for name, where in quiet.items():            # said as noise: its digits are not data
@@ -165,10 +195,16 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                       "joint" + ("s " if len(where) > 1 else " ")
                       + ", ".join(str(j + 1) for j, _ in where))
             notes.append(f"{CONTROL_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
-        note = "; ".join(notes) + "."
-        if column:                      # wrapped by the width drawn: mathtext as its glyphs
-            math = "$\\mathregular{q_d}$"
-            note = textwrap.fill(note.replace(math, "q_d"), 70).replace("q_d", math)
+        # wrapped by the width drawn (at the size it prints at, 8 pt)
+        note = textwrap.fill("; ".join(notes) + ".", 70 if column else _NOTE_CHARS)
+    extra = 0.0 if column else _NOTE_LINE * note.count("\n")
+    if extra:                           # a page-width note of more lines: room above the panels
+        height += extra
+        fig.set_size_inches(W, height)
+        fig.subplots_adjust(top=1 - (top + extra) / height, bottom=bottom / height)
+    fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
+                 fontweight="bold", y=1 - 0.12 / height, va="top")
+    if note:
         fig.text(0.5, 1 - (0.62 if column else 0.36) / height, note, ha="center", va="top",
                  fontsize=7, color="0.3")
     return fig
@@ -189,8 +225,8 @@ def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False
         ``tau_difference_floor``; in a file without one, rtol times the full-model
         controller's peak |tau|).
     figure : bool, optional
-        The short form of a figure's note, with matplotlib's mathtext for q_d, instead of
-        the reports' markup.
+        The short form of a figure's note, without subscripts (the caption gives the
+        joint's scale).
 
     Returns
     -------
@@ -216,7 +252,7 @@ def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False
                 f"integrated again with rtol and atol / {tighten:g}, or {tol:g} of the "
                 "full-model controller's peak |\u03c4| where that is larger")
     if figure:                          # short: the note is one line at page width
-        return f"at most {tol:g} of max(range, peak |$\\mathregular{{q_d}}$|)"
+        return f"at most {tol:g} of the joint's scale"
     return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
 
 
@@ -386,14 +422,16 @@ def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
         A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
         control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
     width : float, optional
-        :data:`PAGE_WIDTH` (two panels a row) or :data:`COLUMN_WIDTH` [in] (one a row).
+        :data:`PAGE_WIDTH` (two or three panels a row: :func:`page_columns`) or
+        :data:`COLUMN_WIDTH` [in] (one a row).
 
     Returns
     -------
     dict of str to matplotlib.figure.Figure
-        ``"error"`` (|q_d - q| per joint, log scale [rad or m]), ``"tau_difference"`` (tau of
-        the simplified-model controller minus the full-model one [N m or N]; absent if not
-        stored) and ``"tau"`` (applied torques [N m or N]). Integrator noise (at or below
+        ``"error"`` (|e| = |q_d - q| per joint, log scale [rad or m]), ``"tau_difference"``
+        (delta tau = tau_s - tau_f, the simplified-model controller's torque minus the
+        full-model one's [N m or N]; absent if not stored) and ``"tau"`` (applied torques
+        [N m or N]). Integrator noise (at or below
         :func:`noise_floors`) is never drawn as data.
     """
     s = StoredControl.of(ds)

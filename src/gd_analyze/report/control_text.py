@@ -215,11 +215,12 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     floor = (f"Integrator noise ({rule['q']}) is not drawn: a log axis starts at that "
              "floor.")
     captions = {
-        "error": (f"Tracking error |q{_D} \u2212 q| per joint along the run, log scale "
+        "error": (f"Tracking error |e| = |q{_D} \u2212 q| per joint along the run, log scale "
                   f"({markers_words(s, names)}). Integrator noise, {rule['q']}, is not "
                   "drawn: the axis starts there, and a controller whose error is all noise is "
                   "named above the panels."),
-        "tau_difference": ("Closed-loop torque difference: torque of the simplified-model "
+        "tau_difference": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
+                           f"\u03c4{_sub('f')}: torque of the simplified-model "
                            "controller minus torque of the full-model controller, each along "
                            f"its own closed-loop run, per joint ({markers_words(s, 1)}). "
                            f"Integrator noise, {rule['tau']}, is not drawn: "
@@ -246,16 +247,16 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                        f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
                        f"of D at the start of the motion (D{_sub('ii')} at the start)."),
         "errors": errors,
-        "error_note": (f"Tracking error e = q{_D} \u2212 q per joint, peak |e| and RMS, at the "
-                       "set points of the trajectory and on the fine grid (set points "
-                       "included)."),
+        "error_note": f"Tracking error e = q{_D} \u2212 q per joint",
         "floor_note": floor, "noise_rule": rule, "captions": captions,
         "tau_diff": tau_diff,
-        "diff_note": ("Closed-loop torque difference: torque of the simplified-model "
+        "diff_note": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
+                      f"\u03c4{_sub('f')}: torque of the simplified-model "
                       "computed-torque controller minus that of the full-model one, each along "
-                      "its own closed-loop run, at the same times. It is not the open-loop "
-                      "error of the main report (\u03c4\u209b \u2212 \u03c4 of the two models "
-                      "along the desired trajectory)."),
+                      "its own closed-loop run, at the same times"),
+        "diff_not": ("It is not the open-loop "
+                     f"error of the main report ({_TAU_S} \u2212 \u03c4 of the two models "
+                     "along the desired trajectory)."),
         "tau_table": tau_table,
         "cost": cost, "cost_note": cost_note,
         "choices": choices, "model_note": model_note, "provenance": prov,
@@ -355,7 +356,7 @@ def _model_note(s):
         return text + " " + scope_sentences(m, eps), recursive
     if rule == "budget":                # an older control.h5
         text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
-                 "\u03c4\u209b \u2212 \u03c4 is guaranteed within \u03b5\u00b7s\u1d62, "
+                 f"{_TAU_S} \u2212 \u03c4 is guaranteed within \u03b5\u00b7{_S_I}, "
                  f"{ROUND_OFF_CLAUSE}, on the trajectory the model was built on"
                  + (" (this one)." if
                                                          str(st.trajectory_is_models)
@@ -407,8 +408,8 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     reason = str(_or(m.guarantee_coverage, ""))
     if str(m.guarantee_covered) == "1":
         return (text + f" It covers this motion: {reason}. The open-loop error "
-                "\u03c4\u209b \u2212 \u03c4 along the desired motion is guaranteed within "
-                f"\u03b5\u00b7s\u1d62, {ROUND_OFF_CLAUSE}.")
+                f"{_TAU_S} \u2212 \u03c4 along the desired motion is guaranteed within "
+                f"\u03b5\u00b7{_S_I}, {ROUND_OFF_CLAUSE}.")
     return (text + f" It does not cover this motion: {reason}. The open-loop error along this "
             "motion is not guaranteed.")
 
@@ -460,6 +461,9 @@ def _plant(settings):
 _SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
 
 _D, _KP, _KV, _WN = _sub("d"), "K" + _sub("p"), "K" + _sub("v"), "\u03c9" + _sub("n")
+#: tau_s (the simplified model's torque) and s_i, their subscripts set as such (8 pt in the
+#: PDF), not as Unicode's small subscript letters
+_TAU_S, _S_I = "\u03c4" + _sub("s"), "s" + _sub("i")
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains
 #: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
