@@ -189,23 +189,32 @@ def rounds(fns, runs):
     list of dict
         One per callable but the last: ``median_ratio``, ``min_ratio``, ``max_ratio`` (its
         time over the reference's of the same round), ``runs``, ``median_a_s`` (its median
-        time) and ``median_b_s`` (the reference's).
+        time) and ``median_b_s`` (the reference's). Where the callables run child processes,
+        also ``median_cpu_a_s`` and ``median_cpu_b_s``: the children's CPU time (user +
+        system) per run, steadier than wall time on a shared machine.
     """
     times = [[] for _ in fns]
+    cpu = [[] for _ in fns]
     m = len(fns)
     for k in range(runs):
         for j in range(m):
             slot = (j + k) % m
+            r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             t0 = time.perf_counter()
             fns[slot]()
             times[slot].append(time.perf_counter() - t0)
+            r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu[slot].append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
     ref = np.asarray(times[-1])
     out = []
-    for t in times[:-1]:
+    for t, c in zip(times[:-1], cpu[:-1]):
         ratios = np.asarray(t) / ref
         out.append({"median_ratio": float(np.median(ratios)), "min_ratio": float(ratios.min()),
                     "max_ratio": float(ratios.max()), "runs": runs,
                     "median_a_s": float(np.median(t)), "median_b_s": float(np.median(ref))})
+        if min(c) > 0:                          # child processes: their CPU time too
+            out[-1].update(median_cpu_a_s=float(np.median(c)),
+                           median_cpu_b_s=float(np.median(cpu[-1])))
     return out
 
 

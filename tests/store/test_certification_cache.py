@@ -18,8 +18,10 @@ from cache_checks import forge
 from gd_analyze import load_robot
 from gd_analyze.cache import CacheWarning
 from gd_analyze.certify import certify as certify_module
-from gd_analyze.certify.region import joint_region
+from gd_analyze.certify.certify import pair_peaks_at
+from gd_analyze.certify.region import channel_values, joint_region, sample_positions
 from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.store import certification_cache as cache_module
 from gd_analyze.store.certification_cache import certification
 
 SAMPLES = 200
@@ -95,6 +97,33 @@ def test_a_stored_certification_is_used_and_equals_a_fresh_one(arm, fresh, cache
     monkeypatch.setattr(certify_module, "region_samples", refuse)     # the scale's search
     second, w2 = _call(arm)
     assert not w2
+    _same(second, fresh)
+    assert second.seconds == first.seconds
+
+
+def test_samples_drawn_by_the_caller_give_a_fresh_certification_s_bounds(arm, fresh, cache,
+                                                                          monkeypatch):
+    """Positions, channel values and peaks drawn by the caller (``drawn``): a certification
+    computed afresh and one read back from its entry both equal certify's, and the read-back
+    draws nothing again."""
+    robot, base, region = arm
+    q = sample_positions(region, SAMPLES)
+    V = channel_values(robot, q, np.flatnonzero(base.independent.reshape(-1)))
+    drawn = (q, V, pair_peaks_at(V, np.asarray(base.beta, float), region.qd_max,
+                                 region.qdd_max))
+    first = certification(robot, base, region, samples=SAMPLES, drawn=drawn)
+    _same(first, fresh)
+    np.testing.assert_array_equal(first.bound, fresh.bound)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("drawn again although the caller drew them")
+    for name in ("sample_positions", "channel_values", "region_scale"):
+        monkeypatch.setattr(cache_module, name, refuse)
+    monkeypatch.setattr(certify_module, "region_samples", refuse)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        second = certification(robot, base, region, samples=SAMPLES, drawn=drawn)
+    assert not [w for w in seen if issubclass(w.category, CacheWarning)]
     _same(second, fresh)
     assert second.seconds == first.seconds
 

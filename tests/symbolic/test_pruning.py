@@ -8,9 +8,12 @@ import numpy as np
 import pytest
 from symbolic_helpers import count_c, rnea, robot, states
 
+from gd_analyze import load_robot
 from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.regressor_kernels import part_regressor
+from gd_analyze.symbolic import pruning as pruning_module
 from gd_analyze.symbolic.emit import emit_c, python_function
-from gd_analyze.symbolic.pruning import part_contributions, prune, pruned_program
+from gd_analyze.symbolic.pruning import part_contributions, prune, pruned_program, zero_parts
 from gd_analyze.symbolic.recursive import recursive_program
 from gd_analyze.trajectory.trajectory import read_trajectory
 
@@ -245,3 +248,33 @@ def test_settled_restore_is_a_subset_and_never_dearer():
     assert total <= _total(exact_cost)
     with pytest.raises(ValueError):
         settle_restored(arm, base, before, asked[:-1])
+
+
+@pytest.mark.parametrize("name", ["puma560", "stanford"])
+def test_zero_parts_decides_each_column_once_whatever_columns_it_is_asked_with(name,
+                                                                             monkeypatch):
+    """A column's decision is its own: any set of columns gives the rows a fresh decision on
+    that set gives, each declared zero part is zero at random states (the regressor's part
+    columns, an independent numeric computation), and columns asked again are not decided
+    again."""
+    arm = load_robot(name)
+    n = arm.n
+    every = np.arange(10 * n)
+    monkeypatch.setattr(pruning_module, "_ZERO_MEMO", {})
+    rng = np.random.default_rng(1)
+    subsets = [np.sort(rng.choice(every, size=k, replace=False)) for k in (3, 17, 10 * n)]
+    for cols in subsets:
+        np.testing.assert_array_equal(zero_parts(arm, cols), pruning_module._zero_parts(arm, cols))
+    q, qd, qdd = (rng.uniform(-2, 2, (20, n)) for _ in range(3))
+    parts = part_regressor(arm, every, q, qd, qdd)                        # (K, 3, n, m)
+    declared = zero_parts(arm, every)                                     # (m, 3, n)
+    assert declared.any()
+    assert np.all(np.abs(parts.transpose(3, 1, 2, 0)[declared]) <= 1e-9)
+
+    def refuse(*args):
+        raise AssertionError("decided again")
+    monkeypatch.setattr(pruning_module, "_zero_parts", refuse)
+    out = zero_parts(arm, every[::-1])
+    np.testing.assert_array_equal(out, declared[::-1])
+    out[:] = True                                   # the caller's copy, not the memo
+    np.testing.assert_array_equal(zero_parts(arm, every), declared)

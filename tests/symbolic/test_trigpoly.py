@@ -5,7 +5,7 @@ rows), and derivatives against the analytic ones."""
 import numpy as np
 import pytest
 
-from gd_analyze.symbolic.trigpoly import TrigPoly, evaluate_rows
+from gd_analyze.symbolic.trigpoly import TrigPoly, _unique_rows, evaluate_rows
 
 RNG = np.random.default_rng(2024)
 THETA = RNG.uniform(-np.pi, np.pi, (50, 3))
@@ -101,3 +101,17 @@ def test_rounding_residue_is_dropped_relative_to_the_largest_coefficient():
     assert rows(p) == [((1, 0, 0), False, 1.0)]
     q = TrigPoly(np.array([[1, 0, 0], [0, 1, 0]]), [False, False], [1.0, 1e-10])
     assert len(q) == 2
+
+
+def test_unique_rows_are_numpys_unique_rows():
+    """The canonical form's distinct rows and inverse equal np.unique(axis=0)'s (the oracle),
+    on random small integer arrays with repeated rows, one column, and none."""
+    rng = np.random.default_rng(3)
+    keys = [rng.integers(-3, 4, (int(rng.integers(1, 60)), int(rng.integers(1, 9))))
+            for _ in range(300)] + [np.zeros((0, 4), np.int64), np.zeros((5, 1), np.int64)]
+    for key in keys:
+        uniq, inv = np.unique(key, axis=0, return_inverse=True)
+        got, got_inv = _unique_rows(key)
+        assert got.dtype == uniq.dtype and got.shape == uniq.shape
+        np.testing.assert_array_equal(got, uniq)
+        np.testing.assert_array_equal(got_inv, inv.reshape(-1))

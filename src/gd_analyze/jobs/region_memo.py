@@ -5,7 +5,9 @@ cache) and the region's samples (:func:`gd_analyze.certify.region.region_samples
 pure functions of the arm, the region, the torque floor and :data:`REGION_SAMPLES`, so a second
 analysis of the same arm in one session (a payload sweep, a sweep after the main job, a test
 run) does not repeat them. A trajectory model's sampled error needs only the samples, not the
-certification's branch and bound; a certification after them reuses them.
+certification's branch and bound; a certification after them reuses them, and one made first
+draws them with their pairs' magnitudes (:func:`region_magnitudes`), which the region's
+pre-screen reads afterwards.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..certify.certify import pair_magnitudes_at
-from ..certify.region import region_samples
+from ..certify.region import channel_values, region_samples, sample_positions
 from ..simplify.simplified import json_safe
 from ..store.certification_cache import certification
 from ..store.model_trust import remember
@@ -80,7 +82,11 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
     Returns
     -------
     PairBounds
-        Samples :func:`region_values` drew in this process are not drawn again.
+        Samples :func:`region_values` drew in this process are not drawn again. Where none
+        were, the positions and their channel values are drawn here, without the scale
+        search (an entry of the derivation cache brings its scale), and their pairs'
+        magnitudes kept for :func:`region_magnitudes`: the certification's sampled peaks
+        are their largest over the positions.
     """
     key = _region_key(robot, region, 0.0)
     drawn = _SAMPLED.get(key)                                   # the same samples, if drawn
@@ -88,8 +94,15 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
         drawn = (*drawn, _MAGNITUDES[key].max(axis=0))
 
     def make():
+        fresh = None
+        if drawn is None:
+            q = sample_positions(region, REGION_SAMPLES)
+            V = channel_values(robot, q, np.flatnonzero(base.independent.reshape(-1)))
+            magnitudes = _keep(_MAGNITUDES, key, lambda: pair_magnitudes_at(
+                V, np.asarray(base.beta, float), region.qd_max, region.qdd_max))
+            fresh = (q, V, magnitudes.max(axis=0))
         pb = certification(robot, base, region, torque_floor=torque_floor,
-                           samples=REGION_SAMPLES, values=drawn)
+                           samples=REGION_SAMPLES, values=drawn, drawn=fresh)
         remember(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here is
         return pb                                                  # checked without it again
     return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)

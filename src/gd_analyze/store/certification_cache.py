@@ -38,7 +38,13 @@ import numpy as np
 
 from ..cache import cache_key, lookup, store
 from ..certify.certify import certify, certify_tree
-from ..certify.region import channel_values, sample_positions, worst_states
+from ..certify.region import (
+    REFINE_JOINTS,
+    channel_values,
+    region_scale,
+    sample_positions,
+    worst_states,
+)
 from ..dynamics.regressor_kernels import part_regressor
 from ..simplify.simplified import parameters_sha256
 
@@ -148,7 +154,8 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
         return f"fails its self-check (its tree of boxes {exc})"
 
 
-def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None):
+def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None,
+                  drawn=None):
     """The region's certification, from the derivation cache or computed afresh.
 
     Parameters
@@ -162,6 +169,16 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
         for a certification computed afresh (their positions and channel values also for one
         recomputed from an entry), optionally followed by their sampled peaks
         (:func:`gd_analyze.certify.certify.pair_peaks_at`).
+    drawn : tuple, optional
+        Without ``values``: the positions (:func:`gd_analyze.certify.region.sample_positions`
+        of ``samples`` and ``seed``), shape (B, n), their channel values
+        (:func:`gd_analyze.certify.region.channel_values` of the independent columns) and
+        their sampled peaks (b, 3, n) (:func:`gd_analyze.certify.certify.pair_peaks_at`),
+        drawn by the caller. An entry is checked on them without drawing them again; a
+        certification computed afresh completes them with the scale found over them
+        (:func:`gd_analyze.certify.region.region_scale`, as
+        :func:`gd_analyze.certify.region.region_samples` finds it), without the scale search
+        an entry makes needless.
 
     Returns
     -------
@@ -183,12 +200,21 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
 
     key = certification_key(robot, region, {"torque_floor": float(torque_floor),
                                             "samples": int(samples), "seed": int(seed)})
+    # drawn samples: the check reads their positions, channel values and peaks (not a scale)
+    checked = values if values is not None or drawn is None else \
+        (drawn[0], drawn[1], None, None, drawn[2])
     found = lookup(key, _FIELDS, _MAX_BYTES,
                    lambda arrays: _checked(robot, base, region, float(torque_floor), samples,
-                                           seed, arrays, values),
+                                           seed, arrays, checked),
                    "the region is certified again")
     if found is not None:
         return found
+    if values is None and drawn is not None:
+        cols = np.flatnonzero(base.independent.reshape(-1))
+        values = (drawn[0], drawn[1],
+                  *region_scale(robot, region, cols, np.asarray(base.beta, float),
+                                refine=int(robot.n <= REFINE_JOINTS), values=drawn[:2]),
+                  drawn[2])
     pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
                  values=values)
     store(key, {"scale": np.asarray(pb.scale, float),

@@ -764,19 +764,29 @@ def zero_parts(robot: Robot, columns: np.ndarray) -> np.ndarray:
     matrix. Each entry is a trigonometric polynomial (:class:`.trigpoly.TrigPoly`, in
     canonical form) in the placements of the explicit model (:func:`.explicit.derive`:
     rotation entries within 1e-12 of 0 or +-1 taken as those); a part is declared zero only
-    where every coefficient cancels exactly (a polynomial with no rows).
+    where every coefficient cancels exactly (a polynomial with no rows). A column's decision
+    depends on the arm's rotations and joint kinds and on that column alone, so each is made
+    once per process, whichever columns it is asked with.
     """
-    columns = np.asarray(columns, int)
+    columns = np.asarray(columns, int).reshape(-1)
     key = (np.asarray(robot.rotation, float).tobytes(),
-           np.asarray(robot.prismatic, bool).tobytes(), columns.tobytes())
-    if key not in _ZERO_MEMO:           # the decision depends on these alone
+           np.asarray(robot.prismatic, bool).tobytes())
+    if key not in _ZERO_MEMO:           # the decisions depend on these alone
         if len(_ZERO_MEMO) >= 16:
             _ZERO_MEMO.pop(next(iter(_ZERO_MEMO)))
-        _ZERO_MEMO[key] = _zero_parts(robot, columns)
-    return _ZERO_MEMO[key].copy()
+        _ZERO_MEMO[key] = {}
+    rows = _ZERO_MEMO[key]
+    missing = sorted({int(c) for c in columns} - rows.keys())
+    if missing:
+        rows.update(zip(missing, _zero_parts(robot, np.asarray(missing, int))))
+    out = np.zeros((columns.size, 3, robot.n), bool)
+    for m, col in enumerate(columns):
+        out[m] = rows[int(col)]
+    return out
 
 
-#: zero_parts's decisions in this process, by rotations, joint kinds and columns.
+#: zero_parts's decisions in this process: by rotations and joint kinds, then by column, its
+#: (3, n) row.
 _ZERO_MEMO: dict = {}
 
 

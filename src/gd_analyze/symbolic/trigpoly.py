@@ -64,6 +64,21 @@ def evaluate_rows(K: np.ndarray, S: np.ndarray, theta: np.ndarray,
 CLEAN = 1e-14
 
 
+def _unique_rows(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(key, axis=0, return_inverse=True)`` of an integer array (m, k): the distinct
+    rows in lexicographic order and each row's index among them, shape (m,); the same arrays,
+    from one ``np.lexsort`` of the columns (a few times faster on the small arrays of a
+    polynomial than the structured view that ``np.unique`` sorts)."""
+    order = np.lexsort(key.T[::-1])
+    ks = key[order]
+    start = np.empty(ks.shape[0], bool)
+    start[:1] = True
+    np.any(ks[1:] != ks[:-1], axis=1, out=start[1:])
+    inv = np.empty(key.shape[0], np.int64)
+    inv[order] = np.cumsum(start) - 1
+    return ks[start], inv
+
+
 class TrigPoly:
     """A trigonometric polynomial in n angles, in canonical Fourier form.
 
@@ -155,8 +170,8 @@ class TrigPoly:
             keep = ~(zero & S)
             K, S, C = K[keep], S[keep], C[keep]
             key = np.concatenate([S[:, None].astype(np.int64), K], axis=1)
-            uniq, inv = np.unique(key, axis=0, return_inverse=True)
-            C = np.bincount(inv.reshape(-1), weights=C, minlength=uniq.shape[0])
+            uniq, inv = _unique_rows(key)
+            C = np.bincount(inv, weights=C, minlength=uniq.shape[0])
             S, K = uniq[:, 0].astype(bool), uniq[:, 1:]
             big = np.abs(C).max() if C.size else 0.0
             keep = np.abs(C) > CLEAN * big
