@@ -1,5 +1,6 @@
-"""The main report of the PUMA 560 (its shipped trajectory, all defaults) as printed, read from
-its PDF as a reader's tools see it (poppler's pdftotext, pypdf for the type sizes):
+"""The main report of the PUMA 560 (its shipped trajectory, all defaults) and its sweep report
+(the shared sweep of tests/conftest.py) as printed, read from their PDFs as a reader's tools see
+them (poppler's pdftotext, pypdf for the type sizes):
 
 - no text, the figures' included, prints under 8 pt;
 - the text layer holds no Unicode subscript character (τₛ, sᵢ, D₁₂: small glyphs that print
@@ -33,10 +34,25 @@ def test_no_text_prints_under_8_pt(pdf):
     assert not small, small[:5]
 
 
+def _subscripts(path):
+    layer = text(path)
+    return layer, [layer[max(0, m.start() - 20):m.end() + 5]
+                   for m in _SUBSCRIPTS.finditer(layer)]
+
+
 def test_text_layer_has_no_unicode_subscripts(pdf):
-    layer = text(pdf)
-    found = [layer[max(0, m.start() - 20):m.end() + 5] for m in _SUBSCRIPTS.finditer(layer)]
+    layer, found = _subscripts(pdf)
     assert not found, found[:8]
     # the subscripts as letters: tau_s in the text, the elements in the tables and figures
     assert "\u03c4s \u2212 \u03c4" in layer
     assert "D(1,1)" in layer and "h(1)" in layer
+
+
+def test_sweep_report_prints_no_unicode_subscripts(shared_reports):
+    folder, stem = shared_reports["sweep"]
+    path = folder / f"{stem}.pdf"
+    layer, found = _subscripts(path)
+    assert not found, found[:8]
+    assert "D(1,1)" in layer and "\u0394\u03c4" in layer
+    small = [s for s in printed_sizes(path) if s[1] < MIN_PRINTED_PT - 1e-6]
+    assert not small, small[:5]
