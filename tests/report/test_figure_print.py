@@ -225,7 +225,7 @@ def test_every_tick_label_reads_back_its_tick(figures):
 
 def test_round_off_is_never_drawn_as_data(figures):
     """An element whose parts are round-off (D45, D56 of the PUMA) reads "≡ 0" with no
-    curve; a joint whose torque error and bound are round-off reads "τₛ = τ" with no curve."""
+    curve; a joint whose torque error and bound are round-off reads "Δτ = 0" with no curve."""
     name, ds, figs = figures
     labels = [str(v) for v in ds["element"].values]
     peak = np.fmax(np.fmax(ds["peak_tran"].values, ds["peak_rot"].values),
@@ -365,7 +365,7 @@ def test_one_tick_form_per_figure(figures):
     """One tick format per figure (ticks.label_axes' rule): when any panel of
     a figure is written in units of 10ᵏ, every panel whose ticks are all below 1 in magnitude
     is too; no panel reads "0.01" beside a panel reading "5" in units of 10⁻³ (PUMA Fig. 4,
-    UR5 Fig. 2 D₁₆). Oracle: the drawn labels and the ticks' own positions."""
+    UR5 Fig. 2 D(1,6)). Oracle: the drawn labels and the ticks' own positions."""
     name, _, figs = figures
     for key, fig in figs.items():
         axes = []
