@@ -325,7 +325,7 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     from gd_analyze.report.markup import label as lettered
 
     for label in element_labels(puma.n):
-        assert f">{lettered(label)}<" in html          # D₁₂, as the figures letter it
+        assert f">{lettered(label)}<" in html          # D(1,2), as the figures letter it
     assert "Payload sweep" in html
     assert pdf_path.read_bytes().startswith(b"%PDF")
     from pypdf import PdfReader
@@ -481,7 +481,7 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
     from gd_analyze.report.markup import label as shown
 
     fig = make_sweep_figures(sweep)["D"]
-    titled = {shown(lab): lab for lab in labels}        # D₁₂ -> D12
+    titled = {shown(lab): lab for lab in labels}        # D(1,2) -> D12
     panels = 0
     for ax in fig.axes:
         element = titled.get(ax.get_title().split(" ")[0].rstrip(":"))
@@ -497,8 +497,8 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
 
 
 def test_sweep_panel_titles_say_the_part_kept(sweep):
-    """A panel's title says which part of the element the merged model keeps ("D₁₆: keeps
-    rot"), not "D₁₆ → rot", which read as a class."""
+    """A panel's title says which part of the element the merged model keeps ("D(1,6): keeps
+    rot"), not "D(1,6) → rot", which read as a class."""
     from gd_analyze.report.markup import label as shown
     from gd_analyze.report.sweep_figures import make_sweep_figures
 
@@ -521,7 +521,7 @@ def test_sweep_panel_titles_say_the_part_kept(sweep):
 
 def test_sweep_figures_letter_mathematics_at_print_size(sweep, puma, shipped):
     """Every sweep figure, at page width and as its 3.5-in column twin (payload included):
-    elements lettered D₁₂, h₃ (no D12, share_tran), no label collisions or text past the
+    elements lettered D(1,2), h(3) (no D12, share_tran), no label collisions or text past the
     edge, type of at least 7 pt in the column versions."""
     from gd_analyze.report.sweep import _RC
     from gd_analyze.report.sweep_figures import make_sweep_figures

@@ -84,7 +84,7 @@ def test_fig_2_key_in_mathematics(figures):
         words = " ".join(t.get_text().replace("\n", " ") for t in figs[key].texts)
         assert "10\u207b\u00b9\u00b2 of its scale" in words and "1e-12" not in words, words
         assert "] [" not in words, (name, key, words)
-        assert "D\u1d62\u2c7c against time t [s]" in words, words
+        assert "D(i,j) against time t [s]" in words, words
         for ax in figs[key].axes:
             label = ax.get_ylabel()
             assert label.startswith("[") and label.endswith("]") and "kg" in label, label
@@ -225,7 +225,7 @@ def test_every_tick_label_reads_back_its_tick(figures):
 
 def test_round_off_is_never_drawn_as_data(figures):
     """An element whose parts are round-off (D45, D56 of the PUMA) reads "≡ 0" with no
-    curve; a joint whose torque error and bound are round-off reads "τₛ = τ" with no curve."""
+    curve; a joint whose torque error and bound are round-off reads "Δτ = 0" with no curve."""
     name, ds, figs = figures
     labels = [str(v) for v in ds["element"].values]
     peak = np.fmax(np.fmax(ds["peak_tran"].values, ds["peak_rot"].values),
@@ -273,7 +273,7 @@ def test_seven_joints_differ_in_line_style_and_marker():
 # --------------------------------------------------------------------------------------------
 
 def test_figures_letter_mathematics_not_code_names(figures):
-    """Titles, axis labels, legends and keys write D₁₂, hᵢ, τₛ − τ: no D12, D_ij, share_tran,
+    """Titles, axis labels, legends and keys write D(1,2), h(i), Δτ: no D12, D_ij, share_tran,
     tau_s (mathtext spans count as mathematics)."""
     name, _, figs = figures
     bad = {key: code_names(fig) for key, fig in figs.items()}
@@ -306,8 +306,7 @@ def test_payload_figure_at_page_and_column_width(payload_figures):
         assert smallest_type(fig, report.FIG_RC) >= 7.0, (name, key)
         assert not code_names(fig), (name, key, code_names(fig)[:4])
     heat = figs["payload_column"].axes[0]               # elements down, one row each
-    assert [t.get_text() for t in heat.get_yticklabels()][:2] == ["D\u2081\u2081",
-                                                                  "D\u2081\u2082"]
+    assert [t.get_text() for t in heat.get_yticklabels()][:2] == ["D(1,1)", "D(1,2)"]
 
 
 def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
@@ -366,7 +365,7 @@ def test_one_tick_form_per_figure(figures):
     """One tick format per figure (ticks.label_axes' rule): when any panel of
     a figure is written in units of 10ᵏ, every panel whose ticks are all below 1 in magnitude
     is too; no panel reads "0.01" beside a panel reading "5" in units of 10⁻³ (PUMA Fig. 4,
-    UR5 Fig. 2 D₁₆). Oracle: the drawn labels and the ticks' own positions."""
+    UR5 Fig. 2 D(1,6)). Oracle: the drawn labels and the ticks' own positions."""
     name, _, figs = figures
     for key, fig in figs.items():
         axes = []

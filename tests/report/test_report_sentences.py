@@ -132,7 +132,7 @@ def test_cost_figure_puts_every_point_on_the_deployed_scale(shared_puma):
     want = np.max(eps * peak / np.asarray(guarantee["scale"]))
     assert bound[0][2] == pytest.approx(want, rel=1e-9) and bound[0][2] < eps
     text, _ = _report(folder)
-    assert "relative to sᵢ, the deployed model's scale, for every point" in \
+    assert "relative to s i , the deployed model's scale, for every point" in \
         _caption(text, "Cost against accuracy")
 
 
@@ -148,7 +148,7 @@ def test_sweep_error_figure_is_on_one_scale(shared_reports):
     assert (s_i == s_i[0]).all()                    # one region, one s_i per joint
     fig = make_sweep_figures(ds)["error"]
     ax = fig.axes[0]
-    assert ax.get_ylabel() == "peak |τₛ − τ| / sᵢ [1]"
+    assert ax.get_ylabel() == "peak |Δτ| / s [1]"
     diamonds = [ln for ln in ax.lines if ln.get_marker() == "D"]
     want = ds["merged_error_peak"].values / s_i[0]
     got = {round(float(ln.get_xdata()[0])): float(ln.get_ydata()[0]) for ln in diamonds}

@@ -25,6 +25,7 @@ import numpy as np
 from ..store.stored_simplified import StoredSimplified
 from .common import torque_units
 from .figure_style import markevery
+from .markup import sub
 from .ticks import label_axes, set_ticks, tick_label_width
 
 if TYPE_CHECKING:
@@ -48,11 +49,17 @@ CONTRIBUTIONS = (
     ("h_rot", "h\u02b3\u1d52\u1d57", "#CC79A7", (0, (1.0, 1.3)), "D"),
     ("c", "c", "#E69F00", (0, (7.0, 2.0)), "v"),
 )
-_SIMPLIFIED = ("tau_simplified", "\u03c4\u209b (simplified model)", "#000000", "-", None)
+_SIMPLIFIED = ("tau_simplified", "simplified model's torque", "#000000", "-", None)
 _DRIVES = ("drives", "drives (armature, friction)", "0.45", (0, (2.0, 2.0)), "+")
 _PAGE = 7.2
 #: Width of the column versions [in].
 COLUMN = 3.5
+
+#: The simplified model's torque tau_s and the joint's scale s_i, their subscripts set as such
+#: (8 pt at least in the PDF). The figures write no subscript (Unicode's small letters print
+#: under 8 pt): s for s_i and delta tau for tau_s - tau, which the captions define.
+_TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
+_WRITTEN = f" The figure writes s for {_S_I} and \u0394\u03c4 for {_TAU_S} \u2212 \u03c4."
 
 #: Captions of the figures of this module, by figure key.
 BUDGET_CAPTIONS = {
@@ -60,16 +67,16 @@ BUDGET_CAPTIONS = {
                      "to each joint's torque against time, Dᵗʳᵃⁿ q̈, "
                      "Dʳᵒᵗ q̈, hᵗʳᵃⁿ, hʳᵒᵗ "
                      "and c, whose sum is τ (Eq. (3.4-24)), with the simplified model's "
-                     "torque τₛ.",
+                     f"torque {_TAU_S}.",
     "budget": "The error budget per joint: the peaks of the dropped terms on this trajectory, "
-              "stacked by where they sit (their sum bounds |τₛ − τ| there), against the "
-              "budget ε sᵢ, and the measured peak error, each relative to the joint's scale "
-              "sᵢ.",
+              f"stacked by where they sit (their sum bounds |{_TAU_S} − τ| there), against the "
+              f"budget ε {_S_I}, and the measured peak error, each relative to the joint's scale "
+              f"{_S_I}." + _WRITTEN,
     "cost_ladder": "Cost against accuracy: operations per set point of each model against its "
-                   "worst peak error relative to sᵢ, the deployed model's scale, for every "
+                   f"worst peak error relative to {_S_I}, the deployed model's scale, for every "
                    "point (filled: measured on this trajectory or exact; open: a bound, "
-                   "turned to sᵢ where its model has another scale, or a published figure, "
-                   "which is on its authors' own scale).",
+                   f"turned to {_S_I} where its model has another scale, or a published figure, "
+                   "which is on its authors' own scale)." + _WRITTEN,
 }
 
 
@@ -229,8 +236,9 @@ def budget_parts(ds: StoredSimplified | xr.Dataset) -> dict[str, npt.NDArray[np.
 REGION_BUDGET_CAPTION = (
     "The error budget per joint: the bounds of the dropped terms proved over the region "
     "(interval arithmetic rounded outward), stacked by where they sit (their sum bounds "
-    "|τₛ − τ| at every state of the region), against the budget ε sᵢ, and the "
-    "peak error measured on this trajectory, each relative to the joint's scale sᵢ.")
+    f"|{_TAU_S} − τ| at every state of the region), against the budget ε {_S_I}, and the "
+    f"peak error measured on this trajectory, each relative to the joint's scale {_S_I}."
+    + _WRITTEN)
 
 
 def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
@@ -331,7 +339,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
                edgecolor="white", linewidth=0.4, label=f"bound: {name}")
         bottom = bottom + np.nan_to_num(v)
     ax.hlines(np.full(n, 100 * eps), x - 0.38, x + 0.38, colors="black", linewidth=1.4,
-              label=f"budget \u03b5 s\u1d62 (\u03b5 = {eps:g})")
+              label=f"budget \u03b5 s (\u03b5 = {eps:g})")
     lower = joint_sum_lower(s) if s.guarantee_kind == "region" else np.zeros(0, bool)
     if lower.any():
         stated = np.asarray(s.bound, float) / np.where(scale > 0, scale, np.nan)
@@ -340,7 +348,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
                 label="bound proved on the dropped terms' sum")
     ax.plot(x, 100 * measured, linestyle="none", marker="D", markersize=4.5,
             markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.9,
-            label="measured peak |\u03c4\u209b \u2212 \u03c4|", zorder=4)
+            label="measured peak |\u0394\u03c4|", zorder=4)
     ymax = max(100 * eps, float(np.nanmax(bottom)) if n else 0.0,
                float(np.nanmax(np.nan_to_num(100 * measured))) if n else 0.0) * 1.25 or 1.0
     # "nothing dropped" beside the budget's dash, on the side with more room (raised to the
@@ -359,7 +367,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     if column:
         ax.set_xlabel("joint", labelpad=1.0)
     ax.tick_params(axis="x", length=0)
-    ax.set_ylabel("relative to s\u1d62 [%]", labelpad=1.0)
+    ax.set_ylabel("relative to s [%]", labelpad=1.0)
     ax.grid(axis="x", visible=False)
     pairs = sorted(zip(*ax.get_legend_handles_labels()),
                    key=lambda p: (not p[1].startswith("bound"), not p[1].startswith("budget")))
@@ -368,8 +376,8 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     units = sorted(set(s.tau_units))
     what = ("bounds proved over the region" if s.guarantee_kind == "region"
             else "peaks on this trajectory")
-    note = (f"s\u1d62: each joint's scale ({', '.join(units)}); the bound on |\u03c4\u209b "
-            f"\u2212 \u03c4| is the sum of the dropped terms' {what}"
+    note = (f"s: each joint's scale ({', '.join(units)}); the bound on |\u0394\u03c4| "
+            f"is the sum of the dropped terms' {what}"
             + (", or, where lower (\u25bc), the bound proved on their sum at the same state."
                if lower.any() else "."))
     fig.text(0.1 / width, 0.04 / H, textwrap.fill(note, int((width - 0.2) / 0.058)),
@@ -570,7 +578,7 @@ def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> 
     ax.set_xlabel("operations per set point" + ("" if column else
                                                  " (multiplications + additions)"),
                   labelpad=1.0)
-    ax.set_ylabel("worst peak |\u03c4\u209b \u2212 \u03c4| / s\u1d62 [%]", labelpad=1.0)
+    ax.set_ylabel("worst peak |\u0394\u03c4| / s [%]", labelpad=1.0)
     fig.legend(loc="upper center", ncol=1 if column else 2, frameon=False, fontsize=7,
                handlelength=1.5,                # two columns: within the page at 8.5 pt
                bbox_to_anchor=(0.5, 1 - 0.04 / H))

@@ -31,7 +31,7 @@ from .figure_style import (
     joint_style,
     panel_markevery,
 )
-from .markup import clean, label, powers
+from .markup import clean, marked, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
 from .units import (
     keep_units,
@@ -173,8 +173,8 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
         Column headings.
     rows : sequence of sequence
         The cells, converted with ``str``; a cell that is an element's label (``D12``,
-        ``D1,10``, ``h3``) is lettered as the figures letter it, ``D₁₂``
-        (:func:`gd_analyze.report.markup.label`).
+        ``D1,10``, ``h3``) is lettered as mathematics, its index a subscript
+        (:func:`gd_analyze.report.markup.marked`).
     align : sequence of str or {"right"}, optional
         ``"left"`` or ``"right"`` per column; ``"right"``: the first column left, the others
         right. Default: all left.
@@ -192,7 +192,7 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
         align = ["left"] + [align] * (len(header) - 1)
 
     header = [keep_units(h) for h in header]
-    return {"header": header, "rows": [[label(str(c)) for c in row] for row in rows],
+    return {"header": header, "rows": [[marked(str(c)) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 

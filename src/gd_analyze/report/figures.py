@@ -56,8 +56,8 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
         over (payload, element) from rotational (0, orange) through 0.5 (white) to
         translational (1, blue), each cell marked with its class (T, R, B or N) and with a
         bold frame where the class differs from that at the first payload; grey where the
-        element is round-off in every part (``round_off``: its share is noise); elements lettered
-        as mathematics (D\u2081\u2082, :func:`gd_analyze.report.markup.label`).
+        element is round-off in every part (``round_off``: its share is noise); elements
+        written D(1,2) (:func:`gd_analyze.report.markup.label`: no subscript under 8 pt).
         Bottom: peak |tau| per joint vs payload [N m, N for a prismatic joint]. A plain
         Figure (no pyplot state).
 

@@ -41,8 +41,8 @@ def plain_table(header: Sequence[str], rows: Sequence[Sequence[Any]],
                 colour_cols: Sequence[int] = ()) -> dict[str, Any]:
     """A table as :func:`gd_analyze.report.common.table` makes it, its cells left as text.
 
-    (``common.table`` letters cells that look like a G-D element's label, ``D12`` as
-    ``D₁₂``: a joint or file named so is shown as named here.)
+    (``common.table`` letters cells that look like a G-D element's label, ``D12``, as
+    mathematics, its index a subscript: a joint or file named so is shown as named here.)
 
     Parameters
     ----------

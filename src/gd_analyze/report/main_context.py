@@ -334,8 +334,8 @@ def _report_context_base(results):
         off=[err_off, err_off, None])
     said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
     err = _table(
-        ["joint", "peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
-         "RMS |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|",
+        ["joint", f"peak |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
+         f"RMS |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
          "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
         [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
                          [err_peak[k], err_rms[k]])

@@ -541,7 +541,7 @@ def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
         ax.plot(data.x, tau[:, i], color=_FULL, linestyle="-", linewidth=1.0,
                 label="full model \u03c4")
         ax.plot(data.x, tau_s[:, i], color=_SIMPLIFIED, linestyle="--", linewidth=1.2,
-                label="simplified model \u03c4\u209b")
+                label="simplified model")
         lo, hi = _limits(tau[:, i], tau_s[:, i])
         ax.set_ylim(lo, hi)
         pad = (hi - lo) / 1.2 * 0.1

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..ranking.ranking import element_label, parse_element_label
 from .figure_style import element_markevery
-from .markup import element
+from .markup import element, sub
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
@@ -58,8 +58,14 @@ def element_scale(labels: Sequence[str], peak_total: npt.NDArray[np.float64],
     return out
 
 
+#: The simplified model's torque tau_s and the subscript s of its D, h and c, set as
+#: subscripts (8 pt at least in the PDF), not as Unicode's small letters.
+_S = sub("s")
+_TAU_S = "\u03c4" + _S
+
+
 def _math(label):
-    """An element's label as mathematics, its index a subscript: "D12" -> D₁₂ (marked)."""
+    """An element's label as mathematics, its index a subscript: "D12" -> D with 12 marked."""
 
     return element(label[0], label[1:])
 
@@ -195,7 +201,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         text = str(shown[kind][k])
         return text.replace(" ", "\u00a0") if kind == "rel" else _qty_text(text, u)
 
-    third = (f"Its largest open-loop torque error (\u03c4\u209b \u2212 \u03c4 along the "
+    third = (f"Its largest open-loop torque error ({_TAU_S} \u2212 \u03c4 along the "
              f"trajectory) is {cell('rel', worst, 100 * rel[worst], '%')} of peak |\u03c4| at "
              f"joint {worst + 1} ({cell('abs', worst, abs_peak[worst], unit[worst])} of "
              f"{cell('tau', worst, tau_peak[worst], unit[worst])})")
@@ -296,8 +302,9 @@ def simplified_intro(form: str, gravity: str | None = None) -> str:
 
     Examples
     --------
-    >>> simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1]
-    'it keeps c whole: τₛ = Dₛ q̈ + hₛ + c.'
+    >>> from gd_analyze.report.markup import plain
+    >>> plain(simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1])
+    'it keeps c whole: τs = Ds q̈ + hs + c.'
     """
     if form == "recursive":
         return ("The simplified model is the customized recursive Newton-Euler model on the "
@@ -308,10 +315,10 @@ def simplified_intro(form: str, gravity: str | None = None) -> str:
             "elements of D (mirrored to the lower triangle)")
     if gravity and gravity.startswith("keeps c whole"):
         return (head + " and h left out by its rule (Sec. 5.3); it keeps c whole: "
-                "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+                f"{_TAU_S} = D{_S} q\u0308 + h{_S} + c.")
     what = ", h and terms of c" if gravity else ", h and c"
     return (head + what + " left out by its rule (Sec. 5.3): "
-            "\u03c4\u209b = D\u209b q\u0308 + h\u209b + c\u209b.")
+            f"{_TAU_S} = D{_S} q\u0308 + h{_S} + c{_S}.")
 
 
 def gravity_clause(rule: str, gravity_dropped: Sequence[str] | None = None,
@@ -489,9 +496,9 @@ def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] |
     -------
     dict of str to str
         By figure key. ``torque`` is the caption of
-        :func:`gd_analyze.report.main_figures.fig_torque` (τ and τₛ), the figure of a results
+        :func:`gd_analyze.report.main_figures.fig_torque` (τ and tau_s), the figure of a results
         file without the simplified-model variables; for one with them the report draws
-        τₛ − τ and its bound and takes that figure's caption
+        tau_s − τ and its bound and takes that figure's caption
         (:func:`gd_analyze.report.simplified_section.simplified_caption`), as
         :func:`gd_analyze.report.main_context.report_context` does.
     """
@@ -519,16 +526,17 @@ def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] |
         "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
              f"[{u['D']}], "
              f"split into their translational and rotational parts (analogue of Fig. 3.10). "
-             f"{how}. Panel title: element and its class (s = {s}, e = {e}), in the class's "
+             f"{how}. Panel title: element, written D(i,j) for {element('D', 'ij')}, and its "
+             f"class (s = {s}, e = {e}), in the class's "
              "colour (key below the panels); an element that is zero in every part (\u2261 0), "
              "whose share is not defined, has no panel: the note below names it.",
         "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time "
              f"[{u['tau']}] (analogue of "
              "Fig. 3.11), "
-             f"on panels of the size of those of D. {how}.",
+             f"on panels of the size of those of D, titled h(i). {how}.",
         "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "
-                  f"model \u03c4\u209b (green, dashed) against time [{u['tau']}]; the title "
-                  "gives the "
+                  f"model {_TAU_S} (green, dashed) against time [{u['tau']}] (joint i's axis: "
+                  "\u03c4(i)); the title gives the "
                   "peak error in % of the joint's peak |\u03c4|.",
         "payload": "Translational share and class of each element against the load mass "
                    "(top), and peak joint torques (bottom).",

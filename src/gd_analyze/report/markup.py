@@ -1,6 +1,7 @@
 """Mathematics and code in the reports' text: subscripts, superscripts and code, written once,
 shown as HTML tags in ``report.html`` and typeset as such by Typst in ``report.pdf``
-(:func:`spans`); figures letter them as Unicode sub- and superscript characters (:func:`label`).
+(:func:`spans`); figures write an element's index in parentheses, D(1,2), and its part as Unicode
+superscript characters (:func:`label`): Unicode's subscript characters print under 8 pt.
 
 A string of a report's context may hold spans marked with :func:`sub`, :func:`sup` and
 :func:`code` (private use characters; :func:`clean` drops them from the dataset's text
@@ -33,8 +34,8 @@ if TYPE_CHECKING:
     from markupsafe import Markup
 
 __all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
-           "unicode", "spans", "plain", "clean", "visible", "label", "scope", "powers", "TRAN",
-           "ROT"]
+           "unicode", "spans", "plain", "clean", "visible", "label", "marked", "scope", "powers",
+           "TRAN", "ROT"]
 
 #: Start of a subscript, of a superscript, end of either, start of code (Unicode private use
 #: area).
@@ -180,10 +181,10 @@ def tau(index: str | None = None, simplified: bool = False) -> str:
     return "\u03c4" + (sub("s") if simplified else "") + (sub(index) if index else "")
 
 
-def label(text: str) -> str:
-    """An element's label as figures letter it: mathematics in Unicode sub- and superscript
-    characters (no mathtext to parse), from the label of
-    :func:`gd_analyze.ranking.labels.element_label`.
+def marked(text: str) -> str:
+    """An element's label as the text and tables of the reports write it: its index marked as
+    a subscript and its part as a superscript (set as such: 8 pt at least in the PDF), from
+    the label of :func:`gd_analyze.ranking.labels.element_label`.
 
     Parameters
     ----------
@@ -194,18 +195,50 @@ def label(text: str) -> str:
     Returns
     -------
     str
-        ``"D\u2081\u2082"``, ``"D\u2081,\u2081\u2080"``, ``"h\u2083"``,
-        ``"D\u1d62\u2c7c\u1d57\u02b3\u1d43\u207f"``; any other text unchanged.
+        The marked label (:func:`element`); any other text unchanged.
 
     Examples
     --------
-    >>> label("D12"), label("D1,10"), label("h3"), label("D_ij^tran"), label("joint 1")
-    ('D₁₂', 'D₁,₁₀', 'h₃', 'Dᵢⱼᵗʳᵃⁿ', 'joint 1')
+    >>> marked("D12") == "D" + sub("12"), marked("joint 1")
+    (True, 'joint 1')
     """
     m = _LABEL.fullmatch(str(text))
     if m is None:
         return str(text)
-    return unicode(element(m.group(1), m.group(2) or m.group(3) or "", m.group(4)))
+    return element(m.group(1), m.group(2) or m.group(3) or "", m.group(4))
+
+
+def label(text: str) -> str:
+    """An element's label as figures letter it, without subscripts: the index in parentheses,
+    as a matrix's entry, D(1,2), h(3), D(i,j) (Unicode's small subscript characters, and
+    mathtext's scripts at 70 % of their text, print under the reports' 8 pt); a part as
+    Unicode superscript characters. No mathtext to parse.
+
+    Parameters
+    ----------
+    text : str
+        ``"D12"``, ``"D1,10"`` (n >= 10), ``"h3"``, or a symbol with its part and index,
+        ``"D_ij^tran"`` (index after ``_``, part after ``^``).
+
+    Returns
+    -------
+    str
+        ``"D(1,2)"``, ``"D(1,10)"``, ``"h(3)"``, ``"D(i,j)\u1d57\u02b3\u1d43\u207f"``; any
+        other text unchanged.
+
+    Examples
+    --------
+    >>> label("D12"), label("D1,10"), label("h3"), label("D_ij^tran"), label("joint 1")
+    ('D(1,2)', 'D(1,10)', 'h(3)', 'D(i,j)ᵗʳᵃⁿ', 'joint 1')
+    """
+    m = _LABEL.fullmatch(str(text))
+    if m is None:
+        return str(text)
+    index = m.group(2) or m.group(3) or ""
+    if index and "," not in index and (m.group(1) == "D" or m.group(3)) and len(index) == 2:
+        index = ",".join(index)                         # D12 -> 1,2; D_ij -> i,j
+    return (m.group(1) + (f"({index})" if index else "")
+            + unicode(sup(m.group(4)) if m.group(4) else ""))
 
 
 _LABEL = re.compile(r"([Dhc\u03c4X])(?:([1-9][0-9]*(?:,[1-9][0-9]*)?)|_([a-z0-9,]+))?"

@@ -39,7 +39,8 @@ __all__ = ["simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OF
            "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
-SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u03c4\u209b \u2212 \u03c4 [{units}], "
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u0394\u03c4 = \u03c4" + _sub("s")
+                      + " \u2212 \u03c4 [{units}], "
                       "per joint against time, with the bound \u00b1 (dotted), {where}, "
                       + ROUND_OFF_CLAUSE + ". The joints whose model "
                       "drops nothing (bound 0) get no panel: the note below names them; their "
@@ -73,6 +74,8 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
 
 
 _S_I = "s" + _sub("i")
+#: The simplified model's torque, its subscript set as such (8 pt at least in the PDF).
+_TAU_S = "\u03c4" + _sub("s")
 _EPS_S = "\u03b5\u00b7" + _S_I
 _TAU_I, _TAU_J = "\u03c4" + _sub("i"), "\u03c4" + _sub("j")
 _D_IJ = _el("D", "ij")
@@ -215,7 +218,7 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
                                                   s.bound_gravity)]
     bound = table(
         ["joint", "units", f"scale {_S_I}", "bound", *parts,
-         "measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
+         f"measured peak |{_TAU_S}\u00a0\u2212\u00a0\u03c4|", f"measured / {_S_I}"],
         [[str(i + 1), units[i], _num(scale[i]),
           num(s.bound[i], i), *(num(part[i], i) for part in parts_bound),
           *([] if whole is None else [num(whole[i], i)]),
@@ -235,7 +238,7 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
         region = s.guarantee_kind == "region"
         has_bound = lad.worst_bound is not None
         ladder = table(["\u03b5", "operations", "sin + cos",
-                        f"worst measured peak |\u03c4\u209b\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
+                        f"worst measured peak |{_TAU_S}\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
                         "this trajectory" + ("" if has_bound else " (guaranteed \u2264 \u03b5)")]
                        + ([f"largest bound / {_S_I}, "
                            + ("proved over the joint-limit region" if region else
@@ -490,7 +493,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         range padded so that neither the error nor the bound touches the frame; the legend
         above the panels, clear of every curve. The joints whose difference and bound are
         round-off (:func:`_round_off`, :data:`gd_analyze.ranking.ranking.ROUND_OFF`)
-        get no panel: a note below names them ("nothing dropped: τₛ = τ up to round-off")
+        get no panel: a note below names them ("nothing dropped: Δτ = 0 up to round-off")
         with their peak difference.
     """
     from matplotlib.figure import Figure
@@ -528,8 +531,8 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
             str(i + 1) for i in quiet)
         note = textwrap.fill(
-            f"Nothing dropped for {what} (bound 0): \u03c4\u209b = \u03c4 up to round-off, "
-            f"not drawn (peak |\u03c4\u209b \u2212 \u03c4|, joint {peaks}).",
+            f"Nothing dropped for {what} (bound 0): \u0394\u03c4 = 0 up to round-off, "
+            f"not drawn (peak |\u0394\u03c4|, joint {peaks}).",
             int((W - 0.3) / 0.075))
     note_h = 0.12 + 0.16 * (note.count("\n") + 1) if quiet else 0.0
     H = (top + rows * h + (rows - 1) * hgap + bottom if shown else 0.1) + note_h
@@ -552,10 +555,10 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         ax.set_xlabel("t [s]", fontsize=8, labelpad=1.0)
         ax.tick_params(labelsize=7)
         which = "" if column else f" (joint {i + 1})"   # a column's panels are short
-        ax.set_ylabel(f"\u03c4\u209b \u2212 \u03c4{which} [{units[i]}]", fontsize=8,
+        ax.set_ylabel(f"\u0394\u03c4{which} [{units[i]}]", fontsize=8,
                       labelpad=1.0)
         line, = ax.plot(t, diff[:, i], color="#D55E00", linewidth=1.1,
-                        label="\u03c4\u209b \u2212 \u03c4")
+                        label="\u0394\u03c4")
         span = [0.0]
         if diff.size and np.isfinite(diff[:, i]).any():
             span += [float(np.nanmin(diff[:, i])), float(np.nanmax(diff[:, i]))]

@@ -362,16 +362,16 @@ def _fig_error(w, width=_PAGE_WIDTH):
     if column:
         ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
-    ax.set_ylabel("peak |\u03c4\u209b \u2212 \u03c4| / peak |\u03c4| [1]" if not region else
-                  "peak |\u03c4\u209b \u2212 \u03c4| / s\u1d62 [1]")    # one scale for all
+    ax.set_ylabel("peak |\u0394\u03c4| / peak |\u03c4| [1]" if not region else
+                  "peak |\u0394\u03c4| / s [1]")    # one scale for all
     own_rule, rule = m.own_rule, m.rule
     no_bound = {"chapter": ", no bound"}
     merged_rule = (f"budget rule, \u03b5 = {float(m.tolerance):g}"
-                   + ("; / s\u1d62 over the region" if region else "")
+                   + ("; / s over the region" if region else "")
                    if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
                               f"{no_bound.get(own_rule, '')}"
-                              + ("; / s\u1d62 over the region" if region else "")
+                              + ("; / s over the region" if region else "")
                               + "), per trajectory"),
                        Line2D([], [], color=_MERGED_COLOUR,
                               label=f"merged model ({merged_rule}), per trajectory"),

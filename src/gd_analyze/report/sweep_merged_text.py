@@ -330,7 +330,8 @@ _MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant
                 "element, both if neither dominates, nothing if negligible). The merged model is "
                 "one model for the whole sweep: a part of an element is dropped only where every "
                 "trajectory's model drops it. The chapter rule drops parts of D and h only, "
-                "never a term of gravity: \u03c4\u209b = D\u209b q\u0308 + h\u209b + c.")
+                "never a term of gravity: \u03c4" + _sub("s") + " = D" + _sub("s")
+                + " q\u0308 + h" + _sub("s") + " + c.")
 _SI = "s" + _sub("i")
 _TAU_I = "\u03c4" + _sub("i")
 

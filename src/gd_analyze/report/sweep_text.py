@@ -340,7 +340,8 @@ _INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inerti
 SWEEP_CAPTIONS = {
     "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
          "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
-         "thresholds s and 1 \u2212 s dashed. Panel title: element and the merged model's "
+         "thresholds s and 1 \u2212 s dashed. Panel title: element (D(i,j) for "
+         + _el("D", "ij") + ") and the merged model's "
          "choice; bottom line: fraction of trajectories per class.",
     "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
          + _el("h", "i") + " over the "
@@ -414,5 +415,7 @@ def _captions(m):
                   + (f"; every mark relative to one scale, the merged model's {_SI} over the "
                      "region" if region else "; each relative to the peak |\u03c4| of its "
                      "trajectory (the diamond: over all of them)")
-                  + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn."),
+                  + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn. "
+                  f"The figure writes \u0394\u03c4 for \u03c4{_sub('s')} \u2212 \u03c4"
+                  + (f" and s for {_SI}" if region else "") + "."),
     }
