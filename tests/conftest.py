@@ -23,9 +23,13 @@ def two_link():
     return load_robot("two-link")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def cluster():
-    """A dask LocalCluster of 2 worker processes and its client, for the sweep tests."""
+    """A dask LocalCluster of 2 worker processes and its client, for the sweep tests: started
+    once a session per xdist worker (its start and its workers' warm-up cost seconds), shared
+    by the modules that sweep on it (tests/jobs/test_sweep.py, test_sweep_budget.py,
+    test_sweep_budget_region.py, test_dask_cluster.py). Tests must not stop it or its
+    workers (a test that kills a worker starts a cluster of its own)."""
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None,
