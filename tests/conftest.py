@@ -23,9 +23,13 @@ def two_link():
     return load_robot("two-link")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def cluster():
-    """A dask LocalCluster of 2 worker processes and its client, for the sweep tests."""
+    """A dask LocalCluster of 2 worker processes and its client, for the sweep tests: started
+    once a session per xdist worker (its start and its workers' warm-up cost seconds), shared
+    by the modules that sweep on it (tests/jobs/test_sweep.py, test_sweep_budget.py,
+    test_sweep_budget_region.py, test_dask_cluster.py). Tests must not stop it or its
+    workers (a test that kills a worker starts a cluster of its own)."""
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None,
@@ -192,8 +196,8 @@ def shared_reports():
 
     ``{"ur5": (folder, "report"), "sweep": (folder, "sweep_report")}``: the main job on the
     UR5's shipped trajectory, and the sweep of the PUMA 560 over its shipped trajectory twice
-    (one worker, none held out), each with its report, all defaults. Shared: tests must not
-    modify them.
+    (ranked in the command's own process, none held out), each with its report, all
+    defaults. Shared: tests must not modify them.
     """
     from gd_analyze.cli import main
 
@@ -202,7 +206,7 @@ def shared_reports():
     def build(tmp):
         assert main(["ur5", str(ROOT / "data" / "ur5_trajectory.csv"), "-o", str(tmp / "ur5"),
                      "-q"]) == 0
-        assert main(["sweep", "puma560", csv, csv, "--workers", "1", "--held-out", "0", "-o",
+        assert main(["sweep", "puma560", csv, csv, "--held-out", "0", "-o",
                      str(tmp / "sweep"), "-q"]) == 0
     tmp = built_once("shared_reports", build)
     return {"ur5": (tmp / "ur5", "report"), "sweep": (tmp / "sweep", "sweep_report")}

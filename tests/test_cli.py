@@ -260,7 +260,7 @@ def test_sweep_command_on_csv_files(tmp_path, capsys, puma_analysis):
     assert _run(["plan", "puma560", "-o", other, "--start", "0,45,-90,0,30,0", "--goal",
                  "90,100,-30,45,-30,90"], capsys)[0] == 0
     out_dir = tmp_path / "sw"
-    code, out, err = _run(["sweep", "puma560", SHIPPED, other, "-o", out_dir, "--workers", "1",
+    code, out, err = _run(["sweep", "puma560", SHIPPED, other, "-o", out_dir,
                            "--no-report", "--payload-sweep", "0:1:1"], capsys)
     assert code == 0, err
     assert "2 trajectories" in out
@@ -467,7 +467,7 @@ def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
     import xarray as xr
 
     out_dir = tmp_path / "sweep"
-    code, out, _ = _run(["sweep", "two-link", "--random", "2", "--workers", "1", "--held-out",
+    code, out, _ = _run(["sweep", "two-link", "--random", "2", "--held-out",
                          "0", "--no-report", "-o", out_dir, "--form", form], capsys)
     assert code == 0 and f"{form} form" in out
     assert json.loads((out_dir / "merged_model.json").read_text())["form"] == form

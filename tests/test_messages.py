@@ -196,7 +196,7 @@ def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, cap
     # over the region, D_s's proof keeps the 0.01 model nearly exact: 0.05 lets errors grow
     eps = 0.01 if guarantee == "trajectory" else 0.05
     code, out, err = _run(capsys, "sweep", "puma560", *csvs, "--torque-floor", "1",
-                          "--held-out", "0", "--workers", "1", "--no-report", "-o",
+                          "--held-out", "0", "--no-report", "-o",
                           tmp_path / "sw", "--guarantee", guarantee, "--tolerance", str(eps))
     assert code == 0, err
     line = next(x for x in out.splitlines() if x.startswith("merged model"))

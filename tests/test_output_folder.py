@@ -122,7 +122,7 @@ def test_case2_control_into_a_main_jobs_folder_keeps_the_main_jobs_files(job, ca
 def test_case2_sweep_into_a_main_jobs_folder_keeps_the_main_jobs_files(job, capsys):
     out = job / "out"
     main_files = _tree(out)
-    code, _, err = _run(["sweep", "two-link", "--random", "2", "--workers", "1", "--no-report",
+    code, _, err = _run(["sweep", "two-link", "--random", "2", "--no-report",
                          "-o", out, "-q"], capsys)
     assert code == 0, err
     after = _tree(out)

@@ -116,7 +116,7 @@ def test_guarantee_region_the_files_say_it_and_it_holds(tmp_path, capsys):
     from html_checks import html_text
 
     out = tmp_path / "region"
-    code, printed = _sweep(["puma560", "--random", "3", "--seed", "4", "--workers", "1",
+    code, printed = _sweep(["puma560", "--random", "3", "--seed", "4",
                             "--held-out", "2", "--guarantee", "region", "-o", out], capsys)
     assert code == 0, printed
     spec = json.loads((out / "merged_model.json").read_text())
@@ -155,7 +155,7 @@ def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsy
     from gd_analyze import load_robot
     from gd_analyze.certify.region import missing_limits
 
-    code, printed = _sweep(["puma560", "--random", "2", "--workers", "1", "--held-out", "0",
+    code, printed = _sweep(["puma560", "--random", "2", "--held-out", "0",
                             "--no-report", "-o", tmp_path / "puma"], capsys)
     assert code == 0, printed
     spec = json.loads((tmp_path / "puma" / "merged_model.json").read_text())
@@ -168,7 +168,7 @@ def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsy
         write_trajectory(tr, csvs[-1])
     for extra in ([], ["--guarantee", "region"]):    # no region to prove over: trajectory
         out = tmp_path / f"free{len(extra)}"
-        code, printed = _sweep([free, *csvs, "--workers", "1", "--held-out", "0",
+        code, printed = _sweep([free, *csvs, "--held-out", "0",
                                 "--no-report", "-o", out, *extra], capsys)
         assert code == 0, printed
         spec = json.loads((out / "merged_model.json").read_text())
@@ -196,7 +196,7 @@ def test_a_swept_trajectory_outside_the_region_is_reported(tmp_path, capsys):
     for name, tr in (("a", plans[0]), ("b", plans[1]), ("fast", fast)):
         csvs.append(tmp_path / f"{name}.csv")
         write_trajectory(tr, csvs[-1])
-    code, printed = _sweep(["puma560", *csvs, "--workers", "1", "--held-out", "0",
+    code, printed = _sweep(["puma560", *csvs, "--held-out", "0",
                             "--no-report", "-o", tmp_path / "out"], capsys)
     assert code == 0, printed
     line = next(x for x in printed.splitlines() if x.startswith("not covered by the region"))
@@ -235,7 +235,7 @@ def test_users_region_is_printed_and_stored_by_the_sweep(tmp_path, capsys):
     merged_model.json store it; the robot's random trajectories that leave it are not
     covered."""
     out = tmp_path / "user"
-    code, printed = _sweep(["two-link", "--random", "3", "--seed", "4", "--workers", "1",
+    code, printed = _sweep(["two-link", "--random", "3", "--seed", "4",
                             "--held-out", "0", "--no-report", "-o", out, "--qd-max", "30",
                             "--qdd-max", "60"], capsys)
     assert code == 0, printed

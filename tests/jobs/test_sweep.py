@@ -401,7 +401,7 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     trajs = [read_trajectory(p, 6) for p in csvs]
     capsys.readouterr()
     out_b = tmp_path / "budget"
-    assert main(["sweep", "puma560", *csvs, "-o", str(out_b), "--workers", "1",
+    assert main(["sweep", "puma560", *csvs, "-o", str(out_b),
                  "--tolerance", "0.01", "--torque-floor", "1", "--held-out", "0",
                  "--guarantee", "trajectory"]) == 0              # the merge on each trajectory
     printed = capsys.readouterr().out
@@ -428,7 +428,7 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     # "no error bound" only of the per-trajectory models of the chapter rule, never the merged
     assert "onservative" not in html and html.count("no error bound") == html.count(_OWN)
     out_c = tmp_path / "chapter"
-    assert main(["sweep", "puma560", *csvs, "-o", str(out_c), "--workers", "1",
+    assert main(["sweep", "puma560", *csvs, "-o", str(out_c),
                  "--rule", "chapter", "--no-report"]) == 0
     assert "no error bound" in capsys.readouterr().out
     assert json.loads((out_c / "merged_model.json").read_text())["rule"] == "chapter"

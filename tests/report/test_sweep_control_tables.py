@@ -41,7 +41,7 @@ def runs(request, shared_control):
     folder, argv = shared_control(name)
 
     def build(tmp):
-        assert main(["sweep", name, "--random", "3", "--seed", "2", "--workers", "1",
+        assert main(["sweep", name, "--random", "3", "--seed", "2",
                      "--held-out", "0", "-o", str(tmp / "sweep"), "-q", "--no-report"]) == 0
 
     tmp = built_once(f"sweep-control-tables-{name}", build)

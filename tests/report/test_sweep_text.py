@@ -30,7 +30,7 @@ def _rows(html, anchor):
 def swept(request, shared_main):
     """The sweep of the PUMA 560 by a rule, with its report: run once a session, shared by the
     xdist workers (tests/conftest.py's ``shared_main``, keyed by the arguments); read only."""
-    out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1", "--workers", "1",
+    out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1",
                       "--held-out", "0", "--rule", request.param)
     return request.param, out
 
@@ -162,7 +162,7 @@ def test_held_out_error_is_reported_as_measured(tmp_path, guarantee):
     import json
 
     out = tmp_path / "sweep"
-    assert main(["sweep", "puma560", "--random", "2", "--seed", "1", "--workers", "1",
+    assert main(["sweep", "puma560", "--random", "2", "--seed", "1",
                  "--held-out", "2", "-o", str(out), "-q", "--guarantee", guarantee]) == 0
     spec = json.loads((out / "merged_model.json").read_text())
     held = spec["validation"]["held_out"]

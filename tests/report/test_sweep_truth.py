@@ -30,7 +30,7 @@ def _sweep(shared_main, robot, rule):
     """A sweep whose budget rule merges on the swept trajectories (their scales s_i), with its
     report: run once a session, shared by the xdist workers (tests/conftest.py's
     ``shared_main``, keyed by the arguments); read only."""
-    return shared_main("sweep", robot, "--random", "3", "--seed", "1", "--workers", "1",
+    return shared_main("sweep", robot, "--random", "3", "--seed", "1",
                        "--held-out", "0", "--rule", rule, "--guarantee", "trajectory")
 
 
@@ -140,7 +140,7 @@ def test_one_duration_said_once(tmp_path):
         assert main(["plan", "puma560", "-o", str(path), "--setpoints", str(k)]) == 0
         csvs.append(str(path))
     out = tmp_path / "sweep"
-    assert main(["sweep", "puma560", *csvs, "--workers", "1", "--held-out", "0", "-o", str(out),
+    assert main(["sweep", "puma560", *csvs, "--held-out", "0", "-o", str(out),
                  "-q"]) == 0
     html = (out / "sweep_report.html").read_text()
     row = [r for r in _table_rows(html, "Table 1.1") if r[0] == "duration [s]"][0]
@@ -172,7 +172,7 @@ def test_ur5_errors_from_the_urdfs_decimals_are_round_off(tmp_path_factory):
     runs = {}
     for name, robot in (("as-written", "ur5"), ("exact", str(exact))):
         out = tmp_path_factory.mktemp(name)
-        assert main(["sweep", robot, "--random", "6", "--seed", "1", "--workers", "1",
+        assert main(["sweep", robot, "--random", "6", "--seed", "1",
                      "--held-out", "0", "-o", str(out), "-q", "--form", "explicit",
                      "--guarantee", "trajectory",              # the pruned explicit merge
                      *(["--no-report"] if name == "exact" else [])]) == 0   # its data only

@@ -165,8 +165,8 @@ def test_stored_attributes_follow_the_joint_types(stanford):
 def test_sweep_report_and_dataset_give_n_for_the_prismatic_joint(tmp_path):
     out = tmp_path / "sweep"
     assert main(["sweep", "stanford", str(ROOT / "data" / "stanford_trajectory.csv"),
-                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out), "--workers",
-                 "1", "--held-out", "0", "-q"]) == 0
+                 str(ROOT / "data" / "stanford_trajectory.csv"), "-o", str(out),
+                 "--held-out", "0", "-q"]) == 0
     html = (out / "sweep_report.html").read_text()
     table = next(t for t in tables_of(html) if t and t[0][:2] == ["joint", "peak |\u03c4|"])
     assert [row[table[0].index("units")] for row in table[1:]] == [
