@@ -484,7 +484,7 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
     titled = {shown(lab): lab for lab in labels}        # D(1,2) -> D12
     panels = 0
     for ax in fig.axes:
-        element = titled.get(ax.get_title().split(" ")[0].rstrip(":"))
+        element = titled.get((ax.get_title().split() or [""])[0].rstrip(":"))
         if element is None:
             continue
         panels += 1
@@ -507,7 +507,8 @@ def test_sweep_panel_titles_say_the_part_kept(sweep):
     words = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
              "pruned": "pruned"}
     figs = make_sweep_figures(sweep)
-    titles = [ax.get_title() for key in ("D", "h") for ax in figs[key].axes if ax.get_title()]
+    titles = [" ".join(ax.get_title().split())          # a title of two lines read as one
+              for key in ("D", "h") for ax in figs[key].axes if ax.get_title()]
     checked = 0
     for lab in labels:
         title = next((t for t in titles if t.startswith(shown(lab) + ":")), None)

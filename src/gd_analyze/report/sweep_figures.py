@@ -150,11 +150,9 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    # a narrow (column) panel: two lines; one line, wider than its panel, is raised clear
-    # of the top tick label "1" that it overhangs
     ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
-                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5 if two_lines else 5.0,
-                 linespacing=1.0)
+                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5,
+                 linespacing=1.0)           # a narrow panel: two lines
     ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
                   color="0.15")
 
@@ -191,16 +189,16 @@ def _fig_D(w, width=_PAGE_WIDTH):
         return _fig_D_column(w, width)
     n, labels, share, merged, frac, zero, s = _shares(w)
     W = _PAGE_WIDTH
-    H = 0.8 + n * 0.72 + (n - 1) * 0.42
+    H = 0.98 + n * 0.72 + (n - 1) * 0.52                # titles of two lines
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.5, bottom=0.3, wgap=0.28, hgap=0.42)
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.52)
     for i in range(n):
         for j in range(i, n):
             label = element_label("D", i, j)
             k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
             _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
-                         zero=zero[:, k])
+                         zero=zero[:, k], two_lines=True)
             ax.tick_params(labelleft=(i == j))
     if n > 1:
         k = n // 2
