@@ -18,45 +18,36 @@ from gd_analyze.trajectory.planning import acceleration_limits
 STATES = 100_000
 
 
-def _mixed():
-    """A general chain with two prismatic joints, full inertia tensors, limits on every joint."""
+def _chain(name, prismatic, rotation_seed):
+    """A general chain with full inertia tensors and limits on every joint, prismatic at the
+    joints ``prismatic`` (a tuple of flags), revolute elsewhere, each placement randomly
+    rotated."""
     from scipy.spatial.transform import Rotation
 
     rng = np.random.default_rng(5)
     joints = []
-    for i in range(5):
+    for i, pris in enumerate(prismatic):
         B = rng.normal(size=(3, 3)) * 0.1
         S = B @ B.T
-        pris = i in (1, 3)
         joints.append({
             "type": "prismatic" if pris else "revolute",
-            "rotation": Rotation.random(random_state=500 + i).as_matrix(),
+            "rotation": Rotation.random(random_state=rotation_seed + i).as_matrix(),
             "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
             "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
             "q_min": -0.4 if pris else -2.5, "q_max": 0.4 if pris else 2.5,
             "qd_max": 0.5 if pris else 2.0, "qdd_max": 1.0 if pris else 3.0})
-    return robot_from_chain("mixed", joints, [0.5, -1.0, -9.5], source="<test>")
+    return robot_from_chain(name, joints, [0.5, -1.0, -9.5], source="<test>")
+
+
+def _mixed():
+    """A general chain with two prismatic joints, full inertia tensors, limits on every joint."""
+    return _chain("mixed", (False, True, False, True, False), 500)
 
 
 def _prismatic_first():
     """A chain whose first joint is prismatic on an oblique axis, then two revolute joints:
     some columns' velocity terms involve one joint only (qd_2^2), with no pair of joints."""
-    from scipy.spatial.transform import Rotation
-
-    rng = np.random.default_rng(5)
-    joints = []
-    for i in range(3):
-        B = rng.normal(size=(3, 3)) * 0.1
-        S = B @ B.T
-        pris = i == 0
-        joints.append({
-            "type": "prismatic" if pris else "revolute",
-            "rotation": Rotation.random(random_state=700 + i).as_matrix(),
-            "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
-            "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
-            "q_min": -0.4 if pris else -2.5, "q_max": 0.4 if pris else 2.5,
-            "qd_max": 0.5 if pris else 2.0, "qdd_max": 1.0 if pris else 3.0})
-    return robot_from_chain("prismatic-first", joints, [0.5, -1.0, -9.5], source="<test>")
+    return _chain("prismatic-first", (True, False, False), 700)
 
 
 def _robot(name):
