@@ -5,7 +5,7 @@ from its PDF as a reader's tools see it (poppler's pdftotext, pypdf for the type
   (Figs. 2 and 3 stood two and three pages after the text they belong to);
 - no text, the figures' included, prints under 8 pt (the figures' subscripts of q_d, tau_s
   and tau_f, mathtext's, printed at 5.6 pt);
-- no page ends with a heading;
+- no page ends with a heading, and the last page is not near-empty;
 - the text layer reads q̈ and q̇ with their subscript d as one word, once ("q̈d", not
   "q̈q̈" nor "q̈ d"), and the subscripts s and i as letters, not Unicode's small ones.
 """
@@ -13,9 +13,9 @@ from its PDF as a reader's tools see it (poppler's pdftotext, pypdf for the type
 import re
 
 import pytest
-from pdf_checks import figure_pages, page_lines, printed_sizes
+from pdf_checks import figure_pages, last_page_fill, page_lines, printed_sizes
 
-from gd_analyze.report.typeset import MARGINS, MIN_PRINTED_PT
+from gd_analyze.report.typeset import MARGINS, MIN_PRINTED_PT, NEAR_EMPTY
 
 #: Over 5 s on an idle machine (the shared PUMA 560 runs): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -43,6 +43,12 @@ def test_every_figure_on_the_page_of_its_first_citation_or_the_next(pdf):
 def test_no_text_prints_under_8_pt(pdf):
     small = [s for s in printed_sizes(pdf) if s[1] < MIN_PRINTED_PT - 1e-6]
     assert not small, small[:5]
+
+
+def test_last_page_is_not_near_empty(pdf):
+    """The report ends on a page at least a third full (it ended on one holding the
+    provenance table alone, 29 % full)."""
+    assert last_page_fill(pdf, MARGINS) >= NEAR_EMPTY
 
 
 def test_no_page_ends_with_a_heading(pdf):
