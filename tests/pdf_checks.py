@@ -11,7 +11,8 @@ import html
 import re
 import subprocess
 
-__all__ = ["info", "font_types", "text", "words"]
+__all__ = ["info", "font_types", "text", "words", "printed_sizes", "page_lines",
+           "figure_pages", "last_page_fill", "CITATION"]
 
 
 def _run(*args):
@@ -74,3 +75,48 @@ def printed_sizes(path):
                             t.strip()))
         page.extract_text(visitor_text=visit)
     return out
+
+
+#: "Fig. 2" cites the report's own Fig. 2; "Fig. 3.10" (the book's) does not.
+CITATION = re.compile(r"\bFig\. (\d+)(?![.\d]*\d)")
+
+
+def page_lines(path, bottom_margin):
+    """Per page: its lines of text above the footer (the bottom margin [in]), in reading
+    order, from pdftotext's word boxes (a line: the words whose tops lie within 2 pt)."""
+    pages = []
+    for _, height, ws in words(path):
+        foot = height - 72 * bottom_margin
+        lines = []
+        for word, x0, y0, _, y1 in sorted((w for w in ws if w[4] < foot),
+                                          key=lambda w: (round(w[2] / 2), w[1])):
+            if lines and abs(lines[-1][0] - y0) <= 2.0:
+                lines[-1][1].append((x0, word))
+            else:
+                lines.append((y0, [(x0, word)]))
+        pages.append([" ".join(w for _, w in sorted(ws_)) for _, ws_ in lines])
+    return pages
+
+
+def figure_pages(pages):
+    """({figure: page of its first citation}, {figure: page of its caption}) of a report's
+    :func:`page_lines`; pages from 1."""
+    cited, placed = {}, {}
+    for k, lines in enumerate(pages, 1):
+        for line in lines:
+            m = re.match(r"Figure (\d+)\. ", line)
+            if m:
+                placed.setdefault(int(m.group(1)), k)
+            else:
+                for n in CITATION.findall(line):
+                    cited.setdefault(int(n), k)
+    return cited, placed
+
+
+def last_page_fill(path, margins):
+    """How full the last page's body is: the foot of its lowest word above the footer, from
+    the top margin, over the body's height; ``margins`` [in]: (left and right, top, bottom)."""
+    _, height, ws = words(path)[-1]
+    top, foot = 72 * margins[1], height - 72 * margins[2]
+    lowest = max((w[4] for w in ws if w[4] < foot), default=top)
+    return (lowest - top) / (foot - top)

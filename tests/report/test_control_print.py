@@ -5,7 +5,7 @@ from its PDF as a reader's tools see it (poppler's pdftotext, pypdf for the type
   (Figs. 2 and 3 stood two and three pages after the text they belong to);
 - no text, the figures' included, prints under 8 pt (the figures' subscripts of q_d, tau_s
   and tau_f, mathtext's, printed at 5.6 pt);
-- no page ends with a heading;
+- no page ends with a heading, and the last page is not near-empty;
 - the text layer reads q̈ and q̇ with their subscript d as one word, once ("q̈d", not
   "q̈q̈" nor "q̈ d"), and the subscripts s and i as letters, not Unicode's small ones.
 """
@@ -13,15 +13,12 @@ from its PDF as a reader's tools see it (poppler's pdftotext, pypdf for the type
 import re
 
 import pytest
-from pdf_checks import printed_sizes, words
+from pdf_checks import figure_pages, last_page_fill, page_lines, printed_sizes
 
-from gd_analyze.report.typeset import MARGINS, MIN_PRINTED_PT
+from gd_analyze.report.typeset import MARGINS, MIN_PRINTED_PT, NEAR_EMPTY
 
 #: Over 5 s on an idle machine (the shared PUMA 560 runs): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
-
-#: "Fig. 2" cites the report's own Fig. 2; "Fig. 3.10" (the book's) does not.
-_CITATION = re.compile(r"\bFig\. (\d+)(?![.\d]*\d)")
 
 
 @pytest.fixture(scope="module")
@@ -31,33 +28,12 @@ def pdf(shared_puma):
 
 
 def _page_lines(path):
-    """Per page: its lines of text above the footer, in reading order, from pdftotext's word
-    boxes (a line: the words whose tops lie within 2 pt)."""
-    pages = []
-    for _, height, ws in words(path):
-        foot = height - 72 * MARGINS[2]
-        lines = []
-        for word, x0, y0, _, y1 in sorted((w for w in ws if w[4] < foot),
-                                          key=lambda w: (round(w[2] / 2), w[1])):
-            if lines and abs(lines[-1][0] - y0) <= 2.0:
-                lines[-1][1].append((x0, word))
-            else:
-                lines.append((y0, [(x0, word)]))
-        pages.append([" ".join(w for _, w in sorted(ws_)) for _, ws_ in lines])
-    return pages
+    """Per page: its lines of text above the footer, in reading order."""
+    return page_lines(path, MARGINS[2])
 
 
 def test_every_figure_on_the_page_of_its_first_citation_or_the_next(pdf):
-    pages = _page_lines(pdf)
-    cited, placed = {}, {}
-    for k, lines in enumerate(pages, 1):
-        for line in lines:
-            m = re.match(r"Figure (\d+)\. ", line)
-            if m:
-                placed.setdefault(int(m.group(1)), k)
-            else:
-                for n in _CITATION.findall(line):
-                    cited.setdefault(int(n), k)
+    cited, placed = figure_pages(_page_lines(pdf))
     assert sorted(placed) == [1, 2, 3], placed
     assert set(cited) == set(placed), (cited, placed)
     for n, page in placed.items():
@@ -67,6 +43,12 @@ def test_every_figure_on_the_page_of_its_first_citation_or_the_next(pdf):
 def test_no_text_prints_under_8_pt(pdf):
     small = [s for s in printed_sizes(pdf) if s[1] < MIN_PRINTED_PT - 1e-6]
     assert not small, small[:5]
+
+
+def test_last_page_is_not_near_empty(pdf):
+    """The report ends on a page at least a third full (it ended on one holding the
+    provenance table alone, 29 % full)."""
+    assert last_page_fill(pdf, MARGINS) >= NEAR_EMPTY
 
 
 def test_no_page_ends_with_a_heading(pdf):

@@ -58,9 +58,11 @@ FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
 
 
 #: Height [in] of a row of panels at page width, by the number of columns (three narrower
-#: panels a row are drawn lower: a six-joint figure in two rows is half a page, so that a
-#: figure prints on the page of the text citing it or the next).
-_ROW_HEIGHT = {1: 1.9, 2: 1.9, 3: 1.5}
+#: panels a row are drawn lower: a six-joint figure in two rows is under half a page, so that
+#: a figure prints on the page of the text citing it or the next, and the PUMA 560's report,
+#: its three figures of six joints, ends on a full page rather than one holding its
+#: provenance alone).
+_ROW_HEIGHT = {1: 1.9, 2: 1.9, 3: 1.3}
 #: Horizontal room between panels at page width [share of a panel's width], by the number of
 #: columns: a narrower panel needs a larger share for its neighbour's tick labels and label.
 _WSPACE = {1: 0.3, 2: 0.3, 3: 0.5}

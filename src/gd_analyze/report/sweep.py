@@ -65,9 +65,19 @@ SWEEP_REPORT_FORMATS = ("html", "pdf")
 # HTML and PDF
 # --------------------------------------------------------------------------------------------
 
+def _cites(o, ctx, key):
+    """The sentence citing the outline ``o``'s next figure, ``key`` ("Fig. 2 shows ..."), or
+    "" if that figure was not drawn."""
+    if key not in o.available:
+        return ""
+    return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}"
+
+
 def _outline(ctx, figures):
     """The sweep report's sections, once, for the HTML and the PDF
-    (:class:`gd_analyze.report.sections.Outline`)."""
+    (:class:`gd_analyze.report.sections.Outline`): each figure right under the paragraph
+    citing it ("Fig. 2 shows ..."), its table after it; Sec. 5.1's table, which its paragraph
+    describes first, comes before its figure."""
     o = Outline(ctx["title"], figures)
     o.paragraph(ctx["worst"], "lead")
     o.paragraph(ctx["summary"], "summary")
@@ -76,14 +86,15 @@ def _outline(ctx, figures):
     o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
             size=7)
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
-    o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]), "note")
+    o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]) + " " + _cites(o, ctx, "D"), "note")
     o.figure("D", ctx["captions"]["D"])
     o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
+    o.paragraph(_cites(o, ctx, "h"), "note")
     o.figure("h", ctx["captions"]["h"])
     o.section("4", "Envelope per element", "envelope")
     o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
-                "median and largest translational share over the trajectories. "
-                + ctx["captions"]["none"], "note")
+                "median and largest translational share over the trajectories (Table 4.1). "
+                + ctx["captions"]["none"] + " " + _cites(o, ctx, "classes"), "note")
     o.figure("classes", ctx["captions"]["classes"])
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
@@ -96,7 +107,7 @@ def _outline(ctx, figures):
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
     o.section("5.1", "Open-loop torque error over all trajectories")
-    o.paragraph(ctx["error_text"], "note")
+    o.paragraph(ctx["error_text"] + " " + _cites(o, ctx, "error"), "note")
     o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
                           "of all trajectories; \u2261 0: round-off (at most "
                           f"{_TINY} of the joint's peak |\u03c4| or of the arm's), not data.")
@@ -110,7 +121,7 @@ def _outline(ctx, figures):
         o.section("6", "Payload sweep", "payload")
         o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)
         o.paragraph("Elements whose class changes with the payload: "
-                    f"{ctx['payload']['changed']}.", "strong")
+                    f"{ctx['payload']['changed']}. " + _cites(o, ctx, "payload"), "strong")
         o.figure("payload", SWEEP_CAPTIONS["payload"])
         o.table(ctx["payload"]["table"], "Class of each element per payload mass.")
     return o

@@ -34,7 +34,7 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..store.sweep_view import MergedModel
 
-__all__ = ["make_sweep_figures", "REQUIRED", "KEPT"]
+__all__ = ["make_sweep_figures", "error_marks", "REQUIRED", "KEPT", "ERROR_FLOOR"]
 
 
 # The choices of the merged model in the colours of their classes.
@@ -49,7 +49,7 @@ _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
 #: Width of every figure: the text of a page [in]; the column versions' [in].
 _PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 #: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
-_ERROR_FLOOR = ROUND_OFF
+ERROR_FLOOR = ROUND_OFF
 
 
 #: The reports' rule for round-off, in words (:func:`gd_analyze.ranking.ranking.is_round_off`).
@@ -189,9 +189,9 @@ def _fig_D(w, width=_PAGE_WIDTH):
         return _fig_D_column(w, width)
     n, labels, share, merged, frac, zero, s = _shares(w)
     W = _PAGE_WIDTH
-    H = 0.98 + n * 0.72 + (n - 1) * 0.52                # titles of two lines
+    H = 0.98 + n * 0.56 + (n - 1) * 0.46                # titles of two lines
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.52)
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.46)
     for i in range(n):
         for j in range(i, n):
             label = element_label("D", i, j)
@@ -246,7 +246,7 @@ def _fig_h(w, width=_PAGE_WIDTH):
     column = width < _PAGE_WIDTH
     rows, cols = grid_shape(n, 2 if column else 3)
     W = width
-    H = (2.3 + 1.6 * rows) if column else (2.45 + 1.9 * rows)
+    H = (2.3 + 1.6 * rows) if column else (2.45 + 1.55 * rows)
     fig = Figure(figsize=(W, H))
     # the key below the panels takes up to six lines at the printed 8 pt, under the last
     # row's tick and class labels
@@ -280,7 +280,7 @@ def _fig_classes(w, width=_PAGE_WIDTH):
     merged = list(w.merged.choice)
     M = len(labels)
     column = width < _PAGE_WIDTH
-    W, H = width, (1.9 if column else 1.5) + 0.17 * M
+    W, H = width, (1.9 if column else 1.5) + (0.17 if column else 0.14) * M
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
                        (W - (1.4 if column else 2.6)) / W,
@@ -308,22 +308,34 @@ def _fig_classes(w, width=_PAGE_WIDTH):
     return fig
 
 
-def _fig_error(w, width=_PAGE_WIDTH):
-    from matplotlib.figure import Figure
-    from matplotlib.lines import Line2D
-    from matplotlib.ticker import NullFormatter
+def error_marks(ds: StoredSweep | xr.Dataset
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """What the torque-error figure draws: the relative peak torque errors of the own and
+    the merged models per trajectory and joint, and of the merged model over all
+    trajectories, round-off (:func:`torque_error_round_off`) set to 0.
 
+    Parameters
+    ----------
+    ds : StoredSweep or xarray.Dataset
+        The stored sweep (K trajectories, n joints).
+
+    Returns
+    -------
+    own, merged : ndarray, shape (K, n)
+        Peak error / that trajectory's peak |tau| [1] (/ the merged model's s_i over the
+        region for a region model).
+    overall : ndarray, shape (n,)
+        The merged model's peak error over all trajectories / the peak |tau| over all of them
+        [1] (/ the largest s_i for a region model).
+    region : bool
+        Whether every mark is relative to the merged model's s_i over the region.
+    """
+    w = StoredSweep.of(ds)
     m = w.merged
-    n = w.joints
-    own = w.tau_error_relative_peak
-    merged = w.merged_tau_error_relative_peak
-    overall = w.merged_error_relative_peak
-    column = width < _PAGE_WIDTH
-    W, H = width, (3.9 if column else 3.6)
-    fig = Figure(figsize=(W, H))
-    ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
-                       (H - (2.05 if column else 1.6)) / H))
-    region = m.region and m.scale is not None
+    own = np.asarray(w.tau_error_relative_peak, float)
+    merged = np.asarray(w.merged_tau_error_relative_peak, float)
+    overall = np.asarray(w.merged_error_relative_peak, float)
+    region = bool(m.region and m.scale is not None)
     if region:                  # one scale for every mark: the merged model's s_i (region)
         s_i = np.asarray(m.scale, float)          # (K, n): the same rows
         s_i = np.where(s_i > 0, s_i, np.inf)
@@ -335,10 +347,26 @@ def _fig_error(w, width=_PAGE_WIDTH):
                       merged)
     overall = np.where(torque_error_round_off(m, w.merged_error_peak,
                                               w.merged_error_tau_peak), 0.0, overall)
+    return own, merged, overall, region
+
+
+def _fig_error(w, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullFormatter
+
+    m = w.merged
+    n = w.joints
+    own, merged, overall, region = error_marks(w)
+    column = width < _PAGE_WIDTH
+    W, H = width, (3.9 if column else 3.1)
+    fig = Figure(figsize=(W, H))
+    ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
+                       (H - (2.05 if column else 1.6)) / H))
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
-            vals = data[np.isfinite(data) & (data > _ERROR_FLOOR)]     # round-off: not drawn
+            vals = data[np.isfinite(data) & (data > ERROR_FLOOR)]     # round-off: not drawn
             if not vals.size:
                 continue
             bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
@@ -346,11 +374,11 @@ def _fig_error(w, width=_PAGE_WIDTH):
             for key in ("boxes", "whiskers", "caps", "medians"):
                 for line in bp[key]:
                     line.set(color=colour, linewidth=0.9)
-        if np.isfinite(overall[j]) and overall[j] > _ERROR_FLOOR:
+        if np.isfinite(overall[j]) and overall[j] > ERROR_FLOOR:
             ax.plot(j + 1.18, overall[j], marker="D", ms=4, color="#CC79A7", ls="none")
         finite = np.concatenate([own[:, j], merged[:, j]])
         finite = finite[np.isfinite(finite)]
-        if finite.size and (finite <= _ERROR_FLOOR).all():
+        if finite.size and (finite <= ERROR_FLOOR).all():
             ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
                     ha="center", va="center", fontsize=7, color="0.35")
     ax.set_yscale("log")

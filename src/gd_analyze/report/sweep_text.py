@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._version import VERSION as __version__
+from ..ranking.ranking import CLASSES
 from ..store.sweep_view import PayloadSweep, StoredSweep
 from .common import attr_text as _text
 from .common import (
@@ -29,7 +30,12 @@ from .main_text import gravity_clause
 from .markup import element as _el
 from .markup import scope as scope_markup
 from .markup import sub as _sub
-from .sweep_figures import TORQUE_ROUND_OFF_WORDS, torque_error_round_off
+from .sweep_figures import (
+    ERROR_FLOOR,
+    TORQUE_ROUND_OFF_WORDS,
+    error_marks,
+    torque_error_round_off,
+)
 from .sweep_merged_text import (
     _SI,
     _TAU_I,
@@ -155,6 +161,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "envelope": envelope, "error": err, "cost": cost_table(m.costs),
            "error_text": _error_text(m),
            "captions": _captions(m),
+           "figure_text": _figure_text(w, zero, counts),
            "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "K": K,
            "created": utc_now().isoformat(),
@@ -166,6 +173,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         dom = part.dominance.reshape(part.share_tran.shape)
         rows = [[lab, *(dom[p, k] for p in range(len(masses)))] for k, lab in enumerate(plabels)]
         changed = [lab for k, lab in enumerate(plabels) if len(set(dom[:, k])) > 1]
+        ctx["figure_text"]["payload"] = _payload_text(masses)
         ctx["payload"] = {
             "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
                             colour_cols=list(range(1, len(masses) + 1))),
@@ -341,7 +349,7 @@ SWEEP_CAPTIONS = {
     "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
          "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
          "thresholds s and 1 \u2212 s dashed. Panel title: element (D(i,j) for "
-         + _el("D", "ij") + ") and the merged model's "
+         + _el("D", "ij") + ", in row i and column j) and the merged model's "
          "choice; bottom line: fraction of trajectories per class.",
     "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
          + _el("h", "i") + " over the "
@@ -356,13 +364,11 @@ SWEEP_CAPTIONS = {
 }
 
 SHARE_TEXT = ("For each trajectory and element X, the translational share is \u03a3|"
-               + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
-               + _el("X", "", "rot") + "|) over its set points. One panel per element "
-               + _el("D", "ij") + " with i \u2264 j (row i, column j): a box of the share over "
-               "the trajectories (quartiles; whiskers at the minimum and maximum; the coloured "
-               "bar is the median), with the thresholds s and 1 \u2212 s dashed. A share above s = {s} is translational, below "
-               "1 \u2212 s rotational, in between both, unless the element is negligible (peak "
-               "below e = {e} times its scale).")
+              + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
+              + _el("X", "", "rot") + "|) over its set points. A share above s = {s} is "
+              "translational, below 1 \u2212 s rotational, in between both, unless the element "
+              "is negligible (peak below e = {e} times its scale). The figures draw the share "
+              "over the trajectories as a box per element (their captions and keys say how).")
 
 
 def _own_sentence(w):
@@ -419,3 +425,122 @@ def _captions(m):
                   f"The figure writes \u0394\u03c4 for \u03c4{_sub('s')} \u2212 \u03c4"
                   + (f" and s for {_SI}" if region else "") + "."),
     }
+
+
+# --------------------------------------------------------------------------------------------
+# The sentences that cite the figures ("Fig. 2 shows ..."): what each figure shows of this sweep
+# --------------------------------------------------------------------------------------------
+
+#: At most this many elements are named in a list of a figure's sentence; the rest counted.
+_NAMED = 6
+
+
+def _names(labels):
+    """Elements as mathematics, at most :data:`_NAMED` of them named ("D11, D12 and 3
+    more")."""
+    said = [_element(lab) for lab in labels[:_NAMED]]
+    more = len(labels) - len(said)
+    if more:
+        return ", ".join(said) + f" and {count(more)} more"
+    return said[0] if len(said) == 1 else ", ".join(said[:-1]) + " and " + said[-1]
+
+
+def _steady(fractions):
+    """The class an element holds on every trajectory (its class fractions), or None."""
+    k = int(np.argmax(fractions))
+    return CLASSES[k] if np.isclose(fractions[k], 1.0) else None
+
+
+def _share_sentence(w, symbol, zero):
+    """What the share figure of D or of h shows of this sweep: how many of its elements hold
+    one class on every trajectory (by class), which change class, which are round-off on every
+    trajectory, and the widest box; a predicate ("shows ...")."""
+    labels = list(w.elements)
+    mine = [k for k, lab in enumerate(labels) if lab.startswith(symbol)]
+    K = w.trajectories
+    frac = np.asarray(w.class_fraction, float)
+    off = [k for k in mine if zero[k]]
+    rest = [k for k in mine if not zero[k]]
+    steady = {c: [k for k in rest if _steady(frac[k]) == c] for c in CLASSES}
+    varying = [k for k in rest if _steady(frac[k]) is None]
+    every = "the trajectory" if K == 1 else "every trajectory"
+    text = (f"shows the translational share of each of the {len(mine)} elements of {symbol} "
+            + ("along the one trajectory: " if K == 1 else f"over the {K} trajectories: "))
+    held = [f"{count(len(ks))} {c}" for c, ks in steady.items() if ks]
+    n_held = sum(len(ks) for ks in steady.values())
+    parts = []
+    if n_held:
+        parts.append(f"{count(n_held)} {'is' if n_held == 1 else 'are'} of one class on "
+                     f"{every} ({', '.join(held)})")
+    if K > 1:
+        parts.append((f"{count(len(varying))} change{'s' if len(varying) == 1 else ''} class "
+                      f"from one trajectory to another ({_names([labels[k] for k in varying])})")
+                     if varying else "none changes class from one trajectory to another")
+    if off:
+        parts.append(f"{count(len(off))} {'is' if len(off) == 1 else 'are'} round-off on "
+                     f"{every} (\u2261 0, no share drawn: {_names([labels[k] for k in off])})")
+    text += "; ".join(parts) + "."
+    spread = np.asarray(w.share_max, float) - np.asarray(w.share_min, float)
+    ranged = [k for k in rest if np.isfinite(spread[k])]
+    if K > 1 and ranged:
+        k = max(ranged, key=lambda k: spread[k])
+        text += (f" The widest box is that of {_element(labels[k])}, from "
+                 f"{_share_text(w.share_min[k])} to {_share_text(w.share_max[k])}"
+                 if spread[k] > 0 else
+                 " Every element has the same share on every trajectory")
+        text += "."
+    return text
+
+
+def _classes_sentence(w, zero, counts):
+    """What the class-fraction figure shows of this sweep: how many bars are of one colour,
+    and the merged model's choices beside them; a predicate."""
+    frac = np.asarray(w.class_fraction, float)
+    M, K = len(w.elements), w.trajectories
+    one = sum(_steady(frac[k]) is not None for k in range(M))
+    choices = ", ".join(f"{c} {count(k)}" for c, k in counts.items() if k)
+    return (f"shows the fraction of the {K} trajector{'y' if K == 1 else 'ies'} in each class "
+            f"for all {M} elements, with the merged model's choice beside each bar ({choices})"
+            + (f"; {count(one)} of the {M} bars are of one colour: the element is of one class "
+               "on every trajectory" if K > 1 else "") + ".")
+
+
+def _error_sentence(w):
+    """What the torque-error figure shows of this sweep: the largest relative peak error of
+    the merged and of the own models, and the joints where the merged model's is round-off on
+    every trajectory (not drawn); from the marks the figure draws
+    (:func:`gd_analyze.report.sweep_figures.error_marks`); a predicate."""
+    own, merged, _, region = error_marks(w)
+    scale = f"{_SI} over the region" if region else "that trajectory's peak |\u03c4|"
+
+    def largest(marks):
+        drawn = np.where(np.isfinite(marks) & (marks > ERROR_FLOOR), marks, -np.inf)
+        if not np.isfinite(drawn).any():
+            return "round-off on every joint and trajectory"
+        k, j = np.unravel_index(np.argmax(drawn), drawn.shape)
+        return f"at most {_pct(drawn[k, j])} of {scale} (joint {j + 1})"
+
+    quiet = [j + 1 for j in range(w.joints)
+             if not (np.isfinite(merged[:, j]) & (merged[:, j] > ERROR_FLOOR)).any()]
+    text = (f"shows the relative peak errors per trajectory and joint: the merged model's is "
+            f"{largest(merged)}, each trajectory's own model's {largest(own)}")
+    if quiet and len(quiet) < w.joints:
+        text += (f"; on joint{'s' if len(quiet) > 1 else ''} "
+                 f"{', '.join(map(str, quiet))} the merged model's error is round-off on every "
+                 "trajectory and not drawn")
+    return text + "."
+
+
+def _payload_text(masses):
+    """What the payload figure shows: the share and class of every element against the
+    payload mass, and the peak torques; a predicate."""
+    return (f"shows the translational share and the class of every element at each of the "
+            f"{len(masses)} payload masses ({', '.join(f'{m:g}' for m in masses)} kg), and "
+            "the peak |\u03c4| per joint below.")
+
+
+def _figure_text(w, zero, counts):
+    """Each figure's sentence, by key, without its subject ("shows ..."): the report writes
+    "Fig. 2 " before it, with the number the outline gives the figure."""
+    return {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
+            "classes": _classes_sentence(w, zero, counts), "error": _error_sentence(w)}

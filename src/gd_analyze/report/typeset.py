@@ -14,6 +14,8 @@ fits there, else at the top of the next page with the text after it filling the 
 that opens its section stays under its heading; the figures keep their order), never splits a
 paragraph over two pages, keeps each heading with
 what follows it, breaks long tables over pages with their header repeated, sets a report whose
+last page would hold a figure alone again with no figure floating past the next heading (the
+figure heads that page with the rest of its section), sets a report whose
 last page would hold a few lines (:data:`NEAR_EMPTY`) again with less space between lines,
 blocks and table rows if that saves the page, sets the sub- and
 superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
@@ -272,6 +274,18 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
     inputs = {"gd-data": json.dumps(data, ensure_ascii=False)}
     inputs.update({f"gd-figure-{k}": svg for k, (svg, _) in figures.items()})
     pdf, end = _compile("report.typ", inputs, created, end=True)
+    if end["page"] > 1 and end.get("alone"):
+        # a last page holding a figure alone: set again with no figure floating past the next
+        # heading (the figure heads its page with the rest of its section), kept if that
+        # ends no later and not so
+        data["barrier"] = True
+        inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
+        barred, end_barred = _compile("report.typ", inputs, created, end=True)
+        if end_barred["page"] <= end["page"] and not end_barred.get("alone"):
+            pdf, end = barred, end_barred
+        else:
+            data["barrier"] = False
+            inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
     if end["page"] > 1 and end["fill"] < NEAR_EMPTY:
         # a last page of a few lines: set tighter, kept if that saves the page
         data["tight"] = True

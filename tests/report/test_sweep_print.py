@@ -1,0 +1,160 @@
+"""The sweep report's figures as cited and placed: its text cites every figure by number ("Fig.
+2 shows ..."), in the HTML and in the PDF's text layer, each figure is set on the page of its
+first citation or the next, no page holds a figure alone (the PUMA 560's sweep over two
+random trajectories ended on a page holding Fig. 4 and nothing else), and the last page is at
+least a third full. The sentences that cite the share figures are checked against the stored
+classes of every trajectory (sweep.h5's ``dominance`` and ``round_off``), not against the
+report's own tables; Fig. 4's against the stored torque errors.
+"""
+
+import re
+
+import numpy as np
+import pytest
+import xarray as xr
+from html_checks import html_text
+from pdf_checks import CITATION, figure_pages, last_page_fill, page_lines, text
+
+from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY
+
+#: Over 5 s on an idle machine (the shared sweeps): run on one interpreter in CI.
+pytestmark = pytest.mark.slow
+
+#: A sweep whose classes change from one trajectory to another, and whose report ended on a
+#: page holding Fig. 4 alone: the PUMA 560 over two random trajectories, all defaults.
+_RANDOM = ("sweep", "puma560", "--random", "2")
+
+
+@pytest.fixture(scope="module", params=["twice", "random"])
+def report(request, shared_reports, shared_main):
+    """(folder, stem) of a sweep report: the shared PUMA 560 sweep over its shipped trajectory
+    twice, and :data:`_RANDOM` (run once a session, shared: read only)."""
+    if request.param == "twice":
+        return shared_reports["sweep"]
+    return shared_main(*_RANDOM), "sweep_report"
+
+
+def _figure_captions(html):
+    """{n: the caption of Figure n, its words one space apart} of a report's HTML."""
+    out = {}
+    for c in re.findall(r"<figcaption>(.*?)</figcaption>", html, flags=re.S):
+        words = " ".join(html_text(c, nbsp=True).split())
+        m = re.match(r"Figure (\d+)\. ", words)
+        if m:
+            out[int(m.group(1))] = words
+    return out
+
+
+def test_every_figure_is_cited_in_the_html_text(report):
+    folder, stem = report
+    html = (folder / f"{stem}.html").read_text(encoding="utf-8")
+    figures = sorted(_figure_captions(html))
+    assert figures == [1, 2, 3, 4], figures
+    # the text outside the captions cites each figure: "Fig. 2 shows ..."
+    words = html_text(re.sub(r"<figcaption>.*?</figcaption>", "", html, flags=re.S))
+    assert sorted({int(n) for n in CITATION.findall(words)}) == figures
+    for n in figures:
+        assert re.search(rf"\bFig\. {n} shows ", words), n
+
+
+def test_every_figure_is_cited_in_the_pdf_text_layer(report):
+    folder, stem = report
+    cited, placed = figure_pages(page_lines(folder / f"{stem}.pdf", MARGINS[2]))
+    assert sorted(placed) == [1, 2, 3, 4], placed
+    assert sorted(cited) == sorted(placed), (cited, placed)
+    assert all(re.search(rf"\bFig\. {n}\s+shows ", text(folder / f"{stem}.pdf"))
+               for n in placed)
+
+
+def test_every_figure_on_the_page_of_its_first_citation_or_the_next(report):
+    folder, stem = report
+    cited, placed = figure_pages(page_lines(folder / f"{stem}.pdf", MARGINS[2]))
+    for n, page in placed.items():
+        assert cited[n] <= page <= cited[n] + 1, (n, cited[n], page)
+
+
+def test_no_page_holds_a_figure_alone(report):
+    """No page holds a figure and its caption and nothing else: a page that ends with a
+    figure's caption (its last lines are the caption's characters) has a heading, a table's
+    caption or a citation above the figure."""
+    folder, stem = report
+    captions = _figure_captions((folder / f"{stem}.html").read_text(encoding="utf-8"))
+    pages = page_lines(folder / f"{stem}.pdf", MARGINS[2])
+    for k, lines in enumerate(pages, 1):
+        starts = [i for i, line in enumerate(lines) if re.match(r"Figure \d+\. ", line)]
+        if not starts:
+            continue
+        i = starts[-1]
+        n = int(re.match(r"Figure (\d+)\. ", lines[i]).group(1))
+        tail = " ".join(" ".join(lines[i:]).split())
+        # the same characters (pdftotext sets a subscript on a line of its own, after its line)
+        if sorted(tail.replace(" ", "")) != sorted(captions[n].replace(" ", "")):
+            continue                        # text after the caption: not the figure alone
+        own = [line for line in lines[:i]
+               if re.match(r"(\d+(\.\d+)*\.? [A-Z]|Table \d+\.\d+: )", line)
+               or CITATION.search(line)]
+        assert own, (k, n, lines[:4])
+
+
+def test_last_page_is_not_near_empty(report):
+    folder, stem = report
+    assert last_page_fill(folder / f"{stem}.pdf", MARGINS) >= NEAR_EMPTY
+
+
+def _sentence(words, n):
+    """The sentence that cites Fig. n."""
+    return re.search(rf"Fig\. {n} shows (.*?\.)(?= [A-Z]|$)", words).group(1)
+
+
+def test_share_figures_sentences_say_the_stored_classes(report, request):
+    """The sentences of Figs. 1 and 2 name the elements that change class from one
+    trajectory to another, and count those of one class on every trajectory, as sweep.h5's
+    classes per trajectory give them (round-off on every trajectory counted apart)."""
+    folder, stem = report
+    words = html_text((folder / f"{stem}.html").read_text(encoding="utf-8"), nbsp=True)
+    with xr.open_dataset(folder / "sweep.h5") as ds:
+        labels = [str(x) for x in ds["element"].values]
+        dominance = ds["dominance"].values.astype(str)          # (K, M)
+        zero = ds["round_off"].values.astype(bool).all(axis=0)
+    changing_anywhere = False
+    for n, symbol in ((1, "D"), (2, "h")):
+        said = _sentence(words, n)
+        mine = [k for k, lab in enumerate(labels) if lab.startswith(symbol) and not zero[k]]
+        varying = [labels[k] for k in mine if len(set(dominance[:, k])) > 1]
+        steady = len(mine) - len(varying)
+        changing_anywhere |= bool(varying)
+        assert f"of each of the {sum(lab.startswith(symbol) for lab in labels)} elements" in said
+        if varying:
+            m = re.search(r"(\d+) changes? class from one trajectory to another \(([^)]*)\)",
+                          said)
+            assert m and int(m.group(1)) == len(varying), said
+            named = [re.sub(r"\s", "", x) for x in re.split(r", | and ", m.group(2))]
+            if "more" not in m.group(2):
+                assert sorted(named) == sorted(varying), (named, varying)
+        else:
+            assert "none changes class" in said, said
+        if steady:
+            assert re.search(rf"\b{steady} (is|are) of one class on every trajectory", said), said
+        off = [labels[k] for k in range(len(labels)) if zero[k] and labels[k].startswith(symbol)]
+        assert ("round-off on every trajectory" in said) == bool(off), said
+    if request.node.callspec.params["report"] == "random":     # its classes do change
+        assert changing_anywhere
+
+
+def test_error_figure_sentence_names_the_joints_where_the_merged_error_is_round_off(report):
+    """Fig. 4's sentence: the merged model's largest relative peak error, as a percentage, and
+    the joints on which it is round-off on every trajectory, from sweep.h5 (at most 1e-12 of the
+    joint's or the arm's peak |tau| on every trajectory: nothing drawn there)."""
+    folder, stem = report
+    words = html_text((folder / f"{stem}.html").read_text(encoding="utf-8"), nbsp=True)
+    said = _sentence(words, 4)
+    with xr.open_dataset(folder / "sweep.h5") as ds:
+        err = ds["merged_tau_error_peak"].values
+        tau = ds["tau_peak"].values
+    arm = tau.max(axis=1, keepdims=True)               # the PUMA 560: revolute joints only
+    quiet = [j + 1 for j in range(err.shape[1])
+             if np.all(err[:, j] <= 1e-12 * np.maximum(tau[:, j:j + 1], arm)[:, 0])]
+    m = re.search(r"on joints? ([\d, ]+) the merged model's error is round-off", said)
+    assert (sorted(map(int, m.group(1).split(", "))) if m else []) == \
+        (quiet if len(quiet) < err.shape[1] else []), said
+    assert re.search(r"the merged model's is at most [\d.]+ % of ", said), said
