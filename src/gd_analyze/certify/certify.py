@@ -429,7 +429,7 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
     done_u = np.zeros((3, n, cols.size))
     leaves, boxes = [], []
     inherited = np.full((1, 3, n, cols.size), np.inf)
-    source = np.zeros((1, 3, n, cols.size), np.int64)    # the box each least comes from
+    source = np.zeros((1, 3, n, cols.size), np.int32)    # the box each least comes from
     witness = []
     evaluated = 0
     target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
@@ -439,8 +439,8 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
         E = _enclose(robot, lo, hi, cols, region, absb, zero)
         U = np.minimum(E, inherited)
         # on a tie the ancestor's (the shallowest box reaching the least) is the witness
-        source = np.where(E < inherited,
-                          (evaluated + np.arange(lo.shape[0]))[:, None, None, None], source)
+        source = np.where(E < inherited, (evaluated + np.arange(
+            lo.shape[0], dtype=np.int32))[:, None, None, None], source)
         del E
         evaluated += lo.shape[0]
         upper = np.maximum(done_u, U.max(axis=0))
