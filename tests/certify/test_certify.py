@@ -18,28 +18,42 @@ from gd_analyze.trajectory.planning import acceleration_limits
 STATES = 100_000
 
 
-def _mixed():
-    """A general chain with two prismatic joints, full inertia tensors, limits on every joint."""
+def _chain(name, prismatic, rotation_seed):
+    """A general chain with full inertia tensors and limits on every joint, prismatic at the
+    joints ``prismatic`` (a tuple of flags), revolute elsewhere, each placement randomly
+    rotated."""
     from scipy.spatial.transform import Rotation
 
     rng = np.random.default_rng(5)
     joints = []
-    for i in range(5):
+    for i, pris in enumerate(prismatic):
         B = rng.normal(size=(3, 3)) * 0.1
         S = B @ B.T
-        pris = i in (1, 3)
         joints.append({
             "type": "prismatic" if pris else "revolute",
-            "rotation": Rotation.random(random_state=500 + i).as_matrix(),
+            "rotation": Rotation.random(random_state=rotation_seed + i).as_matrix(),
             "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
             "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
             "q_min": -0.4 if pris else -2.5, "q_max": 0.4 if pris else 2.5,
             "qd_max": 0.5 if pris else 2.0, "qdd_max": 1.0 if pris else 3.0})
-    return robot_from_chain("mixed", joints, [0.5, -1.0, -9.5], source="<test>")
+    return robot_from_chain(name, joints, [0.5, -1.0, -9.5], source="<test>")
+
+
+def _mixed():
+    """A general chain with two prismatic joints, full inertia tensors, limits on every joint."""
+    return _chain("mixed", (False, True, False, True, False), 500)
+
+
+def _prismatic_first():
+    """A chain whose first joint is prismatic on an oblique axis, then two revolute joints:
+    some columns' velocity terms involve one joint only (qd_2^2), with no pair of joints."""
+    return _chain("prismatic-first", (True, False, False), 700)
 
 
 def _robot(name):
-    return _mixed() if name == "mixed" else load_robot(name)
+    if name == "mixed":
+        return _mixed()
+    return _prismatic_first() if name == "prismatic-first" else load_robot(name)
 
 
 def _states(region, count, seed):
@@ -66,7 +80,7 @@ def _rnea(robot, q, qd, qdd):
 
 
 @pytest.mark.parametrize("name,eps", [("puma560", 0.05), ("puma560", 0.01), ("panda", 0.02),
-                                      ("ur5", 0.05), ("mixed", 0.05)])
+                                      ("ur5", 0.05), ("mixed", 0.05), ("prismatic-first", 0.05)])
 def test_the_region_bound_holds_at_every_sampled_state(name, eps):
     robot = _robot(name)
     region = joint_region(robot, acceleration_limits(robot)[0])
@@ -185,15 +199,17 @@ def test_the_tree_tiles_the_region_and_gives_the_same_bounds_again():
         np.testing.assert_array_equal(getattr(again, f), getattr(pb, f), err_msg=f)
 
 
-def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box():
+@pytest.mark.parametrize("name", ["mixed", "prismatic-first"])
+def test_the_sampled_peaks_search_every_vertex_of_the_velocity_box(name):
     """Oracle: each pair's velocity peak at a position by brute force over all 2^n vertices
-    of the velocity box; the peaks over the joints each column involves must equal it."""
+    of the velocity box; the peaks over the joints each column involves must equal it. The
+    prismatic-first chain has columns whose velocity terms involve a single joint."""
     import itertools
 
     from gd_analyze.certify.certify import pair_magnitudes_at
     from gd_analyze.certify.region import channel_values, full_channels, sample_positions
 
-    robot = _mixed()
+    robot = _robot(name)
     base = base_parameters(robot)
     region = joint_region(robot, np.asarray(robot.qdd_max, float))
     cols = np.flatnonzero(base.independent.reshape(-1))

@@ -209,7 +209,8 @@ def _vertex_peaks(V, S, ms, packed, qd_max):
     for a in range(0, B, rows):
         block = V[a:a + rows][:, :, :, ms]                              # (r, C, n, g)
         d = np.einsum("rcig,c->rgi", block[:, diag], w_diag)
-        mid = 2.0 * block[:, pairs].transpose(0, 3, 2, 1).reshape(-1, j.size)   # (r g n, P)
+        mid = 2.0 * block[:, pairs].transpose(0, 3, 2, 1).reshape(
+            d.size, j.size)                                             # (r g n, P)
         top, bottom = vertex_extremes(mid, j, l, w_off, S.size, widen=False)
         top, bottom = top.reshape(d.shape), bottom.reshape(d.shape)
         out[a:a + rows] = np.maximum(d + top, -(d + bottom))
