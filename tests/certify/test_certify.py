@@ -367,3 +367,41 @@ def test_boxes_are_cut_along_the_joints_their_open_columns_depend_on():
     # first; box 2: joint 2 (demand 2 against 1); joint 6 is the widest but wanted by none
     assert joints.tolist() == [1, 1, 1]
     assert _bisect(lo, hi, rel)[2].tolist() == [5, 5, 5]
+
+
+def test_the_witnessed_enclosures_alone_give_the_bounds_and_wrong_ones_only_larger():
+    """Oracle: the read-back evaluating every box of the tree. On the (box, link) pairs the
+    certification's witnesses name alone, the bounds are the same bit for bit, with fewer
+    enclosures evaluated; witnesses left out or added at random never give a bound below
+    them (+inf where a final box has none), and random states' contributions stay within
+    the bounds derived with them."""
+    from gd_analyze.certify.certify import certify, certify_tree, pair_magnitudes_at
+    from gd_analyze.certify.region import channel_values, region_samples
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    values = region_samples(robot, base, region, samples=100)
+    pb = certify(robot, base, region, samples=100, max_boxes=64, values=values)
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    links = np.unique(cols // 10).size
+    assert pb.witness.shape == (pb.boxes, robot.n) and pb.witness.sum() < pb.boxes * links
+    full = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values)
+    named = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values,
+                         witness=pb.witness)
+    for f in ("bound", "leaves", "zero"):
+        np.testing.assert_array_equal(getattr(named, f), getattr(full, f), err_msg=f)
+    rng = np.random.default_rng(8)
+    q = rng.uniform(region.q_min, region.q_max, (300, robot.n))
+    at = pair_magnitudes_at(channel_values(robot, q, cols), np.asarray(base.beta, float),
+                            region.qd_max, region.qdd_max).max(axis=0)        # (b, 3, n)
+    for trial in range(4):
+        wrong = pb.witness ^ (rng.random(pb.witness.shape) < 0.3)
+        other = certify_tree(robot, base, region, pb.split_joint, pb.split_at, values,
+                             witness=wrong)
+        assert np.all(other.leaves >= full.leaves) and np.all(other.bound >= full.bound)
+        # the parts proved zero are 0; at the states, their round-off
+        assert np.all(at <= other.bound + 1e-12 * pb.scale), (at - other.bound).max()
+    with pytest.raises(ValueError, match="witness"):
+        certify_tree(robot, base, region, pb.split_joint, pb.split_at, values,
+                     witness=pb.witness[:-1])

@@ -353,3 +353,24 @@ def test_channel_values_store_each_velocity_pair_once(name):
     zero = np.zeros_like(qd)
     ref = _rnea(robot, q, qd, zero) - _rnea(robot, q, zero, zero)
     assert np.abs(vel - ref).max() <= 1e-10 * np.abs(ref).max()
+
+
+def test_the_sampled_torques_above_a_limit_are_those_of_the_full_search():
+    """Oracle: worst_states, every velocity vertex at every position. worst_above gives its
+    largest |tau_i| wherever that exceeds the limit, and at most the limit elsewhere, for
+    limits below, at and above the sampled maxima."""
+    from gd_analyze.certify.region import worst_above
+
+    robot = load_robot("panda")
+    base = base_parameters(robot)
+    region = joint_region(robot, np.full(robot.n, 3.0))
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    V = channel_values(robot, sample_positions(region, 300), cols)
+    W = np.tile(np.asarray(base.beta, float), (3, 1))
+    want = worst_states(V, W, region.qd_max, region.qdd_max)[0].max(axis=0)
+    for factor in (0.5, 0.9, 1.0, 1.0 + 1e-9, 2.0):
+        limit = want * factor
+        got = worst_above(V, W, region.qd_max, region.qdd_max, limit)
+        above = want > limit
+        np.testing.assert_array_equal(got[above], want[above])
+        assert np.all(got[~above] <= limit[~above])

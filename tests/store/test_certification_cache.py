@@ -25,7 +25,8 @@ from gd_analyze.store import certification_cache as cache_module
 from gd_analyze.store.certification_cache import certification
 
 SAMPLES = 200
-FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
+FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at", "witness",
+          "leaves_sha256")
 #: The layout of format 1, which stored the boxes and their bounds.
 OLD_FIELDS = ("scale", "scale_state", "leaves", "leaf_boxes", "boxes", "seconds")
 
@@ -282,3 +283,70 @@ def test_the_tree_read_back_is_derived_without_search(arm, fresh, cache, stored,
     assert not seen
     _same(again, fresh)
     assert again.boxes == fresh.boxes == fresh.split_joint.size
+
+
+def _witness_forgeries(fresh, stored_witness):
+    """Witnesses that do not name every (box, link) enclosure the bounds come from, or are
+    not one flag per box and joint."""
+    w = stored_witness.copy()
+    named = np.flatnonzero(w[:, 3])                  # the boxes link 4's bounds come from
+    fewer = w.copy()
+    fewer[named[-1], 3] = False                      # one of them left out
+    none = np.zeros_like(w)
+    return {"a witness left out": fewer,
+            "no witness at all": none,
+            "witnesses of another shape": w[:-1],
+            "witnesses of another type": w.astype(np.int64)}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("forgery", ["a witness left out", "no witness at all",
+                                     "witnesses of another shape",
+                                     "witnesses of another type"])
+def test_witnesses_that_do_not_give_the_stored_bounds_are_refused(arm, fresh, cache, stored,
+                                                                  forgery):
+    """The oracle: a fresh certification. The witnesses only say which enclosures to
+    evaluate; with one left out (key and checksum matching) the bounds derived are larger
+    than the ones the entry was stored with, so the entry is refused with one warning and
+    certified again, never used with other bounds than a fresh certification's."""
+    path = _store(cache, stored)
+    with np.load(path, allow_pickle=False) as z:
+        witness = z["witness"]
+    _forge(path, witness=_witness_forgeries(fresh, witness)[forgery])
+    again, seen = _call(arm)
+    assert len(seen) == 1 and "ignored, the region is certified again" in seen[0], seen
+    assert "witness" in seen[0], seen
+    _same(again, fresh)
+
+
+@pytest.mark.slow
+def test_a_digest_of_other_bounds_is_refused(arm, fresh, cache, stored):
+    """An entry whose digest is of other final-box bounds (a certification with a bound
+    lowered) is refused: its bounds, derived again, are not those it claims."""
+    path = _store(cache, stored)
+    lowered = fresh.leaves.copy()
+    lowered[np.unravel_index(np.argmax(lowered), lowered.shape)] *= 0.5
+    _forge(path, leaves_sha256=np.array(cache_module.leaves_sha256(lowered)))
+    again, seen = _call(arm)
+    assert len(seen) == 1 and "witnesses" in seen[0], seen
+    _same(again, fresh)
+
+
+def test_the_read_back_evaluates_only_the_witnessed_enclosures(arm, fresh, cache, stored,
+                                                               monkeypatch):
+    """A sound entry is read back evaluating the (box, link) enclosures its witnesses name,
+    fewer than the tree's boxes times its links, and gives a fresh certification's bounds
+    bit for bit."""
+    _store(cache, stored)
+    calls = []
+    real = certify_module.pair_magnitudes
+
+    def counted(robot, lo, *args, **kwargs):
+        calls.append(lo.shape[0])
+        return real(robot, lo, *args, **kwargs)
+    monkeypatch.setattr(certify_module, "pair_magnitudes", counted)
+    again, seen = _call(arm)
+    assert not seen
+    _same(again, fresh)
+    links = np.unique(np.flatnonzero(arm[1].independent.reshape(-1)) // 10).size
+    assert sum(calls) == fresh.witness.sum() < fresh.boxes * links

@@ -99,6 +99,12 @@ class PairBounds:
         :func:`gd_analyze.symbolic.pruning.zero_parts` (decided symbolically; their
         enclosures are set to 0 on every box, as are those of the parts zero at some joints),
         and any pair whose enclosure is 0 on every final box. Dropping them costs nothing.
+    witness : ndarray of bool, shape (boxes, n), optional
+        Per box evaluated (in :attr:`split_joint`'s order) and link k: whether the box's
+        enclosure of some column of link k is the one a final box's bound takes (the
+        shallowest box on the final box's path that reaches the least), for some part and
+        joint. :func:`certify_tree` evaluates only these (box, link) pairs and gets the same
+        bounds; any other choice gives bounds at least as large, still proved.
     """
 
     bound: np.ndarray
@@ -114,6 +120,7 @@ class PairBounds:
     split_joint: np.ndarray
     split_at: np.ndarray
     zero: np.ndarray | None = None
+    witness: np.ndarray | None = None
 
 
 #: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
@@ -423,12 +430,19 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
     done_u = np.zeros((3, n, cols.size))
     leaves, boxes = [], []
     inherited = np.full((1, 3, n, cols.size), np.inf)
+    source = np.zeros((1, 3, n, cols.size), np.int32)    # the box each least comes from
+    witness = []
     evaluated = 0
     target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
     joints, cuts = [], []
     while lo.shape[0]:
         # a box's bound is the least of its own enclosure and its ancestors': each holds on it
-        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        E = _enclose(robot, lo, hi, cols, region, absb, zero)
+        U = np.minimum(E, inherited)
+        # on a tie the ancestor's (the shallowest box reaching the least) is the witness
+        source = np.where(E < inherited, (evaluated + np.arange(
+            lo.shape[0], dtype=np.int32))[:, None, None, None], source)
+        del E
         evaluated += lo.shape[0]
         upper = np.maximum(done_u, U.max(axis=0))
         open_ = (upper <= open_share * scale[None, :, None]) & (upper > target)
@@ -439,27 +453,44 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
         if not split.any() or evaluated + 2 * split.sum() > max_boxes:
             done_u = upper
             leaves.append(U)
+            witness.append(source)
             boxes.append(np.stack([lo, hi], axis=1))
             break
         if (~split).any():
             done_u = np.maximum(done_u, U[~split].max(axis=0))
             leaves.append(U[~split])
+            witness.append(source[~split])
             boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
         demand = _demand((U[split] > target[None]) & open_[None], cols)
         lo, hi, joint[split], at[split] = _bisect(lo[split], hi[split], rel, demand)
         inherited = np.concatenate([U[split], U[split]])
+        source = np.concatenate([source[split], source[split]])
     bound = np.maximum(done_u.transpose(2, 0, 1), sampled)
     leaf = _pair_major(leaves)                                    # (b, 3, L, n)
     return PairBounds(bound=bound, sampled=sampled, scale=scale, scale_state=state,
                       positions=q, values=V, boxes=evaluated, leaves=leaf,
                       leaf_boxes=np.concatenate(boxes),
                       seconds=time.perf_counter() - t0, split_joint=np.concatenate(joints),
-                      split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf))
+                      split_at=np.concatenate(cuts), zero=_zero_pairs(zero, leaf),
+                      witness=_witness(witness, evaluated, cols, zero))
+
+
+def _witness(sources, boxes, cols, zero):
+    """(boxes, n) bool: the (box, link) pairs some final box's bound comes from, from the
+    source boxes of the final boxes' least enclosures (blocks (L_k, 3, n, b) of box indices);
+    the parts proved zero (``zero`` (b, 3, n), 0 on every box) need none."""
+    n = zero.shape[2]
+    out = np.zeros((boxes, n), bool)
+    link = np.broadcast_to(cols // 10, sources[0].shape[1:])           # (3, n, b)
+    live = ~zero.transpose(1, 2, 0)
+    for s in sources:
+        out[s[:, live], np.broadcast_to(link[live], (s.shape[0], int(live.sum())))] = True
+    return out
 
 
 def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
                  split_at: np.ndarray, values: tuple, torque_floor: float = 0.0,
-                 seconds: float = 0.0) -> PairBounds:
+                 seconds: float = 0.0, witness: np.ndarray | None = None) -> PairBounds:
     """The bounds of :func:`certify` on a given tree of boxes, derived again without search.
 
     Parameters
@@ -480,24 +511,32 @@ def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint
         Least scale [N m or N].
     seconds : float, optional
         Stored as :attr:`PairBounds.seconds`.
+    witness : ndarray of bool, shape (N, n), optional
+        Which (box, link) enclosures to evaluate (:attr:`PairBounds.witness`, untrusted);
+        None: all of them.
 
     Returns
     -------
     PairBounds
-        Equal to :func:`certify`'s when the tree is the one it built on the same samples:
-        every box's enclosure is evaluated again (level by level, in the same chunks), each
-        box's bound is the least of its own and its ancestors', and the bound of a pair is
-        the largest over the final boxes and its sampled peak.
+        Equal to :func:`certify`'s when the tree is the one it built on the same samples
+        (and the witnesses its own): the enclosures of the boxes (of the links the witnesses
+        name) are evaluated again, each box's bound is the least of its own and its
+        ancestors' evaluated there (+inf where none is), and the bound of a pair is the
+        largest over the final boxes and its sampled peak.
 
     Raises
     ------
     ValueError
-        If the tree does not tile the region (:func:`tiling`).
+        If the tree does not tile the region (:func:`tiling`), or the witnesses are not one
+        flag per box and joint.
 
     Notes
     -----
     Any tiling gives sound bounds (each final box's enclosure holds on it, and the boxes cover
-    the region), so nothing but the tiling needs checking; the bounds are never read.
+    the region), so nothing but the tiling needs checking; the bounds are never read. Any
+    witnesses do too: a final box's bound is the least of enclosures evaluated here on boxes
+    that contain it (itself or its ancestors), so wrong witnesses can only make bounds
+    larger (+inf where a final box's path has none), never smaller than what the boxes give.
     """
     levels = tiling(region, split_joint, split_at)
     n = robot.n
@@ -508,10 +547,20 @@ def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint
     sampled = _sampled_peaks(values, beta, region)
     absb = np.abs(beta)[None, None, :]
     zero = zero_parts(robot, cols)
+    if witness is not None:
+        witness = np.asarray(witness)
+        if witness.dtype.kind != "b" or witness.shape != (int(np.asarray(split_joint).size), n):
+            raise ValueError("does not hold one witness flag per box and joint")
+        E = _witnessed(robot, levels, cols, region, absb, zero, witness)
     inherited = np.full((1, 3, n, cols.size), np.inf)
     leaves, boxes = [], []
+    p = 0
     for lo, hi, split in levels:
-        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        if witness is None:
+            U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
+        else:
+            U = np.minimum(E[p:p + lo.shape[0]], inherited)
+        p += lo.shape[0]
         leaves.append(U[~split])
         boxes.append(np.stack([lo[~split], hi[~split]], axis=1))
         inherited = np.concatenate([U[split], U[split]])
@@ -522,7 +571,27 @@ def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint
                       leaves=leaf, leaf_boxes=np.concatenate(boxes),
                       seconds=float(seconds), split_joint=np.asarray(split_joint, np.int64),
                       split_at=np.asarray(split_at, float),
-                      zero=_zero_pairs(zero, leaf))
+                      zero=_zero_pairs(zero, leaf), witness=witness)
+
+
+def _witnessed(robot, levels, cols, region, absb, zero, witness):
+    """The enclosures :func:`_enclose` gives, on the (box, link) pairs ``witness`` (N, n)
+    names only, link by link over all boxes of the tree at once; +inf elsewhere, 0 on the
+    parts proved zero; shape (N, 3, n, b)."""
+    lo = np.concatenate([a for a, _, _ in levels])
+    hi = np.concatenate([b for _, b, _ in levels])
+    n = lo.shape[1]
+    E = np.full((lo.shape[0], 3, n, cols.size), np.inf)
+    for k in np.unique(cols // 10):
+        ms = np.flatnonzero(cols // 10 == k)
+        rows = np.flatnonzero(witness[:, k])
+        for a in range(0, rows.size, _CHUNK):
+            r = rows[a:a + _CHUNK]
+            E[r[:, None], :, :, ms[None, :]] = (pair_magnitudes(
+                robot, lo[r], hi[r], cols[ms], region.qd_max, region.qdd_max)
+                * absb[..., ms]).transpose(0, 3, 1, 2)
+    E[:, zero.transpose(1, 2, 0)] = 0.0
+    return E
 
 
 def _pair_major(leaves):

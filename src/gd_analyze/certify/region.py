@@ -23,7 +23,7 @@ from ..dynamics.regressor_kernels import regressor_columns
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
-           "worst_states", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
+           "worst_states", "worst_above", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
            "sampled_error", "REFINE_JOINTS"]
 
 
@@ -953,6 +953,49 @@ def worst_states(V, weights, qd_max, qdd_max):
     sign = np.where(sign == 0, 1.0, sign)
     qdd = np.sign(a) * sign * qdd_max
     return value, verts[k], np.where(qdd == 0, qdd_max, qdd)
+
+
+def worst_above(V: ChannelValues, weights: np.ndarray, qd_max: np.ndarray,
+                qdd_max: np.ndarray, limit: np.ndarray) -> np.ndarray:
+    """The largest |tau_i| of :func:`worst_states` over the positions, where it may exceed a
+    limit: searched over the velocity vertices only at the positions where a cheap upper
+    bound exceeds the limit.
+
+    Parameters
+    ----------
+    V, weights, qd_max, qdd_max
+        As :func:`worst_states` takes them: the channel values at B positions, the weights
+        (3, m) and the limits (n,) [rad/s, rad/s^2; m/s, m/s^2].
+    limit : ndarray, shape (n,)
+        [N m or N].
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Per joint i: ``worst_states(...)[0][:, i].max()`` if it exceeds ``limit[i]``,
+        otherwise a value at most ``limit[i]`` (-inf where no position needed the search)
+        [N m or N].
+
+    Notes
+    -----
+    At a vertex of the velocity box qd_j^2 = qd_max_j^2, so |tau_i| <= |G_i + sum_j C_jj
+    qd_max_j^2| + sum_{j != l} |C_jl| qd_max_j qd_max_l + sum_j |A_ij| qdd_max_j, the largest
+    over the vertices bounded without searching them (widened by 1e-12 for its round-off).
+    """
+    n = V.n
+    qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
+    g, a, Cq = V.weighted(np.asarray(weights, float))
+    w = np.outer(qd_max, qd_max).reshape(-1)
+    diag = np.zeros(n * n, bool)
+    diag[np.arange(n) * (n + 1)] = True
+    cheap = (np.abs(g + np.einsum("bci,c->bi", Cq[:, diag], w[diag]))
+             + np.einsum("bci,c->bi", np.abs(Cq[:, ~diag]), w[~diag])
+             + np.abs(a) @ qdd_max) * (1 + 1e-12)                          # (B, n)
+    rows = np.flatnonzero((cheap > np.asarray(limit, float)[None, :]).any(axis=1))
+    if rows.size == 0:
+        return np.full(n, -np.inf)
+    sub = ChannelValues(n, V.columns, tuple((M, idx, Vm[rows]) for M, idx, Vm in V.groups))
+    return worst_states(sub, weights, qd_max, qdd_max)[0].max(axis=0)
 
 
 def region_scale(robot, region, columns, beta, torque_floor=0.0, samples=1000, seed=0,

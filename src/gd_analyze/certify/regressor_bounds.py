@@ -467,6 +467,12 @@ def _vertex_bound(F, diag, a):
     return np.maximum(np.maximum(top, -bottom), 0.0) * (1 + 1e-12) + 1e-300
 
 
+def _dot(x, w):
+    """x @ w for x (B, P), w (P,), summed in the same order in every row whatever B (a
+    matrix-vector product's order may depend on the number of rows)."""
+    return (x * w).sum(axis=1)
+
+
 class _QuadraticBound:
     """max |qd^T C qd| over |qd_j| <= a_j for interval coefficients C_jl (j, l = 1..n).
 
@@ -522,11 +528,12 @@ class _QuadraticBound:
         s_lo = lo[:, off] + lo[:, mirror]
         s_hi = hi[:, off] + hi[:, mirror]
         mid, rad = 0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo)
-        d_hi = np.maximum(hi[:, diag], 0.0) @ w_diag
-        d_lo = np.minimum(lo[:, diag], 0.0) @ w_diag
-        spread = rad @ w_off
+        # row by row (:func:`_dot`): a box's bound does not depend on the batch it is in
+        d_hi = _dot(np.maximum(hi[:, diag], 0.0), w_diag)
+        d_lo = _dot(np.minimum(lo[:, diag], 0.0), w_diag)
+        spread = _dot(rad, w_off)
         if len(support) > self.VERTEX_LIMIT:
-            top = np.abs(mid) @ w_off + spread
+            top = _dot(np.abs(mid), w_off) + spread
             return -top + d_lo, top + d_hi, False
         c_max, c_min = vertex_extremes(mid, j, l, w_off, max(len(support), 1))
         return c_min - spread + d_lo, c_max + spread + d_hi, True

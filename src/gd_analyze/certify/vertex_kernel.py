@@ -146,6 +146,6 @@ def vertex_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
         _extremes(mid, j, l, w_off, s, c_max, c_min)
     if not widen:
         return c_max, c_min
-    F = np.abs(mid) @ np.abs(w_off)
+    F = (np.abs(mid) * np.abs(w_off)).sum(axis=1)      # row by row, whatever R
     slack = 2 * (1 + 2 * s + (BLOCK - 1) * (2 * (2 * (s + BLOCK) + 1) + 2)) * _U * F
     return c_max + slack, c_min - slack

@@ -9,21 +9,30 @@ explicit model.
 
 The cache is not trusted, and a bound is never read from it. An entry stores what lets the
 certification be derived again without its searches: the scale s_i and the states where it was
-found (the local maximisation over the region), and the branch and bound's tree as its cuts
-(per box evaluated, level by level: the joint it was halved along, or -1, and where), with the
-number of boxes and the time it took. It is used only if it is a regular file whose stored key
-equals the key and whose checksum matches its arrays (:func:`gd_analyze.cache.read_entry`), and if:
+found (the local maximisation over the region), the branch and bound's tree as its cuts
+(per box evaluated, level by level: the joint it was halved along, or -1, and where), its
+witnesses (per box and link, whether some final box's bound comes from that box's enclosure of
+the link's columns: :attr:`gd_analyze.certify.certify.PairBounds.witness`) and the SHA-256 of
+the final boxes' bounds (:func:`leaves_sha256`), with the number of boxes and the time it took.
+It is used only if it is a regular file whose stored key equals the key and whose checksum
+matches its arrays (:func:`gd_analyze.cache.read_entry`), and if:
 
 - every scale state lies in the region, |tau_i| there equals s_i (or s_i is the torque floor),
   and s_i is at least the largest |tau_i| over the certification's own sampled positions
-  (:func:`gd_analyze.certify.region.sample_positions`, deterministic);
+  (:func:`gd_analyze.certify.region.sample_positions`, deterministic; the velocity vertices
+  are searched only at the positions where a cheap bound of |tau_i| exceeds s_i,
+  :func:`gd_analyze.certify.region.worst_above`);
 - the cuts tile the region (:func:`gd_analyze.certify.certify.tiling`: every cut point
   strictly inside its box, every box accounted for, in exact float comparisons: no box of zero
   volume, no overlap, the whole region covered);
 
-then the enclosures are evaluated again on every box of the tree, all boxes of a level at once
-(:func:`gd_analyze.certify.certify.certify_tree`): the bounds are derived, not read,
-and equal a fresh certification's bit for bit; no box is searched for. Bounds or boxes written
+then the enclosures the witnesses name are evaluated again, link by link over all boxes of the
+tree at once (:func:`gd_analyze.certify.certify.certify_tree`), and each final box's bound is
+the least of those evaluated on it and its ancestors: the bounds are derived, not read; no box
+is searched for. The witnesses are not trusted either: whatever they name, a bound is the
+enclosure of a box that contains the final box, so wrong witnesses only make bounds larger
+(+inf where none is named), never smaller; the digest then differs and the entry is refused,
+so a used entry gives a fresh certification's bounds bit for bit. Bounds or boxes written
 into an entry (zero-volume boxes at the samples, bounds lowered to the sampled peaks,
 overlapping boxes) are never read: such an entry does not match its checksum over the stored
 fields, or its tree does not tile the region, and is certified again. A failed entry gives one
@@ -32,6 +41,7 @@ fields, or its tree does not tile the region, and is certified again. A failed e
 
 from __future__ import annotations
 
+import hashlib
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -43,7 +53,7 @@ from ..certify.region import (
     channel_values,
     region_scale,
     sample_positions,
-    worst_states,
+    worst_above,
 )
 from ..dynamics.regressor_kernels import part_regressor
 from ..simplify.simplified import parameters_sha256
@@ -52,11 +62,14 @@ if TYPE_CHECKING:
     from ..certify.region import Region
     from ..model.robot import Robot
 
-__all__ = ["certification", "certification_key", "robot_inputs", "SELF_CHECK_TOLERANCE"]
+__all__ = ["certification", "certification_key", "robot_inputs", "SELF_CHECK_TOLERANCE",
+           "leaves_sha256"]
 
-_FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at")
-#: Layout of an entry (3: the tree of boxes, no bounds).
-_FORMAT = 3
+_FIELDS = ("scale", "scale_state", "boxes", "seconds", "split_joint", "split_at", "witness",
+           "leaves_sha256")
+#: Layout of an entry (3: the tree of boxes, no bounds; 4: with the witnesses and the
+#: digest of the final boxes' bounds).
+_FORMAT = 4
 #: Slack of the self-check's comparisons, relative to s_i [1].
 SELF_CHECK_TOLERANCE = 1e-9
 #: Largest entry read [bytes] (the PUMA 560's is about 0.7 MB).
@@ -136,7 +149,8 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
         q = sample_positions(region, samples, seed)
         V = channel_values(robot, q, cols)
     beta = np.asarray(base.beta, float)
-    value = worst_states(V, np.tile(beta, (3, 1)), region.qd_max, region.qdd_max)[0].max(0)
+    # the sampled torques above s_i (+ tol) only: searched where a cheap bound exceeds it
+    value = worst_above(V, np.tile(beta, (3, 1)), region.qd_max, region.qdd_max, scale + tol)
     sq, sqd, sqdd = state[:, :n], state[:, n:2 * n], state[:, 2 * n:]
     tau = np.einsum("kpim,m->ki", part_regressor(robot, cols, sq, sqd, sqdd), beta)
     reached = np.abs(tau[np.arange(n), np.arange(n)])
@@ -145,13 +159,36 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
             and np.all(scale >= value - tol)):
         return ("fails its self-check (its scale is not reached at its state, or is below "
                 "the sampled torques)")
+    if arrays["leaves_sha256"].shape != () or arrays["leaves_sha256"].dtype.kind != "U":
+        return "does not hold a certification of this robot (arrays of other types or shapes)"
     try:
-        return certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
-                            (q, V, scale, state, *(values or ())[4:]),
-                            torque_floor=torque_floor,
-                            seconds=float(arrays["seconds"]))
+        pb = certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
+                          (q, V, scale, state, *(values or ())[4:]),
+                          torque_floor=torque_floor, seconds=float(arrays["seconds"]),
+                          witness=arrays["witness"])
     except ValueError as exc:
         return f"fails its self-check (its tree of boxes {exc})"
+    if leaves_sha256(pb.leaves) != str(arrays["leaves_sha256"]):
+        return ("fails its self-check (the bounds derived on the boxes its witnesses name are "
+                "not those it was stored with)")
+    return pb
+
+
+def leaves_sha256(leaves: np.ndarray) -> str:
+    """SHA-256 of the final boxes' bounds, as stored with an entry.
+
+    Parameters
+    ----------
+    leaves : ndarray, shape (b, 3, L, n)
+        :attr:`gd_analyze.certify.certify.PairBounds.leaves` [N m or N].
+
+    Returns
+    -------
+    str
+        Hex digest of the C-ordered float64 bytes, with the shape.
+    """
+    a = np.ascontiguousarray(leaves, np.float64)
+    return hashlib.sha256(repr(a.shape).encode() + a.tobytes()).hexdigest()
 
 
 def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, values=None,
@@ -222,5 +259,7 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
                 "boxes": np.array(int(pb.boxes), np.int64),
                 "seconds": np.array(float(pb.seconds)),
                 "split_joint": np.asarray(pb.split_joint, np.int64),
-                "split_at": np.asarray(pb.split_at, float)})
+                "split_at": np.asarray(pb.split_at, float),
+                "witness": np.asarray(pb.witness, bool),
+                "leaves_sha256": np.array(leaves_sha256(pb.leaves))})
     return pb
