@@ -155,3 +155,56 @@ def test_a_changed_line_of_code_or_text_fails():
     assert len(problems) == 1 and "text differs" in problems[0]
     cli = (GOLDEN / "ur5" / "cli.txt").read_text(encoding="utf-8")
     assert compare_files("ur5", {"cli.txt": cli.replace("D11", "D1l")})
+
+
+def test_emitted_constants_compare_within_round_off_and_nothing_else_does():
+    """A base parameter's last bits (a QR decomposition on another CPU) pass; a constant
+    changed beyond the tolerance, an integer or a digit of a name fails."""
+    name = "simplified_model.c.golden"
+    text = (GOLDEN / "ur5" / name).read_text(encoding="utf-8")
+    line = next(x for x in text.split("\n") if x.strip().startswith("0.41784981244274"))
+    value = float(line.strip().rstrip(","))
+
+    def with_value(v):
+        return text.replace(line, line.replace(line.strip().rstrip(","), repr(v)), 1)
+
+    assert compare_files("ur5", {name: with_value(value * (1 + 4e-15))}) == []
+    assert compare_files("ur5", {name: with_value(value * (1 + 1e-5))})
+    assert compare_files("ur5", {name: with_value(float("nan"))})
+    assert "double q_b[6][8];" in text
+    assert compare_files("ur5", {name: text.replace("q_b[6][8]", "q_b[6][9]", 1)})
+    assert "qdd[0]" in text
+    assert compare_files("ur5", {name: text.replace("qdd[0]", "qdd[1]", 1)})
+    # a round-off coefficient whose sign differs between CPUs (seen on the Stanford arm)
+    c = (GOLDEN / "stanford" / name).read_text(encoding="utf-8")
+    tiny = "-1.3877787807814457e-16*t74 + t106"
+    assert tiny in c
+    assert compare_files("stanford", {name: c.replace(tiny, "1.6653345369377348e-16*t74 + t106")}) == []
+    assert compare_files("stanford", {name: c.replace(tiny, "t106 + 1.6653345369377348e-16*t74")})
+    assert compare_files("stanford", {name: c.replace(tiny, "-1.3877787807814457e-3*t74 + t106")})
+    header = "simplified_model.h.golden"
+    h = (GOLDEN / "ur5" / header).read_text(encoding="utf-8")
+    assert "ZZ1" in h and compare_files("ur5", {header: h.replace("ZZ1", "ZZ2", 1)})
+
+
+def test_a_searched_maximum_and_where_it_lies_compare_within_their_tolerances():
+    """scale_state is where a local maximisation stopped: it may move by 1e-4 of its scale,
+    not more; a maximum found by that search by 1e-6, not more; other values by RTOL."""
+    golden = _golden("ur5", "simplified_model.json.frozen.json")
+    leaf = "json/guarantee/scale_state"
+    values = golden["leaves"][leaf]["values"]
+    scale = max(abs(float(v)) for v in values)
+    for step, ok in ((1e-5, True), (1e-3, False)):
+        moved = copy.deepcopy(golden)
+        moved["leaves"][leaf]["values"][1] = float(values[1]) + step * scale
+        assert (compare_frozen(golden, moved) == []) == ok, step
+    results = _golden("ur5", "results.h5.frozen.json")
+    for name, step, ok in (("var/base_parameter_relative_peak", 5e-7, True),
+                           ("var/base_parameter_relative_peak", 1e-5, False),
+                           ("var/tau", 5e-7, False)):
+        vals = results["leaves"][name]["values"]
+        k = max(range(len(vals)), key=lambda i: abs(float(vals[i])))
+        moved = copy.deepcopy(results)
+        scale = 1.0 if "relative" in name else abs(float(vals[k]))
+        moved["leaves"][name]["values"][k] = float(vals[k]) + step * scale
+        assert (compare_frozen(results, moved) == []) == ok, (name, step)
