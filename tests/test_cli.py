@@ -336,7 +336,7 @@ def test_summary_gives_the_model_cost_beside_newton_euler():
 
 def test_summary_warns_when_the_model_does_not_pay():
     from gd_analyze.cli.commands import _cost_lines
-    from gd_analyze.store.stored_model import CostTable
+    from gd_analyze.store.stored_simplified import CostTable
 
     names = ["explicit, budget EPS=0.01 (this model)", "project N-E as implemented"]
     ds = xr.Dataset({"cost_multiplications": ("cost_model", [900, 600]),

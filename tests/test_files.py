@@ -42,9 +42,8 @@ def test_package_sha256_covers_every_source(tmp_path):
 
 def test_every_cache_key_carries_the_package_sha256(puma):
     from gd_analyze.certify.region import joint_region
-    from gd_analyze.store.certification_cache import certification_key
+    from gd_analyze.store.certification_cache import certification_key, search_key
     from gd_analyze.store.explicit_cache import cache_key
-    from gd_analyze.store.search_cache import search_key
 
     region = joint_region(puma, puma.qdd_max)
     code = package_sha256()

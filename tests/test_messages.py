@@ -176,7 +176,7 @@ def test_pd_gravity_rate_is_the_linearised_loop():
 def test_sweep_says_where_the_floor_voids_the_guarantee():
     import xarray as xr
 
-    from gd_analyze.store.sweep_datasets import beyond_the_floor
+    from gd_analyze.store.sweep_view import beyond_the_floor
 
     ds = xr.Dataset({"merged_tau_error_peak": (("trajectory", "joint"),
                                                np.array([[0.01, 0.006], [0.02, 0.001]])),

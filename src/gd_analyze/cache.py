@@ -2,8 +2,7 @@
 
 The cache holds results that are pure functions of their inputs and of the code that computes
 them: the explicit G-D model (:mod:`gd_analyze.store.explicit_cache`), the region certification
-(:mod:`gd_analyze.store.certification_cache`), the region model's searches
-(:mod:`gd_analyze.store.search_cache`) and the operation counts
+and the region model's searches (:mod:`gd_analyze.store.certification_cache`) and the operation counts
 (:mod:`gd_analyze.dynamics.opcount`). Every entry has one key (:func:`cache_key`): the
 SHA-256 of the installed package's sources (:func:`gd_analyze.files.package_sha256`; no list
 of "the modules a result depends on" to go stale) plus the inputs. Its folder is

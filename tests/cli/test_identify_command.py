@@ -8,7 +8,7 @@ from identify_recordings import fourier, irregular_clock, truth_for, write_recor
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
-from gd_analyze.store.identification_dataset import read_identification
+from gd_analyze.store.stored_identification import read_identification
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from gd_analyze.certify.region import joint_region
 from gd_analyze.dynamics.base_parameters import random_states
 from gd_analyze.files import package_sha256
 from gd_analyze.jobs.deploy import REGION_SAMPLES, build_recursive
-from gd_analyze.store.search_cache import SEARCH_FIELDS, search_key
+from gd_analyze.store.certification_cache import SEARCH_FIELDS, search_key
 from gd_analyze.symbolic import recursive as recursive_module
 from gd_analyze.symbolic.newton_euler import FORMS
 

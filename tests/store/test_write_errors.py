@@ -5,7 +5,7 @@ import errno
 import pytest
 
 from gd_analyze.errors import InputError
-from gd_analyze.store.write_errors import writing
+from gd_analyze.store.staging import writing
 
 
 def _close_after_enospc():

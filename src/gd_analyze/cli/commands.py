@@ -209,7 +209,7 @@ def _warn_limits(robot, trajectory, quiet):
 
 def _cost_lines(costs):
     """The simplified model's counted operations beside Newton-Euler's, from the stored table
-    (:class:`gd_analyze.store.stored_model.CostTable`, or None)."""
+    (:class:`gd_analyze.store.stored_simplified.CostTable`, or None)."""
     if costs is None:
         return []
     names = list(costs.models)

@@ -19,12 +19,12 @@ from ..model.robot_file import robot_toml
 from ..model.robots import is_urdf
 from ..model.urdf_writer import robot_urdf
 from ..report.identify import write_identify_report
-from ..store.identification_dataset import (
+from ..store.staging import staged_output, writing
+from ..store.stored_identification import (
     identification_tree,
     recordings_json,
     write_identification,
 )
-from ..store.staging import staged_output, writing
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 

@@ -20,9 +20,8 @@ from ..report.sweep import write_sweep_report
 from ..store.model_file import save_model
 from ..store.schema import write_dataset
 from ..store.staging import staged_output, writing
-from ..store.sweep_datasets import beyond_the_floor
 from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import StoredSweep, with_more_tasks
+from ..store.sweep_view import StoredSweep, beyond_the_floor, with_more_tasks
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.planning import acceleration_limits, check_velocity_limits, random_trajectories
@@ -284,7 +283,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                                                paper=args.paper, latex=args.latex))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
-        run = StoredSweep.from_dataset(ds)
+        run = StoredSweep.of(ds)
         s = run.settings
         where = (f"on {int(s.n_workers)} dask workers ({s.scheduler_address})"
                  if int(s.n_workers) else "in this process (no dask cluster)")

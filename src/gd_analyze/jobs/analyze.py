@@ -33,7 +33,7 @@ from ..ranking.labels import joint_torque_units
 from ..ranking.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
 from ..simplify.budget import PartPeaks
 from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
-from ..store.datasets import SetpointWriter, build_dataset, summary_dataset, with_setpoints
+from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
 from ..store.schema import append_dataset
 from .deployment import deploy_models
 from .options import AnalysisOptions
@@ -544,9 +544,9 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     N = trajectory.q.shape[0]
     result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
                            chunk=max(N, 1))
-    ds = build_dataset(robot, trajectory, result.terms, result.ranking, result.tau,
-                       result.tau_simplified, result.choices, result.error,
-                       verification=result.verification, settings=settings)
+    ds = with_setpoints(summary_dataset(robot, trajectory, result.ranking, result.choices,
+                                        result.error, result.verification, settings),
+                        robot, trajectory, result.terms, result.tau, result.tau_simplified)
     ds = _with_chapter(_with(ds, result.simplified), result.chapter_error)
     return Analysis(dataset=_with(ds, result.costs),
                     model=_model(robot, trajectory, result, options, settings),

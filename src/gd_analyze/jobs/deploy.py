@@ -41,7 +41,7 @@ from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_lab
 from ..simplify.budget import DEFAULT_TOLERANCE, Selection
 from ..simplify.guarantee import Guarantee
 from ..simplify.simplified import SimplifiedModel
-from ..store.search_cache import read_search, search_key, write_search
+from ..store.certification_cache import read_search, search_key, write_search
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.pruning import prune_bounds, settle_restored, zero_parts
 from ..symbolic.recursive import recursive_program
@@ -587,7 +587,7 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     where the sampled pre-screen finds that no region model could save enough
     (:func:`screened_exact`), else the model searched (:func:`region_model`), its searches
     taken from the derivation cache where an entry passes its checks
-    (:mod:`gd_analyze.store.search_cache`).
+    (:mod:`gd_analyze.store.certification_cache`).
 
     Parameters
     ----------

@@ -6,7 +6,7 @@ training recordings (:mod:`gd_analyze.estimation.regressor`), estimates by ordin
 weighted least squares (:mod:`gd_analyze.estimation.estimate`), chooses the standard
 parameters (:mod:`gd_analyze.estimation.consistent`), and predicts every recording with the
 identified model and with the robot file as shipped. It returns a frozen
-:class:`~gd_analyze.store.identification_dataset.IdentificationResult`; it neither prints nor
+:class:`~gd_analyze.store.stored_identification.IdentificationResult`; it neither prints nor
 writes.
 """
 
@@ -37,7 +37,7 @@ from ..estimation.preprocess import default_cutoff, preprocess
 from ..estimation.regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
 from ..model.drives import friction_torque
 from ..model.robots import load_robot
-from ..store.identification_dataset import (
+from ..store.stored_identification import (
     IdentificationResult,
     ParameterTable,
     RecordingFit,

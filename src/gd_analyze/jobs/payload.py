@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from ..errors import InputError
 from ..model.robot import with_payload
 from ..ranking.ranking import CLASSES, DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
-from ..store.sweep_datasets import payload_dataset, sweep_payloads_dataset
+from ..store.sweep_view import payload_dataset, sweep_payloads_dataset
 from .sweep import analyze_one, check_thresholds, check_trajectory, run_sweep
 
 if TYPE_CHECKING:

@@ -3,7 +3,7 @@
 For each EPS of the ladder the recursive model is pruned as the deployed one is (on bounds
 proved over the joint-limit region, or on the trajectory's peaks), its program built and
 counted, and its torque error measured on the trajectory. Nothing here prints or writes files
-(the region searches go through the derivation cache, :mod:`gd_analyze.store.search_cache`).
+(the region searches go through the derivation cache, :mod:`gd_analyze.store.certification_cache`).
 """
 
 from __future__ import annotations

@@ -27,7 +27,7 @@ from ..store.model_file import save_model
 from ..store.names import Var
 from ..store.results_view import Results
 from ..store.staging import check_free_space, staged_output, writing
-from ..store.sweep_datasets import embed_payload
+from ..store.sweep_view import embed_payload
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix, check_prefix
 from ..trajectory.trajectory import as_trajectory

@@ -23,7 +23,7 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
 The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
 batches on a dask.distributed cluster (:mod:`gd_analyze.jobs.dask_cluster`) by
 :func:`run_sweep`, or, for a small sweep (``in_process``), in one batch in the caller's process,
-where a cluster's start would cost more than the ranking. The dataset's schema is in :mod:`gd_analyze.store.sweep_datasets`; the merged
+where a cluster's start would cost more than the ranking. The dataset's schema is in :mod:`gd_analyze.store.sweep_view`; the merged
 models read from it are in :mod:`gd_analyze.jobs.sweep_merged`; random trajectories come
 from :func:`gd_analyze.trajectory.planning.random_trajectories`; payload sweeps are in
 :mod:`gd_analyze.jobs.payload`.
@@ -47,7 +47,7 @@ from ..dynamics.dalembert import gd_terms
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..simplify.simplified import TorqueErrorAccumulator, merge_choices, simplified_torque
 from ..store.schema import attribute_value
-from ..store.sweep_datasets import embed_pair_peaks, sweep_dataset
+from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
 from .analyze import analysis_pass
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
@@ -416,7 +416,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         for the budget rule's merge (:mod:`gd_analyze.jobs.sweep_budget`): variables
         ``pair_tau_peak`` (trajectory, joint), ``pair_peak`` (trajectory, base_parameter, part,
         joint) and ``parameter_peak`` (trajectory, base_parameter, joint) [N m or N]
-        (:func:`gd_analyze.store.sweep_datasets.embed_pair_peaks`). The chapter merge's error is
+        (:func:`gd_analyze.store.sweep_view.embed_pair_peaks`). The chapter merge's error is
         then not measured (its variables are NaN; one pass of tasks, not two): the budget
         rule's model replaces it (:func:`gd_analyze.jobs.sweep_merged.with_budget_model`).
     chapter_errors : bool, optional

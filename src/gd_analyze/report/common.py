@@ -18,8 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ..store.schema import strings
-from ..store.stored_model import EvaluatorCosts
+from ..store.schema import EvaluatorCosts, strings
 from . import markup
 from .figure_style import (
     BASE_RC,
@@ -204,7 +203,7 @@ def cost_table(ds: EvaluatorCosts | xr.Dataset | None) -> dict[str, Any] | None:
     Parameters
     ----------
     ds : EvaluatorCosts, xarray.Dataset or None
-        The counts (:class:`gd_analyze.store.stored_model.EvaluatorCosts`), or a dataset with
+        The counts (:class:`gd_analyze.store.schema.EvaluatorCosts`), or a dataset with
         ``multiplications`` and ``additions`` over dim ``evaluator``, Newton-Euler last
         (the control dataset, :func:`gd_analyze.jobs.control.model_cost`; the sweep,
         :func:`gd_analyze.jobs.sweep_merged.with_model_cost`).

@@ -2,7 +2,7 @@
 
 :func:`write_identify_report` reads the datasets of ``identification.h5`` (the root group and
 one group per recording, as ``read_identification`` of the identify command's
-``gd_analyze.store.identification_dataset`` returns them) and never recomputes a model: the measured against the
+``gd_analyze.store.stored_identification`` returns them) and never recomputes a model: the measured against the
 predicted torque per joint on each validation recording and the residuals (figures), the
 errors per recording and joint beside the robot file's as shipped, the parameter table with
 standard deviations in % and identifiability, the links' physical consistency, the

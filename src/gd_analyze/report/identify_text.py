@@ -1,7 +1,7 @@
 """The identify report's words and tables, read from a stored identification.
 
 Every sentence and number comes from the datasets of ``identification.h5`` (the root group and
-one group per recording; layout in ``gd_analyze.store.identification_dataset`` of the identify
+one group per recording; layout in ``gd_analyze.store.stored_identification`` of the identify
 command): nothing is recomputed but the percentages of the standard deviations. Every name read
 from the data (robot, joints, files, settings) is cleaned of the report's markup characters
 (:func:`gd_analyze.report.markup.clean`); the HTML escapes it and the PDF sets it as text.

@@ -182,7 +182,7 @@ def make_figures(ds: Results | xr.Dataset, data: PlotData | None = None,
     ----------
     ds : Results or xarray.Dataset
         The results view (:class:`gd_analyze.store.results_view.Results`) or a dataset as
-        :func:`gd_analyze.store.datasets.build_dataset` makes it (N set points, n joints):
+        :func:`gd_analyze.store.datasets.with_setpoints` makes it (N set points, n joints):
         t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2]; D_tran, D_rot, D (N, n, n)
         [kg m^2]; h_tran, h_rot, h, c, tau, tau_simplified (N, n) [N m]; the ranking (M,).
     data : PlotData, optional

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..store.stored_provenance import RunRecord
+from ..store.schema import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
 from .markup import scope as scope_markup
@@ -24,8 +24,7 @@ from .simplified_section import REGION_SCALE
 if TYPE_CHECKING:
     import xarray as xr
 
-    from ..store.results_view import Results
-    from ..store.stored_provenance import Provenance
+    from ..store.results_view import Provenance, Results
 
 
 def _no_floor(results):
@@ -188,7 +187,7 @@ def software_row(ds: RunRecord | xr.Dataset, version: str) -> tuple[str, str]:
     Parameters
     ----------
     ds : RunRecord or xarray.Dataset
-        The run's record (:class:`gd_analyze.store.stored_provenance.RunRecord`) of a stored
+        The run's record (:class:`gd_analyze.store.schema.RunRecord`) of a stored
         results, sweep or control dataset, or the dataset (attribute ``gd_analyze_version``).
     version : str
         The version of gd-analyze that writes the report.

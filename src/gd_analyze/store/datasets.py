@@ -2,7 +2,7 @@
 
 The plumbing every gd-analyze dataset shares (one ``var``, one block of CF global attributes,
 one writer and one reader) is in :mod:`gd_analyze.store.schema`; the sweep and closed-loop schemas
-are in :mod:`gd_analyze.store.sweep_datasets` and :mod:`gd_analyze.store.control_dataset`.
+are in :mod:`gd_analyze.store.sweep_view` and :mod:`gd_analyze.store.control_dataset`.
 
 Dimensions: ``t``, the set points, whose coordinate is the time [s] (so that
 ``ds.D_tran.sel(joint=..., joint_k=...).plot()`` draws against time), ``joint`` and ``joint_k``
@@ -53,19 +53,17 @@ if TYPE_CHECKING:
     import xarray as xr
 
     from ..certify.region import Region
-    from ..dynamics.dalembert import GDTerms
     from ..simplify.simplified import SimplifiedModel
-    from ..trajectory.trajectory import Trajectory
 
-__all__ = ["build_dataset", "summary_dataset", "with_setpoints", "setpoint_arrays", "SetpointWriter", "SETPOINT_DIM",
-           "SETPOINT_VARIABLES", "FRICTION_VARIABLE", "setpoint_variables", "setpoint_units", "joint_units", "units_attribute",
+__all__ = ["summary_dataset", "with_setpoints", "SetpointWriter", "SETPOINT_DIM",
+           "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute",
            "guarantee_fields", "stored_guarantee", "region_fields", "stored_region"]
 
 
 #: The set points' dimension; its coordinate variable is the time t [s].
 SETPOINT_DIM = "t"
 #: Per-set-point variables: name -> (dims, units, long_name). Used by both writers; ``t`` is
-#: the coordinate of :data:`SETPOINT_DIM`.
+#: the coordinate of :data:`SETPOINT_DIM`; ``tau_f`` is stored for a robot with friction only.
 SETPOINT_VARIABLES = {
     Var.T: (("t",), "s", "time"),
     Var.Q: (("t", "joint"), "rad", "joint position"),
@@ -87,27 +85,14 @@ SETPOINT_VARIABLES = {
             "joint torque of the full model, D qdd + h + c + tau_f (Eq. 3.4-24)"),
     Var.TAU_SIMPLIFIED: (("t", "joint"), "N m",
                        "joint torque of the simplified model, D_s qdd + h_s + c + tau_f"),
+    Var.TAU_F: (("t", "joint"), "N m",                  # a robot with friction only
+                "joint friction torque viscous qd + coulomb sign(qd) + torque_offset"),
 }
-#: The per-set-point variable of a robot with friction only (model/drives.py).
-FRICTION_VARIABLE = {Var.TAU_F: (("t", "joint"), "N m",
-                               "joint friction torque viscous qd + coulomb sign(qd) + "
-                               "torque_offset")}
 
 
-def setpoint_variables(friction: bool = False) -> dict[str, Any]:
-    """The per-set-point variables of a dataset: name -> (dims, units, long_name).
-
-    Parameters
-    ----------
-    friction : bool, optional
-        Whether the robot has friction: then ``tau_f`` is stored too.
-
-    Returns
-    -------
-    dict
-        :data:`SETPOINT_VARIABLES`, and :data:`FRICTION_VARIABLE` with friction.
-    """
-    return {**SETPOINT_VARIABLES, **(FRICTION_VARIABLE if friction else {})}
+def _setpoint_variables(friction):
+    """:data:`SETPOINT_VARIABLES`, ``tau_f`` only for a robot with friction."""
+    return {k: v for k, v in SETPOINT_VARIABLES.items() if friction or k != Var.TAU_F}
 
 
 #: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
@@ -340,7 +325,7 @@ def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = No
     ('N', 'kg m2')
     """
 
-    base = setpoint_variables(True)[name][1]
+    base = SETPOINT_VARIABLES[name][1]
     if prismatic is None or not np.any(prismatic):
         return base
     if name in ("q", "qd", "qdd"):
@@ -353,32 +338,6 @@ def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = No
         return base
     return units_attribute(joint_units(prismatic, "tau"), "tau_units")
 
-
-def setpoint_arrays(trajectory: Trajectory, terms: GDTerms, tau: np.ndarray,
-                    tau_simplified: np.ndarray) -> dict[str, Any]:
-    """The per-set-point arrays, keyed as :data:`SETPOINT_VARIABLES`.
-
-    Parameters
-    ----------
-    trajectory : Trajectory
-        t (N,) [s]; q, qd, qdd (N, n).
-    terms : GDTerms
-        The G-D terms at the same set points.
-    tau, tau_simplified : ndarray, shape (N, n)
-        Torques of the full and the simplified model [N m].
-
-    Returns
-    -------
-    dict
-        name -> ndarray; ``tau_f`` too where the terms have friction.
-    """
-    out = {Var.T: trajectory.t, Var.Q: trajectory.q, Var.QD: trajectory.qd, Var.QDD: trajectory.qdd,
-           Var.D_TRAN: terms.D_tran, Var.D_ROT: terms.D_rot, Var.D: terms.D, Var.H_TRAN: terms.h_tran,
-           Var.H_ROT: terms.h_rot, Var.H: terms.h, Var.C: terms.c, Var.TAU: tau,
-           Var.TAU_SIMPLIFIED: tau_simplified}
-    if terms.tau_f is not None:
-        out["tau_f"] = terms.tau_f
-    return out
 
 
 def summary_dataset(robot, trajectory, ranking, choices, error, verification=None,
@@ -543,41 +502,6 @@ def _ranking_variables(ranking, zero, arm, other):
     return out
 
 
-def build_dataset(robot, trajectory, terms, ranking, tau, tau_simplified, choices, error,
-                  verification=None, settings=None):
-    """Assemble the analysis into one xarray Dataset, in memory.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm, with n joints.
-    trajectory : Trajectory
-        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
-    terms : GDTerms
-        D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
-    ranking : Ranking
-        The dominance of each of the M elements.
-    tau, tau_simplified : ndarray, shape (N, n)
-        Torques of the full and the simplified model [N m].
-    choices : dict
-        Element label -> kept part.
-    error : dict
-        Torque error per joint.
-    verification : dict, optional
-        Result of the check against Pinocchio.
-    settings : dict, optional
-        Extra global attributes.
-
-    Returns
-    -------
-    xarray.Dataset
-        The per-set-point variables of :data:`SETPOINT_VARIABLES` over dim ``t`` (its
-        coordinate: the time [s]) and the :func:`summary_dataset`.
-    """
-    ds = summary_dataset(robot, trajectory, ranking, choices, error, verification, settings)
-    return with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified)
-
-
 def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
     """A summary dataset with the per-set-point variables added, in memory.
 
@@ -585,19 +509,30 @@ def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
     ----------
     ds : xarray.Dataset
         :func:`summary_dataset`'s.
-    robot, trajectory, terms, tau, tau_simplified
-        As for :func:`build_dataset`.
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Trajectory
+        t (N,) [s]; q, qd, qdd (N, n) [rad, rad/s, rad/s^2].
+    terms : GDTerms
+        D_tran, D_rot, D (N, n, n) [kg m^2]; h_tran, h_rot, h, c and tau_f (or None) (N, n)
+        [N m].
+    tau, tau_simplified : ndarray, shape (N, n)
+        Torques of the full and the simplified model [N m].
 
     Returns
     -------
     xarray.Dataset
         A new dataset: ``ds`` with the variables of :data:`SETPOINT_VARIABLES` over dim ``t``
-        and the coordinate ``joint_k``, as :class:`SetpointWriter` writes them to the file.
+        (``tau_f`` where the terms have friction) and the coordinate ``joint_k``, as
+        :class:`SetpointWriter` writes them to the file.
     """
-    arrays = setpoint_arrays(trajectory, terms, tau, tau_simplified)
+    arrays = {Var.TAU: tau, Var.TAU_SIMPLIFIED: tau_simplified,
+              **{name: getattr(trajectory, name) for name in (Var.T, Var.Q, Var.QD, Var.QDD)},
+              **{name: getattr(terms, name) for name in (Var.D_TRAN, Var.D_ROT, Var.D, Var.H_TRAN,
+                                                        Var.H_ROT, Var.H, Var.C, Var.TAU_F)}}
     prismatic = np.asarray(robot.prismatic, bool)
     ds = ds.copy()
-    for name, (dims, _, long_name) in setpoint_variables(Var.TAU_F in arrays).items():
+    for name, (dims, _, long_name) in _setpoint_variables(terms.tau_f is not None).items():
         ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
     return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
                                                      "joint (column of D)"))
@@ -650,7 +585,7 @@ class SetpointWriter:
             v[:] = values.astype(object)
             v.attrs.update(attrs)
         self.variables = {}
-        for name, (dims, _, long_name) in setpoint_variables(friction).items():
+        for name, (dims, _, long_name) in _setpoint_variables(friction).items():
             units = setpoint_units(name, prismatic)
             shape = tuple({SETPOINT_DIM: rows, Var.JOINT: n, Var.JOINT_K: n}[d] for d in dims)
             opts = {"compression": "gzip", "compression_opts": int(compress)} if compress else {}

@@ -21,7 +21,7 @@ from typing import Final
 
 __all__ = ["Var", "Attr", "VARIABLES", "ATTRIBUTES", "VERIFICATION_PREFIX",
            "VERIFIED_TERMS", "verification_attribute", "ELEMENT_UNITS_RULE", "CliShown",
-           "ReportShown", "RankingColumn", "RANKING_COLUMNS", "ranking_column"]
+           "ReportShown", "RankingColumn", "RANKING_COLUMNS"]
 
 
 class Var:
@@ -498,31 +498,3 @@ RANKING_COLUMNS: Final[tuple[RankingColumn, ...]] = (
                   text=True, stored=False, cli=CliShown("units", "", lead="  "),
                   report=ReportShown("units", "units", 0.8)),
 )
-
-
-def ranking_column(field: str) -> RankingColumn:
-    """The ranking column of a field of the results view.
-
-    Parameters
-    ----------
-    field : str
-        A :attr:`RankingColumn.field` of :data:`RANKING_COLUMNS`.
-
-    Returns
-    -------
-    RankingColumn
-
-    Raises
-    ------
-    KeyError
-        If no column has that field.
-
-    Examples
-    --------
-    >>> ranking_column("peak_total").name == Var.PEAK_TOTAL
-    True
-    """
-    for column in RANKING_COLUMNS:
-        if column.field == field:
-            return column
-    raise KeyError(field)

@@ -9,13 +9,16 @@ analysis (:func:`gd_analyze.store.datasets.summary_dataset`), never decided agai
 
 The ranking and the torque error are one view object each (:class:`RankingTable`,
 :class:`TorqueErrorTable`), which the command line's text and the report's tables both render.
+The robot and trajectory (:class:`StoredRobot`, :class:`StoredTrajectory`), the provenance
+(:class:`Provenance`) and the comparisons (:class:`FormulationComparison`,
+:class:`ChapterComparison`) are views of their own.
 """
 
 from __future__ import annotations
 
 import types
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,22 +28,342 @@ from ..errors import InputError
 from ..ranking.ranking import arm_scales, identically_zero, is_round_off
 from .datasets import joint_units as _units_of
 from .datasets import stored_guarantee, stored_region
-from .names import RANKING_COLUMNS, VERIFICATION_PREFIX, Attr, Var, verification_attribute
-from .schema import View, open_results, optional, stored_prismatic, strings
-from .stored_comparisons import ChapterComparison, FormulationComparison
-from .stored_model import BaseParameters, CostTable
-from .stored_provenance import Provenance
-from .stored_robot import ROBOT_VARIABLES, StoredRobot, StoredTrajectory
-from .stored_simplified import StoredSimplified
-from .sweep_datasets import payload_part
-from .sweep_view import PayloadSweep
+from .names import (
+    ATTRIBUTES,
+    RANKING_COLUMNS,
+    VERIFICATION_PREFIX,
+    Attr,
+    Var,
+    verification_attribute,
+)
+from .schema import View, derived, open_results, stored, stored_prismatic, strings, texts
+from .stored_simplified import BaseParameters, CostTable, StoredSimplified
+from .sweep_view import PayloadSweep, payload_part
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
-__all__ = ["ZERO_MARK", "RankingRow", "RankingTable", "TorqueErrorRow", "TorqueErrorTable",
+__all__ = ["SHOWN_ELSEWHERE", "Provenance", "ROBOT_VARIABLES", "StoredRobot", "StoredTrajectory",
+           "FormulationComparison", "ChapterComparison", "ZERO_MARK", "RankingRow", "RankingTable", "TorqueErrorRow", "TorqueErrorTable",
            "torque_table_header",
            "Verification", "Results"]
+
+#: The attributes a typed view shows elsewhere (the robot and trajectory, the thresholds, the
+#: simplified model's results, the region, the chapter's conclusions): not among the others.
+SHOWN_ELSEWHERE = frozenset({
+    # the robot, the trajectory, the thresholds and the file (Sec. 1, Sec. 7's first rows)
+    Attr.ROBOT, Attr.ROBOT_DESCRIPTION, Attr.ROBOT_REFERENCE, Attr.ROBOT_SOURCE,
+    Attr.ROBOT_SHA256, Attr.ROBOT_PLACEHOLDER_INERTIA, Attr.GRAVITY, Attr.GRAVITY_UNITS,
+    Attr.INPUT_FILE, Attr.INPUT_PATH, Attr.INPUT_SHA256, Attr.DERIVATIVES, Attr.SETPOINTS,
+    Attr.DOMINANCE_THRESHOLD, Attr.NEGLIGIBLE_THRESHOLD, Attr.TITLE, Attr.SOURCE,
+    Attr.GD_ANALYZE_VERSION, Attr.HISTORY, Attr.COMMAND, Attr.CONVENTIONS, Attr.REFERENCES,
+    # the simplified model's results (Sec. 5)
+    Attr.SIMPLIFIED_TERMS_KEPT, Attr.SIMPLIFIED_PAIRS_DROPPED, Attr.SIMPLIFIED_PAIRS,
+    Attr.SIMPLIFIED_DROPPED_PAIRS, Attr.SIMPLIFIED_MULTIPLICATIONS, Attr.SIMPLIFIED_ADDITIONS,
+    Attr.SIMPLIFIED_SIN, Attr.SIMPLIFIED_COS, Attr.OTHER_RULE_MULTIPLICATIONS,
+    Attr.OTHER_RULE_ADDITIONS, Attr.SIMPLIFIED_LADDER_SKIPPED, Attr.SIMPLIFIED_LADDER_FORM,
+    Attr.SIMPLIFIED_FORM_NOTE, Attr.SIMPLIFIED_REGION_SCREEN, Attr.SIMPLIFIED_FILES,
+    Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING, Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD,
+    Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMONICS,
+    Attr.OTHER_RULE_COEFFICIENTS, Attr.SIMPLIFIED_GUARANTEE_KIND, Attr.C_PREFIX,
+    Attr.SIMPLIFIED_GUARANTEE_STATEMENT, Attr.SIMPLIFIED_GUARANTEE_TOLERANCE,
+    # the formulations compared, the payload and the mounting
+    Attr.FORMULATIONS_N, Attr.FORMULATIONS_SETPOINTS, Attr.FORMULATIONS_JOINT_TYPES,
+    Attr.PAYLOAD_MASS, Attr.PAYLOAD_COM, Attr.PAYLOAD_INERTIA, Attr.MOUNTING_BASE_RPY_DEG,
+    Attr.MOUNTING_GRAVITY_BASE, Attr.MOUNTING_GRAVITY_WORLD,
+}) | {name for name in ATTRIBUTES      # D_s's check, the region, the chapter's conclusions
+      if name.startswith(("simplified_inertia_check_", "region_", "chapter_"))}
+
+#: The prefix of what the model records it was built with, beside the setting asked for.
+_BUILT = "simplified_"
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """How the results were made: the provenance and settings attributes, as stored.
+
+    Each field but ``others`` is the attribute of :class:`gd_analyze.store.names.Attr` of the
+    same name, upper-cased (``conventions`` is ``Attr.CONVENTIONS``), None where not stored.
+
+    Attributes
+    ----------
+    gd_analyze_version, command, history, conventions, references : object
+        The software, the command line, the CF history ("<time> created by ..."), the CF
+        conventions and the method's references.
+    rule, tolerance, torque_floor, form, explicit, other_rule : object
+        The settings asked for.
+    simplified_rule, simplified_tolerance, simplified_torque_floor, simplified_form : object
+        What the simplified model records it was built with.
+    payload_mass, payload_com, payload_inertia : object
+        The payload on the last link [kg, m, kg m^2].
+    mounting_base_rpy_deg, mounting_gravity_world : object
+        How the base is turned [deg] and gravity in the world [m/s^2].
+    formulations_setpoints, formulations_n, formulations_joint_types : object
+        What the formulations were compared on (``"RRP..."``).
+    simplified_files : object
+        The emitted source files.
+    simplified_guarantee_kind, simplified_guarantee_statement : object
+        The model's guarantee.
+    verification_engine : object
+        What the G-D terms were checked against.
+    others : tuple of (str, object, object)
+        Every other attribute (neither a field here nor :data:`SHOWN_ELSEWHERE` nor of the
+        verification), sorted by name: (name, value, the value of the setting it records,
+        ``simplified_<x>``'s ``<x>``, or None).
+    """
+
+    gd_analyze_version: Any
+    command: Any
+    history: Any
+    conventions: Any
+    references: Any
+    rule: Any
+    tolerance: Any
+    torque_floor: Any
+    form: Any
+    explicit: Any
+    other_rule: Any
+    simplified_rule: Any
+    simplified_tolerance: Any
+    simplified_torque_floor: Any
+    simplified_form: Any
+    payload_mass: Any
+    payload_com: Any
+    payload_inertia: Any
+    mounting_base_rpy_deg: Any
+    mounting_gravity_world: Any
+    formulations_setpoints: Any
+    formulations_n: Any
+    formulations_joint_types: Any
+    simplified_files: Any
+    simplified_guarantee_kind: Any
+    simplified_guarantee_statement: Any
+    verification_engine: Any
+    others: tuple[tuple[str, Any, Any], ...]
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> Provenance:
+        """The provenance of a results dataset's global attributes.
+
+        Parameters
+        ----------
+        attrs : Mapping
+            The dataset's global attributes.
+
+        Returns
+        -------
+        Provenance
+        """
+        names = {f.name: getattr(Attr, f.name.upper()) for f in fields(cls)
+                 if f.name != "others"}
+        typed = SHOWN_ELSEWHERE | set(names.values())
+        others = tuple(
+            (k, attrs[k], attrs.get(k[len(_BUILT):]) if k.startswith(_BUILT) else None)
+            for k in sorted(attrs) if k not in typed and not k.startswith(VERIFICATION_PREFIX))
+        return cls(**{f: attrs.get(name) for f, name in names.items()}, others=others)
+
+#: The robot's variables every results file holds.
+ROBOT_VARIABLES = (Var.LINK_MASS, Var.LINK_COM, Var.LINK_INERTIA, Var.DH_D, Var.DH_A,
+                   Var.DH_ALPHA, Var.DH_OFFSET)
+
+
+@dataclass(frozen=True, eq=False)
+class StoredRobot(View):
+    """The robot of a results file, as the main job stored it.
+
+    Attributes
+    ----------
+    description, reference, source, sha256, gravity : object
+        The attributes ``robot_description``, ``robot_reference``, ``robot_source`` (the robot
+        file), ``robot_sha256`` and ``gravity`` [m/s^2] as stored; None where missing.
+    joint_type : tuple of str or None, length n
+        ``"revolute"`` or ``"prismatic"`` per joint; None in a file without it.
+    link_mass : ndarray, shape (n,)
+        [kg].
+    link_com : ndarray, shape (n, 3)
+        Each link's centre of mass in its frame [m].
+    link_inertia : ndarray, shape (n, 3, 3)
+        Each link's inertia about its centre of mass [kg m^2].
+    dh : ndarray, shape (4, n)
+        The DH rows d [m or -], a [m], alpha [rad] and the joint offset [rad or m], in that
+        order; NaN for a robot given by joint placements (URDF, chain).
+    joint_rotation : ndarray, shape (n, 3, 3), or None
+        Each joint's fixed rotation in body frame i-1 (URDF, chain); None where not stored.
+    joint_translation : ndarray, shape (n, 3), or None
+        Its fixed translation [m]; None where not stored.
+    armature, viscous, coulomb : ndarray, shape (n,), or None
+        The drives: armature [kg m^2 or kg], viscous [N m s/rad or N s/m] and Coulomb
+        friction [N m or N]; None in a file without drives.
+    torque_offset : ndarray, shape (n,), or None
+        A constant torque of each drive [N m or N]; None where not stored.
+    effort_limit : ndarray, shape (n,), or None
+        The effort limits |tau| <= tau_max [N m or N] (NaN: not given); None in a file written
+        before they were stored.
+    placeholder_inertia : bool
+        The robot file gave no inertia: placeholders were used.
+    """
+
+    description: Any = stored(Attr.ROBOT_DESCRIPTION, default=None, attr=True)
+    reference: Any = stored(Attr.ROBOT_REFERENCE, default=None, attr=True)
+    source: Any = stored(Attr.ROBOT_SOURCE, default=None, attr=True)
+    sha256: Any = stored(Attr.ROBOT_SHA256, default=None, attr=True)
+    gravity: Any = stored(Attr.GRAVITY, default=None, attr=True)
+    joint_type: tuple[str, ...] | None = stored(Var.JOINT_TYPE, texts, None)
+    link_mass: np.ndarray = stored(Var.LINK_MASS)
+    link_com: np.ndarray = stored(Var.LINK_COM)
+    link_inertia: np.ndarray = stored(Var.LINK_INERTIA)
+    dh: np.ndarray = derived(lambda ds: np.stack([ds[v].values for v in (
+        Var.DH_D, Var.DH_A, Var.DH_ALPHA, Var.DH_OFFSET)]))
+    joint_rotation: np.ndarray | None = stored(Var.JOINT_ROTATION, default=None)
+    joint_translation: np.ndarray | None = stored(Var.JOINT_TRANSLATION, default=None)
+    armature: np.ndarray | None = stored(Var.D_ARM, default=None)
+    viscous: np.ndarray | None = stored(Var.VISCOUS, default=None)
+    coulomb: np.ndarray | None = stored(Var.COULOMB, default=None)
+    torque_offset: np.ndarray | None = stored(Var.TORQUE_OFFSET, default=None)
+    effort_limit: np.ndarray | None = stored(Var.TAU_MAX, default=None)
+    placeholder_inertia: bool = stored(Attr.ROBOT_PLACEHOLDER_INERTIA, bool, False, attr=True)
+
+    @property
+    def drives(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """(armature, viscous, coulomb), each shape (n,); None where one is not stored."""
+        if self.armature is None or self.viscous is None or self.coulomb is None:
+            return None
+        return self.armature, self.viscous, self.coulomb
+
+    @property
+    def has_drives(self) -> bool:
+        """bool: any armature, friction or torque offset is stored nonzero."""
+        return any(v is not None and bool(np.any(np.asarray(v, float) != 0))
+                   for v in (self.armature, self.viscous, self.coulomb, self.torque_offset))
+
+
+@dataclass(frozen=True, eq=False)
+class StoredTrajectory(View):
+    """The analysed trajectory of a results file: its source, and its series read on demand.
+
+    Attributes
+    ----------
+    input_file, input_path, input_sha256 : object
+        The attributes of the trajectory file (name, path, SHA-256) as stored; None where
+        missing.
+    derivatives : str
+        How q̇ and q̈ were obtained (``"file"``, ``"cubic-spline"``, ``"quintic"``,
+        ``"arrays"``); "" where not stored.
+    dataset : xarray.Dataset
+        The dataset the series are read from.
+    """
+
+    input_file: Any = stored(Attr.INPUT_FILE, default=None, attr=True)
+    input_path: Any = stored(Attr.INPUT_PATH, default=None, attr=True)
+    input_sha256: Any = stored(Attr.INPUT_SHA256, default=None, attr=True)
+    derivatives: str = stored(Attr.DERIVATIVES, str, "", attr=True)
+    dataset: xr.Dataset = derived(lambda ds: ds)
+
+    @property
+    def t(self) -> np.ndarray:
+        """ndarray, shape (N,): the time of each set point [s]."""
+        return self.dataset[Var.T].values
+
+    @property
+    def motion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q, q̇, q̈), each ndarray of shape (N, n): joint positions [rad or m], velocities
+        [rad/s or m/s] and accelerations [rad/s^2 or m/s^2]."""
+        return (self.dataset[Var.Q].values, self.dataset[Var.QD].values,
+                self.dataset[Var.QDD].values)
+
+    @property
+    def tau_f(self) -> np.ndarray | None:
+        """ndarray, shape (N, n), or None: the drives' friction torque [N m or N]; None for a
+        robot without drives."""
+        return self.dataset[Var.TAU_F].values if Var.TAU_F in self.dataset.variables else None
+
+
+@dataclass(frozen=True, eq=False)
+class FormulationComparison(View):
+    """The formulations run on the same set points and their operation counts.
+
+    Attributes
+    ----------
+    quantities : tuple of str, length Q
+        The quantities compared (``"D"``, ``"h"``, ``"c"``, ``"tau"``).
+    pairs : tuple of str, length P
+        ``"lagrange-euler vs gd"`` ...
+    disagreement : ndarray, shape (P, Q)
+        Each pair's largest relative disagreement per quantity [1].
+    names : tuple of str, length F
+        The formulations counted.
+    dof : ndarray of int, shape (K,)
+        The numbers of joints counted.
+    multiplications, additions : ndarray of int, shape (K, F)
+        Counted on the code as implemented, per set point.
+    multiplications_table_3_5, additions_table_3_5 : ndarray of int, shape (K, F)
+        By the formulas of Table 3.5.
+    arm : tuple of (ndarray, ndarray) or None
+        The multiplications and additions, shape (F,), for the arm's own joint types; None
+        where not stored.
+    n : int
+        The arm's joint count the table is given for.
+    setpoints : object
+        The set points compared, as stored (None where missing).
+    joint_types : str
+        The arm's joint types, ``"RRP..."`` ("" where not stored).
+    """
+
+    presence = (Var.FORMULATION_DISAGREEMENT,)
+
+    quantities: tuple[str, ...] = stored(Var.QUANTITY, texts)
+    pairs: tuple[str, ...] = stored(Var.FORMULATION_PAIR, texts)
+    disagreement: np.ndarray = stored(Var.FORMULATION_DISAGREEMENT)
+    names: tuple[str, ...] = stored(Var.FORMULATION, texts)
+    dof: np.ndarray = stored(Var.DOF)
+    multiplications: np.ndarray = stored(Var.OP_MULTIPLICATIONS)
+    additions: np.ndarray = stored(Var.OP_ADDITIONS)
+    multiplications_table_3_5: np.ndarray = stored(Var.OP_MULTIPLICATIONS_TABLE_3_5)
+    additions_table_3_5: np.ndarray = stored(Var.OP_ADDITIONS_TABLE_3_5)
+    arm: tuple[np.ndarray, np.ndarray] | None = derived(lambda ds: (
+        (ds[Var.OP_MULTIPLICATIONS_ARM].values, ds[Var.OP_ADDITIONS_ARM].values)
+        if Var.OP_MULTIPLICATIONS_ARM in ds.variables else None))
+    n: int = derived(lambda ds: int(ds.attrs.get(Attr.FORMULATIONS_N, ds.sizes[Var.JOINT])))
+    setpoints: Any = stored(Attr.FORMULATIONS_SETPOINTS, default=None, attr=True)
+    joint_types: str = stored(Attr.FORMULATIONS_JOINT_TYPES, str, "", attr=True)
+
+
+@dataclass(frozen=True, eq=False)
+class ChapterComparison(View):
+    """The ranking against the chapter's conclusions for its PUMA 560 (Sec. 3.4.1).
+
+    Attributes
+    ----------
+    blocks : dict of str to list of str
+        ``"arm"``, ``"arm_translation"``, ``"wrist"``, ``"wrist_rotation"``: the elements the
+        chapter ranks in the arm and the wrist, and those its conclusions say translation
+        (arm) or rotation (wrist) leads.
+    threshold : ndarray, shape (T,)
+        The dominance thresholds s the agreement is counted at.
+    agreement : ndarray of int, shape (T,)
+        The elements whose class agrees with the chapter's at each threshold.
+    elements_compared : int
+        The elements compared.
+    model_error_relative_peak : ndarray, shape (n,)
+        The chapter's simplified model's peak torque error relative to peak |tau| [1].
+    model_error_round_off : ndarray of bool, shape (n,)
+        That error is round-off.
+    """
+
+    presence = (Var.CHAPTER_AGREEMENT,)
+
+    blocks: dict[str, list[str]] = derived(lambda ds: {
+        key: [k for k in str(ds.attrs.get(name, "")).split(", ") if k]
+        for key, name in (("arm", Attr.CHAPTER_ARM_RANKED),
+                          ("arm_translation", Attr.CHAPTER_ARM_TRANSLATION_LEADS),
+                          ("wrist", Attr.CHAPTER_WRIST_RANKED),
+                          ("wrist_rotation", Attr.CHAPTER_WRIST_ROTATION_LEADS))})
+    threshold: np.ndarray = stored(Var.CHAPTER_THRESHOLD)
+    agreement: np.ndarray = stored(Var.CHAPTER_AGREEMENT)
+    elements_compared: int = stored(Attr.CHAPTER_ELEMENTS_COMPARED, int, attr=True)
+    model_error_relative_peak: np.ndarray = stored(Var.CHAPTER_MODEL_ERROR_RELATIVE_PEAK)
+    model_error_round_off: np.ndarray = stored(Var.CHAPTER_MODEL_ERROR_ROUND_OFF,
+                                               lambda v: v.astype(bool))
 
 #: Printed instead of a number that is round-off (zero to rounding).
 ZERO_MARK = "\u2261 0"
@@ -369,35 +692,41 @@ class Results(View):
         The file read, or ``"<memory>"``.
     """
 
-    robot: str
-    input_file: str
-    setpoints: int
-    dominance_threshold: float
-    negligible_threshold: float
-    prismatic: tuple[bool, ...]
-    joint_units: Mapping[str, tuple[str, ...]]
-    ranking: RankingTable
-    torque_error: TorqueErrorTable
-    region: dict | None
-    guarantee: dict | None
-    inertia_check: str
-    verification: Verification | None
-    robot_record: StoredRobot
-    trajectory: StoredTrajectory
-    share_arm: np.ndarray | None
-    costs: CostTable | None
-    region_screen: str
-    base_parameters: BaseParameters | None
-    simplified_operations: tuple[int, int] | None
-    pairs: tuple[int, int]
-    formulations: FormulationComparison | None
-    chapter: ChapterComparison | None
-    rigid_dominance: tuple[str, ...] | None
-    provenance: Provenance
-    simplified: StoredSimplified | None
-    payload: PayloadSweep | None
-    attrs: Mapping
-    dataset: xr.Dataset
+    robot: str = stored(Attr.ROBOT, str, attr=True)
+    input_file: str = stored(Attr.INPUT_FILE, str, attr=True)
+    setpoints: int = stored(Attr.SETPOINTS, int, attr=True)
+    dominance_threshold: float = stored(Attr.DOMINANCE_THRESHOLD, float, attr=True)
+    negligible_threshold: float = stored(Attr.NEGLIGIBLE_THRESHOLD, float, attr=True)
+    prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    joint_units: Mapping[str, tuple[str, ...]] = derived(lambda ds: _joint_units(ds))
+    ranking: RankingTable = derived(lambda ds: _ranking(ds))
+    torque_error: TorqueErrorTable = derived(lambda ds: _torque_error(
+        ds, _joint_units(ds)["tau"]))
+    region: dict | None = derived(stored_region)
+    guarantee: dict | None = derived(stored_guarantee)
+    inertia_check: str = stored(Attr.SIMPLIFIED_INERTIA_CHECK_STATEMENT, str, "", attr=True)
+    verification: Verification | None = derived(lambda ds: _verification(ds.attrs))
+    robot_record: StoredRobot = derived(StoredRobot.read)
+    trajectory: StoredTrajectory = derived(StoredTrajectory.read)
+    share_arm: np.ndarray | None = stored(Var.SHARE_ARM, default=None)
+    costs: CostTable | None = derived(CostTable.from_dataset)
+    region_screen: str = stored(Attr.SIMPLIFIED_REGION_SCREEN, str, "", attr=True)
+    base_parameters: BaseParameters | None = derived(BaseParameters.from_dataset)
+    simplified_operations: tuple[int, int] | None = derived(lambda ds: _operations(ds.attrs))
+    pairs: tuple[int, int] = derived(lambda ds: (
+        int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
+        int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS, 0))))
+    formulations: FormulationComparison | None = derived(FormulationComparison.from_dataset)
+    chapter: ChapterComparison | None = derived(ChapterComparison.from_dataset)
+    rigid_dominance: tuple[str, ...] | None = stored(
+        Var.DOMINANCE_RIGID_LINKS, lambda v: tuple(str(x) for x in v), None)
+    provenance: Provenance = derived(lambda ds: Provenance.from_attrs(ds.attrs))
+    simplified: StoredSimplified | None = derived(StoredSimplified.from_dataset)
+    payload: PayloadSweep | None = derived(lambda ds: (
+        PayloadSweep.from_dataset(payload_part(ds)) if Var.PAYLOAD_SHARE_TRAN in ds.variables
+        else None))
+    attrs: Mapping = derived(lambda ds: types.MappingProxyType(dict(ds.attrs)))
+    dataset: xr.Dataset = derived(lambda ds: ds)
     source: str = "<memory>"
 
     @property
@@ -459,45 +788,17 @@ class Results(View):
             if name not in ds.attrs:
                 raise InputError(f"missing attribute {name!r}: not a gd-analyze results file",
                                  source)
-        prismatic = stored_prismatic(ds)
-        joint_units = types.MappingProxyType(
-            {q: tuple(strings(ds[name].values)) if name in ds.variables
-             else _default_units(q, prismatic)
-             for q, name in (("q", Var.Q_UNITS), ("qd", Var.QD_UNITS), ("qdd", Var.QDD_UNITS),
-                             ("tau", Var.TAU_UNITS))})
-        attrs = types.MappingProxyType(dict(ds.attrs))
-        return cls(robot=str(attrs[Attr.ROBOT]), input_file=str(attrs[Attr.INPUT_FILE]),
-                   setpoints=int(attrs[Attr.SETPOINTS]),
-                   dominance_threshold=float(attrs[Attr.DOMINANCE_THRESHOLD]),
-                   negligible_threshold=float(attrs[Attr.NEGLIGIBLE_THRESHOLD]),
-                   prismatic=prismatic, joint_units=joint_units, ranking=_ranking(ds),
-                   torque_error=_torque_error(ds, joint_units["tau"]),
-                   region=stored_region(ds), guarantee=stored_guarantee(ds),
-                   inertia_check=str(attrs.get(Attr.SIMPLIFIED_INERTIA_CHECK_STATEMENT, "")),
-                   verification=_verification(attrs),
-                   robot_record=StoredRobot.from_dataset(ds),
-                   trajectory=StoredTrajectory.from_dataset(ds),
-                   share_arm=optional(ds, Var.SHARE_ARM),
-                   costs=CostTable.from_dataset(ds),
-                   region_screen=str(attrs.get(Attr.SIMPLIFIED_REGION_SCREEN, "")),
-                   base_parameters=BaseParameters.from_dataset(ds),
-                   simplified_operations=_operations(attrs),
-                   pairs=(int(attrs.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
-                          int(attrs.get(Attr.SIMPLIFIED_PAIRS, 0))),
-                   formulations=FormulationComparison.from_dataset(ds),
-                   chapter=ChapterComparison.from_dataset(ds),
-                   rigid_dominance=(tuple(str(v) for v in ds[Var.DOMINANCE_RIGID_LINKS].values)
-                                    if Var.DOMINANCE_RIGID_LINKS in ds.variables else None),
-                   provenance=Provenance.from_attrs(attrs),
-                   simplified=StoredSimplified.from_dataset(ds),
-                   payload=(PayloadSweep.from_dataset(payload_part(ds))
-                            if Var.PAYLOAD_SHARE_TRAN in ds.variables else None),
-                   attrs=attrs, dataset=ds, source=source)
+        return cls.read(ds, source=source)
 
 
-def _default_units(which, prismatic):
-    """The units of a file written before the per-joint units were stored."""
-    return tuple(_units_of(prismatic, which))
+def _joint_units(ds):
+    """The units of each joint's q, qd, qdd and tau as stored; for a file written before they
+    were stored, from the joint types."""
+    prismatic = stored_prismatic(ds)
+    return types.MappingProxyType(
+        {q: texts(ds[name].values) if name in ds.variables else tuple(_units_of(prismatic, q))
+         for q, name in (("q", Var.Q_UNITS), ("qd", Var.QD_UNITS), ("qdd", Var.QDD_UNITS),
+                         ("tau", Var.TAU_UNITS))})
 
 
 def _flags(ds, name):

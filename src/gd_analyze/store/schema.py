@@ -3,7 +3,7 @@
 One :func:`var` (``units`` and ``long_name`` on every variable), one block of CF-style global
 attributes with the provenance (:func:`global_attributes`), one writer (:func:`write_dataset`,
 atomic, h5netcdf) and one reader (:func:`open_results`, :func:`open_sweep`). The schemas that use
-it: :mod:`gd_analyze.store.datasets` (``results.h5``), :mod:`gd_analyze.store.sweep_datasets`,
+it: :mod:`gd_analyze.store.datasets` (``results.h5``), :mod:`gd_analyze.store.sweep_view`,
 :mod:`gd_analyze.store.control_dataset`.
 """
 
@@ -12,8 +12,8 @@ from __future__ import annotations
 import datetime
 import os
 from collections.abc import Mapping
-from dataclasses import fields
-from typing import TYPE_CHECKING, Any, TypeVar
+from dataclasses import dataclass, field, fields
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,15 +26,15 @@ from ..ranking.ranking import element_labels
 from .names import Attr, Var
 
 if TYPE_CHECKING:
-    from collections.abc import Sequence
+    from collections.abc import Callable, Sequence
 
     import xarray as xr
 
     from ..model.robot import Robot
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
-           "element_coords", "joint_coordinate", "joint_type_var", "strings", "optional", "stored_prismatic",
-           "from_attrs", "View", "write_dataset", "append_dataset", "open_results", "open_sweep"]
+           "element_coords", "joint_coordinate", "joint_type_var", "strings", "stored_prismatic",
+           "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
@@ -285,21 +285,6 @@ def strings(values: ArrayLike) -> list[str]:
     return [v.decode() if isinstance(v, bytes) else str(v) for v in np.asarray(values).ravel()]
 
 
-def optional(ds: xr.Dataset, name: str) -> np.ndarray | None:
-    """A variable's values, or None where the dataset has none.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-    name : str
-
-    Returns
-    -------
-    ndarray or None
-    """
-    return ds[name].values if name in ds.variables else None
-
-
 def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
     """The prismatic joints, as the variable ``joint_type`` stores them.
 
@@ -316,7 +301,6 @@ def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
     if Var.JOINT_TYPE not in ds.variables:
         return (False,) * int(ds.sizes[Var.JOINT])
     return tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
-
 
 _D = TypeVar("_D")
 
@@ -342,12 +326,139 @@ def from_attrs(cls: type[_D], attrs: Mapping[str, Any], prefix: str = "", /, **g
     return cls(**{f.name: attrs.get(prefix + f.name)                   # type: ignore[call-arg]
                   for f in fields(cls) if f.name not in given}, **given)  # type: ignore[arg-type]
 
-
 _V = TypeVar("_V", bound="View")
+#: The default of a :func:`stored` field that the dataset must hold.
+_REQUIRED: Any = object()
+
+
+def texts(values: ArrayLike) -> tuple[str, ...]:
+    """Strings read from a file, as a tuple (:func:`strings`).
+
+    Parameters
+    ----------
+    values : array_like
+        Strings as stored.
+
+    Returns
+    -------
+    tuple of str
+    """
+    return tuple(strings(values))
+
+
+def stored(name: str, convert: Callable[[Any], Any] | None = None, default: Any = _REQUIRED,
+           *, attr: bool = False) -> Any:
+    """A field of a :class:`View`: where :meth:`View.read` reads it from a dataset.
+
+    Parameters
+    ----------
+    name : str
+        The variable (a constant of :class:`gd_analyze.store.names.Var`) or, with ``attr``,
+        the global attribute it is read from.
+    convert : callable, optional
+        Applied to the stored value (the variable's values, the attribute's value), not to
+        the default.
+    default : object, optional
+        The field where the dataset does not hold it; without one the dataset must hold it.
+    attr : bool, optional
+        A global attribute, not a variable.
+
+    Returns
+    -------
+    dataclasses.Field
+        A field without a default, whose metadata says where it is stored.
+    """
+    return field(metadata={"stored": (name, convert, default, attr)})
+
+
+def derived(read: Callable[[xr.Dataset], Any]) -> Any:
+    """A field of a :class:`View` that :meth:`View.read` computes from the dataset.
+
+    Parameters
+    ----------
+    read : callable
+        The dataset -> the field.
+
+    Returns
+    -------
+    dataclasses.Field
+    """
+    return field(metadata={"derived": read})
 
 
 class View:
-    """A typed view read from a dataset by its class's ``from_dataset``."""
+    """A typed view read from a dataset by one path, :meth:`read`: each field that is
+    :func:`stored` where it says, each :func:`derived` one computed from the dataset, any other
+    given by the class's own ``from_dataset`` (a view's file and its one-line checks)."""
+
+    #: The variables (coordinates included) that a dataset holding the view holds: where one is
+    #: missing, :meth:`View.from_dataset` gives None.
+    presence: ClassVar[tuple[str, ...]] = ()
+    #: The variables a dataset of the view must hold: where one is missing,
+    #: :meth:`View.from_dataset` raises an error of one line naming what the dataset is not.
+    required: ClassVar[tuple[str, ...]] = ()
+    #: What a dataset of the view is, as that error names it (``"sweep"``).
+    what: ClassVar[str] = ""
+
+    @classmethod
+    def read(cls: type[_V], ds: xr.Dataset, /, **given: Any) -> _V:
+        """The view of a dataset: each :func:`stored` field as stored, each :func:`derived`
+        one computed, the others as given.
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+        **given
+            Fields given, not read.
+
+        Returns
+        -------
+        The view.
+
+        Raises
+        ------
+        KeyError
+            If the dataset lacks a variable or attribute of a field without a default.
+        """
+        values = {}
+        for f in fields(cls):  # type: ignore[arg-type]
+            if f.name in given or not f.metadata:
+                continue
+            if "derived" in f.metadata:
+                values[f.name] = f.metadata["derived"](ds)
+                continue
+            name, convert, default, attr = f.metadata["stored"]
+            if name not in (ds.attrs if attr else ds.variables) and default is not _REQUIRED:
+                values[f.name] = default
+                continue
+            value = ds.attrs[name] if attr else ds[name].values
+            values[f.name] = value if convert is None else convert(value)
+        return cls(**values, **given)
+
+    @classmethod
+    def from_dataset(cls: type[_V], ds: xr.Dataset) -> _V | None:
+        """The view of a dataset, or None where it lacks a variable of ``presence``.
+
+        Parameters
+        ----------
+        ds : xarray.Dataset
+
+        Returns
+        -------
+        The view (:meth:`read`), or None.
+
+        Raises
+        ------
+        InputError
+            If a variable of ``required`` is missing (one line naming them).
+        """
+        missing = [name for name in cls.required if name not in ds.variables]
+        if missing:
+            raise InputError(f"not a gd-analyze {cls.what} dataset: missing variable(s) "
+                             + ", ".join(missing))
+        if any(name not in ds.variables for name in cls.presence):
+            return None
+        return cls.read(ds)
 
     @classmethod
     def of(cls: type[_V], ds: _V | xr.Dataset, *args: Any) -> _V:
@@ -363,7 +474,65 @@ class View:
         -------
         The view.
         """
-        return ds if isinstance(ds, cls) else cls.from_dataset(ds, *args)  # type: ignore[attr-defined]
+        return ds if isinstance(ds, cls) else cls.from_dataset(ds, *args)  # type: ignore[return-value, call-arg, arg-type]
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """When and by what a stored run was computed, and the arm's gravity and mounting: the
+    attributes every dataset (results, sweep, control) stores alike, as stored (None where
+    missing).
+
+    Attributes
+    ----------
+    gd_analyze_version, history : object
+        The software, and the CF history ("<time> created by ...").
+    gravity, mounting_gravity_base, mounting_gravity_world : object
+        Gravity [m/s^2]: as the robot file gives it, in the base frame, in the world.
+    mounting_base_rpy_deg : object
+        How the base is turned: roll, pitch, yaw [deg].
+    """
+
+    gd_analyze_version: Any
+    history: Any
+    gravity: Any
+    mounting_gravity_base: Any
+    mounting_gravity_world: Any
+    mounting_base_rpy_deg: Any
+
+    @classmethod
+    def from_attrs(cls, attrs: Mapping[str, Any]) -> RunRecord:
+        """The record of a dataset's global attributes.
+
+        Parameters
+        ----------
+        attrs : Mapping
+
+        Returns
+        -------
+        RunRecord
+        """
+        return cls(**{f.name: attrs.get(getattr(Attr, f.name.upper())) for f in fields(cls)})
+
+
+@dataclass(frozen=True, eq=False)
+class EvaluatorCosts(View):
+    """The operations per set point of each evaluator of tau a control or sweep dataset
+    counted, Newton-Euler last.
+
+    Attributes
+    ----------
+    evaluators : tuple of str, length E
+        Each evaluator's name.
+    multiplications, additions : ndarray of int, shape (E,)
+        Its multiplications and additions per set point.
+    """
+
+    presence = ("evaluator",)
+
+    evaluators: tuple[str, ...] = stored("evaluator", texts)
+    multiplications: np.ndarray = stored("multiplications")
+    additions: np.ndarray = stored("additions")
 
 
 def write_dataset(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:

@@ -20,9 +20,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from .schema import View, from_attrs, optional, stored_prismatic, strings
-from .stored_model import EvaluatorCosts
-from .stored_provenance import RunRecord
+from .schema import (
+    EvaluatorCosts,
+    RunRecord,
+    View,
+    derived,
+    from_attrs,
+    stored,
+    stored_prismatic,
+    strings,
+    texts,
+)
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -35,11 +43,6 @@ REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoint
                       "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
 #: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
 _TYPED_GAINS = ("inertia_scale", "Kp_pd", "Kv_pd")
-#: The fields of :class:`StoredControl` that are the variable of the same name (None where
-#: not stored).
-_OPTIONAL = ("tau_difference", "tau_difference_floor", "tau_difference_peak",
-             "tau_difference_rms", "tau_difference_peak_setpoints",
-             "tau_difference_rms_setpoints", "q0_offset")
 
 
 @dataclass(frozen=True)
@@ -146,6 +149,14 @@ class ModelFacts:
     guarantee_coverage: Any
 
 
+def _by_controller(ds, name):
+    """A variable over (controller, ...) by controller; None where not stored."""
+    if name not in ds.variables:
+        return None
+    return types.MappingProxyType({c: ds[name].sel(controller=c).values
+                                   for c in strings(ds["controller"].values)})
+
+
 @dataclass(frozen=True, eq=False)
 class StoredControl(View):
     """A control dataset as the control report reads it.
@@ -197,35 +208,44 @@ class StoredControl(View):
         The software, the run's time, gravity and mounting.
     """
 
-    controllers: tuple[str, ...]
-    descriptions: tuple[str, ...] | None
-    prismatic: tuple[bool, ...]
-    time: np.ndarray
-    is_setpoint: np.ndarray
-    q_d: np.ndarray
-    error: Mapping[str, np.ndarray]
-    tau: Mapping[str, np.ndarray]
-    error_peak_setpoints: Mapping[str, np.ndarray]
-    error_rms_setpoints: Mapping[str, np.ndarray]
-    error_peak_grid: Mapping[str, np.ndarray]
-    error_rms_grid: Mapping[str, np.ndarray]
-    tau_peak: Mapping[str, np.ndarray] | None
-    tau_rms: Mapping[str, np.ndarray] | None
-    tau_difference: np.ndarray | None
-    tau_difference_floor: np.ndarray | None
-    tau_difference_peak: np.ndarray | None
-    tau_difference_rms: np.ndarray | None
-    tau_difference_peak_setpoints: np.ndarray | None
-    tau_difference_rms_setpoints: np.ndarray | None
-    gains: Mapping[str, np.ndarray]
-    gain_units: Mapping[str, tuple[str, ...] | None]
-    q0_offset: np.ndarray | None
-    elements: tuple[str, ...]
-    choice: tuple[str, ...]
-    costs: EvaluatorCosts | None
-    settings: ControlSettings
-    model: ModelFacts
-    run: RunRecord
+    controllers: tuple[str, ...] = stored("controller", texts)
+    descriptions: tuple[str, ...] | None = stored("controller_description", texts, None)
+    prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    time: np.ndarray = stored("time")
+    is_setpoint: np.ndarray = stored("is_setpoint", lambda v: np.asarray(v).astype(bool))
+    q_d: np.ndarray = stored("q_d")
+    error: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, "error"))
+    tau: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, "tau"))
+    error_peak_setpoints: Mapping[str, np.ndarray] = derived(
+        lambda ds: _by_controller(ds, "error_peak_setpoints"))
+    error_rms_setpoints: Mapping[str, np.ndarray] = derived(
+        lambda ds: _by_controller(ds, "error_rms_setpoints"))
+    error_peak_grid: Mapping[str, np.ndarray] = derived(
+        lambda ds: _by_controller(ds, "error_peak_grid"))
+    error_rms_grid: Mapping[str, np.ndarray] = derived(
+        lambda ds: _by_controller(ds, "error_rms_grid"))
+    tau_peak: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, "tau_peak"))
+    tau_rms: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, "tau_rms"))
+    tau_difference: np.ndarray | None = stored("tau_difference", default=None)
+    tau_difference_floor: np.ndarray | None = stored("tau_difference_floor", default=None)
+    tau_difference_peak: np.ndarray | None = stored("tau_difference_peak", default=None)
+    tau_difference_rms: np.ndarray | None = stored("tau_difference_rms", default=None)
+    tau_difference_peak_setpoints: np.ndarray | None = stored(
+        "tau_difference_peak_setpoints", default=None)
+    tau_difference_rms_setpoints: np.ndarray | None = stored(
+        "tau_difference_rms_setpoints", default=None)
+    gains: Mapping[str, np.ndarray] = derived(lambda ds: types.MappingProxyType(
+        {k: ds[k].values for k in ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}))
+    gain_units: Mapping[str, tuple[str, ...] | None] = derived(lambda ds: types.MappingProxyType({
+        k: texts(ds[f"{k}_units"].values) if f"{k}_units" in ds.coords else None
+        for k in _TYPED_GAINS}))
+    q0_offset: np.ndarray | None = stored("q0_offset", default=None)
+    elements: tuple[str, ...] = stored("element", texts, ())
+    choice: tuple[str, ...] = stored("choice", texts)
+    costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
+    settings: ControlSettings = derived(lambda ds: from_attrs(ControlSettings, ds.attrs))
+    model: ModelFacts = derived(lambda ds: from_attrs(ModelFacts, ds.attrs, "model_"))
+    run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
     @property
     def n(self) -> int:
@@ -257,37 +277,4 @@ class StoredControl(View):
         if missing or "controller" not in ds.dims or "time" not in ds.dims:
             raise InputError("not a gd-analyze control dataset "
                              f"(missing {missing[:3] or 'dims'})", source)
-        names = tuple(strings(ds["controller"].values))
-
-        def by_controller(name):
-            return types.MappingProxyType({c: ds[name].sel(controller=c).values
-                                           for c in names})
-
-        def optional_by_controller(name):
-            return by_controller(name) if name in ds.variables else None
-
-        return cls(
-            controllers=names,
-            descriptions=(tuple(strings(ds["controller_description"].values))
-                          if "controller_description" in ds.variables else None),
-            prismatic=stored_prismatic(ds), time=ds["time"].values,
-            is_setpoint=np.asarray(ds["is_setpoint"].values).astype(bool),
-            q_d=ds["q_d"].values, error=by_controller("error"), tau=by_controller("tau"),
-            error_peak_setpoints=by_controller("error_peak_setpoints"),
-            error_rms_setpoints=by_controller("error_rms_setpoints"),
-            error_peak_grid=by_controller("error_peak_grid"),
-            error_rms_grid=by_controller("error_rms_grid"),
-            tau_peak=optional_by_controller("tau_peak"),
-            tau_rms=optional_by_controller("tau_rms"),
-            **{k: optional(ds, k) for k in _OPTIONAL},
-            gains=types.MappingProxyType({k: ds[k].values for k in (
-                "wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}),
-            gain_units=types.MappingProxyType({
-                k: tuple(strings(ds[f"{k}_units"].values)) if f"{k}_units" in ds.coords
-                else None for k in _TYPED_GAINS}),
-            elements=(tuple(strings(ds["element"].values)) if "element" in ds.variables
-                      else ()),
-            choice=tuple(strings(ds["choice"].values)),
-            costs=EvaluatorCosts.from_dataset(ds),
-            settings=from_attrs(ControlSettings, ds.attrs),
-            model=from_attrs(ModelFacts, ds.attrs, "model_"), run=RunRecord.from_attrs(ds.attrs))
+        return cls.read(ds)

@@ -6,8 +6,9 @@ the error budget read: the rule and its settings, what the model keeps and costs
 ladder, the check of D_s (:class:`InertiaCheck`), the region and the guarantee, as
 :func:`gd_analyze.jobs.simplified_dataset.simplified_dataset` stored them. Read once, by
 :class:`gd_analyze.store.results_view.Results` or :meth:`StoredSimplified.of`; the series (t, tau,
-tau_s) stay in the dataset and are read on demand. The names are those of
-:mod:`gd_analyze.store.names`.
+tau_s) stay in the dataset and are read on demand. :class:`CostTable` is the operations of the
+model beside the models it is compared with, :class:`BaseParameters` a recursive model's base
+parameters. The names are those of :mod:`gd_analyze.store.names`.
 """
 
 from __future__ import annotations
@@ -20,8 +21,7 @@ import numpy as np
 
 from .datasets import joint_units, stored_guarantee, stored_region
 from .names import Attr, Var
-from .schema import View, optional, stored_prismatic, strings
-from .stored_model import CostTable
+from .schema import View, derived, stored, stored_prismatic, texts
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -104,7 +104,7 @@ class InertiaCheck:
 
 
 @dataclass(frozen=True, eq=False)
-class Ladder:
+class Ladder(View):
     """The tolerance ladder: the model rebuilt at several EPS.
 
     Attributes
@@ -119,11 +119,74 @@ class Ladder:
         Its largest bound / s_i [1]; None where not stored.
     """
 
-    tolerance: np.ndarray
-    operations: np.ndarray
-    trig: np.ndarray
-    worst_error: np.ndarray
-    worst_bound: np.ndarray | None
+    presence = (Var.LADDER_OPERATIONS,)
+
+    tolerance: np.ndarray = stored(Var.LADDER_TOLERANCE)
+    operations: np.ndarray = stored(Var.LADDER_OPERATIONS)
+    trig: np.ndarray = stored(Var.LADDER_TRIG)
+    worst_error: np.ndarray = stored(Var.LADDER_WORST_ERROR)
+    worst_bound: np.ndarray | None = stored(Var.LADDER_WORST_BOUND, default=None)
+
+
+@dataclass(frozen=True, eq=False)
+class CostTable(View):
+    """The operations per set point of each model compared.
+
+    Attributes
+    ----------
+    models : tuple of str, length K
+        Each model's label (``"explicit, budget EPS=0.01 (this model)"``, ``"project N-E as
+        implemented"`` ...).
+    multiplications, additions, total : ndarray of int, shape (K,)
+        Its multiplications, additions and their sum per set point.
+    """
+
+    presence = (Var.COST_MODEL, Var.COST_TOTAL)
+
+    models: tuple[str, ...] = stored(Var.COST_MODEL, texts)
+    multiplications: np.ndarray = stored(Var.COST_MULTIPLICATIONS)
+    additions: np.ndarray = stored(Var.COST_ADDITIONS)
+    total: np.ndarray = stored(Var.COST_TOTAL)
+
+    def totals(self) -> dict[str, int]:
+        """Each model's total operations per set point, by its label.
+
+        Returns
+        -------
+        dict of str to int
+        """
+        return dict(zip(self.models, self.total))
+
+
+@dataclass(frozen=True, eq=False)
+class BaseParameters(View):
+    """The base parameters of a recursive model (Khalil & Kleinfinger 1987; Gautier 1990).
+
+    Attributes
+    ----------
+    names : tuple of str, length K
+        ``"XX1"``, ``"MX2"`` ...
+    parts : tuple of str, length P
+        The parts of tau (``"inertia"``, ``"coriolis"``, ``"gravity"``).
+    dropped : ndarray of bool, shape (K, P)
+        The parameter is dropped from that part.
+    units : tuple of str, length K
+        Each parameter's units as stored (``"kg m2"``, ``"kg m"``, ``"kg"``).
+    relative_peak : ndarray, shape (K, P), or None
+        Its peak contribution to that part relative to the joint's scale [1]; None in a file
+        written before it was stored.
+    value : ndarray, shape (K,), or None
+        Its value [units]; None where not stored.
+    """
+
+    presence = (Var.BASE_PARAMETER_DROPPED,)
+
+    names: tuple[str, ...] = stored(Var.BASE_PARAMETER, texts)
+    parts: tuple[str, ...] = stored(Var.TORQUE_PART, texts)
+    dropped: np.ndarray = stored(Var.BASE_PARAMETER_DROPPED)
+    units: tuple[str, ...] = stored(Var.BASE_PARAMETER_UNITS, texts)
+    relative_peak: np.ndarray | None = stored(Var.BASE_PARAMETER_RELATIVE_PEAK, default=None)
+    value: np.ndarray | None = stored(Var.BASE_PARAMETER_VALUE, default=None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -191,48 +254,55 @@ class StoredSimplified(View):
         The dataset the series are read from.
     """
 
-    rule: str
-    form: str
-    files: tuple[str, ...]
-    choice: tuple[str, ...]
-    tolerance: float
-    torque_floor: float
-    terms_kept: Any
-    multiplications: Any
-    additions: Any
-    sin: Any
-    cos: Any
-    pairs: int
-    pairs_dropped: int
-    base_parameters: int
-    inertia_check: InertiaCheck | None
-    other_rule: str
-    other_rule_multiplications: Any
-    other_rule_additions: Any
-    other_rule_error_relative_peak: np.ndarray | None
-    structure: tuple[int, int, int, int] | None
-    scale: np.ndarray | None
-    bound: np.ndarray
-    bound_inertia: np.ndarray | None
-    bound_coriolis: np.ndarray | None
-    bound_gravity: np.ndarray | None
-    bound_whole: np.ndarray | None
-    tau_error_peak: np.ndarray | None
-    tau_peak: np.ndarray | None
-    costs: CostTable | None
-    ladder: Ladder | None
-    ladder_skipped: str
-    ladder_form: str
-    c_prefix: str
-    form_note: str
-    region_screen: str
-    region: dict | None
-    region_source: str
-    region_notes: str
-    guarantee: dict | None
-    prismatic: tuple[bool, ...]
-    has_drives: bool
-    dataset: xr.Dataset
+    presence = (Var.SIMPLIFIED_BOUND,)
+
+    rule: str = stored(Attr.SIMPLIFIED_RULE, str, "", attr=True)
+    form: str = stored(Attr.SIMPLIFIED_FORM, str, "explicit", attr=True)
+    files: tuple[str, ...] = stored(Attr.SIMPLIFIED_FILES, lambda v: tuple(
+        f.strip() for f in str(v).split(",") if f.strip()), (), attr=True)
+    choice: tuple[str, ...] = stored(Var.CHOICE, texts, ())
+    tolerance: float = stored(Attr.SIMPLIFIED_TOLERANCE, float, np.nan, attr=True)
+    torque_floor: float = stored(Attr.SIMPLIFIED_TORQUE_FLOOR, float, 0.0, attr=True)
+    terms_kept: Any = stored(Attr.SIMPLIFIED_TERMS_KEPT, default=0, attr=True)
+    multiplications: Any = stored(Attr.SIMPLIFIED_MULTIPLICATIONS, default=None, attr=True)
+    additions: Any = stored(Attr.SIMPLIFIED_ADDITIONS, default=None, attr=True)
+    sin: Any = stored(Attr.SIMPLIFIED_SIN, default=None, attr=True)
+    cos: Any = stored(Attr.SIMPLIFIED_COS, default=None, attr=True)
+    pairs: int = derived(lambda ds: int(ds.attrs.get(
+        Attr.SIMPLIFIED_PAIRS, 3 * int(ds.sizes.get(Var.BASE_PARAMETER, 0)))))
+    pairs_dropped: int = stored(Attr.SIMPLIFIED_PAIRS_DROPPED, int, 0, attr=True)
+    base_parameters: int = derived(lambda ds: int(ds.sizes.get(Var.BASE_PARAMETER, 0)))
+    inertia_check: InertiaCheck | None = derived(lambda ds: InertiaCheck.from_attrs(ds.attrs))
+    other_rule: str = stored(Attr.OTHER_RULE, str, "", attr=True)
+    other_rule_multiplications: Any = stored(Attr.OTHER_RULE_MULTIPLICATIONS, default=None, attr=True)
+    other_rule_additions: Any = stored(Attr.OTHER_RULE_ADDITIONS, default=None, attr=True)
+    other_rule_error_relative_peak: np.ndarray | None = stored(
+        Var.OTHER_RULE_ERROR_RELATIVE_PEAK, default=None)
+    structure: tuple[int, int, int, int] | None = derived(lambda ds: _structure(ds.attrs))
+    scale: np.ndarray | None = stored(Var.SIMPLIFIED_SCALE, default=None)
+    bound: np.ndarray = stored(Var.SIMPLIFIED_BOUND)
+    bound_inertia: np.ndarray | None = stored(Var.SIMPLIFIED_BOUND_INERTIA, default=None)
+    bound_coriolis: np.ndarray | None = stored(Var.SIMPLIFIED_BOUND_CORIOLIS, default=None)
+    bound_gravity: np.ndarray | None = stored(Var.SIMPLIFIED_BOUND_GRAVITY, default=None)
+    bound_whole: np.ndarray | None = stored(Var.SIMPLIFIED_BOUND_WHOLE, default=None)
+    tau_error_peak: np.ndarray | None = stored(Var.TAU_ERROR_PEAK, default=None)
+    tau_peak: np.ndarray | None = stored(Var.TAU_PEAK, default=None)
+    costs: CostTable | None = derived(CostTable.from_dataset)
+    ladder: Ladder | None = derived(Ladder.from_dataset)
+    ladder_skipped: str = stored(Attr.SIMPLIFIED_LADDER_SKIPPED, str, "", attr=True)
+    ladder_form: str = stored(Attr.SIMPLIFIED_LADDER_FORM, str, "explicit", attr=True)
+    c_prefix: str = stored(Attr.C_PREFIX, str, "", attr=True)
+    form_note: str = stored(Attr.SIMPLIFIED_FORM_NOTE, str, "", attr=True)
+    region_screen: str = stored(Attr.SIMPLIFIED_REGION_SCREEN, str, "", attr=True)
+    region: dict | None = derived(stored_region)
+    region_source: str = stored(Attr.REGION_SOURCE, str, "the robot limits", attr=True)
+    region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
+    guarantee: dict | None = derived(stored_guarantee)
+    prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    has_drives: bool = derived(lambda ds: bool(any(
+        k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
+        for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))))
+    dataset: xr.Dataset = derived(lambda ds: ds)
 
     @classmethod
     def of(cls, results: StoredSimplified | xr.Dataset, *args: Any) -> StoredSimplified:
@@ -258,74 +328,6 @@ class StoredSimplified(View):
         if view is None:
             raise ValueError(f"no simplified model stored (no {Var.SIMPLIFIED_BOUND!r})")
         return view
-
-    @classmethod
-    def from_dataset(cls, ds: xr.Dataset) -> StoredSimplified | None:
-        """The simplified model's record of a results dataset.
-
-        Parameters
-        ----------
-        ds : xarray.Dataset
-            As :func:`gd_analyze.store.datasets.summary_dataset` builds it.
-
-        Returns
-        -------
-        StoredSimplified or None
-            None where no simplified model is stored (no ``simplified_bound``).
-        """
-        if Var.SIMPLIFIED_BOUND not in ds.variables:
-            return None
-        a = ds.attrs
-        b = int(ds.sizes.get(Var.BASE_PARAMETER, 0))
-        ladder = None
-        if Var.LADDER_OPERATIONS in ds.variables:
-            ladder = Ladder(tolerance=ds[Var.LADDER_TOLERANCE].values,
-                            operations=ds[Var.LADDER_OPERATIONS].values,
-                            trig=ds[Var.LADDER_TRIG].values,
-                            worst_error=ds[Var.LADDER_WORST_ERROR].values,
-                            worst_bound=optional(ds, Var.LADDER_WORST_BOUND))
-        drives = any(k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
-                     for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))
-        return cls(
-            rule=str(a.get(Attr.SIMPLIFIED_RULE, "")),
-            tolerance=float(a.get(Attr.SIMPLIFIED_TOLERANCE, np.nan)),
-            torque_floor=float(a.get(Attr.SIMPLIFIED_TORQUE_FLOOR, 0.0)),
-            form=str(a.get(Attr.SIMPLIFIED_FORM, "explicit")),
-            files=tuple(f.strip() for f in str(a.get(Attr.SIMPLIFIED_FILES, "")).split(",")
-                        if f.strip()),
-            choice=(tuple(strings(ds[Var.CHOICE].values)) if Var.CHOICE in ds.variables
-                    else ()),
-            terms_kept=a.get(Attr.SIMPLIFIED_TERMS_KEPT, 0),
-            multiplications=a.get(Attr.SIMPLIFIED_MULTIPLICATIONS),
-            additions=a.get(Attr.SIMPLIFIED_ADDITIONS),
-            sin=a.get(Attr.SIMPLIFIED_SIN), cos=a.get(Attr.SIMPLIFIED_COS),
-            pairs=int(a.get(Attr.SIMPLIFIED_PAIRS, 3 * b)),
-            pairs_dropped=int(a.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
-            base_parameters=b, inertia_check=InertiaCheck.from_attrs(a),
-            other_rule=str(a.get(Attr.OTHER_RULE, "")),
-            other_rule_multiplications=a.get(Attr.OTHER_RULE_MULTIPLICATIONS),
-            other_rule_additions=a.get(Attr.OTHER_RULE_ADDITIONS),
-            other_rule_error_relative_peak=optional(ds, Var.OTHER_RULE_ERROR_RELATIVE_PEAK),
-            structure=_structure(a),
-            scale=optional(ds, Var.SIMPLIFIED_SCALE), bound=ds[Var.SIMPLIFIED_BOUND].values,
-            bound_inertia=optional(ds, Var.SIMPLIFIED_BOUND_INERTIA),
-            bound_coriolis=optional(ds, Var.SIMPLIFIED_BOUND_CORIOLIS),
-            bound_gravity=optional(ds, Var.SIMPLIFIED_BOUND_GRAVITY),
-            bound_whole=optional(ds, Var.SIMPLIFIED_BOUND_WHOLE),
-            tau_error_peak=optional(ds, Var.TAU_ERROR_PEAK),
-            tau_peak=optional(ds, Var.TAU_PEAK),
-            costs=CostTable.from_dataset(ds), ladder=ladder,
-            ladder_skipped=str(a.get(Attr.SIMPLIFIED_LADDER_SKIPPED, "")),
-            ladder_form=str(a.get(Attr.SIMPLIFIED_LADDER_FORM, "explicit")),
-            c_prefix=str(a.get(Attr.C_PREFIX, "")),
-            form_note=str(a.get(Attr.SIMPLIFIED_FORM_NOTE, "")),
-            region_screen=str(a.get(Attr.SIMPLIFIED_REGION_SCREEN, "")),
-            region=stored_region(ds),
-            region_source=str(a.get(Attr.REGION_SOURCE, "the robot limits")),
-            region_notes=str(a.get(Attr.REGION_NOTES) or ""),
-            guarantee=stored_guarantee(ds), prismatic=stored_prismatic(ds),
-            has_drives=bool(drives),
-            dataset=ds)
 
     @property
     def n(self) -> int:

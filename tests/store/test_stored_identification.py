@@ -7,7 +7,7 @@ from identify_recordings import fourier, truth_for
 
 from gd_analyze import load_robot
 from gd_analyze.jobs.identify import IdentifyOptions, identify
-from gd_analyze.store.identification_dataset import (
+from gd_analyze.store.stored_identification import (
     group_names,
     read_identification,
     recordings_json,
