@@ -29,12 +29,15 @@ def cluster():
     once a session per xdist worker (its start and its workers' warm-up cost seconds), shared
     by the modules that sweep on it (tests/jobs/test_sweep.py, test_sweep_budget.py,
     test_sweep_budget_region.py, test_dask_cluster.py). Tests must not stop it or its
-    workers (a test that kills a worker starts a cluster of its own)."""
+    workers (a test that kills a worker starts a cluster of its own). The client is not made
+    dask's default: a later test of the same xdist worker that writes through xarray would
+    otherwise be scheduled on the cluster (test_output_folder.py's full-disk writers failed so
+    after the sweep tests, pickling the open file)."""
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None,
                                   scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cl:
-        with distributed.Client(cl) as client:
+        with distributed.Client(cl, set_as_default=False) as client:
             yield cl, client
 
 

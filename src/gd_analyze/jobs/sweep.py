@@ -563,7 +563,9 @@ def _on_dask(robot, trajectories, dominance, negligible, client, cluster, schedu
 
             def collect(futures):
                 out = [None] * len(futures)
-                for fut in as_completed(list(futures)):
+                # the client's own loop: without it, as_completed looks for dask's default
+                # client, which a caller's client need not be
+                for fut in as_completed(list(futures), loop=client.loop):
                     out[futures[fut]] = fut.result()
                     bar.update(1)
                 return [item for part in out for item in part]
