@@ -430,7 +430,7 @@ def certify(robot: Robot, base: BaseParameters, region: Region, torque_floor: fl
     done_u = np.zeros((3, n, cols.size))
     leaves, boxes = [], []
     inherited = np.full((1, 3, n, cols.size), np.inf)
-    source = np.zeros((1, 3, n, cols.size), np.int32)    # the box each least comes from
+    source: np.ndarray = np.zeros((1, 3, n, cols.size), np.int32)   # the box each least comes from
     witness = []
     evaluated = 0
     target = (1 + rtol) * sampled.transpose(1, 2, 0) + 1e-9 * scale[None, :, None]
