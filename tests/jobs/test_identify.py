@@ -243,6 +243,30 @@ def test_rounding_level_moments_are_cleaned_so_pinocchio_accepts_the_link():
     assert _rounding_cleaned(bad, np.zeros(0), nonneg)[0][0, 3] == -1e-3
 
 
+def test_cleaned_moments_stay_positive_after_the_tensor_is_rebuilt():
+    """A massless link whose only identifiable moment is about one axis (the PUMA's link 1):
+    its other principal moments come out of the fit as +-1e-17, in rotated axes. Cleaned, the
+    tensor rebuilt from its eigenvectors must have no negative eigenvalue, whatever the
+    rounding of that rebuild (set to 0, one CPU left -1.2e-18 and Pinocchio refused the arm),
+    and differ from the fit by rounding only."""
+    from scipy.spatial.transform import Rotation
+
+    from gd_analyze.jobs.identify import ROUNDING, _rounding_cleaned
+
+    rng = np.random.default_rng(4)
+    for k in range(300):
+        R = Rotation.random(random_state=1000 + k).as_matrix()
+        J = R @ np.diag([rng.uniform(-1e-17, 1e-17), rng.uniform(-1e-17, 0.0), 0.369]) @ R.T
+        phi = np.zeros((1, 10))
+        phi[0, :6] = [J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2]]
+        cleaned, _ = _rounding_cleaned(phi, np.zeros(0), np.ones(0, bool))
+        assert np.abs(cleaned - phi).max() <= 2 * ROUNDING
+        x = cleaned[0]
+        Ic = np.array([[x[0], x[1], x[2]], [x[1], x[3], x[4]], [x[2], x[4], x[5]]])
+        assert np.linalg.eigvalsh(Ic).min() > 0, k
+        pin.Inertia(0.0, np.zeros(3), Ic)             # raises if refused
+
+
 @pytest.mark.slow
 def test_simplify_builds_the_region_model_of_the_identified_robot():
     """``simplify``: the main job's simplified model of the identified PUMA 560 (1 % noise),

@@ -225,8 +225,11 @@ def _rounding_cleaned(phi, drives, nonneg):
 
 
 def _rounding_moments(phi, tol):
-    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in [-tol, 0)
-    set to 0 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2)."""
+    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in
+    [-tol, tol / 2) raised to tol / 2 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2), where
+    none is below -tol: not to 0, since a tensor with a zero moment, or rebuilt from its
+    eigenvectors, carries their round-off (about 1e-16 of its largest moment), which left a
+    zero moment at -1e-18 on one CPU and Pinocchio refused it."""
     m = phi[:, 9]
     c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
                   where=m[:, None] > 0)
@@ -234,8 +237,8 @@ def _rounding_moments(phi, tol):
                                 - c[:, :, None] * c[:, None, :])
     out = np.array(phi[:, :6], float)
     for k, (w, V) in enumerate(zip(*np.linalg.eigh(_moments(phi) - shift))):
-        if ((w < 0) & (w >= -tol)).any() and not (w < -tol).any():
-            Ic = (V * np.maximum(w, 0.0)) @ V.T + shift[k]
+        if (w < 0.5 * tol).any() and not (w < -tol).any():
+            Ic = (V * np.maximum(w, 0.5 * tol)) @ V.T + shift[k]
             out[k] = [Ic[a, b] for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
     return out
 
