@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from gd_analyze.estimation.preprocess import default_cutoff, preprocess
+from gd_analyze.estimation.preprocess import default_cutoff, preprocess, still_joints
 
 
 def _signal(t, f=0.4):
@@ -64,3 +64,27 @@ def test_a_cutoff_beyond_nyquist_is_refused():
     t = np.arange(0, 5, 0.01)
     with pytest.raises(ValueError, match="Nyquist"):
         preprocess(t, _signal(t)[0], _signal(t)[0], cutoff=60.0)
+
+
+def test_a_joint_held_still_has_zero_speed_and_acceleration():
+    """Joint 2 held at 0.3 rad, read through a 17-bit encoder with noise: its differences are
+    noise, which sign(qd) would take for motion. Given the joints' kinds, it is found held and
+    its qd and qdd are exactly 0; the moving joint keeps its differentiated speed (the analytic
+    derivative, to the filter's accuracy). A prismatic joint moving 5 mm is not held, a
+    revolute one moving 0.005 rad is."""
+    t = np.arange(4000) * 2e-3
+    rng = np.random.default_rng(1)
+    res = 2 * np.pi / 2 ** 17
+    q = np.column_stack([0.8 * np.sin(0.5 * t),
+                         np.round((0.3 + 2e-5 * rng.normal(size=t.size)) / res) * res])
+    tau = rng.normal(size=q.shape)
+    plain = preprocess(t, q, tau)
+    assert plain.held is None and np.abs(plain.qd[plain.keep, 1]).max() > 0
+    pre = preprocess(t, q, tau, prismatic=np.array([False, False]))
+    assert pre.held.tolist() == [False, True]
+    assert not pre.qd[:, 1].any() and not pre.qdd[:, 1].any()
+    np.testing.assert_allclose(pre.qd[pre.keep, 0], 0.4 * np.cos(0.5 * pre.t[pre.keep]),
+                               rtol=0, atol=1e-4)
+    assert any("joint(s) 2 held still" in note for note in pre.notes)
+    small = np.column_stack([0.0025 * np.sin(0.5 * t), 0.0025 * np.sin(0.5 * t)])
+    assert still_joints(small, np.array([True, False])).tolist() == [False, True]

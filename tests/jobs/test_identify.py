@@ -211,6 +211,66 @@ def test_outliers_are_left_out():
     assert res.recordings[1].errors()[2] <= base_err + 0.002
 
 
+def _held_recording(truth, n, seconds, seed, held, noise=0.0):
+    """A recording with the joints ``held`` still at 0.3 rad, positions read through a 17-bit
+    encoder (quantised), no speeds given: the held joints' differences are quantisation."""
+    t = irregular_clock(seconds, seed)
+    q, qd, qdd = fourier(n, t, seed=seed, amplitude=0.5)
+    q[:, held], qd[:, held], qdd[:, held] = 0.3, 0.0, 0.0
+    tau = truth.torque(q, qd, qdd)
+    if noise:
+        tau = tau + noise * tau.std(axis=0) * np.random.default_rng(seed + 7).normal(size=tau.shape)
+    res = 2 * np.pi / 2 ** 17
+    return recording_from_arrays(t, np.round(q / res) * res, tau, source=f"held{seed}")
+
+
+def test_a_joint_held_still_has_its_friction_reported_not_fitted_to_noise():
+    """PUMA 560 (Pinocchio's rnea plus friction and offsets) with joints 4 and 6 held still:
+    their viscous and Coulomb columns are found not identifiable (the data hold no motion of
+    theirs), every other column is identified, and the held-out error stays small against the
+    robot file's. Before, the held joints' quantisation noise was taken for motion and their
+    friction fitted to it, every column "identified"."""
+    robot = _robot("puma560")
+    truth = truth_for(robot, seed=3)
+    train = _held_recording(truth, 6, 20, seed=1, held=[3, 5], noise=0.005)
+    valid = _held_recording(truth, 6, 10, seed=2, held=[3, 5])
+    result = identify(robot, [train], validate=[valid])
+    names = np.array(result.parameters.names)
+    assert sorted(names[~result.parameters.identifiable]) == \
+        ["coulomb_4", "coulomb_6", "viscous_4", "viscous_6"]
+    assert any("joint(s) 4, 6 held still" in note for fit in result.recordings
+               for note in fit.notes)
+    total = result.recordings[1].errors()[2]
+    prior_total = result.recordings[1].errors("prior")[2]
+    assert np.isfinite(total) and total < 0.05 and total * 5 < prior_total, (total, prior_total)
+
+
+def test_a_recording_in_which_no_joint_moves_is_refused(tmp_path):
+    """Every joint held: nothing to identify from (one line, exit 2), where a fit to the
+    noise was written before."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    still = _held_recording(truth, 2, 10, seed=2, held=[0, 1])
+    with pytest.raises(InputError, match="no joint moves in the training recordings"):
+        identify(robot, [still])
+
+
+def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cause():
+    """Training time stamps in ms (1000 x the seconds): the cutoff chosen from them is far
+    below what the validation recording, in seconds, can be filtered with. The one-line error
+    names the validation file, the chosen cutoff and its median step, and asks whether the
+    stamps are in seconds (before, only "no segment is long enough")."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 20, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    in_ms = recording_from_arrays(train.t * 1000, train.q, train.tau, source="ms")
+    with pytest.raises(InputError, match=r"chosen from the training recordings; this one's "
+                       r"median step is .* s: are all time stamps in seconds") as err:
+        identify(robot, [in_ms], validate=[held])
+    assert "rec5" in str(err.value)
+
+
 def test_rounding_level_moments_are_cleaned_so_pinocchio_accepts_the_link():
     """A link the data cannot see comes out of the fit with a mass of +-1e-18 and principal
     moments of +-1e-17 about its centre of mass; Pinocchio refuses a negative one. After the

@@ -17,6 +17,9 @@ Steps, each stated in :attr:`Preprocessed.notes`:
 5. The first and last :func:`edge_samples` samples of each segment are dropped (the filter's
    and the differences' start-up).
 6. Decimation: every k-th sample is kept (the low-pass is the anti-aliasing filter).
+7. A joint held still (its kept positions span less than :data:`STILL_SPAN`) has qd and qdd
+   set to 0: the differences of a held position are its noise and quantisation, which would
+   otherwise enter sign(qd) and qd as motion (:func:`still_joints`).
 
 The regressor built from the filtered states is filtered again by the same filter
 (:meth:`Preprocessed.filtered`) before the rows are kept, as the torque was: the *parallel
@@ -35,8 +38,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "ORDER",
-           "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS"]
+__all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "still_joints",
+           "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -49,6 +52,9 @@ ENERGY = 0.99
 #: Periods of the cutoff dropped at each end of a segment (the filters' and the differences'
 #: start-up: the second difference of the filtered positions settles last).
 EDGE_PERIODS = 3.0
+#: A joint whose kept positions span less than this is held still [rad for a revolute joint
+#: (0.57 deg), m for a prismatic one].
+STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,6 +83,9 @@ class Preprocessed:
         Start and stop index of each segment in the arrays.
     sos : ndarray or None
         The filter's second-order sections.
+    held : ndarray of bool, shape (n,), or None
+        The joints held still (:func:`still_joints`), their qd and qdd set to 0; None if the
+        joints' kinds were not given.
     """
 
     t: np.ndarray
@@ -90,6 +99,7 @@ class Preprocessed:
     keep: np.ndarray | None = None
     segments: tuple = ()
     sos: np.ndarray | None = None
+    held: np.ndarray | None = None
 
     def filtered(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """The same zero-phase filter on another signal of the same samples, segment by segment.
@@ -193,7 +203,8 @@ def edge_samples(step: float, cutoff: float | None) -> int:
 def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
                qd: npt.NDArray[np.float64] | None = None,
                qdd: npt.NDArray[np.float64] | None = None, cutoff: float | str | None = "auto",
-               decimate: int = 1, label: str = "recording") -> Preprocessed:
+               decimate: int = 1, label: str = "recording",
+               prismatic: npt.NDArray[np.bool_] | None = None) -> Preprocessed:
     """Resample, filter, differentiate and decimate one recording (steps in the module docstring).
 
     Parameters
@@ -211,6 +222,9 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
         Keep every decimate-th sample (>= 1).
     label : str, optional
         The recording's name in the notes.
+    prismatic : ndarray of bool, shape (n,), optional
+        True for a prismatic joint: given, the joints held still are found
+        (:func:`still_joints`) and their qd and qdd set to 0.
 
     Returns
     -------
@@ -302,8 +316,52 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
         notes.append(f"{label}: the regressor filtered by the same filter as the torque "
                      f"(parallel filtering)")
     cat = {k: np.concatenate(v) for k, v in out.items()}
+    held = None
+    if prismatic is not None:
+        held = still_joints(cat["q"][cat["keep"]], prismatic)
+        if held.any():
+            cat["qd"][:, held] = 0.0
+            cat["qdd"][:, held] = 0.0
+            notes.append(f"{label}: joint(s) {', '.join(str(j + 1) for j in np.flatnonzero(held))}"
+                         f" held still (position span below {STILL_SPAN['revolute']:g} rad or "
+                         f"{STILL_SPAN['prismatic']:g} m): qd and qdd set to 0")
     stops = np.cumsum([v.size for v in out["t"]])
     segments = tuple((int(a), int(b)) for a, b in zip(np.concatenate([[0], stops[:-1]]), stops))
     return Preprocessed(t=cat["t"], q=cat["q"], qd=cat["qd"], qdd=cat["qdd"], tau=cat["tau"],
                         cutoff=cutoff, step=step, notes=tuple(notes), keep=cat["keep"],
-                        segments=segments, sos=sos)
+                        segments=segments, sos=sos, held=held)
+
+
+def still_joints(q: npt.NDArray[np.float64],
+                 prismatic: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
+    """The joints held still in a recording: position span below :data:`STILL_SPAN`.
+
+    A joint held still (braked, or left out of the excitation) has speeds that are the
+    differentiated noise and quantisation of its position; taken as motion, they would enter
+    the viscous and Coulomb columns (sign(qd) flipping with the noise) and have friction fitted
+    to noise. With qd = qdd = 0 those columns are 0 wherever the joint is held.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, n)
+        Positions [rad, or m for a prismatic joint].
+    prismatic : ndarray of bool, shape (n,)
+        True for a prismatic joint.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True where max q_i - min q_i < STILL_SPAN of the joint's kind.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = np.column_stack([np.linspace(0.0, 1.0, 50), 0.3 + 1e-4 * np.sin(np.arange(50))])
+    >>> still_joints(q, np.array([False, False])).tolist()
+    [False, True]
+    """
+    q = np.asarray(q, float)
+    span = q.max(axis=0) - q.min(axis=0)
+    limit = np.where(np.asarray(prismatic, bool), STILL_SPAN["prismatic"],
+                     STILL_SPAN["revolute"])
+    return np.asarray(span < limit, bool)

@@ -33,7 +33,7 @@ from ..estimation.consistent import (
     robot_with_standard,
 )
 from ..estimation.estimate import combine_factors, joint_factors, least_squares
-from ..estimation.preprocess import default_cutoff, preprocess
+from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
 from ..estimation.regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
 from ..model.drives import friction_torque
 from ..model.robots import load_robot
@@ -177,12 +177,17 @@ def _recording(item, n, options, role):
     return rec
 
 
-def _prepared(rec, cutoff, options, label):
+def _prepared(rec, cutoff, options, label, prismatic):
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     try:
         pre = preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
-                         decimate=int(options.decimate), label=label)
+                         decimate=int(options.decimate), label=label, prismatic=prismatic)
     except ValueError as exc:
+        if options.cutoff == "auto" and cutoff is not None:     # chosen, not given
+            raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
+                             f"recordings; this one's median step is "
+                             f"{float(np.median(np.diff(rec.t))):.4g} s: are all time stamps in "
+                             f"seconds? Else give --cutoff)", rec.source) from None
         raise InputError(str(exc), rec.source,
                          column="--cutoff" if "cutoff" in str(exc) else None) from None
     return pre
@@ -323,7 +328,13 @@ def identify(robot: Robot | str | Path,
         cutoff = max(default_cutoff(r.t, r.q) for r in train)
         notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
                      f"bandwidth holding 99% of the positions' power), used for every recording")
-    pres = [_prepared(r, cutoff, options, name) for r, name in zip(train + valid, names)]
+    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
+            for r, name in zip(train + valid, names)]
+    if all(p.held.all() for p in pres[:len(train)]):
+        raise InputError("no joint moves in the training recordings (every joint's position "
+                         f"spans less than {STILL_SPAN['revolute']:g} rad or "
+                         f"{STILL_SPAN['prismatic']:g} m in each): there is nothing to "
+                         "identify from")
     base = base_parameters(prior)
     kinds = tuple(k for k in DRIVE_KINDS if k in options.drives)     # the columns' order
     col_names, col_kinds = column_names(base, n, kinds)
@@ -334,13 +345,17 @@ def identify(robot: Robot | str | Path,
     _, threshold = moving_rows(qd_train)
     notes.append("rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
                  "speed are left out of the fit: at rest the torque holds an unknown static "
-                 "friction (they count in the errors); Coulomb friction is F_c sign(qd), not "
-                 "smoothed, as in the robot file")
+                 "friction (they count in the errors), except where the joint is held still "
+                 "all along a recording (its offset takes that friction); Coulomb friction is "
+                 "F_c sign(qd), not smoothed, as in the robot file")
+
+    def fitted(p):      # the rows (sample, joint) a training recording fits
+        return moving_rows(p.qd[p.keep], threshold)[0] | p.held[None, :]
     factors: Any = None  # joint_factors' pair, once the first recording is read
     kept_Y = []          # the training recordings' filtered regressors, for their predictions
     for p in pres[:len(train)]:
         Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
-        f = joint_factors(Yr, p.tau[p.keep], moving_rows(p.qd[p.keep], threshold)[0])
+        f = joint_factors(Yr, p.tau[p.keep], fitted(p))
         kept_Y.append(Yr)
         factors = f if factors is None else combine_factors(factors, f)
     try:
@@ -350,7 +365,7 @@ def identify(robot: Robot | str | Path,
         refit: Any
         dropped, refit, fit_rows = 0, None, []
         for p, Yr in zip(pres[:len(train)], kept_Y):
-            used = moving_rows(p.qd[p.keep], threshold)[0]
+            used = fitted(p)
             resid = np.abs(p.tau[p.keep] - Yr @ est.value)
             out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
             dropped += int(out.sum())
