@@ -52,6 +52,16 @@ def channel_count(n: int) -> int:
     return 1 + n + n * n
 
 
+def _sym(x, ab):
+    """E x for the symmetric unit matrix E of the index pair ab, on point vectors (..., 3)."""
+    i, j = ab
+    y = np.zeros_like(x)
+    y[..., i] = x[..., j]
+    if i != j:
+        y[..., j] = x[..., i]
+    return y
+
+
 class _Box:
     """Interval boxes (:mod:`.intervals`): a vector is (lo, hi), each (..., 3)."""
 
@@ -76,15 +86,7 @@ class _Box:
     @staticmethod
     def sym(a, ab):
         """E x for the symmetric unit matrix E of the index pair ab (||E||_2 = 1)."""
-        i, j = ab
-        out = []
-        for x in a:
-            y = np.zeros_like(x)
-            y[..., i] = x[..., j]
-            if i != j:
-                y[..., j] = x[..., i]
-            out.append(y)
-        return tuple(out)
+        return tuple(_sym(x, ab) for x in a)
 
     @staticmethod
     def z(a):
@@ -102,6 +104,81 @@ class _Box:
         ql, qh = self.q[0][:, k, None, None], self.q[1][:, k, None, None]
         base = np.broadcast_to(t, ql.shape[:1] + (1, 3))
         return iv.add((base, base), (np.minimum(ql * dz, qh * dz), np.maximum(ql * dz, qh * dz)))
+
+    def fixed(self, t, B):
+        base = np.broadcast_to(t, (B, 1, 3))
+        return base, base
+
+
+class _Point:
+    """Plain floating point at points (q_lo = q_hi), for :func:`channel_values`: a vector is
+    (x, x), one array twice, so that :func:`_column_groups` runs unchanged. Samples, not
+    enclosures: nothing proved is computed in it."""
+
+    @staticmethod
+    def add(a, b):
+        r = a[0] + b[0]
+        return r, r
+
+    @staticmethod
+    def scale(a, c):
+        r = a[0] * c
+        return r, r
+
+    @staticmethod
+    def cross(a, b):
+        r = np.cross(a[0], b[0])
+        return r, r
+
+    @staticmethod
+    def matvec(M, v):
+        r = v[0] @ np.asarray(M, float).T
+        return r, r
+
+    @staticmethod
+    def point(x):
+        x = np.asarray(x, float)
+        return x, x
+
+    @staticmethod
+    def zeros(shape):
+        z = np.zeros(tuple(shape) + (3,))
+        return z, z
+
+    put_point = staticmethod(_Box.put_point)
+
+    @staticmethod
+    def unit_z(a, index):
+        a[0][:, index, 2] += 1.0
+        if a[1] is not a[0]:
+            a[1][:, index, 2] += 1.0
+
+    @staticmethod
+    def sym(a, ab):
+        y = _sym(a[0], ab)
+        return y, y
+
+    @staticmethod
+    def z(a):
+        r = a[0][..., 2]
+        return r, r
+
+    def __init__(self, q_lo, q_hi):
+        self.c, self.s = np.cos(q_lo), np.sin(q_lo)
+        self.q = q_lo
+
+    def rotz(self, k, v, transpose):
+        c, s = self.c[:, k, None], self.s[:, k, None]
+        x, y = v[0][..., 0], v[0][..., 1]
+        if transpose:
+            r = np.stack([c * x + s * y, c * y - s * x, v[0][..., 2]], -1)
+        else:
+            r = np.stack([c * x - s * y, s * x + c * y, v[0][..., 2]], -1)
+        return r, r
+
+    def slide(self, k, t, dz):
+        r = t + self.q[:, k, None, None] * np.asarray(dz, float)
+        return r, r
 
     def fixed(self, t, B):
         base = np.broadcast_to(t, (B, 1, 3))
@@ -130,12 +207,7 @@ class _Ball:
 
     @staticmethod
     def sym(a, ab):
-        i, j = ab
-        y = np.zeros_like(a[0])
-        y[..., i] = a[0][..., j]
-        if i != j:
-            y[..., j] = a[0][..., i]
-        return y, a[1]
+        return _sym(a[0], ab), a[1]
 
     z = staticmethod(balls.z_interval)
 
@@ -575,8 +647,8 @@ def channel_values(robot: Robot, q: np.ndarray, columns: ArrayLike,
         raise ValueError(f"q must have shape (B, {robot.n}), got {q.shape}")
     columns = np.asarray(columns, int)
     out = np.zeros((q.shape[0], channel_count(robot.n), robot.n, columns.size))
-    for ms, i, (lo, hi) in _column_groups(robot, q, q, columns, gravity):
-        out[:, :, i, ms] = 0.5 * (lo + hi)
+    for ms, i, (value, _) in _column_groups(robot, q, q, columns, gravity, algebra=_Point):
+        out[:, :, i, ms] = value
     return out
 
 
