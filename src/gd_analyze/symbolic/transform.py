@@ -127,8 +127,7 @@ def _order(e):
     """The expression tree's arguments in their stored order, as nested tuples of hashes:
     expressions equal as values can store their terms in different orders (by how they were
     built), and the tidied form and the printed code follow that order."""
-    args = e.args
-    return (hash(e), tuple(_order(a) for a in args)) if args else hash(e)
+    return tuple(_order(a) if a.args else hash(a) for a in e.args)
 
 
 def _uses(e):
