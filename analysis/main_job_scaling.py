@@ -262,7 +262,8 @@ def compare(args):
             inputs[f"chain {n}"] = write_inputs(n, folder)
         for item in args.arm:
             robot, traj = item.rsplit(":", 1)
-            inputs[Path(robot).name] = (Path(robot).resolve(), Path(traj).resolve())
+            inputs[f"{Path(robot).parent.name}/{Path(robot).name}"] = (Path(robot).resolve(),
+                                                                     Path(traj).resolve())
         for item in args.fuzz:
             n, seed = (int(v) for v in item.split(":"))
             inputs[f"fuzz {n}:{seed}"] = write_fuzz(n, seed, folder)

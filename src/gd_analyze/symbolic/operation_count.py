@@ -90,7 +90,7 @@ def count_operations(assignments: list[tuple[se.Symbol, se.Basic]],
 
 _KINDS = ("multiplications", "additions", "sin", "cos")
 #: Most expressions whose counts :func:`_counted` keeps (then all forgotten at once).
-COUNTED_KEPT = 200_000
+COUNTED_KEPT = 50_000
 _COUNTED: dict = {}
 
 

@@ -91,7 +91,7 @@ def _inline_sums(assignments, outputs):
 #: Most expressions kept by :func:`_factored` (then forgotten all at once): the tidied
 #: form of an expression is a pure function of it, and the programs a search compares share
 #: most of their expressions.
-FACTORED_KEPT = 200_000
+FACTORED_KEPT = 50_000
 _FACTORED: dict = {}
 _USES: dict = {}
 
