@@ -15,9 +15,19 @@ t ~ n^p (least squares over the ns, and between the last two).
 Usage::
 
     python analysis/main_job_scaling.py [--ns 3,6,9,12,15] [--rounds 1] [--src DIR]
+        [--arm ROBOT.urdf:TRAJ.csv ...] [--fuzz N:SEED ...] [--compare DIR] [--report-only]
 
 ``--src`` runs the jobs on another checkout's ``src`` folder (put first on PYTHONPATH), e.g.
-to measure the code before a change beside the code after it.
+to measure the code before a change beside the code after it. ``--compare DIR`` runs every
+job both on this checkout and on ``DIR`` (another checkout's ``src``), interleaved in each
+round (the other side first in odd rounds, this side first in even ones), and prints, per
+input and side, the median [min, max] of the rounds' wall and CPU times (the child's user +
+system time from ``os.wait4``) and peak memory. ``--arm`` adds a given robot file (URDF or
+TOML) with its trajectory; ``--fuzz N:SEED`` a random URDF arm of N joints
+(:func:`fuzz_urdf`: revolute, continuous and prismatic joints on oblique or principal axes,
+fixed joints in between) with the trajectory ``gd-analyze plan`` makes for it. With ``--arm``
+or ``--fuzz`` and no ``--ns``, no random chain is run. ``--report-only`` skips the
+``--no-report`` jobs.
 """
 
 from __future__ import annotations
@@ -57,8 +67,83 @@ def write_inputs(n, folder):
     return toml, csv
 
 
+def fuzz_urdf(n, seed):
+    """A random URDF arm of n joints (the text).
+
+    Per joint, from ``numpy.random.default_rng(seed)``: revolute, continuous or prismatic (1
+    in 4); an axis along a principal direction (60 %) or oblique; a placement with a random
+    offset and, half the time, a random orientation; a link of 0.2 to 5 kg with a random
+    centre of mass and a positive definite inertia; position limits (revolute: a random range
+    around 0 up to +-3 rad; prismatic: -0.2 to 0.3 m), velocity limits of 1 to 3 rad/s; and, 3
+    times in 10, a fixed joint to a massless link after it.
+
+    Parameters
+    ----------
+    n : int
+        Moving joints.
+    seed : int
+
+    Returns
+    -------
+    str
+        The URDF.
+    """
+    rng = np.random.default_rng(seed)
+    lines = [f'<robot name="fuzz{seed}">', '<link name="base"/>']
+    parent = "base"
+    for k in range(n):
+        kind = rng.choice(["revolute", "revolute", "continuous", "prismatic"])
+        ax = rng.normal(size=3)
+        if rng.random() < 0.6:
+            ax = np.eye(3)[rng.integers(3)] * rng.choice([-1, 1])
+        ax /= np.linalg.norm(ax)
+        xyz = rng.normal(scale=0.15, size=3)
+        rpy = rng.uniform(-np.pi, np.pi, 3) * (rng.random() < 0.5)
+        m, c = rng.uniform(0.2, 5), rng.normal(scale=0.05, size=3)
+        A = rng.normal(size=(3, 3))
+        inertia = A @ A.T * 0.01 + np.eye(3) * 1e-3
+        name = f"l{k + 1}"
+        lines.append(
+            f'<link name="{name}"><inertial><origin xyz="{c[0]} {c[1]} {c[2]}" rpy="0 0 0"/>'
+            f'<mass value="{m}"/><inertia ixx="{inertia[0, 0]}" ixy="{inertia[0, 1]}" '
+            f'ixz="{inertia[0, 2]}" iyy="{inertia[1, 1]}" iyz="{inertia[1, 2]}" '
+            f'izz="{inertia[2, 2]}"/></inertial></link>')
+        if kind == "prismatic":
+            lim = '<limit lower="-0.2" upper="0.3" effort="100" velocity="0.5"/>'
+        elif kind == "continuous":
+            lim = '<limit effort="100" velocity="2.0"/>'
+        else:
+            lo, hi = rng.uniform(-3, -0.5), rng.uniform(0.5, 3)
+            lim = (f'<limit lower="{lo}" upper="{hi}" effort="100" '
+                   f'velocity="{rng.uniform(1, 3)}"/>')
+        lines.append(
+            f'<joint name="j{k + 1}" type="{kind}"><parent link="{parent}"/>'
+            f'<child link="{name}"/><origin xyz="{xyz[0]} {xyz[1]} {xyz[2]}" '
+            f'rpy="{rpy[0]} {rpy[1]} {rpy[2]}"/><axis xyz="{ax[0]} {ax[1]} {ax[2]}"/>{lim}'
+            '</joint>')
+        parent = name
+        if rng.random() < 0.3:
+            lines.append(f'<link name="{name}_f"/><joint name="f{k + 1}" type="fixed">'
+                         f'<parent link="{parent}"/><child link="{name}_f"/>'
+                         '<origin xyz="0 0 0.05" rpy="0 0.3 0"/></joint>')
+            parent = f"{name}_f"
+    lines.append("</robot>")
+    return "\n".join(lines)
+
+
+def write_fuzz(n, seed, folder):
+    """The fuzz arm's URDF and the trajectory ``gd-analyze plan`` makes for it."""
+    urdf = folder / f"fuzz-{n}-{seed}.urdf"
+    urdf.write_text(fuzz_urdf(n, seed))
+    csv = folder / f"fuzz-{n}-{seed}.csv"
+    subprocess.run([sys.executable, "-m", "gd_analyze.cli", "plan", str(urdf), "-o", str(csv)],
+                   check=True, stdout=subprocess.DEVNULL)
+    return urdf, csv
+
+
 def run_job(toml, csv, out, report, src=""):
-    """One main job in a fresh process with a cold cache: (wall [s], peak RSS [MiB], spec)."""
+    """One main job in a fresh process with a cold cache: (wall [s], peak RSS [MiB], spec);
+    its CPU time (user + system) [s] is ``run_job.cpu`` after the call."""
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, GD_ANALYZE_CACHE_DIR=cache)
         if src:
@@ -72,6 +157,7 @@ def run_job(toml, csv, out, report, src=""):
                                 stderr=subprocess.PIPE)
         _, status, usage = os.wait4(proc.pid, 0)
         wall = time.perf_counter() - t0
+        run_job.cpu = usage.ru_utime + usage.ru_stime
         err = proc.stderr.read().decode() if proc.stderr else ""
         proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode not in (0,):
@@ -93,11 +179,18 @@ def main(argv=None):
         0.
     """
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--ns", default="3,6,9,12,15")
+    parser.add_argument("--ns", default=None)
     parser.add_argument("--rounds", type=int, default=1)
     parser.add_argument("--src", default="", help="another checkout's src folder")
+    parser.add_argument("--arm", action="append", default=[], help="ROBOT:TRAJ.csv")
+    parser.add_argument("--fuzz", action="append", default=[], help="N:SEED")
+    parser.add_argument("--compare", default="", help="another checkout's src folder, "
+                        "run interleaved beside this one")
+    parser.add_argument("--report-only", action="store_true")
     args = parser.parse_args(argv)
-    ns = [int(v) for v in args.ns.split(",") if v]
+    if args.compare or args.arm or args.fuzz:
+        return compare(args)
+    ns = [int(v) for v in (args.ns or "3,6,9,12,15").split(",") if v]
     loads = [os.getloadavg()]
     print("load averages at the start:", " ".join(f"{v:.2f}" for v in loads[0]), flush=True)
     rows = {n: {"report": [], "report_mib": [], "bare": [], "bare_mib": []} for n in ns}
@@ -135,6 +228,74 @@ def main(argv=None):
             last, _ = exponents(ns[-2:], values[-2:])
             print(f"growth exponent of {key}: n^{fit:.2f} (least squares over n = "
                   f"{ns[0]}..{ns[-1]}), n^{last:.2f} (n = {ns[-2]} to {ns[-1]})")
+    one = np.array([x[0] for x in loads])
+    print(f"load (1-minute) during the run: {one.min():.2f} to {one.max():.2f}")
+    return 0
+
+
+def _stats(values):
+    return f"{np.median(values):.1f} [{min(values):.1f}, {max(values):.1f}]"
+
+
+def compare(args):
+    """The jobs of ``--arm``, ``--fuzz`` and ``--ns`` on this checkout and, interleaved, on
+    ``--compare``'s; prints the table (median [min, max] over the rounds) and the loads.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+
+    Returns
+    -------
+    int
+        0.
+    """
+    here = str(Path(__file__).resolve().parent.parent / "src")
+    sides = [("this", here)] + ([("other", args.compare)] if args.compare else [])
+    loads = [os.getloadavg()]
+    print("load averages at the start:", " ".join(f"{v:.2f}" for v in loads[0]), flush=True)
+    modes = [(True, "report")] + ([] if args.report_only else [(False, "bare")])
+    with tempfile.TemporaryDirectory() as folder:
+        folder = Path(folder)
+        inputs = {}
+        for n in [int(v) for v in (args.ns or "").split(",") if v]:
+            inputs[f"chain {n}"] = write_inputs(n, folder)
+        for item in args.arm:
+            robot, traj = item.rsplit(":", 1)
+            inputs[f"{Path(robot).parent.name}/{Path(robot).name}"] = (Path(robot).resolve(),
+                                                                     Path(traj).resolve())
+        for item in args.fuzz:
+            n, seed = (int(v) for v in item.split(":"))
+            inputs[f"fuzz {n}:{seed}"] = write_fuzz(n, seed, folder)
+        rows: dict = {}
+        for r in range(args.rounds):
+            for name, (robot, traj) in inputs.items():
+                for side, src in (sides if r % 2 else sides[::-1]):
+                    for report, key in modes:
+                        out = folder / f"out-{len(rows)}"
+                        wall, mib, spec = run_job(robot, traj, out, report, src)
+                        row = rows.setdefault((name, side, key), {"wall": [], "cpu": [],
+                                                                  "mib": []})
+                        row["wall"].append(wall)
+                        row["cpu"].append(run_job.cpu)
+                        row["mib"].append(mib)
+                        row["ops"] = sum(int(spec["cost"][k]) for k in
+                                         ("multiplications", "additions"))
+                        exact = spec["costs"]["exact recursive"]
+                        row["exact"] = int(exact["multiplications"]) + int(exact["additions"])
+                        screen = spec.get("provenance", {}).get("region_screen")
+                        row["skipped"] = bool(screen and screen["skipped"])
+                        loads.append(os.getloadavg())
+                        print(f"  round {r + 1} {name} {side} {key}: wall {wall:.1f} s, CPU "
+                              f"{run_job.cpu:.1f} s, {mib:.0f} MiB, load {loads[-1][0]:.2f}",
+                              flush=True)
+    print(f"| arm | code | job | wall [s] | CPU [s] | peak [MiB] | certification skipped | "
+          f"operations (exact) |  (median [min, max] of {args.rounds} round(s))")
+    print("|---|---|---|---|---|---|---|---|")
+    for (name, side, key), row in rows.items():
+        print(f"| {name} | {side} | {'with report' if key == 'report' else '--no-report'} | "
+              f"{_stats(row['wall'])} | {_stats(row['cpu'])} | {_stats(row['mib'])} | "
+              f"{'yes' if row['skipped'] else 'no'} | {row['ops']:,} ({row['exact']:,}) |")
     one = np.array([x[0] for x in loads])
     print(f"load (1-minute) during the run: {one.min():.2f} to {one.max():.2f}")
     return 0

@@ -81,9 +81,30 @@ def count_operations(assignments: list[tuple[se.Symbol, se.Basic]],
     >>> count_operations([], [2.0 * x * y + x**2 - y])
     {'multiplications': 3, 'additions': 2, 'sin': 0, 'cos': 0}
     """
-    tally = {"multiplications": 0, "additions": 0, "sin": 0, "cos": 0}
-    for _, e in assignments:
-        _count(e, tally)
-    for e in outputs:
-        _count(e, tally)
+    tally = dict.fromkeys(_KINDS, 0)
+    for e in [e for _, e in assignments] + list(outputs):
+        for kind, k in zip(_KINDS, _counted(e)):
+            tally[kind] += k
     return tally
+
+
+_KINDS = ("multiplications", "additions", "sin", "cos")
+#: Most expressions whose counts :func:`_counted` keeps (then all forgotten at once).
+COUNTED_KEPT = 50_000
+_COUNTED: dict = {}
+
+
+def _counted(e):
+    """The counts of one expression, in the order of _KINDS (kept by expression: the programs
+    a search compares share most of their expressions)."""
+    if e.is_Symbol or is_number(e):
+        return (0, 0, 0, 0)
+    out = _COUNTED.get(e)
+    if out is None:
+        tally = dict.fromkeys(_KINDS, 0)
+        _count(e, tally)
+        out = tuple(tally[k] for k in _KINDS)
+        if len(_COUNTED) >= COUNTED_KEPT:
+            _COUNTED.clear()
+        _COUNTED[e] = out
+    return out

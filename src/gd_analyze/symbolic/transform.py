@@ -61,15 +61,10 @@ def finish_program(assignments: list[tuple[se.Symbol, se.Basic]], outputs: list[
 
 def _inline_sums(assignments, outputs):
     """Sums used once, as a term of another sum, merged into it (one flat sum to factor)."""
-    uses = {}
-
-    def count(e):
-        if e.is_Symbol:
-            uses[e] = uses.get(e, 0) + 1
-        for a in e.args:
-            count(a)
+    uses: dict = {}
     for e in [e for _, e in assignments] + list(outputs):
-        count(e)
+        for sym, k in _uses(e):
+            uses[sym] = uses.get(sym, 0) + k
     defs = dict(assignments)
     merged = set()
 
@@ -93,9 +88,26 @@ def _inline_sums(assignments, outputs):
     return [(sym, e) for sym, e in new if sym not in merged], outs
 
 
+#: Most expressions kept by :func:`_factored` (then forgotten all at once): the tidied
+#: form of an expression is a pure function of it, and the programs a search compares share
+#: most of their expressions.
+FACTORED_KEPT = 50_000
+_FACTORED: dict = {}
+_USES: dict = {}
+
+
 def _factored(e):
-    """A sum with its common factors (symbols, equal coefficients) taken out."""
-    return factor_sum(_terms(e)) if e.is_Add else e
+    """A sum with its common factors (symbols, equal coefficients) taken out (kept by
+    expression: the programs the form search and the pruning compare differ in a few links)."""
+    if not e.is_Add:
+        return e
+    key = (e, _order(e))
+    out = _FACTORED.get(key)
+    if out is None:
+        if len(_FACTORED) >= FACTORED_KEPT:
+            _FACTORED.clear()
+        out = _FACTORED[key] = factor_sum(_terms(e))
+    return out
 
 
 def _terms(e):
@@ -109,6 +121,30 @@ def _terms(e):
         if is_num(b) and a.is_Add:
             return [b * t for t in _terms(a)]
     return [e]
+
+
+def _order(e):
+    """The expression tree's arguments in their stored order, as nested tuples of hashes:
+    expressions equal as values can store their terms in different orders (by how they were
+    built), and the tidied form and the printed code follow that order."""
+    return tuple(_order(a) if a.args else hash(a) for a in e.args)
+
+
+def _uses(e):
+    """(symbol, how often it occurs in the expression tree) pairs of an expression (kept by
+    expression)."""
+    if e.is_Symbol:
+        return ((e, 1),)
+    out = _USES.get(e)
+    if out is None:
+        tally: dict = {}
+        for a in e.args:
+            for sym, k in _uses(a):
+                tally[sym] = tally.get(sym, 0) + k
+        out = _USES[e] = tuple(tally.items())
+        if len(_USES) >= FACTORED_KEPT:
+            _USES.clear()
+    return out
 
 
 def _fresh_names(assignments, outputs):
