@@ -124,6 +124,23 @@ def test_cost_ladder_reads_the_stored_costs(shipped_dataset):
         assert xs == sorted(ops for _, ops, _, _ in points)
 
 
+
+@pytest.mark.parametrize("width", [7.2, 3.5])
+def test_cost_ladders_operation_ticks_are_1_2_5_per_decade(shipped_dataset, width):
+    """The operations axis is labelled at every 1, 2 and 5 times a power of ten within its
+    limits, and only there, each written as the whole number with a thousands comma. Oracle:
+    the products m 10^k listed from the axis' limits."""
+    from figure_checks import tick_texts
+
+    with matplotlib.rc_context(FIG_RC):
+        ax = fig_cost_ladder(shipped_dataset("puma560"), width=width).axes[0]
+    lo, hi = ax.get_xlim()
+    want = [m * 10.0 ** k for k in range(-1, 8) for m in (1, 2, 5) if lo <= m * 10.0 ** k <= hi]
+    got = tick_texts(ax, "x")
+    assert len(want) >= 3
+    assert [v for v, _ in got] == pytest.approx(want, rel=1e-12)
+    assert [t.get_text() for _, t in got] == [f"{round(v):,}" for v in want]
+
 @pytest.mark.parametrize("extra", [0, 3, 8])
 @pytest.mark.parametrize("width", [7.2, 3.5])
 def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, width, extra,

@@ -517,7 +517,7 @@ def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> 
         by a line; each point numbered, the
         numbers named in a key below.
     """
-    from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+    from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
 
     # a log axis: a model of no operations (nothing to compute) or an error not measured has
     # no place on it
@@ -563,16 +563,13 @@ def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> 
     ops = [p[1] for p in points] or [10.0]
     lo, hi = min(ops) / 1.6, max(ops) * 2.2
     ax.set_xlim(lo, hi)
-    decades = [10.0 ** k for k in range(int(math.floor(math.log10(lo))),
-                                        int(math.ceil(math.log10(hi))) + 1)]
-    ticks = [v * m for v in decades for m in (1, 2, 5) if lo <= v * m <= hi]
-    ax.xaxis.set_major_locator(FixedLocator(ticks))
-    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:,.0f}"))  # 1,000
+    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0), numticks=99))  # 1, 2, 5 x 10^k
+    ax.xaxis.set_major_formatter("{x:,.0f}")                                    # 1,000
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_ylim(-0.25 * _COST_LINEAR, top)
     ax.yaxis.set_major_locator(FixedLocator(
         [0.0] + [_COST_LINEAR * 10.0 ** k for k in range(8) if _COST_LINEAR * 10.0 ** k < top]))
-    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, pos=None: f"{v:g}"))
+    ax.yaxis.set_major_formatter("{x:g}")
     ax.yaxis.set_minor_locator(FixedLocator([]))
     _place_numbers(fig, ax, numbers)
     ax.set_xlabel("operations per set point" + ("" if column else
