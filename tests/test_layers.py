@@ -26,8 +26,7 @@ LEAVES = {"errors", "files", "_version", "config", "cache"}
 SHARED_REPORTS = {"report.common", "report.figures", "report.typeset", "report.drawing",
                   "report.ticks", "report.main_figures", "report.main_text",
                   "report.simplified_section", "report.main_context", "report.plot_data",
-                  "report.effort", "report.numbers",
-                  "report.budget_figures"}     # the main report's figures of the budget
+                  "report.numbers"}
 # the domain modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"ranking.ranking", "ranking.labels"}
 

@@ -38,7 +38,6 @@ import numpy as np
 from ..ranking.ranking import ROUND_OFF
 from ..store.results_view import Results
 from ..store.schema import open_results
-from .budget_figures import BUDGET_CAPTIONS, budget_makers
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
 from .drawing import draw_figures, html_document, write_documents
@@ -60,7 +59,7 @@ from .markup import code, element, sub
 from .numbers import decade_label
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import Outline
-from .simplified_section import error_figure
+from .simplified_section import BUDGET_CAPTIONS, budget_makers, error_figure
 from .ticks import decade_formatter, scaled_formatter
 from .typeset import PAPER
 

@@ -6,11 +6,13 @@ simplified model, the comparison with the chapter (Sec. 3.4.1 of Fu, Gonzalez & 
 payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recomputed. The
 robot section (:func:`robot_section`), the tables and notes of the model's parts and the
 chapter's conclusions as this run measured them (:func:`chapter_conclusions`, Sec. 6) are
-built here too.
+built here too, with each joint's peak |tau| against the effort limit its robot gives
+(:func:`effort_rows`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -18,12 +20,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._version import VERSION as __version__
-from ..ranking.labels import element_label
+from ..ranking.labels import element_label, joint_torque_units
 from ..ranking.ranking import is_chapter_puma, joint_motion_units
 from ..store.datasets import stored_guarantee, stored_region
 from ..store.names import RANKING_COLUMNS
 from ..store.results_view import Results
-from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import (
     FORMULATION_ABBR,
@@ -46,7 +47,6 @@ from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import table as _table
-from .effort import effort_rows
 from .main_provenance import provenance_rows
 from .main_text import (
     captions,
@@ -62,7 +62,7 @@ from .markup import element as _el
 from .markup import scope as _scope
 from .numbers import pct
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import ROUND_OFF, simplified_caption, simplified_context
+from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -70,9 +70,63 @@ if TYPE_CHECKING:
 
     from ..store.results_view import Results
 
-__all__ = ["chapter_conclusions", "choice_table", "base_parameter_table", "base_note",
-           "zero_parameters", "armature_columns", "has_armature", "d_text", "robot_section",
-           "alike_joints", "ALIKE", "prismatic_joints", "zero_mask", "report_context"]
+__all__ = ["EffortRow", "effort_rows", "EXCEEDED", "WITHIN", "chapter_conclusions",
+           "choice_table", "base_parameter_table", "base_note", "zero_parameters",
+           "armature_columns", "has_armature", "d_text", "robot_section", "alike_joints", "ALIKE",
+           "prismatic_joints", "zero_mask", "report_context"]
+
+#: The flag of a joint whose peak |tau| exceeds its effort limit, and of one within it.
+EXCEEDED, WITHIN = "EXCEEDED", "within"
+
+
+class EffortRow(tuple):
+    """(joint, peak, limit, ratio, flag, units) of one joint with an effort limit."""
+
+    __slots__ = ()
+
+    @property
+    def exceeded(self) -> bool:
+        """bool: the peak |tau| is above the limit."""
+        return self[4] == EXCEEDED
+
+
+def effort_rows(results: Results) -> list[EffortRow]:
+    """Each joint with an effort limit: its peak |tau| against the limit.
+
+    Parameters
+    ----------
+    results : Results
+        The main job's results: peak |tau| (its torque error table) and the effort limits
+        (its robot), shape (n,) [N m; N for a prismatic joint] (a limit NaN where the robot
+        gives none).
+
+    Returns
+    -------
+    list of EffortRow
+        One per joint whose limit is given: (joint number from 1, peak |tau|, limit,
+        peak / limit, :data:`EXCEEDED` or :data:`WITHIN`, units); empty when the robot gives
+        no limit (or the dataset predates them).
+
+    Notes
+    -----
+    The limits are the URDF's ``<limit effort>`` or a robot file's ``tau_max``; peak |tau| is
+    that of the full model, D qdd + h + c (Fu, Gonzalez & Lee 1987, Eq. (3.4-24)).
+    """
+    if results.robot_record.effort_limit is None:
+        return []
+    peak = results.torque_error.column("peak_tau").astype(float)
+    limit = np.asarray(results.robot_record.effort_limit, float)
+    units = [joint_torque_units(p) for p in results.prismatic]
+    rows = []
+    for j in range(peak.size):
+        if not (math.isfinite(limit[j]) and limit[j] > 0):
+            continue
+        ratio = peak[j] / limit[j]
+        rows.append(EffortRow((j + 1, float(peak[j]), float(limit[j]), float(ratio),
+                               EXCEEDED if ratio > 1.0 else WITHIN,
+                               units[j])))
+    return rows
+
 
 def _names(labels: list[str]) -> str:
     return ", ".join(element(k[0], k[1:]) for k in labels)
