@@ -480,7 +480,7 @@ def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, ca
     """The printed table gave the full-model controller's tracking error as digits
     (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed
     cell is "≡ 0" exactly where the stored error is at or below the report's floor."""
-    from gd_analyze.report.control_text import dataset_verdict
+    from gd_analyze.report.control import dataset_verdict
     from gd_analyze.store.schema import open_results
 
     out_dir = shared_main("puma560", SHIPPED)        # shared, read only

@@ -25,21 +25,14 @@ LEAVES = {"errors", "files", "_version", "config", "cache"}
 # PDF typesetter and tick labels of all three
 SHARED_REPORTS = {"report.common", "report.figures", "report.typeset", "report.drawing",
                   "report.ticks", "report.main_figures", "report.main_text",
-                  "report.sweep_figures", "report.simplified_section",
-                  "report.main_context", "report.plot_data", "report.control_figures",
-                  "report.effort", "report.sweep_text", "report.sweep_merged_text",
-                  "report.control_text",
-                  "report.control_verdict", "report.numbers",
-                  "report.budget_figures",     # the main report's figures of the budget
-                  "report.identify_figures", "report.identify_text"}    # the identify report's
+                  "report.simplified_section", "report.main_context", "report.plot_data",
+                  "report.numbers"}
 # the domain modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"ranking.ranking", "ranking.labels"}
 
 # the one section list of the three reports and what it is built with
-SHARED_REPORTS |= {"report.markup", "report.sections", "report.main_chapter",
-                   "report.numbers", "report.units", "report.figure_style", "report.main_robot",
-                   "report.main_outline", "report.main_provenance", "report.main_parts",
-                   "report.table_export"}     # every report's tables as CSV and LaTeX
+SHARED_REPORTS |= {"report.markup", "report.sections", "report.units", "report.figure_style",
+                   "report.main_provenance", "report.table_export"}     # every report's tables as CSV and LaTeX
 
 
 def _module_name(path):

@@ -39,7 +39,7 @@ def test_provenance_says_what_cluster_ran(swept):
     ran: here the local cluster the command started, with its one worker (--workers 1)."""
     import xarray as xr
 
-    from gd_analyze.report.sweep_text import sweep_context
+    from gd_analyze.report.sweep import sweep_context
 
     out, printed = swept
     with xr.open_dataset(out / "sweep.h5") as ds:
@@ -261,7 +261,7 @@ def test_a_small_sweep_without_workers_runs_in_the_command_process(tmp_path, cap
     LocalCluster. Both give the same files: the ranking and the model to the last bit, the
     measured errors up to round-off (their set points are grouped otherwise)."""
     from gd_analyze.jobs import sweep as sweep_job
-    from gd_analyze.report.sweep_text import sweep_context
+    from gd_analyze.report.sweep import sweep_context
 
     args = ["puma560", "--random", "3", "--seed", "4", "--held-out", "2", "--no-report"]
     code, printed = _sweep([*args, "-o", tmp_path / "here"], capsys)

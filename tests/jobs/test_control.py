@@ -224,7 +224,7 @@ def test_control_report_is_written(result, tmp_path):
     assert html.startswith("<!DOCTYPE html>") and html.count("<svg") >= 3
     assert "<link" not in html and " src=" not in html and "<script" not in html
     assert "puma560_trajectory.csv" in html and "multiplications" in html
-    from gd_analyze.report.control_verdict import fmt_number
+    from gd_analyze.report.control import fmt_number
 
     for c in CONTROLLERS:                             # the stored figures, as read back
         peak = result.error_figures(c)["peak_grid"][5]
@@ -282,8 +282,12 @@ def test_control_figures_label_without_scripts_at_print_size(result):
     row at page width (two rows: half a page)."""
     from matplotlib.text import Text
 
-    from gd_analyze.report.control import FIGURE_RC, make_control_figures
-    from gd_analyze.report.control_figures import COLUMN_WIDTH, control_figures
+    from gd_analyze.report.control import (
+        COLUMN_WIDTH,
+        FIGURE_RC,
+        control_figures,
+        make_control_figures,
+    )
 
     ds = control_dataset(result)
     figs = {**make_control_figures(ds),

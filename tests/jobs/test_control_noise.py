@@ -77,8 +77,7 @@ def test_case_shows_the_ripple(dense):
 def test_no_drawn_point_of_the_torque_difference_is_integrator_noise(dense):
     """(a) Every point drawn in Fig. 2, page and column width, is above the joint's stored
     floor and above the integrator noise measured against the reference runs."""
-    from gd_analyze.report.control import make_control_figures
-    from gd_analyze.report.control_figures import COLUMN_WIDTH, control_figures
+    from gd_analyze.report.control import COLUMN_WIDTH, control_figures, make_control_figures
 
     _, ds, _, noise = dense
     drawn = [_drawn(make_control_figures(ds)["tau_difference"]),
@@ -97,7 +96,7 @@ def test_stored_floor_bounds_the_integrator_noise(dense):
     """(b) The stored floor is at least the difference's integrator noise, measured against
     the reference runs at rtol / 1000 (independent of the floor's own runs at rtol / 100),
     on every joint; and the tables say a joint's difference at or below it is noise."""
-    from gd_analyze.report.control_text import control_context
+    from gd_analyze.report.control import control_context
 
     _, ds, _, noise = dense
     floor = ds["tau_difference_floor"].values
@@ -133,7 +132,7 @@ def test_a_noise_measurement_that_cannot_finish_falls_back_to_the_rtol_floor(
     no measured floor is stored, the report applies the rtol floor and says why it was not
     measured (it stopped with an error before)."""
     import gd_analyze.jobs.control as control
-    from gd_analyze.report.control_text import control_context
+    from gd_analyze.report.control import control_context
 
     def fails(*args, **kwargs):
         raise ValueError("the full controller's run failed: too many steps")

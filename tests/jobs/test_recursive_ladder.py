@@ -71,7 +71,7 @@ def test_the_default_run_stores_and_draws_the_recursive_ladder(shared_puma):
     and Fig. 7's key name them."""
     import xarray as xr
 
-    from gd_analyze.report.budget_figures import cost_points
+    from gd_analyze.report.simplified_section import cost_points
 
     out = shared_puma["puma"][0]                  # the default run, with its report
     spec = json.loads((out / "simplified_model.json").read_text())

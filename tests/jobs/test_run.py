@@ -8,8 +8,8 @@ import pytest
 
 import gd_analyze as gd
 from gd_analyze.jobs.run import run_analysis
+from gd_analyze.report.main import main_outline
 from gd_analyze.report.main_context import report_context
-from gd_analyze.report.main_outline import main_outline
 from gd_analyze.store.schema import open_results
 from gd_analyze.trajectory.trajectory import trajectory_from_arrays
 

@@ -468,7 +468,7 @@ def test_round_off_elements_have_no_share_box(sweep, serial):
     the per-trajectory analyses give (:func:`is_round_off` on their own peaks and scales),
     and draws no box of their noise shares; every other element gets its box."""
     from gd_analyze.ranking.ranking import is_round_off
-    from gd_analyze.report.sweep_figures import make_sweep_figures
+    from gd_analyze.report.sweep import make_sweep_figures
 
     labels = [str(v) for v in sweep["element"].values]
     expected = np.array([[bool(is_round_off(max(ds["peak_tran"].values[k],
@@ -500,7 +500,7 @@ def test_sweep_panel_titles_say_the_part_kept(sweep):
     """A panel's title says which part of the element the merged model keeps ("D(1,6): keeps
     rot"), not "D(1,6) → rot", which read as a class."""
     from gd_analyze.report.markup import label as shown
-    from gd_analyze.report.sweep_figures import make_sweep_figures
+    from gd_analyze.report.sweep import make_sweep_figures
 
     labels = [str(v) for v in sweep["element"].values]
     choice = dict(zip(labels, (str(v) for v in sweep["merged_choice"].values)))
@@ -524,8 +524,7 @@ def test_sweep_figures_letter_mathematics_at_print_size(sweep, puma, shipped):
     """Every sweep figure, at page width and as its 3.5-in column twin (payload included):
     elements lettered D(1,2), h(3) (no D12, share_tran), no label collisions or text past the
     edge, type of at least 7 pt in the column versions."""
-    from gd_analyze.report.sweep import _RC
-    from gd_analyze.report.sweep_figures import make_sweep_figures
+    from gd_analyze.report.sweep import _RC, make_sweep_figures
 
     pay = payload_sweep(puma, shipped, [0.0, 1.0])
     figs = make_sweep_figures(sweep, pay, column=True)

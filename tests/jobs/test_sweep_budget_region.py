@@ -117,7 +117,7 @@ def test_a_trajectory_outside_the_region_is_reported_not_covered(puma, planned, 
     rel = ds["merged_tau_error_relative_peak"].values
     assert said["worst"] == pytest.approx(rel[:3].max(), rel=1e-12)
     # the report says which is not covered, and never that the bound holds on every swept one
-    from gd_analyze.report.sweep_text import sweep_context
+    from gd_analyze.report.sweep import sweep_context
     from gd_analyze.store.schema import write_dataset
 
     ctx = sweep_context(ds)

@@ -1,4 +1,4 @@
-"""The figures of what the error budget acts on (gd_analyze.report.budget_figures): the torque
+"""The figures of what the error budget acts on (gd_analyze.report.simplified_section): the torque
 contributions against Pinocchio, the budget against the stored bound, the costs as stored."""
 
 import matplotlib
@@ -8,7 +8,10 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.report.budget_figures import (
+from gd_analyze.report.common import strings
+from gd_analyze.report.main import FIG_RC
+from gd_analyze.report.plot_data import plot_data
+from gd_analyze.report.simplified_section import (
     CONTRIBUTIONS,
     budget_parts,
     contribution_series,
@@ -17,9 +20,6 @@ from gd_analyze.report.budget_figures import (
     fig_error_budget,
     fig_torque_contributions,
 )
-from gd_analyze.report.common import strings
-from gd_analyze.report.main import FIG_RC
-from gd_analyze.report.plot_data import plot_data
 
 
 @pytest.mark.parametrize("name", ["puma560", "stanford"])
@@ -124,6 +124,23 @@ def test_cost_ladder_reads_the_stored_costs(shipped_dataset):
         assert xs == sorted(ops for _, ops, _, _ in points)
 
 
+
+@pytest.mark.parametrize("width", [7.2, 3.5])
+def test_cost_ladders_operation_ticks_are_1_2_5_per_decade(shipped_dataset, width):
+    """The operations axis is labelled at every 1, 2 and 5 times a power of ten within its
+    limits, and only there, each written as the whole number with a thousands comma. Oracle:
+    the products m 10^k listed from the axis' limits."""
+    from figure_checks import tick_texts
+
+    with matplotlib.rc_context(FIG_RC):
+        ax = fig_cost_ladder(shipped_dataset("puma560"), width=width).axes[0]
+    lo, hi = ax.get_xlim()
+    want = [m * 10.0 ** k for k in range(-1, 8) for m in (1, 2, 5) if lo <= m * 10.0 ** k <= hi]
+    got = tick_texts(ax, "x")
+    assert len(want) >= 3
+    assert [v for v, _ in got] == pytest.approx(want, rel=1e-12)
+    assert [t.get_text() for _, t in got] == [f"{round(v):,}" for v in want]
+
 @pytest.mark.parametrize("extra", [0, 3, 8])
 @pytest.mark.parametrize("width", [7.2, 3.5])
 def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, width, extra,
@@ -133,7 +150,7 @@ def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, wi
     label), stays below the x axis label and its tick labels, within the saved figure's box."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from gd_analyze.report import budget_figures
+    from gd_analyze.report import simplified_section
     from gd_analyze.report.figure_style import raise_small_text, text_extent
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
 
@@ -141,7 +158,7 @@ def test_the_cost_ladders_key_never_runs_into_the_axis_label(shipped_dataset, wi
     points = cost_points(ds)
     more = [(f"explicit, budget EPS=0.0{k} (a model with a long name)", 400.0 + 40 * k,
              0.001 * k, "exact") for k in range(extra)]
-    monkeypatch.setattr(budget_figures, "cost_points", lambda _: points + more)
+    monkeypatch.setattr(simplified_section, "cost_points", lambda _: points + more)
     with matplotlib.rc_context(FIG_RC):
         fig = fig_cost_ladder(ds, width=width)
         renderer = FigureCanvasAgg(fig).get_renderer()
@@ -167,7 +184,7 @@ def test_nothing_dropped_never_crosses_the_budgets_dash(shipped_dataset, width, 
     PUMA 560 at a quarter of the axis the dash struck through it)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from gd_analyze.report import budget_figures
+    from gd_analyze.report import simplified_section
     from gd_analyze.report.figure_style import raise_small_text
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
 
@@ -178,7 +195,7 @@ def test_nothing_dropped_never_crosses_the_budgets_dash(shipped_dataset, width, 
     top = 100 * eps / eps_share / 1.25
     peak = max(float(np.nanmax(sum(parts.values()))) * 100, 1e-300)
     scaled = {k: v * top / peak for k, v in parts.items()}
-    monkeypatch.setattr(budget_figures, "budget_parts", lambda _: scaled)
+    monkeypatch.setattr(simplified_section, "budget_parts", lambda _: scaled)
     with matplotlib.rc_context(FIG_RC):
         fig = fig_error_budget(ds, width=width)
         renderer = FigureCanvasAgg(fig).get_renderer()

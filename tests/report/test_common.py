@@ -6,8 +6,8 @@ import xarray as xr
 
 from gd_analyze.errors import InputError
 from gd_analyze.report import common as rp
-from gd_analyze.report.control_verdict import fmt_number as control_fmt
-from gd_analyze.report.control_verdict import stored_text as control_text
+from gd_analyze.report.control import fmt_number as control_fmt
+from gd_analyze.report.control import stored_text as control_text
 
 
 def test_fmt_plain_and_scientific():

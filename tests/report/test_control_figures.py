@@ -1,4 +1,4 @@
-"""The control report's figures for print (gd_analyze.report.control_figures): the
+"""The control report's figures for print (gd_analyze.report.control): the
 three controllers told apart in black and white, log-axis exponents in 7-pt type, no key
 entry for a band too thin to see, joints named as in the main report."""
 
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from conftest import two_link_control
 
-from gd_analyze.report.control_figures import FIGURE_RC, control_figures
+from gd_analyze.report.control import FIGURE_RC, control_figures
 
 
 @pytest.fixture(scope="module")

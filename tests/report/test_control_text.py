@@ -180,7 +180,7 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
     # printed "rtol = 1.00000e-08", Fig. 2's caption said "markers: set points" where every
     # k-th is marked, and the noise scale was "the joint's scale" in one place and "the
     # joint's range of motion" in another
-    from gd_analyze.report.control_figures import control_figures
+    from gd_analyze.report.control import control_figures
 
     ds = two_link_control(tmp_path, 200)
     assert np.all(ds.attrs["wn"] == 20) and np.all(ds.attrs["zeta"] == 1)   # README defaults

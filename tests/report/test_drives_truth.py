@@ -13,8 +13,8 @@ import xarray as xr
 from conftest import SHIPPED
 
 from gd_analyze.cli import main
+from gd_analyze.report.main import main_outline
 from gd_analyze.report.main_context import report_context
-from gd_analyze.report.main_outline import main_outline
 from gd_analyze.report.markup import unicode
 
 
@@ -127,7 +127,7 @@ def test_table_6_1_says_each_cause_once(drives):
 def test_torque_offsets_get_a_column_and_the_note_says_so(drives):
     """A robot whose only drive term is a torque offset still has the drives table, with the
     offsets as stored (the dataset's torque_offset), and the note's tau_f names the offset."""
-    from gd_analyze.report.main_robot import _drives_context
+    from gd_analyze.report.main_context import _drives_context
 
     ds = drives[0].copy()
     n = ds.sizes["joint"]

@@ -17,9 +17,14 @@ from pdf_checks import info, text
 from table_checks import csv_matches_html
 
 from gd_analyze.errors import InputError
-from gd_analyze.report.identify import IDENTIFY_REPORT_FILES, write_identify_report
-from gd_analyze.report.identify_figures import MAX_POINTS, TITLE_CHARS, identify_figures
-from gd_analyze.report.identify_text import identify_context
+from gd_analyze.report.identify import (
+    IDENTIFY_REPORT_FILES,
+    MAX_POINTS,
+    TITLE_CHARS,
+    identify_context,
+    identify_figures,
+    write_identify_report,
+)
 from gd_analyze.report.numbers import pct
 
 #: Names that would open a script element, end an attribute, run mathtext and Typst markup.

@@ -11,7 +11,7 @@ import pytest
 from html_checks import html_text
 
 from gd_analyze.ranking.ranking import CHAPTER_DOMINANCE
-from gd_analyze.report.main_chapter import chapter_conclusions
+from gd_analyze.report.main_context import chapter_conclusions
 from gd_analyze.report.markup import plain
 from gd_analyze.store.schema import open_results
 

@@ -68,7 +68,7 @@ def test_round_off_threshold_is_written_as_a_power_of_ten():
     import math
 
     from gd_analyze.ranking.ranking import ROUND_OFF
-    from gd_analyze.report.main_outline import RANKING_TEXT
+    from gd_analyze.report.main import RANKING_TEXT
     from gd_analyze.report.markup import unicode
 
     k = round(math.log10(ROUND_OFF))

@@ -20,9 +20,8 @@ from html_checks import html_text
 from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.model.urdf import builtin_urdf_path
-from gd_analyze.report.budget_figures import budget_caption, cost_points
-from gd_analyze.report.simplified_section import simplified_caption
-from gd_analyze.report.sweep_figures import make_sweep_figures
+from gd_analyze.report.simplified_section import budget_caption, cost_points, simplified_caption
+from gd_analyze.report.sweep import make_sweep_figures
 from gd_analyze.store.datasets import stored_guarantee
 from gd_analyze.trajectory.trajectory import read_trajectory
 

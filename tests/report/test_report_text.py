@@ -138,8 +138,8 @@ def _typeset_text(reports, which, tmp_path):
     import xarray as xr
 
     from gd_analyze.report import control, sweep
+    from gd_analyze.report.main import main_outline
     from gd_analyze.report.main_context import report_context
-    from gd_analyze.report.main_outline import main_outline
 
     folder, _ = reports[which]
     if which in ("puma", "ur5"):
@@ -149,7 +149,8 @@ def _typeset_text(reports, which, tmp_path):
         module, name = (sweep, "sweep.h5") if which == "sweep" else (control, "control.h5")
         with xr.open_dataset(folder / name) as ds:
             ds = ds.load()
-            ctx = module._context(ds) if which == "control" else module._context(ds, None)
+            ctx = (control.control_context(ds) if which == "control"
+                   else sweep.sweep_context(ds, None))
         outline = module._outline(ctx, {})
     write_pdf(outline, {}, tmp_path / "text.pdf")
     return pdf_checks.text(tmp_path / "text.pdf")

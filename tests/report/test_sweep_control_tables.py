@@ -20,11 +20,9 @@ from table_checks import csv_matches_html, number, reads_back
 from table_checks import tables as _tables
 
 from gd_analyze.cli import main
-from gd_analyze.report.control import make_control_figures
-from gd_analyze.report.control_text import control_context
+from gd_analyze.report.control import control_context, make_control_figures
 from gd_analyze.report.markup import plain
-from gd_analyze.report.sweep import write_sweep_report
-from gd_analyze.report.sweep_text import sweep_context
+from gd_analyze.report.sweep import sweep_context, write_sweep_report
 from gd_analyze.store.schema import open_results, open_sweep
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.

@@ -18,8 +18,7 @@ from html_checks import html_table as _table_rows
 from html_checks import html_text as _text
 
 from gd_analyze.cli import main
-from gd_analyze.report.sweep import write_sweep_report
-from gd_analyze.report.sweep_figures import make_sweep_figures
+from gd_analyze.report.sweep import make_sweep_figures, write_sweep_report
 from gd_analyze.store.schema import write_dataset
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.

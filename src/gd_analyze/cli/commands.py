@@ -32,10 +32,9 @@ from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
 from ..model.robots import load_robot
 from ..ranking.labels import joint_motion_units, joint_torque_units, joint_units_text
-from ..report.control import CONTROL_REPORT_FILES, write_control_report
-from ..report.control_text import dataset_verdict
-from ..report.effort import effort_rows
+from ..report.control import CONTROL_REPORT_FILES, dataset_verdict, write_control_report
 from ..report.main import write_report
+from ..report.main_context import effort_rows
 from ..report.numbers import count
 from ..simplify.simplified import json_safe
 from ..store import control_dataset as control_file

@@ -6,7 +6,10 @@ every number and curve comes from the dataset's variables and global attributes.
 holds the set-up and gains, the tracking error per joint of the three controllers (figure and
 peak/RMS table), the torque difference between the simplified-model and the full-model
 computed-torque controllers, the applied torques, the evaluation cost of the simplified model
-against the full one, the model's choices and the provenance.
+against the full one, the model's choices and the provenance. One module for the report's
+figures (:func:`control_figures`, integrator noise never drawn as data: :func:`noise_floors`),
+its words and tables (:func:`control_context`) and its verdict (:func:`control_verdict`: does
+the simplified-model controller track as well as the full-model one, per joint type).
 
 ``control_report.html`` has no external resources (inline CSS, inline SVG figures, Jinja2
 template ``templates/control_report.html.j2``); ``control_report.pdf`` is typeset by
@@ -17,30 +20,1105 @@ atomically (:func:`gd_analyze.files.atomic_path`).
 from __future__ import annotations
 
 import functools
+import math
+import textwrap
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from ..store.schema import open_results
-from ..store.stored_control import REQUIRED_VARIABLES, StoredControl
-from .control_figures import COLUMN_WIDTH, FIGURE_RC, control_figures
-from .control_text import control_context as _context
-from .control_verdict import VERDICT_TOLERANCE, control_verdict
+import numpy as np
+
+from .._version import VERSION as __version__
+from ..config import defaults
+from ..ranking.ranking import (
+    ROUND_OFF,
+    ROUND_OFF_CLAUSE,
+    element_label,
+    is_round_off,
+    joint_motion_units,
+    joint_torque_units,
+)
+from ..store.control_dataset import gain_units
+from ..store.schema import from_attrs, open_results
+from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
+from .common import (
+    BASE_RC,
+    attr_text,
+    cost_table,
+    fmt,
+    fmt_column,
+    grid_shape,
+    panel_markevery,
+    utc_now,
+)
+from .common import table as _table
 from .drawing import draw_figures, html_document, write_documents
+from .main_provenance import gravity_row, run_row, software_row
+from .main_text import gravity_clause, model_sentence
+from .markup import scope as scope_markup
+from .markup import sub
 from .sections import Outline
+from .ticks import decade_formatter, label_axes, set_ticks
 from .typeset import PAPER
 
-if TYPE_CHECKING:                       # for the type hints only
+if TYPE_CHECKING:
     import os
 
+    import xarray as xr
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
 
-__all__ = ["CONTROL_REPORT_FILES", "REQUIRED_VARIABLES", "VERDICT_TOLERANCE", "control_verdict", "make_control_figures",
-           "write_control_report"]
+__all__ = ["VERDICT_TOLERANCE", "control_verdict", "control_figures", "noise_scales",
+           "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns", "CONTROLLER_LABELS",
+           "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words",
+           "control_context", "dataset_verdict", "CONTROL_REPORT_FILES", "REQUIRED_VARIABLES",
+           "make_control_figures", "write_control_report"]
+
+# Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
+# with 6 digits, arrays without parentheses, booleans as 0/1.
+_SCI = (1e-3, 1e5)
+fmt_number = functools.partial(fmt, digits=3, sci_outside=_SCI)
+stored_text = functools.partial(attr_text, parens=False, bools=True, sci_outside=_SCI)
+
+
+#: Default tolerance of the verdict on the simplified-model controller's peak tracking error:
+#: (revolute joints [rad], prismatic joints [m]) (:data:`gd_analyze.config.defaults`); the
+#: verdict takes the larger of it and twice the full-model controller's error (its integrator
+#: floor); ``control --verdict-tolerance`` sets it.
+VERDICT_TOLERANCE = tuple(defaults["verdict_tolerance"])
+#: A tracking error that is integrator noise on every joint, as the text says it.
+NOISE = "\u2261 0 (integrator noise)"
+
+
+def _value(value, unit):
+    """A number and its unit, never split over two lines."""
+    return f"{fmt_number(value)}\u00a0{unit}".replace(" ", "\u00a0")
+
+
+def _by_type(values, prismatic, which):
+    """Each joint type present, as (unit, largest value, one-based joints), revolute first."""
+    values, prismatic = np.asarray(values, float), np.asarray(prismatic, bool)
+    out = []
+    for kind in (False, True):
+        ks = np.nonzero(prismatic == kind)[0]
+        if ks.size:
+            unit = (joint_torque_units(kind) if which == "tau" else
+                    joint_motion_units(kind)[0])
+            out.append((unit, float(np.nanmax(values[ks])), [int(k) + 1 for k in ks]))
+    return out
+
+
+def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str,
+                 limits: Sequence[float] | None = None) -> str:
+    """``"2.63e-04 rad"``, or per joint type ``"2.63e-04 rad, 6.20e-05 m"`` (revolute, then
+    prismatic joints): a maximum is never taken across units."""
+    groups = _by_type(values, prismatic, which)
+    if limits is not None:
+        groups = [(u, lim, js) for (u, _, js), lim in zip(groups, limits)]
+    return ", ".join(_value(v, u) for u, v, _ in groups)
+
+
+def _joint_types(prismatic):
+    """For a mixed arm, which joints are revolute and which prismatic, said once; else ""."""
+    groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
+    if len(groups) < 2:
+        return ""
+    return ("; ".join(f"joint{'s' if len(js) > 1 else ''} {', '.join(map(str, js))} "
+                      f"{'prismatic' if kind else 'revolute'} ({u}, "
+                      f"{joint_torque_units(kind)})"
+                      for (u, _, js), kind in zip(groups, (False, True))) + ": ")
+
+
+def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
+                    tau_difference: np.ndarray | None = None,
+                    tolerance: tuple[float, float] = VERDICT_TOLERANCE,
+                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None) -> str:
+    """One sentence: does the simplified model control the arm as well as the full one?
+
+    Parameters
+    ----------
+    peaks : dict of str to ndarray, shape (n,)
+        Per controller (``"full"``, ``"simplified"``, ``"pd_gravity"``), each joint's peak
+        tracking error |q_d - q| [rad, or m for a prismatic joint].
+    prismatic : ndarray of bool, shape (n,)
+        Which joints are prismatic.
+    tau_difference : ndarray, shape (n,), optional
+        Each joint's peak closed-loop torque difference, simplified-model controller minus
+        full-model controller [N m, or N for a prismatic joint].
+    tolerance : tuple of (float, float), optional
+        Revolute [rad] and prismatic [m] tolerance
+        (:data:`VERDICT_TOLERANCE`).
+    quiet : dict of str to bool, optional
+        Per controller, whether its error is integrator noise on every joint, and under
+        ``"tau_difference"`` whether the torque difference is: said as
+        "\u2261 0 (integrator noise)" instead of its digits.
+    noise_rule : str, optional
+        The rule by which a joint's torque difference is integrator noise, in words
+        (:func:`gd_analyze.report.control.noise_words`), said after the torque
+        difference.
+
+    Returns
+    -------
+    str
+        The verdict: the simplified model holds if, for every joint type, its largest peak
+        error is within the larger of the tolerance and twice the full model's. Errors of
+        revolute and prismatic joints are stated apart, each in its unit.
+
+    Examples
+    --------
+    >>> v = control_verdict({"full": np.array([1e-9, 1e-9]),
+    ...                      "simplified": np.array([2e-4, 5e-4])}, np.array([False, True]))
+    >>> print(v[:v.index(" (tolerance")])
+    Verdict: the simplified model is good enough for computed-torque control along this trajectory: joint 1 revolute (rad, N m); joint 2 prismatic (m, N): peak tracking error 2.00e-04\xa0rad, 5.00e-04\xa0m against 1.00e-09\xa0rad, 1.00e-09\xa0m with the full model
+    """
+    full, simp = peaks.get("full"), peaks.get("simplified")
+    if full is None or simp is None:
+        return "Verdict: not available (the run lacks the full or the simplified controller)."
+    pd = peaks.get("pd_gravity")
+    quiet = quiet or {}
+
+    def said(c, values):
+        return NOISE if quiet.get(c) else by_type_text(values, prismatic, "q")
+
+    groups = {k: _by_type(v, prismatic, "q") for k, v in peaks.items()}
+    tol = {False: tolerance[0], True: tolerance[1]}
+    kinds = [u != joint_motion_units(False)[0] for u, _, _ in groups["full"]]
+    bounds = [max(2.0 * f, tol[kind]) for (_, f, _), kind in zip(groups["full"], kinds)]
+    holds = all(s <= b for (_, s, _), b in zip(groups["simplified"], bounds))
+    beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
+                                      zip(groups["simplified"], groups["pd_gravity"]))
+    tail = ""
+    if tau_difference is not None:
+        tail = ("; its closed-loop torque differs from the full-model controller's (two "
+                "closed-loop runs) by at most "
+                + (NOISE if quiet.get("tau_difference") else
+                   by_type_text(tau_difference, prismatic, 'tau')))
+        if noise_rule:
+            tail += (f" (a joint's value counts as integrator noise, \u2261 0, where it is "
+                     f"{noise_rule})")
+    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
+    if holds:
+        head = ("Verdict: the simplified model is good enough for computed-torque control "
+                "along this trajectory")
+    elif beats_pd:
+        head = ("Verdict: the simplified model degrades tracking beyond the tolerance, though "
+                "it still beats PD + gravity")
+    else:
+        head = "Verdict: the simplified model is NOT good enough for computed-torque control"
+    if len(kinds) == 1:
+        (u, _, _), kind = groups["full"][0], kinds[0]
+        tolerance_text = (f"{fmt_number(bounds[0])} {u}, the larger of {tol[kind]:g} {u} and twice "
+                          "the full model's")
+    else:
+        tolerance_text = (" and ".join(
+            f"{fmt_number(b)} {u} ({'prismatic' if kind else 'revolute'})"
+            for b, (u, _, _), kind in zip(bounds, groups["full"], kinds))
+            + ", each the larger of " + " or ".join(
+                f"{tol[kind]:g} {u}" for (u, _, _), kind in zip(groups["full"], kinds))
+            + " and twice the full model's")
+    return (f"{head}: {_joint_types(prismatic)}"
+            f"peak tracking error {said('simplified', simp)} against "
+            f"{said('full', full)} with the full model{pd_text} (tolerance: "
+            f"{tolerance_text}){tail}.")
+
+
+#: Figure widths [in]: the text of a page, one column.
+PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
+
+# Okabe & Ito colours, the same in every figure; line style, width and marker differ too, so
+# that the three controllers are told apart in black and white, where their curves coincide
+# too (the full-model controller's wide solid line under the others).
+_COLOURS = {"full": "#000000", "simplified": "#009E73", "pd_gravity": "#D55E00"}
+#: Line style (dash pattern in points), width [pt] and marker of each controller.
+CONTROLLER_STYLES = {"full": ("-", 1.6, "o"), "simplified": ((0, (4.0, 2.0)), 1.0, "s"),
+                     "pd_gravity": ((0, (1.0, 1.6)), 1.1, "^")}
+#: A band within +-floor is in the key only where it shows: at least this share of a panel's
+#: y range (a thinner one is invisible at print size).
+_VISIBLE_BAND = 0.01
+CONTROLLER_LABELS = CONTROL_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
+           "model", "pd_gravity": "PD + gravity"}
+_MAX_LINE_POINTS = 600
+#: Axis labels ({u}: the joint's units) without subscripts: q_d (desired), tau_s and tau_f
+#: (the simplified- and the full-model controller) have subscripts that Unicode has no
+#: character for, and mathtext's print at 70 % of the label (5.6 pt), under the reports'
+#: 8 pt; the labels name the tracking error e = q_d - q and the difference
+#: delta tau = tau_s - tau_f, which the captions and the text define.
+_TRACKING_ERROR = "|e| [{u}]"
+_TAU_DIFFERENCE = "\u0394\u03c4 [{u}]"
+#: The key's entry of the shaded band within +-floor of a torque difference.
+_BAND = "integrator noise floor (\u00b1): not drawn"
+FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5, "lines.markersize": 3.0}
+
+
+#: Height [in] of a row of panels at page width, by the number of columns (three narrower
+#: panels a row are drawn lower: a six-joint figure in two rows is under half a page, so that
+#: a figure prints on the page of the text citing it or the next, and the PUMA 560's report,
+#: its three figures of six joints, ends on a full page rather than one holding its
+#: provenance alone).
+_ROW_HEIGHT = {1: 1.9, 2: 1.9, 3: 1.3}
+#: Horizontal room between panels at page width [share of a panel's width], by the number of
+#: columns: a narrower panel needs a larger share for its neighbour's tick labels and label.
+_WSPACE = {1: 0.3, 2: 0.3, 3: 0.5}
+#: A page-width note's characters a line, and the height [in] of each line after the first.
+_NOTE_CHARS, _NOTE_LINE = 110, 0.15
+
+
+def page_columns(n: int) -> int:
+    """Panels a row at page width: two for up to four joints, else three.
+
+    Parameters
+    ----------
+    n : int
+        Number of joints (panels).
+
+    Returns
+    -------
+    int
+        2 or 3: a six-joint arm's figure has two rows, not three.
+    """
+    return 2 if n <= 4 else 3
+
+
+def _stride(m):
+    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
+
+
+def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
+                  width=PAGE_WIDTH):
+    """A figure with one panel per joint; values: name -> (M, n) array along the stored
+    control run's time.
+
+    ``ylabel`` is formatted with each joint's units (``{u}``). With ``floor`` (n,)
+    (:func:`noise_floors`), no point at or below a joint's floor is drawn, and a controller
+    whose curve on a joint is all integrator noise is not drawn there: the panel says so; a
+    log axis starts at the floor, a linear one shades the band within +-floor.
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import LogLocator, NullFormatter
+
+
+    t = np.asarray(s.time, dtype=float)
+    is_set = s.is_setpoint
+    n = s.n
+    units = joint_units_of(s, which)
+    column = width < PAGE_WIDTH
+    rows, cols = grid_shape(n, 1 if column else page_columns(n))
+    top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
+                                              else 0.0)     # column: a note of 3 lines
+    bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
+    height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
+    W = width
+    fig = Figure(figsize=(W, height))
+    # fixed margins [in] instead of a layout engine: drawing stays fast
+    fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / height,
+                        bottom=bottom / height, wspace=0.3 if column else _WSPACE[cols],
+                        hspace=0.35)
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    k = _stride(t.size)
+    keep = np.zeros(t.size, dtype=bool)
+    keep[::k] = True
+    keep |= is_set
+    every = marker_stride(s, len(values))
+    handles = {}
+    quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
+    linear = []
+    for j in range(rows * cols):
+        ax = axes[j // cols, j % cols]
+        if j >= n:
+            ax.set_visible(False)
+            continue
+        drawn = 0
+        for order, (name, y) in enumerate(values.items()):
+            yj = np.asarray(y[:, j], dtype=float)
+            if log:
+                yj = np.abs(yj)
+            peak = float(np.nanmax(np.abs(yj))) if yj.size else 0.0
+            if floor is not None and is_round_off(peak, floor[j], 1.0):
+                quiet.setdefault(name, []).append((j, peak))
+                continue
+            drawn += 1
+            if floor is not None:       # a point at or below the floor is noise: a gap
+                yj = np.where(is_round_off(yj, floor[j], 1.0), np.nan, yj)
+            elif log:
+                yj = np.where(yj > 0.0, yj, np.nan)
+            ls, lw, marker = CONTROLLER_STYLES.get(name, ("-", 1.0, "o"))
+            kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": ls, "linewidth": lw,
+                  "label": CONTROL_LABELS.get(name, name), "zorder": 2 + order}
+            ax.plot(t[keep], yj[keep], **kw)
+            handles.setdefault(kw["label"], Line2D(
+                [], [], marker=marker, markersize=3.5, mfc="none", markeredgewidth=0.8, **kw))
+            start = marker_starts(every, len(values))[order]   # staggered: none coincide
+            ax.plot(t[is_set], yj[is_set], linestyle="none", marker=marker, markersize=3.0,
+                    color=kw["color"], mfc="none", markeredgewidth=0.8, zorder=5 + order,
+                    markevery=(start, every) if every > 1 else 1)
+        if log:
+            ax.set_yscale("log")
+            if floor is not None and floor[j] > 0:
+                ax.set_ylim(bottom=floor[j])
+            # decades written 10⁻⁶ in the tick labels' own 7 pt (mathtext's exponents: 4.9 pt)
+            ax.yaxis.set_major_locator(LogLocator(numticks=6))
+            ax.yaxis.set_major_formatter(decade_formatter())
+            ax.yaxis.set_minor_formatter(NullFormatter())
+        elif drawn:                     # round ticks, labelled below in one notation
+            lo, hi = ax.get_ylim()
+            if floor is not None and floor[j] > 0:
+                band = ax.axhspan(-floor[j], floor[j], color="0.85", linewidth=0, zorder=0)
+                if 2 * floor[j] >= _VISIBLE_BAND * (hi - lo):     # in the key if it shows
+                    handles.setdefault(_BAND, band)
+            set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+            linear.append(ax.yaxis)
+        if not drawn and floor is not None:
+            ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=7, color="0.35")
+            ax.set_yticks([])
+        ax.set_title(f"joint {j + 1}")
+        if j // cols == rows - 1 or j + cols >= n:     # the lowest panel of its column
+            ax.set_xlabel("time t [s]")
+            ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
+        ax.set_ylabel(ylabel.format(u=units[j]))
+    label_axes(linear)                  # one tick notation for the figure
+    if handles:
+        fig.legend(list(handles.values()), list(handles), loc="lower center",
+                   ncols=1 if column else min(3, len(handles)), frameon=False,
+                   bbox_to_anchor=(0.5, 0.0))
+    note = ""
+    if floor is not None:
+        notes = [f"Integrator noise ({noise_words(s, which, figure=True)}) is not drawn"]
+        for name, where in quiet.items():            # said as noise: its digits are not data
+            joints = ("every joint" if len(where) == n else
+                      "joint" + ("s " if len(where) > 1 else " ")
+                      + ", ".join(str(j + 1) for j, _ in where))
+            notes.append(f"{CONTROL_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
+        # wrapped by the width drawn (at the size it prints at, 8 pt)
+        note = textwrap.fill("; ".join(notes) + ".", 70 if column else _NOTE_CHARS)
+    extra = 0.0 if column else _NOTE_LINE * note.count("\n")
+    if extra:                           # a page-width note of more lines: room above the panels
+        height += extra
+        fig.set_size_inches(W, height)
+        fig.subplots_adjust(top=1 - (top + extra) / height, bottom=bottom / height)
+    fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
+                 fontweight="bold", y=1 - 0.12 / height, va="top")
+    if note:
+        fig.text(0.5, 1 - (0.62 if column else 0.36) / height, note, ha="center", va="top",
+                 fontsize=7, color="0.3")
+    return fig
+
+
+def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False) -> str:
+    """The rule by which a closed-loop quantity is integrator noise (:func:`noise_floors`), in
+    the words of every caption, table, figure note and the verdict.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or its
+        dataset (its ``rtol``, and the attributes of the measured noise floor).
+    which : {"q", "tau"}
+        A tracking error (at most rtol times the larger of the range and the peak |q_d| of
+        the joint) or the closed-loop torque difference (at most its stored noise floor,
+        ``tau_difference_floor``; in a file without one, rtol times the full-model
+        controller's peak |tau|).
+    figure : bool, optional
+        The short form of a figure's note, without subscripts (the caption gives the
+        joint's scale).
+
+    Returns
+    -------
+    str
+        E.g. "at most 1e-08 of the joint's scale, max(range, peak |q_d|)" or "at most twice
+        the largest change the difference shows when both runs are integrated again with rtol
+        and atol / 100, or 1e-08 of the full-model controller's peak |tau| where that is
+        larger".
+    """
+    s = StoredControl.of(ds)
+    tol = noise_scales(s)[0]
+    if which == "tau":
+        if s.tau_difference_floor is None:
+            return f"at most {tol:g} of the full-model controller's peak |\u03c4|"
+        settings = s.settings
+        factor = float(_or(settings.noise_factor, np.nan))
+        tighten = float(settings.rtol) / float(_or(settings.noise_rtol, np.nan))
+        times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
+        if figure:                      # short: the note is one line at page width
+            return (f"at most {times}its change with rtol and atol / {tighten:g}, or {tol:g} "
+                    "of peak |\u03c4|")
+        return (f"at most {times}the largest change the difference shows when both runs are "
+                f"integrated again with rtol and atol / {tighten:g}, or {tol:g} of the "
+                "full-model controller's peak |\u03c4| where that is larger")
+    if figure:                          # short: the note is one line at page width
+        return f"at most {tol:g} of the joint's scale"
+    return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
+
+
+def _or(value, default):
+    """A stored attribute's value, or ``default`` where it is missing (None)."""
+    return default if value is None else value
+
+
+def marker_stride(ds: StoredControl | xr.Dataset, lines: int) -> int:
+    """The set points between two markers on a line of a figure with ``lines`` lines a panel
+    (:func:`gd_analyze.report.figure_style.panel_markevery`), for the figures and their
+    captions alike.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset (``is_setpoint`` along ``time``).
+    lines : int
+        Lines with markers on each panel.
+
+    Returns
+    -------
+    int
+        k >= 1: a marker at every k-th set point.
+    """
+
+    return panel_markevery(int(StoredControl.of(ds).is_setpoint.sum()), lines)
+
+
+def marker_starts(every: int, lines: int) -> list[int]:
+    """The set point of each line's first marker on a panel of ``lines`` lines with a marker
+    at every ``every``-th set point: staggered, so that no two lines mark the same set point
+    (as :func:`gd_analyze.report.main_figures._plot` staggers the parts of an element).
+
+    Parameters
+    ----------
+    every : int
+        The stride (:func:`marker_stride`).
+    lines : int
+        Lines with markers on each panel.
+
+    Returns
+    -------
+    list of int, length ``lines``
+        0-based indices of the first marked set point: ``i * every // lines``; all 0 when
+        ``every`` is 1 (every line marks every set point).
+
+    Examples
+    --------
+    >>> marker_starts(8, 3), marker_starts(16, 1), marker_starts(1, 3)
+    ([0, 2, 5], [0], [0, 0, 0])
+    """
+    return [i * every // max(1, lines) for i in range(max(1, lines))]
+
+
+def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) -> str:
+    """What a figure's markers are, in words.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
+    lines : int or sequence of str
+        Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
+        the order they are drawn (:data:`CONTROLLER_LABELS` names them).
+
+    Returns
+    -------
+    str
+        "markers: every set point", "markers: every 8th set point, the first included", or
+        for several lines "markers: every 8th set point, staggered so that no two controllers
+        mark the same one; the first at set point 1 (computed torque, full model), 3 (...) and
+        6 (...)" (:func:`marker_starts`).
+    """
+    names = None if isinstance(lines, int) else [str(c) for c in lines]
+    count = len(names) if names is not None else int(lines)  # type: ignore[arg-type]  # an int
+    k = marker_stride(ds, count)
+    if k == 1:
+        return "markers: every set point"
+    if count <= 1:
+        return f"markers: every {_ordinal(k)} set point, the first included"
+    starts = [str(s + 1) for s in marker_starts(k, count)]
+    if names is not None:
+        starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)]
+    return (f"markers: every {_ordinal(k)} set point, staggered so that no two controllers "
+            f"mark the same one; the first at set point {', '.join(starts[:-1])} and "
+            f"{starts[-1]}")
+
+
+def _ordinal(k):
+    """1st, 2nd, 3rd, 8th, 11th ..."""
+    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
+    return f"{k}{suffix}"
+
+
+def joint_units_of(ds: StoredControl | xr.Dataset, which: str) -> list[str]:
+    """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
+    (:func:`gd_analyze.ranking.labels.joint_motion_units`, ``joint_torque_units``)."""
+
+    prismatic = StoredControl.of(ds).prismatic
+    if which == "tau":
+        return [joint_torque_units(bool(p)) for p in prismatic]
+    return [joint_motion_units(bool(p))[0] for p in prismatic]
+
+
+def noise_scales(ds: StoredControl | xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
+    """The scales against which a closed-loop quantity is integrator noise
+    (:func:`noise_floors`), the same for the figures and the tables.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
+
+    Returns
+    -------
+    tol : float
+        ``max(rtol, ROUND_OFF)`` [1].
+    q_scale : ndarray, shape (n,)
+        Per joint, the larger of the range and the peak |q_d| [rad or m]: a tracking error's.
+    tau_scale : ndarray, shape (n,)
+        Per joint, the full-model controller's peak |tau| [N m or N]: a torque difference's.
+    """
+    s = StoredControl.of(ds)
+    names = s.controllers
+    q_d = np.asarray(s.q_d, float)
+    q_scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
+    full = names.index("full") if "full" in names else 0
+    tau_scale = np.nanmax(np.abs(np.asarray(s.tau[names[full]], float)), axis=0)
+    rtol = float(_or(s.settings.rtol, 0.0))
+    return max(rtol if np.isfinite(rtol) else 0.0, ROUND_OFF), q_scale, tau_scale
+
+
+def noise_floors(ds: StoredControl | xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """Per joint, the level at or below which a closed-loop quantity is integrator noise, not
+    data: the same for the figures, the tables and the verdict.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset.
+
+    Returns
+    -------
+    q_floor : ndarray, shape (n,)
+        A tracking error's: max(rtol, 1e-12) times the joint's scale (:func:`noise_scales`)
+        [rad or m].
+    tau_floor : ndarray, shape (n,)
+        The closed-loop torque difference's: the stored ``tau_difference_floor`` (measured,
+        :attr:`gd_analyze.jobs.control.ControlResult.tau_noise_floor`); in a file without
+        one, max(rtol, 1e-12) times the full-model controller's peak |tau| [N m or N].
+    """
+    s = StoredControl.of(ds)
+    tol, q_scale, tau_scale = noise_scales(s)
+    if s.tau_difference_floor is not None:
+        return tol * q_scale, np.asarray(s.tau_difference_floor, float)
+    return tol * q_scale, tol * tau_scale
+
+
+def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
+                    ) -> dict[str, Figure]:
+    """The report's figures, drawn from a stored control dataset.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
+    width : float, optional
+        :data:`PAGE_WIDTH` (two or three panels a row: :func:`page_columns`) or
+        :data:`COLUMN_WIDTH` [in] (one a row).
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"error"`` (|e| = |q_d - q| per joint, log scale [rad or m]), ``"tau_difference"``
+        (delta tau = tau_s - tau_f, the simplified-model controller's torque minus the
+        full-model one's [N m or N]; absent if not stored) and ``"tau"`` (applied torques
+        [N m or N]). Integrator noise (at or below
+        :func:`noise_floors`) is never drawn as data.
+    """
+    s = StoredControl.of(ds)
+    names = s.controllers
+    q_floor, tau_floor = noise_floors(s)
+    import matplotlib
+
+    with matplotlib.rc_context(FIGURE_RC):  # type: ignore[arg-type]  # keys typed as literals
+        figs = {"error": _joint_panels(
+            s, {c: s.error[c] for c in names},
+            _TRACKING_ERROR, "Tracking error per joint", log=True, floor=q_floor,
+            width=width)}
+        if s.tau_difference is not None:
+            figs["tau_difference"] = _joint_panels(
+                s, {"simplified": s.tau_difference}, _TAU_DIFFERENCE,
+                "Closed-loop torque difference: simplified-model minus full-model computed "
+                "torque", floor=tau_floor, which="tau", width=width)
+        figs["tau"] = _joint_panels(s, {c: s.tau[c] for c in names},
+                                    "\u03c4 [{u}]", "Applied joint torques", which="tau",
+                                    width=width)
+    return figs
+
+
+def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
+    """The control report's verdict and summary, from the stored control dataset: the same
+    words for the report and the command line.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
+
+    Returns
+    -------
+    dict
+        ``verdict`` and ``summary`` (str), ``rule`` (``"q"``, ``"tau"`` -> the integrator-noise
+        rule in words, :func:`~gd_analyze.report.control.noise_words`) and ``floors``
+        (:func:`~gd_analyze.report.control.noise_floors`: per joint [rad or m],
+        [N m or N]). A tracking error or torque difference at or below its joint's floor is
+        integrator noise, said as "\u2261 0 (integrator noise)".
+    """
+    s = StoredControl.of(ds)
+    st = s.settings
+    names = s.controllers
+    prismatic = np.array(s.prismatic, dtype=bool)
+    peaks = {c: s.error_peak_grid[c] for c in names}
+    q_floor, tau_floor = noise_floors(s)
+    rule = {k: noise_words(s, k) for k in ("q", "tau")}     # the rules, said everywhere
+    quiet = {c: bool(is_round_off(peaks[c], q_floor, 1.0).all())
+             for c in names}           # every joint's error is integrator noise: not data
+    summary = "; ".join(f"{CONTROL_LABELS.get(c, c)}: peak |e| "
+                        + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
+                        for c in names)
+    summary = summary[:1].upper() + summary[1:]
+    summary = (f"{stored_text(st.robot)} along {stored_text(st.trajectory_file)}, "
+               f"\u03c9{sub('n')} = {_per_joint(st.wn, ' rad/s')}, "
+               f"\u03b6 = {_per_joint(st.zeta)}. {summary}.")
+    diff = s.tau_difference_peak
+    if diff is not None:                 # a joint's integrator noise is not its largest value
+        off = is_round_off(diff, tau_floor, 1.0)
+        quiet["tau_difference"] = bool(off.all())
+        diff = np.where(off, 0.0, diff)
+        summary += (" Largest closed-loop torque difference, simplified-model controller "
+                    "minus full-model controller (two closed-loop runs, each along its own "
+                    "motion): " + (NOISE if quiet["tau_difference"] else
+                                   by_type_text(diff, prismatic, 'tau')) + " (a joint's "
+                    "value counts as integrator noise, \u2261 0, where it is "
+                    f"{rule['tau']}); not the "
+                    "open-loop error \u03c4" + sub("s") + " \u2212 \u03c4 of the main "
+                    "report (one model against the other along the desired trajectory).")
+    tolerance = tuple(float(d if v is None else v) for v, d in
+                      zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
+                          VERDICT_TOLERANCE))
+    verdict = control_verdict(peaks, prismatic, diff,
+                              tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
+                              quiet, rule["tau"])
+    return {"verdict": verdict, "summary": summary, "rule": rule,
+            "floors": (q_floor, tau_floor)}
+
+
+def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
+    """Everything the control report says, from the stored control dataset.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
+        control dataset (:func:`gd_analyze.store.control_dataset.write_control_dataset`).
+
+    Returns
+    -------
+    dict
+        The report's context, the same for the HTML and the PDF.
+    """
+    s = StoredControl.of(ds)
+    st = s.settings
+    names = s.controllers
+    n = s.n
+    joints = [f"joint {j + 1}" for j in range(n)]          # as the main report names them
+    desc = s.descriptions if s.descriptions is not None else names
+    q_units = joint_units_of(s, "q")
+    judged = dataset_verdict(s)
+    summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
+    q_floor, tau_floor = judged["floors"]
+    setup = _table(["item", "value"], [
+        ["robot", f"{stored_text(st.robot)} (SHA-256 {stored_text(st.robot_sha256)})"],
+        ["trajectory", f"{stored_text(st.trajectory_file)} (SHA-256 "
+                       f"{stored_text(st.trajectory_sha256)})"],
+        ["simplified model", f"{stored_text(st.model_file)} (SHA-256 {stored_text(st.model_sha256)})"],
+        ["plant", _plant(st)],
+        ["controllers", "; ".join(CONTROL_LABELS.get(c, d) for c, d in zip(names, desc))
+         + " (control laws below)"],
+        ["desired motion", stored_text(st.interpolation).replace(
+            "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
+        ["integrator", f"{stored_text(st.integrator)}, rtol = {float(st.rtol):g}, "
+                       f"atol = {float(st.atol):g}"],
+        *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
+            f"measured: both computed-torque runs again with rtol = "
+            f"{float(st.noise_rtol):g}, atol = {float(st.noise_atol):g} "
+            f"({int(_or(st.noise_nfev, 0)):,} evaluations); noise floor "
+            f"{float(_or(st.noise_factor, np.nan)):g} \u00d7 the largest change, at "
+            f"least {float(st.rtol):g} \u00d7 the full-model controller's peak "
+            "|\u03c4| (Table 3.1)"]] if st.noise_rtol is not None else []),
+        *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
+            "not measured (" + str(st.noise_unmeasured) + "): the floor is rtol "
+            "\u00d7 the full-model controller's peak |\u03c4|"]]
+          if st.noise_unmeasured is not None else []),
+        ["samples", f"{stored_text(st.samples)} ({stored_text(st.setpoints)} set points + fine grid "
+                    f"of {stored_text(st.grid_points)})"],
+        ["initial offset q(0) \u2212 q" + sub("d") + "(0)",
+         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))
+         if s.q0_offset is not None else "0"],
+    ], align=["left", "left"])
+    gains = _gains_table(s, joints)
+    def noisy(peaks, floor):             # at or below the joint's noise floor: not data
+        return is_round_off(peaks, floor, 1.0)
+
+    err_rows, err_values, err_off = [], [], []
+    for c in names:
+        for where, peaks, rmss in (("set points", s.error_peak_setpoints, s.error_rms_setpoints),
+                                   ("fine grid", s.error_peak_grid, s.error_rms_grid)):
+            pk, rm = peaks[c], rmss[c]
+            for fig, v in (("peak", pk), ("RMS", rm)):
+                err_rows.append([_SHORT.get(c, c), where, fig])
+                err_values.append(v)
+                err_off.append(noisy(pk, q_floor))
+    q_u, tau_u = joint_units_of(s, "q"), joint_units_of(s, "tau")
+    errors = _table(["controller", "sampled at", "figure"]
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
+                    _with_columns(err_rows, err_values, err_off),
+                    align=["left", "left", "left"] + ["right"] * n)
+    diff_rows, diff_values, diff_off = [], [], []
+    if s.tau_difference_peak is not None:
+        pairs = [("peak, fine grid", s.tau_difference_peak, s.tau_difference_peak),
+                 ("RMS, fine grid", s.tau_difference_rms, s.tau_difference_peak)]
+        if s.tau_difference_peak_setpoints is not None:
+            at = s.tau_difference_peak_setpoints
+            pairs += [("peak, set points", at, at),
+                      ("RMS, set points", s.tau_difference_rms_setpoints, at)]
+        for fig, value, peak in pairs:
+            diff_rows.append([fig])
+            diff_values.append(value)
+            diff_off.append(noisy(peak, tau_floor))
+        diff_rows.append(["noise floor (\u2261 0 at or below)"])
+        diff_values.append(np.asarray(tau_floor, float))
+        diff_off.append(np.zeros(n, bool))
+    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                      _with_columns(diff_rows, diff_values, diff_off), align="right")
+    tau_rows, tau_values = [], []
+    for c in names:
+        if s.tau_peak is not None and s.tau_rms is not None:
+            for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms)):
+                tau_rows.append([_SHORT.get(c, c), fig])
+                tau_values.append(figures[c])
+    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+                       _with_columns(tau_rows, tau_values),
+                       align=["left", "left"] + ["right"] * n)
+    cost = cost_table(s.costs)
+    cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
+                 "expressions (constants and structural 0/\u00b11 free, a square one "
+                 "multiplication), the project's Newton-Euler with every multiplication and "
+                 "addition of one run counted.")
+    model_note, recursive = _model_note(s)
+    choice = dict(zip(s.elements, s.choice))
+    rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
+                                   for j in range(n)] for i in range(n)]
+    rows.append(["h"] + [choice.get(element_label("h", j), "") for j in range(n)])
+    choices = None if recursive else _table(["element"] + [f"column {j + 1}"
+                                                          for j in range(n)], rows,
+                                           align=["left"] * (n + 1))
+    prov = _table(["item", "value"], _provenance(s, __version__), align=["left", "left"])
+    floor = (f"Integrator noise ({rule['q']}) is not drawn: a log axis starts at that "
+             "floor.")
+    captions = {
+        "error": (f"Tracking error |e| = |q{_D} \u2212 q| per joint along the run, log scale "
+                  f"({markers_words(s, names)}). Integrator noise, {rule['q']}, is not "
+                  "drawn: the axis starts there, and a controller whose error is all noise is "
+                  "named above the panels."),
+        "tau_difference": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
+                           f"\u03c4{sub('f')}: torque of the simplified-model "
+                           "controller minus torque of the full-model controller, each along "
+                           f"its own closed-loop run, per joint ({markers_words(s, 1)}). "
+                           f"Integrator noise, {rule['tau']}, is not drawn: "
+                           "the curve breaks off inside the grey band of \u00b1 the noise "
+                           "floor (the noise-floor row of the torque-difference table), and a joint whose difference is "
+                           "all noise reads so instead of a curve."),
+        "tau": (f"Torques applied by the three controllers, per joint "
+                f"({markers_words(s, names)})."),
+    }
+    return {
+        "version": __version__,
+        "created": utc_now().isoformat(),
+        "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
+        "summary": summary, "verdict": verdict,
+        "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
+                  "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
+                  f"(Ch. 5) with the full model, with the simplified model ({_rule_words(s.model)}), "
+                  "and under PD control with gravity compensation."),
+        "setup": setup, "gains": gains,
+        "gains_note": (f"Computed torque: v = q\u0308{_D} + {_KV} (q\u0307{_D} \u2212 q\u0307) + "
+                       f"{_KP} (q{_D} \u2212 q), {_KP} = {_WN}\u00b2, {_KV} = 2\u03b6{_WN}, so "
+                       f"the full-model closed loop is \u00eb + {_KV} \u0117 + {_KP} e = 0 "
+                       f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
+                       f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
+                       f"of D at the start of the motion (D{sub('ii')} at the start)."),
+        "errors": errors,
+        "error_note": f"Tracking error e = q{_D} \u2212 q per joint",
+        "floor_note": floor, "noise_rule": rule, "captions": captions,
+        "tau_diff": tau_diff,
+        "diff_note": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
+                      f"\u03c4{sub('f')}: torque of the simplified-model "
+                      "computed-torque controller minus that of the full-model one, each along "
+                      "its own closed-loop run, at the same times"),
+        "diff_not": ("It is not the open-loop "
+                     f"error of the main report ({_TAU_S} \u2212 \u03c4 of the two models "
+                     "along the desired trajectory)."),
+        "tau_table": tau_table,
+        "cost": cost, "cost_note": cost_note,
+        "choices": choices, "model_note": model_note, "provenance": prov,
+        "keywords": (f"robot {stored_text(st.robot)} sha256 {stored_text(st.robot_sha256)}; "
+                     f"trajectory {stored_text(st.trajectory_file)} sha256 "
+                     f"{stored_text(st.trajectory_sha256)}; model {stored_text(st.model_file)} sha256 "
+                     f"{stored_text(st.model_sha256)}"),
+    }
+
+
+def _with_columns(rows, values, off=None, digits=3):
+    """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
+    one notation (:func:`gd_analyze.report.numbers.fmt_column`: one format per
+    column).
+
+    Parameters
+    ----------
+    rows : list of list of str, length R
+        The leading cells of each row.
+    values : list of array_like, shape (R, n)
+        The numbers of each row, one per joint [that column's units].
+    off : list of array_like of bool, shape (R, n), optional
+        Integrator noise by the report's rule: "\u2261 0".
+    digits : int, optional
+        Significant digits each entry keeps, at least.
+
+    Returns
+    -------
+    list of list of str
+    """
+    if not rows:
+        return []
+    v = np.asarray(values, float)
+    hide = np.zeros(v.shape, bool) if off is None else np.asarray(off, bool)
+    cols = [fmt_column(v[:, j], digits, hide[:, j]) for j in range(v.shape[1])]
+    return [list(r) + list(c) for r, c in zip(rows, zip(*cols))]
+
+
+def _per_joint(stored, unit=""):
+    """A per-joint setting as the summary says it: once where every joint has the same value
+    ("20 rad/s on every joint"), else the list ("20, 30, 20 rad/s")."""
+    values = np.atleast_1d(np.asarray(_or(stored, np.nan), float))
+    if values.size > 1 and np.all(values == values[0]):
+        return f"{values[0]:g}{unit} on every joint"
+    return ", ".join(f"{v:g}" for v in values) + unit
+
+
+def _rule_words(model):
+    """The simplified model's rule as the intro names it, from the stored rule: the error
+    budget (with its epsilon) or the chapter's share-based classes of Sec. 3.4.1."""
+    rule = str(_or(model.rule, ""))
+    if rule == "budget":
+        eps = float(_or(model.tolerance, np.nan))
+        return f"error-budget rule, \u03b5\u00a0=\u00a0{eps:g}"
+    if rule == "chapter":
+        return "the chapter's share-based classes, Sec. 3.4.1"
+    return "its rule is not recorded"
+
+
+def _model_note(s):
+    """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
+    the model's facts stored by the control run (:func:`gd_analyze.jobs.control.model_facts`)
+    in the words of the main report (:func:`gd_analyze.report.main_text.model_sentence`).
+    Returns (text, whether the model has the recursive form)."""
+    m, st = s.model, s.settings
+    form, rule = str(_or(m.form, "")), str(_or(m.rule, ""))
+    if form not in ("recursive", "explicit"):
+        return ("The control dataset does not record what the simplified model keeps.",
+                False)
+    recursive = form == "recursive"
+    if recursive:
+        dropped_g = [v for v in str(_or(m.gravity_dropped, "")).split(", ") if v]
+        gravity = gravity_clause(rule, gravity_dropped=dropped_g)
+        facts = (int(_or(m.base_parameters, 0)), int(_or(m.pairs_dropped, 0)),
+                 int(_or(m.pairs, 0)))
+        own = str(st.trajectory_is_models) == "1"
+        where = "this trajectory" if own else "the trajectory the model was built on"
+        if str(_or(m.guarantee_kind, "")) == "region":
+            where = "the joint-limit region"           # pruned on bounds over the region
+        if str(_or(m.pairs_known, "1")) == "0":
+            where += (" (or are structurally 0: the model file does not record which pairs "
+                      "act)")
+        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where)
+        if facts[1]:
+            text += f" The dropped pairs: {_or(m.dropped_pairs, '')}."
+    else:
+        kept, full = int(_or(m.c_terms_kept, -1)), int(_or(m.c_terms, -1))
+        gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+        text = model_sentence(choice=list(s.choice), gravity=gravity)
+    eps = float(_or(m.tolerance, np.nan))
+    if m.scope is not None:             # the scope stored from the model itself
+        return text + " " + scope_sentences(m, eps), recursive
+    if rule == "budget":                # an older control.h5
+        text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
+                 f"{_TAU_S} \u2212 \u03c4 is guaranteed within \u03b5\u00b7{_S_I}, "
+                 f"{ROUND_OFF_CLAUSE}, on the trajectory the model was built on"
+                 + (" (this one)." if
+                                                         str(st.trajectory_is_models)
+                                                         == "1" else
+                                                         ", not on this one."))
+    elif rule == "chapter":
+        text += (" Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
+                 "its dominant part; there is no error bound.")
+    return text, recursive
+
+
+def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
+    """The model's rule, its guarantee as the model states it, and whether that covers the
+    tracked motion, from the attributes the control run stored (``model_scope``,
+    ``model_guarantee_kind``, ``model_guarantee_covered``, ``model_guarantee_coverage``).
+
+    Parameters
+    ----------
+    attrs : ModelFacts or dict
+        The model's facts as stored (:class:`gd_analyze.store.stored_control.ModelFacts`), or the
+        control dataset's attributes.
+    eps : float
+        The model's tolerance EPS [1].
+
+    Returns
+    -------
+    str
+        Sentences; "guaranteed" only where the guarantee covers the motion.
+
+    Examples
+    --------
+    >>> scope_sentences({"model_rule": "budget", "model_guarantee_kind": "trajectory",
+    ...                  "model_scope": "within 1 % of s_i on this trajectory only",
+    ...                  "model_guarantee_covered": 0,
+    ...                  "model_guarantee_coverage": "it is not the trajectory"}, 0.01)[-68:]
+    'trajectory. The open-loop error along this motion is not guaranteed.'
+    """
+    m = attrs if isinstance(attrs, ModelFacts) else from_attrs(ModelFacts, attrs, "model_")
+    rule, kind = str(_or(m.rule, "")), str(_or(m.guarantee_kind, ""))
+    scope = scope_markup(str(_or(m.scope, "")))
+    if kind not in ("region", "trajectory"):
+        if rule == "chapter":
+            return ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
+                    f"its dominant part; there is no error bound (the model's scope: {scope}).")
+        return f"The model's guarantee: {scope}."
+    where = " (stated for the trajectory it was built on)" if kind == "trajectory" else ""
+    text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}. The model's guarantee{where}: "
+            f"{scope}.")
+    reason = str(_or(m.guarantee_coverage, ""))
+    if str(m.guarantee_covered) == "1":
+        return (text + f" It covers this motion: {reason}. The open-loop error "
+                f"{_TAU_S} \u2212 \u03c4 along the desired motion is guaranteed within "
+                f"\u03b5\u00b7{_S_I}, {ROUND_OFF_CLAUSE}.")
+    return (text + f" It does not cover this motion: {reason}. The open-loop error along this "
+            "motion is not guaranteed.")
+
+
+#: Stored units of the gains (:func:`gd_analyze.ranking.labels.joint_gain_units`) and
+#: of D_ii, as printed.
+_GAIN_UNITS = {"N m rad-1": "N m/rad", "N m s rad-1": "N m s/rad", "N m-1": "N/m",
+               "N s m-1": "N s/m", "kg m2": "kg m\u00b2", "kg": "kg"}
+
+
+def _gains_table(s, joints):
+    """The gains per joint. D_ii and the PD gains carry the units of their joint's type
+    (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
+    each cell."""
+
+    prismatic = np.array(s.prismatic, dtype=bool)
+    header = ["joint", "\u03c9" + sub("n") + " [rad/s]", "\u03b6",
+              "K" + sub("p") + " [1/s\u00b2]", "K" + sub("v") + " [1/s]"]
+    per_joint = {}
+    for name, title in (("inertia_scale", "D" + sub("ii") + " at the start"),
+                        ("Kp_pd", "PD K" + sub("p")), ("Kv_pd", "PD K" + sub("v"))):
+        stored = s.gain_units[name]
+        if stored is not None:
+            units = [_GAIN_UNITS.get(u, u) for u in stored]
+        else:                               # an older file: units from the joint types
+
+            units = [_GAIN_UNITS.get(u, u) for u in gain_units(prismatic)[name]]
+        same = len(set(units)) == 1
+        header.append(f"{title} [{units[0]}]" if same else title)
+        per_joint[name] = ([""] * len(units) if same else
+                           ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
+    cols = {v: fmt_column(s.gains[v], 4) for v in ("wn", "zeta", "Kp", "Kv", "inertia_scale",
+                                                  "Kp_pd", "Kv_pd")}   # one per column
+    rows = [[joints[j]] + [cols[v][j] for v in ("wn", "zeta", "Kp", "Kv")]
+            + [cols[v][j] + per_joint[v][j] for v in ("inertia_scale", "Kp_pd", "Kv_pd")]
+            for j in range(len(joints))]
+    return _table(header, rows, align="right")
+
+
+def _plant(settings):
+    """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
+    plant = stored_text(settings.plant)
+    if plant.startswith("full G-D model"):
+        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
+    return plant
+
+
+#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
+_SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
+
+_D, _KP, _KV, _WN = sub("d"), "K" + sub("p"), "K" + sub("v"), "\u03c9" + sub("n")
+#: tau_s (the simplified model's torque) and s_i, their subscripts set as such (8 pt in the
+#: PDF), not as Unicode's small subscript letters
+_TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
+
+#: The provenance rows of the control report: (item, attribute), each setting once (the gains
+#: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
+_PROVENANCE = (("trajectory path", "trajectory_path"),
+               ("trajectory derivatives", "trajectory_derivatives"),
+               ("model path", "model_path"),
+               ("trajectory the model was built on (SHA-256)", "model_trajectory_sha256"),
+               ("model built on this trajectory", "trajectory_is_models"),
+               ("model's guarantee covers this motion", "model_guarantee_covered"),
+               ("method", "references"))
+
+
+def _provenance(s, version):
+    """The provenance rows, each setting once and in words: the software, the command line as
+    :func:`gd_analyze.cli.main` was given it (stored by the command line; an older file has
+    none), the run as the main report says them (:mod:`gd_analyze.report.main_provenance`),
+    gravity, the files, the verdict's tolerance."""
+    st = s.settings
+    rows = [list(software_row(s.run, version))]
+    if st.command is not None:          # an older control.h5 has none
+        rows.append(["command", stored_text(st.command)])
+    rows += [list(run_row(s.run, "run")), list(gravity_row(s.run))]
+    own = str(st.trajectory_is_models) == "1"
+    stored = {"trajectory_path": st.trajectory_path,
+              "trajectory_derivatives": st.trajectory_derivatives,
+              "model_path": st.model_path,
+              "model_trajectory_sha256": st.model_trajectory_sha256,
+              "trajectory_is_models": st.trajectory_is_models,
+              "model_guarantee_covered": s.model.guarantee_covered,
+              "references": st.references}
+    for label, k in _PROVENANCE:
+        if k == "model_trajectory_sha256" and own:
+            continue                    # the trajectory's own SHA-256, said in Table 1.1
+        if stored[k] is not None:
+            value = stored_text(stored[k])
+            if k in ("trajectory_is_models", "model_guarantee_covered"):
+                value = {"1": "yes", "0": "no"}.get(value, value)
+            rows.append([label, value])
+    if st.verdict_tolerance_revolute is not None:
+        kinds = set(s.prismatic)
+        said = [f"{stored_text(st.verdict_tolerance_revolute)} rad"
+                + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
+            [f"{stored_text(st.verdict_tolerance_prismatic)} m"
+             + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
+        rows.append(["verdict tolerance", ", ".join(said)])
+    return rows
+
 
 #: Names of the files written into the output folder.
 CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
 
 
-#: The report's figures (:func:`gd_analyze.report.control_figures.control_figures`).
+#: The report's figures (:func:`gd_analyze.report.control.control_figures`).
 make_control_figures = control_figures
 
 
@@ -150,7 +1228,7 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     if paper not in PAPER:
         raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
-    ctx = _context(s)
+    ctx = control_context(s)
     figures = make_control_figures(s)
     column = control_figures(s, COLUMN_WIDTH)
     drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)

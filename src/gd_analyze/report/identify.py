@@ -6,7 +6,9 @@ one group per recording, as ``read_identification`` of the identify command's
 predicted torque per joint on each validation recording and the residuals (figures), the
 errors per recording and joint beside the robot file's as shipped, the parameter table with
 standard deviations in % and identifiability, the links' physical consistency, the
-preprocessing steps as stated by the run, and the provenance.
+preprocessing steps as stated by the run, and the provenance. One module for the report's
+figures (:func:`identify_figures`), its words and tables (:func:`identify_context`) and its
+outline.
 
 ``report.html`` has no external resources (inline CSS and SVG figures; the Jinja2 template of
 the control report, ``templates/control_report.html.j2``, autoescape on); ``report.pdf`` is
@@ -18,22 +20,543 @@ each figure as ``figures/fig_identify_*.pdf`` and ``.svg``, are written atomical
 from __future__ import annotations
 
 import functools
+import json
+import math
 import os
-from collections.abc import Collection
+from collections.abc import Collection, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from ..store.stored_identification import StoredIdentification
+import numpy as np
+
+from ..store.stored_identification import (
+    REQUIRED_RECORDING,
+    REQUIRED_ROOT,
+    StoredIdentification,
+    StoredRecording,
+)
+from .common import BASE_RC, grid_shape, keep_units, utc_now
 from .drawing import draw_figures, html_document, write_documents
-from .identify_figures import FIGURE_RC, figure_key, identify_figures
-from .identify_text import identify_context
+from .markup import clean
+from .numbers import fmt, pct
 from .sections import Outline
+from .ticks import label_axes, set_ticks
 from .typeset import PAPER
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
-__all__ = ["IDENTIFY_REPORT_FILES", "write_identify_report", "identify_outline"]
+__all__ = ["identify_figures", "shown_recordings", "role_of", "figure_key", "PAGE_WIDTH",
+           "MAX_POINTS", "MODEL_STYLES", "FIGURE_RC", "stride", "short", "TITLE_CHARS",
+           "identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
+           "plain_table", "IDENTIFY_REPORT_FILES", "write_identify_report", "identify_outline"]
+
+#: Figure width [in]: the text of a page.
+PAGE_WIDTH = 7.2
+#: The most points drawn of one line: longer recordings are drawn every k-th sample (the
+#: caption says which k).
+MAX_POINTS = 1500
+#: Colour, line style and width [pt] of each torque (Okabe & Ito colours, told apart in black
+#: and white by the line style too), with its key label.
+MODEL_STYLES = {"tau_measured": ("#000000", "-", 1.3, "measured (filtered)"),
+                "tau_predicted": ("#0072B2", (0, (4.0, 1.6)), 1.0, "identified model"),
+                "tau_prior": ("#D55E00", (0, (1.0, 1.3)), 1.0, "robot file as shipped"),
+                "tau_simplified": ("#009E73", (0, (5.0, 1.5, 1.0, 1.5)), 0.9,
+                                   "simplified model")}
+#: The residual's style: measured minus identified.
+RESIDUAL_STYLE = ("#0072B2", "-", 0.9, "measured \u2212 identified model")
+FIGURE_RC = {**BASE_RC, "legend.fontsize": 7.5}
+
+
+def shown_recordings(groups: Mapping[str, StoredRecording]) -> list[str]:
+    """The recordings the figures show: the validation recordings, or, without any, all.
+
+    Parameters
+    ----------
+    groups : Mapping of str to StoredRecording
+        The recordings by group name, in order.
+
+    Returns
+    -------
+    list of str
+        Group names.
+    """
+    validate = [k for k, ds in groups.items() if role_of(ds) == "validate"]
+    return validate or list(groups)
+
+
+def role_of(rec: StoredRecording) -> str:
+    """A recording's role: its ``role`` attribute, or its ``role`` variable.
+
+    Parameters
+    ----------
+    rec : StoredRecording
+        A recording (:class:`gd_analyze.store.stored_identification.StoredRecording`).
+
+    Returns
+    -------
+    str
+        ``train`` or ``validate`` as stored (cleaned of the report's markup characters);
+        ``train`` when not stored.
+    """
+    return "train" if rec.role is None else clean(str(rec.role))
+
+
+def figure_key(kind: str, k: int) -> str:
+    """The key of a figure: ``"torque_2"`` for the torque figure of the third recording shown.
+
+    Parameters
+    ----------
+    kind : {"torque", "residual"}
+    k : int
+        The recording's position among :func:`shown_recordings`, from 0.
+
+    Returns
+    -------
+    str
+        Never holds a file or joint name.
+    """
+    return f"{kind}_{k}"
+
+
+#: The most characters of a joint's name in a panel title (a longer one is cut, with "...";
+#: the tables give it whole).
+TITLE_CHARS = 36
+
+
+def short(name: str) -> str:
+    """A joint's name cut to :data:`TITLE_CHARS` characters for a panel title.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+        The name, or its first characters and an ellipsis.
+
+    Examples
+    --------
+    >>> short("arm_1_joint")
+    'arm_1_joint'
+    """
+    name = str(name)
+    return name if len(name) <= TITLE_CHARS else name[:TITLE_CHARS - 1] + "\u2026"
+
+
+def stride(m: int) -> int:
+    """Every how many samples a line of m samples is drawn.
+
+    Parameters
+    ----------
+    m : int
+        Samples of the recording.
+
+    Returns
+    -------
+    int
+        k >= 1: every k-th sample is drawn, at most :data:`MAX_POINTS` of them.
+    """
+    return max(1, int(math.ceil(m / MAX_POINTS)))
+
+
+def _panels(t, curves, joints, ylabel, width, prismatic=None):
+    """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below; each
+    panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
+    panel whose unit differs from it."""
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
+    n = len(joints)
+    rows, cols = grid_shape(n, 2)
+    top, bottom = 0.3, 0.85
+    height = 1.6 * rows + top + bottom
+    fig = Figure(figsize=(width, height))
+    fig.subplots_adjust(left=0.75 / width, right=1 - 0.15 / width, top=1 - top / height,
+                        bottom=bottom / height, wspace=0.3, hspace=0.45)
+    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    k = stride(t.size)
+    handles = {}
+    yaxes = []
+    for j in range(rows * cols):
+        ax = axes[j // cols, j % cols]
+        if j >= n:
+            ax.set_visible(False)
+            continue
+        for name, y in curves.items():
+            colour, ls, lw, label = MODEL_STYLES.get(name, RESIDUAL_STYLE)
+            ax.plot(t[::k], np.asarray(y, float)[::k, j], color=colour, linestyle=ls,
+                    linewidth=lw)
+            handles.setdefault(label, Line2D([], [], color=colour, linestyle=ls, linewidth=lw))
+        ax.set_title(f"joint {j + 1}: {short(joints[j])}", loc="left", parse_math=False)
+        lo, hi = ax.get_ylim()
+        set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+        yaxes.append(ax.yaxis)
+        unit = "N" if prismatic is not None and prismatic[j] else "N m"
+        left = j - j % cols
+        left_unit = "N" if prismatic is not None and prismatic[left] else "N m"
+        if j % cols == 0 or unit != left_unit:
+            ax.set_ylabel(f"{ylabel} [{unit}]")
+        if j >= n - cols:
+            ax.set_xlabel("t [s]")
+            ax.tick_params(labelbottom=True)
+    label_axes(yaxes)
+    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
+               frameon=False, bbox_to_anchor=(0.5, 0.02))
+    return fig
+
+
+def identify_figures(root: StoredIdentification | xr.Dataset,
+                     groups: dict[str, xr.Dataset] | None = None,
+                     width: float = PAGE_WIDTH) -> dict[str, Figure]:
+    """The report's figures from a stored identification.
+
+    Parameters
+    ----------
+    root : StoredIdentification or xarray.Dataset
+        The stored identification
+        (:class:`gd_analyze.store.stored_identification.StoredIdentification`), or its root group
+        (its ``joint`` coordinate names the joints, if present).
+    groups : dict of str to xarray.Dataset, optional
+        With a root group: one dataset per recording, ``t`` [s], ``tau_measured`` and
+        ``tau_predicted`` (t, joint) [N m or N], optionally ``tau_prior`` and
+        ``tau_simplified``.
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"torque_k"`` and ``"residual_k"`` for the k-th recording of
+        :func:`shown_recordings`.
+    """
+
+    ident = StoredIdentification.of(root, groups)
+    out = {}
+    import matplotlib
+
+    with matplotlib.rc_context(FIGURE_RC):  # type: ignore[arg-type]  # keys typed as literals
+        for k, name in enumerate(shown_recordings(ident.recordings)):
+            rec = ident.recordings[name]
+            t = rec.t
+            n = rec.n
+            joints = _joint_names(ident, rec, n)
+            curves = {v: rec.torques[v] for v in MODEL_STYLES if v in rec.torques}
+            prismatic = (np.asarray(ident.prismatic, bool) if ident.prismatic is not None
+                         else None)
+            out[figure_key("torque", k)] = _panels(t, curves, joints, "\u03c4", width,
+                                                   prismatic)
+            residual = rec.torques["tau_measured"] - rec.torques["tau_predicted"]
+            out[figure_key("residual", k)] = _panels(
+                t, {"residual": residual}, joints, "\u03c4 residual", width, prismatic)
+    return out
+
+
+def _joint_names(ident, rec, n):
+    for joint in (rec.joint, ident.joint):
+        if joint is not None and joint.size == n:
+            return [str(v) for v in joint]
+    return [str(j + 1) for j in range(n)]
+
+
+#: Units of a base parameter by its name's letters, and of each drive kind (revolute joints;
+#: prismatic: kg, kg, N s/m, N, N).
+_M2 = "kg m\u00b2"
+_BASE_UNITS = {"XX": _M2, "XY": _M2, "XZ": _M2, "YY": _M2, "YZ": _M2, "ZZ": _M2,
+               "MX": "kg m", "MY": "kg m", "MZ": "kg m", "M": "kg"}
+_DRIVE_UNITS = {"armature": _M2, "viscous": "N m s/rad", "coulomb": "N m", "offset": "N m"}
+
+
+def plain_table(header: Sequence[str], rows: Sequence[Sequence[Any]],
+                align: Sequence[str] | None = None,
+                colour_cols: Sequence[int] = ()) -> dict[str, Any]:
+    """A table as :func:`gd_analyze.report.common.table` makes it, its cells left as text.
+
+    (``common.table`` letters cells that look like a G-D element's label, ``D12``, as
+    mathematics, its index a subscript: a joint or file named so is shown as named here.)
+
+    Parameters
+    ----------
+    header : sequence of str
+    rows : sequence of sequence
+    align : sequence of str, optional
+        ``"left"`` or ``"right"`` per column; default the first left, the others right.
+    colour_cols : sequence of int, optional
+        Columns of yes/no cells, drawn in their colour.
+
+    Returns
+    -------
+    dict
+    """
+    header = [keep_units(h) for h in header]
+    return {"header": header, "rows": [[clean(str(c)) for c in row] for row in rows],
+            "align": list(align or ["left"] + ["right"] * (len(header) - 1)),
+            "widths": [1] * len(header), "colour_cols": list(colour_cols)}
+
+
+def parameter_units(name: str, kind: str) -> str:
+    """The SI units of an identified parameter (a revolute joint's).
+
+    Parameters
+    ----------
+    name : str
+        ``ZZ1``, ``MX2``, ``M3``, ``viscous_1``...
+    kind : str
+        ``base`` or a drive kind.
+
+    Returns
+    -------
+    str
+        E.g. ``"kg m²"``; ``""`` if unknown.
+    """
+    if kind in _DRIVE_UNITS:
+        return _DRIVE_UNITS[kind]
+    letters = name.rstrip("0123456789")
+    return _BASE_UNITS.get(letters, "")
+
+
+def _json(text, default):
+    """A JSON attribute as stored, or ``default`` when absent (None) or not JSON."""
+    if text is None:
+        return default
+    try:
+        return json.loads(str(text))
+    except ValueError:
+        return str(text)
+
+
+def _strings(values):
+    return [clean(v.decode() if isinstance(v, bytes) else str(v))
+            for v in np.asarray(values).reshape(-1)]
+
+
+def _joints(ident, rec, n):
+    for joint in (rec.joint, ident.joint):
+        if joint is not None and joint.size == n:
+            return _strings(joint)
+    return [str(j + 1) for j in range(n)]
+
+
+def _file_of(rec):
+    return clean(str(rec.file_name))
+
+
+def _recordings_table(groups):
+    has_prior = any(rec.has_prior_total for rec in groups.values())
+    has_simple = any(rec.has_simplified_total for rec in groups.values())
+    header = ["recording", "role", "samples", "duration [s]", "identified model"]
+    header += ["robot file as shipped"] * has_prior + ["simplified model"] * has_simple
+    rows = []
+    for rec in groups.values():
+        t = rec.t
+        row = [_file_of(rec), role_of(rec), f"{t.size:,}",
+               fmt(t[-1] - t[0], 4) if t.size else "n/a", pct(rec.total_relative_error)]
+        if has_prior:
+            row.append(pct(rec.prior_total_relative_error))
+        if has_simple:
+            row.append(pct(rec.simplified_total_relative_error))
+        rows.append(row)
+    return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 2))
+
+
+def _joint_table(ident, rec):
+    n = rec.n
+    joints = _joints(ident, rec, n)
+    cols = [(rec.rms_error, "RMS error [N m]", fmt),
+            (rec.relative_error, "relative error", pct),
+            (rec.prior_relative_error, "robot file: relative error", pct),
+            (rec.simplified_relative_error, "simplified: relative error", pct)]
+    cols = [c for c in cols if c[0] is not None]
+    rows = [[str(j + 1), joints[j]] + [f(float(v[j])) for v, _, f in cols]
+            for j in range(n)]
+    return plain_table(["joint", "name"] + [h for _, h, _ in cols], rows,
+                       align=["right", "left"] + ["right"] * len(cols))
+
+
+def _parameter_table(stored):
+    names = _strings(stored.parameter) if stored.parameter is not None \
+        else [str(k + 1) for k in range(stored.value.size)]
+    value, std = stored.value, stored.std
+    kinds = _strings(stored.kind) if stored.kind is not None else ["base"] * len(names)
+    prior = np.asarray(stored.prior, float) if stored.prior is not None else None
+    ident = np.asarray(stored.identifiable, bool) if stored.identifiable is not None \
+        else np.ones(len(names), bool)
+    rows = []
+    for k, name in enumerate(names):
+        rel = abs(std[k] / value[k]) if value[k] != 0 and ident[k] else math.nan
+        row = [name, parameter_units(name, kinds[k]), fmt(value[k], 4, (1e-3, 1e4)),
+               fmt(std[k], 3, (1e-3, 1e4)) if ident[k] else "\u2014",
+               pct(rel) if math.isfinite(rel) else "\u2014"]
+        if prior is not None:
+            row.append(fmt(prior[k], 4, (1e-3, 1e4)))
+        row.append("yes" if ident[k] else "no")
+        rows.append(row)
+    header = ["parameter", "units", "value", "std", "std [%]"] + \
+        ["robot file"] * (prior is not None) + ["identifiable"]
+    return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 3)
+                       + ["left"], colour_cols=[len(header) - 1]), int((~ident).sum()), names
+
+
+def _links_table(stored):
+    if stored.link_consistent is None:
+        return None
+    links = np.asarray(stored.link).reshape(-1) if stored.link is not None \
+        else np.arange(1, stored.link_consistent.size + 1)
+    ok = np.asarray(stored.link_consistent, bool)
+    eig = np.asarray(stored.pseudo_inertia_min_eigenvalue, float) \
+        if stored.pseudo_inertia_min_eigenvalue is not None else np.full(ok.size, math.nan)
+    return plain_table(["link", f"smallest pseudo-inertia eigenvalue [{_M2}]", "consistent"],
+                       [[str(links[k]), fmt(eig[k], 4, (1e-3, 1e4)), "yes" if ok[k] else "no"]
+                        for k in range(ok.size)], colour_cols=[2])
+
+
+def _noise_table(stored):
+    if stored.noise_std is None:
+        return None
+    noise = np.asarray(stored.noise_std, float)
+    joints = _strings(stored.joint) if stored.joint is not None and \
+        stored.joint.size == noise.size else [str(j + 1) for j in range(noise.size)]
+    return plain_table(["joint", "name", "residual standard deviation [N m]"],
+                       [[str(j + 1), joints[j], fmt(noise[j], 4)] for j in range(noise.size)],
+                       align=["right", "left", "right"])
+
+
+def _provenance(stored, created):
+    version = stored.gd_analyze_version
+    rows = [["report created", created],
+            ["gd-analyze version", clean(str("\u2014" if version is None else version))]]
+    for value, label in ((stored.robot, "robot"), (stored.robot_source, "robot file"),
+                         (stored.robot_sha256, "robot file SHA-256"),
+                         (stored.standard_method, "standard parameters"),
+                         (stored.coulomb_model, "Coulomb friction model")):
+        if value is not None:
+            rows.append([label, clean(str(value))])
+    inputs = _json(stored.inputs, {})
+    if isinstance(inputs, dict):
+        rows += [[f"input {clean(str(k))}", clean(str(v))] for k, v in inputs.items()]
+    for rec in stored.recordings.values():
+        if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file
+                                           in inputs):
+            rows.append([f"input {_file_of(rec)}", clean(str(rec.sha256))])
+    settings = _json(stored.settings, {})
+    if isinstance(settings, dict):
+        rows += [[f"setting {clean(str(k))}",
+                  clean(v if isinstance(v, str) else json.dumps(v, default=str))]
+                 for k, v in sorted(settings.items())]
+    elif settings:
+        rows.append(["settings", clean(str(settings))])
+    return plain_table(["item", "value"], rows, align=["left", "left"])
+
+
+def _sentences(values):
+    """Stored statements as sentences: cleaned, each ending with a full stop."""
+    values = values if isinstance(values, list) else [values] if values else []
+    out = []
+    for v in values:
+        text = clean(str(v)).strip()
+        if text:
+            out.append(text + ("" if text.endswith((".", "!", "?")) else "."))
+    return out
+
+
+def identify_context(root: StoredIdentification | xr.Dataset,
+                     groups: dict[str, xr.Dataset] | None = None) -> dict[str, Any]:
+    """The report's words and tables.
+
+    Parameters
+    ----------
+    root : StoredIdentification or xarray.Dataset
+        The stored identification
+        (:class:`gd_analyze.store.stored_identification.StoredIdentification`), or its root group: ``value``, ``std`` (parameter) and optionally ``prior``,
+        ``identifiable``, ``kind``, ``noise_std``, ``link_consistent``,
+        ``pseudo_inertia_min_eigenvalue``; attributes ``condition_number``, ``rank``,
+        ``unidentifiable``, ``preprocessing``, ``settings``, ``inputs`` (JSON), ``robot``...
+    groups : dict of str to xarray.Dataset, optional
+        With a root group, one per recording: ``t``, ``tau_measured``, ``tau_predicted`` (t, joint), per joint
+        ``rms_error``, ``relative_error`` (and the robot file's and simplified model's), the
+        role and ``total_relative_error``.
+
+    Returns
+    -------
+    dict
+        ``title``, ``lead``, ``summary``, ``notes`` and the tables, each a dict of
+        :func:`plain_table`.
+    """
+    stored = StoredIdentification.of(root, groups)
+    recordings = stored.recordings
+    robot = clean(str("the robot" if stored.robot is None else stored.robot))
+    cond = stored.condition_number
+    validate = [k for k, rec in recordings.items() if role_of(rec) == "validate"]
+    shown = shown_recordings(recordings)
+    parameters, n_unident, names = _parameter_table(stored)
+    lead = []
+    for name in validate:
+        rec = recordings[name]
+        text = (f"On {_file_of(rec)}, not used for fitting, the identified model's total "
+                f"relative torque error ||E||_F / ||T||_F is "
+                f"{pct(rec.total_relative_error)}")
+        prior = rec.prior_total_relative_error
+        if math.isfinite(prior):
+            text += f"; the robot file's as shipped, {pct(prior)}"
+        simple = rec.simplified_total_relative_error
+        if math.isfinite(simple):
+            text += f"; the simplified model's, {pct(simple)}"
+        lead.append(text + ".")
+    if not validate:
+        lead.append("No recording was held out for validation: every error below is on the "
+                    "recordings the model was fitted to, not a prediction.")
+    unident = _json(stored.unidentifiable, [])
+    which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
+             and unident else "")
+    summary = (f"{len(names)} parameters ("
+               + (f"{n_unident} not identifiable on the data{which}; they keep the robot "
+                  "file's value" if n_unident else "all identifiable on the data")
+               + "), identified from "
+               f"{sum(role_of(rec) == 'train' for rec in recordings.values())} recording(s); the "
+               f"condition number of the column-scaled regressor is {fmt(cond, 4)}.")
+    strides = {name: stride(int(recordings[name].t.size)) for name in shown}
+    drawn = "; ".join(f"{_file_of(recordings[name])}: one sample in {k}"
+                      for name, k in strides.items() if k > 1)
+    return {
+        "title": f"Identification of {robot}",
+        "lead": " ".join(lead),
+        "summary": summary,
+        "recordings": _recordings_table(recordings),
+        "joint_tables": {name: _joint_table(stored, rec) for name, rec in recordings.items()},
+        "files": {name: _file_of(rec) for name, rec in recordings.items()},
+        "roles": {name: role_of(rec) for name, rec in recordings.items()},
+        "shown": shown,
+        "shown_note": ("The figures show the validation recordings." if validate else
+                       "No recording was held out: the figures show the training "
+                       "recordings.") + (f" At most {MAX_POINTS:,} points a line are drawn "
+                                         f"({drawn})." if drawn else ""),
+        "parameters": parameters,
+        "parameter_note": ("Values of the weighted least-squares fit with their standard "
+                           "deviations (std [%]: relative to |value|; \u2014 where the value "
+                           "is 0 or the column is not identifiable on the data). Units are "
+                           "those of a revolute joint; a prismatic joint's drive parameters "
+                           "are in kg, N s/m and N. Base parameters regroup standard ones "
+                           "(Gautier 1990)."),
+        "links": _links_table(stored),
+        "noise": _noise_table(stored),
+        "preprocessing": _sentences(_json(stored.preprocessing, [])),
+        "notes": {name: _sentences(json.loads(rec.notes))
+                  if _is_json_list(rec.notes) else [] for name, rec in recordings.items()},
+        "provenance": _provenance(stored, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
+        "version": clean(str("" if stored.gd_analyze_version is None
+                             else stored.gd_analyze_version)),
+        "keywords": f"identification; robot {robot}; condition number {fmt(cond, 4)}",
+    }
+
+
+def _is_json_list(text):
+    try:
+        return isinstance(json.loads(str(text)), list)
+    except (TypeError, ValueError):
+        return False
+
 
 #: Names of the report files written into the output folder.
 IDENTIFY_REPORT_FILES = ("report.html", "report.pdf")
@@ -45,7 +568,7 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     Parameters
     ----------
     ctx : dict
-        :func:`gd_analyze.report.identify_text.identify_context`.
+        :func:`gd_analyze.report.identify.identify_context`.
     figures : collection of str
         The keys of the figures drawn.
 
@@ -104,7 +627,7 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
     ----------
     root : xarray.Dataset
         The root group of ``identification.h5``: ``value`` and ``std`` over ``parameter``
-        (required), and what :func:`gd_analyze.report.identify_text.identify_context` reads.
+        (required), and what :func:`gd_analyze.report.identify.identify_context` reads.
     groups : dict of str to xarray.Dataset
         One dataset per recording, by group name, in order: ``t`` [s], ``tau_measured`` and
         ``tau_predicted`` (t, joint) [N m or N] (required), the errors and the role.

@@ -3,26 +3,34 @@
 :func:`report_context` builds the context that both the HTML template and the PDF typesetter
 render (the same sections and numbers in both): robot and trajectory, the ranking, the
 simplified model, the comparison with the chapter (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987), the
-payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recomputed.
+payload sweep, the formulations (Table 3.5) and the provenance. Nothing is recomputed. The
+robot section (:func:`robot_section`), the tables and notes of the model's parts and the
+chapter's conclusions as this run measured them (:func:`chapter_conclusions`, Sec. 6) are
+built here too, with each joint's peak |tau| against the effort limit its robot gives
+(:func:`effort_rows`).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._version import VERSION as __version__
+from ..ranking.labels import element_label, joint_torque_units
 from ..ranking.ranking import is_chapter_puma, joint_motion_units
 from ..store.datasets import stored_guarantee, stored_region
 from ..store.names import RANKING_COLUMNS
 from ..store.results_view import Results
-from .budget_figures import budget_caption
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import (
     FORMULATION_ABBR,
     FORMULATION_NAMES,
     count,
+    given,
     prismatic_joints,
     torque_units,
     units_said_once,
@@ -33,23 +41,13 @@ from .common import attr as _attr
 from .common import attr_text as _text
 from .common import check as _check
 from .common import fmt as _fmt
+from .common import fmt_column as _column
 from .common import fmt_column as _fmt_column
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import table as _table
-from .main_chapter import chapter_conclusions
-from .main_parts import (
-    armature_columns,
-    base_note,
-    base_parameter_table,
-    choice_table,
-    d_text,
-    has_armature,
-    zero_parameters,
-)
 from .main_provenance import provenance_rows
-from .main_robot import alike_joints, robot_section
 from .main_text import (
     captions,
     conclusion,
@@ -59,11 +57,12 @@ from .main_text import (
     shared_causes,
     simplified_intro,
 )
+from .markup import element, tau
 from .markup import element as _el
 from .markup import scope as _scope
-from .markup import tau
+from .numbers import pct
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
-from .simplified_section import ROUND_OFF, simplified_caption, simplified_context
+from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -71,7 +70,645 @@ if TYPE_CHECKING:
 
     from ..store.results_view import Results
 
-__all__ = ["prismatic_joints", "zero_mask", "report_context"]
+__all__ = ["EffortRow", "effort_rows", "EXCEEDED", "WITHIN", "chapter_conclusions",
+           "choice_table", "base_parameter_table", "base_note", "zero_parameters",
+           "armature_columns", "has_armature", "d_text", "robot_section", "alike_joints", "ALIKE",
+           "prismatic_joints", "zero_mask", "report_context"]
+
+#: The flag of a joint whose peak |tau| exceeds its effort limit, and of one within it.
+EXCEEDED, WITHIN = "EXCEEDED", "within"
+
+
+class EffortRow(tuple):
+    """(joint, peak, limit, ratio, flag, units) of one joint with an effort limit."""
+
+    __slots__ = ()
+
+    @property
+    def exceeded(self) -> bool:
+        """bool: the peak |tau| is above the limit."""
+        return self[4] == EXCEEDED
+
+
+def effort_rows(results: Results) -> list[EffortRow]:
+    """Each joint with an effort limit: its peak |tau| against the limit.
+
+    Parameters
+    ----------
+    results : Results
+        The main job's results: peak |tau| (its torque error table) and the effort limits
+        (its robot), shape (n,) [N m; N for a prismatic joint] (a limit NaN where the robot
+        gives none).
+
+    Returns
+    -------
+    list of EffortRow
+        One per joint whose limit is given: (joint number from 1, peak |tau|, limit,
+        peak / limit, :data:`EXCEEDED` or :data:`WITHIN`, units); empty when the robot gives
+        no limit (or the dataset predates them).
+
+    Notes
+    -----
+    The limits are the URDF's ``<limit effort>`` or a robot file's ``tau_max``; peak |tau| is
+    that of the full model, D qdd + h + c (Fu, Gonzalez & Lee 1987, Eq. (3.4-24)).
+    """
+    if results.robot_record.effort_limit is None:
+        return []
+    peak = results.torque_error.column("peak_tau").astype(float)
+    limit = np.asarray(results.robot_record.effort_limit, float)
+    units = [joint_torque_units(p) for p in results.prismatic]
+    rows = []
+    for j in range(peak.size):
+        if not (math.isfinite(limit[j]) and limit[j] > 0):
+            continue
+        ratio = peak[j] / limit[j]
+        rows.append(EffortRow((j + 1, float(peak[j]), float(limit[j]), float(ratio),
+                               EXCEEDED if ratio > 1.0 else WITHIN,
+                               units[j])))
+    return rows
+
+
+def _names(labels: list[str]) -> str:
+    return ", ".join(element(k[0], k[1:]) for k in labels)
+
+
+def _leads(arm: list[str], arm_t: list[str], wrist: list[str], wrist_r: list[str],
+           n: int) -> str:
+    block = "elements " + element("D", "ij") + " and " + element("h", "i") + " of joints 1 to 3"
+    facts = (f"translation carries more than half of {len(arm_t)} of the {len(arm)} ranked "
+             f"{block}, rotation more than half of {len(wrist_r)} of the {len(wrist)} ranked "
+             f"elements of joints 4 to {n}")
+    missed = [k for k in arm if k not in arm_t] + [k for k in wrist if k not in wrist_r]
+    if arm and wrist and not missed:
+        return ("The chapter concludes that translation dominates the arm block and rotation "
+                f"the wrist; this run agrees: {facts}.")
+    return ("The chapter concludes that translation dominates the arm block and rotation the "
+            f"wrist; this run agrees only in part: {facts}"
+            + (f" (the others: {_names(missed)})." if missed else "."))
+
+
+def _agreement(grid: ArrayLike, agree: ArrayLike, compared: int, s: float) -> str:
+    grid = np.asarray(grid, dtype=float)
+    agree = np.asarray(agree, dtype=int)
+    best = int(agree.max(initial=0))
+    at = [f"{v:g}" for v, a in zip(grid, agree) if a == best]
+    parts = [f"{a} at s = {v:g}" + (" (this report's)" if v == float(s) else "")
+             for v, a in zip(grid, agree)]
+    return (f"The chapter's classes come from reading plots by eye, so its threshold s is not "
+            f"known. Agreement with them out of {compared} elements, against s: "
+            + "; ".join(parts) + f". The most, {best}, at s = " + " and ".join(at) + ".")
+
+
+def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: ArrayLike,
+               where: str) -> str:
+    err = np.asarray(error, dtype=float)
+    off = np.asarray(off, dtype=bool)
+    shown = np.where(off | ~np.isfinite(err), 0.0, err)
+    worst = int(np.argmax(shown))
+    per_joint = "joint " + ", ".join(f"{k + 1}: " + ("\u2261 0" if off[k] else pct(err[k]))
+                                     for k in range(err.size))
+    mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built, dtype=float))
+    return ("The chapter's own simplified model (each element of D and h reduced to the part "
+            "the chapter reads as dominant, gravity c unchanged), measured on "
+            f"{where}: its peak torque error is up to {pct(shown[worst])} of peak "
+            f"|{tau(str(worst + 1))}| at joint {worst + 1} ({per_joint}), against "
+            f"{pct(float(mine.max(initial=0.0)))} for the model this run built (Sec. 5). The "
+            "chapter's model carries no error bound: its error is what dropping the parts it "
+            "reads as dominated costs on this motion.")
+
+
+def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: ArrayLike,
+                        compared: int, n: int, s: float, chapter_error: ArrayLike,
+                        chapter_off: ArrayLike, built_error: ArrayLike, built_off: ArrayLike,
+                        where: str = "this trajectory") -> list[str]:
+    """The chapter's conclusions on its PUMA 560, each as this run measured it.
+
+    Parameters
+    ----------
+    blocks : dict
+        ``arm``, ``arm_translation``, ``wrist`` and ``wrist_rotation``: element labels, as
+        :func:`gd_analyze.ranking.chapter_comparison.block_leads` counts them.
+    grid : array_like, shape (S,)
+        Dominance thresholds s.
+    agree : array_like of int, shape (S,)
+        Elements whose class at each s equals the chapter's
+        (:func:`gd_analyze.ranking.chapter_comparison.agreement_against_s`).
+    compared : int
+        The elements the chapter classes.
+    n : int
+        Number of joints (6).
+    s : float
+        The dominance threshold of the report's ranking.
+    chapter_error, chapter_off : array_like, shape (n,)
+        The chapter's own simplified model's peak |tau_s - tau| / peak |tau| per joint, and
+        where that is round-off.
+    built_error, built_off : array_like, shape (n,)
+        The same for the model the run built.
+    where : str, optional
+        The motion the errors were measured on.
+
+    Returns
+    -------
+    list of str
+        Three sentences: which part leads the arm block and the wrist, agreement against s,
+        and the chapter's own model measured.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), Figs. 3.10-3.11.
+    """
+    return [_leads(blocks["arm"], blocks["arm_translation"], blocks["wrist"],
+                   blocks["wrist_rotation"], n),
+            _agreement(grid, agree, compared, s),
+            _own_model(chapter_error, chapter_off, built_error, built_off, where)]
+
+
+_CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
+                "both": "translational + rotational"}
+
+
+def choice_table(results: Results, labels: Sequence[str], dominance: Sequence[str],
+                 choice: Sequence[str]) -> dict[str, Any]:
+    """Sec. 5.2 of an explicit model: the part of each element kept, and for an arm with drives
+    the armature, which the model keeps whole (a column of its own: an element whose link
+    parts are dropped keeps its armature).
+
+    Parameters
+    ----------
+    results : Results
+        The results of an explicit model (the armature if it has drives).
+    labels, dominance, choice : list of str, each length M
+        The elements, their classes and the part kept of each.
+
+    Returns
+    -------
+    dict
+        A table (:func:`gd_analyze.report.common.table`).
+    """
+    arm = has_armature(results)
+    diag = _diagonal(len(results.prismatic))
+
+    def meaning(k, lab):
+        if choice[k] != "none":
+            return _CHOICE_TEXT.get(choice[k], "")
+        what = "link parts dropped" if arm and lab in diag else "dropped"
+        return what + (" (negligible)" if dominance[k] == "negligible" else " (within the budget)")
+
+    return _table(
+        ["element", "class", "kept part", *(["armature"] if arm else []), "meaning"],
+        [[lab, dominance[k], choice[k], *(["kept" if lab in diag else "\u2014"] if arm else []),
+          meaning(k, lab)] for k, lab in enumerate(labels)],
+        widths=[0.8, 1.2, 0.8, *([0.8] if arm else []), 2.2], colour_cols=[1])
+
+
+def base_parameter_table(results: Results) -> dict[str, Any]:
+    """The base parameters of a recursive model, their values and which parts are kept.
+
+    Parameters
+    ----------
+    results : Results
+        The results of a recursive model (its base parameters and their values).
+
+    Returns
+    -------
+    dict
+        A table (:func:`gd_analyze.report.common.table`): the parameters of nonzero value.
+
+    Raises
+    ------
+    ValueError
+        If the results store no base parameters or no values of them.
+    """
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
+        raise ValueError("the results store no base parameters' values")
+    names, parts, dropped, units = bp.names, bp.parts, bp.dropped, bp.units
+    rel = bp.relative_peak if bp.relative_peak is not None else np.ones(dropped.shape)
+
+    def cell(k, p):
+        if rel[k, p] < ROUND_OFF:
+            return "\u2261 0"            # contributes nothing on this trajectory
+        return "dropped" if dropped[k, p] else "kept"
+
+    value = bp.value
+    listed = [k for k in range(len(names)) if value[k] != 0]
+    return _table(["base parameter", "value", "units", *parts],
+                  [[names[k], text, units_text(units[k]),
+                    *(cell(k, p) for p in range(len(parts)))]
+                   for k, text in zip(listed, _column(value[listed]))],
+                  align=["left", "right", "left", "left", "left", "left"],
+                  widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
+
+
+_BASE_NOTE = (
+    "Base parameters (Khalil & Kleinfinger 1987; Gautier 1990), per link j in its joint frame j "
+    "(origin on joint j's axis, z along it; the frame joint j moves, not the link frame of "
+    "Table 1.3): XXj, XYj, XZj, YZj, ZZj [kg m\u00b2] are entries of the link's inertia "
+    "tensor about that origin, MXj, MYj [kg m] its first moment m r, each with the parameters "
+    "that do not act on their own regrouped into it (for a revolute joint the link's YY, MZ "
+    "and m go to the links before it, XXj stands for XX \u2212 YY).")
+
+
+def base_note(results: Results) -> str:
+    """The note defining the base parameters' names and frame, with an example of a first
+    moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate.
+
+    Parameters
+    ----------
+    results : Results
+        The results (the base parameters' values, the links' centres of mass, the DH rows).
+
+    Returns
+    -------
+    str
+        "" without base parameters (an explicit model).
+    """
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
+        return ""
+    values = dict(zip(bp.names, bp.value))
+    com = results.robot_record.link_com
+    if not np.isfinite(results.robot_record.dh[1]).all():   # a URDF arm: its link frame is the body's
+        return _BASE_NOTE
+    for j in range(com.shape[0]):
+        for axis, c in (("X", 0), ("Y", 1)):
+            if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
+                return (_BASE_NOTE + f" So M{axis}{j + 1} = 0 beside a centre of mass "
+                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3, for "
+                        "the two frames differ.")
+    return _BASE_NOTE
+
+
+def zero_parameters(results: Results) -> str:
+    """The sentence naming the base parameters whose value is 0 (not listed in Sec. 5.2).
+
+    Parameters
+    ----------
+    results : Results
+        The results (the base parameters' values).
+
+    Returns
+    -------
+    str
+        With a leading space; "" if none is 0.
+    """
+    bp = results.base_parameters
+    if bp is None or bp.value is None:
+        return ""
+    zero = [n for n, v in zip(bp.names, bp.value) if v == 0]
+    if not zero:
+        return ""
+    return (f" Of the {len(bp.names)} base parameters, {len(zero)} are 0 for this "
+            f"robot and are not listed: {', '.join(zero)}.")
+
+
+
+
+_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j, in reading order "
+           "(" + _el("D", "11") + ", " + _el("D", "12") + ", \u2026), but for an element "
+           "zero in every part, which the note below the panels names: "
+           "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
+           + _el("D", "ij", "rot") + " ({rot}){armature} and " + _el("D", "ij")
+           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot") + "{plus_arm}"
+           + " ({total}) "
+           "against time [{units}]. The title gives the element and its dominance class "
+           "(s = {s}, e = {e}).")
+#: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
+#: drawn as its envelope without markers, line style and colour.
+_D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black",
+                    "arm": "\u25a1, dash-dot, pink"},
+            True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black",
+                   "arm": "dash-dot, pink"}}
+#: What the combined curve of a diagonal panel adds for an arm with drives (Table 1.4).
+_D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("D", "ii", "arm")
+                           + " ({arm}, drawn above the combined curve; a constant; " + _el("D", "ij", "arm")
+                           + " = 0 off the diagonal)",
+               "plus_arm": " + " + _el("D", "ij", "arm")}
+
+
+def armature_columns(results: Results, labels: Sequence[str],
+                     zero: npt.NDArray[np.bool_]) -> dict[str, Any]:
+    """Sec. 4's columns of an arm with drives: the armature share and peak |X^arm| (the
+    armature on D_ii, "—" elsewhere); none without drives.
+
+    Parameters
+    ----------
+    results : Results
+        The results (the armature and its share).
+    labels : list of str, length M
+        The elements.
+    zero : ndarray of bool, shape (M,)
+        The elements zero in every part.
+
+    Returns
+    -------
+    dict
+        ``header`` (list of str), ``rows`` (M lists of cells; a peak cell is "." until the
+        caller formats the peaks with the other parts'), ``peak`` (the armature of each
+        diagonal element [kg m^2; kg]).
+    """
+    if not has_armature(results):
+        return {"header": [], "rows": [[] for _ in labels], "peak": []}
+    arm = np.asarray(results.robot_record.armature, float)
+    share = (results.share_arm if results.share_arm is not None
+             else np.full(len(labels), np.nan))
+    diag = _diagonal(arm.size)
+    rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
+             "." if lab in diag else "\u2014"] for k, lab in enumerate(labels)]
+    return {"header": ["armature share", f"peak |{_el('X', '', 'arm')}|"], "rows": rows,
+            "peak": [arm[diag[lab]] for lab in labels if lab in diag]}
+
+
+def _diagonal(n):
+    """The labels of D's diagonal elements, each with its joint's index (0-based)."""
+    return {element_label("D", k, k): k for k in range(n)}
+
+
+def has_armature(results: Results) -> bool:
+    """Whether the arm has drives whose armature adds to the diagonal of D (Table 1.4).
+
+    Parameters
+    ----------
+    results : Results
+        The results (the armature, if the arm has drives).
+
+    Returns
+    -------
+    bool
+    """
+    arm = results.robot_record.armature
+    return arm is not None and bool(np.any(arm > 0))
+
+
+def d_text(results: Results, s: float, e: float, enveloped: bool) -> str:
+    """Fig. 2's lead-in: the parts drawn and what the combined curve sums.
+
+    Parameters
+    ----------
+    results : Results
+        The results (their joint types, for the units of D, and the armature).
+    s, e : float
+        The thresholds.
+    enveloped : bool
+        The series are drawn as envelopes (no markers).
+
+    Returns
+    -------
+    str
+        Marked up (:mod:`gd_analyze.report.markup`).
+    """
+    parts = _D_PARTS[enveloped]
+    arm = ({"armature": _D_ARMATURE["armature"].replace("{arm}", parts["arm"]),
+            "plus_arm": _D_ARMATURE["plus_arm"]} if has_armature(results)
+           else {"armature": "", "plus_arm": ""})
+    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(results, "D"),
+                          **{k: v for k, v in parts.items() if k != "arm"}, **arm)
+
+
+_DERIVATIVES = {
+    "file": "read from the file (its velocity and acceleration columns)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+    "arrays": "given as arrays (the Python API)",
+}
+
+
+#: Two joints move alike when q, q\u0307 and q\u0308 differ by at most this fraction of their
+#: scale (the larger peak of the two): round-off, their curves drawn one over the other.
+ALIKE = 1e-12
+
+
+def alike_joints(results: Results) -> list[list[int]]:
+    """The groups of joints whose stored motions are equal to round-off: their curves in
+    Fig. 1 coincide, the one drawn last hiding the others.
+
+    Parameters
+    ----------
+    results : Results
+        With the trajectory's q, q\u0307 and q\u0308 of shape (N, n) and the joint types.
+
+    Returns
+    -------
+    list of list of int
+        Each group's joints, 1-based and ascending, of one joint type (a revolute and a
+        prismatic joint are drawn on different panels); groups of two or more only, in the
+        order of their first joint.
+
+    Notes
+    -----
+    Joints i and j move alike when, for each of q, q\u0307 and q\u0308, the largest
+    difference of their columns is at most :data:`ALIKE` times the larger peak of the two
+    columns (both columns 0: alike).
+    """
+    prismatic = np.array(results.prismatic)
+    traj = results.trajectory
+    series = [np.asarray(v, float) for v in traj.motion]
+    n = prismatic.size
+
+    def alike(i, j):
+        if prismatic[i] != prismatic[j]:
+            return False
+        for x in series:
+            scale = max(np.max(np.abs(x[:, i])), np.max(np.abs(x[:, j])))
+            if np.max(np.abs(x[:, i] - x[:, j])) > ALIKE * scale:
+                return False
+        return True
+
+    groups, placed = [], set()
+    for i in range(n):
+        if i in placed:
+            continue
+        group = [i] + [j for j in range(i + 1, n) if j not in placed and alike(i, j)]
+        if len(group) > 1:
+            placed.update(group)
+            groups.append([k + 1 for k in group])
+    return groups
+
+
+def _kv(rows):
+    return _table(["item", "value"], rows, widths=[1.2, 3.4])
+
+
+def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
+    """The tables and sentences of the robot and trajectory section.
+
+    Parameters
+    ----------
+    results : Results
+        The main job's results.
+    robot_name : str
+        The robot's name as printed.
+
+    Returns
+    -------
+    dict
+        ``robot_kv``, ``dh`` and ``placements`` (one of them None), ``link``, ``drives``
+        (None without drives), ``traj_kv``, ``joints``, ``effort`` (None without limits) and
+        ``effort_text``: the entries of the report's context.
+    """
+    robot, traj = results.robot_record, results.trajectory
+    n = len(results.prismatic)
+    t = traj.t
+    N = t.size
+    labels = [r.label for r in results.ranking.rows]
+    robot_kv = _kv([
+        ("name", robot_name), ("description", _text(robot.description)),
+        ("reference", _text(robot.reference)), ("robot file", _text(robot.source)),
+        ("robot file SHA-256", _text(robot.sha256)), ("joints n", str(n)),
+        ("gravity g [m/s\u00b2]", _text(robot.gravity)),
+    ])
+    com = robot.link_com
+    inertia = robot.link_inertia
+    dh, placements = _robot_geometry(results)
+    link = _table(
+        ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
+         "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
+        _rows(range(1, n + 1), robot.link_mass, *com.T,
+              *(inertia[:, i, i] for i in range(3))),
+        align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
+    drives = _drives_context(results, labels)
+    derivatives = traj.derivatives
+    sha_in = _text(traj.input_sha256, "")
+    traj_kv = _kv([
+        ("source file", _text(traj.input_file)), ("path", _text(traj.input_path)),
+        ("SHA-256", sha_in or "\u2014 (not read from a file)"),
+        ("set points N", count(N)),
+        ("duration [s]",
+         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
+        ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
+         if derivatives else "\u2014"),
+    ])
+    prismatic = np.array(results.prismatic)
+    # the units of Fig. 1 (joint_motion_units shown): deg, or mm for a prismatic joint
+    scale = np.where(prismatic, 1000.0, np.degrees(1.0))
+    q, qd, qdd = (v * scale for v in traj.motion)
+    joints = _table(
+        ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
+        [[row[0], "prismatic" if prismatic[k] else "revolute", *row[1:],
+          ", ".join(joint_motion_units(bool(prismatic[k]), shown=True))]
+         for k, row in enumerate(_rows(range(1, n + 1), q.min(axis=0), q.max(axis=0),
+                                       np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)))],
+        align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
+
+    efforts = effort_rows(results)
+    effort = _table(
+        ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
+        [[*row, flag, unit] for row, (*_, flag, unit) in zip(
+            _rows([e[0] for e in efforts], [e[1] for e in efforts], [e[2] for e in efforts],
+                  ([e[3] for e in efforts], 3)), efforts)],
+        align=["left", "right", "right", "right", "left", "left"],
+        widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
+    return {"robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
+            "traj_kv": traj_kv, "joints": joints, "effort": effort,
+            "effort_text": _effort_text(efforts), "drives": drives}
+
+
+def _rows(first, *columns):
+    """Table rows: ``first`` as text, then each column of numbers in one notation
+    (:func:`gd_analyze.report.numbers.fmt_column`); a column given as ``(values, digits)``
+    keeps that many significant digits."""
+    cols = [_column(*c) if isinstance(c, tuple) else _column(c) for c in columns]
+    return [[str(f), *cells] for f, *cells in zip(first, *cols)]
+
+
+def _robot_geometry(results):
+    """(DH table, None) for a robot given by DH rows; (None, placements table) for a URDF or
+    chain robot, whose DH parameters are not defined: each joint's fixed placement in body frame
+    i-1 (translation xyz [m], rotation as roll-pitch-yaw [deg], R = Rz(yaw) Ry(pitch)
+    Rx(roll) as in URDF) and its axis, the z column of the rotation."""
+    robot = results.robot_record
+    n = len(results.prismatic)
+    dh_rows = robot.dh
+    if (np.all(np.isfinite(dh_rows)) or robot.joint_rotation is None
+            or robot.joint_translation is None):
+        pris = np.array(results.prismatic)
+
+        def cell(value, variable):            # the joint variable q where it moves: q + offset
+            if not variable:
+                return given(value)
+            sign = "+" if value > 0 else "\u2212"
+            return "q" if value == 0 else f"q {sign} {given(abs(value))}"
+
+        dh = _table(                        # as the robot file gives them
+            ["joint", "d [m]", "a [m]", "\u03b1 [deg]", "\u03b8 [deg]"],
+            [[str(k + 1), cell(dh_rows[0, k], pris[k]), given(dh_rows[1, k]),
+              given(np.degrees(dh_rows[2, k])), cell(np.degrees(dh_rows[3, k]), not pris[k])]
+             for k in range(n)],
+            align=["left"] + ["right"] * 4, widths=[0.8, 1, 1, 1, 1])
+        return dh, None
+    import warnings
+
+    from scipy.spatial.transform import Rotation
+
+    R = np.asarray(robot.joint_rotation, float)
+    t = np.asarray(robot.joint_translation, float)
+    with warnings.catch_warnings():             # pitch of +-90 deg: yaw 0, roll takes it all
+        warnings.simplefilter("ignore", UserWarning)
+        rpy = Rotation.from_matrix(R).as_euler("xyz", degrees=True)  # extrinsic: URDF's rpy
+
+    def num(v):
+        return _fmt(0.0 if abs(v) < 1e-12 else v)                    # no -0, no 1e-17
+
+    xyz = np.where(np.abs(t) < 1e-12, 0.0, t)
+    angles = np.where(np.abs(rpy) < 1e-12, 0.0, rpy)
+    placements = _table(
+        ["joint", "type", "x [m]", "y [m]", "z [m]", "roll [deg]", "pitch [deg]", "yaw [deg]",
+         "axis in frame i\u22121"],
+        [[str(k + 1), robot.joint_type[k] if robot.joint_type is not None else "",
+          *row[1:], "(" + ", ".join(num(v) for v in R[k, :, 2]) + ")"]
+         for k, row in enumerate(_rows(range(n), *xyz.T, *angles.T))],
+        align=["left", "left"] + ["right"] * 6 + ["left"],
+        widths=[0.6, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 1.6])
+    return None, placements
+
+
+def _drives_context(results: Results | xr.Dataset, labels):
+    """The drives' table and its note, or None when the robot has no drives."""
+    results = Results.of(results)
+    robot = results.robot_record
+    offset = robot.torque_offset
+    has_offset = offset is not None and bool(np.any(offset))
+    drives = robot.drives
+    if drives is None or not (any(np.any(v) for v in drives) or has_offset):
+        return None
+    arm, fv, fc = drives
+    n = arm.shape[0]
+    pris = np.array(results.prismatic)
+    tau_f = results.trajectory.tau_f
+    peak_f = np.abs(tau_f).max(axis=0) if tau_f is not None else np.zeros(n)
+    share = results.share_arm if results.share_arm is not None else np.zeros(len(labels))
+    diag = [list(labels).index(f"D{k + 1}{k + 1}") if n < 10 else None for k in range(n)]
+    extra = (offset,) if has_offset else ()
+    table = _table(
+        ["joint", "armature", "viscous", "Coulomb", *(["offset"] if has_offset else []),
+         f"peak |{tau('f')}|", f"armature share of {element('D', 'ii')}", "units"],
+        [[*row, _share(float(share[diag[k]])) if diag[k] is not None else "—",
+          ("kg, N s/m, N" + ", N" * has_offset + ", N") if pris[k] else
+          ("kg m², N m s/rad, N m" + ", N m" * has_offset + ", N m")]
+         for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, *extra, peak_f))],
+        align=["left"] + ["right"] * (5 + has_offset) + ["left"],
+        widths=[0.5, 0.9, 0.9, 0.9, *([0.9] if has_offset else []), 0.9, 1, 2])
+    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
+            f"to D, a third part {element('D', '', 'arm')} beside {element('D', '', 'tran')} "
+            f"and {element('D', '', 'rot')}, counted on the rotational side of the "
+            f"translational share (Sec. 4); friction {tau('f')} = viscous "
+            "· q̇ + Coulomb · sign(q̇)" + (" + offset" if has_offset else "")
+            + " adds to τ. The simplified model keeps both whole.")
+    return {"table": table, "note": note}
+
+
+def _effort_text(rows):
+    """The sentence over the effort-limit table: which joints exceed their limit, if any."""
+    if not rows:
+        return ""
+    over = [str(r[0]) for r in rows if r.exceeded]
+    verdict = (f"joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+               f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
+               "along this trajectory" if over else "every joint stays within its limit")
+    return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
+            "(the effort attribute of a URDF joint's limit, or the maximum joint torques and "
+            f"forces of a robot file): {verdict}.")
+
 
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
              "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
@@ -159,10 +796,6 @@ def _caption_units(ds):
 
 def _is_puma560(name):
     return is_chapter_puma(name)
-
-
-def _kv(rows):
-    return _table(["item", "value"], rows, widths=[1.2, 3.4])
 
 
 #: The models every cost is shown against, by their label in the stored cost table.

@@ -490,7 +490,7 @@ def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] |
         per joint type), ``D`` and ``tau``; an all-revolute arm's if not given.
     alike : sequence of sequence of int, optional
         Groups of joints (1-based) that move alike, whose curves in Fig. 1 coincide
-        (:func:`gd_analyze.report.main_robot.alike_joints`): named in its caption.
+        (:func:`gd_analyze.report.main_context.alike_joints`): named in its caption.
 
     Returns
     -------

@@ -145,23 +145,19 @@ def fmt_column(values: npt.ArrayLike, digits: int = 4,
     shown = v[~hide & np.isfinite(v) & (v != 0)]
     texts = None
     if shown.size:
-        big = float(np.abs(shown).max())
-        for d in range(_COLUMN_DECIMALS + 1):
-            if math.floor(math.log10(big)) + 1 + d > digits + _COLUMN_SPAN:
-                break
-            cand = [f"{x:,.{d}f}" for x in shown]
-            if _close(cand, shown, digits):
-                texts = cand
-                break
-        if texts is None:
-            for d in range(digits):
-                cand = [f"{x:.{d}e}" for x in shown]
-                if _close(cand, shown, digits):
-                    texts = cand
-                    break
+        wide = math.floor(math.log10(float(np.abs(shown).max()))) + 1     # digits before "."
+        specs = [f",.{d}f" for d in range(_COLUMN_DECIMALS + 1)
+                 if wide + d <= digits + _COLUMN_SPAN] + [f".{d}e" for d in range(digits)]
+        texts = next((t for spec in specs
+                      if _close(t := [format(x, spec) for x in shown], shown, digits)), None)
     it = iter(texts or [])
-    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else "0" if x == 0
-            else next(it) for x, h in zip(v, hide)]
+    return _cells(v, hide, lambda x: next(it))
+
+
+def _cells(values, hide, cell):
+    """"≡ 0" where hidden, "n/a" where not finite, "0" for zero, ``cell(x)`` elsewhere."""
+    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else "0" if x == 0 else cell(x)
+            for x, h in zip(values, hide)]
 
 
 def fmt_columns(columns: Sequence[npt.ArrayLike], digits: int = 4,
@@ -353,17 +349,10 @@ def pct_column(values: npt.ArrayLike, off: npt.ArrayLike | None = None) -> list[
     need = max(2, 1 - math.floor(math.log10(least)))            # two digits of the smallest
     cap = max(0, _PCT_DIGITS - 1 - math.floor(math.log10(most)))  # four of the largest
     if least < 1e-4 and need <= cap:
-        return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else f"{x:.1e} %"
-                for x, h in zip(v, hide)]
-    d = min(need, cap)
-
-    def cell(x):
-        if abs(x) < 0.5 * 10.0 ** -d:                          # rounds to 0: a bound
-            return f"< {10.0 ** -d:.{d}f} %"
-        return f"{x:.{d}f} %"
-
-    return ["\u2261 0" if h else "n/a" if not math.isfinite(x) else cell(x)
-            for x, h in zip(v, hide)]
+        return _cells(v, hide, lambda x: f"{x:.1e} %")
+    d = min(need, cap)                                          # rounds to 0: a bound
+    return _cells(v, hide, lambda x: f"< {10.0 ** -d:.{d}f} %" if abs(x) < 0.5 * 10.0 ** -d
+                  else f"{x:.{d}f} %")
 
 
 #: Superscript digits and minus, for a power of ten written without mathtext.

@@ -1,14 +1,18 @@
 """The report's "Simplified model" section, from the stored dataset only.
 
-Kept self-contained (one context function, one figure function) so that it carries over to any
-report engine: :func:`simplified_context` gives the tables and text, :func:`error_figure` the
-per-joint plots of tau_s - tau with the guaranteed bound. Everything is read from the variables
+:func:`simplified_context` gives the tables and text, :func:`error_figure` the per-joint plots
+of tau_s - tau with the guaranteed bound, and the figures of what the error budget acts on
+(:func:`budget_makers`): the torque contributions, the budget against the bound, the costs
+against accuracy. Everything is read from the variables
 and attributes that :func:`gd_analyze.jobs.simplified_dataset.simplified_dataset` stored at analysis
 time; nothing is recomputed.
 """
 
 from __future__ import annotations
 
+import math
+import textwrap
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -21,25 +25,609 @@ from ..ranking.ranking import (
     joint_units_text,
 )
 from ..store.stored_simplified import InertiaCheck, StoredSimplified
-from .common import count, fmt, pct, pct_column, table
+from .common import count, fmt, pct, pct_column, table, torque_units
+from .figure_style import markevery
 from .markup import element as _el
-from .markup import powers
+from .markup import powers, sub
 from .markup import scope as scope_markup
-from .markup import sub as _sub
 from .plot_data import PlotData
-from .ticks import label_axes, set_ticks
+from .ticks import label_axes, set_ticks, tick_label_width
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
 
+    import numpy.typing as npt
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["simplified_context", "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF",
-           "simplified_caption", "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
+    from ..store.results_view import Results
+    from .plot_data import PlotData
+
+__all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "JOINT_SUM_CLAUSE", "budget_caption",
+           "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
+           "fig_cost_ladder", "budget_makers", "contribution_series", "simplified_context",
+           "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF", "simplified_caption",
+           "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
+
+#: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
+#: style, marker (told apart in greyscale by line style and marker).
+CONTRIBUTIONS = (
+    ("D_tran_qdd", "D\u1d57\u02b3\u1d43\u207f q\u0308", "#0072B2", "-", "o"),
+    ("D_rot_qdd", "D\u02b3\u1d52\u1d57 q\u0308", "#D55E00", (0, (4.0, 1.6)), "x"),
+    ("h_tran", "h\u1d57\u02b3\u1d43\u207f", "#009E73", (0, (5.0, 1.5, 1.0, 1.5)), "s"),
+    ("h_rot", "h\u02b3\u1d52\u1d57", "#CC79A7", (0, (1.0, 1.3)), "D"),
+    ("c", "c", "#E69F00", (0, (7.0, 2.0)), "v"),
+)
+_SIMPLIFIED = ("tau_simplified", "simplified model's torque", "#000000", "-", None)
+_DRIVES = ("drives", "drives (armature, friction)", "0.45", (0, (2.0, 2.0)), "+")
+_PAGE = 7.2
+#: Width of the column versions [in].
+COLUMN = 3.5
+
+#: The simplified model's torque tau_s and the joint's scale s_i, their subscripts set as such
+#: (8 pt at least in the PDF). The figures write no subscript (Unicode's small letters print
+#: under 8 pt): s for s_i and delta tau for tau_s - tau, which the captions define.
+_TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
+_WRITTEN = f" The figure writes s for {_S_I} and \u0394\u03c4 for {_TAU_S} \u2212 \u03c4."
+
+#: Captions of the figures of this module, by figure key.
+BUDGET_CAPTIONS = {
+    "contributions": "What the error budget acts on: the contributions of the G-D equations "
+                     "to each joint's torque against time, Dᵗʳᵃⁿ q̈, "
+                     "Dʳᵒᵗ q̈, hᵗʳᵃⁿ, hʳᵒᵗ "
+                     "and c, whose sum is τ (Eq. (3.4-24)), with the simplified model's "
+                     f"torque {_TAU_S}.",
+    "budget": "The error budget per joint: the peaks of the dropped terms on this trajectory, "
+              f"stacked by where they sit (their sum bounds |{_TAU_S} − τ| there), against the "
+              f"budget ε {_S_I}, and the measured peak error, each relative to the joint's scale "
+              f"{_S_I}." + _WRITTEN,
+    "cost_ladder": "Cost against accuracy: operations per set point of each model against its "
+                   f"worst peak error relative to {_S_I}, the deployed model's scale, for every "
+                   "point (filled: measured on this trajectory or exact; open: a bound, "
+                   f"turned to {_S_I} where its model has another scale, or a published figure, "
+                   "which is on its authors' own scale)." + _WRITTEN,
+}
+
+
+def _figure(W, H):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(W, H))
+
+
+def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.NDArray[np.float64]]:
+    """The series of :func:`fig_torque_contributions`, by key.
+
+    Parameters
+    ----------
+    data : PlotData
+        With ``D_tran_qdd``, ``D_rot_qdd``, ``h_tran``, ``h_rot``, ``c``, ``tau`` and
+        ``tau_simplified`` (M, n) [N m, N for a prismatic joint].
+    drives : bool, optional
+        Add ``drives`` = tau - (the five), the armature's and friction's part of tau.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (M, n)
+        The five contributions of :data:`CONTRIBUTIONS`, ``tau_simplified`` and, with
+        ``drives``, ``drives``.
+    """
+    out = {key: np.asarray(data.series[key]) for key, *_ in CONTRIBUTIONS}
+    out["tau_simplified"] = np.asarray(data.series["tau_simplified"])
+    if drives:
+        out["drives"] = np.asarray(data.series["tau"]) - sum(
+            out[key] for key, *_ in CONTRIBUTIONS)
+    return out
+
+
+def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool = False,
+                             width: float = _PAGE) -> Figure:
+    """Per joint against time: the five G-D contributions to tau and the simplified torque.
+
+    Parameters
+    ----------
+    data : PlotData
+        As for :func:`contribution_series`, time x [s].
+    units : sequence of str, length n
+        Each joint's torque units (N m or N).
+    drives : bool, optional
+        Draw the drives' part of tau (armature and friction) as a sixth curve.
+    width : float, optional
+        Figure width [in]: three panels a row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per joint, ``"joint i"`` above it, y axis ``[N m]`` times the power of ten
+        it shows; each contribution its own colour, line style and marker (markers thinned
+        to about eight a line, none on a min/max envelope), tau_s thick and black; the legend
+        above the panels.
+    """
+    series = contribution_series(data, drives)
+    keys = [c[0] for c in CONTRIBUTIONS] + ["tau_simplified"] + (["drives"] if drives else [])
+    style = {c[0]: c for c in CONTRIBUTIONS + (_SIMPLIFIED, _DRIVES)}
+    x = data.x
+    n = series["c"].shape[1]
+    column = width < _PAGE
+    cols = min(n, 2 if column else 3)
+    rows = math.ceil(n / cols)
+    left, right, gap, top, hgap, h = 0.55, 0.08, 0.55, 0.62 + 0.32 * column, 0.55, 1.35
+    if column:
+        h = 1.1
+    w = (width - left - right - (cols - 1) * gap) / cols
+    H = top + rows * h + (rows - 1) * hgap + 0.4
+    fig = _figure(width, H)
+    every = markevery(x.size, 8)
+    ys = []
+    for i in range(n):
+        r, c = divmod(i, cols)
+        ax = fig.add_axes(((left + c * (w + gap)) / width,
+                           1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
+        for k, key in enumerate(keys):
+            _, name, colour, ls, marker = style[key]
+            kw: dict[str, Any] = {"color": colour, "linestyle": ls, "label": name,
+                  "linewidth": 1.3 if key == "tau_simplified" else 0.9,
+                  "zorder": 3 if key == "tau_simplified" else 2}
+            if marker and not data.enveloped:
+                kw.update(marker=marker, markersize=3.0, markerfacecolor="none",
+                          markeredgewidth=0.7,
+                          markevery=((k * max(1, every // 6)) % every, every)
+                          if every > 1 else 1)
+            ax.plot(x, series[key][:, i], **kw)
+        vals = np.concatenate([series[key][:, i] for key in keys])
+        vals = vals[np.isfinite(vals)]
+        lo, hi = (float(vals.min()), float(vals.max())) if vals.size else (-1.0, 1.0)
+        if hi - lo <= 1e-300:
+            lo, hi = lo - 1.0, hi + 1.0
+        pad = 0.08 * (hi - lo)
+        ax.set_ylim(lo - pad, hi + pad)
+        set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+        t0, t1 = float(x[0]), float(x[-1])
+        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
+        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
+        ax.set_title(f"joint {i + 1}", fontsize=8)
+        ax.set_xlabel("t [s]", labelpad=1.0)
+        ax.set_ylabel(f"[{units[i]}]", labelpad=1.0)
+        ys.append(ax.yaxis)
+    label_axes(ys)
+    # room for the widest tick labels, the tick marks and the axis label left of each panel
+    room = max(tick_label_width(y) for y in ys) + 0.30
+    if room > left:
+        left, gap = room, max(gap, room)
+        w = (width - left - right - (cols - 1) * gap) / cols
+        for i, ax in enumerate(fig.axes):
+            r, c = divmod(i, cols)
+            ax.set_position(((left + c * (w + gap)) / width,
+                             1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
+    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center",
+               ncol=2 if column else (4 if len(keys) > 6 else 3), frameon=False, fontsize=7,
+               handlelength=3.0,
+               columnspacing=1.2, bbox_to_anchor=(0.5, 1 - 0.04 / H))
+    return fig
+
+
+#: The parts of the bound, stacked (field of the stored record, label, colour, hatch).
+_BOUND_PARTS = (("bound_inertia", "dropped terms of D q\u0308", "#0072B2", ""),
+                ("bound_coriolis", "dropped terms of h", "#D55E00", "//"),
+                ("bound_gravity", "dropped terms of c", "#E69F00", ".."),
+                ("bound_whole", "base parameters dropped whole", "#CC79A7", "xx"))
+
+
+def _stored_parts(s: StoredSimplified) -> dict[str, np.ndarray]:
+    """The stored parts of the bound, by field, those stored only."""
+    parts = {k: getattr(s, k) for k, *_ in _BOUND_PARTS}      # the fields of _BOUND_PARTS
+    return {k: np.asarray(v, float) for k, v in parts.items() if v is not None}
+
+
+def budget_parts(ds: StoredSimplified | xr.Dataset) -> dict[str, npt.NDArray[np.float64]]:
+    """The stacked parts of :func:`fig_error_budget`, relative to each joint's scale s_i.
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record (:class:`gd_analyze.store.stored_simplified.StoredSimplified`),
+        or a results dataset with ``simplified_scale`` (n,) and the ``simplified_bound_*``
+        parts (n,) [N m].
+
+    Returns
+    -------
+    dict of str to ndarray, shape (n,)
+        Each stored part / s_i [1] (NaN where s_i is 0), by field of the record
+        (``"bound_inertia"``, ``"bound_coriolis"``, ``"bound_gravity"``, ``"bound_whole"``).
+    """
+    s = StoredSimplified.of(ds)
+    scale = np.asarray(s.scale, float)
+    safe = np.where(scale > 0, scale, np.nan)
+    return {k: np.nan_to_num(v) / safe for k, v in _stored_parts(s).items()}
+
+
+#: The error-budget figure's caption where the model's bounds are proved over the region.
+REGION_BUDGET_CAPTION = (
+    "The error budget per joint: the bounds of the dropped terms proved over the region "
+    "(interval arithmetic rounded outward), stacked by where they sit (their sum bounds "
+    f"|{_TAU_S} − τ| at every state of the region), against the budget ε {_S_I}, and the "
+    f"peak error measured on this trajectory, each relative to the joint's scale {_S_I}."
+    + _WRITTEN)
+
+
+def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
+    """The error-budget figure's caption, from the kind of the model's guarantee.
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with it.
+
+    Returns
+    -------
+    str
+        :data:`REGION_BUDGET_CAPTION` for a bound proved over the region (the bars are proved
+        bounds), else ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
+    """
+    s = StoredSimplified.of(ds)
+    if s.guarantee_kind != "region":
+        return BUDGET_CAPTIONS["budget"]
+    if joint_sum_lower(s).any():
+        return REGION_BUDGET_CAPTION[:-1] + JOINT_SUM_CLAUSE
+    return REGION_BUDGET_CAPTION
+
+
+#: What the error-budget figure's caption adds where a joint's bound was proved on the
+#: dropped terms' sum at the same state, below the sum of their own bounds.
+JOINT_SUM_CLAUSE = ("; a triangle (\u25bc) marks a joint whose bound, proved on the dropped "
+                    "terms' sum at the same state (their enclosures added on boxes of the "
+                    "region), is below the bars' sum: that bound is the model's.")
+
+
+def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
+    """The joints whose stated bound is below the sum of the dropped terms' own bounds.
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with ``simplified_bound`` and the
+        ``simplified_bound_*`` parts (n,) [N m].
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True where ``simplified_bound`` < (1 - 1e-9) x the parts' sum: the bound was proved on
+        the dropped set's joint sum (:func:`gd_analyze.certify.certify.region_bound`).
+    """
+    s = ds if isinstance(ds, StoredSimplified) else StoredSimplified.from_dataset(ds)
+    if s is None:
+        return np.zeros(0, bool)
+    bound = np.asarray(s.bound, float)
+    total = sum((np.nan_to_num(v) for v in _stored_parts(s).values()), np.zeros_like(bound))
+    return bound < (1 - 1e-9) * total
+
+
+def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> Figure:
+    """Per joint: the dropped terms' peaks stacked against the budget EPS s_i, and the
+    measured peak error.
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with it (``simplified_scale``,
+        ``simplified_bound_*``, ``tau_error_peak`` (n,) [N m], attribute
+        ``simplified_tolerance``).
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel, joints across; bars: the peaks of the dropped terms by where they sit
+        (D qdd, h, c, base parameters dropped whole), each / s_i [%], stacked; a dash at
+        EPS (the budget); a diamond at the measured peak |tau_s - tau| / s_i; under a region
+        guarantee, a triangle at the stated bound where it was proved on the dropped terms'
+        sum at the same state, below the bars (:func:`joint_sum_lower`). A joint with
+        nothing dropped reads "nothing dropped".
+    """
+    s = StoredSimplified.of(ds)
+    eps = s.tolerance
+    scale = np.asarray(s.scale, float)
+    measured = np.asarray(s.tau_error_peak, float) / np.where(scale > 0, scale, np.nan)
+    parts = budget_parts(s)
+    n = scale.size
+    column = width < _PAGE
+    H = 2.7 if width >= _PAGE else 3.3
+    top = 0.6 if width >= _PAGE else 0.95         # the legend: two rows, or four
+    fig = _figure(width, H)
+    ax = fig.add_axes((0.7 / width, 0.7 / H, (width - 0.9) / width, (H - 0.7 - top) / H))
+    x = np.arange(1, n + 1)
+    bottom: np.ndarray = np.zeros(n)
+    for var, name, colour, hatch in _BOUND_PARTS:
+        if var not in parts:
+            continue
+        v = 100 * parts[var]
+        if not np.nan_to_num(v).any():          # no bar: no legend entry
+            continue
+        ax.bar(x, v, bottom=bottom, width=0.55, color=colour, alpha=0.85, hatch=hatch,
+               edgecolor="white", linewidth=0.4, label=f"bound: {name}")
+        bottom = bottom + np.nan_to_num(v)
+    ax.hlines(np.full(n, 100 * eps), x - 0.38, x + 0.38, colors="black", linewidth=1.4,
+              label=f"budget \u03b5 s (\u03b5 = {eps:g})")
+    lower = joint_sum_lower(s) if s.guarantee_kind == "region" else np.zeros(0, bool)
+    if lower.any():
+        stated = np.asarray(s.bound, float) / np.where(scale > 0, scale, np.nan)
+        ax.plot(x[lower], 100 * stated[lower], linestyle="none", marker="v", markersize=6,
+                color="#009E73", markeredgecolor="black", markeredgewidth=0.6, zorder=5,
+                label="bound proved on the dropped terms' sum")
+    ax.plot(x, 100 * measured, linestyle="none", marker="D", markersize=4.5,
+            markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.9,
+            label="measured peak |\u0394\u03c4|", zorder=4)
+    ymax = max(100 * eps, float(np.nanmax(bottom)) if n else 0.0,
+               float(np.nanmax(np.nan_to_num(100 * measured))) if n else 0.0) * 1.25 or 1.0
+    # "nothing dropped" beside the budget's dash, on the side with more room (raised to the
+    # printed minimum it would reach the dash from below when the dash sits low)
+    above = 100 * eps < 0.5 * ymax
+    for i in range(n):
+        if bottom[i] == 0:
+            ax.annotate("nothing\ndropped", (x[i], 100 * eps),
+                        xytext=(0, 3 if above else -3), textcoords="offset points",
+                        ha="center", va="bottom" if above else "top", fontsize=7,
+                        color="0.35", linespacing=1.1, rotation=90 if column else 0)
+    ax.set_ylim(0, ymax)
+    set_ticks(ax.yaxis, 0, ymax / 1.25, 4)
+    ax.set_xlim(0.4, n + 0.6)
+    ax.set_xticks(x, [str(i) if column else f"joint {i}" for i in x])
+    if column:
+        ax.set_xlabel("joint", labelpad=1.0)
+    ax.tick_params(axis="x", length=0)
+    ax.set_ylabel("relative to s [%]", labelpad=1.0)
+    ax.grid(axis="x", visible=False)
+    pairs = sorted(zip(*ax.get_legend_handles_labels()),
+                   key=lambda p: (not p[1].startswith("bound"), not p[1].startswith("budget")))
+    fig.legend(*zip(*pairs), loc="upper center", ncol=2 if width >= _PAGE else 1, frameon=False, fontsize=7,
+               handlelength=2.0, columnspacing=1.2, bbox_to_anchor=(0.5, 1 - 0.04 / H))
+    units = sorted(set(s.tau_units))
+    what = ("bounds proved over the region" if s.guarantee_kind == "region"
+            else "peaks on this trajectory")
+    note = (f"s: each joint's scale ({', '.join(units)}); the bound on |\u0394\u03c4| "
+            f"is the sum of the dropped terms' {what}"
+            + (", or, where lower (\u25bc), the bound proved on their sum at the same state."
+               if lower.any() else "."))
+    fig.text(0.1 / width, 0.04 / H, textwrap.fill(note, int((width - 0.2) / 0.058)),
+             fontsize=7, va="bottom", color="0.25")
+    return fig
+
+
+#: Markers of the cost figure: measured worst error (filled) or a bound or stated figure
+#: (open).
+#: Below this worst error [%] the cost figure's y axis is linear (symmetric log above).
+_COST_LINEAR = 0.01
+_COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
+               "ladder": ("s", "#0072B2"), "chapter": ("^", "#009E73"),
+               "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
+
+
+def _bound_on_s_i(s, label, eps, safe):
+    """A budget model's bound, EPS times its own scale, relative to the deployed model's s_i:
+    the explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor); under
+    a region guarantee s_i is the region's, larger."""
+    if not label.startswith("explicit") or s.guarantee_kind != "region":
+        return eps
+    own = np.maximum(np.asarray(s.tau_peak, float), s.torque_floor)
+    return float(np.max(eps * own / safe))
+
+
+def cost_points(ds: StoredSimplified | xr.Dataset) -> list[tuple[Any, ...]]:
+    """The points of :func:`fig_cost_ladder`: (label, operations, worst error [1], kind).
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        The simplified model's record, or a results dataset with ``cost_model`` and ``cost_total``; ``simplified_scale``, ``tau_error_peak``,
+        ``tau_peak``; optionally ``ladder_operations`` and ``ladder_worst_error`` (dim
+        ``ladder_tolerance``) and ``other_rule_error_relative_peak``.
+
+    Returns
+    -------
+    list of tuple
+        The worst error is max over joints of peak |tau_s - tau| / s_i as measured on the
+        trajectory (kind ``model``, ``ladder``, ``chapter``); 0 for an exact model
+        (``exact``); for a model whose error is bounded but not measured (``bound``), EPS
+        times its own scale over s_i (EPS where its scale is s_i);
+        the stated 1 % of AKB's simplified model (``akb``, PUMA 560 only).
+    """
+    s = StoredSimplified.of(ds)
+    if s.costs is None:
+        raise ValueError("no cost table stored")
+    total = dict(zip(s.costs.models, s.costs.total.astype(float)))
+    scale = np.asarray(s.scale, float)
+    safe = np.where(scale > 0, scale, np.inf)
+    worst = float(np.max(np.asarray(s.tau_error_peak, float) / safe))
+    eps = s.tolerance
+    ladder = s.ladder
+    laddered = ladder is not None
+    rungs = ("recursive N-E" if s.ladder_form == "recursive" else "explicit") + ", budget"
+    points = []
+    for label, ops in total.items():
+        if label.startswith(("Table 3.5", "project L-E", "project G-D")):
+            continue
+        if "(this model)" in label:
+            points.append((label.replace(" (this model)", ""), ops, worst, "model"))
+        elif label.startswith("AKB") and "simplified" in label:
+            points.append((label, ops, 0.01, "akb"))
+        elif "chapter" in label and s.other_rule_error_relative_peak is not None:
+            rel = np.asarray(s.other_rule_error_relative_peak, float)
+            err = rel * np.asarray(s.tau_peak, float) / safe
+            if np.isfinite(err).any():          # no torque at all: nothing measured
+                points.append((label, ops, float(np.nanmax(err)), "chapter"))
+        elif "budget" in label and not (laddered and label.startswith(rungs)):
+            points.append((label + " (bound)", ops, _bound_on_s_i(s, label, eps, safe),
+                           "bound"))
+        elif "exact" in label or "full" in label or "N-E as implemented" in label:
+            points.append((label, ops, 0.0, "exact"))
+    if ladder is not None:
+        built = {p[1] for p in points if p[3] == "model"}
+        exact = {p[1] for p in points if p[3] == "exact"}
+        for tol, ops, err in zip(ladder.tolerance, ladder.operations, ladder.worst_error):
+            if (float(tol) == eps and float(ops) in built) or (float(tol) == 0
+                                                              and float(ops) in exact):
+                continue                  # the model built, or an exact one: said once
+            rung = f"{rungs} \u03b5 = {float(tol):g}"
+            same = [k for k, p in enumerate(points) if p[1] == float(ops)
+                    and abs(p[2] - float(err)) <= 1e-12]
+            if same:                      # the same model as a point drawn: one point
+                k = same[0]
+                points[k] = (f"{points[k][0]} (= {rung})", *points[k][1:])
+            else:
+                points.append((rung, float(ops), float(err), "ladder"))
+    return points
+
+
+def _place_numbers(fig, ax, numbers):
+    """Each point's number beside it, at the first of eight places around the point whose box
+    meets no number placed before (the axes' limits fixed first).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    ax : matplotlib.axes.Axes
+    numbers : list of (str, float, float)
+        The text and the point's x and y in data coordinates.
+    """
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    width, height = fig.bbox.size       # text extents measured as the Agg renderer draws them
+    renderer = RendererAgg(int(width), int(height), fig.dpi)
+    places = ((5, 3), (-5, 3), (5, -11), (-5, -11), (5, 14), (-5, 14), (5, -22), (-5, -22))
+    placed = []
+    for text, x, y in numbers:
+        for dx, dy in places:
+            note = ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points",
+                               fontsize=7, color="0.15", va="bottom",
+                               ha="left" if dx > 0 else "right")
+            box = note.get_window_extent(renderer).expanded(1.15, 1.1)
+            if not any(box.overlaps(other) for other in placed) or (dx, dy) == places[-1]:
+                placed.append(box)
+                break
+            note.remove()
+
+
+def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> Figure:
+    """Operations per set point against the worst error of each model of the dataset.
+
+    Parameters
+    ----------
+    ds : StoredSimplified or xarray.Dataset
+        As for :func:`cost_points`.
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        x: operations per set point (multiplications + additions, log scale); y: worst
+        relative error [%] (symmetric log: linear below 0.01 %); the ladder's models joined
+        by a line; each point numbered, the
+        numbers named in a key below.
+    """
+    from matplotlib.ticker import FixedLocator, LogLocator, NullFormatter
+
+    # a log axis: a model of no operations (nothing to compute) or an error not measured has
+    # no place on it
+    s = StoredSimplified.of(ds)
+    points = [p for p in cost_points(s) if p[1] > 0 and np.isfinite(p[2])]
+    column = width < _PAGE
+    points = sorted(points, key=lambda p: (p[1], -p[2]))
+    key = textwrap.fill("; ".join(f"{k + 1}: " + p[0].replace("EPS=", "\u03b5\u00a0=\u00a0")
+                                  for k, p in enumerate(points)),
+                        int((width - 0.3) / 0.058))
+    H, top, bottom = (3.4, 0.7, 0.8) if not column else (4.6, 1.0, 1.5)
+    fig = _figure(width, H)
+    ax = fig.add_axes((0.7 / width, bottom / H, (width - 0.9) / width, (H - bottom - top) / H))
+    ax.set_xscale("log")
+    names = {"exact": "exact model (error 0)", "model": "model built (measured)",
+             "ladder": "\u03b5 ladder (measured)", "chapter": "chapter rule (measured)",
+             "bound": "budget model (its bound, not measured)",
+             "akb": "Armstrong, Khatib & Burdick 1986 (stated)"}
+    seen = set()
+    if s.ladder is not None:        # the rungs joined, the model built among them
+        order = np.argsort(s.ladder.operations)
+        ax.plot(s.ladder.operations[order],
+                100 * s.ladder.worst_error[order], color="#0072B2",
+                linewidth=0.8, linestyle="--")
+    # a symmetric log axis: the ladder's small errors apart from the chapter rule's large one
+    # (linear below _COST_LINEAR %, where 0 sits)
+    ax.set_yscale("symlog", linthresh=_COST_LINEAR, linscale=0.5)
+    top = max([100 * p[2] for p in points] + [10 * _COST_LINEAR]) * 2.5
+    for k, (label, ops, err, kind) in enumerate(points):
+        marker, colour = _COST_STYLE[kind]
+        filled = kind not in ("bound", "akb")
+        ax.plot([ops], [100 * err], linestyle="none", marker=marker, color=colour,
+                markersize=7 if kind == "model" else 5,
+                markerfacecolor=colour if filled else "white", markeredgewidth=0.9,
+                label=names[kind] if kind not in seen else None, zorder=3)
+        seen.add(kind)
+    numbers = [(str(k + 1), ops, 100 * err) for k, (_, ops, err, _) in enumerate(points)]
+    # the key hangs from a fixed line below the axis label: wrapped again when its size is
+    # raised for print (more lines), it grows downwards, and the saved figure with it
+    # (figure_style.text_extent), never up into the label
+    fig.text((0.1 if column else 0.7) / width, (bottom - 0.42) / H, key, fontsize=7,
+             va="top", ha="left", color="0.2", linespacing=1.2)
+    ops = [p[1] for p in points] or [10.0]
+    lo, hi = min(ops) / 1.6, max(ops) * 2.2
+    ax.set_xlim(lo, hi)
+    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0), numticks=99))  # 1, 2, 5 x 10^k
+    ax.xaxis.set_major_formatter("{x:,.0f}")                                    # 1,000
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_ylim(-0.25 * _COST_LINEAR, top)
+    ax.yaxis.set_major_locator(FixedLocator(
+        [0.0] + [_COST_LINEAR * 10.0 ** k for k in range(8) if _COST_LINEAR * 10.0 ** k < top]))
+    ax.yaxis.set_major_formatter("{x:g}")
+    ax.yaxis.set_minor_locator(FixedLocator([]))
+    _place_numbers(fig, ax, numbers)
+    ax.set_xlabel("operations per set point" + ("" if column else
+                                                 " (multiplications + additions)"),
+                  labelpad=1.0)
+    ax.set_ylabel("worst peak |\u0394\u03c4| / s [%]", labelpad=1.0)
+    fig.legend(loc="upper center", ncol=1 if column else 2, frameon=False, fontsize=7,
+               handlelength=1.5,                # two columns: within the page at 8.5 pt
+               bbox_to_anchor=(0.5, 1 - 0.04 / H))
+    return fig
+
+
+def budget_makers(results: Results, data: PlotData) -> dict[str, Callable[..., Figure]]:
+    """Makers of the figures of this module that the results can draw.
+
+    Parameters
+    ----------
+    results : Results
+        The main job's results (:class:`gd_analyze.store.results_view.Results`).
+    data : PlotData
+        Its series (:func:`gd_analyze.report.plot_data.plot_data`).
+
+    Returns
+    -------
+    dict of str to callable
+        ``"contributions"`` (with the series it needs), ``"budget"`` (with a simplified
+        model), ``"cost_ladder"`` (with a cost table), and each as ``"<key>_column"``,
+        :data:`COLUMN` wide.
+    """
+    import functools
+
+    makers: dict[str, Callable[..., Figure]] = {}
+    if all(k in data.series for k, *_ in CONTRIBUTIONS) and "tau_simplified" in data.series:
+        armature = results.robot_record.armature
+        drives = armature is not None and bool(np.any(np.asarray(armature) > 0))
+        makers["contributions"] = functools.partial(fig_torque_contributions, data,
+                                                    torque_units(results), drives)
+    s = results.simplified
+    if s is not None and s.scale is not None:
+        makers["budget"] = functools.partial(fig_error_budget, s)
+        if s.costs is not None:
+            makers["cost_ladder"] = functools.partial(fig_cost_ladder, s)
+    makers.update({f"{k}_column": functools.partial(make, width=COLUMN)
+                   for k, make in list(makers.items())})
+    return makers
+
 
 #: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
-SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u0394\u03c4 = \u03c4" + _sub("s")
+SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u0394\u03c4 = \u03c4" + sub("s")
                       + " \u2212 \u03c4 [{units}], "
                       "per joint against time, with the bound \u00b1 (dotted), {where}, "
                       + ROUND_OFF_CLAUSE + ". The joints whose model "
@@ -73,13 +661,13 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
                "trajectory": "guaranteed on this trajectory only"}
 
 
-_S_I = "s" + _sub("i")
+_S_I = "s" + sub("i")
 #: The simplified model's torque, its subscript set as such (8 pt at least in the PDF).
-_TAU_S = "\u03c4" + _sub("s")
+_TAU_S = "\u03c4" + sub("s")
 _EPS_S = "\u03b5\u00b7" + _S_I
-_TAU_I, _TAU_J = "\u03c4" + _sub("i"), "\u03c4" + _sub("j")
+_TAU_I, _TAU_J = "\u03c4" + sub("i"), "\u03c4" + sub("j")
 _D_IJ = _el("D", "ij")
-_QDD_I, _QDD_J = "q\u0308" + _sub("i"), "q\u0308" + _sub("j")
+_QDD_I, _QDD_J = "q\u0308" + sub("i"), "q\u0308" + sub("j")
 
 
 def _int(v):
@@ -116,7 +704,7 @@ def inertia_check_text(check: InertiaCheck | Mapping[str, Any] | None) -> str:
         check = InertiaCheck.from_attrs(check)
     if check is None:
         return ""
-    d_s = "D" + _sub("s")
+    d_s = "D" + sub("s")
     where = ("over the joint-limit region" if check.where == "region" else
              "over the trajectory's bounding box of joint positions")
     if check.proved:
@@ -330,7 +918,7 @@ def _recursive_text(s, eps, floor):
     text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
             f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
             "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
-            "shared. The torque is linear in the base parameters, \u03c4 = Y" + _sub("b")
+            "shared. The torque is linear in the base parameters, \u03c4 = Y" + sub("b")
             + " \u03b2; each parameter's contribution splits into an inertial part (in "
             "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
     if dropped == 0:

@@ -19,38 +19,1304 @@ attributes. The report has these parts:
 6. optionally, a payload sweep (:func:`gd_analyze.jobs.payload.payload_sweep`): share_tran and class
    of every element vs payload (:func:`gd_analyze.report.figures.payload_figure`).
 
+One module for the report's figures (:func:`make_sweep_figures`), its words and tables
+(:func:`sweep_context`) and what it says of the merged model (:func:`merged_claim`).
+
 ``sweep_report.html`` has no external resources (inline SVG figures, inline style sheet; the
 Jinja2 template is ``templates/sweep_report.html.j2``). ``sweep_report.pdf`` is typeset by
 Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 """
 
-
 from __future__ import annotations
 
 import functools
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from ..ranking.ranking import ROUND_OFF
+import numpy as np
+
+from .._version import VERSION as __version__
+from ..ranking.ranking import (
+    CLASSES,
+    ROUND_OFF,
+    ROUND_OFF_CLAUSE,
+    arm_scales,
+    element_label,
+    is_round_off,
+    joint_units_text,
+)
 from ..store.schema import open_sweep
-from ..store.sweep_view import PayloadSweep, StoredSweep
+from ..store.sweep_view import REQUIRED, MergedModel, PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
-from .common import check_formats
+from .common import attr_text as _text
+from .common import (
+    check_formats,
+    cost_table,
+    count,
+    fmt_column,
+    grid_shape,
+    pct_column,
+    torque_units,
+    units_said_once,
+    utc_now,
+)
+from .common import fmt as _fmt
+from .common import gridspec as _gridspec
+from .common import pct as _pct
+from .common import share as _share_text
+from .common import table as _table
 from .drawing import draw_figures, html_document, write_documents
+from .figures import CLASS_LETTER as _LETTER
+from .figures import payload_figure
+from .main_provenance import gravity_row, run_row, software_row
+from .main_text import gravity_clause, model_sentence
+from .markup import ROT as _ROT
+from .markup import TRAN as _TRAN
+from .markup import element as _el
+from .markup import label as _math
+from .markup import scope as scope_markup
+from .markup import sub as _sub
 from .numbers import decade_label
 from .sections import Outline
-from .sweep_figures import make_sweep_figures
-from .sweep_text import SHARE_TEXT, SWEEP_CAPTIONS
-from .sweep_text import sweep_context as _context
+from .simplified_section import region_pruning
+from .ticks import decade_formatter
 from .typeset import PAPER, TABLE_COLOURS
 
-if TYPE_CHECKING:                       # for the type hints only
+if TYPE_CHECKING:
     import os
 
     import xarray as xr
+    from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
+
+__all__ = ["make_sweep_figures", "error_marks", "REQUIRED", "KEPT", "ERROR_FLOOR", "merged_claim",
+           "coverage", "sweep_context", "SWEEP_REPORT_FORMATS", "write_sweep_report"]
+
+# The choices of the merged model in the colours of their classes.
+_CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
+                   "both": _CLASS_COLOURS["both"], "none": _CLASS_COLOURS["negligible"],
+                   "pruned": TABLE_COLOURS["pruned"]}
+#: Panel titles: the part of the element the merged model keeps, said as such ("D16
+#: → rot" would read as a class).
+KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
+        "pruned": "pruned"}
+_OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
+#: Width of every figure: the text of a page [in]; the column versions' [in].
+_PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
+#: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
+ERROR_FLOOR = ROUND_OFF
+
+
+#: The reports' rule for round-off, in words (:func:`gd_analyze.ranking.ranking.is_round_off`).
+ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or 64 \u03b5 of the arm's"
+#: The rule for a torque error's round-off, in words (:func:`torque_error_round_off`).
+TORQUE_ROUND_OFF_WORDS = f"at most {decade_label(ROUND_OFF)} of its own scale or of the arm's"
+
+
+def torque_error_round_off(ds: MergedModel | xr.Dataset, peak: ArrayLike, tau_peak: ArrayLike
+                           ) -> np.ndarray:
+    """Whether a torque error is round-off: at most 1e-12 (:data:`ROUND_OFF`) of the joint's
+    own peak |tau| or of the arm's (the largest peak |tau| among the joints of the same type,
+    :func:`gd_analyze.ranking.ranking.arm_scales`).
+
+    The arm's term is :func:`gd_analyze.ranking.ranking.is_round_off`'s 64 machine
+    epsilons raised to 1e-12 for an explicit model's error: its terms carry the rounding of
+    the robot file's decimals, not only the arithmetic's. The UR5's URDF writes pi/2 as
+    1.57079632679, which tilts three joint axes by 4.9e-12 rad; the merged model drops the
+    couplings this adds to joints 5 and 6 (1.6e-11 N m against the arm's 64 N m, 2.5e-13 of
+    it), and with pi/2 exact the same sweep's error there is 2e-16 N m.
+
+    Parameters
+    ----------
+    ds : MergedModel or xarray.Dataset
+        The sweep's merged model (:class:`gd_analyze.store.sweep_view.MergedModel`), or the sweep
+        (for the joint types).
+    peak, tau_peak : array_like, shape (n,) or (K, n)
+        Peak error and peak |tau| per joint (per trajectory if 2-D), in N m or N.
+
+    Returns
+    -------
+    ndarray of bool, the shape of ``peak``
+    """
+    peak, tau_peak = np.asarray(peak, float), np.asarray(tau_peak, float)
+    units = torque_units(ds)
+    arm = (arm_scales(tau_peak, units) if tau_peak.ndim == 1 else
+           np.array([arm_scales(row, units) for row in tau_peak]))
+    return is_round_off(peak, tau_peak, arm_scale=arm) | is_round_off(peak, arm)
+
+
+def _thresholds(w):
+    """s and e as stored (NaN where missing)."""
+    st = w.settings
+    return tuple(float(np.nan if v is None else v)
+                 for v in (st.dominance_threshold, st.negligible_threshold))
+
+
+def _fraction_text(fractions):
+    parts = [f"{_LETTER[c]} {100 * f:.0f}%" if f >= 0.01 else f"{_LETTER[c]} {100 * f:.1g}%"
+             for c, f in zip(CLASSES, fractions) if f > 0]
+    return " \u00b7 ".join(parts)
+
+
+def _share_axes(ax):
+    """A share panel's axes: the share [1] from 0 to 1, ticks at 0, 0.5 and 1, no x ticks."""
+    ax.set_xlim(-0.6, 0.8)
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xticks([])
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.yaxis.set_major_formatter("{x:.2g}")
+    ax.tick_params(length=2.0, pad=1.5)
+
+
+def _zero_share_panel(ax, label, merged):
+    """An element that is round-off on every trajectory: no share (it would be noise)."""
+    ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
+            fontsize=10, color="0.35")
+    _share_axes(ax)
+    ax.grid(False)
+    ax.set_title(f"{_math(label)}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
+
+
+def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_lines=False):
+    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
+    trajectories on which the element is round-off (``zero``) are left out of the box."""
+    if zero is not None:
+        if zero.all():
+            return _zero_share_panel(ax, label, merged)
+        values = values[~zero]
+    ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
+    ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
+    for y in (s, 1.0 - s):
+        ax.axhline(y, color="0.35", lw=0.6, ls="--")
+    finite = values[np.isfinite(values)]
+    if finite.size:
+        bp = ax.boxplot([finite], positions=[0.0], widths=0.55, whis=(0, 100), showfliers=False,
+                        patch_artist=True, manage_ticks=False)
+        for box in bp["boxes"]:
+            box.set(facecolor="white", edgecolor="black", linewidth=0.8)
+        for key in ("whiskers", "caps"):
+            for line in bp[key]:
+                line.set(color="black", linewidth=0.7)
+        for line in bp["medians"]:
+            line.set(color=_CHOICE_COLOURS.get(merged, "black"), linewidth=1.6)
+        if finite.size <= 60:
+            jitter = np.linspace(-0.18, 0.18, finite.size) if finite.size > 1 else [0.0]
+            ax.plot(np.asarray(jitter) + 0.45, finite, ".", ms=2.0, color="0.3")
+    else:
+        ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center", va="center")
+    _share_axes(ax)
+    ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
+                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5,
+                 linespacing=1.0)           # a narrow panel: two lines
+    ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
+                  color="0.15")
+
+
+def _shares(w):
+    """What the share figures draw: n, the elements' labels, share_tran (K, M), the merged
+    choice by label, the class fractions (M, C), the round-off marks (K, M) and s."""
+    labels = list(w.elements)
+    return (w.joints, labels, w.share_tran, dict(zip(labels, w.merged.choice)),
+            w.class_fraction, w.round_off, _thresholds(w)[0])
+
+
+def _key_text(w, K):
+    s, e = _thresholds(w)
+    return textwrap.fill(
+        f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
+        f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
+        f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
+        f"rotational. Title: element and the part the merged model keeps (keeps tran, "
+        f"keeps rot, keeps both, or dropped"
+        + ("; pruned: changed by dropped base-parameter parts" if "pruned" in
+           w.merged.choice else "") + "). Bottom: fraction of "
+        f"trajectories per class (T translational, R rotational, B both, N negligible, "
+        f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
+        f"trajectory, no share drawn; on the trajectories where an element is round-off its "
+        f"share is left out of the box. Grey dots: the share on each trajectory, one dot per "
+        f"trajectory (up to 60).", 52)
+
+
+def _fig_D(w, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+
+    if width < _PAGE_WIDTH:
+        return _fig_D_column(w, width)
+    n, labels, share, merged, frac, zero, s = _shares(w)
+    W = _PAGE_WIDTH
+    H = 0.98 + n * 0.56 + (n - 1) * 0.46                # titles of two lines
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.46)
+    for i in range(n):
+        for j in range(i, n):
+            label = element_label("D", i, j)
+            k = labels.index(label)
+            ax = fig.add_subplot(gs[i, j])
+            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                         zero=zero[:, k], two_lines=True)
+            ax.tick_params(labelleft=(i == j))
+    if n > 1:
+        k = n // 2
+        lax = fig.add_subplot(gs[k:, :k])
+        lax.axis("off")
+        lax.text(0.0, 0.9, _key_text(w, w.trajectories), transform=lax.transAxes,
+                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
+    fig.suptitle("Translational share of the elements of D over the sweep "
+                 "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
+    return fig
+
+
+def _fig_D_column(w, W):
+    """The share boxes of D in reading order, three a row, the key below (a column)."""
+    from matplotlib.figure import Figure
+
+    n, labels, share, merged, frac, zero, s = _shares(w)
+    elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    cols = 3
+    rows = -(-len(elements) // cols)
+    H = 0.74 + rows * 1.08 + 1.55           # titles of two lines
+    fig = Figure(figsize=(W, H))
+    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.74, bottom=1.75, wgap=0.3,
+                   hgap=0.55)
+    for m, label in enumerate(elements):
+        k = labels.index(label)
+        ax = fig.add_subplot(gs[m // cols, m % cols])
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
+                     zero=zero[:, k], two_lines=True)
+        ax.tick_params(labelleft=(m % cols == 0))
+    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(w, w.trajectories)
+                                             .replace("\n", " "), 68),
+             va="top", ha="left", fontsize=7, linespacing=1.25)
+    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
+    fig.suptitle("Translational share of the elements of D\nover the sweep (layout of Fig. "
+                 "3.10)", y=1 - 0.08 / H, va="top", fontsize=9)
+    return fig
+
+
+def _fig_h(w, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+
+    n, labels, share, merged, frac, zero, s = _shares(w)
+    column = width < _PAGE_WIDTH
+    rows, cols = grid_shape(n, 2 if column else 3)
+    W = width
+    H = (2.3 + 1.6 * rows) if column else (2.45 + 1.55 * rows)
+    fig = Figure(figsize=(W, H))
+    # the key below the panels takes up to six lines at the printed 8 pt, under the last
+    # row's tick and class labels
+    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.55 if column else 0.5,
+                   bottom=1.75, wgap=0.6, hgap=0.5)
+    for i in range(n):
+        label = element_label("h", i)
+        k = labels.index(label)
+        ax = fig.add_subplot(gs[i // cols, i % cols])
+        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
+                     zero=zero[:, k])
+        ax.set_ylabel("translational share [1]")
+    key = textwrap.fill(_key_text(w, w.trajectories).replace("\n", " "),
+                        68 if column else 120)
+    fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",
+             fontsize=7.0, linespacing=1.25 if column else 1.3)
+    fig.suptitle("Translational share of the elements of h over the sweep "
+                 "(layout of Fig. 3.11)" if not column else
+                 "Translational share of the elements of h\nover the sweep (layout of Fig. "
+                 "3.11)", y=1 - 0.15 / H if not column else 1 - 0.08 / H, va="top",
+                 fontsize=None if not column else 9)
+    return fig
+
+
+def _fig_classes(w, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+
+    labels = list(w.elements)
+    frac = w.class_fraction
+    merged = list(w.merged.choice)
+    M = len(labels)
+    column = width < _PAGE_WIDTH
+    W, H = width, (1.9 if column else 1.5) + (0.17 if column else 0.14) * M
+    fig = Figure(figsize=(W, H))
+    ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
+                       (W - (1.4 if column else 2.6)) / W,
+                       (H - (1.6 if column else 1.4)) / H))
+    y = np.arange(M)
+    left = np.zeros(M)
+    for c_idx, cls in enumerate(CLASSES):
+        ax.barh(y, frac[:, c_idx], left=left, color=_CLASS_COLOURS[cls], height=0.75,
+                label=cls, edgecolor="white", linewidth=0.3)
+        left += frac[:, c_idx]
+    ax.set_yticks(y, [_math(lab) for lab in labels])
+    ax.set_ylim(M - 0.5, -0.5)
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("fraction of trajectories [1]")
+    ax.grid(axis="y", visible=False)
+    for k, ch in enumerate(merged):
+        ax.text(1.02, k, f"merged: {ch}", transform=ax.get_yaxis_transform(), va="center",
+                ha="left", fontsize=7, color=_CHOICE_COLOURS.get(ch, "black"))
+    fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
+               loc="lower center", ncol=2 if column else 4, frameon=False,
+               bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
+    fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
+                 f"{w.trajectories} trajectories",
+                 y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
+    return fig
+
+
+def error_marks(ds: StoredSweep | xr.Dataset
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """What the torque-error figure draws: the relative peak torque errors of the own and
+    the merged models per trajectory and joint, and of the merged model over all
+    trajectories, round-off (:func:`torque_error_round_off`) set to 0.
+
+    Parameters
+    ----------
+    ds : StoredSweep or xarray.Dataset
+        The stored sweep (K trajectories, n joints).
+
+    Returns
+    -------
+    own, merged : ndarray, shape (K, n)
+        Peak error / that trajectory's peak |tau| [1] (/ the merged model's s_i over the
+        region for a region model).
+    overall : ndarray, shape (n,)
+        The merged model's peak error over all trajectories / the peak |tau| over all of them
+        [1] (/ the largest s_i for a region model).
+    region : bool
+        Whether every mark is relative to the merged model's s_i over the region.
+    """
+    w = StoredSweep.of(ds)
+    m = w.merged
+    own = np.asarray(w.tau_error_relative_peak, float)
+    merged = np.asarray(w.merged_tau_error_relative_peak, float)
+    overall = np.asarray(w.merged_error_relative_peak, float)
+    region = bool(m.region and m.scale is not None)
+    if region:                  # one scale for every mark: the merged model's s_i (region)
+        s_i = np.asarray(m.scale, float)          # (K, n): the same rows
+        s_i = np.where(s_i > 0, s_i, np.inf)
+        own = np.asarray(w.tau_error_peak, float) / s_i
+        overall = np.asarray(w.merged_error_peak, float) / s_i.max(axis=0)
+    tau = w.tau_peak
+    own = np.where(torque_error_round_off(m, w.tau_error_peak, tau), 0.0, own)
+    merged = np.where(torque_error_round_off(m, w.merged_tau_error_peak, tau), 0.0,
+                      merged)
+    overall = np.where(torque_error_round_off(m, w.merged_error_peak,
+                                              w.merged_error_tau_peak), 0.0, overall)
+    return own, merged, overall, region
+
+
+def _fig_error(w, width=_PAGE_WIDTH):
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullFormatter
+
+    m = w.merged
+    n = w.joints
+    own, merged, overall, region = error_marks(w)
+    column = width < _PAGE_WIDTH
+    W, H = width, (3.9 if column else 3.1)
+    fig = Figure(figsize=(W, H))
+    ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
+                       (H - (2.05 if column else 1.6)) / H))
+    for j in range(n):
+        for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
+                                  (0.18, merged[:, j], _MERGED_COLOUR)):
+            vals = data[np.isfinite(data) & (data > ERROR_FLOOR)]     # round-off: not drawn
+            if not vals.size:
+                continue
+            bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
+                            showfliers=False, manage_ticks=False)
+            for key in ("boxes", "whiskers", "caps", "medians"):
+                for line in bp[key]:
+                    line.set(color=colour, linewidth=0.9)
+        if np.isfinite(overall[j]) and overall[j] > ERROR_FLOOR:
+            ax.plot(j + 1.18, overall[j], marker="D", ms=4, color="#CC79A7", ls="none")
+        finite = np.concatenate([own[:, j], merged[:, j]])
+        finite = finite[np.isfinite(finite)]
+        if finite.size and (finite <= ERROR_FLOOR).all():
+            ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
+                    ha="center", va="center", fontsize=7, color="0.35")
+    ax.set_yscale("log")
+    # decades written 10⁻⁶ in the tick labels' own size (mathtext's exponents: 0.7 of it)
+    ax.yaxis.set_major_formatter(decade_formatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.set_xticks(np.arange(1, n + 1), [f"{j + 1}" if column else f"joint {j + 1}"
+                                         for j in range(n)])
+    if column:
+        ax.set_xlabel("joint", labelpad=1.0)
+    ax.set_xlim(0.4, n + 0.6)
+    ax.set_ylabel("peak |\u0394\u03c4| / peak |\u03c4| [1]" if not region else
+                  "peak |\u0394\u03c4| / s [1]")    # one scale for all
+    own_rule, rule = m.own_rule, m.rule
+    no_bound = {"chapter": ", no bound"}
+    merged_rule = (f"budget rule, \u03b5 = {float(m.tolerance):g}"
+                   + ("; / s over the region" if region else "")
+                   if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
+    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
+                              f"{no_bound.get(own_rule, '')}"
+                              + ("; / s over the region" if region else "")
+                              + "), per trajectory"),
+                       Line2D([], [], color=_MERGED_COLOUR,
+                              label=f"merged model ({merged_rule}), per trajectory"),
+                       Line2D([], [], color="#CC79A7", marker="D", ls="none",
+                              label="merged model, over all trajectories")],
+              loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
+              ncol=1 if column else 2, frameon=False, fontsize=7)
+    fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
+                 "round-off not drawn)" if column else
+                 "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
+                 f"round-off, {TORQUE_ROUND_OFF_WORDS}, not drawn)", y=1 - 0.08 / H,
+                 va="top", fontsize=8.5)
+    return fig
+
+
+def make_sweep_figures(ds: StoredSweep | xr.Dataset,
+                       payload: PayloadSweep | xr.Dataset | None = None,
+                       column: bool = False) -> dict[str, Figure]:
+    """Make the sweep report's figures from a stored sweep.
+
+    Parameters
+    ----------
+    ds : StoredSweep or xarray.Dataset
+        The stored sweep (:class:`gd_analyze.store.sweep_view.StoredSweep`), or a sweep dataset
+        from :func:`gd_analyze.jobs.sweep.run_sweep` (K trajectories, M elements, n
+        joints).
+    payload : PayloadSweep or xarray.Dataset, optional
+        A payload sweep from :func:`gd_analyze.jobs.payload.payload_sweep`, typed
+        (:class:`gd_analyze.store.sweep_view.PayloadSweep`) or not.
+    column : bool, optional
+        Also make ``"<key>_column"``, 3.5 in wide, of ``D``, ``h``, ``classes``, ``error``
+        and (with a payload sweep) ``payload``.
+
+    Returns
+    -------
+    dict of str to matplotlib.figure.Figure
+        ``"D"``: box plots of share_tran [1] per element of D in the upper-triangle layout of
+        Fig. 3.10; ``"h"``: the same for h (Fig. 3.11); ``"classes"``: class fractions per
+        element; ``"error"``: relative peak torque error per joint of the trajectories' own
+        and of the merged model; ``"payload"`` (if given): :func:`payload_figure`.
+
+    Raises
+    ------
+    InputError
+        If a variable the figures need is missing.
+    """
+    w = StoredSweep.of(ds)
+    import matplotlib
+
+    with matplotlib.rc_context(_RC):  # type: ignore[arg-type]  # keys typed as literals
+        figs = {"D": _fig_D(w), "h": _fig_h(w), "classes": _fig_classes(w),
+                "error": _fig_error(w)}
+        if column:
+            figs.update({f"{k}_column": make(w, COLUMN_WIDTH) for k, make in
+                         (("D", _fig_D), ("h", _fig_h), ("classes", _fig_classes),
+                          ("error", _fig_error))})
+    if payload is not None:
+        figs["payload"] = payload_figure(payload)
+        if column:
+            figs["payload_column"] = payload_figure(payload, COLUMN_WIDTH)
+    return figs
+
+
+def merged_claim(ds: MergedModel | xr.Dataset) -> str:
+    """The summary's clause on the budget rule's merged model: what its error is guaranteed
+    within and where, its bound and its largest measured error.
+
+    Parameters
+    ----------
+    ds : MergedModel or xarray.Dataset
+        The budget rule's merged model (:class:`gd_analyze.store.sweep_view.MergedModel`), or a
+        sweep dataset with it.
+
+    Returns
+    -------
+    str
+        Without a leading subject ("is guaranteed within ..."); for a region model the
+        guarantee's own statement and which swept trajectories lie in the region
+        (:func:`coverage`).
+    """
+    m = MergedModel.of(ds)
+    eps = f"{float(m.tolerance):g}"
+    if m.region:
+        said = m.guarantee
+        return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "  # type: ignore[index]  # a merged model's
+                f"|{_TAU_I}| found over the region, at least {_floor(m)}); "
+                f"{_bound_clause(m)}{coverage(m)}")
+    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}), {ROUND_OFF_CLAUSE}, "
+             "on every swept "
+             f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
+             f"{_floor(m)})); {_bound_clause(m)}its largest "
+             f"measured peak error is "
+             f"{_pct(m.worst_scaled_error)} of {_SI}")
+    beyond = m.beyond_floor
+    if beyond is not None:
+        rel, j, over = beyond
+        claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
+                  f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
+                  f"\u03b5 on joint{'s' if len(over) > 1 else ''} "
+                  f"{', '.join(map(str, over))})")
+    return claim
+
+
+def coverage(ds: MergedModel | xr.Dataset) -> str:
+    """Which swept trajectories a region model's proof covers, and its largest measured error
+    there, as a clause (:func:`gd_analyze.store.sweep_guarantee.merged_guarantee`); the ones
+    outside the region are named, at most five, with why.
+
+    Parameters
+    ----------
+    ds : MergedModel or xarray.Dataset
+        A merged model proved over the joint-limit region, or a sweep dataset with it.
+
+    Returns
+    -------
+    str
+        E.g. "every one of the 20 swept trajectories lies in the region, where its largest
+        measured peak error is 0.02 % of s_i".
+    """
+    said = MergedModel.of(ds).guarantee
+    K, outside = len(said["covered"]), said["outside"]  # type: ignore[index]  # a merged model's
+    inside = K - len(outside)
+    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"  # type: ignore[index]  # a merged model's
+    if not outside:
+        return (f"every one of the {count(K)} swept trajector{'y' if K == 1 else 'ies'} lies "
+                f"in the region, where {worst}")
+    named = "; ".join(f"{src}: {why}" for src, why, _ in outside[:5]) + (
+        "" if len(outside) <= 5 else f"; and {count(len(outside) - 5)} more (merged_covered in "
+                                     "sweep.h5)")
+    there = (f"{count(inside)} of the {count(K)} swept trajectories lie in the region, where "
+             f"{worst}" if inside else f"none of the {count(K)} swept trajectories lies in the "
+                                       "region")
+    return (f"{there}; {count(len(outside))} lie{'s' if len(outside) == 1 else ''} outside it "
+            f"and {'is' if len(outside) == 1 else 'are'} not covered by the proof ({named}), "
+            f"where its error reaches {_pct(max(w for _, _, w in outside))} of {_SI}")
+
+
+def _acts_on(m):
+    """Where the recursive merged model's pairs were judged, in words."""
+    return "the joint-limit region" if m.region else "the swept trajectories"
+
+
+def _region_rule(m):
+    """How a region model was built and what it guarantees, for Sec. 5: the main report's
+    words on pruning over the region (:func:`gd_analyze.report.simplified_section.region_pruning`),
+    the guarantee's statement and the swept trajectories it covers."""
+    eps = f"{float(m.tolerance):g}"
+    statement = scope_markup(str(m.guarantee_statement))
+    head = (f"One model for the whole sweep, by the budget rule (\u03b5 = {eps}) over the "
+            "robot's joint-limit region (its position, velocity and acceleration limits), as "
+            "the main job builds it: the region does not depend on the trajectories. ")
+    if m.form != "recursive":
+        how = ("It is the exact explicit G-D model (nothing dropped, bound 0), which holds at "
+               "every state of the region. ")
+    elif int(0 if m.pairs_dropped is None else m.pairs_dropped):
+        how = ("It is the customized recursive Newton-Euler model on the base inertial "
+               "parameters. " + region_pruning(int(m.pairs), int(m.pairs_dropped),
+                                               bound=f"at most {_worst_bound(m)}") + " ")
+    else:
+        how = ("It is the exact customized recursive Newton-Euler model on the base inertial "
+               "parameters: no pair fits the budget by its proved bound, nothing is dropped. ")
+    return (head + how + f"The model's guarantee: {statement}. On the sweep, "
+            + coverage(m) + ".")
+
+
+def _merged_rule(m):
+    """The merged model's rule, the heading of its section and its description, in words that
+    follow the rule: a bound only for the budget rule."""
+    rule = m.rule
+    if rule == "budget" and m.region:
+        eps = f"{float(m.tolerance):g}"
+        return rule, (f"5. Merged model (budget rule over the joint-limit region, \u03b5 = "
+                      f"{eps}) and its torque error"), (
+            _region_rule(m) + " " + _keeps(m) + " " + _cost_sentence(m, table=True))
+    if rule == "budget":
+        eps = f"{float(m.tolerance):g}"
+        recursive = m.form == "recursive"
+        what = ("One customized recursive Newton-Euler model on the base inertial parameters "
+                "for the whole sweep, by the budget rule: the peak contribution of every (base "
+                "parameter, part) pair (inertial, velocity, gravity), computed per trajectory "
+                "by the dask workers," if recursive else
+                "One explicit model for the whole sweep, by the budget rule: every term's peak "
+                "contribution")
+        return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
+            f"{what} on each trajectory is divided by that trajectory's {_SI} = "
+            f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} are "
+            f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
+            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI}, "
+            f"{ROUND_OFF_CLAUSE}, on every swept trajectory (not on others)"
+            + ("; the bound on each trajectory, "
+               + ("the sum of the dropped pairs' peaks there" if recursive else
+                  f"the sum of the dropped terms' largest ratios times its {_SI}")
+               + f", is stored per trajectory and joint in sweep.h5 and is at most "
+               f"{_worst_bound(m)}. "
+               if m.bound is not None else ". ")
+            + _keeps(m) + ("" if recursive else " The budget weighs single terms too, so a "
+                            "part it keeps may lose some of its terms.") + " "
+            + _cost_sentence(m, table=True))
+    return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
+        _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
+                       "guaranteed. " + _keeps(m) + " " + _cost_sentence(m, table=True))
+
+
+def _keeps(m):
+    """What the merged model keeps of D, h and c, in the words of the main and the control
+    reports (:func:`gd_analyze.report.main_text.model_sentence`), from the stored choices and
+    counts of its terms of c (:func:`gd_analyze.jobs.sweep_merged.with_model_cost`)."""
+    rule = m.rule
+    if m.form == "recursive":
+        text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
+                              trajectory=_acts_on(m))
+        pruned = [lab for lab, c in zip(m.elements, m.choice) if c == "pruned"]
+        return text.replace("The simplified model", "The merged model", 1) + (
+            " It computes every element of D and h as a sum over the base parameters; "
+            + (f"the dropped parts change {len(pruned)} of them on the swept trajectories "
+               f"({', '.join(pruned)}: choice \u201cpruned\u201d in the tables), the others "
+               "are exact (\u201cboth\u201d)." if pruned else
+               "the dropped parts change none of them on the swept trajectories beyond "
+               "round-off (choice \u201cboth\u201d in the tables)."))
+    kept, full = m.c_terms_kept, m.c_terms
+    gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+    text = model_sentence(choice=list(m.choice), gravity=gravity)
+    return text.replace("The simplified model", "The merged model", 1)
+
+
+def _pairs(m):
+    """A recursive merged model's (base parameters, pairs dropped, pairs), as stored."""
+    return int(m.base_parameters), int(m.pairs_dropped), int(m.pairs)
+
+
+def _recursive_gravity(m):
+    """gravity_clause of a recursive merged model, from the names stored with it."""
+    names = [x.strip() for x in m.gravity_dropped.split(",")]
+    return gravity_clause("budget", gravity_dropped=[x for x in names if x])
+
+
+def _recursive_clause(m):
+    """What a recursive merged model is and drops, for the summary: "is the ... model on 36
+    base parameters and drops 5 of the 80 (parameter, part) pairs that act on the swept
+    trajectories" (on the joint-limit region, for a region model)."""
+    b, dropped, pairs = _pairs(m)
+    head = f"is the customized recursive Newton-Euler model on {b} base parameters"
+    if dropped == 0:
+        return head + ", exact: it drops nothing"
+    return (f"{head} and drops {dropped} of the {pairs} (parameter, part) pairs that act on "
+            f"{_acts_on(m)}")
+
+
+def _worst_bound(m):
+    """The largest guaranteed bound over the trajectories relative to their s_i, in words
+    ("0.41 % of s_i (joint 2)", "0 (nothing dropped contributes)"); None without
+    merged_bound."""
+    if m.bound is None or m.scale is None:
+        return None
+    bound = np.asarray(m.bound, float)
+    scale = np.asarray(m.scale, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(bound > 0, bound / scale, 0.0)
+    rel = np.where(np.isfinite(rel), rel, np.inf)
+    if not rel.size or not rel.max() > 0:
+        return "0 (nothing dropped contributes)"
+    k, j = np.unravel_index(np.argmax(rel), rel.shape)
+    return f"{_pct(rel[k, j])} of {_SI} (joint {j + 1})"
+
+
+def _bound_clause(m):
+    """The summary's clause on the bound per trajectory ("its bound there is at most 0.41 %
+    of s_i (joint 2), "); "" without merged_bound."""
+    worst = _worst_bound(m)
+    if worst is None:
+        return ""
+    return f"its bound is at most {worst}; " if m.region else \
+        f"its bound there is at most {worst}, "
+
+
+def _held_out(m):
+    """The merged model's largest error on the held-out trajectories (measured, not
+    guaranteed by the sweep; a region model's proof covers those in its region), relative to
+    their max(peak |tau_i|, floor), or to s_i over the region for a region model, as a
+    sentence; "" if none."""
+    if m.held_out_error_peak is None:
+        return ""
+    peak = np.asarray(m.held_out_error_peak, float)
+    tau = np.asarray(m.held_out_tau_peak, float)
+    floor = m.torque_floor
+    region = m.region
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = peak / (np.asarray(m.scale, float)[0] if region else
+                      np.maximum(tau, floor))
+    rel = np.where(torque_error_round_off(m, peak, tau) | ~np.isfinite(rel), 0.0, rel)
+    j = int(np.argmax(rel))
+    k = m.held_out_trajectories
+    scale = (f"peak |{_TAU_I}| over them" if floor == 0 else
+             f"max(peak |{_TAU_I}| over them, {_floor(m)})")
+    head = f"On {count(k)} held-out random trajector{'y' if k == 1 else 'ies'} (another seed, " \
+        "not swept) the merged model's error is measured"
+    if region:
+        inside = m.held_out_inside_region
+        return (f"{head}: at most {_pct(rel[j])} of {_SI} (joint {j + 1}); {count(inside)} of "
+                f"them lie{'s' if inside == 1 else ''} in the region, where its bound is "
+                "proved. ")
+    return (f"{head}, not guaranteed: at most "
+            f"{_pct(rel[j])} of {scale} (joint {j + 1}). ")
+
+
+def _cost_sentence(m, table=False):
+    """The merged model's operations per set point against the exact recursive model, the full
+    explicit model and Newton-Euler, counted on the models (stored by
+    :func:`gd_analyze.jobs.sweep_merged.with_model_cost`), with a word on why where it
+    costs more than one of them; "" for a file without the counts."""
+    if m.costs is None:
+        return ""
+    names = list(m.costs.evaluators)
+    ops = dict(zip(names, (m.costs.multiplications + m.costs.additions).tolist()))
+    mine = ops[names[0]]
+    mul, add = int(m.costs.multiplications[0]), int(m.costs.additions[0])
+    others = [(n, ops[n]) for n in names[1:]]
+    text = (f"It costs {count(mine)} operations per set point ({count(mul)} multiplications, "
+            f"{count(add)} additions); " + ", ".join(f"{n}: {count(o)}" for n, o in others)
+            + (" (Table 5.2, counted, not timed)." if table else "."))
+    recursive, full = ops.get("exact recursive model"), ops.get("full explicit model")
+    if (recursive is not None and mine > recursive and names[0].endswith("(explicit form)")
+            and m.rule == "chapter"):
+        text += (" It costs more than the exact recursive model: the chapter rule's merge "
+                 "keeps parts of the explicit model's elements, so it is of the explicit form "
+                 "only.")
+    if full is not None and mine > full:
+        text += (" It costs more than the full explicit model: where an element keeps one "
+                 "part, its coefficients are that part's, not the sum of both, so the code "
+                 "generator's factoring finds less to share"
+                 + ("; the chapter rule has no fallback to the full model."
+                    if m.rule == "chapter" else "."))
+    return text + " "
+
+
+def _floor(m):
+    """The torque floor with the units of every joint type ("0 N m", or "0 N m (joints 1, 2),
+    0 N (joint 3)" on a mixed arm)."""
+    floor = f"{m.torque_floor:g}"
+    return joint_units_text([f"{floor} {u}" for u in torque_units(m)])
+
+
+def _models(m):
+    """What the own and the merged models are, and which carries a guarantee, in words
+    generated from the dataset's rules: (own, merged)."""
+    own_rule, rule = m.own_rule, m.rule
+    bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
+             "budget": "guaranteed within \u03b5\u00b7" + _SI + f", {ROUND_OFF_CLAUSE}, on its "
+                       "own trajectory"}
+    own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
+    if rule == "budget" and m.region:
+        merged = (f"the merged model (budget rule, \u03b5 = "
+                  f"{float(m.tolerance):g}: "
+                  f"{scope_markup(str(m.guarantee_statement))})")
+    elif rule == "budget":
+        merged = (f"the merged model (budget rule, \u03b5 = "
+                  f"{float(m.tolerance):g}: guaranteed within "
+                  f"\u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept trajectory)")
+    else:
+        merged = "the merged model (chapter rule: no error bound)"
+    return own, merged
+
+
+_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
+                "element, both if neither dominates, nothing if negligible). The merged model is "
+                "one model for the whole sweep: a part of an element is dropped only where every "
+                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
+                "never a term of gravity: \u03c4" + _sub("s") + " = D" + _sub("s")
+                + " q\u0308 + h" + _sub("s") + " + c.")
+_SI = "s" + _sub("i")
+_TAU_I = "\u03c4" + _sub("i")
+
+
+#: The merged model's choices per element, in the words of Table 4.1 and the counts line.
+_CHOICES = ("tran", "rot", "both", "none")
+
+
+# --------------------------------------------------------------------------------------------
+# Content shared by the HTML and the PDF
+# --------------------------------------------------------------------------------------------
+
+def sweep_context(ds: StoredSweep | xr.Dataset,
+                  payload: PayloadSweep | xr.Dataset | None = None) -> dict[str, Any]:
+    """Everything the sweep report says, from the stored sweep (and payload sweep): the
+    tables, the summary, the captions and the sentences about the models.
+
+    Parameters
+    ----------
+    ds : StoredSweep or xarray.Dataset
+        The stored sweep (:class:`gd_analyze.store.sweep_view.StoredSweep`), or a sweep dataset
+        (:func:`gd_analyze.jobs.sweep.run_sweep`).
+    payload : PayloadSweep or xarray.Dataset, optional
+        A payload sweep (:func:`gd_analyze.jobs.payload.payload_sweep`), typed
+        (:class:`gd_analyze.store.sweep_view.PayloadSweep`) or not.
+
+    Returns
+    -------
+    dict
+        The report's context, the same for the HTML and the PDF.
+
+    Raises
+    ------
+    InputError
+        If a dataset lacks a variable the report needs.
+    """
+    w = StoredSweep.of(ds)
+    m, st = w.merged, w.settings
+    K = w.trajectories
+    n = w.joints
+    labels = list(w.elements)
+    frac = w.class_fraction
+    merged = list(m.choice)
+    s, e = _thresholds(w)
+    robot = _text(st.robot)
+    kind = str("" if st.input_kind is None else st.input_kind)
+    if kind == "random" and st.seed is not None:
+        inputs = f"{K} random quintic trajectories (seed {_text(st.seed)})"
+    else:
+        inputs = f"{K} trajectories ({kind or 'given'})"
+    durations = w.duration
+    setpoints = w.setpoints
+    settings = _settings(w, inputs, setpoints, durations, __version__)
+    zero = np.asarray(w.round_off.all(axis=0) if w.round_off_stored
+                      else np.zeros(len(labels), bool), bool)
+    envelope = _table(
+        ["element", "translational", "rotational", "both", "negligible", "min share",
+         "median share", "max share", "merged choice"],
+        [[lab, *(f"{f:.3f}" for f in frac[k]),
+          *(_share(spread[k], zero[k]) for spread in (w.share_min, w.share_median,
+                                                      w.share_max)),
+          merged[k]] for k, lab in enumerate(labels)],
+        align=["left"] + ["right"] * 7 + ["left"], colour_cols=[8])
+    units = torque_units(m)
+    merged_off = torque_error_round_off(m, w.merged_error_peak, w.merged_error_tau_peak)
+    rel_peak = pct_column(w.merged_error_relative_peak, merged_off)   # one format
+    rel_rms = pct_column(w.merged_error_relative_rms, merged_off)     # per column
+    own_worst = _own_worst(w)
+    tau_peak = fmt_column(w.merged_error_tau_peak)     # one notation per column
+    peak, rms = (fmt_column(v, off=merged_off)
+                 for v in (w.merged_error_peak, w.merged_error_rms))
+    err = _table(
+        ["joint", "peak |\u03c4|", "peak error", "RMS error",
+         "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|",
+         f"own models, {m.own_rule} rule (worst)", "units"],
+        [[str(j + 1), tau_peak[j]]
+         + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
+            [peak[j], rms[j], rel_peak[j], rel_rms[j]])
+         + [own_worst[j], units[j]] for j in range(n)],
+        align=["left"] + ["right"] * 6 + ["left"])
+    counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
+              + (("pruned",) if "pruned" in merged else ())}
+    kept = sum(m != "none" for m in merged)
+    single = sum(m in ("tran", "rot") for m in merged)
+    worst = _worst_cases(w, labels)
+    rule, heading, merged_text = _merged_rule(m)
+    if rule == "budget":
+        eps = f"{float(m.tolerance):g}"
+        claim = merged_claim(m)
+        name = f"The merged model (budget rule, \u03b5 = {eps})"
+    else:
+        claim = ("has no error bound: its largest peak torque error over all trajectories is "
+                 f"{_pct(np.nanmax(w.merged_error_relative_peak))} of that joint's "
+                 f"peak |\u03c4| over all of them (joint "
+                 f"{int(np.nanargmax(w.merged_error_relative_peak)) + 1})")
+        name = "The merged model of the chapter rule"
+    summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
+               f"{inputs}, s = {s:g}, e = {e:g}. {name} "
+               + (_recursive_clause(m) if m.form == "recursive" else
+                  f"keeps both parts of {counts['both']} elements, one part of {single}, and "
+                  f"drops {len(labels) - kept}")
+               + f"; it {claim}. {_held_out(m)}{_gravity(m)}"
+               f"{_cost_sentence(m)}{_own_sentence(w)}").strip()
+    ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
+           "summary": summary, "settings": _table(["item", "value"], settings),
+           "merged_heading": heading, "merged_text": merged_text,
+           "worst": worst,
+           "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
+           "envelope": envelope, "error": err, "cost": cost_table(m.costs),
+           "error_text": _error_text(m),
+           "captions": _captions(m),
+           "figure_text": _figure_text(w, zero, counts),
+           "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
+           "K": K,
+           "created": utc_now().isoformat(),
+           "payload": None}
+    if payload is not None:
+        part = PayloadSweep.of(payload)
+        masses = part.masses
+        plabels = list(part.elements)
+        dom = part.dominance.reshape(part.share_tran.shape)
+        rows = [[lab, *(dom[p, k] for p in range(len(masses)))] for k, lab in enumerate(plabels)]
+        changed = [lab for k, lab in enumerate(plabels) if len(set(dom[:, k])) > 1]
+        ctx["figure_text"]["payload"] = _payload_text(masses)
+        ctx["payload"] = {
+            "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
+                            colour_cols=list(range(1, len(masses) + 1))),
+            "settings": _table(["item", "value"], [
+                ("trajectory", _text(part.input_file)),
+                ("trajectory SHA-256", _text(part.input_sha256)),
+                ("payload masses [kg]", ", ".join(f"{m:g}" for m in masses)),
+                ("payload centre of mass [m]", _text(part.payload_com)),
+                ("payload inertia [kg m\u00b2]", _text(part.payload_inertia)),
+                ("s, e", f"{_text(part.dominance_threshold)}, "
+                         f"{_text(part.negligible_threshold)}")]),
+            "changed": ", ".join(changed) if changed else "none",
+        }
+    return ctx
+
+
+def _or(value, default):
+    """A stored attribute's value, or ``default`` where it is missing (None)."""
+    return default if value is None else value
+
+
+def _settings(w, inputs, setpoints, durations, version):
+    """The settings and provenance of the sweep, each once and in words
+    (:mod:`gd_analyze.report.main_provenance` rows for the software, the run and gravity)."""
+    st, m = w.settings, w.merged
+    K = w.trajectories
+    s, e = _thresholds(w)
+    batch, tasks = int(_or(st.batch_size, 0)), int(_or(st.n_tasks, 0))
+    batches = -(-K // batch) if batch else 0
+    rows = [
+        software_row(w.run, version),
+        ("command", _text(st.command)),
+        run_row(w.run),
+        ("robot", f"{_text(st.robot)}: {_text(st.robot_description)} "
+                  f"({_text(st.robot_reference)})"),
+        ("robot file", f"{_text(st.robot_source)} (SHA-256 {_text(st.robot_sha256)})"),
+        gravity_row(w.run),
+        ("dominance threshold s, negligibility threshold e", f"{s:g}, {e:g}"),
+        ("inputs", inputs),
+    ]
+    if st.input_files is not None:
+        rows.append(("input files", _text(st.input_files)))
+    rows += [
+        ("SHA-256 of all inputs", _text(st.inputs_sha256)),
+        ("set points", f"{count(_or(st.setpoints_total, '-'))} in all"
+                       + ((f" ({count(setpoints.min())} per trajectory)"
+                           if setpoints.min() == setpoints.max() else
+                           f" ({count(setpoints.min())}\u2013{count(setpoints.max())} per "
+                           "trajectory)") if setpoints.size else "")),
+        ("duration [s]", (f"{_fmt(np.min(durations))} (every trajectory)"
+                          if _fmt(np.min(durations)) == _fmt(np.max(durations)) else
+                          f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
+                          f"(median {_fmt(np.median(durations))})")),
+        ("merge rule", f"{_or(st.merged_rule, 'chapter')} rule (Sec. 5)"
+                       + (f", \u03b5 = {_text(m.tolerance)}, torque floor "
+                          f"{_floor(m)}"
+                          if m.tolerance is not None else "")),
+        ("payload on the last link", f"{_text(st.payload_mass, '0')} kg"
+         if float(_or(st.payload_mass, 0.0) or 0.0) else "none"),
+    ]
+    if m.guarantee_statement is not None:        # the merged model's scope
+        rows.append(("guarantee of the merged model",
+                     f"{_text(m.guarantee_kind)} kind: "
+                     + scope_markup(_text(m.guarantee_statement))))
+    if st.random_qdd_max_source is not None:
+        rows.append(("random accelerations limited by",
+                     {"robot": "the robot's acceleration limits"}.get(
+                         str(st.random_qdd_max_source),
+                         _text(st.random_qdd_max_source))))
+    rows += [
+        ("computed on", f"{_text(st.cluster)} (the {K} trajectories in {batches} "
+                        f"batch{'es' if batches != 1 else ''}: ranked, and the merged model "
+                        "built and checked on every trajectory, in the process of the command)")
+        if not int(_or(st.n_workers, 1)) else
+        ("computed on", f"dask, {_text(st.cluster)} ({_text(st.n_workers)} "
+                        f"worker{'s' if str(st.n_workers) != '1' else ''} "
+                        f"joined; scheduler at {_text(st.scheduler_address)}); {tasks} "
+                        f"tasks (the {K} "
+                        f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
+                        f"at most {batch}, "
+                        + ("each batch once to rank and once to check the merged model"
+                           + (f"; {tasks - 2 * batches} more to check it on the held-out "
+                              "trajectories" if tasks > 2 * batches else "") + ")"
+                           if tasks > batches else
+                           "each batch once to rank and to find the peaks of the recursive "
+                           "model's contributions; the merged model was built and checked on "
+                           "the client)")),
+        ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
+    ]
+    rows += [(key.replace("_", " "), _text(value)) for key, value in st.others]
+    return rows
+
+
+def _gravity(m):
+    """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
+    "" where the dataset does not count them."""
+    rule = m.rule
+    if rule == "budget" and m.form == "recursive":
+        return f"It {_recursive_gravity(m)}. "
+    kept, full = m.c_terms_kept, m.c_terms
+    if rule == "budget" and min(kept, full) < 0:
+        return ""
+    return f"It {gravity_clause(rule, c_terms=(kept, full))}. "
+
+
+def _share(value, zero):
+    """A share of the envelope as printed: "\u2261 0" for an element that is round-off on
+    every trajectory (its share is noise: NaN in the dataset), else four decimals."""
+    return "\u2261 0" if zero or not np.isfinite(value) else _share_text(value)
+
+
+def _own_worst(w):
+    """The largest relative peak torque error of the trajectories' own models per joint, as
+    one column in one format (:func:`gd_analyze.report.common.pct_column`): round-off of that
+    trajectory's peak |\u03c4| counted as 0, "\u2261 0" where it is round-off on every
+    trajectory (:func:`gd_analyze.ranking.ranking.is_round_off`)."""
+    rel = np.asarray(w.tau_error_relative_peak, float)
+    off = torque_error_round_off(w.merged, w.tau_error_peak, w.tau_peak)
+    rel = np.where(off, 0.0, rel)
+    worst = np.array([np.nanmax(col) if np.isfinite(col).any() else np.nan for col in rel.T])
+    return pct_column(worst, off.all(axis=0))
+
+
+def _worst_cases(w, labels):
+    """The sweep's worst cases, first: trajectories with the largest merged-model error, and
+    the elements whose share_tran varies most over the trajectories."""
+    m = w.merged
+    rel = w.merged_tau_error_relative_peak          # (K, n)
+    sources = w.sources
+    per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
+    order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
+    parts = []
+    for k in order:
+        j = int(np.nanargmax(rel[k]))
+        scale = (f"{_SI} over the region" if m.region
+                 else f"its own {_SI}" if m.scale is not None else "its own peak |τ|")
+        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})")
+    spread = w.share_max - w.share_min
+    top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
+           if np.isfinite(spread[k])]
+    elems = [f"{_element(labels[k])} ({_share_text(w.share_min[k])}\u2013"
+             f"{_share_text(w.share_max[k])})" for k in top]
+    text = "Worst cases: "
+    text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
+             if parts else "no torque error is defined. ")
+    text += ("The classes vary most for " + ", ".join(elems) + " (range of the translational "
+             "share over the trajectories)." if elems else "")
+    return text
+
+
+def _element(label):
+    """An element's label ("D14", "h2", "D1,10") as mathematics: D with its index as a
+    subscript."""
+    return _el(label[0], label[1:])
+
+
+_INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
+          "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
+          "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
+          "element along one trajectory and notes that the simplification depends on the "
+          "trajectory; this report repeats the ranking over {K} trajectories. Report created "
+          "{created} by gd-analyze {version} from the stored sweep; nothing was recomputed.")
+
+
+#: Captions of the sweep report's figures (the same in the HTML and the PDF).
+SWEEP_CAPTIONS = {
+    "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
+         "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
+         "thresholds s and 1 \u2212 s dashed. Panel title: element (D(i,j) for "
+         + _el("D", "ij") + ", in row i and column j) and the merged model's "
+         "choice; bottom line: fraction of trajectories per class.",
+    "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
+         + _el("h", "i") + " over the "
+         "sweep (layout of Fig. 3.11); same conventions as for D.",
+    "classes": "Fraction of the trajectories in each class, per element; the merged model's "
+               "choice on the right.",
+    "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
+             "(green) and of the merged model (black), per trajectory; diamond: merged model over "
+             "all trajectories.",
+    "payload": "Translational share of every element against the payload mass on the last link, with "
+               "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
+}
+
+SHARE_TEXT = ("For each trajectory and element X, the translational share is \u03a3|"
+              + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
+              + _el("X", "", "rot") + "|) over its set points. A share above s = {s} is "
+              "translational, below 1 \u2212 s rotational, in between both, unless the element "
+              "is negligible (peak below e = {e} times its scale). The figures draw the share "
+              "over the trajectories as a box per element (their captions and keys say how).")
+
+
+def _own_sentence(w):
+    """The own models' worst relative peak error, named with their rule (they carry no
+    bound under the chapter rule)."""
+    m = w.merged
+    rel = np.asarray(w.tau_error_relative_peak, float)
+    rel = np.where(torque_error_round_off(m, w.tau_error_peak, w.tau_peak), 0.0, rel)
+    if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
+        return ""
+    k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
+    own, _ = _models(m)
+    return (f"For comparison, {own} errs by up to {_pct(rel[k, j])} of peak |{_TAU_I}| "
+            f"(joint {j + 1}); it is not the model written.")
+
+
+def _error_text(m):
+    """Sec. 5.1's note: the table's columns, each model named with its rule."""
+    own, merged = _models(m)
+    return ("Per joint, over all set points of all swept trajectories: peak and RMS of the "
+            "open-loop torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| (the simplified "
+            "and the full model's torques along the same desired motion, no controller) "
+            f"[{units_said_once(m, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
+            f"over all trajectories. Column \u201cown models, {m.own_rule} rule "
+            f"(worst)\u201d: the largest relative peak error of {own} along that "
+            "trajectory, shown for comparison; it is not the merged model"
+            + (" and has no bound." if m.own_rule == "chapter" else ".")
+            + (" " + _held_out(m).strip() if _held_out(m) else ""))
+
+
+def _captions(m):
+    """The figure captions, with the models and the merged choice "none" said from the
+    dataset's rules."""
+    own, merged = _models(m)
+    region = m.region
+    dots = (" Grey dots beside each box: the share on each trajectory, one dot per "
+            "trajectory (spread sideways to stay apart; not drawn beyond 60 trajectories).")
+    none = ("The merged model's choice \u201cnone\u201d: it keeps neither part of the "
+            "element (" + ("both parts dropped within the budget \u03b5, or \u2261 0"
+                           if m.rule == "budget" else
+                           "negligible, or \u2261 0, on every trajectory") + ").")
+    return {
+        **SWEEP_CAPTIONS,
+        "D": f"{SWEEP_CAPTIONS['D']}{dots}",
+        "h": f"{SWEEP_CAPTIONS['h']}{dots}",
+        "classes": f"{SWEEP_CAPTIONS['classes']} {none}", "none": none,
+        "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
+                  "(green) "
+                  f"and of {merged} (black); diamond: the merged model over all trajectories"
+                  + (f"; every mark relative to one scale, the merged model's {_SI} over the "
+                     "region" if region else "; each relative to the peak |\u03c4| of its "
+                     "trajectory (the diamond: over all of them)")
+                  + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn. "
+                  f"The figure writes \u0394\u03c4 for \u03c4{_sub('s')} \u2212 \u03c4"
+                  + (f" and s for {_SI}" if region else "") + "."),
+    }
+
+
+# --------------------------------------------------------------------------------------------
+# The sentences that cite the figures ("Fig. 2 shows ..."): what each figure shows of this sweep
+# --------------------------------------------------------------------------------------------
+
+#: At most this many elements are named in a list of a figure's sentence; the rest counted.
+_NAMED = 6
+
+
+def _names(labels):
+    """Elements as mathematics, at most :data:`_NAMED` of them named ("D11, D12 and 3
+    more")."""
+    said = [_element(lab) for lab in labels[:_NAMED]]
+    more = len(labels) - len(said)
+    if more:
+        return ", ".join(said) + f" and {count(more)} more"
+    return said[0] if len(said) == 1 else ", ".join(said[:-1]) + " and " + said[-1]
+
+
+def _steady(fractions):
+    """The class an element holds on every trajectory (its class fractions), or None."""
+    k = int(np.argmax(fractions))
+    return CLASSES[k] if np.isclose(fractions[k], 1.0) else None
+
+
+def _share_sentence(w, symbol, zero):
+    """What the share figure of D or of h shows of this sweep: how many of its elements hold
+    one class on every trajectory (by class), which change class, which are round-off on every
+    trajectory, and the widest box; a predicate ("shows ...")."""
+    labels = list(w.elements)
+    mine = [k for k, lab in enumerate(labels) if lab.startswith(symbol)]
+    K = w.trajectories
+    frac = np.asarray(w.class_fraction, float)
+    off = [k for k in mine if zero[k]]
+    rest = [k for k in mine if not zero[k]]
+    steady = {c: [k for k in rest if _steady(frac[k]) == c] for c in CLASSES}
+    varying = [k for k in rest if _steady(frac[k]) is None]
+    every = "the trajectory" if K == 1 else "every trajectory"
+    text = (f"shows the translational share of each of the {len(mine)} elements of {symbol} "
+            + ("along the one trajectory: " if K == 1 else f"over the {K} trajectories: "))
+    held = [f"{count(len(ks))} {c}" for c, ks in steady.items() if ks]
+    n_held = sum(len(ks) for ks in steady.values())
+    parts = []
+    if n_held:
+        parts.append(f"{count(n_held)} {'is' if n_held == 1 else 'are'} of one class on "
+                     f"{every} ({', '.join(held)})")
+    if K > 1:
+        parts.append((f"{count(len(varying))} change{'s' if len(varying) == 1 else ''} class "
+                      f"from one trajectory to another ({_names([labels[k] for k in varying])})")
+                     if varying else "none changes class from one trajectory to another")
+    if off:
+        parts.append(f"{count(len(off))} {'is' if len(off) == 1 else 'are'} round-off on "
+                     f"{every} (\u2261 0, no share drawn: {_names([labels[k] for k in off])})")
+    text += "; ".join(parts) + "."
+    spread = np.asarray(w.share_max, float) - np.asarray(w.share_min, float)
+    ranged = [k for k in rest if np.isfinite(spread[k])]
+    if K > 1 and ranged:
+        k = max(ranged, key=lambda k: spread[k])
+        text += (f" The widest box is that of {_element(labels[k])}, from "
+                 f"{_share_text(w.share_min[k])} to {_share_text(w.share_max[k])}"
+                 if spread[k] > 0 else
+                 " Every element has the same share on every trajectory")
+        text += "."
+    return text
+
+
+def _classes_sentence(w, zero, counts):
+    """What the class-fraction figure shows of this sweep: how many bars are of one colour,
+    and the merged model's choices beside them; a predicate."""
+    frac = np.asarray(w.class_fraction, float)
+    M, K = len(w.elements), w.trajectories
+    one = sum(_steady(frac[k]) is not None for k in range(M))
+    choices = ", ".join(f"{c} {count(k)}" for c, k in counts.items() if k)
+    return (f"shows the fraction of the {K} trajector{'y' if K == 1 else 'ies'} in each class "
+            f"for all {M} elements, with the merged model's choice beside each bar ({choices})"
+            + (f"; {count(one)} of the {M} bars are of one colour: the element is of one class "
+               "on every trajectory" if K > 1 else "") + ".")
+
+
+def _error_sentence(w):
+    """What the torque-error figure shows of this sweep: the largest relative peak error of
+    the merged and of the own models, and the joints where the merged model's is round-off on
+    every trajectory (not drawn); from the marks the figure draws
+    (:func:`gd_analyze.report.sweep.error_marks`); a predicate."""
+    own, merged, _, region = error_marks(w)
+    scale = f"{_SI} over the region" if region else "that trajectory's peak |\u03c4|"
+
+    def largest(marks):
+        drawn = np.where(np.isfinite(marks) & (marks > ERROR_FLOOR), marks, -np.inf)
+        if not np.isfinite(drawn).any():
+            return "round-off on every joint and trajectory"
+        k, j = np.unravel_index(np.argmax(drawn), drawn.shape)
+        return f"at most {_pct(drawn[k, j])} of {scale} (joint {j + 1})"
+
+    quiet = [j + 1 for j in range(w.joints)
+             if not (np.isfinite(merged[:, j]) & (merged[:, j] > ERROR_FLOOR)).any()]
+    text = (f"shows the relative peak errors per trajectory and joint: the merged model's is "
+            f"{largest(merged)}, each trajectory's own model's {largest(own)}")
+    if quiet and len(quiet) < w.joints:
+        text += (f"; on joint{'s' if len(quiet) > 1 else ''} "
+                 f"{', '.join(map(str, quiet))} the merged model's error is round-off on every "
+                 "trajectory and not drawn")
+    return text + "."
+
+
+def _payload_text(masses):
+    """What the payload figure shows: the share and class of every element against the
+    payload mass, and the peak torques; a predicate."""
+    return (f"shows the translational share and the class of every element at each of the "
+            f"{len(masses)} payload masses ({', '.join(f'{m:g}' for m in masses)} kg), and "
+            "the peak |\u03c4| per joint below.")
+
+
+def _figure_text(w, zero, counts):
+    """Each figure's sentence, by key, without its subject ("shows ..."): the report writes
+    "Fig. 2 " before it, with the number the outline gives the figure."""
+    return {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
+            "classes": _classes_sentence(w, zero, counts), "error": _error_sentence(w)}
+
 
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
 _TINY = decade_label(ROUND_OFF)
@@ -209,7 +1475,7 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
-    ctx = _context(stored, part)
+    ctx = sweep_context(stored, part)
     drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
     pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
                         "Subject": "Dominance of the translational and rotational G-D terms "

@@ -123,6 +123,7 @@ class Var:
     REGION_QD_MAX: Final = "region_qd_max"
     REGION_QDD_MAX: Final = "region_qdd_max"
     REGION_QDD_MAX_ASSUMED: Final = "region_qdd_max_assumed"
+    ROUND_OFF: Final = "round_off"           # of a payload sweep (payload_round_off here)
     SHARE_ARM: Final = "share_arm"
     SHARE_TRAN: Final = "share_tran"
     SIMPLIFIED_BOUND: Final = "simplified_bound"

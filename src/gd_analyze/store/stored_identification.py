@@ -76,6 +76,7 @@ import numpy as np
 from .._version import VERSION
 from ..dynamics.base_parameters import PARAMETER_NAMES
 from ..errors import InputError
+from .names import Attr
 from .schema import View, derived, stored
 
 if TYPE_CHECKING:
@@ -350,9 +351,9 @@ def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
          "link_consistent": (("link",), np.asarray(result.consistent, bool))},
         coords={"parameter": list(p.names), "joint": joints, "link": links,
                 "standard_parameter": list(PARAMETER_NAMES)},
-        attrs={"gd_analyze_version": result.version or VERSION,
-               "robot": result.prior.name, "robot_source": str(result.prior.source),
-               "robot_sha256": result.prior.sha256,
+        attrs={Attr.GD_ANALYZE_VERSION: result.version or VERSION,
+               Attr.ROBOT: result.prior.name, Attr.ROBOT_SOURCE: str(result.prior.source),
+               Attr.ROBOT_SHA256: result.prior.sha256,
                "settings": json.dumps(result.settings, sort_keys=True, default=str),
                "inputs": json.dumps(result.inputs, sort_keys=True),
                "preprocessing": json.dumps(list(result.preprocessing)),
@@ -605,10 +606,10 @@ class StoredIdentification(View):
     """
 
     recordings: Mapping[str, StoredRecording]
-    robot: Any = stored("robot", default=None, attr=True)
-    robot_source: Any = stored("robot_source", default=None, attr=True)
-    robot_sha256: Any = stored("robot_sha256", default=None, attr=True)
-    gd_analyze_version: Any = stored("gd_analyze_version", default=None, attr=True)
+    robot: Any = stored(Attr.ROBOT, default=None, attr=True)
+    robot_source: Any = stored(Attr.ROBOT_SOURCE, default=None, attr=True)
+    robot_sha256: Any = stored(Attr.ROBOT_SHA256, default=None, attr=True)
+    gd_analyze_version: Any = stored(Attr.GD_ANALYZE_VERSION, default=None, attr=True)
     standard_method: Any = stored("standard_method", default=None, attr=True)
     coulomb_model: Any = stored("coulomb_model", default=None, attr=True)
     inputs: Any = stored("inputs", default=None, attr=True)

@@ -40,6 +40,7 @@ from ..ranking.ranking import (
     parse_element_label,
 )
 from .datasets import joint_units, units_attribute
+from .names import Attr, Var
 from .schema import (
     MIXED_UNITS,
     EvaluatorCosts,
@@ -50,7 +51,6 @@ from .schema import (
     flag,
     from_attrs,
     global_attributes,
-    joint_coordinate,
     joint_type_var,
     stored,
     stored_prismatic,
@@ -354,59 +354,63 @@ def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, co
     xarray.Dataset
         See :func:`gd_analyze.jobs.payload.payload_sweep`.
     """
-    import xarray as xr
-
     n = robot.n
     labels = element_labels(n)
     I_p = np.asarray(inertia, dtype=float)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
     torque = _torque_units(robot)
+    PE = (Var.PAYLOAD, Var.ELEMENT)
     data_vars = {
-        "share_tran": var(("payload", "element"), np.array([r["share_tran"] for r in results]),
-                           "1", "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        "dominance": var(("payload", "element"),
-                          np.array([r["classes"] for r in results], dtype=str), "1",
-                          "dominance class (translational, rotational, both, negligible)"),
-        "choice": var(("payload", "element"),
-                       np.array([[r["choices"][lab] for lab in labels] for r in results],
-                                dtype=str), "1",
-                       "part kept by the simplified model (tran, rot, both, none)"),
-        "peak_total": var(("payload", "element"),
-                           np.array([r["peaks"]["peak_total"] for r in results]), MIXED_UNITS,
-                           "peak |translational + rotational| along the trajectory"),
-        "tau_peak": var(("payload", "joint"),
-                         np.array([r["summary"]["tau_peak"] for r in results]), torque,
-                         "peak |tau| of the full model along the trajectory"),
-        "round_off": _round_off_var(np.array([is_round_off(
+        Var.SHARE_TRAN: var(PE, np.array([r["share_tran"] for r in results]), "1",
+                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        Var.DOMINANCE: var(PE, np.array([r["classes"] for r in results], dtype=str), "1",
+                           "dominance class (translational, rotational, both, negligible)"),
+        Var.CHOICE: var(PE, np.array([[r["choices"][lab] for lab in labels] for r in results],
+                                     dtype=str), "1",
+                        "part kept by the simplified model (tran, rot, both, none)"),
+        Var.PEAK_TOTAL: var(PE, np.array([r["peaks"]["peak_total"] for r in results]),
+                            MIXED_UNITS, "peak |translational + rotational| along the trajectory"),
+        Var.TAU_PEAK: var((Var.PAYLOAD, Var.JOINT),
+                          np.array([r["summary"]["tau_peak"] for r in results]), torque,
+                          "peak |tau| of the full model along the trajectory"),
+        Var.ROUND_OFF: _round_off_var(np.array([is_round_off(
             np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
             r["peaks"]["scale"], arm_scale=element_arm_scales(
                 r["peaks"]["scale"], labels,
                 robot.prismatic)[0]) for r in results]),  # type: ignore[arg-type]  # never None (Robot.__post_init__)
             "along the trajectory"),
-        "tau_error_relative_peak": var(
-            ("payload", "joint"),
+        Var.TAU_ERROR_RELATIVE_PEAK: var(
+            (Var.PAYLOAD, Var.JOINT),
             np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
-            "own simplified model: peak |tau_simplified - tau| / peak |tau|"),    }
-    data_vars["joint_type"] = joint_type_var(robot)
-    coords = element_coords(n, robot.prismatic, robot.joint_names())
-    coords["payload"] = ("payload", masses, {"long_name": "payload mass on the last link",
-                                             "units": "kg"})
-    attrs = global_attributes(robot, f"G-D dominance of {robot.name} vs payload along "
-                                     f"{Path(str(trajectory.source)).name}",
-                              references=_REFERENCES, dominance_threshold=float(dominance),
-                              negligible_threshold=float(negligible))
-    attrs.update({
-        "payload_com": np.asarray(com, dtype=float).reshape(3),
-        "payload_com_units": "m",
-        "payload_inertia": I_p.ravel(),
-        "payload_inertia_units": "kg m2 (3 x 3 tensor, row by row)",
-        "input_file": Path(str(trajectory.source)).name,
-        "input_path": str(trajectory.source),
-        "input_sha256": str(trajectory.sha256),
-        "derivatives": str(trajectory.derivatives),
-        "setpoints": int(np.asarray(trajectory.t).shape[0]),
-    })
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+            "own simplified model: peak |tau_simplified - tau| / peak |tau|")}
+    source = Path(str(trajectory.source))
+    return _by_payload(
+        robot, masses, {"long_name": "payload mass on the last link", "units": "kg"},
+        data_vars, element_coords(n, robot.prismatic, robot.joint_names()),
+        f"G-D dominance of {robot.name} vs payload along {source.name}", dominance, negligible,
+        {Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
+         "payload_com_units": "m",
+         Attr.PAYLOAD_INERTIA: I_p.ravel(),
+         "payload_inertia_units": "kg m2 (3 x 3 tensor, row by row)",
+         Attr.INPUT_FILE: source.name,
+         Attr.INPUT_PATH: str(trajectory.source),
+         Attr.INPUT_SHA256: str(trajectory.sha256),
+         Attr.DERIVATIVES: str(trajectory.derivatives),
+         Attr.SETPOINTS: int(np.asarray(trajectory.t).shape[0])})
+
+
+def _by_payload(robot, masses, mass_attrs, data_vars, coords, title, dominance, negligible,
+                attrs):
+    """A dataset over the load masses (dim ``payload`` [kg], its attributes ``mass_attrs``),
+    with the joint types and :func:`global_attributes` (s, e) before ``attrs``."""
+    import xarray as xr
+
+    data_vars[Var.JOINT_TYPE] = joint_type_var(robot)
+    coords[Var.PAYLOAD] = (Var.PAYLOAD, np.asarray(masses, float), mass_attrs)
+    return xr.Dataset(data_vars, coords=coords, attrs={
+        **global_attributes(robot, title, references=_REFERENCES,
+                            dominance_threshold=float(dominance),
+                            negligible_threshold=float(negligible)), **attrs})
 
 
 def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[float],
@@ -439,44 +443,35 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
     xarray.Dataset
         See :func:`gd_analyze.jobs.payload.sweep_payloads`.
     """
-    import xarray as xr
-
     frac, share, dom, choice, tau = (np.array(x) for x in list(zip(*parts))[:5])
     n = robot.n
-    torque = _torque_units(robot)
-    extra = ({"round_off": _round_off_var(np.array([p[5] for p in parts]),
-                                          "on every trajectory")}
+    PE = (Var.PAYLOAD, Var.ELEMENT)
+    extra = ({Var.ROUND_OFF: _round_off_var(np.array([p[5] for p in parts]),
+                                            "on every trajectory")}
              if all(len(p) > 5 for p in parts) else {})
-
-    return xr.Dataset(
+    coords = element_coords(n, joints=robot.joint_names())
+    del coords[Var.ELEMENT_UNITS]
+    coords["class"] = ("class", np.array(CLASSES, dtype=str),
+                       {"units": "1", "long_name": "dominance class"})
+    return _by_payload(
+        robot, masses, {"units": "kg", "long_name": "load mass on the last link"},
         {**extra,
-         "class_fraction": var(("payload", "element", "class"), frac, "1",
+         "class_fraction": var((*PE, "class"), frac, "1",
                                "fraction of the trajectories in each class"),
-         "share_tran": var(("payload", "element"), share, "1",
-                           "median translational share over the trajectories"),
-         "dominance": var(("payload", "element"), dom.astype(str), "1",
-                          "most frequent dominance class over the trajectories"),
-         "choice": var(("payload", "element"), choice.astype(str), "1",
-                       "merged share-based choice (chapter rule, no error bound)"),
-         "tau_peak": var(("payload", "joint"), tau, torque,
-                         "peak |tau| over all trajectories"),
-         "joint_type": joint_type_var(robot)},
-        coords={"payload": ("payload", np.asarray(masses, float),
-                            {"units": "kg", "long_name": "load mass on the last link"}),
-                "element": ("element", np.array(element_labels(n), dtype=str),
-                            {"units": "1", "long_name": "ranked element of D (i <= j) or h"}),
-                "class": ("class", np.array(CLASSES, dtype=str),
-                          {"units": "1", "long_name": "dominance class"}),
-                "joint": joint_coordinate(robot.joint_names())},
-        attrs={**global_attributes(robot, f"G-D dominance of {robot.name} vs payload over "
-                                          f"{n_trajectories} trajectories",
-                                   references=_REFERENCES, dominance_threshold=float(dominance),
-                                   negligible_threshold=float(negligible)),
-               "kind": "payload",
-               "payload_com": np.asarray(com, dtype=float).reshape(3),
-               "payload_com_units": "m",
-               "payload_inertia": np.asarray(inertia, dtype=float).reshape(-1),
-               "payload_inertia_units": "kg m2 (principal moments)"})
+         Var.SHARE_TRAN: var(PE, share, "1", "median translational share over the trajectories"),
+         Var.DOMINANCE: var(PE, dom.astype(str), "1",
+                            "most frequent dominance class over the trajectories"),
+         Var.CHOICE: var(PE, choice.astype(str), "1",
+                         "merged share-based choice (chapter rule, no error bound)"),
+         Var.TAU_PEAK: var((Var.PAYLOAD, Var.JOINT), tau, _torque_units(robot),
+                           "peak |tau| over all trajectories")},
+        coords, f"G-D dominance of {robot.name} vs payload over {n_trajectories} trajectories",
+        dominance, negligible,
+        {"kind": "payload",
+         Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
+         "payload_com_units": "m",
+         Attr.PAYLOAD_INERTIA: np.asarray(inertia, dtype=float).reshape(-1),
+         "payload_inertia_units": "kg m2 (principal moments)"})
 
 
 def _round_off_var(flags, where):
@@ -617,7 +612,7 @@ def beyond_the_floor(ds: xr.Dataset) -> tuple[float, int, list[int]] | None:
     return float(rel[j]), j + 1, [int(k) + 1 for k in over]
 
 #: The variables of a payload sweep the report reads.
-PAYLOAD_REQUIRED = ("share_tran", "dominance", "choice", "tau_peak")
+PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 
 #: The variables of a sweep dataset the report reads.
 REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
@@ -880,19 +875,20 @@ class PayloadSweep(View):
 
     required, what = PAYLOAD_REQUIRED, "payload sweep"
 
-    masses: np.ndarray = stored("payload")
-    elements: tuple[str, ...] = stored("element", texts)
-    share_tran: np.ndarray = stored("share_tran")
-    round_off: np.ndarray | None = stored("round_off", lambda v: v.astype(bool), None)
-    dominance: np.ndarray = stored("dominance", lambda v: np.array(strings(v)).reshape(v.shape))
-    tau_peak: np.ndarray = stored("tau_peak")
+    masses: np.ndarray = stored(Var.PAYLOAD)
+    elements: tuple[str, ...] = stored(Var.ELEMENT, texts)
+    share_tran: np.ndarray = stored(Var.SHARE_TRAN)
+    round_off: np.ndarray | None = stored(Var.ROUND_OFF, lambda v: v.astype(bool), None)
+    dominance: np.ndarray = stored(Var.DOMINANCE,
+                                   lambda v: np.array(strings(v)).reshape(v.shape))
+    tau_peak: np.ndarray = stored(Var.TAU_PEAK)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-    input_file: Any = stored("input_file", default=None, attr=True)
-    input_sha256: Any = stored("input_sha256", default=None, attr=True)
-    payload_com: Any = stored("payload_com", default=None, attr=True)
-    payload_inertia: Any = stored("payload_inertia", default=None, attr=True)
-    dominance_threshold: Any = stored("dominance_threshold", default=None, attr=True)
-    negligible_threshold: Any = stored("negligible_threshold", default=None, attr=True)
+    input_file: Any = stored(Attr.INPUT_FILE, default=None, attr=True)
+    input_sha256: Any = stored(Attr.INPUT_SHA256, default=None, attr=True)
+    payload_com: Any = stored(Attr.PAYLOAD_COM, default=None, attr=True)
+    payload_inertia: Any = stored(Attr.PAYLOAD_INERTIA, default=None, attr=True)
+    dominance_threshold: Any = stored(Attr.DOMINANCE_THRESHOLD, default=None, attr=True)
+    negligible_threshold: Any = stored(Attr.NEGLIGIBLE_THRESHOLD, default=None, attr=True)
 
 
 def with_more_tasks(ds: xr.Dataset, tasks: int) -> xr.Dataset:
