@@ -171,7 +171,7 @@ def one_blas_thread():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", ["puma560", "panda"])
+@pytest.mark.parametrize("name", ["puma560", "panda", "ur5"])
 def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchios(
         name, one_blas_thread):
     """The objective's regressor (rigid columns, drive columns) spans what Pinocchio's

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..dynamics.regressor_kernels import regressor_columns
+from ..dynamics.regressor_kernels import regressor_columns_pullback
 from ..symbolic.drive_regressor import (
     DRIVE_COLUMNS,
     IdentificationColumns,
@@ -362,8 +362,7 @@ def _singular(Ws):
 SMOOTH_POWER = 16.0
 
 
-def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6,
-                                power=None):
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, power=None):
     """A smooth log of the scaled condition number at x, and its gradient with respect to x.
 
     The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = ``power``, default
@@ -372,22 +371,18 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, st
     (1/2) log p + (1/2) log trace((Ws^T Ws)^-1), Ws the regressor with unit-norm columns
     (sum sigma_i^2 = p): the A-optimality criterion. With d value / d sigma_i = c_i and sigma_i =
     u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
-    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's
-    derivatives with respect to the states are forward differences (one per joint and state, every sample at
-    once, in one call of the regressor), the drive columns' exact.
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; that gradient is
+    carried to the states by the regressor recursion's reverse-mode derivative
+    (:func:`~gd_analyze.dynamics.regressor_kernels.regressor_columns_pullback`, about three
+    evaluations of the regressor whatever n is) and by the drive columns' exact derivatives,
+    then to x by the basis (linear).
     """
     n = robot.n
     states = basis.states(x, n)
     q, qd, qdd = states
     M = q.shape[0]
     base_idx = np.flatnonzero(columns.base.independent.reshape(-1))
-    moved = [np.tile(a, (3 * n + 1, 1)) for a in states]
-    for d in range(3):
-        for j in range(n):
-            k = 1 + d * n + j
-            moved[d][k * M:(k + 1) * M, j] += step
-    Yall = regressor_columns(robot, base_idx, *moved).reshape(3 * n + 1, M, n, -1)
-    Yb = Yall[0]
+    Yb, pullback = regressor_columns_pullback(robot, base_idx, q, qd, qdd)
     Dk, slope = _kept_drives(columns, qd, qdd, coulomb_scale)
     Y = np.concatenate([Yb, Dk], axis=2)
     p = Y.shape[2]
@@ -407,9 +402,7 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, st
     G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
     G = G.reshape(M, n, p)
     b = Yb.shape[2]
-    dY = (Yall[1:] - Yb) / step                                 # (3 n, M, n, b)
-    g = np.einsum("mic,kmic->km", G[:, :, :b], dY).reshape(3, n, M).transpose(0, 2, 1)
-    grads = [g[0].copy(), g[1].copy(), g[2].copy()]
+    grads = list(pullback(G[:, :, :b]))
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
     for c, kind in enumerate(columns.drives):
@@ -682,8 +675,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     Swevers et al. (1997): the Fourier series of Eq. (9), the condition number of the
     (column-scaled) regressor as criterion. The objective is log cond(Y S) over
     ``OBJECTIVE_SAMPLES`` samples of one period, smoothed as the P-norms of the singular values
-    and their inverses, its gradient exact in the singular vectors and by forward differences
-    in the regressor's states. The variables are scaled to their ranges, and each start is
+    and their inverses, its gradient exact (the singular vectors, then the regressor
+    recursion differentiated in reverse mode). The variables are scaled to their ranges, and each start is
     optimised in the stages of :data:`STAGES`: the Coulomb columns sgn(qd_j) first replaced by
     tanh(qd_j / v_j), v_j a fraction of the velocity limit (the sampled sgn has no gradient),
     then as they are; P first 2 (the A-optimality criterion, the trace of the inverse
