@@ -363,7 +363,14 @@ SMOOTH_POWER = 16.0
 
 
 def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, power=None):
-    """A smooth log of the scaled condition number at x, and its gradient with respect to x.
+    """:func:`_log_condition` at x and its gradient with respect to x, shape (n (2K - 1),)."""
+    value, gradient = _log_condition(x, robot, columns, basis, coulomb_scale, power)
+    return value, gradient()
+
+
+def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
+    """A smooth log of the scaled condition number at x, and a function giving its gradient
+    with respect to x (called only where the optimiser needs it, not in its line searches).
 
     The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = ``power``, default
     SMOOTH_POWER), within (2/P) log p above log(sigma_max / sigma_min) and smooth where the
@@ -389,19 +396,26 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, po
     W = Y.reshape(M * n, p)
     norms = np.linalg.norm(W, axis=0)
     if not np.all(norms > 0):
-        return math.inf, np.zeros_like(x)
+        return math.inf, lambda: np.zeros_like(x)
     Ws = W / norms
     s, U, V = _singular(Ws)
     if not s[-1] > 0:
-        return math.inf, np.zeros_like(x)
+        return math.inf, lambda: np.zeros_like(x)
     P = SMOOTH_POWER if power is None else float(power)
     up, down = (s / s[0]) ** P, (s[-1] / s) ** P
     value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
+    return value, lambda: _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, Yb.shape[2],
+                                    pullback, slope)
+
+
+def _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, b, pullback, slope):
+    """:func:`_log_condition`'s gradient with respect to x, from its evaluation's parts."""
+    M, n = slope.shape
+    p = Ws.shape[1]
     c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
     Mg = (U * c) @ V.T                                          # d value / d Ws
     G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
     G = G.reshape(M, n, p)
-    b = Yb.shape[2]
     grads = list(pullback(G[:, :, :b]))
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
@@ -417,7 +431,7 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, po
                 grads[1][:, j] += G[:, j, col] * slope[:, j]
             col += 1
     gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
-    return value, gX.T.reshape(-1)
+    return gX.T.reshape(-1)
 
 
 def _limits(robot, qdd_max=None):
@@ -603,11 +617,24 @@ def _variable_scales(K, wf, lo, hi, qd, qdd):
     return np.where(np.isfinite(D) & (D > 0), D, 1.0)
 
 
-def _scaled_objective(z, D, robot, columns, basis, coulomb_scale, power=None):
-    """:func:`_log_condition_and_gradient` at x = D z, and its gradient with respect to z."""
-    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale,
-                                              power=power)
-    return value, grad * D
+class _ScaledObjective:
+    """:func:`_log_condition` at x = D z (``value``) and its gradient with respect to z
+    (``gradient``), the gradient computed from the last value's evaluation when z is the same
+    (SLSQP's line searches ask for values alone)."""
+
+    def __init__(self, D, robot, columns, basis, coulomb_scale, power=None):
+        self.D, self.args = D, (robot, columns, basis, coulomb_scale, power)
+        self.z, self.gradient_at = None, None
+
+    def value(self, z):
+        value, self.gradient_at = _log_condition(z * self.D, *self.args)
+        self.z = np.array(z, float)
+        return value
+
+    def gradient(self, z):
+        if self.z is None or not np.array_equal(z, self.z):
+            self.value(z)
+        return self.gradient_at() * self.D
 
 
 def _constraints(basis, n, lo, hi, qd, qdd):
@@ -733,9 +760,8 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
         start_conditions.append(excitation_condition(robot, columns, start))
         z, said = _variables(start) / D, []
         for scale, power in stages:
-            result = minimize(_scaled_objective, z,
-                              args=(D, robot, columns, objective, scale, power),
-                              jac=True, method="SLSQP", constraints=[constraint],
+            fun = _ScaledObjective(D, robot, columns, objective, scale, power)
+            result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP", constraints=[constraint],
                               options={"maxiter": int(maxiter), "ftol": 1e-8})
             z = result.x
             said.append(f"{result.message} ({result.nit} iterations)")
