@@ -138,7 +138,8 @@ def test_condition_number_at_least_3x_below_random_fourier_trajectories(planned,
     """Against 8 random Fourier trajectories with the same harmonics and base frequency, each
     joint scaled to the same limits (seeds other than the optimiser's starts). Measured
     (analysis/excitation_conditions.py, the defaults): the PUMA's are 2.97 to 22 times worse
-    (median 12.3), the Panda's 2.8 to 4.2 times (median 3.5); the condition numbers are taken
+    (median 12.3; 12.2 at 11.31, analysis/excitation_cost.py), the Panda's 2.8 to 4.2 times
+    (median 3.5); the condition numbers are taken
     on 400 samples of a period, not the objective's 100."""
     robot, ex = planned(name)
     ours = excitation_condition(robot, identification_columns(robot), ex.series, samples=400)
@@ -152,9 +153,10 @@ def test_condition_number_at_least_3x_below_random_fourier_trajectories(planned,
 def test_ur5_condition_number_below_random_fourier_trajectories(planned):
     """The UR5's random Fourier trajectories are already well conditioned (median 10.2), and
     what bounds its optimum is each joint's viscous and Coulomb pair and the parallel axes'
-    ZZ2..ZZ4 columns: measured (analysis/excitation_conditions.py) 4.00 with the defaults,
-    2.5x below the median, where the stages at P = 16 alone reached 4.52 (2.3x); 6 starts of
-    at most 80 iterations per stage reach 4.05."""
+    ZZ2..ZZ4 columns: measured (analysis/excitation_cost.py) 4.05 with the defaults, 2.5x
+    below the median (4.00 with the gradient's former forward differences), where the stages
+    at P = 16 alone reached 4.52 (2.3x); 6 starts of at most 80 iterations per stage reach
+    4.05."""
     robot, ex = planned("ur5")
     ours = excitation_condition(robot, identification_columns(robot), ex.series, samples=400)
     randoms = _random_conditions(robot, ex)
