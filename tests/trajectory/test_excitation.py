@@ -387,3 +387,33 @@ def test_cli_refuses_bad_options_in_one_line(tmp_path, args, column):
     lines = run.stderr.strip().splitlines()
     assert len(lines) == 1 and column in lines[0] and "Traceback" not in run.stderr
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_the_planning_runs_every_blas_library_on_one_thread():
+    """In a fresh interpreter (SciPy's optimiser not yet loaded), every BLAS library seen
+    during the optimisation runs one thread: SciPy's own, which SLSQP calls, included (a limit
+    set before a library is loaded does not reach it, and its second thread spun)."""
+    code = """
+import os
+from threadpoolctl import threadpool_info
+from gd_analyze.model.robots import load_robot
+from gd_analyze.trajectory import excitation
+
+seen = []
+optimised = excitation._optimised
+
+def spy(*args, **kwargs):
+    import scipy.optimize
+    seen.extend((i["filepath"], i["num_threads"]) for i in threadpool_info()
+                if i["user_api"] == "blas")
+    return optimised(*args, **kwargs)
+
+excitation._optimised = spy
+excitation.plan_excitation(load_robot("puma560"), starts=1, maxiter=1)
+print(len(seen), max(n for _, n in seen), os.cpu_count())
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr
+    libraries, threads, cpus = map(int, run.stdout.split())
+    assert libraries >= 2 and threads == 1, run.stdout

@@ -722,11 +722,15 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     N = round(T / DEFAULT_SAMPLE_PERIOD) + 1 if n_setpoints is None else int(n_setpoints)
     if N < 2:
         raise ValueError("a trajectory needs at least 2 set points")
+    import scipy.optimize  # noqa: F401  (loads SciPy's own BLAS before the limit below)
     from threadpoolctl import threadpool_limits
 
     clock = time.perf_counter()
     # one BLAS thread: the SVDs and eigenproblems here are small, and a threaded LAPACK call
-    # on a busy machine takes a hundred times longer than a serial one
+    # on a busy machine takes a hundred times longer than a serial one. The limit reaches only
+    # the BLAS libraries loaded when it is set: SciPy's (SLSQP's), loaded by the import above,
+    # otherwise ran two threads, the second spinning (the PUMA's plan: 17.8 s CPU in 9.2 s
+    # wall, 9.0 s CPU in 9.0 s with one thread)
     with threadpool_limits(1, "blas"):
         return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
                           int(maxiter), drives, margin, clock)
