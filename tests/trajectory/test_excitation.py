@@ -138,7 +138,7 @@ def test_condition_number_at_least_3x_below_random_fourier_trajectories(planned,
     """Against 8 random Fourier trajectories with the same harmonics and base frequency, each
     joint scaled to the same limits (seeds other than the optimiser's starts). Measured
     (analysis/excitation_conditions.py, the defaults): the PUMA's are 2.97 to 22 times worse
-    (median 12.3; 12.2 at 11.31, analysis/excitation_cost.py), the Panda's 2.8 to 4.2 times
+    (median 12.3; 12.6 at 10.97, analysis/excitation_cost.py), the Panda's 2.8 to 4.2 times
     (median 3.5); the condition numbers are taken
     on 400 samples of a period, not the objective's 100."""
     robot, ex = planned(name)
