@@ -17,6 +17,7 @@ from gd_analyze.dynamics.regressor_kernels import (
     part_contributions,
     part_regressor,
     regressor_columns,
+    regressor_columns_pullback,
     stacked_contribution_peaks,
 )
 
@@ -200,3 +201,31 @@ def test_stacked_peaks_are_pinocchios_per_trajectory():
         for got, ref in zip((tau_peak[k], peak[k], whole[k]), want):
             assert np.all(np.isfinite(got))
             assert np.abs(got - ref).max() <= 1e-12 * scale, k
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_the_pullback_is_the_gradient_of_the_weighted_regressor(name):
+    """regressor_columns_pullback's W is regressor_columns', and its pullback of random weights
+    G is the gradient of sum G * W in q, qd and qdd: central differences of regressor_columns
+    (step 1e-5, truncation error ~1e-10 of the scale), every column in a shuffled order."""
+    arm = robot(name)
+    n = arm.n
+    q, qd, qdd = states(arm, 40, 11)
+    rng = np.random.default_rng(3)
+    columns = rng.permutation(10 * n)
+    W, pullback = regressor_columns_pullback(arm, columns, q, qd, qdd)
+    np.testing.assert_allclose(W, regressor_columns(arm, columns, q, qd, qdd), rtol=0,
+                               atol=1e-12 * np.abs(W).max())
+    G = rng.normal(size=W.shape)
+    got = pullback(G)
+    h = 1e-5
+    for d in range(3):
+        want = np.empty((q.shape[0], n))
+        for j in range(n):
+            up = [a.copy() for a in (q, qd, qdd)]
+            down = [a.copy() for a in (q, qd, qdd)]
+            up[d][:, j] += h
+            down[d][:, j] -= h
+            want[:, j] = ((regressor_columns(arm, columns, *up)
+                           - regressor_columns(arm, columns, *down)) * G).sum((1, 2)) / (2 * h)
+        np.testing.assert_allclose(got[d], want, rtol=0, atol=1e-7 * np.abs(want).max())

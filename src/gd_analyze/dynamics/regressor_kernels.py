@@ -438,3 +438,202 @@ def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths):
         contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],
                            out=(tau_peak[k], peak[k], whole_peak[k]))
     return tau_peak, peak, whole_peak
+
+
+def _cross(a, b):
+    """a x b over the first axis (length 3) of broadcastable arrays."""
+    shape = np.broadcast_shapes(a.shape, b.shape)
+    out = np.empty(shape)
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+    return out
+
+
+def _dot(a, b):
+    """a . b over the first axis (length 3)."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def regressor_columns_pullback(robot, columns, q, qd, qdd, gravity=None):
+    """:func:`regressor_columns` and its pullback: the weighted sum's gradient in the states.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c, as in :func:`regressor_columns`.
+    q, qd, qdd : array_like, shape (N, n)
+        Joint positions, velocities and accelerations [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    gravity : array_like, shape (3,), optional
+        Gravity in the base frame [m/s^2]; default the robot's.
+
+    Returns
+    -------
+    W : ndarray, shape (N, n, m)
+        :func:`regressor_columns` of the states.
+    pullback : callable
+        ``pullback(G)``, G of shape (N, n, m) (the weight of each entry of W), returns
+        ``(gq, gqd, gqdd)``, each (N, n): gq[k, j] = sum_{i, c} G[k, i, c] dW[k, i, c] /
+        dq[k, j], and likewise for qd and qdd [units of G W per rad, rad/s, rad/s^2].
+
+    Notes
+    -----
+    Reverse-mode differentiation of the recursion (the adjoints of the outward velocities and
+    accelerations, of the wrenches per unit parameter and of their inward transport, then of
+    the frames' rotations in q): the gradient of every set point costs about three evaluations
+    of the regressor, whatever n is, where forward differences cost 3 n + 1.
+    """
+    columns = _checked_columns(robot, columns)
+    q, qd, qdd = as_states(robot, q, qd, qdd)
+    g = np.asarray(robot.gravity if gravity is None else gravity, float).reshape(3)
+    order = np.argsort(columns // 10, kind="stable")
+    link, param = columns[order] // 10, columns[order] % 10
+    N, n = q.shape
+    m = columns.size
+    prismatic = np.asarray(robot.prismatic, bool)
+    Pr = np.asarray(robot.rotation, float)
+    tp = np.asarray(robot.translation, float)
+    # frames: R[j] (3, 3, N), R[j][r, c] = ^{j-1}R_j, and p[j] (3, N)
+    R = np.empty((n, 3, 3, N))
+    p = np.empty((n, 3, N))
+    for j in range(n):
+        P = Pr[j]
+        if prismatic[j]:
+            R[j] = P[:, :, None]
+            p[j] = tp[j][:, None] + P[:, 2][:, None] * q[:, j]
+        else:
+            c, s = np.cos(q[:, j]), np.sin(q[:, j])
+            R[j, :, 0] = np.outer(P[:, 0], c) + np.outer(P[:, 1], s)
+            R[j, :, 1] = np.outer(P[:, 1], c) - np.outer(P[:, 0], s)
+            R[j, :, 2] = P[:, 2][:, None]
+            p[j] = tp[j][:, None]
+    # outward: body-frame w, wd, vd of every link, and what their adjoints need
+    top = int(link.max()) + 1 if m else 0
+    z3 = np.zeros((3, N))
+    prev = (z3, z3, np.repeat(-g[:, None], N, 1))
+    tape, motion = [], []
+    for j in range(top):
+        w0, e0, v0 = prev
+        a = v0 + _cross(e0, p[j]) + _cross(w0, _cross(w0, p[j]))
+        Rt = R[j]
+        wp = np.einsum("krN,kN->rN", Rt, w0)
+        wd = np.einsum("krN,kN->rN", Rt, e0)
+        vd = np.einsum("krN,kN->rN", Rt, a)
+        u, acc = qd[:, j], qdd[:, j]
+        w = wp.copy()
+        if prismatic[j]:
+            vd[2] += acc
+            vd[0] += 2.0 * wp[1] * u
+            vd[1] -= 2.0 * wp[0] * u
+        else:
+            wd[0] += wp[1] * u
+            wd[1] -= wp[0] * u
+            wd[2] += acc
+            w[2] += u
+        tape.append((w0, e0, v0, a, wp))
+        motion.append((w, wd, vd))
+        prev = (w, wd, vd)
+    # every column's wrench per unit parameter at once: E the unit inertia tensor of an
+    # inertia column, e the unit first moment of a first-moment column, mass 1 for a mass one
+    E = np.zeros((m, 3, 3))
+    e = np.zeros((3, m, 1))
+    for c in range(m):
+        if param[c] < 6:
+            E[c, _JA[param[c]], _JB[param[c]]] = E[c, _JB[param[c]], _JA[param[c]]] = 1.0
+        elif param[c] < 9:
+            e[param[c] - 6, c] = 1.0
+    mass = (param == 9)[:, None].astype(float)
+    wl, wdl, vdl = (np.stack([mo[k] for mo in motion], 1)[:, link] for k in range(3))
+    Ew = np.einsum("cab,bcN->acN", E, wl)
+    F = _cross(wdl, e) + wl * _dot(wl, e) - e * _dot(wl, wl) + vdl * mass
+    M = np.einsum("cab,bcN->acN", E, wdl) + _cross(wl, Ew) + _cross(e, vdl)
+    W = np.zeros((n, m, N))
+    first = np.searchsorted(link, np.arange(n))
+    saved = {}
+    for i in range(n - 1, -1, -1):
+        s = first[i]
+        if s == m:
+            continue
+        W[i, s:] = F[2, s:] if prismatic[i] else M[2, s:]
+        if i == 0:
+            break
+        saved[i] = (F[:, s:].copy(), M[:, s:].copy())
+        f = np.einsum("rkN,kcN->rcN", R[i], F[:, s:])
+        M[:, s:] = np.einsum("rkN,kcN->rcN", R[i], M[:, s:]) + _cross(p[i][:, None], f)
+        F[:, s:] = f
+    back = np.argsort(order)
+    Y = W[:, back].transpose(2, 0, 1)
+    onehot = (link[:, None] == np.arange(top)).astype(float)      # (m, top)
+
+    def pullback(G):
+        G = np.asarray(G, float).reshape(N, n, m)[:, :, order].transpose(1, 2, 0)
+        Fb = np.zeros((3, m, N))
+        Mb = np.zeros((3, m, N))
+        Rb = np.zeros((n, 3, 3, N))
+        pb = np.zeros((n, 3, N))
+        for i in range(n):
+            s = first[i]
+            if s == m:
+                break
+            if i > 0:
+                Fi, Mi = saved[i]
+                mb = Mb[:, s:]
+                fpb = Fb[:, s:] + _cross(mb, p[i][:, None])
+                f = np.einsum("rkN,kcN->rcN", R[i], Fi)
+                Rb[i] += np.einsum("rcN,kcN->rkN", mb, Mi) + np.einsum("rcN,kcN->rkN", fpb, Fi)
+                pb[i] += _cross(f, mb).sum(1)
+                Mb[:, s:] = np.einsum("rkN,rcN->kcN", R[i], mb)
+                Fb[:, s:] = np.einsum("rkN,rcN->kcN", R[i], fpb)
+            (Fb if prismatic[i] else Mb)[2, s:] += G[i, s:]
+        # the wrenches' adjoints, every column at once, summed per link
+        wdb_c = np.einsum("cab,bcN->acN", E, Mb) + _cross(e, Fb)
+        wb_c = (_cross(Ew, Mb) + np.einsum("cab,bcN->acN", E, _cross(Mb, wl))
+                + Fb * _dot(wl, e) + e * _dot(Fb, wl) - 2.0 * _dot(Fb, e) * wl)
+        vdb_c = _cross(Mb, e) + Fb * mass
+        wb, wdb, vdb = (np.einsum("ck,acN->kaN", onehot, x) for x in (wb_c, wdb_c, vdb_c))
+        gq = np.zeros((N, n))
+        gqd = np.zeros((N, n))
+        gqdd = np.zeros((N, n))
+        for j in range(top - 1, -1, -1):
+            w0, e0, v0, a, wp = tape[j]
+            Rt = R[j]
+            wpb = wb[j].copy()
+            u = qd[:, j]
+            if prismatic[j]:
+                d = vdb[j]
+                gqdd[:, j] += d[2]
+                wpb[1] += 2.0 * d[0] * u
+                wpb[0] -= 2.0 * d[1] * u
+                gqd[:, j] += 2.0 * (d[0] * wp[1] - d[1] * wp[0])
+            else:
+                d = wdb[j]
+                gqd[:, j] += wb[j][2] + d[0] * wp[1] - d[1] * wp[0]
+                gqdd[:, j] += d[2]
+                wpb[1] += d[0] * u
+                wpb[0] -= d[1] * u
+            ab = np.einsum("krN,rN->kN", Rt, vdb[j])
+            e0b = np.einsum("krN,rN->kN", Rt, wdb[j])
+            w0b = np.einsum("krN,rN->kN", Rt, wpb)
+            Rb[j] += (np.einsum("kN,rN->krN", a, vdb[j]) + np.einsum("kN,rN->krN", e0, wdb[j])
+                      + np.einsum("kN,rN->krN", w0, wpb))
+            e0b += _cross(p[j], ab)
+            pb[j] += _cross(ab, e0) + w0 * _dot(ab, w0) - ab * _dot(w0, w0)
+            w0b += ab * _dot(w0, p[j]) + p[j] * _dot(ab, w0) - 2.0 * _dot(ab, p[j]) * w0
+            if j > 0:
+                wb[j - 1] += w0b
+                wdb[j - 1] += e0b
+                vdb[j - 1] += ab
+        for j in range(n):
+            P = Pr[j]
+            if prismatic[j]:
+                gq[:, j] += P[:, 2] @ pb[j]
+            else:
+                c, s = np.cos(q[:, j]), np.sin(q[:, j])
+                d0 = np.outer(P[:, 1], c) - np.outer(P[:, 0], s)      # dR[:, 0] / dq
+                d1 = -np.outer(P[:, 0], c) - np.outer(P[:, 1], s)     # dR[:, 1] / dq
+                gq[:, j] += (Rb[j, :, 0] * d0).sum(0) + (Rb[j, :, 1] * d1).sum(0)
+        return gq, gqd, gqdd
+
+    return Y, pullback

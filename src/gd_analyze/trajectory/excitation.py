@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..dynamics.regressor_kernels import regressor_columns
+from ..dynamics.regressor_kernels import regressor_columns_pullback
 from ..symbolic.drive_regressor import (
     DRIVE_COLUMNS,
     IdentificationColumns,
@@ -362,9 +362,15 @@ def _singular(Ws):
 SMOOTH_POWER = 16.0
 
 
-def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, step=1e-6,
-                                power=None):
-    """A smooth log of the scaled condition number at x, and its gradient with respect to x.
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, power=None):
+    """:func:`_log_condition` at x and its gradient with respect to x, shape (n (2K - 1),)."""
+    value, gradient = _log_condition(x, robot, columns, basis, coulomb_scale, power)
+    return value, gradient()
+
+
+def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
+    """A smooth log of the scaled condition number at x, and a function giving its gradient
+    with respect to x (called only where the optimiser needs it, not in its line searches).
 
     The value is (1/P) log sum sigma_i^P + (1/P) log sum sigma_i^-P (P = ``power``, default
     SMOOTH_POWER), within (2/P) log p above log(sigma_max / sigma_min) and smooth where the
@@ -372,44 +378,45 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, st
     (1/2) log p + (1/2) log trace((Ws^T Ws)^-1), Ws the regressor with unit-norm columns
     (sum sigma_i^2 = p): the A-optimality criterion. With d value / d sigma_i = c_i and sigma_i =
     u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
-    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; the base regressor's
-    derivatives with respect to the states are forward differences (one per joint and state, every sample at
-    once, in one call of the regressor), the drive columns' exact.
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; that gradient is
+    carried to the states by the regressor recursion's reverse-mode derivative
+    (:func:`~gd_analyze.dynamics.regressor_kernels.regressor_columns_pullback`, about three
+    evaluations of the regressor whatever n is) and by the drive columns' exact derivatives,
+    then to x by the basis (linear).
     """
     n = robot.n
     states = basis.states(x, n)
     q, qd, qdd = states
     M = q.shape[0]
     base_idx = np.flatnonzero(columns.base.independent.reshape(-1))
-    moved = [np.tile(a, (3 * n + 1, 1)) for a in states]
-    for d in range(3):
-        for j in range(n):
-            k = 1 + d * n + j
-            moved[d][k * M:(k + 1) * M, j] += step
-    Yall = regressor_columns(robot, base_idx, *moved).reshape(3 * n + 1, M, n, -1)
-    Yb = Yall[0]
+    Yb, pullback = regressor_columns_pullback(robot, base_idx, q, qd, qdd)
     Dk, slope = _kept_drives(columns, qd, qdd, coulomb_scale)
     Y = np.concatenate([Yb, Dk], axis=2)
     p = Y.shape[2]
     W = Y.reshape(M * n, p)
     norms = np.linalg.norm(W, axis=0)
     if not np.all(norms > 0):
-        return math.inf, np.zeros_like(x)
+        return math.inf, lambda: np.zeros_like(x)
     Ws = W / norms
     s, U, V = _singular(Ws)
     if not s[-1] > 0:
-        return math.inf, np.zeros_like(x)
+        return math.inf, lambda: np.zeros_like(x)
     P = SMOOTH_POWER if power is None else float(power)
     up, down = (s / s[0]) ** P, (s[-1] / s) ** P
     value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
+    return value, lambda: _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, Yb.shape[2],
+                                    pullback, slope)
+
+
+def _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, b, pullback, slope):
+    """:func:`_log_condition`'s gradient with respect to x, from its evaluation's parts."""
+    M, n = slope.shape
+    p = Ws.shape[1]
     c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
     Mg = (U * c) @ V.T                                          # d value / d Ws
     G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
     G = G.reshape(M, n, p)
-    b = Yb.shape[2]
-    dY = (Yall[1:] - Yb) / step                                 # (3 n, M, n, b)
-    g = np.einsum("mic,kmic->km", G[:, :, :b], dY).reshape(3, n, M).transpose(0, 2, 1)
-    grads = [g[0].copy(), g[1].copy(), g[2].copy()]
+    grads = list(pullback(G[:, :, :b]))
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
     for c, kind in enumerate(columns.drives):
@@ -424,7 +431,7 @@ def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, st
                 grads[1][:, j] += G[:, j, col] * slope[:, j]
             col += 1
     gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
-    return value, gX.T.reshape(-1)
+    return gX.T.reshape(-1)
 
 
 def _limits(robot, qdd_max=None):
@@ -610,11 +617,24 @@ def _variable_scales(K, wf, lo, hi, qd, qdd):
     return np.where(np.isfinite(D) & (D > 0), D, 1.0)
 
 
-def _scaled_objective(z, D, robot, columns, basis, coulomb_scale, power=None):
-    """:func:`_log_condition_and_gradient` at x = D z, and its gradient with respect to z."""
-    value, grad = _log_condition_and_gradient(z * D, robot, columns, basis, coulomb_scale,
-                                              power=power)
-    return value, grad * D
+class _ScaledObjective:
+    """:func:`_log_condition` at x = D z (``value``) and its gradient with respect to z
+    (``gradient``), the gradient computed from the last value's evaluation when z is the same
+    (SLSQP's line searches ask for values alone)."""
+
+    def __init__(self, D, robot, columns, basis, coulomb_scale, power=None):
+        self.D, self.args = D, (robot, columns, basis, coulomb_scale, power)
+        self.z, self.gradient_at = None, None
+
+    def value(self, z):
+        value, self.gradient_at = _log_condition(z * self.D, *self.args)
+        self.z = np.array(z, float)
+        return value
+
+    def gradient(self, z):
+        if self.z is None or not np.array_equal(z, self.z):
+            self.value(z)
+        return self.gradient_at() * self.D
 
 
 def _constraints(basis, n, lo, hi, qd, qdd):
@@ -682,8 +702,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     Swevers et al. (1997): the Fourier series of Eq. (9), the condition number of the
     (column-scaled) regressor as criterion. The objective is log cond(Y S) over
     ``OBJECTIVE_SAMPLES`` samples of one period, smoothed as the P-norms of the singular values
-    and their inverses, its gradient exact in the singular vectors and by forward differences
-    in the regressor's states. The variables are scaled to their ranges, and each start is
+    and their inverses, its gradient exact (the singular vectors, then the regressor
+    recursion differentiated in reverse mode). The variables are scaled to their ranges, and each start is
     optimised in the stages of :data:`STAGES`: the Coulomb columns sgn(qd_j) first replaced by
     tanh(qd_j / v_j), v_j a fraction of the velocity limit (the sampled sgn has no gradient),
     then as they are; P first 2 (the A-optimality criterion, the trace of the inverse
@@ -702,11 +722,15 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     N = round(T / DEFAULT_SAMPLE_PERIOD) + 1 if n_setpoints is None else int(n_setpoints)
     if N < 2:
         raise ValueError("a trajectory needs at least 2 set points")
+    import scipy.optimize  # noqa: F401  (loads SciPy's own BLAS before the limit below)
     from threadpoolctl import threadpool_limits
 
     clock = time.perf_counter()
     # one BLAS thread: the SVDs and eigenproblems here are small, and a threaded LAPACK call
-    # on a busy machine takes a hundred times longer than a serial one
+    # on a busy machine takes a hundred times longer than a serial one. The limit reaches only
+    # the BLAS libraries loaded when it is set: SciPy's (SLSQP's), loaded by the import above,
+    # otherwise ran two threads, the second spinning (the PUMA's plan: 17.8 s CPU in 9.2 s
+    # wall, 9.0 s CPU in 9.0 s with one thread)
     with threadpool_limits(1, "blas"):
         return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
                           int(maxiter), drives, margin, clock)
@@ -740,9 +764,8 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
         start_conditions.append(excitation_condition(robot, columns, start))
         z, said = _variables(start) / D, []
         for scale, power in stages:
-            result = minimize(_scaled_objective, z,
-                              args=(D, robot, columns, objective, scale, power),
-                              jac=True, method="SLSQP", constraints=[constraint],
+            fun = _ScaledObjective(D, robot, columns, objective, scale, power)
+            result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP", constraints=[constraint],
                               options={"maxiter": int(maxiter), "ftol": 1e-8})
             z = result.x
             said.append(f"{result.message} ({result.nit} iterations)")
