@@ -17,8 +17,10 @@ Prints one JSON line per arm and pair: the optimised condition number, the rando
 and maximum, the ratio median / optimised, the planning's wall and CPU time [s], and the load
 average before and after (the wall time depends on the machine's load; the CPU time less so).
 With ``--diagnose``, also each joint's mean |qd| / rms qd (the correlation of its viscous and
-Coulomb columns) and the columns with the largest weights in the singular vectors of the
-largest and smallest singular values of the optimised trajectory's scaled regressor.
+Coulomb columns), the columns with the largest weights in the singular vectors of the
+largest and smallest singular values of the optimised trajectory's scaled regressor, and the
+condition number after leaving out, one by one, the 8 columns whose removal lowers it most
+(how far the spectrum is spread over the columns).
 """
 
 from __future__ import annotations
@@ -100,7 +102,18 @@ def _diagnosis(robot, ex, samples=400, weights=5):
     def heaviest(v):
         return {names[i]: round(float(v[i]), 2) for i in np.argsort(-np.abs(v))[:weights]}
 
-    return {"mean_abs_qd_over_rms": np.round(np.abs(qd).mean(0)
+    def cond(cols):
+        sv = np.linalg.svd(Ws[:, cols], compute_uv=False)
+        return float(sv[0] / sv[-1])
+
+    Ws = Y / np.linalg.norm(Y, axis=0)
+    kept, left_out = list(range(len(names))), []
+    for _ in range(8):      # the columns whose removal lowers the condition number most
+        worst = min(kept, key=lambda i: cond([c for c in kept if c != i]))
+        kept.remove(worst)
+        left_out.append([names[worst], round(cond(kept), 3)])
+    return {"left_out_one_by_one": left_out,
+            "mean_abs_qd_over_rms": np.round(np.abs(qd).mean(0)
                                              / np.sqrt((qd ** 2).mean(0)), 3).tolist(),
             "sigma_max": round(float(s[0]), 3), "sigma_min": round(float(s[-1]), 3),
             "largest": heaviest(Vt[0]), "smallest": heaviest(Vt[-1])}
