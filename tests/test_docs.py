@@ -154,9 +154,13 @@ def test_the_cheap_commands_run(tmp_path):
     cheap = [(w, c) for w, c in all_commands() if _cheap(c)]
     assert {c[0] for _, c in cheap} == {"plan", "compare"}
     (tmp_path / "data").symlink_to(ROOT / "data")
+    runs = {}                  # a command written on two pages runs once: the same process
     for where, arguments in cheap:
-        run = subprocess.run([sys.executable, "-m", "gd_analyze.cli", *arguments],
-                             capture_output=True, text=True, cwd=tmp_path, timeout=600)
+        if tuple(arguments) not in runs:
+            runs[tuple(arguments)] = subprocess.run(
+                [sys.executable, "-m", "gd_analyze.cli", *arguments], capture_output=True,
+                text=True, cwd=tmp_path, timeout=600)
+        run = runs[tuple(arguments)]
         assert run.returncode == 0, (where, arguments, run.stderr)
         if arguments[0] == "plan":
             out = Path(tmp_path, arguments[arguments.index("-o") + 1])
