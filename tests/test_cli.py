@@ -476,18 +476,17 @@ def test_sweep_writes_the_form_asked_for(tmp_path, capsys, form):
 
 
 @pytest.mark.slow
-def test_control_printout_marks_integrator_noise_as_the_report_does(tmp_path, capsys, shared_main):
+def test_control_printout_marks_integrator_noise_as_the_report_does():
     """The printed table gave the full-model controller's tracking error as digits
     (1.476e-11 rad), which the report and the verdict call integrator noise, ≡ 0: each printed
     cell is "≡ 0" exactly where the stored error is at or below the report's floor."""
     from gd_analyze.report.control import dataset_verdict
     from gd_analyze.store.schema import open_results
 
-    out_dir = shared_main("puma560", SHIPPED)        # shared, read only
-    code, out, err = _run(["control", out_dir / "simplified_model.json", SHIPPED, "-o",
-                           tmp_path / "c", "--no-report"], capsys)
-    assert code == 0, err
-    ds = open_results(tmp_path / "c" / "control.h5")
+    # the run of golden case puma560-control (gd-analyze control <golden case puma560's
+    # model> <shipped> --no-report) and what it printed, shared, read only
+    (root, *_), out = golden_run("puma560-control")
+    ds = open_results(root / "puma560-control" / "control.h5")
     q_floor = dataset_verdict(ds)["floors"][0]
     rows = {line.split()[0]: line for line in out.splitlines() if "peak |e|" in line}
     assert set(rows) == {"full", "simplified", "pd_gravity"}

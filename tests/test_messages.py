@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import built_once
+from conftest import built_once, golden_run
 
 from gd_analyze.cli import main
 from gd_analyze.model.robots import builtin_robots
@@ -126,6 +126,14 @@ def test_round_off_elements_are_identically_zero_not_ranked():
     assert "\u2261 0" not in rows["D11"] and "\u2261 0" not in rows["D55"]
 
 
+def _puma_model():
+    """The simplified model of golden case puma560's run (gd-analyze puma560 <shipped>
+    --no-report, conftest's golden_run): the PUMA 560's main job on its shipped trajectory
+    without report, run once a session. Shared: read only."""
+    (root, *_), _ = golden_run("puma560")
+    return root / "puma560" / "simplified_model.json"
+
+
 # --- control: singular D, stiffness of every controller --------------------------------------------
 
 def test_control_on_a_singular_D_names_the_joint(tmp_path, capsys):
@@ -139,10 +147,7 @@ def test_control_on_a_singular_D_names_the_joint(tmp_path, capsys):
 def test_control_stiffness_check_covers_pd_gravity(tmp_path, capsys):
     """wn = 5000 passes the computed-torque check (5000 x 4.16 s / 3 < 20000 steps) but the
     PD + gravity loop's fastest mode, through D^-1 diag(D), is faster: refused before any run."""
-    code, _, err = _run(capsys, "puma560", DATA / "puma560_trajectory.csv", "-o",
-                        tmp_path / "m", "--no-report", "-q")
-    assert code == 0, err
-    code, _, err = _run(capsys, "control", tmp_path / "m" / "simplified_model.json",
+    code, _, err = _run(capsys, "control", _puma_model(),
                         DATA / "puma560_trajectory.csv", "--wn", "5000", "--no-report",
                         "-o", tmp_path / "c")
     assert code == 2 and "pd_gravity" in err and "too stiff" in err and "fastest mode" in err
@@ -220,10 +225,7 @@ def test_sweep_summary_never_claims_a_guarantee_that_does_not_hold(tmp_path, cap
 # --- evaluate checks the trajectory's provenance --------------------------------------------------
 
 def test_evaluate_warns_when_the_trajectory_was_planned_for_another_robot(tmp_path, capsys):
-    code, _, err = _run(capsys, "puma560", DATA / "puma560_trajectory.csv", "-o",
-                        tmp_path / "m", "--no-report", "-q")
-    assert code == 0, err
-    model = tmp_path / "m" / "simplified_model.json"
+    model = _puma_model()
     prov = json.loads((DATA / "stanford_trajectory.provenance.json").read_text())
     assert prov["robot"] == "stanford"
     code, out, err = _run(capsys, "evaluate", model, DATA / "stanford_trajectory.csv")
