@@ -120,8 +120,11 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
     choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
                          None if ex is None else ex.full_cost)
-    # the sampled pre-screen skipped the region's certification: no ladder is certified either
-    screened = rec.provenance.get("region_screen") if proved else None
+    # a screen chose the exact recursive model; the sampled pre-screen skipped the region's
+    # certification too (not the screen of the pairs searched under the proved bounds), so
+    # no ladder is certified either
+    screen = rec.provenance.get("region_screen") if proved else None
+    screened = screen if screen and not screen.get("proved") else None
     rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
     model, sel, skipped = rec, None, _screened_ladder(screened)
     if choice.form == "explicit":               # the ladder of the form deployed
@@ -154,7 +157,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
     if replaced is not None:
         check: Any = replaced.inertia_check
-        form_note = ("The deployed model is the " + ("exact" if screened else "pruned")
+        form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
                      + " recursive one: the explicit model's D_s "
                      + ("was not proved positive definite over the region."
                         if replaced.guarantee is not None and replaced.guarantee.proved else
@@ -185,8 +188,8 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         if form_note:
             extra.attrs["simplified_form_note"] = form_note
         extra.attrs.update(region_coverage(region, trajectory))
-        if screened:
-            extra.attrs.update(region_screen_attrs(screened))
+        if screen:
+            extra.attrs.update(region_screen_attrs(screen))
         return extra
 
     return model, other, finish
@@ -328,23 +331,27 @@ def recursive_costs(model: SimplifiedModel, counts: Mapping[str, Any] | None = N
 
 
 def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
-    """The sampled pre-screen that skipped the region's certification, as results.h5 stores it.
+    """The screen that chose the exact recursive model, as results.h5 stores it.
 
     Parameters
     ----------
     screen : dict
-        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`.
+        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`: the sampled pre-screen that
+        skipped the region's certification, or the screen of the pairs searched under the
+        proved bounds (``proved``).
 
     Returns
     -------
     dict
         ``simplified_region_screen`` (the sentence with the numbers),
         ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
-        (shares of the exact recursive model's operations [1]).
+        (shares of the exact recursive model's operations [1]), and
+        ``simplified_region_screen_proved`` (1: the proved screen, 0: the sampled one).
     """
     return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
             Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
-            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"])}
+            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"]),
+            Attr.SIMPLIFIED_REGION_SCREEN_PROVED: int(bool(screen.get("proved", False)))}
 
 
 def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance: float,
