@@ -242,3 +242,7 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     scale = np.asarray(model.guarantee.scale)
     assert np.all(np.abs(model.torque(qs, qds, qdds) - ref) <= 1e-9 * scale)
     assert spec["inertia_check"]["proved"]
+    ran = model.robot                          # as the job read it: its search, read back
+    again = region_search(ran, base_parameters(ran), robot_region(ran)[0], 0.01)
+    assert again.forms is not None and again.screen.proved and again.screen.skip
+    np.testing.assert_array_equal(again.rec.dropped, model.recursive.dropped)
