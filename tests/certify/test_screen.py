@@ -65,3 +65,33 @@ def test_every_set_the_proof_drops_passes_the_sampled_constraint():
         assert rec.dropped.any()
         assert np.all(total <= eps * rec.scale * (1 + 1e-9))
         assert found.best_operations <= found.exact_operations
+
+
+def test_the_proved_screen_counts_the_searched_pairs_programs():
+    """The screen of pairs found under the proved bounds: its counts are those of the
+    programs without common-subexpression elimination; the PUMA 560's region model (308 of
+    320) saves more than the threshold and is built, dropping nothing saves nothing and is
+    skipped; both say which screen they are."""
+    from gd_analyze.certify.screen import proved_screen
+    from gd_analyze.jobs.deploy import region_model
+    from gd_analyze.symbolic.pruning import part_values
+    from gd_analyze.symbolic.recursive import parts_program
+
+    robot, base, region, values = _inputs("puma560")
+    rec, _ = region_model(robot, base, region, 0.01)
+
+    def quick(dropped):
+        c = parts_program(robot, part_values(base, dropped), cse=False, search=False).cost()
+        return c["multiplications"] + c["additions"]
+    rel = np.zeros(rec.dropped.shape)
+    found = proved_screen(robot, base, rec.dropped, 0.01, rec.scale, values[3], rel)
+    assert found.proved and not found.skip and found.saving >= MIN_SAVING
+    assert found.exact_operations == quick(np.zeros(rec.dropped.shape, bool))
+    assert found.best_operations == quick(rec.dropped) < found.exact_operations
+    assert "proved over the region" in found.text() and found.text().endswith(": built")
+    none = proved_screen(robot, base, np.zeros(rec.dropped.shape, bool), 0.01, rec.scale,
+                         values[3], rel)
+    said = none.to_dict()
+    assert none.skip and none.saving == 0.0 and said["proved"] and said["skipped"]
+    assert "not built" in said["statement"] and "threshold of 2 %" in said["statement"]
+    assert not screen_region(robot, base, region, values, 0.01).to_dict()["proved"]

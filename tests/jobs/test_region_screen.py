@@ -9,6 +9,7 @@ the programs, and the sampled magnitudes of the pairs (each a lower bound of its
 import json
 
 import numpy as np
+import pytest
 from conftest import SHIPPED
 
 from gd_analyze.certify.screen import MIN_SAVING
@@ -123,3 +124,125 @@ def test_a_skipped_search_still_leaves_out_the_pairs_that_are_identically_zero(t
     scale = np.asarray(model.guarantee.scale)
     assert np.all(np.abs(model.torque(q, qd, qdd) - ref) <= 1e-9 * scale)
     assert np.all(np.asarray(model.guarantee.bound) == 0)
+
+
+def _random_chain(n, seed=0):
+    """A random chain of n joints with a joint-limit region (general placements, every third
+    joint prismatic, limits of +-2.5 rad and +-0.3 m, 2 rad/s, 4 rad/s^2; the chains of
+    analysis/scaling.py)."""
+    from scipy.spatial.transform import Rotation
+
+    from gd_analyze.model.robot_spec import robot_from_chain
+
+    rng = np.random.default_rng(seed)
+    joints = []
+    for i in range(n):
+        B = rng.normal(size=(3, 3)) * 0.1
+        S = B @ B.T
+        lim = 0.3 if i % 3 == 2 else 2.5
+        joints.append({
+            "type": "prismatic" if i % 3 == 2 else "revolute",
+            "rotation": Rotation.random(random_state=seed * 1000 + i).as_matrix(),
+            "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
+            "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
+            "q_min": -lim, "q_max": lim, "qd_max": 2.0, "qdd_max": 4.0})
+    return robot_from_chain(f"random-{n}", joints, [0.0, 0.0, -9.81])
+
+
+@pytest.mark.slow
+def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
+        tmp_path, monkeypatch, capsys):
+    """A random 5-joint chain at EPS = 0.01: the sampled pre-screen finds that a region model
+    could save more than 2 %, so the region is certified and searched; the pairs the search
+    drops under the proved bounds save less than 2 % by the quick counts (counted here on the
+    programs themselves). The pruned model's program is then never built; the exact recursive
+    model is deployed with bound 0 under the region guarantee, its torque is rnea's at random
+    states of the region, the ladder's searches are spared too, and every output says why
+    with the numbers, without claiming that the certification was skipped."""
+    import xarray as xr
+
+    import gd_analyze.symbolic.pruning as pruning_module
+    import gd_analyze.symbolic.recursive_model as recursive_model_module
+    from gd_analyze.certify.screen import screen_region
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.jobs.deploy import region_search
+    from gd_analyze.jobs.region_memo import region_magnitudes, region_values
+    from gd_analyze.model.robot_file import robot_toml
+    from gd_analyze.symbolic.pruning import part_values
+    from gd_analyze.symbolic.recursive import parts_program
+
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
+    robot = _random_chain(5)
+    base = base_parameters(robot)
+    region, _ = robot_region(robot)
+    sampled = screen_region(robot, base, region, region_values(robot, base, region), 0.01,
+                            magnitudes=region_magnitudes(robot, base, region))
+    assert not sampled.skip                              # the old exit does not apply
+    searched = region_search(robot, base, region, 0.01, screen=False).rec.dropped
+    assert searched.any()
+
+    def quick(dropped):
+        c = parts_program(robot, part_values(base, dropped), cse=False, search=False).cost()
+        return c["multiplications"] + c["additions"]
+    exact_quick = quick(np.zeros(searched.shape, bool))
+    assert quick(searched) > (1 - MIN_SAVING) * exact_quick         # saves less than 2 %
+
+    built = []
+    original = pruning_module.pruned_choice
+
+    def spy(robot_, base_, dropped, *args, **kwargs):
+        built.append(np.array(dropped, bool))
+        return original(robot_, base_, dropped, *args, **kwargs)
+    monkeypatch.setattr(pruning_module, "pruned_choice", spy)
+    monkeypatch.setattr(recursive_model_module, "pruned_choice", spy)
+
+    toml = tmp_path / "chain.toml"
+    toml.write_text(robot_toml(robot, ["random chain of 5 joints"]))
+    t = np.linspace(0.0, 3.0, 31)
+    arg = 0.7 * t[:, None] + np.arange(5)
+    amp = np.where(np.asarray(robot.prismatic, bool), 0.1, 0.8)
+    q, qd, qdd = amp * np.sin(arg), 0.7 * amp * np.cos(arg), -0.49 * amp * np.sin(arg)
+    csv = tmp_path / "t.csv"
+    header = ["t"] + [f"{k}{j + 1}" for k in ("q", "qd", "qdd") for j in range(5)]
+    np.savetxt(csv, np.column_stack([t, q, qd, qdd]), delimiter=",", header=",".join(header),
+               comments="")
+    out = tmp_path / "out"
+    capsys.readouterr()
+    assert main([str(toml), str(csv), "-o", str(out), "--no-report"]) == 0
+    said = capsys.readouterr().out
+    assert built and not any(np.array_equal(d, searched) for d in built)
+
+    line = next(x for x in said.splitlines() if x.startswith("pruned region model not built: "))
+    assert "bounds proved over the region" in line and "below the threshold of 2 %" in line
+    assert "certification skipped" not in said and "certification and search were" not in said
+    spec = json.loads((out / "simplified_model.json").read_text())
+    screen = spec["provenance"]["region_screen"]
+    assert screen["proved"] and screen["skipped"]
+    assert screen["possible_saving"] < screen["threshold"] == MIN_SAVING
+    assert screen["exact_operations"] == exact_quick
+    assert screen["best_operations"] == quick(searched)
+    assert spec["form"] == "recursive"
+    exact = spec["costs"]["exact recursive"]
+    assert spec["cost"]["multiplications"] + spec["cost"]["additions"] <= \
+        exact["multiplications"] + exact["additions"]
+    g = spec["guarantee"]
+    assert g["kind"] == "region" and "(proved" in g["statement"]
+    assert np.all(np.array(g["bound"]) == 0) and "proved identically zero" in g["method"]
+    assert "bounds proved over the region" in g["method"]
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
+        assert int(ds.attrs["simplified_region_screen_proved"]) == 1
+        assert float(ds.attrs["simplified_region_possible_saving"]) < MIN_SAVING
+        assert "each other rung would need its own search" in \
+            ds.attrs["simplified_ladder_skipped"]
+
+    model = load_model(out / "simplified_model.json")        # its claim checked on reading
+    qs, qds, qdds = _region_states(region, 200)
+    pin, pm, data = _pinocchio(robot)
+    ref = np.array([pin.rnea(pm, data, *x).copy() for x in zip(qs, qds, qdds)])
+    scale = np.asarray(model.guarantee.scale)
+    assert np.all(np.abs(model.torque(qs, qds, qdds) - ref) <= 1e-9 * scale)
+    assert spec["inertia_check"]["proved"]
+    ran = model.robot                          # as the job read it: its search, read back
+    again = region_search(ran, base_parameters(ran), robot_region(ran)[0], 0.01)
+    assert again.forms is not None and again.screen.proved and again.screen.skip
+    np.testing.assert_array_equal(again.rec.dropped, model.recursive.dropped)

@@ -1,6 +1,7 @@
 """Whether a region model can save operations at all, judged from the region's samples.
 
-Decided before any bound is proved.
+Decided before any bound is proved; once more after, on the set the search finds under the
+proved bounds (:func:`proved_screen`).
 
 The region model (:func:`gd_analyze.jobs.deploy.region_model`) drops a set S of (base
 parameter, part) pairs only if, on every final box L of the certification's branch and bound,
@@ -22,6 +23,12 @@ nothing worth their time: the exact recursive model (error 0 at every state), le
 proved identically zero symbolically, is deployed instead. The estimate is a sampled one (the search is greedy and the counts are the quick
 ones, :func:`gd_analyze.symbolic.recursive.parts_count`); it decides only whether to
 search, never a bound.
+
+Where the region is certified and searched, the search's own set, found under the proved
+bounds, is screened again before any of its programs is built (:func:`proved_screen`): where
+its quick count saves less than :data:`MIN_SAVING` of the exact count, the pruned model's
+programs (each a search over the links' forms) are not built and the same exact model is
+deployed. Both screens choose only between two sound models.
 """
 
 from __future__ import annotations
@@ -42,7 +49,7 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
     from .region import Region
 
-__all__ = ["MIN_SAVING", "ROUND_OFF", "RegionScreen", "screen_region"]
+__all__ = ["MIN_SAVING", "ROUND_OFF", "RegionScreen", "screen_region", "proved_screen"]
 
 #: Least share of the exact recursive model's operations (quick count) that the sampled
 #: pre-screen must find a region model could save for the region to be certified and
@@ -83,7 +90,13 @@ class RegionScreen:
         Per pair, its largest sampled |contribution| relative to s_i, max over the joints
         (a lower bound of the true one) [1].
     seconds : float
-        Wall time of the screen, the samples not included [s].
+        Wall time of the screen, the samples not included (of a proved screen: its counts,
+        the certification and the search not included) [s].
+    proved : bool
+        The pairs were found by the pruning's search under the bounds proved over the region
+        (:func:`proved_screen`: the region was certified and searched, ``best_operations``
+        is that set's quick count, and ``skip`` means its programs were not built), not
+        under the sampled constraint (:func:`screen_region`).
     """
 
     tolerance: float
@@ -95,6 +108,7 @@ class RegionScreen:
     scale_state: np.ndarray
     relative_peak: np.ndarray
     seconds: float
+    proved: bool = False
 
     @property
     def saving(self) -> float:
@@ -104,7 +118,8 @@ class RegionScreen:
 
     @property
     def skip(self) -> bool:
-        """bool: a region model cannot save :data:`threshold` of the operations: no search."""
+        """bool: a region model cannot save :data:`threshold` of the operations: no search
+        (of a proved screen: the searched model's programs are not built)."""
         return bool(self.saving < self.threshold)
 
     def text(self) -> str:
@@ -114,6 +129,17 @@ class RegionScreen:
         -------
         str
         """
+        if self.proved:
+            head = (f"the pairs the pruning's search drops under the bounds proved over the "
+                    f"region save {100 * self.saving:.3g} % of the exact recursive model's "
+                    f"operations ({self.exact_operations:,} - {self.best_operations:,}, quick "
+                    f"counts; at EPS = {self.tolerance:g})")
+            if self.skip:
+                return (head + f", below the threshold of {100 * self.threshold:g} %: the "
+                        "pruned model's programs were not built and the exact recursive model "
+                        "(error 0 at every state; only pairs proved identically zero are left "
+                        "out) is deployed")
+            return head + f", at least the threshold of {100 * self.threshold:g} %: built"
         head = (f"a region model could save {'at most' if self.skip else 'at least'} about "
                 f"{100 * self.saving:.3g} % of the "
                 f"exact recursive model's operations ({self.exact_operations:,} - "
@@ -133,12 +159,13 @@ class RegionScreen:
         -------
         dict
             ``possible_saving`` and ``threshold`` [1], ``exact_operations``,
-            ``best_operations``, ``skipped`` and ``statement``.
+            ``best_operations``, ``skipped``, ``proved`` (:attr:`proved`) and
+            ``statement``.
         """
         return {"possible_saving": float(self.saving), "threshold": float(self.threshold),
                 "exact_operations": int(self.exact_operations),
                 "best_operations": int(self.best_operations), "skipped": self.skip,
-                "statement": self.text()}
+                "proved": bool(self.proved), "statement": self.text()}
 
 
 def screen_region(robot: Robot, base: BaseParameters, region: Region, values: tuple,
@@ -202,3 +229,54 @@ def screen_region(robot: Robot, base: BaseParameters, region: Region, values: tu
         best_operations=int(parts_count(robot, part_values(base, pr.dropped))),
         dropped=pr.dropped, scale=scale, scale_state=np.asarray(state, float),
         relative_peak=rel, seconds=time.perf_counter() - t0)
+
+
+def proved_screen(robot: Robot, base: BaseParameters, dropped: np.ndarray, tolerance: float,
+                  scale: np.ndarray, scale_state: np.ndarray, relative_peak: np.ndarray,
+                  threshold: float = MIN_SAVING) -> RegionScreen:
+    """The saving of a region model's pairs found under the proved bounds, as a screen.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs the pruning's search drops under the bounds proved over the region
+        (:attr:`gd_analyze.symbolic.pruning.Pruning.dropped`).
+    tolerance : float
+        EPS >= 0.
+    scale : ndarray, shape (n,)
+        s_i of the certification [N m or N].
+    scale_state : ndarray, shape (n, 3 n)
+        Where it was found: (q, qd, qdd).
+    relative_peak : ndarray, shape (b, 3)
+        Per pair, its proved bound relative to s_i, max over the joints [1].
+    threshold : float, optional
+        :data:`MIN_SAVING`.
+
+    Returns
+    -------
+    RegionScreen
+        ``proved`` True; ``best_operations`` the quick count of ``dropped``
+        (:func:`gd_analyze.symbolic.recursive.parts_count`, as the search compared its
+        candidates), ``exact_operations`` that of nothing dropped. ``skip``: the set saves
+        less than ``threshold`` of it, so the pruned model's programs (each a search over the
+        links' forms) are not worth building.
+
+    Notes
+    -----
+    It decides only which of two sound models is built: the pruned one (its bound proved) or
+    the exact one (error 0), never a bound.
+    """
+    t0 = time.perf_counter()
+    dropped = np.asarray(dropped, bool)
+    exact = int(parts_count(robot, part_values(base, np.zeros(dropped.shape, bool))))
+    best = int(parts_count(robot, part_values(base, dropped)))
+    return RegionScreen(
+        tolerance=float(tolerance), threshold=float(threshold), exact_operations=exact,
+        best_operations=best, dropped=dropped.copy(), scale=np.array(scale, float),
+        scale_state=np.asarray(scale_state, float),
+        relative_peak=np.asarray(relative_peak, float), seconds=time.perf_counter() - t0,
+        proved=True)

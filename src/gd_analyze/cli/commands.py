@@ -271,7 +271,8 @@ def _guarantee_lines(results):
     lines.append(f"guarantee: {statement}")
     screen = results.region_screen
     if screen:
-        lines.append(f"region certification skipped: {screen}")
+        lines.append(("pruned region model not built: " if results.region_screen_proved else
+                      "region certification skipped: ") + screen)
     if scope.get("scale") is not None and scope["kind"] != "none":
         pris = results.prismatic
         mixed = any(pris) and not all(pris)

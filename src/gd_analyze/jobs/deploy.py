@@ -34,7 +34,7 @@ from ..certify.region import (
     sampled_error,
     worst_states,
 )
-from ..certify.screen import screen_region
+from ..certify.screen import proved_screen, screen_region
 from ..dynamics.base_parameters import base_parameters
 from ..errors import one_line
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
@@ -383,7 +383,9 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
         the model's guarantee is then of kind ``"region"``. Where the sampled pre-screen finds
         that no such model could save enough (:func:`screened_exact`), the exact recursive
         model is built instead, without certification, and its provenance holds the screen
-        (``region_screen``: :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`).
+        (``region_screen``: :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`); the same
+        where the pairs searched under the proved bounds save less than the threshold
+        (:func:`region_search`; the screen's ``proved`` True).
     sample_region : Region, optional
         For a trajectory model: the region on which its error is sampled
         (``region_sampled_error`` of its guarantee).
@@ -417,7 +419,7 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
                                                        region_missing))
     else:
         found = region_search(robot, base, region, tolerance, torque_floor)
-        if found.screen is not None:    # no region model could save enough: nothing searched
+        if found.screen is not None:    # no region model saves enough: the exact one built
             provenance = {**(provenance or {}), "region_screen": found.screen.to_dict()}
     if region is not None and found.screen is None and torque_floor > 0:
         candidates = [found, _floor_zero_choice(robot, base, region, tolerance, torque_floor)]
@@ -570,7 +572,10 @@ class RegionSearch:
     store : callable or None
         ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
     screen : RegionScreen or None
-        The pre-screen where it chose the exact model; None where the model was searched.
+        The screen where it chose the exact model: the sampled pre-screen (the region not
+        certified), or the screen of the pairs searched under the proved bounds
+        (:attr:`~gd_analyze.certify.screen.RegionScreen.proved`: the pruned model's programs
+        not built); None where the pruned model is deployed.
     """
 
     rec: RecursiveModel
@@ -587,7 +592,11 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     where the sampled pre-screen finds that no region model could save enough
     (:func:`screened_exact`), else the model searched (:func:`region_model`), its searches
     taken from the derivation cache where an entry passes its checks
-    (:mod:`gd_analyze.store.certification_cache`).
+    (:mod:`gd_analyze.store.certification_cache`); and the exact recursive model again where
+    the pairs searched under the proved bounds save less than
+    :data:`gd_analyze.certify.screen.MIN_SAVING` of its operations by the quick counts
+    (:func:`gd_analyze.certify.screen.proved_screen`), so that the pruned model's programs
+    are not built.
 
     Parameters
     ----------
@@ -604,7 +613,7 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
         False: a searched model's guarantee is not built (None) and its error over the region
         not sampled (the tolerance ladder's rungs).
     screen : bool, optional
-        False: the model is searched without the pre-screen.
+        False: the model is searched and built without either screen.
 
     Returns
     -------
@@ -631,17 +640,40 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
         except ValueError:
             found = "holds dropped pairs over the budget"
         else:
+            forms = (found["exact_forms"], found["pruned_forms"])
+            proved = _proved_exact(robot, base, region, tolerance, pb, pr[0].dropped) \
+                if screen else None
+            if proved is not None:
+                return RegionSearch(proved[0], proved[1], forms, screen=proved[2])
             rec, guarantee = _region_model(robot, base, region, tolerance, pb, pr, sampled)
-            return RegionSearch(rec, guarantee, (found["exact_forms"], found["pruned_forms"]))
+            return RegionSearch(rec, guarantee, forms)
     if isinstance(found, str):
         warnings.warn(one_line(f"{entry_path(key)}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
     pruned = _region_pruning(base, pb, robot, region, tolerance)
     pr = pruned[0]
+
+    def store(exact_forms, pruned_forms):
+        write_search(key, pr.dropped, pr.whole, exact_forms, pruned_forms)
+    if screen:
+        proved = _proved_exact(robot, base, region, tolerance, pb, pr.dropped)
+        if proved is not None:
+            return RegionSearch(proved[0], proved[1], store=store, screen=proved[2])
     rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
-    return RegionSearch(rec, guarantee, store=lambda exact_forms, pruned_forms: write_search(
-                            key, pr.dropped, pr.whole, exact_forms, pruned_forms))
+    return RegionSearch(rec, guarantee, store=store)
+
+
+def _proved_exact(robot, base, region, tolerance, pb, dropped):
+    """The exact model (:func:`_exact_model`) where the pairs the search dropped under the
+    proved bounds save less than :data:`gd_analyze.certify.screen.MIN_SAVING` by the quick
+    counts (:func:`gd_analyze.certify.screen.proved_screen`), with that screen; else None."""
+    scale = np.asarray(pb.scale, float)
+    safe = np.where(scale > 0, scale, 1.0)
+    rel = np.where(scale > 0, pb.bound / safe, np.where(pb.bound > 0, np.inf, 0.0)).max(2)
+    found = proved_screen(robot, base, dropped, tolerance, scale, pb.scale_state, rel)
+    return None if not found.skip else (*_exact_model(robot, base, region, tolerance, found),
+                                        found)
 
 
 def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
@@ -677,6 +709,13 @@ def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance
                           torque_floor, magnitudes=region_magnitudes(robot, base, region))
     if not found.skip:
         return None
+    return (*_exact_model(robot, base, region, tolerance, found), found)
+
+
+def _exact_model(robot, base, region, tolerance, found):
+    """The exact recursive model under a region guarantee, less the pairs proved identically
+    zero symbolically (bound 0), and its guarantee, where the screen ``found`` (a
+    :class:`~gd_analyze.certify.screen.RegionScreen` that skips) says why."""
     n = robot.n
     zero = np.asarray(zero_parts(robot, np.flatnonzero(base.independent.reshape(-1))).all(
         axis=2), bool)
@@ -693,7 +732,7 @@ def screened_exact(robot: Robot, base: BaseParameters, region: Region, tolerance
                 + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
                 "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
                 "bound of the true maximum" + _unrefined(robot)))
-    return rec, guarantee, found
+    return rec, guarantee
 
 
 def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,

@@ -120,7 +120,9 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
     choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
                          None if ex is None else ex.full_cost)
-    # the sampled pre-screen skipped the region's certification: no ladder is certified either
+    # a screen chose the exact recursive model: no ladder either (the sampled pre-screen
+    # skipped the certification every rung needs; under the proved bounds, the pairs
+    # searched at the deployed EPS saved too little for the searches of other rungs)
     screened = rec.provenance.get("region_screen") if proved else None
     rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
     model, sel, skipped = rec, None, _screened_ladder(screened)
@@ -328,23 +330,27 @@ def recursive_costs(model: SimplifiedModel, counts: Mapping[str, Any] | None = N
 
 
 def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
-    """The sampled pre-screen that skipped the region's certification, as results.h5 stores it.
+    """The screen that chose the exact recursive model, as results.h5 stores it.
 
     Parameters
     ----------
     screen : dict
-        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`.
+        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`: the sampled pre-screen that
+        skipped the region's certification, or the screen of the pairs searched under the
+        proved bounds (``proved``).
 
     Returns
     -------
     dict
         ``simplified_region_screen`` (the sentence with the numbers),
         ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
-        (shares of the exact recursive model's operations [1]).
+        (shares of the exact recursive model's operations [1]), and
+        ``simplified_region_screen_proved`` (1: the proved screen, 0: the sampled one).
     """
     return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
             Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
-            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"])}
+            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"]),
+            Attr.SIMPLIFIED_REGION_SCREEN_PROVED: int(bool(screen.get("proved", False)))}
 
 
 def exact_explicit_model(full: SimplifiedModel, guarantee: Guarantee, tolerance: float,
@@ -419,8 +425,16 @@ def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
 
 
 def _screened_ladder(screen):
-    """Why the ladder is not built when the pre-screen skipped the region's certification
-    (or "" without a screen)."""
-    return "" if not screen else (
-        "not built: the region was not certified (" + str(screen["statement"])
-        + "), and each rung would need its certification")
+    """Why the ladder is not built where a screen chose the exact recursive model (or ""
+    without a screen): the sampled pre-screen skipped the region's certification, which
+    each rung would need; or the pairs searched under the proved bounds at the deployed EPS
+    saved less than the threshold, and each other rung would need its own search and
+    programs."""
+    if not screen:
+        return ""
+    if screen.get("proved"):
+        return ("not built: at the deployed tolerance the pruned region model was not built ("
+                + str(screen["statement"]) + "), and each other rung would need its own "
+                "search and programs")
+    return ("not built: the region was not certified (" + str(screen["statement"])
+            + "), and each rung would need its certification")

@@ -846,15 +846,20 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
             "region": region_rows, "region_text": region_text,
             "rule": rule, "tolerance": eps,
             "form_note": s.form_note,
-            "screen_note": _screen_note(s.region_screen),
+            "screen_note": _screen_note(s.region_screen, s.region_screen_proved),
             "ladder_heading": "5.5 Tolerance ladder" + (
                 f" of the {ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 
-def _screen_note(said):
-    """The sampled pre-screen that skipped the region's certification, as a sentence, or ""."""
-    return f"Region certification skipped: {said}." if said else ""
+def _screen_note(said, proved=False):
+    """The screen that chose the exact recursive model, as a sentence, or "": the sampled
+    pre-screen that skipped the region's certification, or (``proved``) the screen of the
+    pairs searched under the proved bounds, whose pruned model was not built."""
+    if not said:
+        return ""
+    return f"Pruned region model not built: {said}." if proved else \
+        f"Region certification skipped: {said}."
 
 
 def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | None, str]:

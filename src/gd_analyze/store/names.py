@@ -243,6 +243,7 @@ class Attr:
     SIMPLIFIED_REGION_POSSIBLE_SAVING: Final = "simplified_region_possible_saving"
     SIMPLIFIED_REGION_SAVING_THRESHOLD: Final = "simplified_region_saving_threshold"
     SIMPLIFIED_REGION_SCREEN: Final = "simplified_region_screen"
+    SIMPLIFIED_REGION_SCREEN_PROVED: Final = "simplified_region_screen_proved"
     SIMPLIFIED_PAIRS_DROPPED: Final = "simplified_pairs_dropped"
     SIMPLIFIED_RULE: Final = "simplified_rule"
     SIMPLIFIED_SIN: Final = "simplified_sin"

@@ -661,7 +661,10 @@ class Results(View):
     costs : CostTable or None
         The simplified model's operations beside the models it is compared with.
     region_screen : str
-        Why the region's certification was skipped, "" where it was not.
+        Why a screen chose the exact recursive model, "" where none did.
+    region_screen_proved : bool
+        That screen is the one of the pairs searched under the proved bounds (the region
+        certified), not the sampled pre-screen that skipped the certification.
     base_parameters : BaseParameters or None
         The base parameters of a recursive model (None for an explicit one).
     simplified_operations : tuple of (int, int) or None
@@ -711,6 +714,8 @@ class Results(View):
     share_arm: np.ndarray | None = stored(Var.SHARE_ARM, default=None)
     costs: CostTable | None = derived(CostTable.from_dataset)
     region_screen: str = stored(Attr.SIMPLIFIED_REGION_SCREEN, str, "", attr=True)
+    region_screen_proved: bool = stored(Attr.SIMPLIFIED_REGION_SCREEN_PROVED,
+                                        lambda v: bool(int(v)), False, attr=True)
     base_parameters: BaseParameters | None = derived(BaseParameters.from_dataset)
     simplified_operations: tuple[int, int] | None = derived(lambda ds: _operations(ds.attrs))
     pairs: tuple[int, int] = derived(lambda ds: (

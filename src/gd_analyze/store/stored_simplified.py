@@ -238,8 +238,12 @@ class StoredSimplified(View):
     ladder_form : str
         The form of the ladder's models.
     c_prefix, form_note, region_screen : str
-        The emitted C symbols' prefix, why this form, why the region's certification was
-        skipped ("" where not stored).
+        The emitted C symbols' prefix, why this form, why a screen chose the exact recursive
+        model ("" where not stored).
+    region_screen_proved : bool
+        That screen is the one of the pairs searched under the proved bounds (the region
+        certified, the pruned model not built), not the sampled pre-screen that skipped the
+        certification (False where not stored).
     region : dict or None
         :func:`gd_analyze.store.datasets.stored_region`.
     region_source, region_notes : str
@@ -294,6 +298,8 @@ class StoredSimplified(View):
     c_prefix: str = stored(Attr.C_PREFIX, str, "", attr=True)
     form_note: str = stored(Attr.SIMPLIFIED_FORM_NOTE, str, "", attr=True)
     region_screen: str = stored(Attr.SIMPLIFIED_REGION_SCREEN, str, "", attr=True)
+    region_screen_proved: bool = stored(Attr.SIMPLIFIED_REGION_SCREEN_PROVED,
+                                        lambda v: bool(int(v)), False, attr=True)
     region: dict | None = derived(stored_region)
     region_source: str = stored(Attr.REGION_SOURCE, str, "the robot limits", attr=True)
     region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
