@@ -120,10 +120,11 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
     choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
                          None if ex is None else ex.full_cost)
-    # a screen chose the exact recursive model: no ladder either (the sampled pre-screen
-    # skipped the certification every rung needs; under the proved bounds, the pairs
-    # searched at the deployed EPS saved too little for the searches of other rungs)
-    screened = rec.provenance.get("region_screen") if proved else None
+    # a screen chose the exact recursive model; the sampled pre-screen skipped the region's
+    # certification too (not the screen of the pairs searched under the proved bounds), so
+    # no ladder is certified either
+    screen = rec.provenance.get("region_screen") if proved else None
+    screened = screen if screen and not screen.get("proved") else None
     rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
     model, sel, skipped = rec, None, _screened_ladder(screened)
     if choice.form == "explicit":               # the ladder of the form deployed
@@ -156,7 +157,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
     if replaced is not None:
         check: Any = replaced.inertia_check
-        form_note = ("The deployed model is the " + ("exact" if screened else "pruned")
+        form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
                      + " recursive one: the explicit model's D_s "
                      + ("was not proved positive definite over the region."
                         if replaced.guarantee is not None and replaced.guarantee.proved else
@@ -187,8 +188,8 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         if form_note:
             extra.attrs["simplified_form_note"] = form_note
         extra.attrs.update(region_coverage(region, trajectory))
-        if screened:
-            extra.attrs.update(region_screen_attrs(screened))
+        if screen:
+            extra.attrs.update(region_screen_attrs(screen))
         return extra
 
     return model, other, finish
@@ -425,16 +426,8 @@ def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
 
 
 def _screened_ladder(screen):
-    """Why the ladder is not built where a screen chose the exact recursive model (or ""
-    without a screen): the sampled pre-screen skipped the region's certification, which
-    each rung would need; or the pairs searched under the proved bounds at the deployed EPS
-    saved less than the threshold, and each other rung would need its own search and
-    programs."""
-    if not screen:
-        return ""
-    if screen.get("proved"):
-        return ("not built: at the deployed tolerance the pruned region model was not built ("
-                + str(screen["statement"]) + "), and each other rung would need its own "
-                "search and programs")
-    return ("not built: the region was not certified (" + str(screen["statement"])
-            + "), and each rung would need its certification")
+    """Why the ladder is not built when the pre-screen skipped the region's certification
+    (or "" without a screen)."""
+    return "" if not screen else (
+        "not built: the region was not certified (" + str(screen["statement"])
+        + "), and each rung would need its certification")
