@@ -104,3 +104,42 @@ def test_the_quadratic_bound_encloses_the_form_over_the_velocity_box():
             form = np.einsum("bj,jl,bl->b", qd, C.reshape(n, n), qd)
             assert np.abs(form).max() <= bound[r]
             assert bottom[r] <= form.min() and form.max() <= top[r]
+
+
+@pytest.mark.parametrize("s", [1, 2, 3, 5, 8])
+def test_the_found_extremes_are_the_exact_ones_to_round_off(s):
+    """found_extremes against exact rational enumeration: the same extremes to round-off."""
+    from gd_analyze.certify.vertex_kernel import found_extremes
+
+    rng = np.random.default_rng(s + 40)
+    mid, j, l, w = _case(rng, s, 7)
+    top, bottom = found_extremes(mid, j, l, w, s)
+    tops, bottoms = _exact(mid, j, l, w, s) if s > 1 else ([0] * 7, [0] * 7)
+    scale = np.abs(mid) @ w + 1e-300
+    for r in range(7):
+        assert abs(float(Fraction(float(top[r])) - tops[r])) <= 1e-13 * scale[r]
+        assert abs(float(Fraction(float(bottom[r])) - bottoms[r])) <= 1e-13 * scale[r]
+
+
+@pytest.mark.parametrize("s", [8, 9, 13])
+def test_the_found_extremes_split_the_signs_and_the_rows(s):
+    """More signs than the inner half (and exactly as many), more rows than a pass: the
+    extremes of every sign pattern with v_0 = 1 (oracle: a matrix of all 2^(s-1) patterns),
+    and those of vertex_extremes without widening, to round-off."""
+    from gd_analyze.certify.vertex_kernel import INNER, found_extremes
+
+    rows = 300 if s < 13 else 40
+    rng = np.random.default_rng(s)
+    mid, j, l, w = _case(rng, s, rows, spread=2.0)
+    assert s >= INNER
+    top, bottom = found_extremes(mid, j, l, w, s)
+    signs = np.array([(1,) + v for v in itertools.product((1.0, -1.0), repeat=s - 1)])
+    values = mid @ ((signs[:, j] * signs[:, l]) * w).T
+    scale = np.abs(mid) @ w
+    assert np.all(np.abs(top - values.max(axis=1)) <= 1e-13 * scale)
+    assert np.all(np.abs(bottom - values.min(axis=1)) <= 1e-13 * scale)
+    gray_top, gray_bottom = vertex_extremes(mid, j, l, w, s, widen=False)
+    assert np.all(np.abs(top - gray_top) <= 1e-13 * scale)
+    assert np.all(np.abs(bottom - gray_bottom) <= 1e-13 * scale)
+    with pytest.raises(ValueError, match="pairs"):
+        found_extremes(mid[:, 1:], j[1:], l[1:], w[1:], s)

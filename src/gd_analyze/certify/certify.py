@@ -31,7 +31,7 @@ from .regressor_bounds import (
     combined_bound,
     pair_magnitudes,
 )
-from .vertex_kernel import vertex_extremes
+from .vertex_kernel import found_extremes
 
 if TYPE_CHECKING:
     from ..dynamics.base_parameters import BaseParameters
@@ -179,39 +179,39 @@ def _magnitudes(V, qd_max, qdd_max):
         if not S:
             continue                    # no velocity term: 0
         S, ms = np.asarray(S), np.asarray(ms)
-        if S.size <= SEARCHED_JOINTS:
-            out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
-            continue
-        verts = qd_vertices(qd_max[S])
-        outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
-        chans = packed[(S[:, None] * n + S[None, :]).reshape(-1)]
-        rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
-        for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
-            Cq = V[a:a + rows][np.ix_(np.arange(min(rows, B - a)), chans, np.arange(n),
-                                      ms)]                              # (rows, s s, n, g)
-            r = Cq.shape[0]
-            quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
-            peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
-            out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
+        out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
     return out
 
 
 def _vertex_peaks(V, S, ms, packed, qd_max):
     """max |qd^T C qd| over the vertices of the velocity box of the joints S, at every
     position (B, g, n), for the columns ms: at a vertex qd_j^2 = a_j^2, so the diagonal part
-    is a constant and the rest is :func:`.vertex_kernel.vertex_extremes`'s form in the signs."""
+    is a constant and the rest is a form in the signs, whose extremes
+    :func:`.vertex_kernel.found_extremes` finds over all 2^(s-1) vertices up to
+    :data:`SEARCHED_JOINTS` joints, and one matrix product at the random vertices of
+    :func:`.region.qd_vertices` beyond."""
     B, n = V.shape[0], V.shape[2]
     j, l = np.triu_indices(S.size, 1)
     pairs, diag = packed[S[j] * n + S[l]], packed[S * (n + 1)]
     w_off, w_diag = qd_max[S[j]] * qd_max[S[l]], qd_max[S] ** 2
     out = np.empty((B, ms.size, n))
     rows = max(1, _GEMM_ELEMENTS // (max(j.size, 1) * n * ms.size))
+    if S.size > SEARCHED_JOINTS:        # v_j v_l a_j a_l at the random vertices (P, K)
+        signs = np.copysign(1.0, qd_vertices(qd_max[S]))
+        at = ((signs[:, j] * signs[:, l]) * w_off).T
+        rows = max(1, _GEMM_ELEMENTS // (at.shape[1] * n * ms.size))
+    every = ms.size == V.shape[3] and np.array_equal(ms, np.arange(ms.size))
     for a in range(0, B, rows):
-        block = V[a:a + rows][:, :, :, ms]                              # (r, C, n, g)
-        d = np.einsum("rcig,c->rgi", block[:, diag], w_diag)
-        mid = 2.0 * block[:, pairs].transpose(0, 3, 2, 1).reshape(
-            d.size, j.size)                                             # (r g n, P)
-        top, bottom = vertex_extremes(mid, j, l, w_off, S.size, widen=False)
+        block = V[a:a + rows]                                           # (r, C, n, b)
+        d = np.einsum("rcig,c->rgi", block[:, diag] if every else block[:, diag][..., ms],
+                      w_diag)
+        mid = block[:, pairs] if every else block[:, pairs][..., ms]   # (r, P, n, g)
+        mid = np.multiply(2.0, mid.transpose(0, 3, 2, 1)).reshape(d.size, j.size)  # (r g n, P)
+        if S.size > SEARCHED_JOINTS:
+            quad = mid @ at                                             # (r g n, K)
+            top, bottom = quad.max(axis=1), quad.min(axis=1)
+        else:
+            top, bottom = found_extremes(mid, j, l, w_off, S.size)
         top, bottom = top.reshape(d.shape), bottom.reshape(d.shape)
         out[a:a + rows] = np.maximum(d + top, -(d + bottom))
     return out
