@@ -143,3 +143,23 @@ def test_the_found_extremes_split_the_signs_and_the_rows(s):
     assert np.all(np.abs(bottom - gray_bottom) <= 1e-13 * scale)
     with pytest.raises(ValueError, match="pairs"):
         found_extremes(mid[:, 1:], j[1:], l[1:], w[1:], s)
+
+
+def test_the_found_extremes_read_in_place_are_those_of_the_gathered_rows():
+    """Rows (b, g, i) read in place from an array (B, C, N, b) by channel and column, times a
+    factor: bit for bit the extremes of the same coefficients gathered into rows first."""
+    from gd_analyze.certify.vertex_kernel import found_extremes
+
+    rng = np.random.default_rng(9)
+    s, B, C, N, b = 10, 30, 60, 4, 5
+    j, l = np.triu_indices(s, 1)
+    V = rng.standard_normal((B, C, N, b))
+    chans = rng.choice(C, j.size, replace=False)
+    cols = np.array([4, 1, 2])
+    w = rng.uniform(0.1, 4.0, j.size)
+    mid = (2.0 * V[:, chans][..., cols]).transpose(0, 3, 2, 1).reshape(-1, j.size)
+    want = found_extremes(mid, j, l, w, s)
+    got = found_extremes(V, j, l, w, s, channels=chans, columns=cols, factor=2.0)
+    for x, y in zip(got, want):
+        assert x.shape == (B * cols.size * N,)
+        np.testing.assert_array_equal(x, y)

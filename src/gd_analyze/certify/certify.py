@@ -170,7 +170,7 @@ def _magnitudes(V, qd_max, qdd_max):
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
     packed = 1 + n + velocity_channels(n)                               # (n n,)
-    used = (V[:, 1 + n:] != 0).any(axis=(0, 2))[packed - 1 - n].reshape(n, n, b)
+    used = _nonzero(V[:, 1 + n:])[packed - 1 - n].reshape(n, n, b)
     support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
     groups = {}
     for m in range(b):                  # columns by the joints their velocity terms involve
@@ -181,6 +181,16 @@ def _magnitudes(V, qd_max, qdd_max):
         S, ms = np.asarray(S), np.asarray(ms)
         out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
     return out
+
+
+def _nonzero(V):
+    """Whether each (channel, column) of V (B, C, n, b) is nonzero somewhere, shape (C, b): at
+    the first position, and where it is zero there, at all of them."""
+    used = (V[0] != 0).any(axis=1)
+    ch, c = np.nonzero(~used)
+    if ch.size:
+        used[ch, c] = (V[:, ch, :, c] != 0).any(axis=(1, 2))
+    return used
 
 
 def _vertex_peaks(V, S, ms, packed, qd_max):
@@ -194,26 +204,21 @@ def _vertex_peaks(V, S, ms, packed, qd_max):
     j, l = np.triu_indices(S.size, 1)
     pairs, diag = packed[S[j] * n + S[l]], packed[S * (n + 1)]
     w_off, w_diag = qd_max[S[j]] * qd_max[S[l]], qd_max[S] ** 2
+    d = np.einsum("bcig,c->bgi", V[:, diag][..., ms], w_diag)           # (B, g, n)
+    if S.size <= SEARCHED_JOINTS:       # the rows (b, g, i) read where they are
+        top, bottom = found_extremes(V, j, l, w_off, S.size, channels=pairs, columns=ms,
+                                     factor=2.0)
+        return np.maximum(d + top.reshape(d.shape), -(d + bottom.reshape(d.shape)))
+    signs = np.copysign(1.0, qd_vertices(qd_max[S]))
+    at = ((signs[:, j] * signs[:, l]) * w_off).T                        # v_j v_l a_j a_l (P, K)
     out = np.empty((B, ms.size, n))
-    rows = max(1, _GEMM_ELEMENTS // (max(j.size, 1) * n * ms.size))
-    if S.size > SEARCHED_JOINTS:        # v_j v_l a_j a_l at the random vertices (P, K)
-        signs = np.copysign(1.0, qd_vertices(qd_max[S]))
-        at = ((signs[:, j] * signs[:, l]) * w_off).T
-        rows = max(1, _GEMM_ELEMENTS // (at.shape[1] * n * ms.size))
-    every = ms.size == V.shape[3] and np.array_equal(ms, np.arange(ms.size))
+    rows = max(1, _GEMM_ELEMENTS // (at.shape[1] * n * ms.size))
     for a in range(0, B, rows):
-        block = V[a:a + rows]                                           # (r, C, n, b)
-        d = np.einsum("rcig,c->rgi", block[:, diag] if every else block[:, diag][..., ms],
-                      w_diag)
-        mid = block[:, pairs] if every else block[:, pairs][..., ms]   # (r, P, n, g)
-        mid = np.multiply(2.0, mid.transpose(0, 3, 2, 1)).reshape(d.size, j.size)  # (r g n, P)
-        if S.size > SEARCHED_JOINTS:
-            quad = mid @ at                                             # (r g n, K)
-            top, bottom = quad.max(axis=1), quad.min(axis=1)
-        else:
-            top, bottom = found_extremes(mid, j, l, w_off, S.size)
-        top, bottom = top.reshape(d.shape), bottom.reshape(d.shape)
-        out[a:a + rows] = np.maximum(d + top, -(d + bottom))
+        mid = V[a:a + rows][:, pairs][..., ms]                          # (r, P, n, g)
+        quad = np.multiply(2.0, mid.transpose(0, 3, 2, 1)).reshape(-1, j.size) @ at
+        top, bottom = quad.max(axis=1), quad.min(axis=1)                # (r g n,)
+        da = d[a:a + rows]
+        out[a:a + rows] = np.maximum(da + top.reshape(da.shape), -(da + bottom.reshape(da.shape)))
     return out
 
 

@@ -174,8 +174,32 @@ def vertex_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def _split(mid, j_of, l_of, w_off, s, a, step, coef, c_max, c_min):
-    R = mid.shape[0]
+def _row_matrix(V, chans, cols, factor, j_of, l_of, w_off, s, r0, m):
+    """:func:`_pair_matrix` of the rows r0 .. r0 + m - 1 of V (B, C, N, b) read in place: row
+    (b, g, i) has m_p = factor V[b, chans[p], i, cols[g]]."""
+    G, N = cols.size, V.shape[2]
+    pos = np.empty(m, np.int64)
+    col = np.empty(m, np.int64)
+    row = np.empty(m, np.int64)
+    for r in range(m):
+        x = r0 + r
+        pos[r] = x // (G * N)
+        col[r] = cols[(x // N) % G]
+        row[r] = x % N
+    M = np.zeros((s, s, m))
+    for p in range(chans.size):
+        j, l, c = j_of[p], l_of[p], chans[p]
+        for r in range(m):
+            x = (factor * V[pos[r], c, row[r], col[r]]) * w_off[p]
+            M[j, l, r] = x
+            M[l, j, r] = x
+    return M
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, c_max, c_min):
+    G, N = cols.size, V.shape[2]
+    R = V.shape[0] * G * N
     b = s - a
     NA = 1 << (a - 1)
     NB = 1 << b
@@ -184,7 +208,7 @@ def _split(mid, j_of, l_of, w_off, s, a, step, coef, c_max, c_min):
     for r0 in range(0, R, _ROWS):
         r1 = min(R, r0 + _ROWS)
         m = r1 - r0
-        M = _pair_matrix(mid, j_of, l_of, w_off, s, r0, m)
+        M = _row_matrix(V, chans, cols, factor, j_of, l_of, w_off, s, r0, m)
         # the inner signs' own part f_A at each of their patterns, in Gray-code order
         T = np.empty((NA, m))
         g = np.zeros((a, m))
@@ -269,8 +293,10 @@ def _split(mid, j_of, l_of, w_off, s, a, step, coef, c_max, c_min):
 
 
 def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
-                   l: npt.NDArray[np.int64], w_off: npt.NDArray[np.float64],
-                   s: int) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+                   l: npt.NDArray[np.int64], w_off: npt.NDArray[np.float64], s: int,
+                   channels: npt.NDArray[np.int64] | None = None,
+                   columns: npt.NDArray[np.int64] | None = None,
+                   factor: float = 1.0) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """The largest and the smallest f(v) over the vertices v in {-1, 1}^s, as computed.
 
     Parameters
@@ -278,7 +304,14 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
     mid, j, l, w_off, s
         As :func:`vertex_extremes` takes them: per row the coefficients m_p of the pairs
         (j_p, l_p), shape (R, P), P = s (s - 1) / 2, their weights w_p >= 0 and the number of
-        signs s >= 1.
+        signs s >= 1. With ``channels``, mid is instead an array (B, C, N, b) read in place.
+    channels : ndarray of int, shape (P,), optional
+        The pairs' channels: row (b, g, i) (R = B g N rows in that order) has m_p =
+        factor mid[b, channels[p], i, columns[g]].
+    columns : ndarray of int, shape (g,), optional
+        With ``channels``: the columns read (default all b).
+    factor : float, optional
+        With ``channels``: the factor of the coefficients (default 1).
 
     Returns
     -------
@@ -302,8 +335,16 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
     v_A . u by one term: about 4 operations per vertex and row, where :func:`vertex_extremes`
     takes s + 3. The round-off of v_A . u accumulates over at most 2^(a - 1) updates.
     """
-    mid, j, l, w_off = _checked(mid, j, l, w_off, s, "found_extremes")
-    R, P = mid.shape
+    if channels is None:
+        mid, j, l, w_off = _checked(mid, j, l, w_off, s, "found_extremes")
+        V = mid.reshape(mid.shape[0], mid.shape[1], 1, 1)
+        chans, cols = np.arange(mid.shape[1]), np.zeros(1, np.int64)
+    else:
+        V = np.ascontiguousarray(mid, dtype=float)
+        chans = np.asarray(channels, np.int64)
+        cols = np.arange(V.shape[3]) if columns is None else np.asarray(columns, np.int64)
+        _, j, l, w_off = _checked(np.empty((0, chans.size)), j, l, w_off, s, "found_extremes")
+    R, P = V.shape[0] * cols.size * V.shape[2], chans.size
     c_max, c_min = np.zeros(R), np.zeros(R)
     if P and R:
         a = min(s, INNER)
@@ -315,5 +356,5 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
         for x in t:                                 # -2 v_i, v_i before the flip
             coef[x] = -2.0 * v[step[x]]
             v[step[x]] = -v[step[x]]
-        _split(mid, j, l, w_off, s, a, step, coef, c_max, c_min)
+        _split(V, chans, cols, float(factor), j, l, w_off, s, a, step, coef, c_max, c_min)
     return c_max, c_min
