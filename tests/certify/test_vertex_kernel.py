@@ -163,3 +163,26 @@ def test_the_found_extremes_read_in_place_are_those_of_the_gathered_rows():
     for x, y in zip(got, want):
         assert x.shape == (B * cols.size * N,)
         np.testing.assert_array_equal(x, y)
+
+
+@pytest.mark.parametrize("s", [5, 14])
+def test_the_found_extremes_over_listed_vertices_are_theirs(s):
+    """Over a list of vertices (some repeated, some negated, not all): the extremes of the
+    form at those vertices (oracle: one matrix product), to round-off, and not those of all."""
+    from gd_analyze.certify.vertex_kernel import found_extremes
+
+    rng = np.random.default_rng(s + 7)
+    mid, j, l, w = _case(rng, s, 300)
+    signs = rng.choice([-1.0, 1.0], (40 if s > 5 else 5, s))
+    signs = np.vstack([signs, -signs[:3], signs[:2]])
+    top, bottom = found_extremes(mid, j, l, w, s, vertices=signs)
+    top2, bottom2 = found_extremes(mid[:, :, None, None], j, l, w, s,
+                                   channels=np.arange(j.size), vertices=signs)
+    np.testing.assert_array_equal(top, top2)
+    np.testing.assert_array_equal(bottom, bottom2)
+    values = mid @ ((signs[:, j] * signs[:, l]) * w).T
+    scale = np.abs(mid) @ w
+    assert np.all(np.abs(top - values.max(axis=1)) <= 1e-13 * scale)
+    assert np.all(np.abs(bottom - values.min(axis=1)) <= 1e-13 * scale)
+    everything = found_extremes(mid, j, l, w, s)
+    assert np.any(everything[0] > top + 1e-9 * scale)

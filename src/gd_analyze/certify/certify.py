@@ -123,8 +123,6 @@ class PairBounds:
     witness: np.ndarray | None = None
 
 
-#: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
-_GEMM_ELEMENTS = 1 << 22
 #: Largest set of joints whose velocity vertices are all searched (:func:`.region.qd_vertices`'s).
 SEARCHED_JOINTS = 13
 
@@ -198,28 +196,19 @@ def _vertex_peaks(V, S, ms, packed, qd_max):
     position (B, g, n), for the columns ms: at a vertex qd_j^2 = a_j^2, so the diagonal part
     is a constant and the rest is a form in the signs, whose extremes
     :func:`.vertex_kernel.found_extremes` finds over all 2^(s-1) vertices up to
-    :data:`SEARCHED_JOINTS` joints, and one matrix product at the random vertices of
-    :func:`.region.qd_vertices` beyond."""
-    B, n = V.shape[0], V.shape[2]
+    :data:`SEARCHED_JOINTS` joints, and over the random vertices of :func:`.region.qd_vertices`
+    beyond."""
+    n = V.shape[2]
     j, l = np.triu_indices(S.size, 1)
     pairs, diag = packed[S[j] * n + S[l]], packed[S * (n + 1)]
     w_off, w_diag = qd_max[S[j]] * qd_max[S[l]], qd_max[S] ** 2
     d = np.einsum("bcig,c->bgi", V[:, diag][..., ms], w_diag)           # (B, g, n)
-    if S.size <= SEARCHED_JOINTS:       # the rows (b, g, i) read where they are
-        top, bottom = found_extremes(V, j, l, w_off, S.size, channels=pairs, columns=ms,
-                                     factor=2.0)
-        return np.maximum(d + top.reshape(d.shape), -(d + bottom.reshape(d.shape)))
-    signs = np.copysign(1.0, qd_vertices(qd_max[S]))
-    at = ((signs[:, j] * signs[:, l]) * w_off).T                        # v_j v_l a_j a_l (P, K)
-    out = np.empty((B, ms.size, n))
-    rows = max(1, _GEMM_ELEMENTS // (at.shape[1] * n * ms.size))
-    for a in range(0, B, rows):
-        mid = V[a:a + rows][:, pairs][..., ms]                          # (r, P, n, g)
-        quad = np.multiply(2.0, mid.transpose(0, 3, 2, 1)).reshape(-1, j.size) @ at
-        top, bottom = quad.max(axis=1), quad.min(axis=1)                # (r g n,)
-        da = d[a:a + rows]
-        out[a:a + rows] = np.maximum(da + top.reshape(da.shape), -(da + bottom.reshape(da.shape)))
-    return out
+    signs = None                        # every vertex, or the random ones beyond
+    if S.size > SEARCHED_JOINTS:
+        signs = np.copysign(1.0, qd_vertices(qd_max[S]))
+    top, bottom = found_extremes(V, j, l, w_off, S.size, channels=pairs, columns=ms,
+                                 factor=2.0, vertices=signs)      # the rows (b, g, i) in place
+    return np.maximum(d + top.reshape(d.shape), -(d + bottom.reshape(d.shape)))
 
 
 def pair_peaks_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,

@@ -197,7 +197,54 @@ def _row_matrix(V, chans, cols, factor, j_of, l_of, w_off, s, r0, m):
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, c_max, c_min):
+def _listed(T, u, step, coef, keep, cross, H, L, fB, hi, lo, started, a, m):
+    """One outer pattern of :func:`_split` over the inner patterns t with keep[t] only: the
+    extremes of T[t] + v_A(t) . u + f_B folded into hi and lo; returns whether any was."""
+    NA = T.shape[0]
+    cur = -1
+    for r in range(m):
+        x = 0.0
+        for i in range(a):
+            x += u[i, r]
+        cross[r] = x
+    for t in range(NA):
+        if t > 0:
+            i = step[t]
+            c = coef[t]
+            for r in range(m):
+                cross[r] += c * u[i, r]
+        if not keep[t]:
+            continue
+        if cur < 0:
+            for r in range(m):
+                y = T[t, r] + cross[r]
+                H[0, r] = y
+                L[0, r] = y
+            cur = 0
+            continue
+        new = 1 - cur
+        for r in range(m):
+            y = T[t, r] + cross[r]
+            h = H[cur, r]
+            H[new, r] = y if y > h else h
+            lw = L[cur, r]
+            L[new, r] = y if y < lw else lw
+        cur = new
+    if cur < 0:
+        return started
+    for r in range(m):
+        if started:
+            hi[r] = max(hi[r], H[cur, r] + fB[r])
+            lo[r] = min(lo[r], L[cur, r] + fB[r])
+        else:
+            hi[r] = H[cur, r] + fB[r]
+            lo[r] = L[cur, r] + fB[r]
+    return True
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, mask, masked,
+           c_max, c_min):
     G, N = cols.size, V.shape[2]
     R = V.shape[0] * G * N
     b = s - a
@@ -237,6 +284,9 @@ def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, c_max, c
         fB = np.empty(m)
         cross = np.empty(m)
         last = (NA - 1) & 1
+        started = False
+        for k in range(b):                      # the outer signs from +1 (the mask's start)
+            vB[k] = 1.0
         for tb in range(NB):
             if tb > 0:                          # the outer signs in Gray-code order
                 k = 0
@@ -258,6 +308,10 @@ def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, c_max, c
                     x = vB[k]
                     for r in range(m):
                         u[i, r] += M[i, a + k, r] * x
+            if masked:                          # the listed vertices only
+                started = _listed(T, u, step, coef, mask[tb], cross, H, L, fB, hi, lo,
+                                  started, a, m)
+                continue
             for r in range(m):
                 x = 0.0
                 for i in range(a):
@@ -296,7 +350,8 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
                    l: npt.NDArray[np.int64], w_off: npt.NDArray[np.float64], s: int,
                    channels: npt.NDArray[np.int64] | None = None,
                    columns: npt.NDArray[np.int64] | None = None,
-                   factor: float = 1.0) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+                   factor: float = 1.0, vertices: npt.NDArray[np.float64] | None = None
+                   ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """The largest and the smallest f(v) over the vertices v in {-1, 1}^s, as computed.
 
     Parameters
@@ -312,6 +367,8 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
         With ``channels``: the columns read (default all b).
     factor : float, optional
         With ``channels``: the factor of the coefficients (default 1).
+    vertices : ndarray, shape (K, s), optional
+        Signs +-1: the extremes over these vertices only (v and -v alike), not all.
 
     Returns
     -------
@@ -356,5 +413,23 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
         for x in t:                                 # -2 v_i, v_i before the flip
             coef[x] = -2.0 * v[step[x]]
             v[step[x]] = -v[step[x]]
-        _split(V, chans, cols, float(factor), j, l, w_off, s, a, step, coef, c_max, c_min)
+        b = s - a
+        mask = np.ones((1 << b, 1 << (a - 1)), np.uint8)
+        if vertices is not None:        # each listed vertex, v_0 = +1, as (outer, inner) steps
+            listed = np.asarray(vertices, float).reshape(-1, s)
+            listed = listed * np.where(listed[:, :1] < 0, -1.0, 1.0)
+            mask[:] = 0
+            mask[_gray_step(listed[:, a:] < 0), _gray_step(listed[:, 1:a] < 0)] = 1
+        _split(V, chans, cols, float(factor), j, l, w_off, s, a, step, coef, mask,
+               vertices is not None, c_max, c_min)
     return c_max, c_min
+
+
+def _gray_step(bits):
+    """The step t of the reflected Gray code whose pattern has these bits set (K, k) (bit i:
+    the part's sign i flipped), the inverse of g = t ^ (t >> 1)."""
+    g = (bits.astype(np.int64) << np.arange(bits.shape[1], dtype=np.int64)).sum(axis=1)
+    t = g.copy()
+    for shift in range(1, max(bits.shape[1], 1)):
+        t ^= g >> shift
+    return t
