@@ -405,3 +405,19 @@ def test_the_witnessed_enclosures_alone_give_the_bounds_and_wrong_ones_only_larg
     with pytest.raises(ValueError, match="witness"):
         certify_tree(robot, base, region, pb.split_joint, pb.split_at, values,
                      witness=pb.witness[:-1])
+
+
+def test_the_velocity_support_sees_a_value_past_the_first_position():
+    """Oracle: (V != 0).any over positions and joints. A channel zero at the first position
+    but not later is used; one zero everywhere is not."""
+    from gd_analyze.certify.certify import _nonzero
+
+    rng = np.random.default_rng(2)
+    V = rng.standard_normal((6, 5, 3, 4))
+    V[:, 1, :, 2] = 0.0
+    V[0, 3, :, 0] = 0.0
+    V[:, 4, :, 1] = 0.0
+    V[4, 4, 2, 1] = -1e-300
+    want = (V != 0).any(axis=(0, 2))
+    np.testing.assert_array_equal(_nonzero(V), want)
+    assert want[3, 0] and want[4, 1] and not want[1, 2]

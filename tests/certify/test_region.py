@@ -140,14 +140,13 @@ def test_one_joint_has_one_vertex():
 
 @pytest.mark.parametrize("name", ("puma560", "stanford"))
 def test_channel_values_rebuild_rnea(name):
-    """The channels, over several chunks, rebuild Pinocchio's rnea at a random state (tau = A
-    qdd + qd^T C qd + G)."""
+    """The channels rebuild Pinocchio's rnea at a random state (tau = A qdd + qd^T C qd + G)."""
     robot = load_robot(name)
     base = base_parameters(robot)
     region = joint_region(robot, robot.qdd_max)
     cols = np.flatnonzero(base.independent.reshape(-1))
     q = sample_positions(region, 30, seed=5)
-    V = full_channels(channel_values(robot, q, cols, chunk=7))
+    V = full_channels(channel_values(robot, q, cols))
     n = robot.n
     rng = np.random.default_rng(2)
     qd, qdd = rng.uniform(-1, 1, (q.shape[0], n)), rng.uniform(-1, 1, (q.shape[0], n))
@@ -353,6 +352,44 @@ def test_channel_values_store_each_velocity_pair_once(name):
     zero = np.zeros_like(qd)
     ref = _rnea(robot, q, qd, zero) - _rnea(robot, q, zero, zero)
     assert np.abs(vel - ref).max() <= 1e-10 * np.abs(ref).max()
+
+
+def test_channel_values_are_the_regressor_at_the_channels_states():
+    """Oracle: the regressor (array code) at the states that isolate each channel, as the
+    channels were once computed, on a random 12-joint chain with prismatic joints and oblique
+    axes: G = W(q, 0, 0), A_j + C_jj = W(q, e_j, e_j) and C_jj = W(q, e_j, 0) with g = 0,
+    C_jl = (W(q, e_j + e_l, 0) - C_jj - C_ll) / 2; within 1e-12 of each column's scale."""
+    from symbolic_helpers import mixed_chain
+
+    from gd_analyze.dynamics.regressor_kernels import regressor_columns
+
+    robot = mixed_chain(12, seed=4)
+    n = robot.n
+    base = base_parameters(robot)
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    q = np.random.default_rng(6).uniform(-2.0, 2.0, (4, n))
+    got = full_channels(channel_values(robot, q, cols))             # (B, 1 + n + n n, n, m)
+    B, eye, g0 = q.shape[0], np.eye(n), np.zeros(3)
+    rep = np.repeat(q, n, axis=0)
+    zero = np.zeros_like(rep)
+    units = np.tile(eye, (B, 1))
+    G = regressor_columns(robot, cols, q, q * 0, q * 0)
+    diag = regressor_columns(robot, cols, rep, units, zero, gravity=g0).reshape(B, n, n, -1)
+    both = regressor_columns(robot, cols, rep, units, units, gravity=g0).reshape(B, n, n, -1)
+    ref = np.empty_like(got)
+    ref[:, 0] = G
+    ref[:, 1:1 + n] = both - diag
+    for j in range(n):
+        for l in range(n):
+            if j == l:
+                ref[:, 1 + n + n * j + l] = diag[:, j]
+                continue
+            W = regressor_columns(robot, cols, q, np.tile(eye[j] + eye[l], (B, 1)), q * 0,
+                                  gravity=g0)
+            ref[:, 1 + n + n * j + l] = 0.5 * (W - diag[:, j] - diag[:, l])
+    scale = np.abs(ref).max(axis=(0, 1, 2))
+    assert np.all(scale > 0)
+    assert np.all(np.abs(got - ref) <= 1e-12 * scale)
 
 
 def test_the_sampled_torques_above_a_limit_are_those_of_the_full_search():

@@ -7,13 +7,14 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from numpy_engines import contribution_peaks_numpy, part_contributions_numpy, part_regressor_numpy
-from symbolic_helpers import ROBOTS, rnea, robot, states
+from symbolic_helpers import ROBOTS, mixed_chain, rnea, robot, states
 
 from gd_analyze.dynamics import regressor_kernels
 from gd_analyze.dynamics.base_parameters import base_parameters, regressor
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.dynamics.regressor_kernels import (
     contribution_peaks,
+    link_channels,
     part_contributions,
     part_regressor,
     regressor_columns,
@@ -229,3 +230,76 @@ def test_the_pullback_is_the_gradient_of_the_weighted_regressor(name):
             want[:, j] = ((regressor_columns(arm, columns, *up)
                            - regressor_columns(arm, columns, *down)) * G).sum((1, 2)) / (2 * h)
         np.testing.assert_allclose(got[d], want, rtol=0, atol=1e-7 * np.abs(want).max())
+
+
+def _pin_channels(arm, q):
+    """Oracle: the channels of every standard column at positions q from Pinocchio's
+    computeJointTorqueRegressor at the channels' states, (B, 1 + n + n n, n, 10 n): G = W(q, 0,
+    0), A_j = W(q, 0, e_j) - G, and C_jl = (W(q, e_j + e_l, 0) - W(q, e_j - e_l, 0)) / 4
+    (C_jj = W(q, e_j, 0) - G), gravity on for G only."""
+    n = arm.n
+    model = pinocchio_model(arm)
+    data = model.createData()
+    flat = pinocchio_model(arm)
+    flat.gravity = pin.Motion.Zero()
+    flat_data = flat.createData()
+    eye, zero = np.eye(n), np.zeros(n)
+    out = np.empty((q.shape[0], 1 + n + n * n, n, 10 * n))
+    for b, x in enumerate(q):
+        def Y(qd, qdd, m=flat, d=flat_data, x=x):
+            W = pin.computeJointTorqueRegressor(m, d, x, qd, qdd).copy()
+            return np.concatenate([W[:, 10 * j:10 * j + 10][:, PIN_ORDER] for j in range(n)], 1)
+        out[b, 0] = Y(zero, zero, model, data)
+        for j in range(n):
+            out[b, 1 + j] = Y(zero, eye[j])
+            for l in range(n):
+                out[b, 1 + n + n * j + l] = (Y(eye[j], zero) if j == l else
+                                             (Y(eye[j] + eye[l], zero)
+                                              - Y(eye[j] - eye[l], zero)) / 4)
+    return out
+
+
+@pytest.mark.parametrize("name", ROBOTS + ("mixed-9",))
+def test_link_channels_are_pinocchios_regressor_at_the_channels_states(name):
+    """Every standard column's gravity, inertial and symmetrized velocity channels (oracle:
+    Pinocchio's regressor at (q, 0, 0), (q, 0, e_j) and (q, e_j +- e_l, 0)) within 1e-12 of
+    the scale, on the DH, URDF and modified-DH arms and random chains with prismatic joints
+    and oblique axes; the channels of a link hold its joints only, the rest being zero."""
+    arm = mixed_chain(9, seed=8) if name == "mixed-9" else robot(name)
+    n = arm.n
+    q = states(arm, 6, 13)[0]
+    cols = np.r_[np.arange(10 * n)[::-1], 3]          # every column, out of order, one twice
+    ref = _pin_channels(arm, q)[..., cols]
+    got = np.zeros_like(ref)
+    seen = np.zeros(cols.size, int)
+    for M, idx, V in link_channels(arm, cols, q):
+        assert np.all(cols[idx] // 10 == M - 1) and V.shape[1:3] == (1 + M + M * (M + 1) // 2, M)
+        seen[idx] += 1
+        for ci, c in enumerate(idx):
+            got[:, :1 + M, :M, c] = V[:, :1 + M, :, ci]
+            for k, (a, e) in enumerate(zip(*np.triu_indices(M))):
+                got[:, 1 + n + n * a + e, :M, c] = got[:, 1 + n + n * e + a, :M, c] = \
+                    V[:, 1 + M + k, :, ci]
+    assert np.all(seen == 1)
+    scale = np.abs(ref).max(axis=(0, 1, 2))            # per column; the overall one where 0
+    assert (scale > 0).sum() > cols.size // 2
+    scale[scale == 0] = np.abs(ref).max()
+    assert np.all(np.abs(got - ref) <= 1e-12 * scale)
+
+
+def test_link_channels_do_not_depend_on_the_batch():
+    """A position's channels are the same bit for bit alone or among others, and the shapes
+    are refused."""
+    arm = mixed_chain(7, seed=3)
+    q = states(arm, 9, 2)[0]
+    cols = np.arange(10 * arm.n)
+    whole = link_channels(arm, cols, q)
+    alone = link_channels(arm, cols, q[4:5])
+    for (M, idx, V), (M1, idx1, V1) in zip(whole, alone):
+        assert M == M1 and np.array_equal(idx, idx1)
+        assert np.array_equal(V[4:5], V1)
+    assert link_channels(arm, [], q) == ()
+    with pytest.raises(ValueError, match="shape"):
+        link_channels(arm, cols, q[:, :3])
+    with pytest.raises(ValueError, match="columns"):
+        link_channels(arm, [70], q)

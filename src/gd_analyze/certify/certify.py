@@ -31,7 +31,7 @@ from .regressor_bounds import (
     combined_bound,
     pair_magnitudes,
 )
-from .vertex_kernel import vertex_extremes
+from .vertex_kernel import found_extremes
 
 if TYPE_CHECKING:
     from ..dynamics.base_parameters import BaseParameters
@@ -123,8 +123,6 @@ class PairBounds:
     witness: np.ndarray | None = None
 
 
-#: Elements of each velocity product of :func:`pair_magnitudes_at` (32 MB).
-_GEMM_ELEMENTS = 1 << 22
 #: Largest set of joints whose velocity vertices are all searched (:func:`.region.qd_vertices`'s).
 SEARCHED_JOINTS = 13
 
@@ -170,7 +168,7 @@ def _magnitudes(V, qd_max, qdd_max):
         0, 2, 1)
     out[:, :, 2] = np.abs(V[:, 0]).transpose(0, 2, 1)
     packed = 1 + n + velocity_channels(n)                               # (n n,)
-    used = (V[:, 1 + n:] != 0).any(axis=(0, 2))[packed - 1 - n].reshape(n, n, b)
+    used = _nonzero(V[:, 1 + n:])[packed - 1 - n].reshape(n, n, b)
     support = used.any(axis=0) | used.any(axis=1)                       # (n, b)
     groups = {}
     for m in range(b):                  # columns by the joints their velocity terms involve
@@ -179,42 +177,38 @@ def _magnitudes(V, qd_max, qdd_max):
         if not S:
             continue                    # no velocity term: 0
         S, ms = np.asarray(S), np.asarray(ms)
-        if S.size <= SEARCHED_JOINTS:
-            out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
-            continue
-        verts = qd_vertices(qd_max[S])
-        outer = (verts[:, :, None] * verts[:, None, :]).reshape(-1, S.size ** 2)   # (K, s s)
-        chans = packed[(S[:, None] * n + S[None, :]).reshape(-1)]
-        rows = max(1, _GEMM_ELEMENTS // (outer.shape[0] * n * ms.size))  # positions a product
-        for a in range(0, B, rows):         # one matrix product (K, s s) @ (s s, rows n g)
-            Cq = V[a:a + rows][np.ix_(np.arange(min(rows, B - a)), chans, np.arange(n),
-                                      ms)]                              # (rows, s s, n, g)
-            r = Cq.shape[0]
-            quad = outer @ Cq.transpose(1, 0, 2, 3).reshape(S.size ** 2, -1)   # qd^T C qd
-            peak = np.maximum(quad.max(axis=0), -quad.min(axis=0))     # max |.| over qd
-            out[a:a + rows, ms, 1] = peak.reshape(r, n, ms.size).transpose(0, 2, 1)
+        out[:, ms, 1] = _vertex_peaks(V, S, ms, packed, qd_max)
     return out
+
+
+def _nonzero(V):
+    """Whether each (channel, column) of V (B, C, n, b) is nonzero somewhere, shape (C, b): at
+    the first position, and where it is zero there, at all of them."""
+    used = (V[0] != 0).any(axis=1)
+    ch, c = np.nonzero(~used)
+    if ch.size:
+        used[ch, c] = (V[:, ch, :, c] != 0).any(axis=(1, 2))
+    return used
 
 
 def _vertex_peaks(V, S, ms, packed, qd_max):
     """max |qd^T C qd| over the vertices of the velocity box of the joints S, at every
     position (B, g, n), for the columns ms: at a vertex qd_j^2 = a_j^2, so the diagonal part
-    is a constant and the rest is :func:`.vertex_kernel.vertex_extremes`'s form in the signs."""
-    B, n = V.shape[0], V.shape[2]
+    is a constant and the rest is a form in the signs, whose extremes
+    :func:`.vertex_kernel.found_extremes` finds over all 2^(s-1) vertices up to
+    :data:`SEARCHED_JOINTS` joints, and over the random vertices of :func:`.region.qd_vertices`
+    beyond."""
+    n = V.shape[2]
     j, l = np.triu_indices(S.size, 1)
     pairs, diag = packed[S[j] * n + S[l]], packed[S * (n + 1)]
     w_off, w_diag = qd_max[S[j]] * qd_max[S[l]], qd_max[S] ** 2
-    out = np.empty((B, ms.size, n))
-    rows = max(1, _GEMM_ELEMENTS // (max(j.size, 1) * n * ms.size))
-    for a in range(0, B, rows):
-        block = V[a:a + rows][:, :, :, ms]                              # (r, C, n, g)
-        d = np.einsum("rcig,c->rgi", block[:, diag], w_diag)
-        mid = 2.0 * block[:, pairs].transpose(0, 3, 2, 1).reshape(
-            d.size, j.size)                                             # (r g n, P)
-        top, bottom = vertex_extremes(mid, j, l, w_off, S.size, widen=False)
-        top, bottom = top.reshape(d.shape), bottom.reshape(d.shape)
-        out[a:a + rows] = np.maximum(d + top, -(d + bottom))
-    return out
+    d = np.einsum("bcig,c->bgi", V[:, diag][..., ms], w_diag)           # (B, g, n)
+    signs = None                        # every vertex, or the random ones beyond
+    if S.size > SEARCHED_JOINTS:
+        signs = np.copysign(1.0, qd_vertices(qd_max[S]))
+    top, bottom = found_extremes(V, j, l, w_off, S.size, channels=pairs, columns=ms,
+                                 factor=2.0, vertices=signs)      # the rows (b, g, i) in place
+    return np.maximum(d + top.reshape(d.shape), -(d + bottom.reshape(d.shape)))
 
 
 def pair_peaks_at(V: ChannelValues, beta: np.ndarray, qd_max: np.ndarray,

@@ -19,17 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..dynamics.regressor_kernels import regressor_columns
+from ..dynamics.regressor_kernels import link_channels
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
            "worst_states", "worst_above", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
            "sampled_error", "REFINE_JOINTS"]
-
-
-#: Largest number of regressor elements :func:`channel_values` evaluates at once
-#: (B S 3 n m of its positions' states: 64 MB).
-CHANNEL_ELEMENTS = 1 << 23
 
 
 def packed_channel_count(n: int) -> int:
@@ -186,7 +181,7 @@ def full_channels(V: ChannelValues) -> np.ndarray:
     return V.packed()[:, np.concatenate([np.arange(1 + n), 1 + n + velocity_channels(n)])]
 
 
-def channel_values(robot, q, columns, chunk=512):
+def channel_values(robot, q, columns):
     """The coefficient functions of the regressor at points q, every channel.
 
     Parameters
@@ -197,10 +192,6 @@ def channel_values(robot, q, columns, chunk=512):
         Joint positions [rad or m].
     columns : array_like of int, shape (m,)
         Flat standard-parameter indices 10 k + c.
-    chunk : int, optional
-        Most positions per call of the regressor (memory O(chunk n^3 m)); fewer where their
-        regressor would exceed :data:`CHANNEL_ELEMENTS` elements (every position's values are
-        computed alone, so the values do not depend on it).
 
     Returns
     -------
@@ -219,76 +210,22 @@ def channel_values(robot, q, columns, chunk=512):
 
     Notes
     -----
-    The regressor (:func:`gd_analyze.dynamics.base_parameters.regressor`, as
-    :func:`gd_analyze.dynamics.regressor_kernels.regressor_columns`, array code: each
-    part only at the states it is read at, within 1.3 times of the compiled regressor kernel
-    here, which computes every part at every state) split into parts, at
-    n (n + 1) / 2 states per point: (qd, qdd) = (e_j, e_j) gives C_jj and the inertial
-    channel A_j (g = 0), qd = e_j + e_l (j < l) gives C_jl + C_lj + C_jj + C_ll (g = 0), and
-    any of them the gravity channel G = W(q, 0, 0).
+    The regressor (:func:`gd_analyze.dynamics.base_parameters.regressor`) is linear in qdd and
+    quadratic in qd, W(q, qd, qdd) = G(q) + sum_j A_j(q) qdd_j + sum_{j, l} C_jl(q) qd_j qd_l;
+    :func:`gd_analyze.dynamics.regressor_kernels.link_channels` computes G, A_j and C_jl
+    of each link's columns directly, each position's frames and Jacobians once (memory: the
+    values alone, O(B n^3 m)). They equal, to round-off, the regressor at the states
+    (qd, qdd) = (e_j, e_j) (C_jj + A_j), qd = e_j + e_l (C_jj + C_ll + 2 C_jl) and
+    (0, 0) (G), and every position's values are computed alone, so they do not depend on
+    the batch.
     """
     q = np.asarray(q, float)
     n = robot.n
     if q.ndim != 2 or q.shape[1] != n:
         raise ValueError(f"q must have shape (B, {n}), got {q.shape}")
     columns = np.asarray(columns, int)
-    links = columns // 10
-    groups = tuple((int(k) + 1, np.flatnonzero(links == k),
-                    np.empty((q.shape[0], packed_channel_count(int(k) + 1), int(k) + 1,
-                              int((links == k).sum()))))
-                   for k in np.unique(links))
-    S = n * (n + 1) // 2
-    chunk = max(1, min(int(chunk), CHANNEL_ELEMENTS // (S * 3 * n * max(columns.size, 1))))
-    for a in range(0, q.shape[0], chunk):
-        qc = q[a:a + chunk]
-        B = qc.shape[0]
-        grav = regressor_columns(robot, columns, qc, np.zeros_like(qc), np.zeros_like(qc))
-        for M, idx, Vm in groups:       # the link's joints, states and columns only
-            cs = _as_slice(idx)
-            inertial, velocity, state = _link_parts(robot, columns[idx], qc, M)
-            jM, lM = np.triu_indices(M)
-            vel = velocity[:, state[jM, lM]]                  # packed order (B, P_M, M, m)
-            joints = np.arange(M)
-            diag = velocity[:, state[joints, joints]]         # C_jj (B, j, i, m)
-            off = jM != lM
-            vel[:, off] = 0.5 * (vel[:, off] - diag[:, jM[off]] - diag[:, lM[off]])
-            Vm[a:a + B, 0] = grav[:, :M, cs]
-            Vm[a:a + B, 1:1 + M] = inertial
-            Vm[a:a + B, 1 + M:] = vel
-    return ChannelValues(n=n, columns=int(columns.size), groups=groups)
-
-
-def _as_slice(idx):
-    """Ascending indices as a slice where they are a run (a basic index: no copy), else as
-    they are."""
-    if idx.size and idx[-1] - idx[0] == idx.size - 1:
-        return slice(int(idx[0]), int(idx[-1]) + 1)
-    return idx
-
-
-def _link_parts(robot, columns, qc, M):
-    """The inertial and velocity parts of columns of link M - 1 on B positions, at the states
-    that can move them: qdd = e_j (j < M), and qd = e_j + e_l or e_j (j <= l < M), g = 0.
-
-    Returns the inertial part (B, j, i, m) and the velocity part (B, state, i, m), both on the
-    joints i < M only, and the state of each pair j <= l (M, M): the pairs are ordered by l,
-    then j."""
-    B, n = qc.shape
-    jj, ll = np.triu_indices(M)
-    order = np.lexsort((jj, ll))                              # by l, then j
-    jj, ll = jj[order], ll[order]
-    state = np.zeros((M, M), int)
-    state[jj, ll] = np.arange(jj.size)
-    eye = np.eye(n)
-    qd_units = eye[jj] + eye[ll] * (jj != ll)[:, None]        # e_j + e_l, or e_j
-    g0, m = np.zeros(3), columns.size
-    zi, zv = np.zeros((B * M, n)), np.zeros((B * jj.size, n))
-    inertial = regressor_columns(robot, columns, np.repeat(qc, M, axis=0), zi,
-                                 np.tile(eye[:M], (B, 1)), gravity=g0)
-    velocity = regressor_columns(robot, columns, np.repeat(qc, jj.size, axis=0),
-                                 np.tile(qd_units, (B, 1)), zv, gravity=g0)
-    return (inertial.reshape(B, M, n, m)[:, :, :M], velocity.reshape(B, jj.size, n, m)[:, :, :M],
-            state)
+    return ChannelValues(n=n, columns=int(columns.size),
+                         groups=link_channels(robot, columns, q))
 
 
 #: How a revolute joint whose region spans a full turn (2 pi or more) is stored and printed.

@@ -14,7 +14,9 @@ U = skew(wd) + skew(w)^2, carried inward f_{i-1} = R_i f_i, n_{i-1} = R_i n_i + 
 and read on every joint's axis, in the numba loop :func:`.regressor_compiled._contributions_kernel`
 (imported by the first call). :func:`regressor_columns` is the same recursion as array code
 over blocks of :data:`BLOCK` set points (every column of a link carried inward together), for
-the callers that want whole regressor columns.
+the callers that want whole regressor columns. :func:`link_channels` gives the regressor's
+coefficient functions of q per link (gravity, inertial and velocity channels), compiled
+(:func:`.regressor_compiled._channels_kernel`).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ import numpy as np
 from ..model.kinematics import as_states
 
 __all__ = ["part_contributions", "contribution_peaks", "stacked_contribution_peaks", "part_regressor", "regressor_columns",
-           "BLOCK"]
+           "link_channels", "BLOCK"]
 
 #: Set points per block of :func:`regressor_columns`: bounds its temporaries (O(BLOCK n m) floats).
 BLOCK = 2048
@@ -220,6 +222,91 @@ def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
         _put(out[sl], _block_columns(robot, _frames(robot, q[sl], top), link, param, qd[sl],
                                      qdd[sl], g), back)
     return out
+
+
+def link_channels(robot, columns, q):
+    """The coefficient functions of the regressor at positions q, per link, compiled.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its inertial parameters are not read).
+    columns : array_like of int, shape (m,)
+        Flat standard-parameter indices 10 k + c (link k, parameter c of
+        :data:`.base_parameters.PARAMETER_NAMES`).
+    q : array_like, shape (B, n)
+        Joint positions [rad or m].
+
+    Returns
+    -------
+    tuple of (int, ndarray of int, ndarray)
+        Per link k with columns, ascending: M = k + 1, the indices in 0..m-1 of its columns
+        (ascending), and their values V, shape (B, P, M, m_k), P = 1 + M + M (M + 1) / 2:
+        ``V[b, 0, i, c]`` the gravity torque W(q, 0, 0) of joint i per unit parameter,
+        ``V[b, 1 + j, i, c]`` the coefficient A_ij of qdd_j and ``V[b, 1 + M + t, i, c]`` the
+        symmetrized coefficient C_ijl = C_ilj of qd_j qd_l, t the index of j <= l in
+        ``numpy.triu_indices(M)``, so that W(q, qd, qdd) = G + A qdd + qd^T C qd on the joints
+        i < M (the other joints' torques, and the other velocities and accelerations, do not
+        involve link k) [N m or N per unit parameter, per rad/s^2 or m/s^2, per (rad/s)^2].
+
+    Raises
+    ------
+    ValueError
+        If q is not of shape (B, n), or a column is out of range.
+
+    Notes
+    -----
+    One pass per position, in the compiled loop
+    :func:`.regressor_compiled._channels_kernel`: the frames once, then outward the body-frame
+    Jacobian of every link (its angular velocity w and its origin's velocity per unit qd_j,
+    which are also the angular and linear accelerations per unit qdd_j at qd = 0) and the
+    symmetrized coefficients of qd_j qd_l in its angular and linear accelerations at qdd = 0
+    (the recursion of :func:`regressor_columns`, Khalil & Kleinfinger 1987, expanded in the
+    products of velocities: it is linear in qdd and quadratic in qd). A link's wrench per unit
+    parameter at each channel's state (the bilinear terms w x (E w) and w x (w x e)
+    symmetrized in the two velocities) is read on each joint through its Jacobian column,
+    tau_i = J_w,i . N + J_v,i . F (the inward recursion's moment about joint i's axis).
+    The values equal those of :func:`regressor_columns` at the states (q, e_j, e_j) and (q,
+    e_j + e_l, 0) to round-off, and each position's values do not depend on the others.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from gd_analyze import load_robot
+    >>> robot = load_robot("two-link")
+    >>> [(M, V.shape) for M, _, V in link_channels(robot, [9, 19], np.zeros((4, 2)))]
+    [(1, (4, 3, 1, 1)), (2, (4, 6, 2, 1))]
+    """
+    columns = _checked_columns(robot, columns)
+    q = np.ascontiguousarray(q, dtype=float)
+    n = robot.n
+    if q.ndim != 2 or q.shape[1] != n:
+        raise ValueError(f"q must have shape (B, {n}), got {q.shape}")
+    links = columns // 10
+    order = np.argsort(links, kind="stable")
+    counts = np.bincount(links, minlength=n)
+    start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    B = q.shape[0]
+    M = np.arange(1, n + 1)
+    sizes = B * (1 + M + M * (M + 1) // 2) * M * counts
+    offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+    out = np.empty(int(sizes.sum()))
+    top = int(links.max()) + 1 if columns.size else 0
+    if B and top:
+        from .regressor_compiled import _channels_kernel
+
+        _channels_kernel(q, np.ascontiguousarray(robot.rotation, float),
+                         np.ascontiguousarray(robot.translation, float),
+                         np.asarray(robot.prismatic, np.int64),
+                         np.ascontiguousarray(robot.gravity, float).reshape(3), top, start,
+                         np.ascontiguousarray(columns[order] % 10), offset, out)
+    groups = []
+    for k in np.flatnonzero(counts):
+        Mk = int(k) + 1
+        block = out[offset[k]:offset[k] + sizes[k]].reshape(B, 1 + Mk + Mk * (Mk + 1) // 2, Mk,
+                                                            int(counts[k]))
+        groups.append((Mk, np.sort(order[start[k]:start[k + 1]]), block))
+    return tuple(groups)
 
 
 def _arguments(robot, columns, beta, q, qd, qdd):
