@@ -392,6 +392,9 @@ def found_extremes(mid: npt.NDArray[np.float64], j: npt.NDArray[np.int64],
     v_A . u by one term: about 4 operations per vertex and row, where :func:`vertex_extremes`
     takes s + 3. The round-off of v_A . u accumulates over at most 2^(a - 1) updates.
     """
+    V: np.ndarray
+    chans: np.ndarray
+    cols: np.ndarray
     if channels is None:
         mid, j, l, w_off = _checked(mid, j, l, w_off, s, "found_extremes")
         V = mid.reshape(mid.shape[0], mid.shape[1], 1, 1)
