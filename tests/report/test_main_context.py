@@ -54,3 +54,30 @@ def test_one_format_per_quantity_in_table_5_1_and_the_summary(shipped_dataset):
     assert (f"is {row[4]} of peak |τ| at joint {worst + 1} ({row[1]} N m of {row[3]} N m)"
             in summary), summary
     np.testing.assert_allclose(float(row[1]), ds["tau_error_peak"].values[worst], rtol=1e-3)
+
+
+def test_an_arm_beyond_the_counted_joints_gets_no_empty_count_table():
+    """The operation counts are tabulated for n = 1..10: for a 12-joint arm the formulations
+    section gives no table with a header and no rows, and its note says why; an arm within
+    the counts gets its row per formulation."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.main_context import _formulations_context
+
+    dof = np.arange(1, 11)
+    counts = np.arange(30).reshape(10, 3) + 1
+
+    def view(n):
+        return SimpleNamespace(
+            quantities=("D", "h", "c", "tau"), pairs=("lagrange-euler vs gd",),
+            disagreement=np.full((1, 4), 1e-15), names=("lagrange-euler", "newton-euler", "gd"),
+            dof=dof, multiplications=counts, additions=counts,
+            multiplications_table_3_5=counts, additions_table_3_5=counts, arm=None, n=n,
+            setpoints=31, joint_types="R" * n)
+
+    beyond = _formulations_context(view(12))
+    assert beyond["costs"]["rows"] == []
+    assert "tabulated for n = 1 to 10 only" in beyond["note"] and "n = 12" in beyond["note"]
+    within = _formulations_context(view(6))
+    assert len(within["costs"]["rows"]) == 3
+    assert "tabulated for" not in within["note"]

@@ -261,8 +261,9 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
         o.table(forms["agreement"], "Largest relative disagreement of each pair of "
                                     "formulations over the checked set points.")
         o.section(f"{top}.2", "Operations per set point")
-        o.table(forms["costs"], "Operations per set point: as implemented, and by the "
-                                "formulas of Table 3.5.")
+        if forms["costs"]["rows"]:       # none where the counts stop short of the arm's n
+            o.table(forms["costs"], "Operations per set point: as implemented, and by the "
+                                    "formulas of Table 3.5.")
         o.figure("formulations", caps["formulations"])
 
     o.section(str(top + 1), "Provenance", "provenance")

@@ -1181,4 +1181,8 @@ def _formulations_context(f):
             f"compiled and by the array engine), beside the formulas of Table 3.5, for "
             f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
             + prismatic_count_note(f.joint_types))
+    if not rows:                        # the counts stop short of this arm's n
+        note += (f" The counts are tabulated for n = {int(min(dof))} to {int(max(dof))} "
+                 f"only (the figure), not for this arm's n = {n}, so no table of them is "
+                 "given." if len(dof) else " No counts are stored.")
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}
