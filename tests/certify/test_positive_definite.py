@@ -274,3 +274,36 @@ def test_the_inertia_check_s_memory_is_flat_in_the_positions(puma):
         peaks.append(tracemalloc.get_traced_memory()[1])
         tracemalloc.stop()
     assert peaks[1] < 2 * peaks[0], peaks
+
+
+def test_the_restore_is_found_from_the_pairs_alone_as_the_check_restores_them():
+    """:func:`inertia_restored`, given only the dropped pairs (as the region model's screen
+    asks before any program is built), restores the inertial parts that
+    :func:`with_inertia_check` restores on the built model: on the model dropping the wrist's
+    parameters whole, the same parameters, and its D_s, with only them restored, is positive
+    definite at the trajectory's positions where the broken one is singular; a set whose D_s
+    is proved comes back as it is."""
+    from gd_analyze.certify.positive_definite import inertia_restored
+
+    robot = load_robot("puma560")
+    q, qd, qdd = random_states(robot, 60, 2)
+    rec = recursive_model(robot, q, qd, qdd, 0.0)
+    base = rec.base(robot)
+    dropped = np.zeros_like(rec.dropped)
+    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
+    dropped[last] = True
+    broken = _model(robot, dataclasses.replace(rec, dropped=dropped))
+    check = with_inertia_check(broken, q).inertia_check
+    kept = inertia_restored(robot, base, dropped, rec.relative_peak, q.min(0), q.max(0))
+    restored = dropped[:, 0] & ~kept[:, 0]
+    assert restored.any()
+    assert {rec.names[k] for k in np.flatnonzero(restored)} == set(check["restored"])
+    np.testing.assert_array_equal(kept[:, 1:], dropped[:, 1:])
+    D = _model(robot, dataclasses.replace(rec, dropped=kept)).functions().numpy()["inertia"](q)
+    assert np.linalg.eigvalsh(D)[:, 0].min() > 0
+    D = broken.functions().numpy()["inertia"](q)
+    assert np.linalg.eigvalsh(D)[:, 0].min() <= 1e-12 * np.abs(D).max()
+    fine = np.zeros_like(dropped)
+    fine[last[0], 1] = True                     # a velocity part: not in D_s
+    np.testing.assert_array_equal(
+        inertia_restored(robot, base, fine, rec.relative_peak, q.min(0), q.max(0)), fine)

@@ -245,3 +245,60 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     again = region_search(ran, base_parameters(ran), robot_region(ran)[0], 0.01)
     assert again.forms is not None and again.screen.proved and again.screen.skip
     np.testing.assert_array_equal(again.rec.dropped, model.recursive.dropped)
+
+
+def test_the_proved_screen_counts_the_pairs_left_after_the_inertia_restore(monkeypatch):
+    """The screen of the pairs searched under the proved bounds, for a model to deploy, counts
+    the pairs its proof of D_s would leave dropped: on the PUMA 560 at EPS 0.01 (its searched
+    set saves more than MIN_SAVING by the quick counts), with the bar after the restore
+    between the saving of its searched set and that of the set with every dropped inertial
+    part restored (as a proof that needs them all would leave it; the restored parameters'
+    other parts kept too where that counts fewer), the exact model is deployed and the screen
+    says how many parameters were restored; for a ladder's rung (no proof of D_s: ``restore``
+    False) the same set is built."""
+    import gd_analyze.jobs.deploy as deploy
+    from gd_analyze.dynamics.base_parameters import base_parameters
+    from gd_analyze.model.robots import load_robot
+    from gd_analyze.symbolic.pruning import part_values
+    from gd_analyze.symbolic.recursive import parts_program
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region, _ = robot_region(robot)
+    pb = deploy.certified(robot, base, region)
+    rec, _ = deploy.region_model(robot, base, region, 0.01)
+    dropped = np.asarray(rec.dropped, bool)
+    inertial = dropped[:, 0] & ~pb.zero[:, 0]
+    assert inertial.any()
+    calls = []
+
+    def restored(robot, base, dropped, rel, q_min, q_max):
+        calls.append(1)
+        out = np.array(dropped, bool)
+        out[:, 0] &= pb.zero[:, 0]              # every inertial part restored
+        return out
+    monkeypatch.setattr(deploy, "inertia_restored", restored)
+
+    def quick(d):
+        c = parts_program(robot, part_values(base, d), cse=False, search=False).cost()
+        return c["multiplications"] + c["additions"]
+    left = dropped.copy()
+    left[:, 0] &= pb.zero[:, 0]
+    whole = left.copy()
+    whole[inertial] = False
+    exact = quick(np.zeros_like(dropped))
+    best = min(quick(left), quick(whole))
+    high, low = ((exact - c) / exact for c in (quick(dropped), best))
+    assert high >= MIN_SAVING and high > low
+    monkeypatch.setattr(deploy, "RESTORED_MIN_SAVING", 0.5 * (high + low))
+    got = deploy._proved_exact(robot, base, region, 0.01, pb, dropped)
+    assert got is not None and calls
+    screen = got[2]
+    assert screen.skip and screen.restored == int(inertial.sum())
+    assert screen.best_operations == best and screen.exact_operations == exact
+    assert f"inertial parts of {int(inertial.sum())} parameters restored" in screen.text()
+    assert screen.to_dict()["restored"] == int(inertial.sum())
+    assert np.all(got[0].bound == 0)
+    calls.clear()
+    assert deploy._proved_exact(robot, base, region, 0.01, pb, dropped, False) is None
+    assert not calls

@@ -866,8 +866,8 @@ def dropped_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
 
 
 def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
-                   limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None
-                   ) -> tuple[np.ndarray, np.ndarray | None]:
+                   limit: np.ndarray, max_boxes: int = 1024, zero: np.ndarray | None = None,
+                   resume: dict | None = None) -> tuple[np.ndarray, np.ndarray | None]:
     """:func:`dropped_bound`, and the tree of boxes its branch and bound evaluated.
 
     Parameters
@@ -876,6 +876,13 @@ def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: 
         As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region, the
         pairs left out (b, 3), the bound sought (n,) [N m or N], the boxes evaluated in all,
         and the pairs proved identically zero (b, 3).
+    resume : dict, optional
+        Where the search keeps the last level it evaluated, and goes on from: an empty dict
+        at the first call; a later call with the same dict and the same arm, base
+        parameters, region, ``dropped``, ``limit`` and ``zero`` but more ``max_boxes``
+        evaluates only the boxes beyond the first call's, and returns what a call without
+        ``resume`` returns (the levels before are the same: a box is halved or not by its
+        own sums alone, and a level is evaluated whole or not at all).
 
     Returns
     -------
@@ -899,16 +906,27 @@ def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: 
         return np.full(n, np.inf), None
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
     rel = split_joints(robot, base, live)
-    lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
-    parent, evaluated, done, joints = None, 0, np.zeros(n), []
+    pending = bool(resume)          # the last level of an earlier call, evaluated
+    if pending:
+        lo, hi, s_lo, s_hi, total, evaluated, done = resume["level"]   # type: ignore[index]
+        joints = [j.copy() for j in resume["joints"]]                  # type: ignore[index]
+    else:
+        lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
+        parent, evaluated, done, joints = None, 0, np.zeros(n), []
     while True:
-        s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
-        total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
-                               region.qdd_max)
-        evaluated += lo.shape[0]
-        joints.append(np.full(lo.shape[0], -1, np.int64))
+        if pending:
+            pending = False         # go on from the level kept
+        else:
+            s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
+            total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                                   region.qdd_max)
+            evaluated += lo.shape[0]
+            joints.append(np.full(lo.shape[0], -1, np.int64))
         open_ = ~np.all(total <= limit[None, :], axis=1)                # NaN stays open
         if not open_.any() or evaluated + 2 * int(open_.sum()) > max_boxes:
+            if resume is not None:
+                resume["level"] = (lo, hi, s_lo, s_hi, total, evaluated, done)
+                resume["joints"] = [j.copy() for j in joints]
             return np.maximum(done, total.max(axis=0)), np.concatenate(joints)
         done = np.maximum(done, total[~open_].max(axis=0, initial=0.0))
         lo, hi, joints[-1][open_] = _bisect(lo[open_], hi[open_], rel)[:3]
@@ -1002,8 +1020,8 @@ def region_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
 
 
 def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
-                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
-                 ) -> tuple[np.ndarray, tuple]:
+                 dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None,
+                 resume: dict | None = None) -> tuple[np.ndarray, tuple]:
     """:func:`region_bound`, and the trees of boxes whose final boxes give it.
 
     Parameters
@@ -1012,6 +1030,10 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
         As :func:`region_bound`: the arm (n joints), its b base parameters, the region, its
         certification, the pairs left out (b, 3), the budget (n,) [N m or N] and the joint
         sums on the certification's final boxes.
+    resume : dict, optional
+        ``resume`` of an earlier :func:`dropped_search` of the same set with the same
+        ``limit`` and ``pb.zero`` and fewer boxes: the branch and bound goes on from it
+        (the same result, fewer boxes evaluated again).
 
     Returns
     -------
@@ -1031,7 +1053,7 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
     trees: tuple = ((np.asarray(pb.split_joint, np.int64), out),)
     if split_joints(robot, base, dropped, pb.zero).sum() <= JOINT_DIMS:
         searched, tree = dropped_search(robot, base, region, dropped, limit, JOINT_BOXES,
-                                        pb.zero)
+                                        pb.zero, resume)
         if tree is not None:
             trees += ((tree, searched),)
         out = np.minimum(out, searched)

@@ -18,6 +18,7 @@ Pure: no files.
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -34,6 +35,10 @@ from .inertia_proof import (
     prove_inertia,
 )
 
+if TYPE_CHECKING:
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+
 #: Boxes of a restore's trial proof (the model finally deployed is proved with the full
 #: budget).
 CANDIDATE_BOXES = 256
@@ -41,7 +46,7 @@ CANDIDATE_BOXES = 256
 __all__ = ["CANDIDATE_BOXES", "CHECK_BLOCK", "SAMPLES", "MAX_BOXES", "InertiaProof", "inertia_floor",
            "gershgorin_lower", "prove_inertia", "inertia_context", "check_inertia",
            "sample_positions", "with_inertia_check", "inertia_statement",
-           "dropped_inertia_values"]
+           "dropped_inertia_values", "inertia_restored"]
 
 #: Positions whose D_s is evaluated at once by :func:`check_inertia` (each (block, n, n)
 #: temporary of a 6-joint arm is 2.3 MiB).
@@ -342,29 +347,75 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
     restored = []
     # restore only where it can help: when D itself is proved (the floor under it positive)
     if not proof.proved and rec is not None and (proof.floor > 0).all():
-        dropped = np.array(rec.dropped, bool)
-        inertial = np.where(dropped[:, 0], 1.0, -1.0) * (
-            np.ones(len(rec.names)) if rec.relative_peak is None
-            else np.asarray(rec.relative_peak, float)[:, 0] + 1e-300)
-        trial = dropped.copy()
-        for k in np.argsort(-inertial, kind="stable"):
-            if inertial[k] < 0:
-                break
-            trial[k, 0] = False             # its inertial part: the only one in D_s
-            restored.append(int(k))
-            if candidate(trial):
-                break
-        for k in list(restored[:-1]):               # then drop again what is not needed
-            again = trial.copy()
-            again[k, 0] = dropped[k, 0]
-            if candidate(again):
-                trial, restored = again, [j for j in restored if j != k]
+        trial, restored = _restore(np.array(rec.dropped, bool), rec.relative_peak, candidate)
         if restored:
             model = (rebuild or _default_rebuild)(model, trial)
             rec = model.recursive
             proof = prove(np.asarray(model.left_out(), bool))
     return model.with_inertia_check(_record(model, where, proof,
                                             [rec.names[k] for k in restored]))
+
+
+def _restore(dropped, relative_peak, candidate):
+    """The dropped pairs with inertial parts restored until ``candidate`` proves D_s, the
+    largest first, then those not needed dropped again; and the parameters restored."""
+    inertial = np.where(dropped[:, 0], 1.0, -1.0) * (
+        np.ones(dropped.shape[0]) if relative_peak is None
+        else np.asarray(relative_peak, float)[:, 0] + 1e-300)
+    trial, restored = dropped.copy(), []
+    for k in np.argsort(-inertial, kind="stable"):
+        if inertial[k] < 0:
+            break
+        trial[k, 0] = False             # its inertial part: the only one in D_s
+        restored.append(int(k))
+        if candidate(trial):
+            break
+    for k in list(restored[:-1]):               # then drop again what is not needed
+        again = trial.copy()
+        again[k, 0] = dropped[k, 0]
+        if candidate(again):
+            trial, restored = again, [j for j in restored if j != k]
+    return trial, restored
+
+
+def inertia_restored(robot: Robot, base: BaseParameters, dropped: np.ndarray,
+                     relative_peak: np.ndarray | None, q_min: np.ndarray, q_max: np.ndarray,
+                     max_boxes: int = MAX_BOXES, samples: int = SAMPLES, seed: int = 0
+                     ) -> np.ndarray:
+    """The pairs a recursive model dropping ``dropped`` keeps dropped once
+    :func:`with_inertia_check` has restored what its proof of D_s needs.
+
+    Parameters
+    ----------
+    robot, base : Robot, BaseParameters
+        The arm (n joints) and its b base parameters.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out (the program leaves them out).
+    relative_peak : ndarray, shape (b, 3), or None
+        The pairs' peaks relative to s_i (:attr:`RecursiveModel.relative_peak`) [1]: the
+        order of the restore.
+    q_min, q_max : ndarray, shape (n,)
+        The box D_s is proved over [rad or m].
+    max_boxes, samples, seed
+        As :func:`with_inertia_check`.
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3)
+        ``dropped`` where D_s is proved with it, or where no restore can help (D itself not
+        proved); else ``dropped`` with the inertial parts restored by the same trials
+        :func:`with_inertia_check` makes (it proves nothing itself: what to build is decided
+        by it, the proof is the deployed model's).
+    """
+    dropped = np.asarray(dropped, bool)
+    context = inertia_context(robot, base, q_min, q_max, samples, seed)
+    proof = prove_inertia(robot, base, dropped, q_min, q_max, max_boxes, samples, seed,
+                          context=context)
+    if proof.proved or not (proof.floor > 0).all():
+        return dropped.copy()
+    return _restore(dropped, relative_peak, lambda left: prove_inertia(
+        robot, base, left, q_min, q_max, min(max_boxes, CANDIDATE_BOXES), samples, seed,
+        context=context).proved)[0]
 
 
 def _default_rebuild(model, dropped):
