@@ -878,11 +878,12 @@ def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: 
         and the pairs proved identically zero (b, 3).
     resume : dict, optional
         Where the search keeps the last level it evaluated, and goes on from: an empty dict
-        at the first call; a later call with the same dict and the same arm, base
+        at the first call; one later call with the same dict and the same arm, base
         parameters, region, ``dropped``, ``limit`` and ``zero`` but more ``max_boxes``
         evaluates only the boxes beyond the first call's, and returns what a call without
         ``resume`` returns (the levels before are the same: a box is halved or not by its
-        own sums alone, and a level is evaluated whole or not at all).
+        own sums alone, and a level is evaluated whole or not at all). The later call takes
+        the level out of the dict (and keeps its own last level there).
 
     Returns
     -------
@@ -907,9 +908,9 @@ def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: 
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
     rel = split_joints(robot, base, live)
     pending = bool(resume)          # the last level of an earlier call, evaluated
-    if pending:
-        lo, hi, s_lo, s_hi, total, evaluated, done = resume["level"]   # type: ignore[index]
-        joints = [j.copy() for j in resume["joints"]]                  # type: ignore[index]
+    if pending:                     # taken out: held no longer than the search's own
+        lo, hi, s_lo, s_hi, total, evaluated, done = resume.pop("level")  # type: ignore[union-attr]
+        joints = resume.pop("joints")                                     # type: ignore[union-attr]
     else:
         lo, hi = region.q_min[None, :].astype(float), region.q_max[None, :].astype(float)
         parent, evaluated, done, joints = None, 0, np.zeros(n), []
