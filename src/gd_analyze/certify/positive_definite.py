@@ -392,7 +392,8 @@ def inertia_restored(robot: Robot, base: BaseParameters, dropped: np.ndarray,
     dropped : ndarray of bool, shape (b, 3)
         The pairs left out (the program leaves them out).
     relative_peak : ndarray, shape (b, 3), or None
-        The pairs' peaks relative to s_i (:attr:`RecursiveModel.relative_peak`) [1]: the
+        The pairs' peaks relative to s_i
+        (:attr:`gd_analyze.symbolic.recursive_model.RecursiveModel.relative_peak`) [1]: the
         order of the restore.
     q_min, q_max : ndarray, shape (n,)
         The box D_s is proved over [rad or m].
