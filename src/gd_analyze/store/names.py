@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
-__all__ = ["Var", "Attr", "VARIABLES", "ATTRIBUTES", "VERIFICATION_PREFIX",
+__all__ = ["Var", "Attr", "ControlVar", "VARIABLES", "ATTRIBUTES", "CONTROL_VARIABLES", "VERIFICATION_PREFIX",
            "VERIFIED_TERMS", "verification_attribute", "ELEMENT_UNITS_RULE", "CliShown",
            "ReportShown", "RankingColumn", "RANKING_COLUMNS"]
 
@@ -274,6 +274,61 @@ class Attr:
     VERIFICATION_TOLERANCE: Final = "verification_tolerance"
 
 
+class ControlVar:
+    """Variables and coordinates of ``control.h5``
+    (:func:`gd_analyze.store.control_dataset.control_dataset`; read by
+    :class:`gd_analyze.store.stored_control.StoredControl`).
+
+    Each constant is the variable's name; ``ControlVar.KP_PD == "Kp_pd"``. The units of a
+    gain whose units depend on the joint's type are the coordinate ``<gain>_units``. Not
+    instantiated.
+    """
+
+    __slots__ = ()
+
+    IS_SETPOINT: Final = "is_setpoint"
+    Q_D: Final = "q_d"
+    QD_D: Final = "qd_d"
+    QDD_D: Final = "qdd_d"
+    Q: Final = "q"
+    QD: Final = "qd"
+    TAU: Final = "tau"
+    ERROR: Final = "error"
+    ERROR_PEAK_SETPOINTS: Final = "error_peak_setpoints"
+    ERROR_RMS_SETPOINTS: Final = "error_rms_setpoints"
+    ERROR_PEAK_GRID: Final = "error_peak_grid"
+    ERROR_RMS_GRID: Final = "error_rms_grid"
+    TAU_PEAK: Final = "tau_peak"
+    TAU_RMS: Final = "tau_rms"
+    NFEV: Final = "nfev"
+    SUCCESS: Final = "success"
+    WN: Final = "wn"
+    ZETA: Final = "zeta"
+    KP: Final = "Kp"
+    KV: Final = "Kv"
+    INERTIA_SCALE: Final = "inertia_scale"
+    KP_PD: Final = "Kp_pd"
+    KV_PD: Final = "Kv_pd"
+    JOINT_TYPE: Final = "joint_type"
+    Q0_OFFSET: Final = "q0_offset"
+    CHOICE: Final = "choice"
+    TAU_DIFFERENCE: Final = "tau_difference"
+    TAU_DIFFERENCE_PEAK: Final = "tau_difference_peak"
+    TAU_DIFFERENCE_RMS: Final = "tau_difference_rms"
+    TAU_DIFFERENCE_PEAK_SETPOINTS: Final = "tau_difference_peak_setpoints"
+    TAU_DIFFERENCE_RMS_SETPOINTS: Final = "tau_difference_rms_setpoints"
+    TAU_DIFFERENCE_NOISE: Final = "tau_difference_noise"
+    TAU_DIFFERENCE_FLOOR: Final = "tau_difference_floor"
+    CONTROLLER: Final = "controller"
+    CONTROLLER_DESCRIPTION: Final = "controller_description"
+    TIME: Final = "time"
+    JOINT: Final = "joint"
+    ELEMENT: Final = "element"
+    EVALUATOR: Final = "evaluator"
+    MULTIPLICATIONS: Final = "multiplications"
+    ADDITIONS: Final = "additions"
+
+
 def _values(namespace: type) -> frozenset:
     return frozenset(v for k, v in vars(namespace).items() if k.isupper())
 
@@ -282,6 +337,8 @@ def _values(namespace: type) -> frozenset:
 VARIABLES: Final = _values(Var)
 #: Every attribute name of :class:`Attr`.
 ATTRIBUTES: Final = _values(Attr)
+#: Every variable name of :class:`ControlVar`.
+CONTROL_VARIABLES: Final = _values(ControlVar)
 #: The prefix of the attributes of the check against Pinocchio.
 VERIFICATION_PREFIX: Final = "verification_"
 #: The terms checked against Pinocchio, each with a largest relative error and excess.
