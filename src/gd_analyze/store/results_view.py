@@ -91,7 +91,7 @@ class Provenance:
     gd_analyze_version, command, history, conventions, references : object
         The software, the command line, the CF history ("<time> created by ..."), the CF
         conventions and the method's references.
-    rule, tolerance, torque_floor, form, explicit, other_rule : object
+    rule, tolerance, torque_floor, form, explicit, other_rule, guarantee : object
         The settings asked for.
     simplified_rule, simplified_tolerance, simplified_torque_floor, simplified_form : object
         What the simplified model records it was built with.
@@ -124,6 +124,7 @@ class Provenance:
     form: Any
     explicit: Any
     other_rule: Any
+    guarantee: Any
     simplified_rule: Any
     simplified_tolerance: Any
     simplified_torque_floor: Any
