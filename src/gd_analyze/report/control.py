@@ -54,7 +54,7 @@ from .common import (
 )
 from .common import table as _table
 from .drawing import draw_figures, html_document, write_documents
-from .main_provenance import gravity_row, run_row, software_row
+from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
@@ -1104,6 +1104,8 @@ def _provenance(s, version):
             value = stored_text(stored[k])
             if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
+            if k == "trajectory_derivatives" and value in DERIVATIVES:
+                value = f"{value}: {DERIVATIVES[value]}"
             rows.append([label, value])
     if st.verdict_tolerance_revolute is not None:
         kinds = set(s.prismatic)

@@ -38,7 +38,17 @@ def _no_floor(results):
             + " (positions, velocities and accelerations within the model's limits), not its "
             "peak on this trajectory")
 
-__all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
+__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row"]
+
+#: How a trajectory's velocities and accelerations were obtained, in words (the stored
+#: ``derivatives`` setting).
+DERIVATIVES = {
+    "file": "read from the file (its velocity and acceleration columns)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+    "arrays": "given as arrays (the Python API)",
+}
+
 
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",
