@@ -762,7 +762,7 @@ def _leaf_channels(robot, key, levels, leaves, cols):
     the joint sums of several budgets on one certification's tree (12 and 8 columns on the
     PUMA 560, one set inside the other) evaluate each column once.
     """
-    kept = _LEAF_CHANNELS[0] if _LEAF_CHANNELS else None
+    kept = next(iter(_LEAF_CHANNELS), None)        # (another thread may replace it)
     if kept is not None and (kept[0] is not robot or kept[1] != key):
         kept = None
     have = kept[2] if kept is not None else np.zeros(0, int)
