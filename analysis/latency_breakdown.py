@@ -18,7 +18,10 @@ the job does. Each round runs, in a fresh interpreter each and in rotated order:
 Per phase it prints the median time [s] and the median, min and max of its ratio to the
 bare import of the same round, as one JSON line (``--table`` adds a readable table). The
 phases of the job add up to its wall time; ``gc_generation_2`` is inside them (the phase
-running when a collection starts pays for it). Children run with this checkout's ``src``
+running when a collection starts pays for it), and so are the last three rows, parts of
+``report_documents``: the HTML and the figure files on the main thread, the PDF on a worker
+thread at the same time (the figures' own PDFs are typeset on a worker thread while the next
+figure is drawn: the wait for the last is in ``report_other``). Children run with this checkout's ``src``
 first on ``PYTHONPATH``, in a temporary folder (never importing from the current folder).
 """
 
@@ -48,9 +51,14 @@ TIMED = (
     ("gd_analyze.report.main", "write_report", "write_report"),
     ("gd_analyze.store.schema", "open_results", "report_read_results"),
     ("gd_analyze.report.main", "_html", "report_html"),
+    ("gd_analyze.report.drawing", "figure_svg", "report_figures_draw_page"),
+    ("gd_analyze.report.drawing", "write_documents", "report_documents"),
     ("gd_analyze.report.typeset", "write_pdf", "report_pdf"),
     ("gd_analyze.report.drawing", "write_figure_files", "report_figure_files"),
 )
+#: Timed inside ``report_documents``, not phases of their own: the PDF is typeset on a worker
+#: thread while the HTML, the figure files and the tables are written.
+INSIDE_DOCUMENTS = ("report_html", "report_pdf", "report_figure_files")
 
 _CHILD = r"""
 import gc, importlib, json, sys, time
@@ -91,15 +99,11 @@ for mod, name, label in TIMED:
         f = getattr(m, name)
         install(f, timed(f, label))
 import gd_analyze.report.main as rm
-makers, drawn = rm.figure_makers, rm._drawn
+makers = rm.figure_makers
 def figure_makers(*args, **kwargs):
     return {k: timed(v, "report_figures_make_" + ("column" if k.endswith("_column") else "page"))
             for k, v in makers(*args, **kwargs).items()}
-def _drawn(figures, *args, **kwargs):
-    label = "report_figures_draw_" + ("column" if all(k.endswith("_column") for k in figures)
-                                      else "page")
-    return timed(drawn, label)(figures, *args, **kwargs)
-rm.figure_makers, rm._drawn = figure_makers, _drawn
+rm.figure_makers = figure_makers
 gcs = [0.0, 0.0, 0]
 def observe(phase, info):
     if info["generation"] == 2:
@@ -162,8 +166,7 @@ def phases(record):
     p = record["phases"]
     get = p.get
     fig = {k: v for k, v in p.items() if k.startswith("report_figures_")}
-    report_parts = (sum(get(k, 0.0) for k in ("report_read_results", "report_html",
-                                             "report_pdf", "report_figure_files"))
+    report_parts = (sum(get(k, 0.0) for k in ("report_read_results", "report_documents"))
                     + sum(fig.values()))
     out = {
         "imports_bare_set": record["imports_bare_set"],
@@ -176,16 +179,14 @@ def phases(record):
         - get("write_report", 0.0),
         "report_read_results": get("report_read_results", 0.0),
         **{k: fig.get(k, 0.0) for k in ("report_figures_make_page", "report_figures_draw_page",
-                                        "report_figures_make_column",
-                                        "report_figures_draw_column")},
-        "report_html": get("report_html", 0.0),
-        "report_pdf": get("report_pdf", 0.0),
-        "report_figure_files": get("report_figure_files", 0.0),
+                                        "report_figures_make_column")},
+        "report_documents": get("report_documents", 0.0),
         "report_other": get("write_report", 0.0) - report_parts,
         "cli_and_staging": record["job"] - get("run_analysis", 0.0),
     }
     out["total"] = record["total"]
     out["gc_generation_2"] = record["gc_generation_2"]
+    out.update({k: get(k, 0.0) for k in INSIDE_DOCUMENTS})       # not added: inside a phase
     return out
 
 

@@ -461,3 +461,53 @@ def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypa
     np.testing.assert_array_equal(again[1], fresh[1])
     assert np.all(first[0] >= fresh[0])
     assert np.all(fresh[0] <= limit) == (share == 2.0) == (boxes < 2048 - 256)
+
+
+def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums(monkeypatch):
+    """Joint sums of two sets of pairs on one certification's tree (as two budgets ask): the
+    second evaluates only the columns the first did not, and every sum equals the one
+    evaluated afresh, column by column, with nothing kept; another arm is evaluated anew."""
+    from gd_analyze.certify import certify as cert
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    pb = cert.certify(robot, base, region, samples=100, max_boxes=64)
+    live = np.flatnonzero((~pb.zero).any(axis=1))
+    assert live.size >= 6
+    few, more = np.zeros(pb.zero.shape, bool), np.zeros(pb.zero.shape, bool)
+    few[live[::3]] = True                               # a set inside the other
+    more[live[::3]] = more[live[1::3]] = True
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    asked = []
+    evaluate = cert.channel_enclosures
+
+    def counted(robot, lo, hi, columns, *a, **k):
+        asked.append((robot, set(np.asarray(columns, int).tolist())))
+        return evaluate(robot, lo, hi, columns, *a, **k)
+
+    monkeypatch.setattr(cert, "channel_enclosures", counted)
+
+    def sums(arm, pairs, keep):
+        if not keep:
+            cert._LEAF_CHANNELS.clear()
+        asked.clear()
+        out = cert.joint_sums(arm, base, region, pb.split_joint, pb.split_at, pairs, pb.zero)
+        return out, set().union(*(c for _, c in asked))
+
+    first, _ = sums(robot, few, False)
+    second, evaluated = sums(robot, more, True)
+    assert set(cols[second.columns]) - set(cols[first.columns])     # columns were added
+    assert evaluated == set(cols[second.columns]) - set(cols[first.columns])
+    again, evaluated = sums(robot, few, True)
+    assert evaluated == set()                           # all kept: nothing evaluated
+    for got, pairs in ((first, few), (second, more), (again, few)):
+        fresh, evaluated = sums(robot, pairs, False)
+        assert evaluated == set(cols[fresh.columns])
+        np.testing.assert_array_equal(got.columns, fresh.columns)
+        np.testing.assert_array_equal(got.pairs, fresh.pairs)
+        np.testing.assert_array_equal(got.mid, fresh.mid)
+        np.testing.assert_array_equal(got.rad, fresh.rad)
+    other = _mixed()                                    # an equal arm, another object
+    _, evaluated = sums(other, few, True)
+    assert evaluated == set(cols[first.columns]) and all(a is other for a, _ in asked)

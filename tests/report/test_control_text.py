@@ -160,6 +160,10 @@ def test_intro_names_the_models_rule_and_provenance_says_each_file_once(built):
         assert "simplified model (the chapter's share-based classes, Sec. 3.4.1)" in intro
     # the model was built on this trajectory: its SHA-256 once (Table 1.1), not again
     assert control.count(sha) == 1, control.count(sha)
+    # each setting in words: the derivatives row read "file" alone
+    prov = control[control.index("6. Provenance"):]
+    assert "file: read from the file (its velocity and acceleration columns)" in prov \
+        or "cubic-spline: derived from q" in prov, prov
 
 
 def test_no_code_names_in_the_control_text(built):

@@ -132,6 +132,9 @@ def test_provenance_states_each_setting_once_and_no_contradicting_error(stanford
             assert values[key[len("simplified_"):]] != value, key
     text = _text(html)
     assert re.search(r"Verification against Pinocchio: passed on 31 of 31 set points", text)
+    # every setting in words: the guarantee asked for was a raw row "guarantee | auto"
+    assert "guarantee" not in values and "auto" not in values.values()
+    assert values["guarantee asked for"].startswith("over the joint-limit region where")
 
 
 def test_verification_says_how_many_set_points_it_checked(tmp_path):

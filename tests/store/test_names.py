@@ -1,23 +1,33 @@
 """The names of results.h5 (gd_analyze.store.names): every name the main job writes is a constant,
 and each constant is spelt as the name it stands for."""
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from gd_analyze.store import names
 from gd_analyze.store.names import (
     ATTRIBUTES,
+    CONTROL_VARIABLES,
     ELEMENT_UNITS_RULE,
     RANKING_COLUMNS,
+    SWEEP_VARIABLES,
     VARIABLES,
     Attr,
+    ControlVar,
+    SweepAttr,
+    SweepVar,
     Var,
 )
 from gd_analyze.store.results_view import Results
 from gd_analyze.store.schema import MIXED_UNITS, strings
 
+GOLDEN = Path(__file__).resolve().parents[1] / "golden"
 
-@pytest.mark.parametrize("namespace", [Var, Attr])
+
+@pytest.mark.parametrize("namespace", [Var, Attr, ControlVar, SweepVar, SweepAttr])
 def test_each_constant_is_its_name_upper_cased(namespace):
     constants = {k: v for k, v in vars(namespace).items() if k.isupper()}
     assert constants
@@ -30,6 +40,17 @@ def test_every_stored_name_is_a_constant(shipped_dataset, robot):
     ds = shipped_dataset(robot)
     assert set(map(str, ds.variables)) - VARIABLES == set()
     assert set(ds.attrs) - ATTRIBUTES == set()
+
+
+@pytest.mark.parametrize("frozen, variables", [
+    ("puma560-control/control.h5.frozen.json", CONTROL_VARIABLES),
+    ("puma560-sweep/sweep.h5.frozen.json", SWEEP_VARIABLES)])
+def test_every_variable_of_control_and_sweep_files_is_a_constant(frozen, variables):
+    # the golden files freeze what the writers wrote (tests/test_golden.py keeps them equal)
+    d = json.loads((GOLDEN / frozen).read_text())
+    stored = set(d["dims"]) | set(d["coords"]) | {
+        k.split("/")[1] for k in d["leaves"] if k.startswith("var/")}
+    assert stored - variables - VARIABLES == set()     # the joints' units, the region: Var's
 
 
 def test_verification_attributes_are_constants(shipped_dataset):

@@ -11,7 +11,7 @@ import pytest
 from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.errors import InputError
-from gd_analyze.store.names import RANKING_COLUMNS, Var
+from gd_analyze.store.names import RANKING_COLUMNS, Attr, Var
 from gd_analyze.store.results_view import ZERO_MARK, Results
 from gd_analyze.trajectory.trajectory import read_trajectory
 
@@ -160,3 +160,14 @@ def test_other_attributes_are_kept_with_the_setting_they_record(shipped_dataset)
     assert others["robot_tip"] == ("link6", None)
     assert not any(k.startswith("verification_") or k == "rule" for k in others)
     assert list(others) == sorted(others)
+
+
+def test_what_section_5_says_is_not_repeated_raw_among_the_others(shipped_dataset):
+    # the screen's kind is said in words in Sec. 5 ("pruned region model not built"); its raw
+    # attribute gave a provenance row "simplified region screen proved | 1"
+    ds = shipped_dataset("puma560").copy()
+    ds.attrs = {**ds.attrs, Attr.SIMPLIFIED_REGION_SCREEN: "proved",
+                Attr.SIMPLIFIED_REGION_SCREEN_PROVED: 1}
+    others = [k for k, _, _ in Results.from_dataset(ds).provenance.others]
+    assert Attr.SIMPLIFIED_REGION_SCREEN_PROVED not in others
+    assert Attr.SIMPLIFIED_REGION_SCREEN not in others

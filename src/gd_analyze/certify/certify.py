@@ -736,6 +736,59 @@ def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     leaves = sum(int((~split).sum()) for _, _, split in levels)
     used = _held(robot.n, leaves, pairs, zero)
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    key = b"".join(np.ascontiguousarray(a).tobytes() for a in (
+        np.asarray(region.q_min, float), np.asarray(region.q_max, float),
+        np.asarray(split_joint), np.asarray(split_at, float)))
+    c_lo, c_hi = _leaf_channels(robot, key, levels, leaves, cols)
+    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+
+
+#: Most numbers per array of the leaf enclosures kept between calls (16 MB each).
+KEPT_CHANNEL_ELEMENTS = 1 << 21
+#: The last tree's leaf enclosures of the columns asked so far (:func:`_leaf_channels`): the
+#: arm, the tree's key, the columns (increasing) and their (lo, hi).
+_LEAF_CHANNELS: list[tuple[Any, bytes, np.ndarray, np.ndarray, np.ndarray]] = []
+
+
+def _leaf_channels(robot, key, levels, leaves, cols):
+    """The channel enclosures (lo, hi) (L, C, n, m) of the columns ``cols`` (m, increasing) on
+    the L final boxes of a tree (:func:`tiling`'s ``levels``), each box's intersected with its
+    ancestors'; new arrays (the caller may write in them).
+
+    A column's enclosures do not depend on the other columns evaluated with it (each is its
+    own backward recursion from the same forward one, and the intersections are elementwise),
+    so those of the last tree seen are kept (the arm by identity, the tree by ``key``, at most
+    :data:`KEPT_CHANNEL_ELEMENTS` numbers per array) and only columns not kept are evaluated:
+    the joint sums of several budgets on one certification's tree (12 and 8 columns on the
+    PUMA 560, one set inside the other) evaluate each column once.
+    """
+    kept = next(iter(_LEAF_CHANNELS), None)        # (another thread may replace it)
+    if kept is not None and (kept[0] is not robot or kept[1] != key):
+        kept = None
+    have = kept[2] if kept is not None else np.zeros(0, int)
+    missing = np.setdiff1d(cols, have)
+    if kept is None or missing.size:
+        new = _tree_channels(robot, levels, leaves, missing if kept is not None else cols)
+    if kept is None:
+        every, (lo, hi) = np.asarray(cols, int), new
+    elif missing.size:
+        every = np.union1d(have, missing)
+        lo, hi = (np.empty(old.shape[:-1] + (every.size,)) for old in kept[3:])
+        at_old, at_new = np.searchsorted(every, have), np.searchsorted(every, missing)
+        for out, old, add in zip((lo, hi), kept[3:], new):
+            out[..., at_old], out[..., at_new] = old, add
+    else:
+        every, lo, hi = have, kept[3], kept[4]
+    if lo.size <= KEPT_CHANNEL_ELEMENTS:
+        _LEAF_CHANNELS[:] = [(robot, key, every, lo, hi)]
+    else:
+        _LEAF_CHANNELS.clear()
+    at = np.searchsorted(every, cols)
+    return lo[..., at], hi[..., at]             # copies: the caller's to write in
+
+
+def _tree_channels(robot, levels, leaves, cols):
+    """:func:`_leaf_channels` evaluated: level by level down the tree."""
     c_lo: Any
     c_hi: Any
     parent, c_lo, c_hi, at = None, None, None, 0
@@ -749,7 +802,7 @@ def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: 
         parent = tuple(np.concatenate([x[split], x[split]]) for x in ch)
         del ch
     parent = None
-    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+    return c_lo, c_hi
 
 
 def _held(n, boxes, pairs, zero):

@@ -46,6 +46,7 @@ from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..simplify.simplified import TorqueErrorAccumulator, merge_choices, simplified_torque
+from ..store.names import SweepAttr as SA
 from ..store.schema import attribute_value
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
@@ -516,13 +517,13 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
                                                             for r in results])
                                                   for k in range(3)))
     ds.attrs.update({
-        "scheduler_address": address, "n_workers": n_w, "batch_size": size,
-        "n_tasks": tasks, "cluster": how,
-        "compute_s": round(compute_s, 4), "started": started.isoformat(),
+        SA.SCHEDULER_ADDRESS: address, SA.N_WORKERS: n_w, SA.BATCH_SIZE: size,
+        SA.N_TASKS: tasks, SA.CLUSTER: how,
+        SA.COMPUTE_S: round(compute_s, 4), SA.STARTED: started.isoformat(),
     })
     for key, value in (settings or {}).items():
         ds.attrs[key] = attribute_value(value)
-    ds.attrs["elapsed_s"] = round(time.perf_counter() - t0, 4)
+    ds.attrs[SA.ELAPSED_S] = round(time.perf_counter() - t0, 4)
     return ds
 
 

@@ -36,6 +36,7 @@ from ..simplify.budget import DEFAULT_TOLERANCE
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
 from ..store.model_trust import remember_claim
+from ..store.names import SweepVar as SV
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import dropped_peaks, settle_restored
 from ..symbolic.recursive_model import sweep_recursive_model
@@ -190,7 +191,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     """
 
     trajectories = list(trajectories)
-    if sweep_ds.sizes["trajectory"] != len(trajectories):
+    if sweep_ds.sizes[SV.TRAJECTORY] != len(trajectories):
         raise ValueError(f"{len(trajectories)} trajectories for a sweep of "
                          f"{sweep_ds.sizes['trajectory']}")
     provenance, digest, derive, (region, missing, proved) = _settings(

@@ -25,6 +25,8 @@ from ..errors import InputError
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..simplify.simplified import SimplifiedModel, choice_masks
 from ..store.datasets import region_fields
+from ..store.names import SweepAttr as SA
+from ..store.names import SweepVar as SV
 from ..store.schema import strings
 from .control import model_cost, model_facts
 
@@ -66,43 +68,43 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     The validation is computed by :func:`~gd_analyze.jobs.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    needed = ("merged_choice", "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
+    needed = ("merged_choice", SV.MERGED_ERROR_PEAK, "merged_error_rms", "merged_error_tau_peak",
               "merged_error_relative_peak", "merged_error_relative_rms")
     missing = [v for v in needed if v not in sweep_ds.variables]
     if missing:
         raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
-    sha = sweep_ds.attrs.get("robot_sha256", "")
+    sha = sweep_ds.attrs.get(SA.ROBOT_SHA256, "")
     if sha and robot.sha256 and sha != robot.sha256:
         raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "
                          f"(sha256 {sha[:12]}...), not for {robot.name!r} "
                          f"(sha256 {robot.sha256[:12]}...)")
-    labels = strings(sweep_ds["element"].values)
+    labels = strings(sweep_ds[SV.ELEMENT].values)
     if labels != element_labels(robot.n):
         raise InputError(f"the sweep's elements do not match a {robot.n}-joint robot")
-    choices = dict(zip(labels, strings(sweep_ds["merged_choice"].values)))
+    choices = dict(zip(labels, strings(sweep_ds[SV.MERGED_CHOICE].values)))
     choice_masks(choices, robot.n)
     validation = {
-        "peak_abs_error": sweep_ds["merged_error_peak"].values.tolist(),
-        "rms_error": sweep_ds["merged_error_rms"].values.tolist(),
-        "peak_tau": sweep_ds["merged_error_tau_peak"].values.tolist(),
-        "relative_peak_error": sweep_ds["merged_error_relative_peak"].values.tolist(),
-        "relative_rms_error": sweep_ds["merged_error_relative_rms"].values.tolist(),
+        "peak_abs_error": sweep_ds[SV.MERGED_ERROR_PEAK].values.tolist(),
+        "rms_error": sweep_ds[SV.MERGED_ERROR_RMS].values.tolist(),
+        "peak_tau": sweep_ds[SV.MERGED_ERROR_TAU_PEAK].values.tolist(),
+        "relative_peak_error": sweep_ds[SV.MERGED_ERROR_RELATIVE_PEAK].values.tolist(),
+        "relative_rms_error": sweep_ds[SV.MERGED_ERROR_RELATIVE_RMS].values.tolist(),
         "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
-        "setpoints": int(sweep_ds.attrs.get("setpoints_total", 0)),
+        "setpoints": int(sweep_ds.attrs.get(SA.SETPOINTS_TOTAL, 0)),
     }
     provenance: dict[str, Any] = {"gd_analyze_version": __version__,
                                   "kind": "merged model of a sweep",
-                  "sweep_version": str(sweep_ds.attrs.get("gd_analyze_version", "")),
-                  "merge_rule": str(sweep_ds.attrs.get("merge_rule", "")),
-                  "input_kind": str(sweep_ds.attrs.get("input_kind", ""))}
-    if "seed" in sweep_ds.attrs:
-        provenance["seed"] = int(sweep_ds.attrs["seed"])
+                  "sweep_version": str(sweep_ds.attrs.get(SA.GD_ANALYZE_VERSION, "")),
+                  "merge_rule": str(sweep_ds.attrs.get(SA.MERGE_RULE, "")),
+                  "input_kind": str(sweep_ds.attrs.get(SA.INPUT_KIND, ""))}
+    if SA.SEED in sweep_ds.attrs:
+        provenance["seed"] = int(sweep_ds.attrs[SA.SEED])
     return SimplifiedModel(
         robot=robot, choices=choices,
-        dominance_threshold=float(sweep_ds.attrs.get("dominance_threshold", DEFAULT_DOMINANCE)),
-        negligible_threshold=float(sweep_ds.attrs.get("negligible_threshold",
+        dominance_threshold=float(sweep_ds.attrs.get(SA.DOMINANCE_THRESHOLD, DEFAULT_DOMINANCE)),
+        negligible_threshold=float(sweep_ds.attrs.get(SA.NEGLIGIBLE_THRESHOLD,
                                                       DEFAULT_NEGLIGIBLE)),
-        trajectory_sha256=str(sweep_ds.attrs.get("inputs_sha256", "")),
+        trajectory_sha256=str(sweep_ds.attrs.get(SA.INPUTS_SHA256, "")),
         validation=validation, provenance=provenance)
 
 
@@ -155,20 +157,20 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     The guarantee is that of :mod:`gd_analyze.simplify.budget` over several trajectories,
     or that of the joint-limit region (:func:`gd_analyze.jobs.deploy.region_model`).
     """
-    torque = sweep_ds["tau_peak"].attrs.get("units", "N m") if "tau_peak" in sweep_ds else "N m"
+    torque = sweep_ds[SV.TAU_PEAK].attrs.get("units", "N m") if SV.TAU_PEAK in sweep_ds else "N m"
 
     v = model.validation
     per = v["per_trajectory"]
     peak = np.asarray(per["peak_abs_error"], float)
     scale = np.asarray(per["scale"], float)
-    if peak.shape != (sweep_ds.sizes["trajectory"], sweep_ds.sizes["joint"]):
+    if peak.shape != (sweep_ds.sizes[SV.TRAJECTORY], sweep_ds.sizes[SV.JOINT]):
         raise ValueError(f"the model's errors have shape {peak.shape}, the sweep has "
                          f"{sweep_ds.sizes['trajectory']} trajectories and "
                          f"{sweep_ds.sizes['joint']} joints")
     with np.errstate(invalid="ignore", divide="ignore"):
         rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
-    ds = sweep_ds.drop_vars([v for v in ("pair_tau_peak", "pair_peak", "parameter_peak",
-                                         "base_parameter", "part") if v in sweep_ds.variables])
+    ds = sweep_ds.drop_vars([v for v in (SV.PAIR_TAU_PEAK, SV.PAIR_PEAK, SV.PARAMETER_PEAK,
+                                         SV.BASE_PARAMETER, SV.PART) if v in sweep_ds.variables])
     eps = f"{model.tolerance:g}"
     region = model.guarantee is not None and model.guarantee.kind == "region"
     words = _REGION_WORDS if region else _TRAJECTORY_WORDS
@@ -176,56 +178,56 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     def put(name, dims, data, units, desc):
         ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
 
-    labels = element_labels(sweep_ds.sizes["joint"])
-    put("merged_choice", ("element",), np.array([model.choices[k] for k in labels], dtype=str),
+    labels = element_labels(sweep_ds.sizes[SV.JOINT])
+    put(SV.MERGED_CHOICE, (SV.ELEMENT,), np.array([model.choices[k] for k in labels], dtype=str),
         "1", f"whole parts kept by the budget rule (EPS = {eps}) {words['where']}"
         if model.recursive is None else "pruned where the recursive model's dropped parts "
         "change the element on the swept trajectories, else both")
-    put("merged_tau_error_peak", ("trajectory", "joint"), peak, torque,
+    put(SV.MERGED_TAU_ERROR_PEAK, (SV.TRAJECTORY, SV.JOINT), peak, torque,
         "merged model: peak |tau_merged - tau| along the trajectory")
-    put("merged_scale", ("trajectory", "joint"), scale, torque, words["scale"])
+    put(SV.MERGED_SCALE, (SV.TRAJECTORY, SV.JOINT), scale, torque, words["scale"])
     if "bound" in per:                  # the guarantee on each trajectory
-        put("merged_bound", ("trajectory", "joint"), np.asarray(per["bound"], float), torque,
+        put(SV.MERGED_BOUND, (SV.TRAJECTORY, SV.JOINT), np.asarray(per["bound"], float), torque,
             words["bound"])
-    put("merged_tau_error_relative_peak", ("trajectory", "joint"), np.nan_to_num(rel, nan=np.inf),
+    put(SV.MERGED_TAU_ERROR_RELATIVE_PEAK, (SV.TRAJECTORY, SV.JOINT), np.nan_to_num(rel, nan=np.inf),
         "1", words["relative"].format(eps=eps))
     if region:                          # the proof holds where the trajectory lies in R
-        put("merged_covered", ("trajectory",), np.asarray(per["covered"], np.int8), "1",
+        put(SV.MERGED_COVERED, (SV.TRAJECTORY,), np.asarray(per["covered"], np.int8), "1",
             "1 if every set point of the trajectory lies in the merged model's region, where "
             "its bound is proved; 0 if not (not covered)")
-        put("merged_coverage", ("trajectory",), np.array(per["coverage"], dtype=str), "1",
+        put(SV.MERGED_COVERAGE, (SV.TRAJECTORY,), np.array(per["coverage"], dtype=str), "1",
             "why the trajectory lies in the merged model's region or not")
     for key, name, units, desc in (
-            ("peak_abs_error", "merged_error_peak", torque,
+            ("peak_abs_error", SV.MERGED_ERROR_PEAK, torque,
              "merged model: peak |tau_merged - tau| over all trajectories"),
-            ("rms_error", "merged_error_rms", torque, "merged model: RMS of |tau_merged - tau| "
+            ("rms_error", SV.MERGED_ERROR_RMS, torque, "merged model: RMS of |tau_merged - tau| "
                                                      "over all set points of all trajectories"),
-            ("peak_tau", "merged_error_tau_peak", torque, "peak |tau| over all trajectories"),
-            ("relative_peak_error", "merged_error_relative_peak", "1",
+            ("peak_tau", SV.MERGED_ERROR_TAU_PEAK, torque, "peak |tau| over all trajectories"),
+            ("relative_peak_error", SV.MERGED_ERROR_RELATIVE_PEAK, "1",
              "merged model: peak error / peak |tau|, over all trajectories"),
-            ("relative_rms_error", "merged_error_relative_rms", "1",
+            ("relative_rms_error", SV.MERGED_ERROR_RELATIVE_RMS, "1",
              "merged model: RMS error / peak |tau|, over all trajectories")):
-        put(name, ("joint",), np.array([np.nan if x is None else x for x in v[key]], float),
+        put(name, (SV.JOINT,), np.array([np.nan if x is None else x for x in v[key]], float),
             units, desc)
     held = v.get("held_out") or {}
     if held:                            # measured off the sweep, not guaranteed
-        put("held_out_error_peak", ("joint",), np.array(held["peak_abs_error"], float), torque,
+        put(SV.HELD_OUT_ERROR_PEAK, (SV.JOINT,), np.array(held["peak_abs_error"], float), torque,
             "merged model: peak |tau_merged - tau| over the held-out trajectories (not "
             "guaranteed)" if not region else "merged model: peak |tau_merged - tau| over the "
             "held-out trajectories (measured; proved only on those inside the region)")
-        put("held_out_tau_peak", ("joint",), np.array(held["peak_tau"], float), torque,
+        put(SV.HELD_OUT_TAU_PEAK, (SV.JOINT,), np.array(held["peak_tau"], float), torque,
             "peak |tau| over the held-out trajectories")
-        ds.attrs["held_out_trajectories"] = int(v.get("held_out_trajectories", 0))
+        ds.attrs[SA.HELD_OUT_TRAJECTORIES] = int(v.get("held_out_trajectories", 0))
         if region:
-            ds.attrs["held_out_inside_region"] = int(v.get("held_out_inside_region", 0))
+            ds.attrs[SA.HELD_OUT_INSIDE_REGION] = int(v.get("held_out_inside_region", 0))
     ds.attrs.update({
-        "merged_rule": "budget", "merged_tolerance": float(model.tolerance),
-        "merged_torque_floor": float(model.torque_floor),
-        "merged_worst_scaled_error": float(v["worst_scaled_error"]),
-        "merge_rule": _merge_rule(model)})
+        SA.MERGED_RULE: "budget", SA.MERGED_TOLERANCE: float(model.tolerance),
+        SA.MERGED_TORQUE_FLOOR: float(model.torque_floor),
+        SA.MERGED_WORST_SCALED_ERROR: float(v["worst_scaled_error"]),
+        SA.MERGE_RULE: _merge_rule(model)})
     if model.guarantee is not None:     # its scope, in the model's one sentence
-        ds.attrs.update({"merged_guarantee_kind": model.guarantee.kind,
-                         "merged_guarantee_statement": model.guarantee.statement()})
+        ds.attrs.update({SA.MERGED_GUARANTEE_KIND: model.guarantee.kind,
+                         SA.MERGED_GUARANTEE_STATEMENT: model.guarantee.statement()})
         region_vars, region_attrs = region_fields(model.guarantee.region)
         for name, (dims, data, attrs) in region_vars.items():
             ds[name] = (dims, data, attrs)
@@ -312,22 +314,22 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     names = [("merged model" + name[len("simplified model"):])
              if name.startswith("simplified model") else name for name in cost["evaluators"]]
     ds = sweep_ds.copy()
-    ds = ds.assign_coords(evaluator=("evaluator", np.array(names, dtype=str),
+    ds = ds.assign_coords(evaluator=(SV.EVALUATOR, np.array(names, dtype=str),
                                      {"long_name": "evaluator of tau at one set point",
                                       "units": "1"}))
-    ds["multiplications"] = (("evaluator",), np.array(cost["multiplications"], np.int64),
+    ds[SV.MULTIPLICATIONS] = ((SV.EVALUATOR,), np.array(cost["multiplications"], np.int64),
                              {"units": "1", "long_name": "multiplications per set point "
                                                          "(counted)"})
-    ds["additions"] = (("evaluator",), np.array(cost["additions"], np.int64),
+    ds[SV.ADDITIONS] = ((SV.EVALUATOR,), np.array(cost["additions"], np.int64),
                        {"units": "1", "long_name": "additions and subtractions per set point "
                                                    "(counted)"})
-    ds.attrs.update({"merged_form": str(facts["form"]),
-                     "merged_c_terms_kept": int(facts["c_terms_kept"]),
-                     "merged_c_terms": int(facts["c_terms"])})
+    ds.attrs.update({SA.MERGED_FORM: str(facts["form"]),
+                     SA.MERGED_C_TERMS_KEPT: int(facts["c_terms_kept"]),
+                     SA.MERGED_C_TERMS: int(facts["c_terms"])})
     if facts["form"] == "recursive":
-        ds.attrs.update({"merged_base_parameters": int(facts["base_parameters"]),
-                         "merged_pairs": int(facts["pairs"]),
-                         "merged_pairs_dropped": int(facts["pairs_dropped"]),
-                         "merged_dropped_pairs": str(facts["dropped_pairs"]),
-                         "merged_gravity_dropped": str(facts["gravity_dropped"])})
+        ds.attrs.update({SA.MERGED_BASE_PARAMETERS: int(facts["base_parameters"]),
+                         SA.MERGED_PAIRS: int(facts["pairs"]),
+                         SA.MERGED_PAIRS_DROPPED: int(facts["pairs_dropped"]),
+                         SA.MERGED_DROPPED_PAIRS: str(facts["dropped_pairs"]),
+                         SA.MERGED_GRAVITY_DROPPED: str(facts["gravity_dropped"])})
     return ds

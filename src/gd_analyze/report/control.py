@@ -39,6 +39,7 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from ..store.control_dataset import gain_units
+from ..store.names import ControlVar as V
 from ..store.schema import from_attrs, open_results
 from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
 from .common import (
@@ -53,7 +54,7 @@ from .common import (
 )
 from .common import table as _table
 from .drawing import draw_figures, html_document, write_documents
-from .main_provenance import gravity_row, run_row, software_row
+from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
@@ -1031,8 +1032,8 @@ def _gains_table(s, joints):
     header = ["joint", "\u03c9" + sub("n") + " [rad/s]", "\u03b6",
               "K" + sub("p") + " [1/s\u00b2]", "K" + sub("v") + " [1/s]"]
     per_joint = {}
-    for name, title in (("inertia_scale", "D" + sub("ii") + " at the start"),
-                        ("Kp_pd", "PD K" + sub("p")), ("Kv_pd", "PD K" + sub("v"))):
+    for name, title in ((V.INERTIA_SCALE, "D" + sub("ii") + " at the start"),
+                        (V.KP_PD, "PD K" + sub("p")), (V.KV_PD, "PD K" + sub("v"))):
         stored = s.gain_units[name]
         if stored is not None:
             units = [_GAIN_UNITS.get(u, u) for u in stored]
@@ -1043,10 +1044,10 @@ def _gains_table(s, joints):
         header.append(f"{title} [{units[0]}]" if same else title)
         per_joint[name] = ([""] * len(units) if same else
                            ["\u00a0" + u.replace(" ", "\u00a0") for u in units])
-    cols = {v: fmt_column(s.gains[v], 4) for v in ("wn", "zeta", "Kp", "Kv", "inertia_scale",
-                                                  "Kp_pd", "Kv_pd")}   # one per column
-    rows = [[joints[j]] + [cols[v][j] for v in ("wn", "zeta", "Kp", "Kv")]
-            + [cols[v][j] + per_joint[v][j] for v in ("inertia_scale", "Kp_pd", "Kv_pd")]
+    cols = {v: fmt_column(s.gains[v], 4) for v in (V.WN, V.ZETA, V.KP, V.KV, V.INERTIA_SCALE,
+                                                  V.KP_PD, V.KV_PD)}   # one per column
+    rows = [[joints[j]] + [cols[v][j] for v in (V.WN, V.ZETA, V.KP, V.KV)]
+            + [cols[v][j] + per_joint[v][j] for v in (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)]
             for j in range(len(joints))]
     return _table(header, rows, align="right")
 
@@ -1103,6 +1104,8 @@ def _provenance(s, version):
             value = stored_text(stored[k])
             if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
+            if k == "trajectory_derivatives" and value in DERIVATIVES:
+                value = f"{value}: {DERIVATIVES[value]}"
             rows.append([label, value])
     if st.verdict_tolerance_revolute is not None:
         kinds = set(s.prismatic)

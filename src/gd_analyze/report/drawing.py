@@ -22,14 +22,14 @@ from ..files import atomic_path
 from .common import render_template
 from .figure_style import raise_small_text, text_extent
 from .table_export import write_tables
-from .typeset import MIN_PRINTED_PT, figure_pdfs, printed_scale, write_pdf
+from .typeset import MIN_PRINTED_PT, figure_pdfs, fonts_loaded, printed_scale, write_pdf
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from .sections import Outline
 
-__all__ = ["figure_svg", "svg_size", "draw_figures", "write_figure_files", "prefix_ids", "html_document",
+__all__ = ["figure_svg", "TicksOfTheDraw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
            "write_documents"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
@@ -55,25 +55,85 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
 
     meta = {"Date": None, "Creator": None, "Format": None, "Type": None}
     extent = []         # measured on the drawing itself: its text laid out once
-
-    def measure(event: Any) -> None:    # a DrawEvent (typed as a bare Event by some versions)
-        extent.append(text_extent(fig, event.renderer))
-
-    cid = fig.canvas.mpl_connect("draw_event", measure)
     buf = io.BytesIO()
     with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
-        try:
-            fig.savefig(buf, format="svg", metadata=meta)
-        finally:
-            fig.canvas.mpl_disconnect(cid)
+        with TicksOfTheDraw(fig) as ticks:
+            def measure(event: Any) -> None:    # a DrawEvent (a bare Event to some versions)
+                ticks.replay = True              # the ticks just drawn, not worked out again
+                extent.append(text_extent(fig, event.renderer))
+
+            cid = fig.canvas.mpl_connect("draw_event", measure)
+            try:
+                fig.savefig(buf, format="svg", metadata=meta)
+            finally:
+                fig.canvas.mpl_disconnect(cid)
         if extent[0].height > fig.bbox_inches.height:   # text sticks out: drawn again, taller
             buf = io.BytesIO()
             fig.savefig(buf, format="svg", bbox_inches=extent[0], metadata=meta)
     text = buf.getvalue().decode("utf-8")
     start = text.find("<svg")
     return text[start:] if start >= 0 else text
+
+
+class TicksOfTheDraw:
+    """Within a ``with`` block: each axis of a figure keeps the ticks its last draw worked out,
+    and, once :attr:`replay` is set, hands those back instead of working them out again.
+
+    Measuring a figure just drawn (:meth:`matplotlib.figure.Figure.get_tightbbox`, as
+    :func:`gd_analyze.report.figure_style.text_extent` does in :func:`figure_svg`) asks every
+    axis for its ticks again: locator, formatter and a position and label per tick, the same
+    ticks, as nothing changed since the draw. With :attr:`replay` set they are the draw's. On
+    leaving the block the axes work out their ticks as before.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure; its axes' x, y (and z) axes are the ones kept.
+
+    Attributes
+    ----------
+    replay : bool
+        False while drawing (every axis works its ticks out, the last result kept); True to
+        hand back the kept ticks (an axis with none kept works them out).
+    calls : int
+        How many times an axis worked its ticks out within the block.
+
+    Notes
+    -----
+    Uses matplotlib's private ``Axis._update_ticks`` (3.10 to 3.11; the ticks to draw, after
+    setting their positions and labels): without it, nothing is kept and every axis works
+    its ticks out as before.
+    """
+
+    def __init__(self, fig: Figure) -> None:
+        self.replay = False
+        self.calls = 0
+        self._axes = [axis for ax in fig.axes
+                      for axis in (getattr(ax, f"{a}axis", None) for a in "xyz")
+                      if axis is not None and hasattr(type(axis), "_update_ticks")]
+        self._kept: dict[int, Any] = {}
+
+    def __enter__(self) -> TicksOfTheDraw:
+        for axis in self._axes:
+            axis._update_ticks = self._ticks(axis)  # type: ignore[method-assign]  # one axis's
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for axis in self._axes:
+            del axis._update_ticks                  # the class's method again
+
+    def _ticks(self, axis: Any) -> Callable[[], Any]:
+        work_out = type(axis)._update_ticks
+
+        def ticks() -> Any:
+            if self.replay and id(axis) in self._kept:
+                return self._kept[id(axis)]
+            self.calls += 1
+            self._kept[id(axis)] = work_out(axis)
+            return self._kept[id(axis)]
+        return ticks
 
 
 def svg_size(svg: str) -> tuple[float, float]:
@@ -128,6 +188,47 @@ def draw_figures(figures: Mapping[str, Figure], rc: Mapping[str, Any], pdf: bool
                                                    for k, f in figures.items())}
     pdfs = figure_pdfs(out, created) if pdf else {}
     return {k: (svg, pdfs.get(k), size) for k, (svg, size) in out.items()}
+
+
+def draw_each(makers: Mapping[str, Callable[[], Figure]], rc: Mapping[str, Any],
+              created: str | None = None) -> dict[str, Drawn]:
+    """Make and draw each figure in turn, as :func:`draw_figures` with ``pdf=True``, each
+    figure's PDF typeset on a worker thread while the next figure is made and drawn.
+
+    Parameters
+    ----------
+    makers : dict of str to callable
+        By key, a function of no arguments making the figure: one figure alive at a time.
+    rc : dict
+        rcParams to draw with.
+    created : str, optional
+        As for :func:`draw_figures`.
+
+    Returns
+    -------
+    dict of str to (str, bytes, (float, float))
+        As :func:`draw_figures` (and its RuntimeError if Typst cannot typeset a figure's
+        SVG), in the order of ``makers``.
+
+    Notes
+    -----
+    Typst runs without Python's global lock, so its work (the fonts loaded once, then one
+    compile per figure) overlaps matplotlib's drawing of the next figure on another core; on
+    a single free core it takes its turn as before. The SVG and the PDF of each figure are
+    the same as :func:`draw_figures` makes.
+    """
+    from concurrent.futures import ThreadPoolExecutor
+
+    drawn: dict[str, tuple[str, tuple[float, float]]] = {}
+    with ThreadPoolExecutor(1, thread_name_prefix="typst") as pool:
+        pool.submit(fonts_loaded)                       # while the first figure is drawn
+        pending = {}
+        for key, make in makers.items():
+            svg = figure_svg(make(), rc)
+            drawn[key] = (svg, svg_size(svg))
+            pending[key] = pool.submit(figure_pdfs, {key: drawn[key]}, created)
+        pdfs = {k: f.result()[k] for k, f in pending.items()}
+    return {k: (svg, pdfs[k], size) for k, (svg, size) in drawn.items()}
 
 
 def write_figure_files(stack: contextlib.ExitStack,
@@ -259,19 +360,29 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
     OSError
         If a file cannot be written: then none is (:func:`gd_analyze.files.atomic_path`).
     """
+    from concurrent.futures import ThreadPoolExecutor
+
     if shown is None:
         shown = [k for k in drawn if not k.endswith("_column")]
     with contextlib.ExitStack() as stack:
-        files = write_figure_files(stack, drawn, folder / "figures", names)
+        every = drawn
         drawn = {k: drawn[k] for k in shown if k in drawn}
-        sections = outline(drawn)
+        sections = outline(drawn)           # read only from here on, by both threads
         docs = [folder / f"{stem}.{fmt}" for fmt in formats]
-        for path in docs:
-            tmp = stack.enter_context(atomic_path(path))
-            if path.suffix == ".html":
-                Path(tmp).write_text(html(sections, drawn), encoding="utf-8")
-            else:
-                write_pdf(sections, {k: (d[0], d[2]) for k, d in drawn.items()}, tmp, paper,
-                          **pdf)
-        tables = write_tables(stack, sections, folder / "tables", latex, prefix)
+        staged = {path: stack.enter_context(atomic_path(path)) for path in docs}
+        # the PDF typeset on a worker thread (Typst runs without Python's global lock) while
+        # the HTML, the figures' files and the tables are written; it is waited for before
+        # the files are renamed into place (or, on an error, removed)
+        with ThreadPoolExecutor(1, thread_name_prefix="typst") as pool:
+            typeset = [pool.submit(write_pdf, sections,
+                                   {k: (d[0], d[2]) for k, d in drawn.items()}, staged[path],
+                                   paper, **pdf)
+                       for path in docs if path.suffix == ".pdf"]
+            for path in docs:
+                if path.suffix == ".html":
+                    Path(staged[path]).write_text(html(sections, drawn), encoding="utf-8")
+            files = write_figure_files(stack, every, folder / "figures", names)
+            tables = write_tables(stack, sections, folder / "tables", latex, prefix)
+            for done in typeset:
+                done.result()
     return docs + files + tables

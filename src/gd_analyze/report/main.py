@@ -40,7 +40,7 @@ from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
-from .drawing import draw_figures, html_document, write_documents
+from .drawing import draw_each, draw_figures, html_document, write_documents
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -671,9 +671,8 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     ctx = report_context(results)       # fails early on a dataset that is not ours
     (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
-    drawn = {}
-    for key, make in figure_makers(results, data, column=column).items():  # one alive
-        drawn.update(_drawn({key: make()}, created=ctx["created"]))
+    # one figure alive at a time, each typeset as PDF while the next is drawn
+    drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
     pdf = {"metadata": {
         "Author": f"gd-analyze {ctx['version']}",
         "Subject": "Translational and rotational dominance of the generalized d'Alembert "

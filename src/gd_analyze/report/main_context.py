@@ -47,6 +47,7 @@ from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import table as _table
+from .main_provenance import DERIVATIVES as _DERIVATIVES
 from .main_provenance import provenance_rows
 from .main_text import (
     captions,
@@ -465,12 +466,6 @@ def d_text(results: Results, s: float, e: float, enveloped: bool) -> str:
                           **{k: v for k, v in parts.items() if k != "arm"}, **arm)
 
 
-_DERIVATIVES = {
-    "file": "read from the file (its velocity and acceleration columns)",
-    "cubic-spline": "derived from q by a not-a-knot cubic spline",
-    "quintic": "analytic derivatives of a planned quintic motion",
-    "arrays": "given as arrays (the Python API)",
-}
 
 
 #: Two joints move alike when q, q\u0307 and q\u0308 differ by at most this fraction of their

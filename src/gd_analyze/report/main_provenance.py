@@ -38,11 +38,27 @@ def _no_floor(results):
             + " (positions, velocities and accelerations within the model's limits), not its "
             "peak on this trajectory")
 
-__all__ = ["provenance_rows", "software_row", "run_row", "gravity_row"]
+__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row"]
+
+#: How a trajectory's velocities and accelerations were obtained, in words (the stored
+#: ``derivatives`` setting).
+DERIVATIVES = {
+    "file": "read from the file (its velocity and acceleration columns)",
+    "cubic-spline": "derived from q by a not-a-knot cubic spline",
+    "quintic": "analytic derivatives of a planned quintic motion",
+    "arrays": "given as arrays (the Python API)",
+}
+
 
 #: The ``explicit`` setting in words.
 _EXPLICIT = {"auto": "derived when its estimated size is cheap and it may be deployed (auto)",
              "always": "always derived", "never": "never derived"}
+#: The ``guarantee`` asked for, in words (what was built is the row "guarantee of the model
+#: built").
+_GUARANTEE = {k: "over the joint-limit region where the robot file or the command line gives "
+                 f"every joint's position and velocity limits, else on the trajectory ({k})"
+              for k in ("auto", "region")} | {
+    "trajectory": "on the analysed trajectory only (trajectory)"}
 
 
 def _settings(p: Provenance):
@@ -54,6 +70,7 @@ def _settings(p: Provenance):
             ("torque floor of each joint's scale", p.torque_floor, p.simplified_torque_floor),
             ("model form", p.form, p.simplified_form),
             ("explicit model", p.explicit, None),
+            ("guarantee asked for", p.guarantee, None),
             ("rule compared side by side", p.other_rule, None))
 
 
@@ -148,6 +165,8 @@ def provenance_rows(results: Results, created: str, version: str,
                                        if any(results.prismatic) else ""))
         if value is not None and k == 4:                    # the explicit model
             value = _EXPLICIT.get(value, value)
+        if value is not None and k == 5:                    # the guarantee asked for
+            value = _GUARANTEE.get(value, value)
         if value is not None:
             rows.append((label, value))
     mounting = _mounting(p)

@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from .sections import Outline
 
 __all__ = ["PAPER", "MIN_PRINTED_PT", "NEAR_EMPTY", "printed_scale", "TABLE_COLOURS",
-           "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_pdfs"]
+           "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_pdfs", "fonts_loaded"]
 
 #: Page sizes [in] and their Typst names.
 PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
@@ -73,6 +73,17 @@ def _fonts():
 
     return typst.Fonts(include_system_fonts=False, include_embedded_fonts=True,
                        font_paths=[_font_folder()])
+
+
+def fonts_loaded() -> None:
+    """Load the fonts every Typst document of the process is set in (once): a worker thread
+    may do it while the figures are drawn.
+
+    Returns
+    -------
+    None
+    """
+    _fonts()
 
 
 def _compile(template, inputs, created, end=False):

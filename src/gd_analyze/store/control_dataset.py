@@ -16,6 +16,7 @@ import numpy as np
 from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
 from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
+from .names import ControlVar as V
 from .schema import flag, global_attributes, joint_coordinate, joint_type_var, var, write_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -86,49 +87,49 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     figs = [result.error_figures(c) for c in names]
     fig = lambda key: np.array([f[key] for f in figs])              # noqa: E731
     tau_pk, tau_rm = zip(*(_peak_rms(r.tau) for r in runs))
-    CTJ, CJ = ("controller", "time", "joint"), ("controller", "joint")
+    CTJ, CJ = (V.CONTROLLER, V.TIME, V.JOINT), (V.CONTROLLER, V.JOINT)
     prismatic = np.asarray(robot.prismatic, bool)
     U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
          for k in ("q", "qd", "qdd", "tau")}
     per_joint = gain_units(prismatic)
     U.update({k: units_attribute(v, f"{k}_units") for k, v in per_joint.items()})
     data_vars = {
-        "is_setpoint": flag(("time",), result.is_setpoint, "sample is a set point of the "
+        V.IS_SETPOINT: flag((V.TIME,), result.is_setpoint, "sample is a set point of the "
                             "trajectory (1) or on the fine grid (0)", "fine_grid set_point"),
-        "q_d": var(("time", "joint"), result.q_d, U["q"], "desired joint position"),
-        "qd_d": var(("time", "joint"), result.qd_d, U["qd"], "desired joint velocity"),
-        "qdd_d": var(("time", "joint"), result.qdd_d, U["qdd"], "desired joint acceleration"),
-        "q": var(CTJ, stack("q"), U["q"], "joint position of the controlled arm"),
-        "qd": var(CTJ, stack("qd"), U["qd"], "joint velocity of the controlled arm"),
-        "tau": var(CTJ, stack("tau"), U["tau"], "joint torque applied by the controller"),
-        "error": var(CTJ, stack("error"), U["q"], "tracking error q_d - q"),
-        "error_peak_setpoints": var(CJ, fig("peak_setpoints"), U["q"],
+        V.Q_D: var((V.TIME, V.JOINT), result.q_d, U["q"], "desired joint position"),
+        V.QD_D: var((V.TIME, V.JOINT), result.qd_d, U["qd"], "desired joint velocity"),
+        V.QDD_D: var((V.TIME, V.JOINT), result.qdd_d, U["qdd"], "desired joint acceleration"),
+        V.Q: var(CTJ, stack("q"), U["q"], "joint position of the controlled arm"),
+        V.QD: var(CTJ, stack("qd"), U["qd"], "joint velocity of the controlled arm"),
+        V.TAU: var(CTJ, stack("tau"), U["tau"], "joint torque applied by the controller"),
+        V.ERROR: var(CTJ, stack("error"), U["q"], "tracking error q_d - q"),
+        V.ERROR_PEAK_SETPOINTS: var(CJ, fig("peak_setpoints"), U["q"],
                                      "peak |q_d - q| at the set points"),
-        "error_rms_setpoints": var(CJ, fig("rms_setpoints"), U["q"],
+        V.ERROR_RMS_SETPOINTS: var(CJ, fig("rms_setpoints"), U["q"],
                                     "RMS of q_d - q at the set points"),
-        "error_peak_grid": var(CJ, fig("peak_grid"), U["q"],
+        V.ERROR_PEAK_GRID: var(CJ, fig("peak_grid"), U["q"],
                                 "peak |q_d - q| on the fine grid"),
-        "error_rms_grid": var(CJ, fig("rms_grid"), U["q"], "RMS of q_d - q on the fine grid"),
-        "tau_peak": var(CJ, np.array(tau_pk), U["tau"], "peak |tau| on the fine grid"),
-        "tau_rms": var(CJ, np.array(tau_rm), U["tau"], "RMS of tau on the fine grid"),
-        "nfev": var(("controller",), np.array([r.nfev for r in runs], dtype=np.int64), "1",
+        V.ERROR_RMS_GRID: var(CJ, fig("rms_grid"), U["q"], "RMS of q_d - q on the fine grid"),
+        V.TAU_PEAK: var(CJ, np.array(tau_pk), U["tau"], "peak |tau| on the fine grid"),
+        V.TAU_RMS: var(CJ, np.array(tau_rm), U["tau"], "RMS of tau on the fine grid"),
+        V.NFEV: var((V.CONTROLLER,), np.array([r.nfev for r in runs], dtype=np.int64), "1",
                      "right-hand-side evaluations of the integrator"),
-        "success": var(("controller",), np.array([r.success for r in runs], dtype=np.int8),
+        V.SUCCESS: var((V.CONTROLLER,), np.array([r.success for r in runs], dtype=np.int8),
                         "1", "integrator reached the end (1) or failed (0)"),
-        "wn": var(("joint",), g.wn, "rad s-1", "undamped natural frequency of the error dynamics"),
-        "zeta": var(("joint",), g.zeta, "1", "damping ratio of the error dynamics"),
-        "Kp": var(("joint",), g.Kp, "s-2", "computed-torque position gain, wn^2"),
-        "Kv": var(("joint",), g.Kv, "s-1", "computed-torque velocity gain, 2 zeta wn"),
-        "inertia_scale": var(("joint",), g.inertia_scale, U["inertia_scale"],
+        V.WN: var((V.JOINT,), g.wn, "rad s-1", "undamped natural frequency of the error dynamics"),
+        V.ZETA: var((V.JOINT,), g.zeta, "1", "damping ratio of the error dynamics"),
+        V.KP: var((V.JOINT,), g.Kp, "s-2", "computed-torque position gain, wn^2"),
+        V.KV: var((V.JOINT,), g.Kv, "s-1", "computed-torque velocity gain, 2 zeta wn"),
+        V.INERTIA_SCALE: var((V.JOINT,), g.inertia_scale, U["inertia_scale"],
                               "diagonal of D at the start of the motion, scales the PD gains"),
-        "Kp_pd": var(("joint",), g.Kp_pd, U["Kp_pd"],
+        V.KP_PD: var((V.JOINT,), g.Kp_pd, U["Kp_pd"],
                       "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
-        "Kv_pd": var(("joint",), g.Kv_pd, U["Kv_pd"],
+        V.KV_PD: var((V.JOINT,), g.Kv_pd, U["Kv_pd"],
                       "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
-        "joint_type": joint_type_var(robot),
-        "q0_offset": var(("joint",), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
+        V.JOINT_TYPE: joint_type_var(robot),
+        V.Q0_OFFSET: var((V.JOINT,), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
                           U["q"], "initial position error q(0) - q_d(0)"),
-        "choice": var(("element",), np.array([result.choices[k] for k in element_labels(n)],
+        V.CHOICE: var((V.ELEMENT,), np.array([result.choices[k] for k in element_labels(n)],
                                               dtype=str), "1",
                        "part kept by the simplified model (tran, rot, both, none)"),
     }
@@ -136,62 +137,62 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     if diff is not None:
         pk, rm = _peak_rms(diff)
         ps, rs = _peak_rms(diff[result.is_setpoint])
-        data_vars.update(
-            tau_difference=var(("time", "joint"), diff, U["tau"],
+        data_vars.update({
+            V.TAU_DIFFERENCE: var((V.TIME, V.JOINT), diff, U["tau"],
                                 "tau of the simplified-model controller minus tau of the "
                                 "full-model controller, each along its own run"),
-            tau_difference_peak=var(("joint",), pk, U["tau"],
+            V.TAU_DIFFERENCE_PEAK: var((V.JOINT,), pk, U["tau"],
                                      "peak |tau_simplified - tau_full| on the fine grid"),
-            tau_difference_rms=var(("joint",), rm, U["tau"],
+            V.TAU_DIFFERENCE_RMS: var((V.JOINT,), rm, U["tau"],
                                     "RMS of tau_simplified - tau_full on the fine grid"),
-            tau_difference_peak_setpoints=var(("joint",), ps, U["tau"],
+            V.TAU_DIFFERENCE_PEAK_SETPOINTS: var((V.JOINT,), ps, U["tau"],
                                                "peak |tau_simplified - tau_full| at the set "
                                                "points"),
-            tau_difference_rms_setpoints=var(("joint",), rs, U["tau"],
+            V.TAU_DIFFERENCE_RMS_SETPOINTS: var((V.JOINT,), rs, U["tau"],
                                               "RMS of tau_simplified - tau_full at the set "
-                                              "points"))
+                                              "points")})
     if diff is not None and result.tau_noise is not None:
         tight = f"rtol/{prov['rtol'] / prov['noise_rtol']:g}, atol/{prov['atol'] / prov['noise_atol']:g}"
-        data_vars.update(
-            tau_difference_noise=var(("joint",), np.asarray(result.tau_noise, float), U["tau"],
+        data_vars.update({
+            V.TAU_DIFFERENCE_NOISE: var((V.JOINT,), np.asarray(result.tau_noise, float), U["tau"],
                                       "integrator noise of tau_simplified - tau_full, measured: "
                                       "peak over the run of its change when both runs are "
                                       f"integrated again at {tight}"),
-            tau_difference_floor=var(("joint",), result.tau_noise_floor, U["tau"],
+            V.TAU_DIFFERENCE_FLOOR: var((V.JOINT,), result.tau_noise_floor, U["tau"],
                                       "noise floor of tau_simplified - tau_full: "
                                       f"{prov['noise_factor']:g} x tau_difference_noise, at "
                                       "least max(rtol, 1e-12) x the full-model controller's "
                                       "peak |tau|; a difference at or below it is integrator "
-                                      "noise, not data"))
+                                      "noise, not data")})
     coords = {
-        "controller": ("controller", np.array(names, dtype=str),
+        V.CONTROLLER: (V.CONTROLLER, np.array(names, dtype=str),
                        {"long_name": "controller", "units": "1"}),
-        "controller_description": ("controller",
+        V.CONTROLLER_DESCRIPTION: (V.CONTROLLER,
                                    np.array([result.descriptions[c] for c in names],
                                             dtype=str),
                                    {"long_name": "control law", "units": "1"}),
-        "time": ("time", result.t, {"long_name": "time", "units": "s",
+        V.TIME: (V.TIME, result.t, {"long_name": "time", "units": "s",
                                     "standard_name": "time"}),
-        "joint": joint_coordinate(robot.joint_names()),
-        **{name: ("joint", np.array(joint_units(prismatic, which), dtype=str),
+        V.JOINT: joint_coordinate(robot.joint_names()),
+        **{name: (V.JOINT, np.array(joint_units(prismatic, which), dtype=str),
                   {"long_name": long_name, "units": "1"})
            for name, (which, long_name) in JOINT_UNIT_COORDS.items()},
-        **{f"{k}_units": ("joint", np.array(v, dtype=str),
+        **{f"{k}_units": (V.JOINT, np.array(v, dtype=str),
                           {"long_name": f"units of {k} of the joint", "units": "1"})
            for k, v in per_joint.items()},
-        "element": ("element", np.array(element_labels(n), dtype=str),
+        V.ELEMENT: (V.ELEMENT, np.array(element_labels(n), dtype=str),
                     {"long_name": "element of D (i <= j) or h", "units": "1"}),
     }
     cost = result.cost
     if cost:
-        coords["evaluator"] = ("evaluator", np.array(cost["evaluators"], dtype=str),
+        coords[V.EVALUATOR] = (V.EVALUATOR, np.array(cost["evaluators"], dtype=str),
                                {"long_name": "evaluator of tau at one set point", "units": "1"})
-        data_vars.update(
-            multiplications=var(("evaluator",), np.array(cost["multiplications"], np.int64),
+        data_vars.update({
+            V.MULTIPLICATIONS: var((V.EVALUATOR,), np.array(cost["multiplications"], np.int64),
                                  "1", "multiplications per set point (counted, gd_analyze.dynamics.opcount "
                                       "rule)"),
-            additions=var(("evaluator",), np.array(cost["additions"], np.int64), "1",
-                           "additions and subtractions per set point (counted)"))
+            V.ADDITIONS: var((V.EVALUATOR,), np.array(cost["additions"], np.int64), "1",
+                           "additions and subtractions per set point (counted)")})
     attrs = global_attributes(
         robot, f"Computed-torque control of {robot.name} with its simplified G-D model along "
                f"{prov.get('trajectory_file', '')}",

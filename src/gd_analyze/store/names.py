@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Final
 
-__all__ = ["Var", "Attr", "VARIABLES", "ATTRIBUTES", "VERIFICATION_PREFIX",
+__all__ = ["Var", "Attr", "ControlVar", "SweepVar", "SweepAttr", "VARIABLES", "ATTRIBUTES", "CONTROL_VARIABLES", "SWEEP_VARIABLES", "SWEEP_ATTRIBUTES", "VERIFICATION_PREFIX",
            "VERIFIED_TERMS", "verification_attribute", "ELEMENT_UNITS_RULE", "CliShown",
            "ReportShown", "RankingColumn", "RANKING_COLUMNS"]
 
@@ -274,6 +274,190 @@ class Attr:
     VERIFICATION_TOLERANCE: Final = "verification_tolerance"
 
 
+class ControlVar:
+    """Variables and coordinates of ``control.h5``
+    (:func:`gd_analyze.store.control_dataset.control_dataset`; read by
+    :class:`gd_analyze.store.stored_control.StoredControl`).
+
+    Each constant is the variable's name; ``ControlVar.KP_PD == "Kp_pd"``. The units of a
+    gain whose units depend on the joint's type are the coordinate ``<gain>_units``; the
+    joints' units and the region are :class:`Var`'s, as in ``results.h5``. Not
+    instantiated.
+    """
+
+    __slots__ = ()
+
+    IS_SETPOINT: Final = "is_setpoint"
+    Q_D: Final = "q_d"
+    QD_D: Final = "qd_d"
+    QDD_D: Final = "qdd_d"
+    Q: Final = "q"
+    QD: Final = "qd"
+    TAU: Final = "tau"
+    ERROR: Final = "error"
+    ERROR_PEAK_SETPOINTS: Final = "error_peak_setpoints"
+    ERROR_RMS_SETPOINTS: Final = "error_rms_setpoints"
+    ERROR_PEAK_GRID: Final = "error_peak_grid"
+    ERROR_RMS_GRID: Final = "error_rms_grid"
+    TAU_PEAK: Final = "tau_peak"
+    TAU_RMS: Final = "tau_rms"
+    NFEV: Final = "nfev"
+    SUCCESS: Final = "success"
+    WN: Final = "wn"
+    ZETA: Final = "zeta"
+    KP: Final = "Kp"
+    KV: Final = "Kv"
+    INERTIA_SCALE: Final = "inertia_scale"
+    KP_PD: Final = "Kp_pd"
+    KV_PD: Final = "Kv_pd"
+    INERTIA_SCALE_UNITS: Final = "inertia_scale_units"
+    KP_PD_UNITS: Final = "Kp_pd_units"
+    KV_PD_UNITS: Final = "Kv_pd_units"
+    JOINT_TYPE: Final = "joint_type"
+    Q0_OFFSET: Final = "q0_offset"
+    CHOICE: Final = "choice"
+    TAU_DIFFERENCE: Final = "tau_difference"
+    TAU_DIFFERENCE_PEAK: Final = "tau_difference_peak"
+    TAU_DIFFERENCE_RMS: Final = "tau_difference_rms"
+    TAU_DIFFERENCE_PEAK_SETPOINTS: Final = "tau_difference_peak_setpoints"
+    TAU_DIFFERENCE_RMS_SETPOINTS: Final = "tau_difference_rms_setpoints"
+    TAU_DIFFERENCE_NOISE: Final = "tau_difference_noise"
+    TAU_DIFFERENCE_FLOOR: Final = "tau_difference_floor"
+    CONTROLLER: Final = "controller"
+    CONTROLLER_DESCRIPTION: Final = "controller_description"
+    TIME: Final = "time"
+    JOINT: Final = "joint"
+    ELEMENT: Final = "element"
+    EVALUATOR: Final = "evaluator"
+    MULTIPLICATIONS: Final = "multiplications"
+    ADDITIONS: Final = "additions"
+
+
+class SweepVar:
+    """Variables and coordinates of ``sweep.h5``
+    (:func:`gd_analyze.store.sweep_view.sweep_dataset`, the merged model's by
+    :mod:`gd_analyze.jobs.sweep_merged`; read by :class:`gd_analyze.store.sweep_view.StoredSweep`).
+
+    Each constant is the variable's name; ``SweepVar.SHARE_TRAN_MIN == "share_tran_min"``. Not
+    instantiated.
+    """
+
+    __slots__ = ()
+
+    SHARE_TRAN: Final = "share_tran"
+    DOMINANCE: Final = "dominance"
+    CHOICE: Final = "choice"
+    PEAK_TOTAL: Final = "peak_total"
+    ROUND_OFF: Final = "round_off"
+    SOURCE: Final = "source"
+    INPUT_SHA256: Final = "input_sha256"
+    DURATION: Final = "duration"
+    SETPOINTS: Final = "setpoints"
+    Q_START: Final = "q_start"
+    Q_GOAL: Final = "q_goal"
+    TAU_PEAK: Final = "tau_peak"
+    TAU_ERROR_PEAK: Final = "tau_error_peak"
+    TAU_ERROR_RMS: Final = "tau_error_rms"
+    TAU_ERROR_RELATIVE_PEAK: Final = "tau_error_relative_peak"
+    TAU_ERROR_RELATIVE_RMS: Final = "tau_error_relative_rms"
+    MERGED_TAU_ERROR_PEAK: Final = "merged_tau_error_peak"
+    MERGED_TAU_ERROR_RELATIVE_PEAK: Final = "merged_tau_error_relative_peak"
+    CLASS_FRACTION: Final = "class_fraction"
+    SHARE_TRAN_MIN: Final = "share_tran_min"
+    SHARE_TRAN_MEDIAN: Final = "share_tran_median"
+    SHARE_TRAN_MAX: Final = "share_tran_max"
+    MERGED_CHOICE: Final = "merged_choice"
+    MERGED_ERROR_PEAK: Final = "merged_error_peak"
+    MERGED_ERROR_RMS: Final = "merged_error_rms"
+    MERGED_ERROR_TAU_PEAK: Final = "merged_error_tau_peak"
+    MERGED_ERROR_RELATIVE_PEAK: Final = "merged_error_relative_peak"
+    MERGED_ERROR_RELATIVE_RMS: Final = "merged_error_relative_rms"
+    JOINT_TYPE: Final = "joint_type"
+    TRAJECTORY: Final = "trajectory"
+    CLASS: Final = "class"
+    ELEMENT: Final = "element"
+    JOINT: Final = "joint"
+    MERGED_SCALE: Final = "merged_scale"
+    MERGED_BOUND: Final = "merged_bound"
+    MERGED_COVERED: Final = "merged_covered"
+    MERGED_COVERAGE: Final = "merged_coverage"
+    HELD_OUT_ERROR_PEAK: Final = "held_out_error_peak"
+    HELD_OUT_TAU_PEAK: Final = "held_out_tau_peak"
+    PAIR_TAU_PEAK: Final = "pair_tau_peak"
+    PAIR_PEAK: Final = "pair_peak"
+    PARAMETER_PEAK: Final = "parameter_peak"
+    BASE_PARAMETER: Final = "base_parameter"
+    PART: Final = "part"
+    EVALUATOR: Final = "evaluator"
+    MULTIPLICATIONS: Final = "multiplications"
+    ADDITIONS: Final = "additions"
+
+
+class SweepAttr:
+    """Global attributes of ``sweep.h5`` that the sweep report says in rows of their own, or
+    that are results; any other attribute is a setting (:class:`gd_analyze.store.sweep_view.SweepSettings`).
+
+    Each constant is the attribute's name; ``SweepAttr.MERGED_RULE == "merged_rule"``. Not
+    instantiated.
+    """
+
+    __slots__ = ()
+
+    ROBOT: Final = "robot"
+    ROBOT_DESCRIPTION: Final = "robot_description"
+    ROBOT_SOURCE: Final = "robot_source"
+    ROBOT_SHA256: Final = "robot_sha256"
+    GRAVITY: Final = "gravity"
+    GRAVITY_UNITS: Final = "gravity_units"
+    DOMINANCE_THRESHOLD: Final = "dominance_threshold"
+    NEGLIGIBLE_THRESHOLD: Final = "negligible_threshold"
+    SEED: Final = "seed"
+    INPUT_FILES: Final = "input_files"
+    INPUTS_SHA256: Final = "inputs_sha256"
+    SETPOINTS_TOTAL: Final = "setpoints_total"
+    MERGE_RULE: Final = "merge_rule"
+    CLUSTER: Final = "cluster"
+    N_WORKERS: Final = "n_workers"
+    SCHEDULER_ADDRESS: Final = "scheduler_address"
+    N_TASKS: Final = "n_tasks"
+    BATCH_SIZE: Final = "batch_size"
+    ELAPSED_S: Final = "elapsed_s"
+    COMPUTE_S: Final = "compute_s"
+    HISTORY: Final = "history"
+    GD_ANALYZE_VERSION: Final = "gd_analyze_version"
+    CONVENTIONS: Final = "Conventions"
+    TITLE: Final = "title"
+    SOURCE: Final = "source"
+    REFERENCES: Final = "references"
+    INPUT_KIND: Final = "input_kind"
+    TRAJECTORIES: Final = "trajectories"
+    STARTED: Final = "started"
+    ROBOT_REFERENCE: Final = "robot_reference"
+    MERGED_RULE: Final = "merged_rule"
+    MERGED_TOLERANCE: Final = "merged_tolerance"
+    MERGED_TORQUE_FLOOR: Final = "merged_torque_floor"
+    MERGED_WORST_SCALED_ERROR: Final = "merged_worst_scaled_error"
+    PAYLOAD_MASS: Final = "payload_mass"
+    RANDOM_QDD_MAX_SOURCE: Final = "random_qdd_max_source"
+    COMMAND: Final = "command"
+    MOUNTING_BASE_RPY_DEG: Final = "mounting_base_rpy_deg"
+    MOUNTING_GRAVITY_BASE: Final = "mounting_gravity_base"
+    MOUNTING_GRAVITY_WORLD: Final = "mounting_gravity_world"
+    OWN_MODEL_RULE: Final = "own_model_rule"
+    MERGED_FORM: Final = "merged_form"
+    MERGED_C_TERMS: Final = "merged_c_terms"
+    MERGED_C_TERMS_KEPT: Final = "merged_c_terms_kept"
+    HELD_OUT_TRAJECTORIES: Final = "held_out_trajectories"
+    MERGED_BASE_PARAMETERS: Final = "merged_base_parameters"
+    MERGED_PAIRS: Final = "merged_pairs"
+    MERGED_PAIRS_DROPPED: Final = "merged_pairs_dropped"
+    MERGED_DROPPED_PAIRS: Final = "merged_dropped_pairs"
+    MERGED_GRAVITY_DROPPED: Final = "merged_gravity_dropped"
+    MERGED_GUARANTEE_KIND: Final = "merged_guarantee_kind"
+    MERGED_GUARANTEE_STATEMENT: Final = "merged_guarantee_statement"
+    HELD_OUT_INSIDE_REGION: Final = "held_out_inside_region"
+
+
 def _values(namespace: type) -> frozenset:
     return frozenset(v for k, v in vars(namespace).items() if k.isupper())
 
@@ -282,6 +466,12 @@ def _values(namespace: type) -> frozenset:
 VARIABLES: Final = _values(Var)
 #: Every attribute name of :class:`Attr`.
 ATTRIBUTES: Final = _values(Attr)
+#: Every variable name of :class:`ControlVar`.
+CONTROL_VARIABLES: Final = _values(ControlVar)
+#: Every variable name of :class:`SweepVar`.
+SWEEP_VARIABLES: Final = _values(SweepVar)
+#: Every attribute name of :class:`SweepAttr`.
+SWEEP_ATTRIBUTES: Final = _values(SweepAttr)
 #: The prefix of the attributes of the check against Pinocchio.
 VERIFICATION_PREFIX: Final = "verification_"
 #: The terms checked against Pinocchio, each with a largest relative error and excess.

@@ -62,7 +62,8 @@ SHOWN_ELSEWHERE = frozenset({
     Attr.SIMPLIFIED_DROPPED_PAIRS, Attr.SIMPLIFIED_MULTIPLICATIONS, Attr.SIMPLIFIED_ADDITIONS,
     Attr.SIMPLIFIED_SIN, Attr.SIMPLIFIED_COS, Attr.OTHER_RULE_MULTIPLICATIONS,
     Attr.OTHER_RULE_ADDITIONS, Attr.SIMPLIFIED_LADDER_SKIPPED, Attr.SIMPLIFIED_LADDER_FORM,
-    Attr.SIMPLIFIED_FORM_NOTE, Attr.SIMPLIFIED_REGION_SCREEN, Attr.SIMPLIFIED_FILES,
+    Attr.SIMPLIFIED_FORM_NOTE, Attr.SIMPLIFIED_REGION_SCREEN,
+    Attr.SIMPLIFIED_REGION_SCREEN_PROVED, Attr.SIMPLIFIED_FILES,
     Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING, Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD,
     Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMONICS,
     Attr.OTHER_RULE_COEFFICIENTS, Attr.SIMPLIFIED_GUARANTEE_KIND, Attr.C_PREFIX,
@@ -90,7 +91,7 @@ class Provenance:
     gd_analyze_version, command, history, conventions, references : object
         The software, the command line, the CF history ("<time> created by ..."), the CF
         conventions and the method's references.
-    rule, tolerance, torque_floor, form, explicit, other_rule : object
+    rule, tolerance, torque_floor, form, explicit, other_rule, guarantee : object
         The settings asked for.
     simplified_rule, simplified_tolerance, simplified_torque_floor, simplified_form : object
         What the simplified model records it was built with.
@@ -123,6 +124,7 @@ class Provenance:
     form: Any
     explicit: Any
     other_rule: Any
+    guarantee: Any
     simplified_rule: Any
     simplified_tolerance: Any
     simplified_torque_floor: Any

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from .names import ControlVar as V
 from .schema import (
     EvaluatorCosts,
     RunRecord,
@@ -38,11 +39,11 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["REQUIRED_VARIABLES", "ControlSettings", "ModelFacts", "StoredControl"]
 
 #: Variables a control dataset must have.
-REQUIRED_VARIABLES = ("is_setpoint", "q_d", "error", "tau", "error_peak_setpoints",
-                      "error_rms_setpoints", "error_peak_grid", "error_rms_grid", "Kp", "Kv",
-                      "Kp_pd", "Kv_pd", "wn", "zeta", "inertia_scale", "choice", "nfev")
+REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOINTS,
+                      V.ERROR_RMS_SETPOINTS, V.ERROR_PEAK_GRID, V.ERROR_RMS_GRID, V.KP, V.KV,
+                      V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE, V.CHOICE, V.NFEV)
 #: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
-_TYPED_GAINS = ("inertia_scale", "Kp_pd", "Kv_pd")
+_TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
 
 
 @dataclass(frozen=True)
@@ -154,7 +155,7 @@ def _by_controller(ds, name):
     if name not in ds.variables:
         return None
     return types.MappingProxyType({c: ds[name].sel(controller=c).values
-                                   for c in strings(ds["controller"].values)})
+                                   for c in strings(ds[V.CONTROLLER].values)})
 
 
 @dataclass(frozen=True, eq=False)
@@ -208,40 +209,40 @@ class StoredControl(View):
         The software, the run's time, gravity and mounting.
     """
 
-    controllers: tuple[str, ...] = stored("controller", texts)
-    descriptions: tuple[str, ...] | None = stored("controller_description", texts, None)
+    controllers: tuple[str, ...] = stored(V.CONTROLLER, texts)
+    descriptions: tuple[str, ...] | None = stored(V.CONTROLLER_DESCRIPTION, texts, None)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-    time: np.ndarray = stored("time")
-    is_setpoint: np.ndarray = stored("is_setpoint", lambda v: np.asarray(v).astype(bool))
-    q_d: np.ndarray = stored("q_d")
-    error: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, "error"))
-    tau: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, "tau"))
+    time: np.ndarray = stored(V.TIME)
+    is_setpoint: np.ndarray = stored(V.IS_SETPOINT, lambda v: np.asarray(v).astype(bool))
+    q_d: np.ndarray = stored(V.Q_D)
+    error: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, V.ERROR))
+    tau: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, V.TAU))
     error_peak_setpoints: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, "error_peak_setpoints"))
+        lambda ds: _by_controller(ds, V.ERROR_PEAK_SETPOINTS))
     error_rms_setpoints: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, "error_rms_setpoints"))
+        lambda ds: _by_controller(ds, V.ERROR_RMS_SETPOINTS))
     error_peak_grid: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, "error_peak_grid"))
+        lambda ds: _by_controller(ds, V.ERROR_PEAK_GRID))
     error_rms_grid: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, "error_rms_grid"))
-    tau_peak: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, "tau_peak"))
-    tau_rms: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, "tau_rms"))
-    tau_difference: np.ndarray | None = stored("tau_difference", default=None)
-    tau_difference_floor: np.ndarray | None = stored("tau_difference_floor", default=None)
-    tau_difference_peak: np.ndarray | None = stored("tau_difference_peak", default=None)
-    tau_difference_rms: np.ndarray | None = stored("tau_difference_rms", default=None)
+        lambda ds: _by_controller(ds, V.ERROR_RMS_GRID))
+    tau_peak: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, V.TAU_PEAK))
+    tau_rms: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, V.TAU_RMS))
+    tau_difference: np.ndarray | None = stored(V.TAU_DIFFERENCE, default=None)
+    tau_difference_floor: np.ndarray | None = stored(V.TAU_DIFFERENCE_FLOOR, default=None)
+    tau_difference_peak: np.ndarray | None = stored(V.TAU_DIFFERENCE_PEAK, default=None)
+    tau_difference_rms: np.ndarray | None = stored(V.TAU_DIFFERENCE_RMS, default=None)
     tau_difference_peak_setpoints: np.ndarray | None = stored(
-        "tau_difference_peak_setpoints", default=None)
+        V.TAU_DIFFERENCE_PEAK_SETPOINTS, default=None)
     tau_difference_rms_setpoints: np.ndarray | None = stored(
-        "tau_difference_rms_setpoints", default=None)
+        V.TAU_DIFFERENCE_RMS_SETPOINTS, default=None)
     gains: Mapping[str, np.ndarray] = derived(lambda ds: types.MappingProxyType(
-        {k: ds[k].values for k in ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}))
+        {k: ds[k].values for k in (V.WN, V.ZETA, V.KP, V.KV, V.INERTIA_SCALE, V.KP_PD, V.KV_PD)}))
     gain_units: Mapping[str, tuple[str, ...] | None] = derived(lambda ds: types.MappingProxyType({
         k: texts(ds[f"{k}_units"].values) if f"{k}_units" in ds.coords else None
         for k in _TYPED_GAINS}))
-    q0_offset: np.ndarray | None = stored("q0_offset", default=None)
-    elements: tuple[str, ...] = stored("element", texts, ())
-    choice: tuple[str, ...] = stored("choice", texts)
+    q0_offset: np.ndarray | None = stored(V.Q0_OFFSET, default=None)
+    elements: tuple[str, ...] = stored(V.ELEMENT, texts, ())
+    choice: tuple[str, ...] = stored(V.CHOICE, texts)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
     settings: ControlSettings = derived(lambda ds: from_attrs(ControlSettings, ds.attrs))
     model: ModelFacts = derived(lambda ds: from_attrs(ModelFacts, ds.attrs, "model_"))
@@ -274,7 +275,7 @@ class StoredControl(View):
             three).
         """
         missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
-        if missing or "controller" not in ds.dims or "time" not in ds.dims:
+        if missing or V.CONTROLLER not in ds.dims or V.TIME not in ds.dims:
             raise InputError("not a gd-analyze control dataset "
                              f"(missing {missing[:3] or 'dims'})", source)
         return cls.read(ds)

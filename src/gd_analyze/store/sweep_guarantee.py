@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .names import SweepVar as SV
 from .schema import strings
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -46,15 +47,15 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     if "merged_guarantee_statement" not in a:
         return None
     kind = str(a.get("merged_guarantee_kind", "none"))
-    rel = np.asarray(ds["merged_tau_error_relative_peak"].values, float)
+    rel = np.asarray(ds[SV.MERGED_TAU_ERROR_RELATIVE_PEAK].values, float)
     K = rel.shape[0]
-    if kind == "region" and "merged_covered" in ds.variables:
-        covered = np.asarray(ds["merged_covered"].values).astype(bool)
-        reasons = strings(ds["merged_coverage"].values)
+    if kind == "region" and SV.MERGED_COVERED in ds.variables:
+        covered = np.asarray(ds[SV.MERGED_COVERED].values).astype(bool)
+        reasons = strings(ds[SV.MERGED_COVERAGE].values)
     else:
         covered, reasons = np.ones(K, bool), [""] * K
     worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
-    sources = strings(ds["source"].values) if "source" in ds.variables else \
+    sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
         [str(k) for k in range(K)]
     held = a.get("held_out_trajectories")
     inside = a.get("held_out_inside_region")

@@ -40,7 +40,9 @@ from ..ranking.ranking import (
     parse_element_label,
 )
 from .datasets import joint_units, units_attribute
-from .names import Attr, Var
+from .names import SWEEP_ATTRIBUTES, Attr, Var
+from .names import SweepAttr as SA
+from .names import SweepVar as SV
 from .schema import (
     MIXED_UNITS,
     EvaluatorCosts,
@@ -110,24 +112,24 @@ def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
     digest = hashlib.sha256()
     for src, sha in zip(sources, shas):
         digest.update(f"{src}\t{sha}\n".encode())
-    attrs = {"inputs_sha256": digest.hexdigest(), "trajectories": len(trajectories)}
+    attrs = {SA.INPUTS_SHA256: digest.hexdigest(), SA.TRAJECTORIES: len(trajectories)}
     seeds = {m.group(1) for m in map(_RANDOM_SOURCE.match, sources) if m}
     n_random = sum(bool(_RANDOM_SOURCE.match(s)) for s in sources)
     files = [(s, h) for s, h in zip(sources, shas) if h]
     if n_random == len(sources):
-        attrs["input_kind"] = "random"
+        attrs[SA.INPUT_KIND] = "random"
     elif len(files) == len(sources):
-        attrs["input_kind"] = "files"
+        attrs[SA.INPUT_KIND] = "files"
     else:
-        attrs["input_kind"] = "mixed"
+        attrs[SA.INPUT_KIND] = "mixed"
     if n_random and len(seeds) == 1:
-        attrs["seed"] = int(next(iter(seeds)))
+        attrs[SA.SEED] = int(next(iter(seeds)))
     if files:
         listed = [f"{Path(s).name} sha256 {h}" for s, h in files[:_MAX_LISTED_FILES]]
         if len(files) > _MAX_LISTED_FILES:
             listed.append(f"... and {len(files) - _MAX_LISTED_FILES} more (see the variables "
                           "source and input_sha256)")
-        attrs["input_files"] = "; ".join(listed)
+        attrs[SA.INPUT_FILES] = "; ".join(listed)
     return attrs
 
 
@@ -238,92 +240,92 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
                                np.nanmedian(share_data, axis=0), np.nanmax(share_data, axis=0))
     torque, position = _torque_units(robot), _torque_units(robot, "q")
     data_vars = {
-        "share_tran": var(("trajectory", "element"), share, "1",
+        SV.SHARE_TRAN: var((SV.TRAJECTORY, SV.ELEMENT), share, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        "dominance": var(("trajectory", "element"), classes, "1",
+        SV.DOMINANCE: var((SV.TRAJECTORY, SV.ELEMENT), classes, "1",
                           "dominance class (translational, rotational, both, negligible)"),
-        "choice": var(("trajectory", "element"), choice, "1",
+        SV.CHOICE: var((SV.TRAJECTORY, SV.ELEMENT), choice, "1",
                        "part kept by the trajectory's own simplified model "
                        "(tran, rot, both, none)"),
-        "peak_total": var(("trajectory", "element"), peak_total, MIXED_UNITS,
+        SV.PEAK_TOTAL: var((SV.TRAJECTORY, SV.ELEMENT), peak_total, MIXED_UNITS,
                            "peak |translational + rotational| along the trajectory"),
-        "round_off": flag(("trajectory", "element"), round_off, "every part of the element is "
+        SV.ROUND_OFF: flag((SV.TRAJECTORY, SV.ELEMENT), round_off, "every part of the element is "
                           "round-off on the trajectory (1: at most 1e-12 of its scale; its "
                           "share_tran is noise), else 0"),
-        "source": var(("trajectory",), np.array([s["source"] for s in summ], dtype=str), "1",
+        SV.SOURCE: var((SV.TRAJECTORY,), np.array([s["source"] for s in summ], dtype=str), "1",
                        "trajectory source (file name or random-<seed>-<index>)"),
-        "input_sha256": var(("trajectory",), np.array([s["sha256"] for s in summ], dtype=str),
+        SV.INPUT_SHA256: var((SV.TRAJECTORY,), np.array([s["sha256"] for s in summ], dtype=str),
                              "1", "SHA-256 of the trajectory file (empty if generated)"),
-        "duration": var(("trajectory",), np.array([s["duration"] for s in summ]), "s",
+        SV.DURATION: var((SV.TRAJECTORY,), np.array([s["duration"] for s in summ]), "s",
                          "trajectory duration"),
-        "setpoints": var(("trajectory",), np.array([s["setpoints"] for s in summ]), "1",
+        SV.SETPOINTS: var((SV.TRAJECTORY,), np.array([s["setpoints"] for s in summ]), "1",
                           "number of set points"),
-        "q_start": var(("trajectory", "joint"), np.array([s["q_start"] for s in summ]), position,
+        SV.Q_START: var((SV.TRAJECTORY, SV.JOINT), np.array([s["q_start"] for s in summ]), position,
                         "joint position at the first set point"),
-        "q_goal": var(("trajectory", "joint"), np.array([s["q_goal"] for s in summ]), position,
+        SV.Q_GOAL: var((SV.TRAJECTORY, SV.JOINT), np.array([s["q_goal"] for s in summ]), position,
                        "joint position at the last set point"),
-        "tau_peak": var(("trajectory", "joint"), np.array([s["tau_peak"] for s in summ]),
+        SV.TAU_PEAK: var((SV.TRAJECTORY, SV.JOINT), np.array([s["tau_peak"] for s in summ]),
                          torque, "peak |tau| of the full model along the trajectory"),
-        "tau_error_peak": var(("trajectory", "joint"), per_joint("peak_abs_error"), torque,
+        SV.TAU_ERROR_PEAK: var((SV.TRAJECTORY, SV.JOINT), per_joint("peak_abs_error"), torque,
                                "own simplified model: peak |tau_simplified - tau|"),
-        "tau_error_rms": var(("trajectory", "joint"), per_joint("rms_error"), torque,
+        SV.TAU_ERROR_RMS: var((SV.TRAJECTORY, SV.JOINT), per_joint("rms_error"), torque,
                               "own simplified model: RMS of |tau_simplified - tau|"),
-        "tau_error_relative_peak": var(("trajectory", "joint"),
+        SV.TAU_ERROR_RELATIVE_PEAK: var((SV.TRAJECTORY, SV.JOINT),
                                         per_joint("relative_peak_error"), "1",
                                         "own simplified model: peak |tau_simplified - tau| / "
                                         "peak |tau|"),
-        "tau_error_relative_rms": var(("trajectory", "joint"), per_joint("relative_rms_error"),
+        SV.TAU_ERROR_RELATIVE_RMS: var((SV.TRAJECTORY, SV.JOINT), per_joint("relative_rms_error"),
                                        "1", "own simplified model: RMS |tau_simplified - tau| / "
                                             "peak |tau|"),
-        "merged_tau_error_peak": var(("trajectory", "joint"), m_peak, torque,
+        SV.MERGED_TAU_ERROR_PEAK: var((SV.TRAJECTORY, SV.JOINT), m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
-        "merged_tau_error_relative_peak": var(("trajectory", "joint"), m_rel, "1",
+        SV.MERGED_TAU_ERROR_RELATIVE_PEAK: var((SV.TRAJECTORY, SV.JOINT), m_rel, "1",
                                                "merged model: peak |tau_merged - tau| / peak "
                                                "|tau| along the trajectory"),
-        "class_fraction": var(("element", "class"), fraction, "1",
+        SV.CLASS_FRACTION: var((SV.ELEMENT, SV.CLASS), fraction, "1",
                                "fraction of the trajectories in which the class holds"),
-        "share_tran_min": var(("element",), s_min, "1",
+        SV.SHARE_TRAN_MIN: var((SV.ELEMENT,), s_min, "1",
                                "smallest translational share over the trajectories" + _AS_DATA),
-        "share_tran_median": var(("element",), s_med, "1",
+        SV.SHARE_TRAN_MEDIAN: var((SV.ELEMENT,), s_med, "1",
                                   "median translational share over the trajectories"
                                   + _AS_DATA),
-        "share_tran_max": var(("element",), s_max, "1",
+        SV.SHARE_TRAN_MAX: var((SV.ELEMENT,), s_max, "1",
                                "largest translational share over the trajectories" + _AS_DATA),
-        "merged_choice": var(("element",), np.array([merged[lab] for lab in labels], dtype=str),
+        SV.MERGED_CHOICE: var((SV.ELEMENT,), np.array([merged[lab] for lab in labels], dtype=str),
                               "1", "part kept by the merged model of the chapter rule: a "
                                    "part is dropped only where every trajectory drops it"),
-        "merged_error_peak": var(("joint",), all_peak, torque,
+        SV.MERGED_ERROR_PEAK: var((SV.JOINT,), all_peak, torque,
                                   "merged model: peak |tau_merged - tau| over all trajectories"),
-        "merged_error_rms": var(("joint",), all_rms, torque,
+        SV.MERGED_ERROR_RMS: var((SV.JOINT,), all_rms, torque,
                                  "merged model: RMS of |tau_merged - tau| over all set points "
                                  "of all trajectories"),
-        "merged_error_tau_peak": var(("joint",), all_tau, torque,
+        SV.MERGED_ERROR_TAU_PEAK: var((SV.JOINT,), all_tau, torque,
                                       "peak |tau| over all trajectories"),
-        "merged_error_relative_peak": var(("joint",), all_rel_peak, "1",
+        SV.MERGED_ERROR_RELATIVE_PEAK: var((SV.JOINT,), all_rel_peak, "1",
                                            "merged model: peak error / peak |tau|, over all "
                                            "trajectories"),
-        "merged_error_relative_rms": var(("joint",), all_rel_rms, "1",
+        SV.MERGED_ERROR_RELATIVE_RMS: var((SV.JOINT,), all_rel_rms, "1",
                                           "merged model: RMS error / peak |tau|, over all "
                                           "trajectories"),
     }
     data_vars["joint_type"] = joint_type_var(robot)
     coords = element_coords(n, robot.prismatic, robot.joint_names())
-    coords["trajectory"] = ("trajectory", np.arange(K),
+    coords[SV.TRAJECTORY] = (SV.TRAJECTORY, np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
-    coords["class"] = ("class", np.array(CLASSES, dtype=str),
+    coords[SV.CLASS] = (SV.CLASS, np.array(CLASSES, dtype=str),
                        {"long_name": "dominance class", "units": "1"})
     attrs = global_attributes(robot, f"G-D dominance sweep of {robot.name} over {K} trajectories",
                               references=_REFERENCES, dominance_threshold=float(dominance),
                               negligible_threshold=float(negligible))
     attrs.update(inputs_attributes(trajectories))
-    attrs["setpoints_total"] = int(sum(s["setpoints"] for s in summ))
-    attrs["merge_rule"] = ("keep_tran = any trajectory keeps tran (tran or both); keep_rot = "
+    attrs[SA.SETPOINTS_TOTAL] = int(sum(s["setpoints"] for s in summ))
+    attrs[SA.MERGE_RULE] = ("keep_tran = any trajectory keeps tran (tran or both); keep_rot = "
                            "any keeps rot (rot or both); merged = both/tran/rot/none "
                            "(chapter rule: no error bound)")
-    attrs["merged_rule"] = "chapter"
+    attrs[SA.MERGED_RULE] = "chapter"
     # each trajectory's own simplified model (tau_error_*): the chapter's share-based classes
-    attrs["own_model_rule"] = "chapter"
+    attrs[SA.OWN_MODEL_RULE] = "chapter"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
@@ -451,12 +453,12 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
              if all(len(p) > 5 for p in parts) else {})
     coords = element_coords(n, joints=robot.joint_names())
     del coords[Var.ELEMENT_UNITS]
-    coords["class"] = ("class", np.array(CLASSES, dtype=str),
+    coords[SV.CLASS] = (SV.CLASS, np.array(CLASSES, dtype=str),
                        {"units": "1", "long_name": "dominance class"})
     return _by_payload(
         robot, masses, {"units": "kg", "long_name": "load mass on the last link"},
         {**extra,
-         "class_fraction": var((*PE, "class"), frac, "1",
+         SV.CLASS_FRACTION: var((*PE, "class"), frac, "1",
                                "fraction of the trajectories in each class"),
          Var.SHARE_TRAN: var(PE, share, "1", "median translational share over the trajectories"),
          Var.DOMINANCE: var(PE, dom.astype(str), "1",
@@ -510,20 +512,20 @@ def embed_pair_peaks(ds: xr.Dataset, names: Sequence[str], tau_peak: np.ndarray,
     ValueError
         If a shape does not match the dataset.
     """
-    K, n = ds.sizes["trajectory"], ds.sizes["joint"]
+    K, n = ds.sizes[SV.TRAJECTORY], ds.sizes[SV.JOINT]
     tau_peak, peak, whole_peak = (np.asarray(x, float) for x in (tau_peak, peak, whole_peak))
     b = len(names)
     if tau_peak.shape != (K, n) or peak.shape != (K, b, 3, n) or whole_peak.shape != (K, b, n):
         raise ValueError(f"peaks of shapes {tau_peak.shape}, {peak.shape}, {whole_peak.shape} "
                          f"do not fit {K} trajectories, {b} base parameters, {n} joints")
-    torque = ds["tau_peak"].attrs.get("units", "N m")
-    out = ds.assign_coords(base_parameter=("base_parameter", np.array(list(names), dtype=str)),
-                           part=("part", np.array(["inertial", "velocity", "gravity"])))
-    out["pair_tau_peak"] = var(("trajectory", "joint"), tau_peak, torque,
+    torque = ds[SV.TAU_PEAK].attrs.get("units", "N m")
+    out = ds.assign_coords(base_parameter=(SV.BASE_PARAMETER, np.array(list(names), dtype=str)),
+                           part=(SV.PART, np.array(["inertial", "velocity", "gravity"])))
+    out[SV.PAIR_TAU_PEAK] = var((SV.TRAJECTORY, SV.JOINT), tau_peak, torque,
                                "peak |tau_i|, the sum of the base-parameter contributions")
-    out["pair_peak"] = var(("trajectory", "base_parameter", "part", "joint"), peak, torque,
+    out[SV.PAIR_PEAK] = var((SV.TRAJECTORY, SV.BASE_PARAMETER, SV.PART, SV.JOINT), peak, torque,
                            "peak |contribution| of a (base parameter, part) to tau_i")
-    out["parameter_peak"] = var(("trajectory", "base_parameter", "joint"), whole_peak, torque,
+    out[SV.PARAMETER_PEAK] = var((SV.TRAJECTORY, SV.BASE_PARAMETER, SV.JOINT), whole_peak, torque,
                                 "peak |contribution| of a base parameter (all parts) to tau_i")
     return out
 
@@ -596,15 +598,15 @@ def beyond_the_floor(ds: xr.Dataset) -> tuple[float, int, list[int]] | None:
         without a budget-rule model, or for a model proved over the joint-limit region, whose
         guarantee is relative to s_i over the region, never to a trajectory's peak).
     """
-    if "merged_tau_error_peak" not in ds.variables or "merged_tolerance" not in ds.attrs \
-            or ds.attrs.get("merged_guarantee_kind") == "region":
+    if SV.MERGED_TAU_ERROR_PEAK not in ds.variables or SA.MERGED_TOLERANCE not in ds.attrs \
+            or ds.attrs.get(SA.MERGED_GUARANTEE_KIND) == "region":
         return None
-    err = np.asarray(ds["merged_tau_error_peak"].values, float)
-    peak = np.asarray(ds["tau_peak"].values, float)
+    err = np.asarray(ds[SV.MERGED_TAU_ERROR_PEAK].values, float)
+    peak = np.asarray(ds[SV.TAU_PEAK].values, float)
     with np.errstate(invalid="ignore", divide="ignore"):
         rel = np.where(err > 0, err / np.where(peak > 0, peak, 0.0), 0.0)
     rel = np.nan_to_num(rel, nan=np.inf).max(axis=0)
-    eps = float(ds.attrs["merged_tolerance"])
+    eps = float(ds.attrs[SA.MERGED_TOLERANCE])
     over = np.flatnonzero(rel > eps * (1 + 1e-9))
     if not over.size:
         return None
@@ -615,26 +617,15 @@ def beyond_the_floor(ds: xr.Dataset) -> tuple[float, int, list[int]] | None:
 PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 
 #: The variables of a sweep dataset the report reads.
-REQUIRED = ("share_tran", "dominance", "choice", "source", "duration", "tau_peak",
-            "tau_error_relative_peak", "class_fraction", "share_tran_min", "share_tran_median",
-            "share_tran_max", "merged_choice", "merged_tau_error_relative_peak",
-            "merged_error_peak", "merged_error_rms", "merged_error_tau_peak",
-            "merged_error_relative_peak", "merged_error_relative_rms")
+REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION, SV.TAU_PEAK,
+            SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION, SV.SHARE_TRAN_MIN,
+            SV.SHARE_TRAN_MEDIAN, SV.SHARE_TRAN_MAX, SV.MERGED_CHOICE,
+            SV.MERGED_TAU_ERROR_RELATIVE_PEAK, SV.MERGED_ERROR_PEAK, SV.MERGED_ERROR_RMS,
+            SV.MERGED_ERROR_TAU_PEAK, SV.MERGED_ERROR_RELATIVE_PEAK,
+            SV.MERGED_ERROR_RELATIVE_RMS)
 #: Attributes the report says in rows of their own (or elsewhere), or that are results: any
 #: other attribute is a setting added later, in :attr:`SweepSettings.others`.
-SAID = frozenset({
-    "robot", "robot_description", "robot_source", "robot_sha256", "gravity", "gravity_units",
-    "dominance_threshold", "negligible_threshold", "seed", "input_files", "inputs_sha256",
-    "setpoints_total", "merge_rule", "cluster", "n_workers", "scheduler_address", "n_tasks",
-    "batch_size", "elapsed_s", "compute_s", "history", "gd_analyze_version", "Conventions",
-    "title", "source", "references", "input_kind", "trajectories", "started",
-    "robot_reference", "merged_rule", "merged_tolerance", "merged_torque_floor",
-    "merged_worst_scaled_error", "payload_mass", "random_qdd_max_source", "command",
-    "mounting_base_rpy_deg", "mounting_gravity_base", "mounting_gravity_world",
-    "own_model_rule", "merged_form", "merged_c_terms", "merged_c_terms_kept",
-    "held_out_trajectories", "merged_base_parameters", "merged_pairs", "merged_pairs_dropped",
-    "merged_dropped_pairs", "merged_gravity_dropped", "merged_guarantee_kind",
-    "merged_guarantee_statement", "held_out_inside_region"})
+SAID = SWEEP_ATTRIBUTES
 
 
 @dataclass(frozen=True, eq=False)
@@ -686,30 +677,30 @@ class MergedModel(View):
         The prismatic joints.
     """
 
-    rule: str = stored("merged_rule", str, "chapter", attr=True)
-    form: str = stored("merged_form", str, "explicit", attr=True)
-    tolerance: Any = stored("merged_tolerance", default=None, attr=True)
-    torque_floor: float = stored("merged_torque_floor", lambda v: float(v or 0.0), 0.0, attr=True)
-    own_rule: str = stored("own_model_rule", str, "chapter", attr=True)
-    guarantee_kind: str = stored("merged_guarantee_kind", str, "", attr=True)
-    guarantee_statement: Any = stored("merged_guarantee_statement", default=None, attr=True)
+    rule: str = stored(SA.MERGED_RULE, str, "chapter", attr=True)
+    form: str = stored(SA.MERGED_FORM, str, "explicit", attr=True)
+    tolerance: Any = stored(SA.MERGED_TOLERANCE, default=None, attr=True)
+    torque_floor: float = stored(SA.MERGED_TORQUE_FLOOR, lambda v: float(v or 0.0), 0.0, attr=True)
+    own_rule: str = stored(SA.OWN_MODEL_RULE, str, "chapter", attr=True)
+    guarantee_kind: str = stored(SA.MERGED_GUARANTEE_KIND, str, "", attr=True)
+    guarantee_statement: Any = stored(SA.MERGED_GUARANTEE_STATEMENT, default=None, attr=True)
     guarantee: dict | None = derived(merged_guarantee)
     beyond_floor: tuple[float, int, list[int]] | None = derived(beyond_the_floor)
-    worst_scaled_error: float = stored("merged_worst_scaled_error", float, np.nan, attr=True)
-    base_parameters: Any = stored("merged_base_parameters", default=None, attr=True)
-    pairs: Any = stored("merged_pairs", default=None, attr=True)
-    pairs_dropped: Any = stored("merged_pairs_dropped", default=None, attr=True)
-    gravity_dropped: str = stored("merged_gravity_dropped", str, "", attr=True)
-    c_terms_kept: int = stored("merged_c_terms_kept", int, -1, attr=True)
-    c_terms: int = stored("merged_c_terms", int, -1, attr=True)
-    elements: tuple[str, ...] = stored("element", texts)
-    choice: tuple[str, ...] = stored("merged_choice", texts)
-    bound: np.ndarray | None = stored("merged_bound", default=None)
-    scale: np.ndarray | None = stored("merged_scale", default=None)
-    held_out_error_peak: np.ndarray | None = stored("held_out_error_peak", default=None)
-    held_out_tau_peak: np.ndarray | None = stored("held_out_tau_peak", default=None)
-    held_out_trajectories: int = stored("held_out_trajectories", int, 0, attr=True)
-    held_out_inside_region: int = stored("held_out_inside_region", int, 0, attr=True)
+    worst_scaled_error: float = stored(SA.MERGED_WORST_SCALED_ERROR, float, np.nan, attr=True)
+    base_parameters: Any = stored(SA.MERGED_BASE_PARAMETERS, default=None, attr=True)
+    pairs: Any = stored(SA.MERGED_PAIRS, default=None, attr=True)
+    pairs_dropped: Any = stored(SA.MERGED_PAIRS_DROPPED, default=None, attr=True)
+    gravity_dropped: str = stored(SA.MERGED_GRAVITY_DROPPED, str, "", attr=True)
+    c_terms_kept: int = stored(SA.MERGED_C_TERMS_KEPT, int, -1, attr=True)
+    c_terms: int = stored(SA.MERGED_C_TERMS, int, -1, attr=True)
+    elements: tuple[str, ...] = stored(SV.ELEMENT, texts)
+    choice: tuple[str, ...] = stored(SV.MERGED_CHOICE, texts)
+    bound: np.ndarray | None = stored(SV.MERGED_BOUND, default=None)
+    scale: np.ndarray | None = stored(SV.MERGED_SCALE, default=None)
+    held_out_error_peak: np.ndarray | None = stored(SV.HELD_OUT_ERROR_PEAK, default=None)
+    held_out_tau_peak: np.ndarray | None = stored(SV.HELD_OUT_TAU_PEAK, default=None)
+    held_out_trajectories: int = stored(SA.HELD_OUT_TRAJECTORIES, int, 0, attr=True)
+    held_out_inside_region: int = stored(SA.HELD_OUT_INSIDE_REGION, int, 0, attr=True)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
 
@@ -813,32 +804,32 @@ class StoredSweep(View):
 
     required, what = REQUIRED, "sweep"
 
-    trajectories: int = derived(lambda ds: int(ds.sizes["trajectory"]))
-    joints: int = derived(lambda ds: int(ds.sizes["joint"]))
-    elements: tuple[str, ...] = stored("element", texts)
-    classes: tuple[str, ...] = stored("class", texts)
-    class_fraction: np.ndarray = stored("class_fraction")
-    share_tran: np.ndarray = stored("share_tran")
-    share_min: np.ndarray = stored("share_tran_min")
-    share_median: np.ndarray = stored("share_tran_median")
-    share_max: np.ndarray = stored("share_tran_max")
+    trajectories: int = derived(lambda ds: int(ds.sizes[SV.TRAJECTORY]))
+    joints: int = derived(lambda ds: int(ds.sizes[SV.JOINT]))
+    elements: tuple[str, ...] = stored(SV.ELEMENT, texts)
+    classes: tuple[str, ...] = stored(SV.CLASS, texts)
+    class_fraction: np.ndarray = stored(SV.CLASS_FRACTION)
+    share_tran: np.ndarray = stored(SV.SHARE_TRAN)
+    share_min: np.ndarray = stored(SV.SHARE_TRAN_MIN)
+    share_median: np.ndarray = stored(SV.SHARE_TRAN_MEDIAN)
+    share_max: np.ndarray = stored(SV.SHARE_TRAN_MAX)
     round_off: np.ndarray = derived(lambda ds: (
-        ds["round_off"].values.astype(bool) if "round_off" in ds.variables
-        else np.zeros(ds["share_tran"].shape, bool)))
-    round_off_stored: bool = derived(lambda ds: "round_off" in ds.variables)
-    duration: np.ndarray = stored("duration")
-    setpoints: np.ndarray = stored("setpoints", default=np.array([]))
-    sources: tuple[str, ...] = stored("source", texts)
-    tau_peak: np.ndarray = stored("tau_peak")
-    tau_error_peak: np.ndarray = stored("tau_error_peak")
-    tau_error_relative_peak: np.ndarray = stored("tau_error_relative_peak")
-    merged_tau_error_peak: np.ndarray = stored("merged_tau_error_peak")
-    merged_tau_error_relative_peak: np.ndarray = stored("merged_tau_error_relative_peak")
-    merged_error_peak: np.ndarray = stored("merged_error_peak")
-    merged_error_rms: np.ndarray = stored("merged_error_rms")
-    merged_error_tau_peak: np.ndarray = stored("merged_error_tau_peak")
-    merged_error_relative_peak: np.ndarray = stored("merged_error_relative_peak")
-    merged_error_relative_rms: np.ndarray = stored("merged_error_relative_rms")
+        ds[SV.ROUND_OFF].values.astype(bool) if SV.ROUND_OFF in ds.variables
+        else np.zeros(ds[SV.SHARE_TRAN].shape, bool)))
+    round_off_stored: bool = derived(lambda ds: SV.ROUND_OFF in ds.variables)
+    duration: np.ndarray = stored(SV.DURATION)
+    setpoints: np.ndarray = stored(SV.SETPOINTS, default=np.array([]))
+    sources: tuple[str, ...] = stored(SV.SOURCE, texts)
+    tau_peak: np.ndarray = stored(SV.TAU_PEAK)
+    tau_error_peak: np.ndarray = stored(SV.TAU_ERROR_PEAK)
+    tau_error_relative_peak: np.ndarray = stored(SV.TAU_ERROR_RELATIVE_PEAK)
+    merged_tau_error_peak: np.ndarray = stored(SV.MERGED_TAU_ERROR_PEAK)
+    merged_tau_error_relative_peak: np.ndarray = stored(SV.MERGED_TAU_ERROR_RELATIVE_PEAK)
+    merged_error_peak: np.ndarray = stored(SV.MERGED_ERROR_PEAK)
+    merged_error_rms: np.ndarray = stored(SV.MERGED_ERROR_RMS)
+    merged_error_tau_peak: np.ndarray = stored(SV.MERGED_ERROR_TAU_PEAK)
+    merged_error_relative_peak: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_PEAK)
+    merged_error_relative_rms: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_RMS)
     merged: MergedModel = derived(MergedModel.read)
     settings: SweepSettings = derived(lambda ds: from_attrs(SweepSettings, ds.attrs, others=tuple(
         (k, ds.attrs[k]) for k in sorted(set(ds.attrs) - SAID))))
@@ -906,4 +897,4 @@ def with_more_tasks(ds: xr.Dataset, tasks: int) -> xr.Dataset:
     xarray.Dataset
         A new dataset (the data shared); ``ds`` is not changed.
     """
-    return ds.assign_attrs(n_tasks=int(ds.attrs["n_tasks"]) + int(tasks))
+    return ds.assign_attrs(n_tasks=int(ds.attrs[SA.N_TASKS]) + int(tasks))

@@ -1,0 +1,150 @@
+"""Drawing the reports' figures: the ticks of a draw reused by its measure, the figures' PDFs
+typeset on a worker thread, and a report's PDF typeset while its other files are written."""
+
+from __future__ import annotations
+
+import threading
+
+import matplotlib.axis
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from gd_analyze.report import drawing
+from gd_analyze.report.drawing import TicksOfTheDraw, draw_each, draw_figures, figure_svg, svg_size
+from gd_analyze.report.figure_style import BASE_RC
+from gd_analyze.report.sections import Outline
+
+CREATED = "2026-11-27T12:00:00Z"
+#: The same ids in every drawing of a figure.
+RC = {**BASE_RC, "svg.hashsalt": "test"}
+
+
+def _figure(sticking_out=False):
+    """Two panels sharing x; with ``sticking_out`` the lower panel's tick labels and x label
+    hang below the figure's edge."""
+    fig = Figure(figsize=(4.0, 3.0))
+    bottom = 0.02 if sticking_out else 0.2
+    top = fig.add_axes((0.15, 0.6, 0.8, 0.35))
+    low = fig.add_axes((0.15, bottom, 0.8, 0.35), sharex=top)
+    for ax, k in ((top, 1.0), (low, -3.0)):
+        ax.plot([0.0, 1.0, 2.0, 3.0], [0.0, k, 2 * k, 0.5 * k], marker="o")
+        ax.set_ylabel("torque [N m]", fontsize=10)
+        ax.tick_params(labelsize=10)
+    low.set_xlabel("time [s]", fontsize=10)
+    return fig
+
+
+def _counted(monkeypatch):
+    """Count every time an axis works its ticks out (matplotlib's own method, wrapped)."""
+    calls = []
+    work_out = matplotlib.axis.Axis._update_ticks
+
+    def counted(self):
+        calls.append(self)
+        return work_out(self)
+
+    monkeypatch.setattr(matplotlib.axis.Axis, "_update_ticks", counted)
+    return calls
+
+
+def test_the_measure_of_a_drawn_figure_works_no_tick_out_again(monkeypatch):
+    """figure_svg measures the text it has just drawn: the axes work their ticks out as often
+    as a plain SVG draw of the same figure does, not again for the measure."""
+    import io
+
+    calls = _counted(monkeypatch)
+    plain = _figure()
+    with matplotlib.rc_context(BASE_RC):
+        plain.savefig(io.BytesIO(), format="svg")
+    drawn_alone = len(calls)
+    assert drawn_alone >= 4                  # two axes of two panels, each at least once
+    calls.clear()
+    figure_svg(_figure(), BASE_RC)
+    assert len(calls) == drawn_alone
+
+
+def test_a_figure_whose_text_sticks_out_is_drawn_as_tall_as_its_text():
+    """The SVG is as tall as the figure's box grown to hold its text, measured by matplotlib
+    on a figure of its own drawn by the Agg backend (the ticks worked out afresh there)."""
+    for sticking_out in (False, True):
+        oracle = _figure(sticking_out)
+        with matplotlib.rc_context(BASE_RC):
+            canvas = FigureCanvasAgg(oracle)
+            canvas.draw()
+            tight = oracle.get_tightbbox(canvas.get_renderer())
+        height = max(3.0, tight.y1) - min(0.0, tight.y0)
+        w, h = svg_size(figure_svg(_figure(sticking_out), BASE_RC))
+        assert w == pytest.approx(4.0)
+        assert h == pytest.approx(height, abs=0.02)          # the SVG's sizes: to 0.01 pt
+        assert (h > 3.05) == sticking_out
+
+
+def test_ticks_of_the_draw_are_worked_out_again_once_the_block_is_left(monkeypatch):
+    calls = _counted(monkeypatch)
+    fig = _figure()
+    with TicksOfTheDraw(fig) as ticks:
+        FigureCanvasAgg(fig).draw()
+        n = ticks.calls
+        assert n == len(calls) and n >= 4
+        ticks.replay = True
+        fig.get_tightbbox(fig.canvas.get_renderer())
+        assert ticks.calls == n == len(calls)               # handed back, none worked out
+    fig.get_tightbbox(fig.canvas.get_renderer())
+    assert len(calls) > n                                   # the class's own method again
+    assert all("_update_ticks" not in vars(a) for ax in fig.axes for a in (ax.xaxis, ax.yaxis))
+
+
+def test_draw_each_gives_what_draw_figures_gives_and_typesets_off_the_main_thread(monkeypatch):
+    """The same SVG, PDF and size of every figure, in the makers' order; the PDFs are typeset
+    on another thread than the one drawing."""
+    makers = {"b": lambda: _figure(True), "a": _figure}
+    expected = draw_figures({k: m() for k, m in makers.items()}, RC, created=CREATED)
+    threads = []
+    typeset = drawing.figure_pdfs
+
+    def recorded(figures, created=None):
+        threads.append(threading.current_thread())
+        return typeset(figures, created)
+
+    monkeypatch.setattr(drawing, "figure_pdfs", recorded)
+    got = draw_each(makers, RC, CREATED)
+    assert list(got) == ["b", "a"]
+    for k in makers:
+        svg, pdf, size = got[k]
+        assert svg == expected[k][0] and size == expected[k][2]
+        assert pdf is not None and pdf.startswith(b"%PDF")
+        assert pdf == expected[k][1]
+    assert len(threads) == 2 and threading.main_thread() not in threads
+
+
+def _write(tmp_path, paper):
+    drawn = draw_figures({"a": _figure()}, BASE_RC, created=CREATED)
+
+    def outline(shown):
+        o = Outline("A report", figures=set(shown))
+        o.section("1", "Figures")
+        o.paragraph("One figure.")
+        o.figure("a", "a figure")
+        return o
+
+    return drawing.write_documents(
+        tmp_path, drawn, {"a": "fig_a"}, outline, lambda o, d: "<html></html>",
+        {"metadata": {}, "footer": "test", "created": CREATED}, paper=paper)
+
+
+def test_write_documents_waits_for_the_pdf_and_writes_every_file(tmp_path):
+    files = _write(tmp_path, "a4")
+    names = [p.relative_to(tmp_path).as_posix() for p in files]
+    assert names[:4] == ["report.html", "report.pdf", "figures/fig_a.pdf", "figures/fig_a.svg"]
+    assert all(p.is_file() and p.stat().st_size > 0 for p in files)
+    assert (tmp_path / "report.pdf").read_bytes().startswith(b"%PDF")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figures", "report.html",
+                                                          "report.pdf", "tables"]
+
+
+def test_a_pdf_that_fails_on_the_worker_thread_leaves_no_file(tmp_path):
+    """The PDF's error reaches the caller, and no file of the report is left behind."""
+    with pytest.raises(ValueError, match="paper"):
+        _write(tmp_path, "a5")
+    assert [p for p in tmp_path.rglob("*") if p.is_file()] == []
