@@ -143,6 +143,13 @@ def test_write_documents_waits_for_the_pdf_and_writes_every_file(tmp_path):
                                                           "report.pdf", "tables"]
 
 
+def test_write_documents_makes_its_folder(tmp_path):
+    # the control and sweep reports write into a folder not made yet: the documents were
+    # staged there before the figures' folder (which makes it) existed
+    files = _write(tmp_path / "new" / "out", "a4")
+    assert all(p.is_file() for p in files) and (tmp_path / "new" / "out" / "report.pdf").is_file()
+
+
 def test_a_pdf_that_fails_on_the_worker_thread_leaves_no_file(tmp_path):
     """The PDF's error reaches the caller, and no file of the report is left behind."""
     with pytest.raises(ValueError, match="paper"):

@@ -364,6 +364,7 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
 
     if shown is None:
         shown = [k for k in drawn if not k.endswith("_column")]
+    Path(folder).mkdir(parents=True, exist_ok=True)     # a report into a new folder
     with contextlib.ExitStack() as stack:
         every = drawn
         drawn = {k: drawn[k] for k in shown if k in drawn}
