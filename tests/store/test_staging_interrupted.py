@@ -20,6 +20,10 @@ from gd_analyze.store.staging import TMP_MARK, staged_output
 HOLD = 900
 #: A safety net only: how long a signalled child may take to exit, even at load 10 [s].
 EXIT_WAIT = 300
+#: A child holds in short sleeps [s]: a signal that lands after the interpreter's last check
+#: for signals and before the sleep's system call does not interrupt that call, so one long
+#: ``time.sleep`` could run out its whole hold after the signal (seen once at load 4).
+NAP = 0.05
 
 
 def _writer_script(target, hold):
@@ -31,7 +35,8 @@ def _writer_script(target, hold):
         with staged_output({str(target)!r}, ("big.bin",)) as stage:
             (stage / "big.bin").write_bytes(b"x" * 100000)
             print("staged", flush=True)
-            time.sleep({hold})
+            for _ in range(int({hold} / {NAP})):
+                time.sleep({NAP})
         """)
 
 
