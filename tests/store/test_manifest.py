@@ -1,6 +1,7 @@
 """An output folder's manifests are read with bounded cost and compared by SHA-256."""
 
 import os
+import time
 
 import pytest
 
@@ -56,3 +57,53 @@ def test_a_same_size_edit_with_its_mtime_put_back_is_the_users(tmp_path):
         with staged_output(target, command="analyze"):
             pass
     assert (target / "a.txt").read_text() == "own"
+
+
+def _settled_folder(tmp_path, monkeypatch):
+    """A folder written by a run whose files' change times are already settled, with a count
+    of the SHA-256s taken."""
+    from gd_analyze.store import manifest
+
+    target = tmp_path / "out"
+    with staged_output(target, command="analyze") as stage:
+        (stage / "a.txt").write_text("old")
+    monkeypatch.setattr(manifest, "SETTLED_NS", 0)      # not to wait a second for the clock
+    monkeypatch.setattr(manifest, "_DIGESTS", {})
+    calls = []
+    hashed = manifest.file_sha256
+    monkeypatch.setattr(manifest, "file_sha256", lambda p: calls.append(p) or hashed(p))
+    return target, calls
+
+
+def test_an_unchanged_file_is_hashed_once_per_process(tmp_path, monkeypatch):
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    time.sleep(0.05)                                     # past the change time's tick
+    first = folder_owners(target, "analyze")
+    second = folder_owners(target, "analyze")
+    assert first.own == second.own and list(first.own) == ["a.txt"]
+    assert len(calls) == 1
+
+
+def test_a_same_size_edit_with_its_mtime_put_back_is_seen_by_the_second_check(tmp_path,
+                                                                              monkeypatch):
+    """The change time moves on any write, and no user can set it back."""
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    time.sleep(0.05)
+    folder_owners(target, "analyze")
+    st = os.stat(target / "a.txt")
+    time.sleep(0.05)
+    (target / "a.txt").write_text("own")
+    os.utime(target / "a.txt", ns=(st.st_atime_ns, st.st_mtime_ns))
+    with pytest.raises(InputError, match="did not write: a.txt; use an empty or new folder"):
+        folder_owners(target, "analyze")
+    assert len(calls) == 2
+
+
+def test_a_file_changed_just_before_its_check_is_hashed_every_time(tmp_path, monkeypatch):
+    from gd_analyze.store import manifest
+
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    monkeypatch.setattr(manifest, "SETTLED_NS", 10**12)  # every change time is recent
+    for _ in range(3):
+        folder_owners(target, "analyze")
+    assert len(calls) == 3

@@ -17,6 +17,7 @@ import json
 import os
 import re
 import stat
+import time
 from collections.abc import Collection, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -174,14 +175,47 @@ def _valid(entry):
             and isinstance(entry.get("size"), int))
 
 
+#: How long before it is hashed a file's status must have last changed [ns] for its digest to
+#: be kept for this process's later checks (:func:`_digest`).
+SETTLED_NS = 1_000_000_000
+#: Digests kept, at most (then the memo starts again).
+_KEPT = 256
+_DIGESTS: dict[tuple[int, ...], str] = {}
+
+
+def _digest(path, st):
+    """The file's SHA-256, hashed once per process while its status stays the same.
+
+    A run checks its folder twice, before it computes and again before it moves its files in:
+    the second check reuses the first's digest of a file whose device, inode, size,
+    modification and change times are all unchanged. Any write to a file sets its change time
+    to the clock's current tick, and no user can set it back (``touch -r`` and ``cp -p`` set
+    only the modification time). A digest is kept only when the change time was already
+    :data:`SETTLED_NS` old when the file was hashed, so that a later write cannot fall in the
+    same tick; a file written more recently is hashed every time.
+    """
+    key = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+    known = _DIGESTS.get(key)
+    if known is not None:
+        return known
+    settled = time.time_ns() - st.st_ctime_ns > SETTLED_NS
+    digest = file_sha256(path)
+    if settled:
+        if len(_DIGESTS) >= _KEPT:
+            _DIGESTS.clear()
+        _DIGESTS[key] = digest
+    return digest
+
+
 def _unchanged(folder, path, entry, st):
     """Whether the file still holds the bytes the manifest recorded (or, in a transition
     manifest, the bytes of the set being replaced: ``also``)."""
     accepted = [e for e in [entry, *entry.get("also", [])] if e["size"] == st.st_size]
     if not stat.S_ISREG(st.st_mode) or not accepted:
         return False
-    # Always the SHA-256: a same-size edit with its mtime put back (cp -p, touch -r) changed it.
-    digest = file_sha256(os.path.join(folder, path))
+    # Always the SHA-256 (once per process while the status is the same): a same-size edit
+    # with its mtime put back (cp -p, touch -r) changed it.
+    digest = _digest(os.path.join(folder, path), st)
     return any(e["sha256"] == digest for e in accepted)
 
 
