@@ -20,7 +20,8 @@ def test_streamed_file_equals_the_in_memory_analysis(tmp_path, puma):
     assert streamed.verification["passed"] == 1
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         for name in ("t", "q", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "c", "tau",
-                     "tau_simplified", "share_tran", "peak_total", "tau_error_rms"):
+                     "tau_simplified", "share_tran", "peak_total", "tau_error_rms",
+                     "other_rule_error_relative_peak"):
             np.testing.assert_allclose(ds[name].values, whole[name].values, rtol=1e-12,
                                        atol=1e-15, err_msg=name)
             assert ds[name].attrs["units"] == whole[name].attrs["units"]

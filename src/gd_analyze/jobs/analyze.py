@@ -14,8 +14,10 @@ back from the file otherwise. Nothing is computed twice.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -275,9 +277,6 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
-    from concurrent.futures import ThreadPoolExecutor
-
-
     args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
     simplify = (AnalysisOptions() if options is None else options).simplify
     if simplify is None:
@@ -291,6 +290,11 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
         finally:
             for job in background.values():
                 job.cancel()
+
+
+def _other_update(other, errors, q, qd, qdd, tau):
+    """Add the other rule's model's torque error on one chunk to its accumulator."""
+    errors.update(other.torque(q, qd, qdd), tau)
 
 
 def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
@@ -372,26 +376,37 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     # the model of the other rule, compared side by side: its error in the same pass
     other_errors = None if other is None else TorqueErrorAccumulator(n)
     tau_s_all = []
-    for k, (a, b) in enumerate(ranges):
-        if hold:
-            terms, tau = held[k], held_tau[k]
-        else:       # a built model needs only tau; the ranking's masks need the terms
-            terms = None if model is not None else GDTerms(
-                *(writer.read(name, a, b) for name in ("D_tran", "D_rot", "h_tran", "h_rot",
-                                                       "c")),
-                robot.armature if np.any(robot.armature) else None,
-                writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
-            tau = writer.read("tau", a, b)
-        tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
-            model.torque(q[a:b], qd[a:b], qdd[a:b])
-        errors.update(tau_s, tau)
-        if other_errors is not None:
-            other_errors.update(other.torque(q[a:b], qd[a:b], qdd[a:b]), tau)
-        if writer is not None:
-            writer.write(a, {"tau_simplified": tau_s})
-        if hold:                        # in memory too: the report reads them from there
-            tau_s_all.append(tau_s)
-        bar.update(b - a)
+    with contextlib.ExitStack() as stack:
+        # the other rule's model runs chunk by chunk on a thread of its own beside the deployed
+        # one (numpy releases the GIL in its loops); its chunks keep their order
+        side = None if other is None else stack.enter_context(
+            ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-other"))
+        pending = None
+        for k, (a, b) in enumerate(ranges):
+            if hold:
+                terms, tau = held[k], held_tau[k]
+            else:       # a built model needs only tau; the ranking's masks need the terms
+                terms = None if model is not None else GDTerms(
+                    *(writer.read(name, a, b) for name in ("D_tran", "D_rot", "h_tran",
+                                                           "h_rot", "c")),
+                    robot.armature if np.any(robot.armature) else None,
+                    writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
+                tau = writer.read("tau", a, b)
+            if side is not None:
+                if pending is not None:
+                    pending.result()
+                pending = side.submit(_other_update, other, other_errors, q[a:b], qd[a:b],
+                                      qdd[a:b], tau)
+            tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
+                model.torque(q[a:b], qd[a:b], qdd[a:b])
+            errors.update(tau_s, tau)
+            if writer is not None:
+                writer.write(a, {"tau_simplified": tau_s})
+            if hold:                        # in memory too: the report reads them from there
+                tau_s_all.append(tau_s)
+            bar.update(b - a)
+        if pending is not None:
+            pending.result()
     if own:
         bar.close()
     if simplify is not None:
