@@ -272,3 +272,24 @@ def test_fuzz_large_files_parsed_in_pieces_match_the_reference(tmp_path_factory,
         _check_against_reference(tmp, raw)
     finally:
         trajectory.PARSE_PIECE = saved
+
+
+@pytest.mark.parametrize("piece", [509, 4099, 1 << 25])
+def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, piece):
+    """The pandas path, not its cell-by-cell fall-back (which hides a fault of the fast path
+    behind the same answer): a regular file in many pieces gives the reference's values, in
+    order."""
+    import gd_analyze.trajectory.trajectory as trajectory
+
+    rng = np.random.default_rng(5)
+    rows = [[repr(k * 0.001)] + [repr(float(v)) for v in
+                                 rng.normal(size=6) * 10.0 ** rng.integers(-3, 3, 6)]
+            for k in range(3000)]
+    raw = ("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "\n".join(",".join(r) for r in rows)
+           + "\n").encode()
+    monkeypatch.setattr(trajectory, "PARSE_PIECE", piece)
+    parsed = trajectory._fast_values(raw, "f.csv", None)
+    assert parsed is not None
+    values, names, n = parsed
+    np.testing.assert_array_equal(values, reference_parse(raw))
+    assert n == 2 and names[0] == "t"
