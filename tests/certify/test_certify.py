@@ -1,5 +1,7 @@
 """The region guarantee: the stored bound holds at every sampled state of the region,
 against Pinocchio's rnea, on real arms and a mixed chain with prismatic joints."""
+import dataclasses
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -463,6 +465,82 @@ def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypa
     assert np.all(fresh[0] <= limit) == (share == 2.0) == (boxes < 2048 - 256)
 
 
+def test_joint_sums_of_the_same_parameters_share_their_enclosures(monkeypatch):
+    """Joint sums of two sets of pairs of the same parameters on one tree (two budgets of a
+    tolerance ladder): the second evaluates no column, shares the first's enclosures, and
+    gives the pairs, the sums and the bounds of joint sums evaluated afresh, channel by
+    channel (the bound of every pair alone, of the set, of part of it); other parameter
+    values or another arm are evaluated anew."""
+    from gd_analyze.certify import certify as cert
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    pb = cert.certify(robot, base, region, samples=100, max_boxes=64)
+    live = np.flatnonzero((~pb.zero).any(axis=1))
+    some = np.zeros(pb.zero.shape, bool)
+    some[live] = ~pb.zero[live]
+    fewer = some.copy()                     # the same parameters, one part of each fewer
+    for m in live:
+        if fewer[m].sum() > 1:
+            fewer[m, np.flatnonzero(fewer[m])[0]] = False
+    assert (fewer != some).any() and np.array_equal(fewer.any(axis=1), some.any(axis=1))
+    asked = []
+    evaluate = cert.channel_enclosures
+
+    def counted(robot, lo, hi, columns, *a, **k):
+        asked.append((robot, columns))
+        return evaluate(robot, lo, hi, columns, *a, **k)
+
+    monkeypatch.setattr(cert, "channel_enclosures", counted)
+
+    def sums(arm, pairs, keep, b=base):
+        if not keep:
+            cert._LEAF_CHANNELS.clear()
+            cert._JOINT_SUMS.clear()
+        asked.clear()
+        return cert.joint_sums(arm, b, region, pb.split_joint, pb.split_at, pairs, pb.zero)
+
+    first = sums(robot, some, False)
+    second = sums(robot, fewer, True)
+    assert asked == [] and second.mid is first.mid and second.rad is first.rad
+    assert not second.mid.flags.writeable and not second.rad.flags.writeable
+    for got, pairs in ((first, some), (second, fewer)):
+        fresh = sums(robot, pairs, False)
+        assert asked
+        np.testing.assert_array_equal(got.pairs, fresh.pairs)
+        np.testing.assert_array_equal(got.columns, fresh.columns)
+        np.testing.assert_array_equal(got.mid, fresh.mid)
+        np.testing.assert_array_equal(got.rad, fresh.rad)
+        for dropped in (pairs, fewer, *(np.eye(pairs.size, dtype=bool)[k].reshape(pairs.shape)
+                                         for k in np.flatnonzero(pairs)[:4])):
+            np.testing.assert_array_equal(got.bound(dropped), fresh.bound(dropped))
+    assert np.isinf(second.bound(some)).all()           # a pair it does not hold
+    before, after = np.zeros_like(some), np.zeros_like(some)    # as many parameters, one
+    before[live[:-1]], after[live[1:]] = some[live[:-1]], some[live[1:]]   # other each
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    sums(robot, before, False)
+    cert._LEAF_CHANNELS.clear()                         # only the sums kept
+    shifted = sums(robot, after, True)
+    assert {c for a in asked for c in np.asarray(a[1]).tolist()} == {cols[live[-1]]}
+    fresh = sums(robot, after, False)
+    np.testing.assert_array_equal(shifted.columns, fresh.columns)
+    np.testing.assert_array_equal(shifted.mid, fresh.mid)
+    np.testing.assert_array_equal(shifted.rad, fresh.rad)
+    np.testing.assert_array_equal(shifted.bound(after), fresh.bound(after))
+    heavier = dataclasses.replace(base, beta=2.0 * np.asarray(base.beta, float))
+    kept = sums(robot, some, False)
+    other = sums(robot, some, True, heavier)            # the columns kept, the sums not
+    assert other.mid is not kept.mid
+    fresh = sums(robot, some, False, heavier)
+    np.testing.assert_array_equal(other.mid, fresh.mid)
+    np.testing.assert_array_equal(other.rad, fresh.rad)
+    equal = _mixed()                                    # an equal arm, another object
+    sums(robot, some, False)
+    sums(equal, some, True)
+    assert asked and all(a is equal for a, _ in asked)
+
+
 def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums(monkeypatch):
     """Joint sums of two sets of pairs on one certification's tree (as two budgets ask): the
     second evaluates only the columns the first did not, and every sum equals the one
@@ -491,6 +569,7 @@ def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums
     def sums(arm, pairs, keep):
         if not keep:
             cert._LEAF_CHANNELS.clear()
+            cert._JOINT_SUMS.clear()
         asked.clear()
         out = cert.joint_sums(arm, base, region, pb.split_joint, pb.split_at, pairs, pb.zero)
         return out, set().union(*(c for _, c in asked))

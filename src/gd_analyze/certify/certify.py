@@ -739,8 +739,46 @@ def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     key = b"".join(np.ascontiguousarray(a).tobytes() for a in (
         np.asarray(region.q_min, float), np.asarray(region.q_max, float),
         np.asarray(split_joint), np.asarray(split_at, float)))
-    c_lo, c_hi = _leaf_channels(robot, key, levels, leaves, cols)
-    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+    beta = np.asarray(base.beta, float)[used]
+    slack = _slack(robot.n, used.size)
+    kept = next(iter(_JOINT_SUMS), None)          # (another thread may replace it)
+    at = np.full(used.size, -1)                    # each column's place in the kept sums
+    if kept is not None and kept[0] is robot and kept[1] == key and kept[4] == slack:
+        for i, (c, b) in enumerate(zip(cols, beta)):
+            hit = np.flatnonzero((kept[2] == c) & (kept[3] == b))
+            at[i] = hit[0] if hit.size else -1
+    missing = at < 0
+    if kept is not None and not missing.any() and np.array_equal(at, np.arange(
+            kept[2].size)):
+        mid, rad = kept[5].mid, kept[5].rad        # the very same columns: shared
+    else:
+        if missing.all():
+            mid, rad = _scaled(list(_leaf_channels(robot, key, levels, leaves, cols)), beta,
+                               slack)
+        else:                                      # kept columns copied, the others evaluated
+            shape = kept[5].mid.shape[:-1] + (used.size,)             # type: ignore[index]
+            mid, rad = np.empty(shape), np.empty(shape)
+            mid[..., ~missing] = kept[5].mid[..., at[~missing]]  # type: ignore[index]
+            rad[..., ~missing] = kept[5].rad[..., at[~missing]]  # type: ignore[index]
+            if missing.any():
+                mid[..., missing], rad[..., missing] = _scaled(list(_leaf_channels(
+                    robot, key, levels, leaves, cols[missing])), beta[missing], slack)
+        for array in (mid, rad):
+            array.flags.writeable = False           # shared by the sums of other pair sets
+    sums = _joint_sums_of(robot, region, used, pairs, zero, mid, rad, cols)
+    _JOINT_SUMS[:] = [(robot, key, cols, beta, slack, sums)]
+    return sums
+
+
+#: The last :func:`joint_sums` built: the arm, the key of its tree, the held columns, their
+#: parameters' values, the round-off slack and the sums. A column's enclosures in them
+#: (``mid[..., m]``, ``rad[..., m]``) are a function of the tree, the column, its value and
+#: the slack alone (elementwise, whatever other pairs or columns are held, and whatever the
+#: velocity limits), so the joint sums of another budget on the same certification (the
+#: tolerance ladder's rungs) copy the columns they share with these instead of evaluating
+#: them on the same boxes again; at most one set is kept, as large as the sums a search
+#: holds anyway.
+_JOINT_SUMS: list[tuple[Any, bytes, np.ndarray, np.ndarray, float, JointSums]] = []
 
 
 #: Most numbers per array of the leaf enclosures kept between calls (16 MB each).
@@ -823,12 +861,17 @@ def _channels(robot, lo, hi, cols, parent=None):
     return c_lo, c_hi
 
 
-def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
-    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k)."""
-    held = np.zeros(pairs.shape, bool)
-    held[used] = pairs[used]
-    beta = np.asarray(base.beta, float)[used]
-    slack = (2 * used.size + 16 * robot.n + 32) * iv.ROUNDING
+def _slack(n, k):
+    """The relative round-off allowance of :func:`_scaled` for k held columns of n joints."""
+    return (2 * k + 16 * n + 32) * iv.ROUNDING
+
+
+def _scaled(channels, beta, slack):
+    """The held columns' enclosures ``[lo, hi]`` (L, C, n, k) as beta times midpoint-radius
+    (mid, rad), the radius widened by ``slack``; in place (the list is emptied and its arrays
+    used up, so that ``lo`` is freed as soon as it is read)."""
+    c_lo, c_hi = channels
+    channels.clear()
     # in place, the same operations as centre = 0.5 (lo + hi), radius = 0.5 (hi - lo),
     # rad = (radius (1 + slack) + slack |centre|) |beta|, mid = centre beta: a few arrays of
     # JOINT_SUM_ELEMENTS at a time, not nine
@@ -844,7 +887,24 @@ def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
     del more
     rad *= np.abs(beta)
     mid *= beta
-    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    return mid, rad
+
+
+def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
+    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k); ``c_hi``
+    is used up (written in), ``c_lo`` left as it is."""
+    channels = [c_lo, c_hi]
+    del c_lo, c_hi
+    mid, rad = _scaled(channels, np.asarray(base.beta, float)[used], _slack(robot.n, used.size))
+    return _joint_sums_of(robot, region, used, pairs, zero, mid, rad,
+                          np.flatnonzero(base.independent.reshape(-1))[used])
+
+
+def _joint_sums_of(robot, region, used, pairs, zero, mid, rad, cols):
+    """:class:`JointSums` of the held parameters ``used`` (their flat columns ``cols``) from
+    their scaled enclosures."""
+    held = np.zeros(pairs.shape, bool)
+    held[used] = pairs[used]
     return JointSums(pairs=held, zero=zero, columns=used, mid=mid, rad=rad,
                      part_zero=zero_parts(robot, cols),
                      qd_max=np.asarray(region.qd_max, float),
