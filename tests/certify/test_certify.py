@@ -465,6 +465,30 @@ def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypa
     assert np.all(fresh[0] <= limit) == (share == 2.0) == (boxes < 2048 - 256)
 
 
+def test_the_trees_bound_reads_each_enclosure_as_it_was_evaluated(monkeypatch):
+    """The bound of the PUMA 560's stored trees is the one found with every box's channel
+    enclosures passed on intact (the joint sums given copies of them): the sums do not use up
+    the enclosures that the box's own channel bound and its sub-boxes' intersections read
+    afterwards."""
+    from gd_analyze.certify import certify as cert
+
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    rec, guarantee = region_model(robot, base, region, 0.01)
+    assert guarantee.tilings
+    got = cert.tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    sums = cert._joint_sums
+
+    def on_copies(robot, base, region, used, pairs, zero, c_lo, c_hi):
+        return sums(robot, base, region, used, pairs, zero, c_lo.copy(), c_hi.copy())
+
+    monkeypatch.setattr(cert, "_joint_sums", on_copies)
+    intact = cert.tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    np.testing.assert_array_equal(got, intact)
+    assert np.all(intact <= guarantee.bound + 1e-9 * guarantee.scale)
+
+
 def test_joint_sums_of_the_same_parameters_share_their_enclosures(monkeypatch):
     """Joint sums of two sets of pairs of the same parameters on one tree (two budgets of a
     tolerance ladder): the second evaluates no column, shares the first's enclosures, and

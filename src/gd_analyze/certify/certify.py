@@ -1293,7 +1293,9 @@ def _tree_chunk(held, lo, hi, channels, parent):
     U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
         np.asarray(base.beta, float)[used])
     U[:, masked.transpose(1, 2, 0)] = 0.0
-    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi).sums(live)
+    # (_joint_sums uses up the upper ends it is given: the channels are read again below and
+    # are the sub-boxes' parents)
+    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi.copy()).sums(live)
     s_lo, s_hi = mid - rad, mid + rad
     if parent is not None:
         U = np.minimum(U, parent[0])
@@ -1306,7 +1308,7 @@ def _tree_chunk(held, lo, hi, channels, parent):
     if not channels:
         return each, (U, s_lo, s_hi, None, None)
     each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
-                                        c_hi).bound(live))
+                                        c_hi.copy()).bound(live))
     return each, (U, s_lo, s_hi, c_lo, c_hi)
 
 
