@@ -489,6 +489,46 @@ def test_the_trees_bound_reads_each_enclosure_as_it_was_evaluated(monkeypatch):
     assert np.all(intact <= guarantee.bound + 1e-9 * guarantee.scale)
 
 
+@pytest.mark.parametrize("boxes", [5, 300])
+def test_channels_of_a_level_are_the_chunks_laid_end_to_end_and_hulled_with_the_parents(boxes):
+    """The channel enclosures of a level of boxes (one chunk, or several) are each chunk's
+    own, in order, intersected with their parents' (the hull where round-off leaves the
+    intersection empty), as evaluated box block by box block here; the parents are left as
+    they are."""
+    from gd_analyze.certify import certify as cert
+    from gd_analyze.certify.regressor_bounds import channel_enclosures
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    cols = np.flatnonzero(base.independent.reshape(-1))[:5]
+    rng = np.random.default_rng(3)
+    a = rng.uniform(region.q_min, region.q_max, (boxes, robot.n))
+    b = rng.uniform(region.q_min, region.q_max, (boxes, robot.n))
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    blocks = [channel_enclosures(robot, lo[k:k + cert._CHUNK], hi[k:k + cert._CHUNK], cols)
+              for k in range(0, boxes, cert._CHUNK)]
+    want_lo = np.concatenate([x[0] for x in blocks])
+    want_hi = np.concatenate([x[1] for x in blocks])
+    assert len(blocks) == (1 if boxes < cert._CHUNK else 3)
+    got = cert._channels(robot, lo, hi, cols)
+    np.testing.assert_array_equal(got[0], want_lo)
+    np.testing.assert_array_equal(got[1], want_hi)
+    # parents: some wider, some narrower, some disjoint (the hull of the crossed ends)
+    width = want_hi - want_lo
+    p_lo = want_lo + rng.uniform(-1.0, 1.0, want_lo.shape) * width
+    p_hi = p_lo + rng.uniform(-0.5, 2.0, want_lo.shape) * width
+    p_lo[..., 0], p_hi[..., 0] = want_hi[..., 0] + 1.0, want_hi[..., 0] + 2.0   # disjoint
+    kept = (p_lo.copy(), p_hi.copy())
+    got = cert._channels(robot, lo, hi, cols, (p_lo, p_hi))
+    top, bottom = np.maximum(want_lo, p_lo), np.minimum(want_hi, p_hi)
+    np.testing.assert_array_equal(got[0], np.minimum(top, bottom))
+    np.testing.assert_array_equal(got[1], np.maximum(top, bottom))
+    assert np.all(got[0] <= got[1])
+    np.testing.assert_array_equal(p_lo, kept[0])
+    np.testing.assert_array_equal(p_hi, kept[1])
+
+
 def test_joint_sums_of_the_same_parameters_share_their_enclosures(monkeypatch):
     """Joint sums of two sets of pairs of the same parameters on one tree (two budgets of a
     tolerance ladder): the second evaluates no column, shares the first's enclosures, and

@@ -852,13 +852,37 @@ def _held(n, boxes, pairs, zero):
 def _channels(robot, lo, hi, cols, parent=None):
     """Channel enclosures (lo, hi) (B, C, n, k) of the columns on boxes (B, n), in chunks of
     :data:`_CHUNK`, intersected with the parents' (each holds on its sub-boxes)."""
-    parts = [channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
-             for a in range(0, lo.shape[0], _CHUNK)]
-    c_lo, c_hi = (np.concatenate([p[e] for p in parts]) for e in range(2))
+    c_lo, c_hi = _joined((channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+                          for a in range(0, lo.shape[0], _CHUNK)), lo.shape[0])
     if parent is not None:              # (an empty intersection, by round-off: its hull)
-        a, b = np.maximum(c_lo, parent[0]), np.minimum(c_hi, parent[1])
-        c_lo, c_hi = np.minimum(a, b), np.maximum(a, b)
+        c_lo, c_hi = _intersected(c_lo, c_hi, parent[0], parent[1])
     return c_lo, c_hi
+
+
+def _joined(chunks, rows):
+    """The (lo, hi) of consecutive blocks of rows laid end to end, ``rows`` in all: the one
+    block itself, else each block copied into place as it comes (not all held at once)."""
+    out: Any = None
+    at = 0
+    for c_lo, c_hi in chunks:
+        k = c_lo.shape[0]
+        if out is None:
+            if k == rows:
+                return c_lo, c_hi
+            out = tuple(np.empty((rows,) + c.shape[1:], c.dtype) for c in (c_lo, c_hi))
+        out[0][at:at + k], out[1][at:at + k] = c_lo, c_hi
+        at += k
+        del c_lo, c_hi
+    return out
+
+
+def _intersected(lo, hi, p_lo, p_hi):
+    """:func:`_intersect` written into ``lo`` and ``hi`` (the caller's own arrays, used up):
+    the same values, two arrays fewer."""
+    a = np.maximum(lo, p_lo, out=lo)
+    b = np.minimum(hi, p_hi, out=hi)
+    low = np.minimum(a, b)
+    return low, np.maximum(a, b, out=b)
 
 
 def _slack(n, k):
@@ -1051,15 +1075,15 @@ def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
     """The live pairs' channel enclosures added on boxes (B, n), in chunks of :data:`_CHUNK`
     boxes, as intervals (lo, hi) (B, C, n), intersected with the parents' sums (each holds
     on the sub-boxes; an empty intersection, by round-off, gives the hull)."""
-    out = []
-    for a in range(0, lo.shape[0], _CHUNK):
-        ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
-        mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
-        out.append((mid - rad, mid + rad))
-    s_lo, s_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+    def chunks():
+        for a in range(0, lo.shape[0], _CHUNK):
+            ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+            mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
+            del ch
+            yield mid - rad, mid + rad
+    s_lo, s_hi = _joined(chunks(), lo.shape[0])
     if parent is not None:
-        a, b = np.maximum(s_lo, parent[0]), np.minimum(s_hi, parent[1])
-        s_lo, s_hi = np.minimum(a, b), np.maximum(a, b)
+        s_lo, s_hi = _intersected(s_lo, s_hi, parent[0], parent[1])
     return s_lo, s_hi
 
 
