@@ -1,5 +1,7 @@
 """The region guarantee: the stored bound holds at every sampled state of the region,
 against Pinocchio's rnea, on real arms and a mixed chain with prismatic joints."""
+import dataclasses
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -463,6 +465,146 @@ def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypa
     assert np.all(fresh[0] <= limit) == (share == 2.0) == (boxes < 2048 - 256)
 
 
+def test_the_trees_bound_reads_each_enclosure_as_it_was_evaluated(monkeypatch):
+    """The bound of the PUMA 560's stored trees is the one found with every box's channel
+    enclosures passed on intact (the joint sums given copies of them): the sums do not use up
+    the enclosures that the box's own channel bound and its sub-boxes' intersections read
+    afterwards."""
+    from gd_analyze.certify import certify as cert
+
+    robot = load_robot("puma560")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    base = base_parameters(robot)
+    rec, guarantee = region_model(robot, base, region, 0.01)
+    assert guarantee.tilings
+    got = cert.tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    sums = cert._joint_sums
+
+    def on_copies(robot, base, region, used, pairs, zero, c_lo, c_hi):
+        return sums(robot, base, region, used, pairs, zero, c_lo.copy(), c_hi.copy())
+
+    monkeypatch.setattr(cert, "_joint_sums", on_copies)
+    intact = cert.tilings_bound(robot, base, region, rec.dropped, guarantee.tilings)
+    np.testing.assert_array_equal(got, intact)
+    assert np.all(intact <= guarantee.bound + 1e-9 * guarantee.scale)
+
+
+@pytest.mark.parametrize("boxes", [5, 300])
+def test_channels_of_a_level_are_the_chunks_laid_end_to_end_and_hulled_with_the_parents(boxes):
+    """The channel enclosures of a level of boxes (one chunk, or several) are each chunk's
+    own, in order, intersected with their parents' (the hull where round-off leaves the
+    intersection empty), as evaluated box block by box block here; the parents are left as
+    they are."""
+    from gd_analyze.certify import certify as cert
+    from gd_analyze.certify.regressor_bounds import channel_enclosures
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    cols = np.flatnonzero(base.independent.reshape(-1))[:5]
+    rng = np.random.default_rng(3)
+    a = rng.uniform(region.q_min, region.q_max, (boxes, robot.n))
+    b = rng.uniform(region.q_min, region.q_max, (boxes, robot.n))
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    blocks = [channel_enclosures(robot, lo[k:k + cert._CHUNK], hi[k:k + cert._CHUNK], cols)
+              for k in range(0, boxes, cert._CHUNK)]
+    want_lo = np.concatenate([x[0] for x in blocks])
+    want_hi = np.concatenate([x[1] for x in blocks])
+    assert len(blocks) == (1 if boxes < cert._CHUNK else 3)
+    got = cert._channels(robot, lo, hi, cols)
+    np.testing.assert_array_equal(got[0], want_lo)
+    np.testing.assert_array_equal(got[1], want_hi)
+    # parents: some wider, some narrower, some disjoint (the hull of the crossed ends)
+    width = want_hi - want_lo
+    p_lo = want_lo + rng.uniform(-1.0, 1.0, want_lo.shape) * width
+    p_hi = p_lo + rng.uniform(-0.5, 2.0, want_lo.shape) * width
+    p_lo[..., 0], p_hi[..., 0] = want_hi[..., 0] + 1.0, want_hi[..., 0] + 2.0   # disjoint
+    kept = (p_lo.copy(), p_hi.copy())
+    got = cert._channels(robot, lo, hi, cols, (p_lo, p_hi))
+    top, bottom = np.maximum(want_lo, p_lo), np.minimum(want_hi, p_hi)
+    np.testing.assert_array_equal(got[0], np.minimum(top, bottom))
+    np.testing.assert_array_equal(got[1], np.maximum(top, bottom))
+    assert np.all(got[0] <= got[1])
+    np.testing.assert_array_equal(p_lo, kept[0])
+    np.testing.assert_array_equal(p_hi, kept[1])
+
+
+def test_joint_sums_of_the_same_parameters_share_their_enclosures(monkeypatch):
+    """Joint sums of two sets of pairs of the same parameters on one tree (two budgets of a
+    tolerance ladder): the second evaluates no column, shares the first's enclosures, and
+    gives the pairs, the sums and the bounds of joint sums evaluated afresh, channel by
+    channel (the bound of every pair alone, of the set, of part of it); other parameter
+    values or another arm are evaluated anew."""
+    from gd_analyze.certify import certify as cert
+
+    robot = _mixed()
+    base = base_parameters(robot)
+    region = joint_region(robot, np.asarray(robot.qdd_max, float))
+    pb = cert.certify(robot, base, region, samples=100, max_boxes=64)
+    live = np.flatnonzero((~pb.zero).any(axis=1))
+    some = np.zeros(pb.zero.shape, bool)
+    some[live] = ~pb.zero[live]
+    fewer = some.copy()                     # the same parameters, one part of each fewer
+    for m in live:
+        if fewer[m].sum() > 1:
+            fewer[m, np.flatnonzero(fewer[m])[0]] = False
+    assert (fewer != some).any() and np.array_equal(fewer.any(axis=1), some.any(axis=1))
+    asked = []
+    evaluate = cert.channel_enclosures
+
+    def counted(robot, lo, hi, columns, *a, **k):
+        asked.append((robot, columns))
+        return evaluate(robot, lo, hi, columns, *a, **k)
+
+    monkeypatch.setattr(cert, "channel_enclosures", counted)
+
+    def sums(arm, pairs, keep, b=base):
+        if not keep:
+            cert._LEAF_CHANNELS.clear()
+            cert._JOINT_SUMS.clear()
+        asked.clear()
+        return cert.joint_sums(arm, b, region, pb.split_joint, pb.split_at, pairs, pb.zero)
+
+    first = sums(robot, some, False)
+    second = sums(robot, fewer, True)
+    assert asked == [] and second.mid is first.mid and second.rad is first.rad
+    assert not second.mid.flags.writeable and not second.rad.flags.writeable
+    for got, pairs in ((first, some), (second, fewer)):
+        fresh = sums(robot, pairs, False)
+        assert asked
+        np.testing.assert_array_equal(got.pairs, fresh.pairs)
+        np.testing.assert_array_equal(got.columns, fresh.columns)
+        np.testing.assert_array_equal(got.mid, fresh.mid)
+        np.testing.assert_array_equal(got.rad, fresh.rad)
+        for dropped in (pairs, fewer, *(np.eye(pairs.size, dtype=bool)[k].reshape(pairs.shape)
+                                         for k in np.flatnonzero(pairs)[:4])):
+            np.testing.assert_array_equal(got.bound(dropped), fresh.bound(dropped))
+    assert np.isinf(second.bound(some)).all()           # a pair it does not hold
+    before, after = np.zeros_like(some), np.zeros_like(some)    # as many parameters, one
+    before[live[:-1]], after[live[1:]] = some[live[:-1]], some[live[1:]]   # other each
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    sums(robot, before, False)
+    cert._LEAF_CHANNELS.clear()                         # only the sums kept
+    shifted = sums(robot, after, True)
+    assert {c for a in asked for c in np.asarray(a[1]).tolist()} == {cols[live[-1]]}
+    fresh = sums(robot, after, False)
+    np.testing.assert_array_equal(shifted.columns, fresh.columns)
+    np.testing.assert_array_equal(shifted.mid, fresh.mid)
+    np.testing.assert_array_equal(shifted.rad, fresh.rad)
+    np.testing.assert_array_equal(shifted.bound(after), fresh.bound(after))
+    heavier = dataclasses.replace(base, beta=2.0 * np.asarray(base.beta, float))
+    kept = sums(robot, some, False)
+    other = sums(robot, some, True, heavier)            # the columns kept, the sums not
+    assert other.mid is not kept.mid
+    fresh = sums(robot, some, False, heavier)
+    np.testing.assert_array_equal(other.mid, fresh.mid)
+    np.testing.assert_array_equal(other.rad, fresh.rad)
+    equal = _mixed()                                    # an equal arm, another object
+    sums(robot, some, False)
+    sums(equal, some, True)
+    assert asked and all(a is equal for a, _ in asked)
+
+
 def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums(monkeypatch):
     """Joint sums of two sets of pairs on one certification's tree (as two budgets ask): the
     second evaluates only the columns the first did not, and every sum equals the one
@@ -491,6 +633,7 @@ def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums
     def sums(arm, pairs, keep):
         if not keep:
             cert._LEAF_CHANNELS.clear()
+            cert._JOINT_SUMS.clear()
         asked.clear()
         out = cert.joint_sums(arm, base, region, pb.split_joint, pb.split_at, pairs, pb.zero)
         return out, set().union(*(c for _, c in asked))

@@ -739,8 +739,46 @@ def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     key = b"".join(np.ascontiguousarray(a).tobytes() for a in (
         np.asarray(region.q_min, float), np.asarray(region.q_max, float),
         np.asarray(split_joint), np.asarray(split_at, float)))
-    c_lo, c_hi = _leaf_channels(robot, key, levels, leaves, cols)
-    return _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi)
+    beta = np.asarray(base.beta, float)[used]
+    slack = _slack(robot.n, used.size)
+    kept = next(iter(_JOINT_SUMS), None)          # (another thread may replace it)
+    at = np.full(used.size, -1)                    # each column's place in the kept sums
+    if kept is not None and kept[0] is robot and kept[1] == key and kept[4] == slack:
+        for i, (c, b) in enumerate(zip(cols, beta)):
+            hit = np.flatnonzero((kept[2] == c) & (kept[3] == b))
+            at[i] = hit[0] if hit.size else -1
+    missing = at < 0
+    if kept is not None and not missing.any() and np.array_equal(at, np.arange(
+            kept[2].size)):
+        mid, rad = kept[5].mid, kept[5].rad        # the very same columns: shared
+    else:
+        if missing.all():
+            mid, rad = _scaled(list(_leaf_channels(robot, key, levels, leaves, cols)), beta,
+                               slack)
+        else:                                      # kept columns copied, the others evaluated
+            shape = kept[5].mid.shape[:-1] + (used.size,)             # type: ignore[index]
+            mid, rad = np.empty(shape), np.empty(shape)
+            mid[..., ~missing] = kept[5].mid[..., at[~missing]]  # type: ignore[index]
+            rad[..., ~missing] = kept[5].rad[..., at[~missing]]  # type: ignore[index]
+            if missing.any():
+                mid[..., missing], rad[..., missing] = _scaled(list(_leaf_channels(
+                    robot, key, levels, leaves, cols[missing])), beta[missing], slack)
+        for array in (mid, rad):
+            array.flags.writeable = False           # shared by the sums of other pair sets
+    sums = _joint_sums_of(robot, region, used, pairs, zero, mid, rad, cols)
+    _JOINT_SUMS[:] = [(robot, key, cols, beta, slack, sums)]
+    return sums
+
+
+#: The last :func:`joint_sums` built: the arm, the key of its tree, the held columns, their
+#: parameters' values, the round-off slack and the sums. A column's enclosures in them
+#: (``mid[..., m]``, ``rad[..., m]``) are a function of the tree, the column, its value and
+#: the slack alone (elementwise, whatever other pairs or columns are held, and whatever the
+#: velocity limits), so the joint sums of another budget on the same certification (the
+#: tolerance ladder's rungs) copy the columns they share with these instead of evaluating
+#: them on the same boxes again; at most one set is kept, as large as the sums a search
+#: holds anyway.
+_JOINT_SUMS: list[tuple[Any, bytes, np.ndarray, np.ndarray, float, JointSums]] = []
 
 
 #: Most numbers per array of the leaf enclosures kept between calls (16 MB each).
@@ -814,21 +852,50 @@ def _held(n, boxes, pairs, zero):
 def _channels(robot, lo, hi, cols, parent=None):
     """Channel enclosures (lo, hi) (B, C, n, k) of the columns on boxes (B, n), in chunks of
     :data:`_CHUNK`, intersected with the parents' (each holds on its sub-boxes)."""
-    parts = [channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
-             for a in range(0, lo.shape[0], _CHUNK)]
-    c_lo, c_hi = (np.concatenate([p[e] for p in parts]) for e in range(2))
+    c_lo, c_hi = _joined((channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+                          for a in range(0, lo.shape[0], _CHUNK)), lo.shape[0])
     if parent is not None:              # (an empty intersection, by round-off: its hull)
-        a, b = np.maximum(c_lo, parent[0]), np.minimum(c_hi, parent[1])
-        c_lo, c_hi = np.minimum(a, b), np.maximum(a, b)
+        c_lo, c_hi = _intersected(c_lo, c_hi, parent[0], parent[1])
     return c_lo, c_hi
 
 
-def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
-    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k)."""
-    held = np.zeros(pairs.shape, bool)
-    held[used] = pairs[used]
-    beta = np.asarray(base.beta, float)[used]
-    slack = (2 * used.size + 16 * robot.n + 32) * iv.ROUNDING
+def _joined(chunks, rows):
+    """The (lo, hi) of consecutive blocks of rows laid end to end, ``rows`` in all: the one
+    block itself, else each block copied into place as it comes (not all held at once)."""
+    out: Any = None
+    at = 0
+    for c_lo, c_hi in chunks:
+        k = c_lo.shape[0]
+        if out is None:
+            if k == rows:
+                return c_lo, c_hi
+            out = tuple(np.empty((rows,) + c.shape[1:], c.dtype) for c in (c_lo, c_hi))
+        out[0][at:at + k], out[1][at:at + k] = c_lo, c_hi
+        at += k
+        del c_lo, c_hi
+    return out
+
+
+def _intersected(lo, hi, p_lo, p_hi):
+    """:func:`_intersect` written into ``lo`` and ``hi`` (the caller's own arrays, used up):
+    the same values, two arrays fewer."""
+    a = np.maximum(lo, p_lo, out=lo)
+    b = np.minimum(hi, p_hi, out=hi)
+    low = np.minimum(a, b)
+    return low, np.maximum(a, b, out=b)
+
+
+def _slack(n, k):
+    """The relative round-off allowance of :func:`_scaled` for k held columns of n joints."""
+    return (2 * k + 16 * n + 32) * iv.ROUNDING
+
+
+def _scaled(channels, beta, slack):
+    """The held columns' enclosures ``[lo, hi]`` (L, C, n, k) as beta times midpoint-radius
+    (mid, rad), the radius widened by ``slack``; in place (the list is emptied and its arrays
+    used up, so that ``lo`` is freed as soon as it is read)."""
+    c_lo, c_hi = channels
+    channels.clear()
     # in place, the same operations as centre = 0.5 (lo + hi), radius = 0.5 (hi - lo),
     # rad = (radius (1 + slack) + slack |centre|) |beta|, mid = centre beta: a few arrays of
     # JOINT_SUM_ELEMENTS at a time, not nine
@@ -844,7 +911,24 @@ def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
     del more
     rad *= np.abs(beta)
     mid *= beta
-    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    return mid, rad
+
+
+def _joint_sums(robot, base, region, used, pairs, zero, c_lo, c_hi):
+    """:class:`JointSums` from the held parameters' channel enclosures (L, C, n, k); ``c_hi``
+    is used up (written in), ``c_lo`` left as it is."""
+    channels = [c_lo, c_hi]
+    del c_lo, c_hi
+    mid, rad = _scaled(channels, np.asarray(base.beta, float)[used], _slack(robot.n, used.size))
+    return _joint_sums_of(robot, region, used, pairs, zero, mid, rad,
+                          np.flatnonzero(base.independent.reshape(-1))[used])
+
+
+def _joint_sums_of(robot, region, used, pairs, zero, mid, rad, cols):
+    """:class:`JointSums` of the held parameters ``used`` (their flat columns ``cols``) from
+    their scaled enclosures."""
+    held = np.zeros(pairs.shape, bool)
+    held[used] = pairs[used]
     return JointSums(pairs=held, zero=zero, columns=used, mid=mid, rad=rad,
                      part_zero=zero_parts(robot, cols),
                      qd_max=np.asarray(region.qd_max, float),
@@ -991,15 +1075,15 @@ def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
     """The live pairs' channel enclosures added on boxes (B, n), in chunks of :data:`_CHUNK`
     boxes, as intervals (lo, hi) (B, C, n), intersected with the parents' sums (each holds
     on the sub-boxes; an empty intersection, by round-off, gives the hull)."""
-    out = []
-    for a in range(0, lo.shape[0], _CHUNK):
-        ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
-        mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
-        out.append((mid - rad, mid + rad))
-    s_lo, s_hi = (np.concatenate([o[e] for o in out]) for e in range(2))
+    def chunks():
+        for a in range(0, lo.shape[0], _CHUNK):
+            ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
+            mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
+            del ch
+            yield mid - rad, mid + rad
+    s_lo, s_hi = _joined(chunks(), lo.shape[0])
     if parent is not None:
-        a, b = np.maximum(s_lo, parent[0]), np.minimum(s_hi, parent[1])
-        s_lo, s_hi = np.minimum(a, b), np.maximum(a, b)
+        s_lo, s_hi = _intersected(s_lo, s_hi, parent[0], parent[1])
     return s_lo, s_hi
 
 
@@ -1233,7 +1317,9 @@ def _tree_chunk(held, lo, hi, channels, parent):
     U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
         np.asarray(base.beta, float)[used])
     U[:, masked.transpose(1, 2, 0)] = 0.0
-    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi).sums(live)
+    # (_joint_sums uses up the upper ends it is given: the channels are read again below and
+    # are the sub-boxes' parents)
+    mid, rad = _joint_sums(robot, base, region, used, live, free, c_lo, c_hi.copy()).sums(live)
     s_lo, s_hi = mid - rad, mid + rad
     if parent is not None:
         U = np.minimum(U, parent[0])
@@ -1246,7 +1332,7 @@ def _tree_chunk(held, lo, hi, channels, parent):
     if not channels:
         return each, (U, s_lo, s_hi, None, None)
     each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
-                                        c_hi).bound(live))
+                                        c_hi.copy()).bound(live))
     return each, (U, s_lo, s_hi, c_lo, c_hi)
 
 
