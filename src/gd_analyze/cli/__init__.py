@@ -12,7 +12,6 @@ Nothing in the package imports this package.
 from __future__ import annotations
 
 import contextlib
-import gc
 import os
 import re
 import sys
@@ -229,42 +228,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         4 internal error. Control characters of the output (an ESC from an input file) are
         written as escapes (:func:`escape_control`).
     """
-    with _escaped_output(), _collector_tuned():   # no control character reaches the terminal
+    with _escaped_output():          # no control character reaches the terminal
         return _main(argv)
-
-
-#: The cyclic garbage collector's thresholds while a command runs (:func:`_collector_tuned`;
-#: Python's default is (700, 10, 10)).
-_GC_THRESHOLDS = (10_000, 10, 10)
-
-
-@contextlib.contextmanager
-def _collector_tuned():
-    """The cyclic garbage collector set for one command, and set back after it.
-
-    What exists when the command starts (the modules imported, their functions and tables)
-    is frozen out of every collection (:func:`gc.freeze`: it lives as long as the process, so
-    a collection would only walk it again), unless something is frozen already; generation 0
-    is collected every 10,000 net allocations (:data:`_GC_THRESHOLDS`). The symbolic programs and
-    the searches allocate millions of short-lived objects: on a 12-joint arm the collections
-    took 2.5 s of a 44 s job at the defaults, 0.8 s so. What a command computes does not
-    depend on when garbage is collected; only cyclic garbage waits a little longer.
-
-    Yields
-    ------
-    None
-    """
-    before = gc.get_threshold()
-    froze = gc.get_freeze_count() == 0
-    if froze:
-        gc.freeze()
-    gc.set_threshold(*_GC_THRESHOLDS)
-    try:
-        yield
-    finally:
-        gc.set_threshold(*before)
-        if froze:
-            gc.unfreeze()
 
 
 def _main(argv):
