@@ -855,7 +855,7 @@ def _channels(robot, lo, hi, cols, parent=None):
     c_lo, c_hi = _joined((channel_enclosures(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
                           for a in range(0, lo.shape[0], _CHUNK)), lo.shape[0])
     if parent is not None:              # (an empty intersection, by round-off: its hull)
-        c_lo, c_hi = _intersected(c_lo, c_hi, parent[0], parent[1])
+        c_lo, c_hi = _intersect(c_lo, c_hi, parent[0], parent[1], in_place=True)
     return c_lo, c_hi
 
 
@@ -874,15 +874,6 @@ def _joined(chunks, rows):
         at += k
         del c_lo, c_hi
     return out
-
-
-def _intersected(lo, hi, p_lo, p_hi):
-    """:func:`_intersect` written into ``lo`` and ``hi`` (the caller's own arrays, used up):
-    the same values, two arrays fewer."""
-    a = np.maximum(lo, p_lo, out=lo)
-    b = np.minimum(hi, p_hi, out=hi)
-    low = np.minimum(a, b)
-    return low, np.maximum(a, b, out=b)
 
 
 def _slack(n, k):
@@ -1083,7 +1074,7 @@ def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
             yield mid - rad, mid + rad
     s_lo, s_hi = _joined(chunks(), lo.shape[0])
     if parent is not None:
-        s_lo, s_hi = _intersected(s_lo, s_hi, parent[0], parent[1])
+        s_lo, s_hi = _intersect(s_lo, s_hi, parent[0], parent[1], in_place=True)
     return s_lo, s_hi
 
 
@@ -1370,11 +1361,13 @@ def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
     return out
 
 
-def _intersect(lo, hi, p_lo, p_hi):
+def _intersect(lo, hi, p_lo, p_hi, in_place=False):
     """Intervals intersected with their parents' (each holds on the sub-box); an empty
-    intersection, by round-off, gives the hull."""
-    a, b = np.maximum(lo, p_lo), np.minimum(hi, p_hi)
-    return np.minimum(a, b), np.maximum(a, b)
+    intersection, by round-off, gives the hull. ``in_place`` writes into ``lo`` and ``hi``
+    (the caller's own arrays, used up): the same values, two arrays fewer."""
+    a = np.maximum(lo, p_lo, out=lo if in_place else None)
+    b = np.minimum(hi, p_hi, out=hi if in_place else None)
+    return np.minimum(a, b), np.maximum(a, b, out=b)
 
 
 def prove_dropped(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
