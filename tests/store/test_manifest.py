@@ -107,3 +107,57 @@ def test_a_file_changed_just_before_its_check_is_hashed_every_time(tmp_path, mon
     for _ in range(3):
         folder_owners(target, "analyze")
     assert len(calls) == 3
+
+
+def _deferred(monkeypatch):
+    """Every file counts as large: the first check defers its SHA-256 to a thread."""
+    from gd_analyze.store import manifest
+
+    monkeypatch.setattr(manifest, "DEFERRED_BYTES", 0)
+    monkeypatch.setattr(manifest, "_PENDING", {})
+
+
+def test_the_first_check_hashes_a_large_file_beside_the_run_and_the_second_reuses_it(
+        tmp_path, monkeypatch):
+    import threading
+
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    _deferred(monkeypatch)
+    threads = []
+    from gd_analyze.store import manifest
+    hashed = manifest.file_sha256
+    monkeypatch.setattr(manifest, "file_sha256",
+                        lambda p: threads.append(threading.current_thread().name) or hashed(p))
+    time.sleep(0.05)
+    first = folder_owners(target, "analyze", defer=True)
+    second = folder_owners(target, "analyze")
+    assert list(first.own) == list(second.own) == ["a.txt"]
+    assert threads == ["gd-analyze-digest"]             # once, and not on the caller's thread
+
+
+def test_a_same_size_edit_after_a_deferred_first_check_is_refused_by_the_second(
+        tmp_path, monkeypatch):
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    _deferred(monkeypatch)
+    time.sleep(0.05)
+    st = os.stat(target / "a.txt")
+    (target / "a.txt").write_text("own")                # before the first check, mtime put back
+    os.utime(target / "a.txt", ns=(st.st_atime_ns, st.st_mtime_ns))
+    time.sleep(0.05)
+    folder_owners(target, "analyze", defer=True)        # size and name only: passes
+    with pytest.raises(InputError, match="did not write: a.txt; use an empty or new folder"):
+        folder_owners(target, "analyze")
+
+
+def test_a_run_into_a_folder_edited_during_its_computation_is_refused_untouched(
+        tmp_path, monkeypatch):
+    """Through staged_output: the edit lands after the deferred first check."""
+    target, calls = _settled_folder(tmp_path, monkeypatch)
+    _deferred(monkeypatch)
+    time.sleep(0.05)
+    with pytest.raises(InputError, match="did not write: a.txt"):
+        with staged_output(target, command="analyze") as stage:
+            (target / "a.txt").write_text("own")
+            (stage / "a.txt").write_text("new")
+    assert (target / "a.txt").read_text() == "own"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]

@@ -17,8 +17,10 @@ import json
 import os
 import re
 import stat
+import threading
 import time
 from collections.abc import Collection, Iterator, Mapping
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -181,6 +183,10 @@ SETTLED_NS = 1_000_000_000
 #: Digests kept, at most (then the memo starts again).
 _KEPT = 256
 _DIGESTS: dict[tuple[int, ...], str] = {}
+#: Files at least this large [bytes], settled, are hashed beside the run by the first check.
+DEFERRED_BYTES = 16 << 20
+#: The digests being made beside the run (:func:`_defer`), by the same key as the memo.
+_PENDING: dict[tuple[int, ...], Future] = {}
 
 
 def _digest(path, st):
@@ -194,25 +200,76 @@ def _digest(path, st):
     :data:`SETTLED_NS` old when the file was hashed, so that a later write cannot fall in the
     same tick; a file written more recently is hashed every time.
     """
-    key = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+    key = _key(st)
     known = _DIGESTS.get(key)
     if known is not None:
         return known
+    pending = _PENDING.get(key)
+    if pending is not None:                 # being hashed beside the run (_defer)
+        pending.result()
+        known = _DIGESTS.get(key)
+        if known is not None:
+            return known
     settled = time.time_ns() - st.st_ctime_ns > SETTLED_NS
     digest = file_sha256(path)
     if settled:
-        if len(_DIGESTS) >= _KEPT:
-            _DIGESTS.clear()
-        _DIGESTS[key] = digest
+        _remember(key, digest)
     return digest
 
 
-def _unchanged(folder, path, entry, st):
+def _remember(key, digest):
+    """Keep a settled file's digest (the memo starts again beyond :data:`_KEPT` entries)."""
+    if len(_DIGESTS) >= _KEPT:
+        _DIGESTS.clear()
+    _DIGESTS[key] = digest
+
+
+def _key(st):
+    """A file's status as the digests' key: device, inode, size, modification and change
+    times."""
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+
+
+def _defer(path, st):
+    """Start hashing a large settled file on a thread of its own, for the folder's second
+    check; False (nothing started) for a small file, one changed within :data:`SETTLED_NS`
+    or one already hashed, which the first check looks at itself.
+
+    The digest is made from the status taken before hashing began and goes into
+    :func:`_digest`'s memo, whose rule (an unchanged status) the second check applies. A
+    file the thread cannot read is hashed again by the second check, which reports the
+    error. The thread only reads; it does not hold the process at exit.
+    """
+    key = _key(st)
+    if (st.st_size < DEFERRED_BYTES or time.time_ns() - st.st_ctime_ns <= SETTLED_NS
+            or key in _DIGESTS):
+        return False
+    if key not in _PENDING:
+        future: Future = Future()
+
+        def work():
+            try:
+                _remember(key, file_sha256(path))
+            except OSError:
+                pass                            # the second check hashes it and says why
+            finally:
+                _PENDING.pop(key, None)
+                future.set_result(None)
+        _PENDING[key] = future
+        threading.Thread(target=work, name="gd-analyze-digest", daemon=True).start()
+    return True
+
+
+def _unchanged(folder, path, entry, st, defer=False):
     """Whether the file still holds the bytes the manifest recorded (or, in a transition
-    manifest, the bytes of the set being replaced: ``also``)."""
+    manifest, the bytes of the set being replaced: ``also``). With ``defer``, a large settled
+    file of the right size passes now and is hashed beside the run (:func:`_defer`): the
+    second check compares its digest."""
     accepted = [e for e in [entry, *entry.get("also", [])] if e["size"] == st.st_size]
     if not stat.S_ISREG(st.st_mode) or not accepted:
         return False
+    if defer and _defer(os.path.join(folder, path), st):
+        return True
     # Always the SHA-256 (once per process while the status is the same): a same-size edit
     # with its mtime put back (cp -p, touch -r) changed it.
     digest = _digest(os.path.join(folder, path), st)
@@ -221,7 +278,7 @@ def _unchanged(folder, path, entry, st):
 
 def folder_owners(folder: str | os.PathLike[str], command: str,
                   shown_as: str | os.PathLike[str] | None = None,
-                  skip: Collection[str] = ()) -> FolderOwners:
+                  skip: Collection[str] = (), defer: bool = False) -> FolderOwners:
     """Read the manifests of an output folder and check that gd-analyze wrote every file.
 
     Parameters
@@ -234,6 +291,12 @@ def folder_owners(folder: str | os.PathLike[str], command: str,
         The folder as the user named it, for the message.
     skip : collection of str, optional
         Top-level names that are the run's own lock and registered temporaries.
+    defer : bool, optional
+        The check before a run computes: files of at least :data:`DEFERRED_BYTES` whose
+        change time is older than :data:`SETTLED_NS` are checked by name and size now, and
+        hashed on a thread beside the run; the check before the new set is moved in
+        (``defer`` False) compares their SHA-256 and refuses a changed one, before anything
+        is touched.
 
     Returns
     -------
@@ -264,7 +327,7 @@ def folder_owners(folder: str | os.PathLike[str], command: str,
             cmd, entry = listed.get(path, (None, None))
             if cmd is not None and cmd != command:
                 owners.others[path] = cmd
-            elif cmd is not None and _unchanged(folder, path, entry, st):
+            elif cmd is not None and _unchanged(folder, path, entry, st, defer):
                 owners.own[path] = entry
             else:
                 foreign.append(path)

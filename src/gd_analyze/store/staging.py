@@ -8,7 +8,9 @@
   the same folder is refused and the kernel releases the lock even when a run is killed;
 - the folder's manifests (:mod:`gd_analyze.store.manifest`) must list every file it holds: a
   file gd-analyze did not write is never replaced or deleted; the run is refused, with one line
-  and exit status 2, before it computes anything, and nothing is touched;
+  and exit status 2, before it computes anything, and nothing is touched (a large listed file
+  edited in place to the same size is found by its SHA-256, made beside the run, and refused
+  before anything is moved in);
 - every file of the run is written into a fresh staging folder (``.<name>.gd-tmp-<random>``:
   an unpredictable name, mode 0700, registered in the lock file before it is created) beside
   the target; it also receives, as hard links, the files
@@ -447,7 +449,8 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
     ------
     InputError
         If ``target`` exists and is not a folder, holds files gd-analyze did not write (before
-        the run computes anything), cannot be created or written, another run holds its lock,
+        the run computes anything; a large file edited to the same size, before the set is
+        moved in), cannot be created or written, another run holds its lock,
         a new file would replace another command's file, or the set cannot be moved in. Then
         the folder is as it was, and the lock file and the staging folder are removed.
     """
@@ -483,7 +486,7 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
             with writing(target):
                 _restore_prev(parent, real, stale[1])
             skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
-            folder_owners(real, command, target, skip)     # refuse before the run computes
+            folder_owners(real, command, target, skip, defer=True)   # refuse before the run computes
             with writing(target):
                 _remove_stale(parent, real, stale, record)
             with _staged(real, target, command, mount, record) as stage:
