@@ -10,7 +10,7 @@ with ``cc -O2 -shared -fPIC`` together with a batch loop over set points:
   the cheapest simplified model within the error budget on the trajectory).
 
 They are timed on the same N random set points (q within the joint limits, else +-pi; qd within
-+-qd_max; qdd within the acceleration limits of :func:`gd_analyze.trajectory.planning.acceleration_limits`)
++-qd_max; qdd within the acceleration limits of :func:`gd_analyze.model.limits.acceleration_limits`)
 against Pinocchio ``rneaInParallel`` with one thread (batched in C++) and ``rnea`` called in a
 Python loop over the same N set points. Runs are interleaved, R rounds, each round one run of
 each of the four (the order rotated from round to round), so each side gets R runs. The script
@@ -42,10 +42,10 @@ from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
+from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.symbolic.emit import emit_c
 from gd_analyze.symbolic.recursive import recursive_program
 from gd_analyze.symbolic.safe_text import comment_safe
-from gd_analyze.trajectory.planning import acceleration_limits
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -9,7 +9,7 @@ load hits all of them alike):
    the sampled peaks and the branch and bound: ``store/certification_cache.py``);
 2. the same certification read back from that cache: the region's samples drawn first (their
    positions, channel values and sampled peaks, as the main job draws them before it,
-   ``jobs/region_memo.py``; timed apart as "of which sampling"), then the scale's self-check,
+   ``simplify/region_memo.py``; timed apart as "of which sampling"), then the scale's self-check,
    the tree of boxes checked to tile the region and the enclosures its witnesses name derived
    again (no search),
 
@@ -54,7 +54,7 @@ def child(name, phase):
     from gd_analyze.certify.certify import certify, pair_peaks_at
     from gd_analyze.certify.region import channel_values, sample_positions
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs.deploy import REGION_SAMPLES, robot_region
+    from gd_analyze.simplify.deploy import REGION_SAMPLES, robot_region
     from gd_analyze.store.certification_cache import certification
 
     robot = _robot(name)

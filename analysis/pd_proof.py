@@ -35,7 +35,7 @@ def main():
     from gd_analyze import load_robot
     from gd_analyze.certify.positive_definite import prove_inertia, with_inertia_check
     from gd_analyze.dynamics.base_parameters import random_states
-    from gd_analyze.jobs.deploy import build_recursive, guarantee_region, restored_rebuild
+    from gd_analyze.simplify.deploy import build_recursive, guarantee_region, restored_rebuild
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5)

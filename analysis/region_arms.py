@@ -46,12 +46,13 @@ def row(name, robot, eps):
     """One arm's figures as a dict (or the reason it has none)."""
     from gd_analyze.certify.region import joint_region, missing_limits
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs import deploy
+    from gd_analyze.model.limits import acceleration_limits
+    from gd_analyze.simplify import deploy
     from gd_analyze.store.certification_cache import certification
     from gd_analyze.symbolic.pruning import pruned_program
     from gd_analyze.symbolic.recursive import recursive_program
     from gd_analyze.symbolic.recursive_model import recursive_model
-    from gd_analyze.trajectory.planning import acceleration_limits, default_motion, plan_quintic
+    from gd_analyze.trajectory.planning import default_motion, plan_quintic
 
     why = missing_limits(robot)
     if why:

@@ -54,10 +54,10 @@ def row(name, eps):
     from gd_analyze.certify.certify import certify
     from gd_analyze.certify.region import joint_region
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs import deploy
+    from gd_analyze.model.limits import acceleration_limits
+    from gd_analyze.simplify import deploy
     from gd_analyze.symbolic.pruning import pruned_program
     from gd_analyze.symbolic.recursive import recursive_program
-    from gd_analyze.trajectory.planning import acceleration_limits
 
     robot = _robot(name)
     base = base_parameters(robot)

@@ -11,11 +11,11 @@ from gd_analyze.certify.certify import dropped_bound, region_bound
 from gd_analyze.certify.region import joint_region
 from gd_analyze.dynamics.base_parameters import base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.jobs.deploy import certified, region_model
+from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.model.robot_spec import robot_from_chain
+from gd_analyze.simplify.deploy import certified, region_model
 from gd_analyze.symbolic.emit import python_function
 from gd_analyze.symbolic.pruning import pruned_program
-from gd_analyze.trajectory.planning import acceleration_limits
 
 STATES = 100_000
 

@@ -11,7 +11,7 @@ from robot_files import crba, inertia_arm
 from gd_analyze import load_robot
 from gd_analyze.certify.inertia_proof import gershgorin_lower, inertia_floor, prove_inertia
 from gd_analyze.dynamics.base_parameters import base_parameters
-from gd_analyze.jobs.deploy import guarantee_region
+from gd_analyze.simplify.deploy import guarantee_region
 
 SAMPLED = 100_000
 

@@ -25,8 +25,13 @@ from gd_analyze.certify.positive_definite import (
 from gd_analyze.certify.region import worst_states
 from gd_analyze.dynamics.base_parameters import base_parameters, random_states
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.jobs.deploy import build_recursive, certified, guarantee_region, restored_rebuild
 from gd_analyze.ranking.labels import element_labels
+from gd_analyze.simplify.deploy import (
+    build_recursive,
+    certified,
+    guarantee_region,
+    restored_rebuild,
+)
 from gd_analyze.store.json_schema import MODEL_SCHEMA
 from gd_analyze.symbolic.recursive_model import recursive_model
 

@@ -208,7 +208,7 @@ def test_the_sampled_error_of_dropped_parts_is_pinocchios_largest(parts):
 
 def test_the_samples_are_those_a_certification_draws():
     """A certification made in the process is read in place of the samples
-    (:func:`gd_analyze.jobs.region_memo.region_values`): the same positions, values and
+    (:func:`gd_analyze.simplify.region_memo.region_values`): the same positions, values and
     scale for the same count and seed."""
     from gd_analyze.certify.certify import certify
     from gd_analyze.certify.region import region_samples
@@ -255,7 +255,7 @@ def test_users_region_replaces_the_robots_and_is_clipped_to_its_limits():
 
 def test_full_turn_and_assumed_accelerations_are_printed_and_stored():
     robot = load_robot("ur5")                   # +-360 deg: a full turn; no qdd in a URDF
-    from gd_analyze.jobs.deploy import robot_region
+    from gd_analyze.simplify.deploy import robot_region
 
     region, missing = robot_region(robot)
     assert missing == "" and region.full_turn[[0, 1, 3, 4, 5]].all()
@@ -292,7 +292,7 @@ def test_narrower_region_gives_smaller_scale_against_rnea():
     """s_i over a user's narrower region is below the robot's; Pinocchio's rnea at random
     states of each region stays below its s_i (the scale is a largest |tau_i| found), and
     the narrower region's sampled maximum below the wider region's s_i."""
-    from gd_analyze.jobs.deploy import certified, robot_region
+    from gd_analyze.simplify.deploy import certified, robot_region
 
     robot = load_robot("puma560")
     base = base_parameters(robot)
@@ -317,7 +317,7 @@ def test_narrower_region_gives_smaller_scale_against_rnea():
 
 def test_mixed_arm_prints_each_limit_with_its_unit():
     """The Stanford arm's prismatic joint 3 in metres beside degrees (its TOML's limits)."""
-    from gd_analyze.jobs.deploy import robot_region
+    from gd_analyze.simplify.deploy import robot_region
 
     robot = load_robot("stanford")
     region, _ = robot_region(robot)

@@ -11,8 +11,8 @@ import pytest
 from gd_analyze import load_robot
 from gd_analyze.certify.screen import MIN_SAVING, screen_region
 from gd_analyze.dynamics.base_parameters import base_parameters
-from gd_analyze.jobs.deploy import robot_region
-from gd_analyze.jobs.region_memo import region_values
+from gd_analyze.simplify.deploy import robot_region
+from gd_analyze.simplify.region_memo import region_values
 
 
 def _inputs(name):
@@ -52,7 +52,7 @@ def test_every_set_the_proof_drops_passes_the_sampled_constraint():
     sampled constraint (at each sampled position, the sum of their magnitudes is within
     EPS s_i), so the screen's search may drop them too; its s_i is the certification's."""
     from gd_analyze.certify.certify import pair_magnitudes_at
-    from gd_analyze.jobs.deploy import region_model
+    from gd_analyze.simplify.deploy import region_model
 
     robot, base, region, values = _inputs("puma560")
     for eps in (0.01, 0.05):
@@ -73,7 +73,7 @@ def test_the_proved_screen_counts_the_searched_pairs_programs():
     320) saves more than the threshold and is built, dropping nothing saves nothing and is
     skipped; both say which screen they are."""
     from gd_analyze.certify.screen import proved_screen
-    from gd_analyze.jobs.deploy import region_model
+    from gd_analyze.simplify.deploy import region_model
     from gd_analyze.symbolic.pruning import part_values
     from gd_analyze.symbolic.recursive import parts_program
 

@@ -11,7 +11,7 @@ from symbolic.test_explicit import _c_operator_count, natural_error, python_tau,
 from symbolic.test_explicit_prismatic import _compile
 
 from gd_analyze import load_robot
-from gd_analyze.jobs.deploy import build_recursive
+from gd_analyze.simplify.deploy import build_recursive
 from gd_analyze.store.model_file import load_model
 from gd_analyze.symbolic.codegen import build_program
 from gd_analyze.symbolic.drive_regressor import with_drives

@@ -14,7 +14,7 @@ from conftest import SHIPPED
 
 from gd_analyze.certify.screen import MIN_SAVING
 from gd_analyze.cli import main
-from gd_analyze.jobs.deploy import robot_region
+from gd_analyze.simplify.deploy import robot_region
 from gd_analyze.store.model_file import load_model
 
 TWO_LINK_CSV = "t,q1,q2\n0,0,0\n0.1,0.1,0.05\n0.2,0.2,0.1\n0.3,0.3,0.2\n0.4,0.35,0.25\n"
@@ -105,8 +105,8 @@ def test_a_skipped_search_still_leaves_out_the_pairs_that_are_identically_zero(t
     identically zero, so it counts fewer operations than the exact program, and its torque is
     still rnea's at random states of the region."""
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs.deploy import build_recursive
     from gd_analyze.model.robots import load_robot
+    from gd_analyze.simplify.deploy import build_recursive
     from gd_analyze.symbolic.recursive import recursive_program
 
     monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
@@ -165,9 +165,10 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     import gd_analyze.symbolic.recursive_model as recursive_model_module
     from gd_analyze.certify.screen import screen_region
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs.deploy import region_search
-    from gd_analyze.jobs.region_memo import region_magnitudes, region_values
     from gd_analyze.model.robot_file import robot_toml
+    from gd_analyze.simplify.deploy import region_search
+    from gd_analyze.simplify.region_memo import region_magnitudes, region_values
+    from gd_analyze.store.derivations import DERIVATIONS
     from gd_analyze.symbolic.pruning import part_values
     from gd_analyze.symbolic.recursive import parts_program
 
@@ -242,7 +243,8 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     assert np.all(np.abs(model.torque(qs, qds, qdds) - ref) <= 1e-9 * scale)
     assert spec["inertia_check"]["proved"]
     ran = model.robot                          # as the job read it: its search, read back
-    again = region_search(ran, base_parameters(ran), robot_region(ran)[0], 0.01)
+    again = region_search(ran, base_parameters(ran), robot_region(ran)[0], 0.01,
+                          derive=DERIVATIONS)
     assert again.forms is not None and again.screen.proved and again.screen.skip
     np.testing.assert_array_equal(again.rec.dropped, model.recursive.dropped)
 
@@ -256,7 +258,7 @@ def test_the_proved_screen_counts_the_pairs_left_after_the_inertia_restore(monke
     other parts kept too where that counts fewer), the exact model is deployed and the screen
     says how many parameters were restored; for a ladder's rung (no proof of D_s: ``restore``
     False) the same set is built."""
-    import gd_analyze.jobs.deploy as deploy
+    import gd_analyze.simplify.deploy as deploy
     from gd_analyze.dynamics.base_parameters import base_parameters
     from gd_analyze.model.robots import load_robot
     from gd_analyze.symbolic.pruning import part_values

@@ -20,8 +20,9 @@ from gd_analyze.jobs.simplify import per_trajectory_errors, sweep_validation
 from gd_analyze.jobs.sweep import ERRORS_SETPOINTS_MAX, WorkerErrors, run_sweep
 from gd_analyze.jobs.sweep_budget import budget_region_model, budget_sweep_model
 from gd_analyze.jobs.sweep_merged import with_budget_model
+from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.store.sweep_guarantee import merged_guarantee
-from gd_analyze.trajectory.planning import acceleration_limits, random_trajectories
+from gd_analyze.trajectory.planning import random_trajectories
 
 
 @pytest.fixture(scope="module")

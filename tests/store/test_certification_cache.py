@@ -21,6 +21,7 @@ from gd_analyze.certify import certify as certify_module
 from gd_analyze.certify.certify import pair_peaks_at
 from gd_analyze.certify.region import channel_values, joint_region, sample_positions
 from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.simplify import region_memo
 from gd_analyze.store import certification_cache as cache_module
 from gd_analyze.store.certification_cache import certification
 
@@ -118,8 +119,9 @@ def test_samples_drawn_by_the_caller_give_a_fresh_certification_s_bounds(arm, fr
 
     def refuse(*args, **kwargs):
         raise AssertionError("drawn again although the caller drew them")
-    for name in ("sample_positions", "channel_values", "region_scale"):
+    for name in ("sample_positions", "channel_values"):
         monkeypatch.setattr(cache_module, name, refuse)
+    monkeypatch.setattr(region_memo, "region_scale", refuse)
     monkeypatch.setattr(certify_module, "region_samples", refuse)
     with warnings.catch_warnings(record=True) as seen:
         warnings.simplefilter("always")

@@ -217,7 +217,7 @@ def test_trajectory_bound_below_its_measured_error_is_refused(models, capsys):
 
 def test_the_bound_is_re_proved_with_the_main_jobs_samples():
     """The re-proof reads the main job's certification from the cache: the same samples."""
-    from gd_analyze.jobs.region_memo import REGION_SAMPLES
+    from gd_analyze.simplify.region_memo import REGION_SAMPLES
     from gd_analyze.store.model_trust import CERTIFICATION_SAMPLES
 
     assert CERTIFICATION_SAMPLES == REGION_SAMPLES
@@ -228,9 +228,9 @@ def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_p
     coefficient edited it no longer is the full explicit model, and its bound 0 is refused."""
     from gd_analyze import load_robot
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs.deploy import region_model, robot_region
     from gd_analyze.jobs.deployment import exact_explicit_model
     from gd_analyze.jobs.simplify import build_model, collect_peaks
+    from gd_analyze.simplify.deploy import region_model, robot_region
     from gd_analyze.store.explicit_cache import explicit_terms
     from gd_analyze.store.model_file import save_model
 

@@ -11,9 +11,8 @@ import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
+from gd_analyze.model.limits import DEFAULT_QDD_PER_QD, acceleration_limits
 from gd_analyze.trajectory.planning import (
-    DEFAULT_QDD_PER_QD,
-    acceleration_limits,
     provenance_path,
     quintic_duration,
 )

@@ -18,8 +18,9 @@ from gd_analyze.cache import CacheWarning
 from gd_analyze.certify.region import joint_region
 from gd_analyze.dynamics.base_parameters import random_states
 from gd_analyze.files import package_sha256
-from gd_analyze.jobs.deploy import REGION_SAMPLES, build_recursive
+from gd_analyze.simplify.deploy import REGION_SAMPLES, build_recursive
 from gd_analyze.store.certification_cache import SEARCH_FIELDS, search_key
+from gd_analyze.store.derivations import DERIVATIONS
 from gd_analyze.symbolic import recursive as recursive_module
 from gd_analyze.symbolic.newton_euler import FORMS
 
@@ -37,7 +38,8 @@ def _build(arm):
     z = np.zeros((2, robot.n))
     with warnings.catch_warnings(record=True) as seen:
         warnings.simplefilter("always")
-        model, _ = build_recursive(robot, z, z, z, tolerance=EPS, region=region)
+        model, _ = build_recursive(robot, z, z, z, tolerance=EPS, region=region,
+                                   derive=DERIVATIONS)
     return model, [str(w.message) for w in seen if issubclass(w.category, CacheWarning)]
 
 

@@ -16,6 +16,7 @@ from scipy.optimize import check_grad
 from threadpoolctl import threadpool_limits
 
 from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.model.robots import load_robot
 from gd_analyze.symbolic.drive_regressor import identification_columns
 from gd_analyze.trajectory import excitation as ex_module
@@ -28,7 +29,7 @@ from gd_analyze.trajectory.excitation import (
     random_excitation,
     scaled_condition,
 )
-from gd_analyze.trajectory.planning import acceleration_limits, default_motion_range
+from gd_analyze.trajectory.planning import default_motion_range
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 

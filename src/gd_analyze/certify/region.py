@@ -668,7 +668,7 @@ def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
         The arm, with n joints.
     qdd_max : array_like, shape (n,)
         Acceleration limits [rad/s^2 or m/s^2] (the robot's, or the planner's default where it
-        has none: :func:`gd_analyze.trajectory.planning.acceleration_limits`).
+        has none: :func:`gd_analyze.model.limits.acceleration_limits`).
     limits : RegionLimits, optional
         The user's limits, each replacing the robot's. Those beyond the robot's own position,
         velocity or (where it gives one) acceleration limits are clipped to them, and the

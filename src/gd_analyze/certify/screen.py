@@ -3,7 +3,7 @@
 Decided before any bound is proved; once more after, on the set the search finds under the
 proved bounds (:func:`proved_screen`).
 
-The region model (:func:`gd_analyze.jobs.deploy.region_model`) drops a set S of (base
+The region model (:func:`gd_analyze.simplify.deploy.region_model`) drops a set S of (base
 parameter, part) pairs only if, on every final box L of the certification's branch and bound,
 sum over S of the pairs' enclosures on L <= EPS s_i (:func:`.certify.certify`,
 :func:`gd_analyze.symbolic.pruning.prune_bounds`). Each enclosure on L is at least the

@@ -23,11 +23,10 @@ from ..errors import InputError, InputWarning
 from ..files import file_sha256
 from ..jobs.analyze import progress_bar
 from ..jobs.control import CONTROL_FILE, run_control
-from ..jobs.deploy import robot_region
 from ..jobs.evaluate import coverage, evaluate, gate
 from ..jobs.options import AnalysisOptions, SimplifyOptions
 from ..jobs.run import Payload, run_analysis
-from ..model.limits import LIMITS, exact_text, first_beyond
+from ..model.limits import LIMITS, acceleration_limits, exact_text, first_beyond
 from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
 from ..model.robots import load_robot
@@ -36,6 +35,7 @@ from ..report.control import CONTROL_REPORT_FILES, dataset_verdict, write_contro
 from ..report.main import write_report
 from ..report.main_context import effort_rows
 from ..report.numbers import count
+from ..simplify.deploy import robot_region
 from ..simplify.simplified import json_safe
 from ..store import control_dataset as control_file
 from ..store.model_file import load_model
@@ -44,7 +44,6 @@ from ..store.staging import check_output_file, safe_name, staged_output, writing
 from ..trajectory.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..trajectory.planning import (
     DEFAULT_SETPOINTS,
-    acceleration_limits,
     check_velocity_limits,
     default_motion,
     provenance_mismatch,

@@ -18,13 +18,13 @@ from ..estimation.regressor import DRIVE_KINDS
 from ..jobs.identify import DEFAULT_DRIVES
 from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX
 from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
+from ..model.limits import DEFAULT_QDD_PER_QD
 from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN
 from ..symbolic.safe_text import check_prefix
 from ..trajectory.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
 from ..trajectory.planning import (
     DEFAULT_GOAL_DEG,
-    DEFAULT_QDD_PER_QD,
     DEFAULT_SETPOINTS,
     DEFAULT_START_DEG,
 )

@@ -12,11 +12,12 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError, InputWarning
-from ..jobs.deploy import guarantee_region
 from ..jobs.payload import sweep_payloads
 from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
 from ..jobs.sweep_merged import merged_model, with_budget_model, with_model_cost
+from ..model.limits import acceleration_limits
 from ..report.sweep import write_sweep_report
+from ..simplify.deploy import guarantee_region
 from ..store.model_file import save_model
 from ..store.schema import write_dataset
 from ..store.staging import staged_output, writing
@@ -24,7 +25,7 @@ from ..store.sweep_guarantee import merged_guarantee
 from ..store.sweep_view import StoredSweep, beyond_the_floor, with_more_tasks
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix
-from ..trajectory.planning import acceleration_limits, check_velocity_limits, random_trajectories
+from ..trajectory.planning import check_velocity_limits, random_trajectories
 from ..trajectory.trajectory import read_trajectory
 from .commands import (
     apply_payload,

@@ -17,11 +17,18 @@ import numpy as np
 from ..certify.positive_definite import with_inertia_check
 from ..dynamics.opcount import operation_counts
 from ..simplify.choices import full_choices
+from ..simplify.deploy import (
+    build_recursive,
+    guarantee_region,
+    recursive_selection,
+    restored_rebuild,
+)
 from ..simplify.guarantee import Guarantee
+from ..simplify.recursive_ladder import recursive_ladder
+from ..simplify.simplified import total_operations
 from ..store import explicit_cache
+from ..store.derivations import DERIVATIONS
 from ..store.names import Attr
-from .deploy import build_recursive, guarantee_region, recursive_selection, restored_rebuild
-from .recursive_ladder import recursive_ladder
 from .simplified_dataset import cost_rows, simplified_dataset
 from .simplify import (
     LADDER,
@@ -31,7 +38,6 @@ from .simplify import (
     full_torque,
     ladder,
     ladder_skipped,
-    total_operations,
 )
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -102,7 +108,8 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     contributions = background["recursive"].result()
     rec, _ = build_recursive(robot, q, qd, qdd, tolerance=tolerance, torque_floor=torque_floor,
                           contributions=contributions, region=region if proved else None,
-                          sample_region=region, region_missing=missing, **common)
+                          sample_region=region, region_missing=missing, derive=DERIVATIONS,
+                          **common)
     costs = recursive_costs(rec, counts)
     ex: Any = None                 # the explicit model of the rule, its terms and peaks
     terms: Any = None
@@ -153,7 +160,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     # not, the bound and sampled error derived again for the model finally deployed
     rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
                                sample_region=region, region_missing=missing,
-                               contributions=contributions)
+                               contributions=contributions, derive=DERIVATIONS)
     model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
     if replaced is not None:
         check: Any = replaced.inertia_check
@@ -171,7 +178,8 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
         pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
         rows = recursive_ladder(robot, contributions[0], (q, qd, qdd), LADDER, torque_floor,
                                 region=region if proved else None,
-                                contributions=contributions[1], deployed=model, pool=pool)
+                                contributions=contributions[1], deployed=model, pool=pool,
+                                derive=DERIVATIONS)
         pool.shutdown(wait=False)               # the thread ends when its one job has
 
     def finish(other_error):
@@ -312,7 +320,7 @@ def recursive_costs(model: SimplifiedModel, counts: Mapping[str, Any] | None = N
     Parameters
     ----------
     model : SimplifiedModel
-        The pruned recursive model (:func:`gd_analyze.jobs.deploy.build_recursive`).
+        The pruned recursive model (:func:`gd_analyze.simplify.deploy.build_recursive`).
     counts : dict, optional
         :func:`gd_analyze.dynamics.opcount.operation_counts` of the robot; counted if not
         given.

@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..dynamics.base_parameters import base_parameters
+from ..simplify.deploy import robot_region
 from ..store import explicit_cache
 from ..symbolic.explicit import term_peaks
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import contribution_peaks
-from .deploy import robot_region
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
@@ -71,7 +71,7 @@ def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
     -------
     bool
         True under the budget rule, unless ``guarantee`` is ``"trajectory"``, when the robot
-        has a region (:func:`gd_analyze.jobs.deploy.robot_region`). The model then needs
+        has a region (:func:`gd_analyze.simplify.deploy.robot_region`). The model then needs
         no contribution peaks on the trajectory.
     """
 
@@ -101,7 +101,7 @@ def contribution_job(robot, q, qd, qdd, peaks=True):
 
     Notes
     -----
-    What :func:`gd_analyze.jobs.deploy.build_recursive` takes as ``contributions``.
+    What :func:`gd_analyze.simplify.deploy.build_recursive` takes as ``contributions``.
     Compiled or array code by the trajectory's length
     (:mod:`gd_analyze.dynamics.regressor_kernels`), releasing the GIL, so the
     main job runs it in a thread beside its pass over the G-D terms (:func:`start_peaks`).

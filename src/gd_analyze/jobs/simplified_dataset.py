@@ -56,7 +56,7 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
         The model of the other rule, side by side.
     ladder_rows : list of dict, optional
         From :func:`~gd_analyze.jobs.simplify.ladder`, or from
-        :func:`~gd_analyze.jobs.recursive_ladder.recursive_ladder` for a model of the
+        :func:`~gd_analyze.simplify.recursive_ladder.recursive_ladder` for a model of the
         recursive form.
     formulation_counts : dict, optional
         :func:`gd_analyze.dynamics.opcount.operation_counts` (as implemented); by default

@@ -18,7 +18,7 @@ from ..dynamics.dalembert import gd_terms
 from ..model.drives import DRIVE_FIELDS
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..simplify.budget import DEFAULT_TOLERANCE, PartPeaks, relative_peaks, select_terms
-from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator
+from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, total_operations
 from ..store.explicit_cache import explicit_terms
 from ..symbolic.codegen import build_program
 from ..symbolic.drive_regressor import with_drives
@@ -44,8 +44,7 @@ if TYPE_CHECKING:                       # for the type hints only
     TrajectoryErrors = Callable[[SimplifiedModel, Sequence[Trajectory], TorqueFunction | None],
                                 tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
-__all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder",
-           "total_operations"]
+__all__ = ["Peaks", "collect_peaks", "build_model", "full_program", "LADDER", "ladder"]
 
 #: The tolerance ladder of the report and README.
 LADDER = (0.0, 0.001, 0.01, 0.05)
@@ -249,26 +248,6 @@ def build_model(robot: Robot, terms: Term, peaks: Peaks, tolerance: float = DEFA
         cost=program.cost(), full_cost=full, bound=[float(v) for v in sel.bound],
         program_cache=program)
     return model, sel
-
-
-def total_operations(cost: Mapping[str, Any]) -> int:
-    """Multiplications plus additions of a counted cost (Table 3.5's measure).
-
-    Parameters
-    ----------
-    cost : mapping
-        With ``multiplications`` and ``additions``.
-
-    Returns
-    -------
-    int
-
-    Examples
-    --------
-    >>> total_operations({"multiplications": 169, "additions": 143})
-    312
-    """
-    return int(cost["multiplications"]) + int(cost["additions"])
 
 
 def full_torque(robot: Robot, terms: Term) -> TorqueFunction:

@@ -33,14 +33,7 @@ from ..config import defaults
 from ..dynamics.base_parameters import base_parameters
 from ..errors import InputError
 from ..simplify.budget import DEFAULT_TOLERANCE
-from ..simplify.guarantee import Guarantee
-from ..store import explicit_cache
-from ..store.model_trust import remember_claim
-from ..store.names import SweepVar as SV
-from ..symbolic.explicit_estimate import is_expensive
-from ..symbolic.pruning import dropped_peaks, settle_restored
-from ..symbolic.recursive_model import sweep_recursive_model
-from .deploy import (
+from ..simplify.deploy import (
     guarantee_region,
     rebuilt,
     recursive_simplified,
@@ -48,6 +41,14 @@ from .deploy import (
     restored_rebuild,
     trajectory_guarantee,
 )
+from ..simplify.guarantee import Guarantee
+from ..store import explicit_cache
+from ..store.derivations import DERIVATIONS
+from ..store.model_trust import remember_claim
+from ..store.names import SweepVar as SV
+from ..symbolic.explicit_estimate import is_expensive
+from ..symbolic.pruning import dropped_peaks, settle_restored
+from ..symbolic.recursive_model import sweep_recursive_model
 from .deployment import choose_form, exact_explicit_model, inertia_checked, recursive_costs
 from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
@@ -140,12 +141,12 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         whatever ``explicit`` says), as the main job's ``--form``.
     guarantee : {"auto", "region", "trajectory"}, optional
         Where the bound must hold, as the main job's ``--guarantee``
-        (:func:`gd_analyze.jobs.deploy.guarantee_region`): over the robot's joint-limit
+        (:func:`gd_analyze.simplify.deploy.guarantee_region`): over the robot's joint-limit
         region (``"auto"``, the default, where the robot gives position and velocity limits
         for every joint) or on the swept trajectories.
     region : RegionLimits, optional
         The user's region in place of the robot's limits
-        (:func:`gd_analyze.jobs.deploy.robot_region`).
+        (:func:`gd_analyze.simplify.deploy.robot_region`).
     prepared : (SimplifiedModel, callable or None), optional
         Under a region guarantee, :func:`budget_region_model` of the same arguments, built
         earlier (e.g. while the workers ranked the trajectories); it is then only measured.
@@ -187,7 +188,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     -----
     Source: the budget of :mod:`gd_analyze.simplify.budget` over several trajectories;
     Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) (a simplified model "at a reduced computation
-    time"); the region's bounds as :func:`gd_analyze.jobs.deploy.region_model`.
+    time"); the region's bounds as :func:`gd_analyze.simplify.deploy.region_model`.
     """
 
     trajectories = list(trajectories)
@@ -281,7 +282,7 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
     Returns
     -------
     (SimplifiedModel, callable or None) or None
-        The model: the main job's region model (:func:`gd_analyze.jobs.deploy.region_search`
+        The model: the main job's region model (:func:`gd_analyze.simplify.deploy.region_search`
         without the pre-screen, its claim kept as proved in this process,
         :func:`gd_analyze.store.model_trust.remember_claim`; its cost never above the exact
         recursive model's) or the exact explicit model
@@ -311,7 +312,8 @@ def _region_merged(robot, trajectories, region, tolerance, torque_floor, provena
                    derive, form):
     """:func:`budget_region_model`'s model and reference, for the settings it checked."""
     base = base_parameters(robot)
-    found = region_search(robot, base, region, tolerance, torque_floor, screen=False)
+    found = region_search(robot, base, region, tolerance, torque_floor, screen=False,
+                          derive=DERIVATIONS)
     first = recursive_simplified(robot, found.rec, base, tolerance=tolerance,
                                  torque_floor=torque_floor, trajectory_sha256=digest,
                                  provenance=provenance, guarantee=found.guarantee,
@@ -336,7 +338,7 @@ def _region_merged(robot, trajectories, region, tolerance, torque_floor, provena
     model, replaced = inertia_checked(
         model, dataclasses.replace(first, costs=costs,
                                    full_cost=dict(costs.get("explicit, full", {}))),
-        restored_rebuild(None, None, None, region=region))
+        restored_rebuild(None, None, None, region=region, derive=DERIVATIONS))
     return model, None if replaced is not None else reference
 
 

@@ -155,7 +155,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     Notes
     -----
     The guarantee is that of :mod:`gd_analyze.simplify.budget` over several trajectories,
-    or that of the joint-limit region (:func:`gd_analyze.jobs.deploy.region_model`).
+    or that of the joint-limit region (:func:`gd_analyze.simplify.deploy.region_model`).
     """
     torque = sweep_ds[SV.TAU_PEAK].attrs.get("units", "N m") if SV.TAU_PEAK in sweep_ds else "N m"
 

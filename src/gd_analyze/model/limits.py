@@ -12,13 +12,18 @@ The README's "Limits" section lists the same values.
 from __future__ import annotations
 
 import numbers
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
 
-__all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text", "real_values"]
+if TYPE_CHECKING:
+    from .robot import Robot
+
+__all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text", "real_values",
+           "DEFAULT_QDD_PER_QD", "acceleration_limits"]
 
 #: Largest accepted magnitude of each input quantity, in SI units.
 LIMITS = {
@@ -173,3 +178,57 @@ def check_finite(name: str, values: ArrayLike, what: str = "computed") -> np.nda
         raise InputError(f"the {what} {name} is not finite{where}: the inputs are beyond the "
                          f"magnitudes gd-analyze supports (see docs/limits-and-safety.md)")
     return arr
+
+
+#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` and the region take
+#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
+#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
+DEFAULT_QDD_PER_QD = 2.0
+
+
+def acceleration_limits(robot: Robot, qdd_max: ArrayLike | None = None
+                        ) -> tuple[np.ndarray, str]:
+    """The acceleration limits a plan uses, and where they come from.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
+        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
+    qdd_max : array_like, shape (n,), optional
+        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
+
+    Returns
+    -------
+    qdd_max : ndarray, shape (n,)
+        The limits [rad/s^2 or m/s^2].
+    source : str
+        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
+
+    Raises
+    ------
+    ValueError
+        If given limits do not have n entries or are not finite and positive, or a joint with
+        no acceleration limit has no finite velocity limit either.
+    """
+    n = robot.n
+    if qdd_max is not None:
+        qdd: np.ndarray = np.asarray(qdd_max, dtype=float).reshape(-1)
+        if qdd.shape != (n,):
+            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
+        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
+            raise ValueError("acceleration limits must be finite and positive")
+        return qdd, "--qdd-max"
+    qdd = np.array(robot.qdd_max, dtype=float)
+    missing = ~np.isfinite(qdd)
+    if not missing.any():
+        return qdd, "robot"
+    qd = np.asarray(robot.qd_max, dtype=float)
+    bad = missing & ~(np.isfinite(qd) & (qd > 0))
+    if bad.any():
+        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
+                         "finite velocity limit")
+    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
+    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+                 "gives no acceleration limits)")

@@ -18,9 +18,10 @@ the model keeps, so ``gd_analyze.load_model(path).torque(q, qd, qdd)`` works on 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -52,7 +53,7 @@ if TYPE_CHECKING:
 __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merge_choices",
            "full_choices",
            "simplified_torque", "torque_error", "TorqueErrorAccumulator", "parameters_sha256",
-           "json_safe"]
+           "json_safe", "total_operations"]
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
 SCHEMA_VERSION = 2
@@ -668,3 +669,23 @@ def json_safe(obj: object) -> object:
     if isinstance(obj, np.generic):
         return json_safe(obj.item())
     return obj
+
+
+def total_operations(cost: Mapping[str, Any]) -> int:
+    """Multiplications plus additions of a counted cost (Table 3.5's measure).
+
+    Parameters
+    ----------
+    cost : mapping
+        With ``multiplications`` and ``additions``.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> total_operations({"multiplications": 169, "additions": 143})
+    312
+    """
+    return int(cost["multiplications"]) + int(cost["additions"])

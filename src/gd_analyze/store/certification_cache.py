@@ -39,7 +39,7 @@ overlapping boxes) are never read: such an entry does not match its checksum ove
 fields, or its tree does not tile the region, and is certified again. A failed entry gives one
 :class:`gd_analyze.cache.CacheWarning` line; the region is certified again and the entry rewritten.
 
-The model pruned over a joint-limit region (:func:`gd_analyze.jobs.deploy.region_model`)
+The model pruned over a joint-limit region (:func:`gd_analyze.simplify.deploy.region_model`)
 comes out of two searches, each a pure function of the robot's parameters, the region, the
 tolerance EPS, the torque floor and the package's code
 (the one key of the derivation cache, :func:`gd_analyze.cache.cache_key`):
@@ -72,15 +72,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..cache import cache_key, entry_path, lookup, read_entry, store
-from ..certify.certify import certify, certify_tree
+from ..certify.certify import certify_tree
 from ..certify.region import (
-    REFINE_JOINTS,
     channel_values,
-    region_scale,
     sample_positions,
     worst_above,
 )
 from ..dynamics.regressor_kernels import part_regressor
+from ..simplify.region_memo import fresh_certification
 from ..simplify.simplified import parameters_sha256
 from ..symbolic.newton_euler import FORMS
 
@@ -274,14 +273,7 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
                    "the region is certified again")
     if found is not None:
         return found
-    if values is None and drawn is not None:
-        cols = np.flatnonzero(base.independent.reshape(-1))
-        values = (drawn[0], drawn[1],
-                  *region_scale(robot, region, cols, np.asarray(base.beta, float),
-                                refine=int(robot.n <= REFINE_JOINTS), values=drawn[:2]),
-                  drawn[2])
-    pb = certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
-                 values=values)
+    pb = fresh_certification(robot, base, region, torque_floor, samples, seed, values, drawn)
     store(key, {"scale": np.asarray(pb.scale, float),
                 "scale_state": np.asarray(pb.scale_state, float),
                 "boxes": np.array(int(pb.boxes), np.int64),

@@ -187,7 +187,7 @@ def remember_claim(model: SimplifiedModel) -> None:
         Of the recursive form, its guarantee of kind ``"region"`` and its bound the one
         proved for its dropped pairs over that region
         (:func:`gd_analyze.certify.certify.region_bound`, as
-        :func:`gd_analyze.jobs.deploy.region_model` derives it); other models are
+        :func:`gd_analyze.simplify.deploy.region_model` derives it); other models are
         ignored.
 
     Notes

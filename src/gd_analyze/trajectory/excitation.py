@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..dynamics.regressor_kernels import regressor_columns_pullback
+from ..model.limits import acceleration_limits
 from ..symbolic.drive_regressor import (
     DRIVE_COLUMNS,
     IdentificationColumns,
@@ -45,7 +46,7 @@ from ..symbolic.drive_regressor import (
     identification_columns,
     identification_regressor,
 )
-from .planning import acceleration_limits, default_motion_range
+from .planning import default_motion_range
 from .trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -473,7 +474,7 @@ def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
     ----------
     robot : Robot
         The arm, with position, velocity and (or the default of
-        :func:`~gd_analyze.trajectory.planning.acceleration_limits`) acceleration limits.
+        :func:`~gd_analyze.model.limits.acceleration_limits`) acceleration limits.
     harmonics : int, optional
         K >= 2.
     wf : float, optional
@@ -583,7 +584,7 @@ class Excitation:
         The trajectory's bounds over all times (:func:`limit_bounds`), inside the limits.
     limits : dict
         ``q_min``, ``q_max``, ``qd_max``, ``qdd_max`` used, shape (n,) each, and
-        ``qdd_source`` (:func:`~gd_analyze.trajectory.planning.acceleration_limits`).
+        ``qdd_source`` (:func:`~gd_analyze.model.limits.acceleration_limits`).
     periods : int
         Periods of 2 pi / w_f in the duration.
     shrink : ndarray, shape (n,)
@@ -664,7 +665,7 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     robot : Robot
         The arm, with n joints, position limits (where infinite, -+pi or 0..0.2 m as in
         :func:`~gd_analyze.trajectory.planning.default_motion_range`), velocity limits and acceleration
-        limits (default :func:`~gd_analyze.trajectory.planning.acceleration_limits`).
+        limits (default :func:`~gd_analyze.model.limits.acceleration_limits`).
     duration : float, optional
         T [s] (:func:`excitation_timing`).
     harmonics : int, optional

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_path, file_sha256, read_regular
+from ..model.limits import acceleration_limits
 from .trajectory import Trajectory
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -28,9 +29,9 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..model.robot import Robot
 
-__all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS", "DEFAULT_QDD_PER_QD",
+__all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
-           "user_positions", "plan_quintic", "quintic_plan", "QuinticPlan", "CHUNK_SETPOINTS", "random_trajectories", "acceleration_limits",
+           "user_positions", "plan_quintic", "quintic_plan", "QuinticPlan", "CHUNK_SETPOINTS", "random_trajectories",
            "provenance_path", "write_provenance", "read_provenance", "provenance_mismatch",
            "joint_title", "check_velocity_limits",
            "PLACEHOLDER_QD"]
@@ -41,10 +42,6 @@ DEFAULT_START_DEG = (-60.0, 20.0, -150.0, -80.0, -60.0, -120.0)
 DEFAULT_GOAL_DEG = (60.0, 110.0, -60.0, 80.0, 60.0, 120.0)
 #: Set points of a planned trajectory, as in Sec. 3.4.1.
 DEFAULT_SETPOINTS = 31
-#: Where a robot gives no acceleration limit (a URDF has none), ``plan`` takes
-#: qdd_max_i = DEFAULT_QDD_PER_QD * qd_max_i [1/s]: full speed in 0.5 s. (The Panda's published
-#: limits give ratios of 2.9 to 7.7 s^-1, so the default is on the cautious side.)
-DEFAULT_QDD_PER_QD = 2.0
 #: A velocity limit above this [rad/s; m/s for a prismatic joint] is beyond physical sense for
 #: an arm's joint: a placeholder (e.g. URDF ``velocity="1000"``), warned about by ``plan``.
 PLACEHOLDER_QD = 100.0
@@ -115,8 +112,8 @@ def quintic_duration(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike) -> flo
     ----------
     robot : Robot
         The arm, with limits qd_max [rad/s] and qdd_max [rad/s^2], shape (n,); where qdd_max
-        is NaN (a URDF robot), :func:`acceleration_limits` supplies the default
-        ``DEFAULT_QDD_PER_QD * qd_max``.
+        is NaN (a URDF robot), :func:`gd_analyze.model.limits.acceleration_limits` supplies the
+        default ``DEFAULT_QDD_PER_QD * qd_max``.
     q_start, q_goal : array_like, shape (n,)
         Start and goal positions [rad].
 
@@ -446,54 +443,6 @@ def random_trajectories(robot: Robot, k: int, seed: int = 0,
         traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
         out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
     return out
-
-
-def acceleration_limits(robot: Robot, qdd_max: ArrayLike | None = None
-                        ) -> tuple[np.ndarray, str]:
-    """The acceleration limits a plan uses, and where they come from.
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm: velocity limits qd_max and acceleration limits qdd_max (NaN where unknown),
-        shape (n,) [rad/s, rad/s^2; m/s, m/s^2 for a prismatic joint].
-    qdd_max : array_like, shape (n,), optional
-        Limits given by the user, in SI units [rad/s^2 or m/s^2]; they replace the robot's.
-
-    Returns
-    -------
-    qdd_max : ndarray, shape (n,)
-        The limits [rad/s^2 or m/s^2].
-    source : str
-        ``"robot"``, ``"--qdd-max"``, or the default's rule and the joints it applies to.
-
-    Raises
-    ------
-    ValueError
-        If given limits do not have n entries or are not finite and positive, or a joint with
-        no acceleration limit has no finite velocity limit either.
-    """
-    n = robot.n
-    if qdd_max is not None:
-        qdd: np.ndarray = np.asarray(qdd_max, dtype=float).reshape(-1)
-        if qdd.shape != (n,):
-            raise ValueError(f"{qdd.size} acceleration limits for {n} joints")
-        if not (np.isfinite(qdd).all() and (qdd > 0).all()):
-            raise ValueError("acceleration limits must be finite and positive")
-        return qdd, "--qdd-max"
-    qdd = np.array(robot.qdd_max, dtype=float)
-    missing = ~np.isfinite(qdd)
-    if not missing.any():
-        return qdd, "robot"
-    qd = np.asarray(robot.qd_max, dtype=float)
-    bad = missing & ~(np.isfinite(qd) & (qd > 0))
-    if bad.any():
-        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has neither an acceleration nor a "
-                         "finite velocity limit")
-    qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
-    joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
-    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
-                 "gives no acceleration limits)")
 
 
 def provenance_path(csv_path: str | os.PathLike[str]) -> Path:

@@ -13,9 +13,9 @@ from conftest import SHIPPED
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.base_parameters import base_parameters
-from gd_analyze.jobs.deploy import region_model, robot_region
-from gd_analyze.jobs.recursive_ladder import recursive_ladder
 from gd_analyze.jobs.simplify import LADDER
+from gd_analyze.simplify.deploy import region_model, robot_region
+from gd_analyze.simplify.recursive_ladder import recursive_ladder
 from gd_analyze.symbolic.emit import python_function
 from gd_analyze.symbolic.recursive_model import recursive_model
 from gd_analyze.trajectory.trajectory import read_trajectory
@@ -114,7 +114,7 @@ def test_the_ladder_s_errors_are_measured_block_by_block(puma):
     import tracemalloc
 
     from gd_analyze.dynamics.base_parameters import random_states
-    from gd_analyze.jobs.recursive_ladder import _worst_errors
+    from gd_analyze.simplify.recursive_ladder import _worst_errors
     from gd_analyze.symbolic.recursive import recursive_program
 
     robot, base, states, _ = puma

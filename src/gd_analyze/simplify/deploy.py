@@ -4,7 +4,8 @@ trajectory.
 robot -> base parameters -> pruned recursive model within the budget over the joint-limit
 region or on the trajectory -> SimplifiedModel of the recursive form, with the exact recursive
 model's count beside it (:func:`build_recursive`). Which model is deployed beside the explicit
-ones is :mod:`.deployment`'s. Nothing here prints or writes files.
+ones is :mod:`gd_analyze.jobs.deployment`'s. Nothing here prints or writes files; what is kept
+between runs goes through a :class:`~gd_analyze.simplify.region_memo.Derivations`.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..cache import CacheWarning, entry_path
+from ..cache import CacheWarning
 from ..certify.certify import (
     JOINT_DIMS,
     METHOD,
@@ -38,18 +39,23 @@ from ..certify.region import (
 from ..certify.screen import proved_screen, screen_region
 from ..dynamics.base_parameters import base_parameters
 from ..errors import one_line
+from ..model.limits import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
-from ..simplify.budget import DEFAULT_TOLERANCE, Selection
-from ..simplify.guarantee import Guarantee
-from ..simplify.simplified import SimplifiedModel
-from ..store.certification_cache import read_search, search_key, write_search
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.pruning import prune_bounds, settle_restored, zero_parts
 from ..symbolic.recursive import recursive_program
 from ..symbolic.recursive_model import RecursiveModel, recursive_model
-from ..trajectory.planning import DEFAULT_QDD_PER_QD, acceleration_limits
-from .region_memo import REGION_SAMPLES, certified, region_magnitudes, region_values
-from .simplify import total_operations
+from .budget import DEFAULT_TOLERANCE, Selection
+from .guarantee import Guarantee
+from .region_memo import (
+    REGION_SAMPLES,
+    UNKEPT,
+    Derivations,
+    certified,
+    region_magnitudes,
+    region_values,
+)
+from .simplified import SimplifiedModel, total_operations
 
 if TYPE_CHECKING:
     from ..certify.region import Region, RegionLimits
@@ -98,7 +104,7 @@ def robot_region(robot: Robot, limits: RegionLimits | None = None
     -------
     region : Region or None
         The position and velocity limits, the acceleration limits of
-        :func:`gd_analyze.trajectory.planning.acceleration_limits` (the robot's, or the planner's
+        :func:`gd_analyze.model.limits.acceleration_limits` (the robot's, or the planner's
         default where it has none, flagged as assumed) unless the user gives them; None when a
         limit is missing.
     missing : str
@@ -154,7 +160,8 @@ def guarantee_region(robot: Robot, guarantee: str = "auto", limits: RegionLimits
 
 
 def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
-                 torque_floor: float = 0.0) -> tuple[RecursiveModel, Guarantee]:
+                 torque_floor: float = 0.0, derive: Derivations = UNKEPT
+                 ) -> tuple[RecursiveModel, Guarantee]:
     """The recursive model pruned on bounds proved over a joint-limit region.
 
     Parameters
@@ -169,6 +176,9 @@ def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: 
         EPS.
     torque_floor : float, optional
         [N m or N].
+    derive : Derivations, optional
+        Where the certification is kept between runs
+        (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
@@ -189,7 +199,7 @@ def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: 
     state; bounds by :func:`gd_analyze.certify.certify.certify` and
     :func:`gd_analyze.certify.certify.region_bound`.
     """
-    pb = certified(robot, base, region, torque_floor)
+    pb = certified(robot, base, region, torque_floor, derive)
     return _region_model(robot, base, region, tolerance, pb, _region_pruning(base, pb, robot,
                                                                             region, tolerance))
 
@@ -374,8 +384,8 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
                     ranking: Ranking | None = None, trajectory_sha256: str = "",
                     provenance: dict | None = None, region: Region | None = None,
                     sample_region: Region | None = None, region_missing: str = "",
-                    contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
-                    ) -> tuple[SimplifiedModel, Selection]:
+                    contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None,
+                    derive: Derivations = UNKEPT) -> tuple[SimplifiedModel, Selection]:
     """The pruned customized recursive Newton-Euler model within the budget.
 
     Parameters
@@ -409,7 +419,11 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     contributions : (BaseParameters, tuple of ndarray), optional
         The robot's base parameters and their
         :func:`gd_analyze.symbolic.pruning.contribution_peaks` on this trajectory, if the
-        caller computed them already (:func:`.peak_jobs.contribution_job`); computed here otherwise.
+        caller computed them already (:func:`gd_analyze.jobs.peak_jobs.contribution_job`);
+        computed here otherwise.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs
+        (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
@@ -433,11 +447,12 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
                                                        trajectory_sha256, sample_region,
                                                        region_missing))
     else:
-        found = region_search(robot, base, region, tolerance, torque_floor)
+        found = region_search(robot, base, region, tolerance, torque_floor, derive=derive)
         if found.screen is not None:    # no region model saves enough: the exact one built
             provenance = {**(provenance or {}), "region_screen": found.screen.to_dict()}
     if region is not None and found.screen is None and torque_floor > 0:
-        candidates = [found, _floor_zero_choice(robot, base, region, tolerance, torque_floor)]
+        candidates = [found, _floor_zero_choice(robot, base, region, tolerance, torque_floor,
+                                                derive)]
     else:
         candidates = [found]
     models = [recursive_simplified(robot, c.rec, base, tolerance=tolerance,
@@ -472,7 +487,7 @@ def recursive_selection(model: SimplifiedModel) -> Selection:
                      element_bound=np.full(model.robot.n, np.nan))
 
 
-def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
+def _floor_zero_choice(robot, base, region, tolerance, torque_floor, derive):
     """The pairs the search drops without a torque floor, proved under the floor's
     certification (a :class:`RegionSearch`), or None if they do not fit.
 
@@ -481,8 +496,9 @@ def _floor_zero_choice(robot, base, region, tolerance, torque_floor):
     later for the proof that D_s is positive definite), so a floor is never to cost more than
     this choice.
     """
-    rec0 = region_search(robot, base, region, tolerance, sampled=False, screen=False).rec
-    pb = certified(robot, base, region, torque_floor)
+    rec0 = region_search(robot, base, region, tolerance, sampled=False, screen=False,
+                         derive=derive).rec
+    pb = certified(robot, base, region, torque_floor, derive)
     try:
         pr = _fitting(np.asarray(rec0.dropped, bool),
                       lambda c: _region_pruning(base, pb, robot, region, tolerance, c))
@@ -601,13 +617,12 @@ class RegionSearch:
 
 
 def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
-                  torque_floor: float = 0.0, sampled: bool = True, screen: bool = True
-                  ) -> RegionSearch:
+                  torque_floor: float = 0.0, sampled: bool = True, screen: bool = True,
+                  derive: Derivations = UNKEPT) -> RegionSearch:
     """The region model at one EPS as the main job deploys it: the exact recursive model
     where the sampled pre-screen finds that no region model could save enough
     (:func:`screened_exact`), else the model searched (:func:`region_model`), its searches
-    taken from the derivation cache where an entry passes its checks
-    (:mod:`gd_analyze.store.certification_cache`); and the exact recursive model again where
+    taken from ``derive``'s store where an entry passes its checks; and the exact recursive model again where
     the pairs searched under the proved bounds save less than
     :data:`gd_analyze.certify.screen.MIN_SAVING` of its operations by the quick counts
     (:func:`gd_analyze.certify.screen.proved_screen`; with ``sampled``, those of the pairs
@@ -630,6 +645,9 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
         not sampled (the tolerance ladder's rungs).
     screen : bool, optional
         False: the model is searched and built without either screen.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs
+        (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
@@ -637,18 +655,18 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
 
     Notes
     -----
-    A search in the derivation cache was made by a run whose screen chose to search: the
+    A search kept by ``derive`` was made by a run whose screen chose to search: the
     screen only chooses between two sound paths, so it is not run again (the entry itself is
     checked: its pairs must pass the budget, its forms only choose among programs that compute
     the same torques). A bad entry is ignored with a warning.
     """
-    key = search_key(robot, region, tolerance, torque_floor, REGION_SAMPLES)
-    found = read_search(key, robot.n, base.rank)
+    found, where = derive.read_search(robot, region, tolerance, torque_floor, REGION_SAMPLES,
+                                      robot.n, base.rank)
     exact = None if isinstance(found, dict) or not screen else screened_exact(
         robot, base, region, tolerance, torque_floor)
     if exact is not None:
         return RegionSearch(exact[0], exact[1], screen=exact[2])
-    pb = certified(robot, base, region, torque_floor)
+    pb = certified(robot, base, region, torque_floor, derive)
     if isinstance(found, dict):
         try:
             pr = _region_pruning(base, pb, robot, region, tolerance,
@@ -664,14 +682,15 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
             rec, guarantee = _region_model(robot, base, region, tolerance, pb, pr, sampled)
             return RegionSearch(rec, guarantee, forms)
     if isinstance(found, str):
-        warnings.warn(one_line(f"{entry_path(key)}: derivation cache entry {found}: "
+        warnings.warn(one_line(f"{where}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
     pruned = _region_pruning(base, pb, robot, region, tolerance)
     pr = pruned[0]
 
     def store(exact_forms, pruned_forms):
-        write_search(key, pr.dropped, pr.whole, exact_forms, pruned_forms)
+        derive.write_search(robot, region, tolerance, torque_floor, REGION_SAMPLES, pr.dropped,
+                            pr.whole, exact_forms, pruned_forms)
     if screen:
         proved = _proved_exact(robot, base, region, tolerance, pb, pr.dropped, sampled)
         if proved is not None:
@@ -767,8 +786,8 @@ def _exact_model(robot, base, region, tolerance, found):
 def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,
                      region: Region | None = None, sample_region: Region | None = None,
                      region_missing: str = "",
-                     contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None
-                     ) -> Callable[..., SimplifiedModel]:
+                     contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None,
+                     derive: Derivations = UNKEPT) -> Callable[..., SimplifiedModel]:
     """A ``rebuild`` for :func:`gd_analyze.certify.positive_definite.with_inertia_check`:
     the recursive model with exactly the given pairs dropped, its bound, guarantee (bound and
     sampled error) and cost derived again for them.
@@ -785,6 +804,9 @@ def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarra
     region_missing : str, optional
     contributions : (BaseParameters, tuple of ndarray), optional
         As :func:`build_recursive` takes them.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs
+        (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
@@ -803,7 +825,7 @@ def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarra
         base = model.recursive.base(robot) if contributions is None else contributions[0]
         dropped = settle_restored(robot, base, model.recursive.dropped, dropped)
         if region is not None:
-            pb = certified(robot, base, region, floor)
+            pb = certified(robot, base, region, floor, derive)
             rec, guarantee = _region_model(robot, base, region, tol, pb, _fitting(
                 dropped, lambda c: _region_pruning(base, pb, robot, region, tol, c)))
         else:

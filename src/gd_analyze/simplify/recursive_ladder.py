@@ -19,6 +19,7 @@ from ..symbolic.emit import python_function
 from ..symbolic.recursive import recursive_program
 from ..symbolic.recursive_model import recursive_model
 from .deploy import region_search
+from .region_memo import UNKEPT, Derivations
 
 if TYPE_CHECKING:
     from ..certify.region import Region
@@ -39,8 +40,8 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
                      region: Region | None = None,
                      contributions: tuple[np.ndarray, ...] | None = None,
                      deployed: SimplifiedModel | None = None,
-                     pool: concurrent.futures.Executor | None = None
-                     ) -> list[dict] | concurrent.futures.Future:
+                     pool: concurrent.futures.Executor | None = None,
+                     derive: Derivations = UNKEPT) -> list[dict] | concurrent.futures.Future:
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -57,21 +58,24 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
         TAU [N m or N].
     region : Region, optional
         Prune on bounds proved over this joint-limit region, as
-        :func:`gd_analyze.jobs.deploy.build_recursive` does
-        (:func:`gd_analyze.jobs.deploy.region_search`: the exact model where the sampled
+        :func:`gd_analyze.simplify.deploy.build_recursive` does
+        (:func:`gd_analyze.simplify.deploy.region_search`: the exact model where the sampled
         pre-screen finds that no region model could save enough at that EPS, and the searches
-        kept in the derivation cache); None: prune on the trajectory's peaks.
+        kept by ``derive``); None: prune on the trajectory's peaks.
     contributions : tuple of ndarray, optional
         The pairs' peaks on the trajectory
         (:func:`gd_analyze.symbolic.pruning.contribution_peaks`), when the caller has them.
     deployed : SimplifiedModel, optional
         The recursive model built at one of the tolerances
-        (:func:`gd_analyze.jobs.deploy.recursive_simplified`): its rung takes its program
+        (:func:`gd_analyze.simplify.deploy.recursive_simplified`): its rung takes its program
         instead of building it again, and every rung its exact program.
     pool : concurrent.futures.Executor, optional
         Where the rungs' errors are measured over the trajectory (numpy array code, which
         releases the GIL), beside the caller's next work; the rungs' models, programs and
         counts are built before, in the caller's thread. Then a Future of the list is returned.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs
+        (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
@@ -91,7 +95,7 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
     Notes
     -----
     Fu, Gonzalez & Lee (1987), Algorithm 3.1 on the base parameters (Khalil & Kleinfinger
-    1987; Gautier 1990), pruned as :func:`gd_analyze.jobs.deploy.build_recursive`; the
+    1987; Gautier 1990), pruned as :func:`gd_analyze.simplify.deploy.build_recursive`; the
     error bound is the triangle inequality over the dropped pairs.
     """
 
@@ -105,7 +109,8 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
             rec, program = deployed.recursive, deployed.choice_cache[0]  # type: ignore[index]  # a deployed model has its choice
         else:
             if region is not None:      # as the main job would deploy it at this EPS
-                found = region_search(robot, base, region, eps, torque_floor, sampled=False)
+                found = region_search(robot, base, region, eps, torque_floor, sampled=False,
+                                      derive=derive)
                 rec, forms, store = found.rec, found.forms, found.store
             else:
                 rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,

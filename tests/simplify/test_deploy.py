@@ -210,9 +210,9 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
     """Under a region guarantee the exact explicit model keeps every term, also those whose
     peak is 0 on the trajectory it was built on (joint 6 at rest there, which EPS = 0 on its
     peaks may drop), and equals rnea at random states of the region."""
-    from gd_analyze.jobs.deploy import region_model, robot_region
     from gd_analyze.jobs.deployment import exact_explicit_model
     from gd_analyze.jobs.simplify import build_model, collect_peaks
+    from gd_analyze.simplify.deploy import region_model, robot_region
     from gd_analyze.store.explicit_cache import explicit_terms
     from gd_analyze.trajectory.planning import default_motion, plan_quintic
 
@@ -302,8 +302,8 @@ def test_a_trajectory_model_s_sampled_error_is_pinocchios_over_the_samples():
     state where it was found."""
     import itertools
 
-    from gd_analyze.jobs.deploy import build_recursive, robot_region
-    from gd_analyze.jobs.region_memo import region_values
+    from gd_analyze.simplify.deploy import build_recursive, robot_region
+    from gd_analyze.simplify.region_memo import region_values
 
     puma = load_robot("puma560")
     traj = read_trajectory(SHIPPED, 6)

@@ -1,7 +1,7 @@
 """The region's certification and samples, each computed once per process.
 
-A certification (:func:`gd_analyze.certify.certify.certify`, kept in the derivation
-cache) and the region's samples (:func:`gd_analyze.certify.region.region_samples`) are
+A certification (:func:`gd_analyze.certify.certify.certify`, kept between runs where the
+caller gives a store: :class:`Derivations`) and the region's samples (:func:`gd_analyze.certify.region.region_samples`) are
 pure functions of the arm, the region, the torque floor and :data:`REGION_SAMPLES`, so a second
 analysis of the same arm in one session (a payload sweep, a sweep after the main job, a test
 run) does not repeat them. A trajectory model's sampled error needs only the samples, not the
@@ -12,15 +12,21 @@ pre-screen reads afterwards.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..certify.certify import pair_magnitudes_at
-from ..certify.region import channel_values, region_samples, sample_positions
-from ..simplify.simplified import json_safe
-from ..store.certification_cache import certification
-from ..store.model_trust import remember
+from ..certify.certify import certify, pair_magnitudes_at
+from ..certify.region import (
+    REFINE_JOINTS,
+    channel_values,
+    region_samples,
+    region_scale,
+    sample_positions,
+)
+from .simplified import json_safe
 
 if TYPE_CHECKING:                       # for the type hints only
     from ..certify.certify import PairBounds
@@ -28,7 +34,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..dynamics.base_parameters import BaseParameters
     from ..model.robot import Robot
 
-__all__ = ["REGION_SAMPLES", "certified", "region_values", "region_magnitudes"]
+__all__ = ["REGION_SAMPLES", "Derivations", "UNKEPT", "fresh_certification", "certified",
+           "region_values", "region_magnitudes"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -66,10 +73,90 @@ def _region_key(robot, region, torque_floor):
             np.array([torque_floor, REGION_SAMPLES], float)))).hexdigest()
 
 
+def fresh_certification(robot: Robot, base: BaseParameters, region: Region,
+                        torque_floor: float = 0.0, samples: int = 1000, seed: int = 0,
+                        values: tuple | None = None, drawn: tuple | None = None
+                        ) -> PairBounds:
+    """:func:`gd_analyze.certify.certify.certify` on samples the caller may have drawn.
+
+    Parameters
+    ----------
+    robot, base, region, torque_floor, samples, seed
+        As :func:`gd_analyze.certify.certify.certify` takes them: the arm, its b base
+        parameters, the joint-limit region, the least scale [N m or N], the number of
+        uniform position samples and their seed.
+    values : tuple, optional
+        Those samples already drawn (:func:`gd_analyze.certify.region.region_samples`),
+        optionally followed by their sampled peaks.
+    drawn : tuple, optional
+        Without ``values``: the positions (B, n), their channel values and their sampled
+        peaks (b, 3, n), completed here with the scale found over them
+        (:func:`gd_analyze.certify.region.region_scale`, as
+        :func:`gd_analyze.certify.region.region_samples` finds it).
+
+    Returns
+    -------
+    PairBounds
+    """
+    if values is None and drawn is not None:
+        cols = np.flatnonzero(base.independent.reshape(-1))
+        values = (drawn[0], drawn[1],
+                  *region_scale(robot, region, cols, np.asarray(base.beta, float),
+                                refine=int(robot.n <= REFINE_JOINTS), values=drawn[:2]),
+                  drawn[2])
+    return certify(robot, base, region, torque_floor=torque_floor, samples=samples, seed=seed,
+                   values=values)
+
+
+def _no_search(robot, region, tolerance, torque_floor, samples, n, b):
+    return None, ""
+
+
+def _no_keeping(*args):
+    return None
+
+
+@dataclass(frozen=True)
+class Derivations:
+    """Where a region's certification and the searches under it are kept between runs.
+
+    The model building here is pure; the shell gives it a store (the derivation cache,
+    :data:`gd_analyze.store.certification_cache.DERIVATIONS`) or none (:data:`UNKEPT`:
+    everything computed afresh, once per process).
+
+    Attributes
+    ----------
+    certification : callable
+        ``certification(robot, base, region, torque_floor, samples, values, drawn)`` ->
+        PairBounds: :func:`fresh_certification`'s result, from a store where an entry passes
+        its checks.
+    read_search : callable
+        ``read_search(robot, region, tolerance, torque_floor, samples, n, b)`` -> ``(found,
+        where)``: a search's stored outcome (a dict of ``dropped`` (b, 3), ``whole`` (b,),
+        ``exact_forms`` and ``pruned_forms``), a reason (str) where an entry exists but is
+        not used, or None; ``where`` names the entry for a warning.
+    write_search : callable
+        ``write_search(robot, region, tolerance, torque_floor, samples, dropped, whole,
+        exact_forms, pruned_forms)``: keep a search's outcome.
+    made : callable
+        ``made(robot, region, torque_floor, samples, pb)``: told of each certification made
+        or read in this process.
+    """
+
+    certification: Callable[..., PairBounds] = fresh_certification
+    read_search: Callable[..., tuple[Any, str]] = _no_search
+    write_search: Callable[..., None] = _no_keeping
+    made: Callable[..., None] = _no_keeping
+
+
+#: Nothing kept between runs.
+UNKEPT = Derivations()
+
+
 def certified(robot: Robot, base: BaseParameters, region: Region,
-              torque_floor: float = 0.0) -> PairBounds:
+              torque_floor: float = 0.0, derive: Derivations = UNKEPT) -> PairBounds:
     """:func:`gd_analyze.certify.certify.certify` of an arm, once per process, and
-    kept in the derivation cache (:func:`gd_analyze.store.certification_cache.certification`).
+    kept between runs by ``derive``.
 
     Parameters
     ----------
@@ -78,6 +165,8 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
     region : Region
     torque_floor : float, optional
         [N m or N].
+    derive : Derivations, optional
+        Where certifications are kept between runs (default: nowhere).
 
     Returns
     -------
@@ -101,10 +190,10 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
             magnitudes = _keep(_MAGNITUDES, key, lambda: pair_magnitudes_at(
                 V, np.asarray(base.beta, float), region.qd_max, region.qdd_max))
             fresh = (q, V, magnitudes.max(axis=0))
-        pb = certification(robot, base, region, torque_floor=torque_floor,
-                           samples=REGION_SAMPLES, values=drawn, drawn=fresh)
-        remember(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here is
-        return pb                                                  # checked without it again
+        pb = derive.certification(robot, base, region, torque_floor=torque_floor,
+                                  samples=REGION_SAMPLES, values=drawn, drawn=fresh)
+        derive.made(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here
+        return pb                                       # is checked without it again
     return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)
 
 

@@ -1,0 +1,45 @@
+"""The derivation cache as the store of the model building: certifications and searches.
+
+The model building (:mod:`gd_analyze.simplify.deploy`) is pure and keeps nothing between runs
+itself; the jobs give it :data:`DERIVATIONS`, which reads and writes the region's
+certification (:func:`.certification_cache.certification`, each entry checked before it is
+used) and the searches under it (:func:`.certification_cache.read_search`,
+:func:`.certification_cache.write_search`), and notes each certification for the checks of a
+model file built in the same process (:func:`.model_trust.remember`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..cache import entry_path
+from ..simplify.region_memo import Derivations
+from .certification_cache import certification, read_search, search_key, write_search
+from .model_trust import remember
+
+if TYPE_CHECKING:
+    from ..certify.region import Region
+    from ..model.robot import Robot
+
+__all__ = ["DERIVATIONS"]
+
+
+def _read(robot: Robot, region: Region, tolerance: float, torque_floor: float, samples: int,
+          n: int, b: int) -> tuple[Any, str]:
+    key = search_key(robot, region, tolerance, torque_floor, samples)
+    return read_search(key, n, b), str(entry_path(key))
+
+
+def _write(robot: Robot, region: Region, tolerance: float, torque_floor: float, samples: int,
+           dropped: np.ndarray, whole: np.ndarray, exact_forms: Sequence[str],
+           pruned_forms: Sequence[str] | None) -> None:
+    write_search(search_key(robot, region, tolerance, torque_floor, samples), dropped, whole,
+                 exact_forms, pruned_forms)
+
+
+#: The derivation cache (:mod:`gd_analyze.cache`; off with ``GD_ANALYZE_NO_CACHE``).
+DERIVATIONS = Derivations(certification=certification, read_search=_read, write_search=_write,
+                          made=remember)
