@@ -26,8 +26,8 @@ from gd_analyze import load_robot
 from gd_analyze.dynamics.dalembert import gd_terms
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.jobs.simplified_dataset import cost_rows
-from gd_analyze.jobs.simplify import LADDER, build_model, collect_peaks
 from gd_analyze.ranking.ranking import rank_dominance
+from gd_analyze.simplify.explicit_model import LADDER, build_model, collect_peaks
 from gd_analyze.store.explicit_cache import explicit_terms
 from gd_analyze.trajectory.planning import random_trajectories
 from gd_analyze.trajectory.trajectory import read_trajectory

@@ -10,7 +10,7 @@ from conftest import SHIPPED, golden_run
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.jobs.simplify import sweep_model
+from gd_analyze.jobs.sweep_explicit import sweep_model
 from gd_analyze.store.model_file import load_model
 from gd_analyze.trajectory.planning import random_trajectories
 from gd_analyze.trajectory.trajectory import read_trajectory
@@ -151,7 +151,7 @@ def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
 def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
     """The per-trajectory errors of a sweep, computed on all states at once in chunks that
     cut through trajectories, equal the errors against Pinocchio's rnea on each alone."""
-    import gd_analyze.jobs.simplify as simplify
+    import gd_analyze.jobs.sweep_explicit as simplify
 
     robot = load_robot("puma560")
     trajs = random_trajectories(robot, 5, seed=11)
@@ -217,7 +217,7 @@ def test_ladder_is_skipped_when_the_explicit_model_cannot_pay(tmp_path, monkeypa
     built."""
     import xarray as xr
 
-    import gd_analyze.jobs.simplify as simplify
+    import gd_analyze.simplify.explicit_model as simplify
 
     monkeypatch.setattr(simplify, "LADDER_COST_LIMIT", 0.5)
     assert main(["puma560", str(SHIPPED), "-o", str(tmp_path / "skip"), "-q",

@@ -211,8 +211,8 @@ def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
     peak is 0 on the trajectory it was built on (joint 6 at rest there, which EPS = 0 on its
     peaks may drop), and equals rnea at random states of the region."""
     from gd_analyze.jobs.deployment import exact_explicit_model
-    from gd_analyze.jobs.simplify import build_model, collect_peaks
     from gd_analyze.simplify.deploy import region_model, robot_region
+    from gd_analyze.simplify.explicit_model import build_model, collect_peaks
     from gd_analyze.store.explicit_cache import explicit_terms
     from gd_analyze.trajectory.planning import default_motion, plan_quintic
 

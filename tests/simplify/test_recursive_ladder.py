@@ -13,8 +13,8 @@ from conftest import SHIPPED
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.base_parameters import base_parameters
-from gd_analyze.jobs.simplify import LADDER
 from gd_analyze.simplify.deploy import region_model, robot_region
+from gd_analyze.simplify.explicit_model import LADDER
 from gd_analyze.simplify.recursive_ladder import recursive_ladder
 from gd_analyze.symbolic.emit import python_function
 from gd_analyze.symbolic.recursive_model import recursive_model

@@ -229,8 +229,8 @@ def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_p
     from gd_analyze import load_robot
     from gd_analyze.dynamics.base_parameters import base_parameters
     from gd_analyze.jobs.deployment import exact_explicit_model
-    from gd_analyze.jobs.simplify import build_model, collect_peaks
     from gd_analyze.simplify.deploy import region_model, robot_region
+    from gd_analyze.simplify.explicit_model import build_model, collect_peaks
     from gd_analyze.store.explicit_cache import explicit_terms
     from gd_analyze.store.model_file import save_model
 

@@ -82,13 +82,13 @@ import numpy as np
 from ..dynamics.dalembert import gd_terms
 from ..dynamics.opcount import operation_counts
 from ..ranking.ranking import ROUND_OFF
+from ..simplify.explicit_model import full_program
 from ..simplify.simplified import choice_masks, json_safe
 from ..store import explicit_cache
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
 from .evaluate import coverage, model_torque
-from .simplify import full_program
 from .tracking import (
     CONTROLLER_DESCRIPTIONS,
     CONTROLLERS,

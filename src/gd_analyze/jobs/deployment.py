@@ -23,14 +23,7 @@ from ..simplify.deploy import (
     recursive_selection,
     restored_rebuild,
 )
-from ..simplify.guarantee import Guarantee
-from ..simplify.recursive_ladder import recursive_ladder
-from ..simplify.simplified import total_operations
-from ..store import explicit_cache
-from ..store.derivations import DERIVATIONS
-from ..store.names import Attr
-from .simplified_dataset import cost_rows, simplified_dataset
-from .simplify import (
+from ..simplify.explicit_model import (
     LADDER,
     build_model,
     collect_peaks,
@@ -39,6 +32,13 @@ from .simplify import (
     ladder,
     ladder_skipped,
 )
+from ..simplify.guarantee import Guarantee
+from ..simplify.recursive_ladder import recursive_ladder
+from ..simplify.simplified import total_operations
+from ..store import explicit_cache
+from ..store.derivations import DERIVATIONS
+from ..store.names import Attr
+from .simplified_dataset import cost_rows, simplified_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr

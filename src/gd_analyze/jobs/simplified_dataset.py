@@ -55,7 +55,7 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
     other : SimplifiedModel, optional
         The model of the other rule, side by side.
     ladder_rows : list of dict, optional
-        From :func:`~gd_analyze.jobs.simplify.ladder`, or from
+        From :func:`~gd_analyze.simplify.explicit_model.ladder`, or from
         :func:`~gd_analyze.simplify.recursive_ladder.recursive_ladder` for a model of the
         recursive form.
     formulation_counts : dict, optional
@@ -287,7 +287,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
         The emitted source files.
     other_error : dict, optional
         The other model's error along the trajectory
-        (:func:`~gd_analyze.jobs.simplify.validate`).
+        (:func:`~gd_analyze.simplify.explicit_model.validate`).
     full_terms : Term, optional
         All terms of the full explicit model: with an explicit ``other``, the attributes
         ``full_harmonics``, ``full_coefficients``, ``other_rule_harmonics`` and

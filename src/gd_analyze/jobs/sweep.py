@@ -53,7 +53,7 @@ from ..symbolic.pruning import stacked_peaks
 from .analyze import analysis_pass
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
-from .simplify import per_trajectory_errors
+from .sweep_explicit import per_trajectory_errors
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -287,7 +287,7 @@ def _errors_task(packed, trajectories):
 
 class WorkerErrors:
     """A merged model's errors along many trajectories, measured by the workers of a dask
-    cluster: :func:`gd_analyze.jobs.simplify.per_trajectory_errors` in tasks over
+    cluster: :func:`gd_analyze.jobs.sweep_explicit.per_trajectory_errors` in tasks over
     batches of trajectories, each returning four small arrays.
 
     Parameters
@@ -308,7 +308,7 @@ class WorkerErrors:
     Notes
     -----
     Pass it as ``errors`` to :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`
-    (:func:`gd_analyze.jobs.simplify.sweep_validation`). Each task carries the model,
+    (:func:`gd_analyze.jobs.sweep_explicit.sweep_validation`). Each task carries the model,
     its reference and its batch, so that a task whose worker is lost runs again on another;
     a failure of the cluster raises :class:`~.dask_cluster.ClusterLost`.
     """
@@ -322,7 +322,7 @@ class WorkerErrors:
     def __call__(self, model: SimplifiedModel, trajectories: Sequence[Trajectory],
                  reference: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None
                  = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:func:`~gd_analyze.jobs.simplify.per_trajectory_errors` of all
+        """:func:`~gd_analyze.jobs.sweep_explicit.per_trajectory_errors` of all
         ``trajectories`` (K of them), in the same order: peak |tau_s - tau|, the sum of its
         squares, peak |tau| (K, n) [N m, N^2 m^2, N m] and the set points (K,)."""
         trajectories = list(trajectories)

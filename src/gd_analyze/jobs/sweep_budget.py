@@ -8,7 +8,7 @@ together (:func:`gd_analyze.symbolic.recursive_model.sweep_recursive_model`), fr
 contributions that the dask workers computed per trajectory
 (:func:`gd_analyze.jobs.sweep.run_sweep` with ``recursive_peaks=True``), each taken
 relative to its own trajectory's scale, so that the budget holds on every one of them. The
-explicit model (:func:`gd_analyze.jobs.simplify.explicit_sweep_model`) is derived only where
+explicit model (:func:`gd_analyze.jobs.sweep_explicit.explicit_sweep_model`) is derived only where
 its expansion is estimated cheap (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`),
 as the main job does, and deployed only where it counts fewer operations
 (:func:`budget_sweep_model`). The deployed model never costs more than the exact recursive
@@ -41,6 +41,7 @@ from ..simplify.deploy import (
     restored_rebuild,
     trajectory_guarantee,
 )
+from ..simplify.explicit_model import full_program, full_torque
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
 from ..store.derivations import DERIVATIONS
@@ -53,13 +54,7 @@ from .deployment import choose_form, exact_explicit_model, inertia_checked, recu
 from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
 from .simplified_dataset import sweep_choices
-from .simplify import (
-    explicit_sweep_model,
-    full_program,
-    full_torque,
-    sweep_validation,
-    trajectories_sha256,
-)
+from .sweep_explicit import explicit_sweep_model, sweep_validation, trajectories_sha256
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -67,9 +62,10 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..certify.region import RegionLimits
     from ..model.robot import Robot
+    from ..simplify.explicit_model import TorqueFunction
     from ..simplify.simplified import SimplifiedModel
     from ..trajectory.trajectory import Trajectory
-    from .simplify import TorqueFunction, TrajectoryErrors
+    from .sweep_explicit import TrajectoryErrors
 
 __all__ = ["pair_peaks", "budget_sweep_model", "budget_region_model"]
 
@@ -152,7 +148,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         earlier (e.g. while the workers ranked the trajectories); it is then only measured.
     errors : callable, optional
         How the model's errors along the trajectories are measured
-        (:func:`gd_analyze.jobs.simplify.sweep_validation`; e.g. by the workers of a
+        (:func:`gd_analyze.jobs.sweep_explicit.sweep_validation`; e.g. by the workers of a
         dask cluster, :class:`gd_analyze.jobs.sweep.WorkerErrors`).
 
     Returns
@@ -167,7 +163,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         than the exact recursive model; its guarantee of kind ``"trajectory"``
         (scale: the largest scale_{t,i} over the trajectories). ``costs`` holds the counts
         of the candidates, the exact recursive model and Newton-Euler; ``validation`` as
-        :func:`gd_analyze.jobs.simplify.sweep_validation`, ``per_trajectory["bound"]``
+        :func:`gd_analyze.jobs.sweep_explicit.sweep_validation`, ``per_trajectory["bound"]``
         the bound on each trajectory [N m] and ``per_trajectory["scale"]`` the scale it is
         relative to (s_i over the region for a region model) [N m]; a region model's
         ``per_trajectory["covered"]`` and ``["coverage"]`` say whether each swept trajectory

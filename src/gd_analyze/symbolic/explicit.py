@@ -350,7 +350,7 @@ class Term:
         """A memo of the straight-line programs built from subsets of these terms.
 
         A dict owned by this value (the terms never change), keyed by the caller with the
-        SHA-256 of the subset (:func:`gd_analyze.jobs.simplify.full_program`).
+        SHA-256 of the subset (:func:`gd_analyze.simplify.explicit_model.full_program`).
         """
         return {}
 
