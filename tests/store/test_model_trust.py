@@ -228,9 +228,9 @@ def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_p
     coefficient edited it no longer is the full explicit model, and its bound 0 is refused."""
     from gd_analyze import load_robot
     from gd_analyze.dynamics.base_parameters import base_parameters
-    from gd_analyze.jobs.deployment import exact_explicit_model
     from gd_analyze.simplify.deploy import region_model, robot_region
     from gd_analyze.simplify.explicit_model import build_model, collect_peaks
+    from gd_analyze.simplify.form_choice import exact_explicit_model
     from gd_analyze.store.explicit_cache import explicit_terms
     from gd_analyze.store.model_file import save_model
 
@@ -241,7 +241,7 @@ def test_exact_explicit_region_model_is_read_and_its_terms_checked(models, tmp_p
                           tolerance=0.0)
     region, _ = robot_region(puma)
     _, guarantee = region_model(puma, base_parameters(puma), region, 0.01)
-    save_model(exact_explicit_model(full, guarantee, 0.01), tmp_path / "exact.json")
+    save_model(exact_explicit_model(full, terms, guarantee, 0.01), tmp_path / "exact.json")
     model = gd_analyze.load_model(tmp_path / "exact.json")
     assert model.guarantee.kind == "region" and model.bound == [0.0] * 6
     doc = json.loads((tmp_path / "exact.json").read_text())

@@ -42,6 +42,12 @@ from ..simplify.deploy import (
     trajectory_guarantee,
 )
 from ..simplify.explicit_model import full_program, full_torque
+from ..simplify.form_choice import (
+    choose_form,
+    exact_explicit_model,
+    inertia_checked,
+    recursive_costs,
+)
 from ..simplify.guarantee import Guarantee
 from ..store import explicit_cache
 from ..store.derivations import DERIVATIONS
@@ -50,7 +56,6 @@ from ..store.names import SweepVar as SV
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import dropped_peaks, settle_restored
 from ..symbolic.recursive_model import sweep_recursive_model
-from .deployment import choose_form, exact_explicit_model, inertia_checked, recursive_costs
 from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
 from .simplified_dataset import sweep_choices
@@ -282,9 +287,9 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
         without the pre-screen, its claim kept as proved in this process,
         :func:`gd_analyze.store.model_trust.remember_claim`; its cost never above the exact
         recursive model's) or the exact explicit model
-        (:func:`gd_analyze.jobs.deployment.exact_explicit_model`) as
-        :func:`gd_analyze.jobs.deployment.choose_form` decides it over the region, its
-        inertia check done (:func:`gd_analyze.jobs.deployment.inertia_checked`),
+        (:func:`gd_analyze.simplify.form_choice.exact_explicit_model`) as
+        :func:`gd_analyze.simplify.form_choice.choose_form` decides it over the region, its
+        inertia check done (:func:`gd_analyze.simplify.form_choice.inertia_checked`),
         ``validation`` empty; and the reference tau_full(q, qd, qdd) its errors are measured
         against (the full explicit model for an explicit model, else None: the G-D terms).
         None where the guarantee is on the trajectories (that model is pruned on the
@@ -324,7 +329,7 @@ def _region_merged(robot, trajectories, region, tolerance, torque_floor, provena
     model, reference = first, None              # the G-D terms, D qdd + h + c
     if choice.form == "exact explicit":
         full = explicit_sweep_model(robot, trajectories, 0.0, torque_floor, provenance)[0]
-        model = exact_explicit_model(full, first.guarantee,  # type: ignore[arg-type]  # a region model's
+        model = exact_explicit_model(full, terms, first.guarantee,  # type: ignore[arg-type]  # a region model's
                                      tolerance, choice.why)
         reference = full_torque(robot, terms)
     model = dataclasses.replace(model, costs=costs,

@@ -1,0 +1,75 @@
+"""Which form of the simplified model is deployed, and the exact explicit model.
+
+Oracles: Pinocchio's rnea (the exact explicit model's torques at random states of the region)
+and the operation counts given to the decision.
+"""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from gd_analyze import load_robot
+from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.simplify.deploy import region_model, robot_region
+from gd_analyze.simplify.explicit_model import build_model, collect_peaks
+from gd_analyze.simplify.form_choice import choose_form, exact_explicit_model
+from gd_analyze.store.explicit_cache import explicit_terms
+from gd_analyze.trajectory.planning import default_motion, plan_quintic
+
+
+def _rnea(robot, q, qd, qdd):
+    model = pinocchio_model(robot)
+    data = model.createData()
+    return np.array([pin.rnea(model, data, *x).copy() for x in zip(q, qd, qdd)])
+
+
+def test_the_exact_explicit_model_keeps_terms_idle_on_its_trajectory():
+    """Under a region guarantee the exact explicit model keeps every term, also those whose
+    peak is 0 on the trajectory it was built on (joint 6 at rest there, which EPS = 0 on its
+    peaks may drop), and equals rnea at random states of the region."""
+
+    puma = load_robot("puma560")
+    tr = plan_quintic(puma, *default_motion(puma))
+    q, qd, qdd = tr.q.copy(), tr.qd.copy(), tr.qdd.copy()
+    q[:, 5], qd[:, 5], qdd[:, 5] = 0.3, 0.0, 0.0
+    terms, _ = explicit_terms(puma)
+    full, _ = build_model(puma, terms, collect_peaks(puma, terms, q, qd, qdd), tolerance=0.0)
+    region, _ = robot_region(puma)
+    _, guarantee = region_model(puma, base_parameters(puma), region, 0.01)
+    model = exact_explicit_model(full, terms, guarantee, 0.01)
+    rng = np.random.default_rng(4)
+    states = (rng.uniform(region.q_min, region.q_max, (200, 6)),
+              rng.uniform(-1, 1, (200, 6)) * region.qd_max,
+              rng.uniform(-1, 1, (200, 6)) * region.qdd_max)
+    ref = _rnea(puma, *states)
+    scale = np.asarray(guarantee.scale)
+    assert len(full.terms) < len(terms) and len(model.terms) == len(terms)
+    assert np.all(np.abs(model.torque(*states) - ref).max(axis=0) <= 1e-9 * scale)
+    assert model.bound == [0.0] * 6 and set(model.choices.values()) == {"both"}
+
+
+def _cost(total):
+    return {"multiplications": total, "additions": 0}
+
+
+@pytest.mark.parametrize("rule, form, proved, rec, ex, full, expected", [
+    ("chapter", "cheapest", False, 100, 900, 900, "explicit"),
+    ("budget", "explicit", True, 100, 900, 900, "explicit"),        # pruned, on the trajectory
+    ("budget", "explicit", True, 100, None, 900, "exact explicit"),  # a sweep over the region
+    ("budget", "cheapest", False, 100, 99, 50, "explicit"),
+    ("budget", "cheapest", False, 100, 100, 50, "recursive"),        # a tie: the recursive one
+    ("budget", "cheapest", True, 100, 10, 99, "exact explicit"),
+    ("budget", "cheapest", True, 100, 10, 100, "recursive"),
+    ("budget", "recursive", False, 100, 10, 10, "recursive"),
+    ("budget", "cheapest", False, 100, None, None, "recursive"),
+])
+def test_one_decision_chooses_the_form(rule, form, proved, rec, ex, full, expected):
+    """The form deployed by operation counts, rule, --form and where the bound is proved."""
+    choice = choose_form(rule, form, proved, _cost(rec), None if ex is None else _cost(ex),
+                         None if full is None else _cost(full))
+    assert choice.form == expected
+    if expected == "recursive" and ex is not None:     # it says why the explicit one is not
+        assert f"{rec:,} operations against the pruned explicit one's {ex:,}" in choice.why
+        assert ("--form recursive" in choice.why) == (form == "recursive")
+        assert ("proved over the joint-limit region" in choice.why) == (proved and ex < rec)
