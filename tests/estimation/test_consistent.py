@@ -2,6 +2,7 @@
 
 import numpy as np
 import pinocchio as pin
+import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.base_parameters import base_parameters, standard_parameters
@@ -100,3 +101,102 @@ def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch)
     failing.add("SCS")
     with pytest.raises(SolverFailure, match="CLARABEL made to fail.*SCS made to fail"):
         consistent_standard(*args)
+
+
+def _link(mass, com, inertia_c):
+    """Standard parameters (10,) of one link from its mass, centre of mass and inertia about
+    it (Huygens-Steiner: J_O = I_c + m (c.c 1 - c c^T))."""
+    c = np.asarray(com, float)
+    J = np.asarray(inertia_c, float) + mass * (c @ c * np.eye(3) - np.outer(c, c))
+    return np.array([J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2], *(mass * c), mass])
+
+
+def test_loadable_is_physical_consistency_of_every_link():
+    from gd_analyze.estimation.consistent import loadable
+
+    good = np.array([_link(2.0, [0.1, 0.0, 0.2], np.diag([0.02, 0.03, 0.04])),
+                     _link(0.0, [0.0, 0.0, 0.0], np.zeros((3, 3)))])
+    assert loadable(good, True)
+    assert not loadable(good, False)                       # a negative friction
+    negative_mass = good.copy()
+    negative_mass[0, 6:] *= -1.0
+    assert not loadable(negative_mass, True)
+    moment_without_mass = good.copy()
+    moment_without_mass[1, 6] = 1e-3
+    assert not loadable(moment_without_mass, True)
+    # a negative principal moment about the centre of mass (its origin moments look fine)
+    impossible = np.array([_link(2.0, [0.1, 0.0, 0.2], np.diag([-0.01, 0.03, 0.04]))])
+    assert np.all(np.linalg.eigvalsh(np.array([[impossible[0, 0], 0, 0], [0, impossible[0, 3],
+                                                0], [0, 0, impossible[0, 5]]])) > 0)
+    assert not loadable(impossible, True)
+
+
+def test_rounding_cleaned_zeroes_only_rounding_level_negatives():
+    from gd_analyze.estimation.consistent import loadable, rounding_cleaned
+
+    phi = np.array([_link(2.0, [0.1, 0.0, 0.2], np.diag([0.02, 0.03, 0.04])),
+                    np.zeros(10)])
+    phi[1, 9], phi[1, 6] = -1e-18, 1e-19                  # a massless link, as fitted
+    drives = np.array([0.5, -1e-17, -0.2])
+    nonneg = np.array([True, True, False])
+    out, d = rounding_cleaned(phi, drives, nonneg)
+    assert out[1, 9] == 0.0 and out[1, 6] == 0.0 and np.array_equal(out[0], phi[0])
+    assert d.tolist() == [0.5, 0.0, -0.2]                  # an offset may be negative
+    assert phi[1, 9] == -1e-18                             # the input is not changed
+    assert loadable(out, True) and not loadable(phi, True)
+
+
+def test_rounding_level_moments_are_cleaned_so_pinocchio_accepts_the_link():
+    """A link the data cannot see comes out of the fit with a mass of +-1e-18 and principal
+    moments of +-1e-17 about its centre of mass; Pinocchio refuses a negative one. After the
+    cleaning, Pinocchio (the oracle) accepts every link and the parameters moved by at most
+    the rounding tolerance of their scale; a link that is really not realisable is kept as it
+    is (the loader then refuses it)."""
+    from gd_analyze.estimation.consistent import ROUNDING, loadable, rounding_cleaned
+
+    phi = np.zeros((2, 10))
+    phi[0, :6] = [0.3673, 1e-17, 0.0, -3.6e-17, 0.0, 1.0e-17]     # XX XY XZ YY YZ ZZ
+    phi[0, 9] = 3.8e-18
+    phi[1, :6] = [0.6, 0.0, 0.0, 0.5, 0.0, 0.2]
+    phi[1, 6:9] = [0.0, 0.5, 0.1]
+    phi[1, 9] = 17.4
+    nonneg = np.ones(0, bool)
+    with pytest.raises(RuntimeError):         # the raw fit: Pinocchio refuses link 1
+        pin.Inertia(phi[0, 9], np.zeros(3), np.diag(phi[0, [0, 3, 5]]))
+    cleaned, _ = rounding_cleaned(phi, np.zeros(0), nonneg)
+    assert np.abs(cleaned - phi).max() <= ROUNDING * np.abs(phi).max()
+    assert loadable(cleaned, True)
+    for row in cleaned:
+        m = row[9]
+        c = row[6:9] / m if m > 0 else np.zeros(3)
+        J = np.array([[row[0], row[1], row[2]], [row[1], row[3], row[4]],
+                      [row[2], row[4], row[5]]])
+        Ic = J - m * (c @ c * np.eye(3) - np.outer(c, c))
+        pin.Inertia(m, c, Ic)                 # raises if refused
+    bad = phi.copy()
+    bad[0, 3] = -1e-3                         # a real negative moment: not rounding
+    assert rounding_cleaned(bad, np.zeros(0), nonneg)[0][0, 3] == -1e-3
+
+
+def test_cleaned_moments_stay_positive_after_the_tensor_is_rebuilt():
+    """A massless link whose only identifiable moment is about one axis (the PUMA's link 1):
+    its other principal moments come out of the fit as +-1e-17, in rotated axes. Cleaned, the
+    tensor rebuilt from its eigenvectors must have no negative eigenvalue, whatever the
+    rounding of that rebuild (set to 0, one CPU left -1.2e-18 and Pinocchio refused the arm),
+    and differ from the fit by rounding only."""
+    from scipy.spatial.transform import Rotation
+
+    from gd_analyze.estimation.consistent import ROUNDING, rounding_cleaned
+
+    rng = np.random.default_rng(4)
+    for k in range(300):
+        R = Rotation.random(random_state=1000 + k).as_matrix()
+        J = R @ np.diag([rng.uniform(-1e-17, 1e-17), rng.uniform(-1e-17, 0.0), 0.369]) @ R.T
+        phi = np.zeros((1, 10))
+        phi[0, :6] = [J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2]]
+        cleaned, _ = rounding_cleaned(phi, np.zeros(0), np.ones(0, bool))
+        assert np.abs(cleaned - phi).max() <= 2 * ROUNDING
+        x = cleaned[0]
+        Ic = np.array([[x[0], x[1], x[2]], [x[1], x[3], x[4]], [x[2], x[4], x[5]]])
+        assert np.linalg.eigvalsh(Ic).min() > 0, k
+        pin.Inertia(0.0, np.zeros(3), Ic)             # raises if refused

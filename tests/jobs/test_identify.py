@@ -271,62 +271,6 @@ def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cau
     assert "rec5" in str(err.value)
 
 
-def test_rounding_level_moments_are_cleaned_so_pinocchio_accepts_the_link():
-    """A link the data cannot see comes out of the fit with a mass of +-1e-18 and principal
-    moments of +-1e-17 about its centre of mass; Pinocchio refuses a negative one. After the
-    cleaning, Pinocchio (the oracle) accepts every link and the parameters moved by at most
-    the rounding tolerance of their scale; a link that is really not realisable is kept as it
-    is (the loader then refuses it)."""
-    from gd_analyze.jobs.identify import ROUNDING, _loadable, _rounding_cleaned
-
-    phi = np.zeros((2, 10))
-    phi[0, :6] = [0.3673, 1e-17, 0.0, -3.6e-17, 0.0, 1.0e-17]     # XX XY XZ YY YZ ZZ
-    phi[0, 9] = 3.8e-18
-    phi[1, :6] = [0.6, 0.0, 0.0, 0.5, 0.0, 0.2]
-    phi[1, 6:9] = [0.0, 0.5, 0.1]
-    phi[1, 9] = 17.4
-    nonneg = np.ones(0, bool)
-    with pytest.raises(RuntimeError):         # the raw fit: Pinocchio refuses link 1
-        pin.Inertia(phi[0, 9], np.zeros(3), np.diag(phi[0, [0, 3, 5]]))
-    cleaned, _ = _rounding_cleaned(phi, np.zeros(0), nonneg)
-    assert np.abs(cleaned - phi).max() <= ROUNDING * np.abs(phi).max()
-    assert _loadable(cleaned, True)
-    for row in cleaned:
-        m = row[9]
-        c = row[6:9] / m if m > 0 else np.zeros(3)
-        J = np.array([[row[0], row[1], row[2]], [row[1], row[3], row[4]],
-                      [row[2], row[4], row[5]]])
-        Ic = J - m * (c @ c * np.eye(3) - np.outer(c, c))
-        pin.Inertia(m, c, Ic)                 # raises if refused
-    bad = phi.copy()
-    bad[0, 3] = -1e-3                         # a real negative moment: not rounding
-    assert _rounding_cleaned(bad, np.zeros(0), nonneg)[0][0, 3] == -1e-3
-
-
-def test_cleaned_moments_stay_positive_after_the_tensor_is_rebuilt():
-    """A massless link whose only identifiable moment is about one axis (the PUMA's link 1):
-    its other principal moments come out of the fit as +-1e-17, in rotated axes. Cleaned, the
-    tensor rebuilt from its eigenvectors must have no negative eigenvalue, whatever the
-    rounding of that rebuild (set to 0, one CPU left -1.2e-18 and Pinocchio refused the arm),
-    and differ from the fit by rounding only."""
-    from scipy.spatial.transform import Rotation
-
-    from gd_analyze.jobs.identify import ROUNDING, _rounding_cleaned
-
-    rng = np.random.default_rng(4)
-    for k in range(300):
-        R = Rotation.random(random_state=1000 + k).as_matrix()
-        J = R @ np.diag([rng.uniform(-1e-17, 1e-17), rng.uniform(-1e-17, 0.0), 0.369]) @ R.T
-        phi = np.zeros((1, 10))
-        phi[0, :6] = [J[0, 0], J[0, 1], J[0, 2], J[1, 1], J[1, 2], J[2, 2]]
-        cleaned, _ = _rounding_cleaned(phi, np.zeros(0), np.ones(0, bool))
-        assert np.abs(cleaned - phi).max() <= 2 * ROUNDING
-        x = cleaned[0]
-        Ic = np.array([[x[0], x[1], x[2]], [x[1], x[3], x[4]], [x[2], x[4], x[5]]])
-        assert np.linalg.eigvalsh(Ic).min() > 0, k
-        pin.Inertia(0.0, np.zeros(3), Ic)             # raises if refused
-
-
 @pytest.mark.slow
 def test_simplify_builds_the_region_model_of_the_identified_robot():
     """``simplify``: the main job's simplified model of the identified PUMA 560 (1 % noise),

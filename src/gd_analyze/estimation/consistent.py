@@ -39,7 +39,8 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["base_map", "closest_standard", "pseudo_inertia", "min_eigenvalues",
-           "consistent_standard", "Consistent", "robot_with_standard", "SolverFailure"]
+           "consistent_standard", "Consistent", "robot_with_standard", "SolverFailure",
+           "ROUNDING", "rounding_cleaned", "loadable"]
 
 
 def base_map(base: BaseParameters) -> npt.NDArray[np.float64]:
@@ -329,3 +330,109 @@ def robot_with_standard(robot: Robot, phi: npt.NDArray[np.float64],
         if value is not None:
             changes[key] = np.asarray(value, float).copy()
     return dataclasses.replace(robot, **changes)
+
+
+#: Relative size of a negative mass, first moment or friction taken for a rounding error of
+#: a true 0 (:func:`rounding_cleaned`).
+ROUNDING = 1e-12
+
+
+def rounding_cleaned(phi: np.ndarray, drives: np.ndarray, nonneg: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """The standard parameters and drives with rounding-level negatives set to 0.
+
+    Parameters
+    ----------
+    phi : ndarray, shape (n, 10)
+        Standard parameters per link: XX, XY, XZ, YY, YZ, ZZ about the link frame's origin
+        [kg m^2], m X, m Y, m Z [kg m], m [kg].
+    drives : ndarray, shape (d,)
+        The drive values (armature, friction, offset) [SI].
+    nonneg : ndarray of bool, shape (d,)
+        The drive values that cannot be negative (frictions, armatures).
+
+    Returns
+    -------
+    phi, drives : ndarray
+        Copies, cleaned as below.
+
+    Notes
+    -----
+    A link of mass 0 (or a friction of 0) in the true arm comes out of a noise-free fit as
+    +-1e-18: a mass below ``ROUNDING`` x the largest mass becomes 0, with its first moments
+    when they are as small, a negative principal moment about the centre of mass above
+    -``ROUNDING`` x the largest inertia parameter becomes 0 (an unidentifiable link's moments
+    come out as +-1e-17, which Pinocchio refuses), and a friction below ``ROUNDING`` x the
+    largest drive value becomes 0, so the robot file holds them (the torque changes by a
+    rounding error).
+    """
+    phi, drives = np.array(phi, float), np.array(drives, float)
+    m = phi[:, 9]
+    tiny_m = np.abs(m) <= ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0)))
+    m[tiny_m] = 0.0
+    h_scale = ROUNDING * max(1.0, float(np.abs(phi[:, 6:9]).max(initial=0.0)))
+    zero_h = (m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) <= h_scale)
+    phi[zero_h, 6:9] = 0.0
+    phi[:, :6] = _rounding_moments(phi, ROUNDING * max(1.0, float(np.abs(phi[:, :6]).max(
+        initial=0.0))))
+    d_scale = ROUNDING * max(1.0, float(np.abs(drives).max(initial=0.0)))
+    drives[nonneg & (drives < 0) & (drives >= -d_scale)] = 0.0
+    return phi, drives
+
+
+def _rounding_moments(phi, tol):
+    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in
+    [-tol, tol / 2) raised to tol / 2 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2), where
+    none is below -tol: not to 0, since a tensor with a zero moment, or rebuilt from its
+    eigenvectors, carries their round-off (about 1e-16 of its largest moment), which left a
+    zero moment at -1e-18 on one CPU and Pinocchio refused it."""
+    m = phi[:, 9]
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    shift = m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                - c[:, :, None] * c[:, None, :])
+    out = np.array(phi[:, :6], float)
+    for k, (w, V) in enumerate(zip(*np.linalg.eigh(_moments(phi) - shift))):
+        if (w < 0.5 * tol).any() and not (w < -tol).any():
+            Ic = (V * np.maximum(w, 0.5 * tol)) @ V.T + shift[k]
+            out[k] = [Ic[a, b] for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
+    return out
+
+
+def _moments(phi):
+    """(n, 3, 3): each link's inertia tensor about its frame's origin from XX..ZZ."""
+    J = np.empty((phi.shape[0], 3, 3))
+    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
+        J[:, a, b] = J[:, b, a] = phi[:, k]
+    return J
+
+
+def loadable(robot_phi: np.ndarray, drives_ok: bool) -> bool:
+    """Whether the standard parameters make a robot file the loader accepts.
+
+    Parameters
+    ----------
+    robot_phi : ndarray, shape (n, 10)
+        Standard parameters per link, as :func:`rounding_cleaned` takes them.
+    drives_ok : bool
+        Whether the drive values are acceptable (no negative friction or armature).
+
+    Returns
+    -------
+    bool
+        Every mass >= 0, no first moment without mass, and every inertia tensor about the
+        centre of mass positive semi-definite up to 1e-10 of its largest entry
+        (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2).
+    """
+    phi = robot_phi
+    m = phi[:, 9]
+    if (m < 0).any() or not drives_ok:
+        return False
+    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
+                  where=m[:, None] > 0)
+    if ((m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) > 0)).any():
+        return False
+    Ic = _moments(phi) - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
+                                 - c[:, :, None] * c[:, None, :])
+    tol = 1e-10 * np.maximum(1.0, np.abs(Ic).max(axis=(1, 2)))
+    return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())

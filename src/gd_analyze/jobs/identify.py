@@ -29,8 +29,10 @@ from ..estimation.consistent import (
     base_map,
     closest_standard,
     consistent_standard,
+    loadable,
     min_eigenvalues,
     robot_with_standard,
+    rounding_cleaned,
 )
 from ..estimation.estimate import combine_factors, joint_factors, least_squares
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
@@ -58,9 +60,6 @@ __all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
 #: A training row whose residual exceeds this many noise standard deviations is an outlier.
 OUTLIER_SIGMAS = 5.0
-#: Relative size of a negative mass, first moment or friction taken for a rounding error of
-#: a true 0 (:func:`_rounding_cleaned`).
-ROUNDING = 1e-12
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
 
@@ -204,74 +203,6 @@ def _consistent(base, theta, est, phi0, drive_kind, drive_prior):
                          ) from None
 
 
-def _rounding_cleaned(phi, drives, nonneg):
-    """The standard parameters and drives with rounding-level negatives set to 0.
-
-    A link of mass 0 (or a friction of 0) in the true arm comes out of a noise-free fit as
-    +-1e-18: a mass below ``ROUNDING`` x the largest mass becomes 0, with its first moments
-    when they are as small, a negative principal moment about the centre of mass above
-    -``ROUNDING`` x the largest inertia parameter becomes 0 (an unidentifiable link's moments
-    come out as +-1e-17, which Pinocchio refuses), and a friction below ``ROUNDING`` x the
-    largest drive value becomes 0, so the robot file holds them (the torque changes by a
-    rounding error).
-    """
-    phi, drives = np.array(phi, float), np.array(drives, float)
-    m = phi[:, 9]
-    tiny_m = np.abs(m) <= ROUNDING * max(1.0, float(np.abs(m).max(initial=0.0)))
-    m[tiny_m] = 0.0
-    h_scale = ROUNDING * max(1.0, float(np.abs(phi[:, 6:9]).max(initial=0.0)))
-    zero_h = (m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) <= h_scale)
-    phi[zero_h, 6:9] = 0.0
-    phi[:, :6] = _rounding_moments(phi, ROUNDING * max(1.0, float(np.abs(phi[:, :6]).max(
-        initial=0.0))))
-    d_scale = ROUNDING * max(1.0, float(np.abs(drives).max(initial=0.0)))
-    drives[nonneg & (drives < 0) & (drives >= -d_scale)] = 0.0
-    return phi, drives
-
-
-def _rounding_moments(phi, tol):
-    """XX..ZZ (n, 6) with each link's principal moments about its centre of mass in
-    [-tol, tol / 2) raised to tol / 2 (Huygens-Steiner, Fu, Gonzalez & Lee 1987, Sec. 3.2), where
-    none is below -tol: not to 0, since a tensor with a zero moment, or rebuilt from its
-    eigenvectors, carries their round-off (about 1e-16 of its largest moment), which left a
-    zero moment at -1e-18 on one CPU and Pinocchio refused it."""
-    m = phi[:, 9]
-    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
-                  where=m[:, None] > 0)
-    shift = m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
-                                - c[:, :, None] * c[:, None, :])
-    out = np.array(phi[:, :6], float)
-    for k, (w, V) in enumerate(zip(*np.linalg.eigh(_moments(phi) - shift))):
-        if (w < 0.5 * tol).any() and not (w < -tol).any():
-            Ic = (V * np.maximum(w, 0.5 * tol)) @ V.T + shift[k]
-            out[k] = [Ic[a, b] for a, b in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]
-    return out
-
-
-def _moments(phi):
-    """(n, 3, 3): each link's inertia tensor about its frame's origin from XX..ZZ."""
-    J = np.empty((phi.shape[0], 3, 3))
-    for k, (a, b) in enumerate(((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))):
-        J[:, a, b] = J[:, b, a] = phi[:, k]
-    return J
-
-
-def _loadable(robot_phi, drives_ok):
-    """Whether the standard parameters make a robot file the loader accepts."""
-    phi = robot_phi
-    m = phi[:, 9]
-    if (m < 0).any() or not drives_ok:
-        return False
-    c = np.divide(phi[:, 6:9], m[:, None], out=np.zeros((phi.shape[0], 3)),
-                  where=m[:, None] > 0)
-    if ((m == 0) & (np.abs(phi[:, 6:9]).max(axis=1) > 0)).any():
-        return False
-    Ic = _moments(phi) - m[:, None, None] * (np.einsum("ia,ia->i", c, c)[:, None, None] * np.eye(3)
-                                 - c[:, :, None] * c[:, None, :])
-    tol = 1e-10 * np.maximum(1.0, np.abs(Ic).max(axis=(1, 2)))
-    return bool((np.linalg.eigvalsh(Ic)[:, 0] >= -tol).all())
-
-
 def identify(robot: Robot | str | Path,
              recordings: Sequence[str | os.PathLike | Recording],
              validate: Sequence[str | os.PathLike | Recording] = (),
@@ -401,9 +332,9 @@ def identify(robot: Robot | str | Path,
         drives = theta[b:]
         method = ("the standard parameters closest to the robot file's that reproduce the "
                   "identified base parameters (least-norm deviation)")
-        file_phi, file_drives = _rounding_cleaned(phi, drives, nonneg)
+        file_phi, file_drives = rounding_cleaned(phi, drives, nonneg)
         file_note = None
-        if not _loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
+        if not loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
             sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
             file_phi, file_drives = sol.phi, sol.drives
             file_note = ("the least-squares parameters are not physically realisable (a "
