@@ -165,22 +165,17 @@ def run() -> NoReturn:
 
 
     argv = sys.argv[1:]
-    if _main_job(argv):
+    first = [a for a in argv if a != "--debug"][:1]
+    if not first or first[0] not in COMMANDS:      # the main job: no sub-command word first
         _without_dask()
         for name in MAIN_JOB_IMPORTS + (() if "--no-report" in argv else REPORT_IMPORTS):
             importlib.import_module(name)
-    elif [a for a in argv if a != "--debug"][:1] == ["sweep"]:
+    elif first == ["sweep"]:
         _without_dask_arrays()
     gc.freeze()                 # after the imports: start-up objects leave the collector's passes
     code = main(argv)
     after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
     sys.exit(code)
-
-
-def _main_job(argv):
-    """Whether the command line is the main job (no sub-command word first)."""
-    words = [a for a in argv if a != "--debug"]
-    return not words or words[0] not in COMMANDS
 
 
 def _without_dask():
