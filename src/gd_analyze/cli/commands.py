@@ -8,6 +8,7 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import sys
@@ -562,7 +563,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
             from None
     if limits is not None and limits.qd_max is not None and limits.qdd_max is None:
         qdd_source = qdd_source.replace("qd_max", "the --qd-max given")
-    planning = _replace_limits(robot, qdd_max)
+    planning = dataclasses.replace(robot, qdd_max=qdd_max)      # for planning only
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
     try:
@@ -671,8 +672,6 @@ def _planning_region(args, robot):
     """The arm with the user's region (``--q-limits``, ``--qd-max``, clipped to the robot's) as
     its limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
     m/s^2] (or None)."""
-    import dataclasses
-
     import numpy as np
 
     limits = region_limits(args, robot)
@@ -779,13 +778,6 @@ def _plan_excitation(args, robot, qdd_arg):
           f"{ex.seconds:.1f} s; acceleration limits: {limits['qdd_source']}; provenance in "
           f"{side}", file=sys.stderr)
     return EXIT_OK
-
-
-def _replace_limits(robot, qdd_max):
-    """The robot with other acceleration limits, for planning only."""
-    import dataclasses
-
-    return dataclasses.replace(robot, qdd_max=qdd_max)
 
 
 def _load_model(args):
