@@ -62,7 +62,7 @@ INSIDE_DOCUMENTS = ("report_html", "report_pdf", "report_figure_files")
 
 _CHILD = r"""
 import gc, importlib, json, sys, time
-sys.modules["dask"] = None    # what cli.run does for the main job (cli._without_dask), first
+sys.modules["dask"] = None    # what cli.run does for the main job (cli._without), first
 t0 = time.perf_counter()
 import numpy, scipy, xarray, matplotlib.pyplot, pinocchio
 t1 = time.perf_counter()

@@ -1,7 +1,7 @@
 """The proof that D_s is positive definite over the region, on the PUMA 560, Panda, UR5 and
 Kinova.
 
-For each arm: its default region model (EPS = 1 %, ``jobs.deploy.build_recursive`` over
+For each arm: its default region model (EPS = 1 %, ``simplify.deploy.build_recursive`` over
 the robot's joint-limit region), the proof and restore of
 ``certify.positive_definite.with_inertia_check`` once (the parameters restored, the
 proved lower bound of lambda_min(D_s) [kg m^2], the upper bound of min lambda_min(D) over the

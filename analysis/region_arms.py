@@ -8,7 +8,7 @@ For each arm (the built-in PUMA 560 and every URDF the main job accepts, as
    (``recursive_model``), its count, and its worst error sampled over the joint-limit region
    relative to s_i there (``region_sampled_error``): what a user gets off the trajectory;
 3. the region model at EPS: pruned on bounds proved over the region
-   (``jobs.deploy.region_model``), its count, the certification's wall time (sampling, scale
+   (``simplify.deploy.region_model``), its count, the certification's wall time (sampling, scale
    search and branch and bound, into an empty derivation cache; then read back from it, with its
    self-check), the ratio of its
    proved bound to its sampled error per joint (worst joint), and the median and largest ratio

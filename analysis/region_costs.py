@@ -1,7 +1,7 @@
 """The region model's operation counts of the PUMA 560, the Panda and the UR5.
 
 For each arm, in one process with an empty derivation cache of its own: the exact recursive
-model's count, the region model's count at EPS (``jobs.deploy.region_model``: pruned on
+model's count, the region model's count at EPS (``simplify.deploy.region_model``: pruned on
 bounds proved over the joint-limit region), the pairs proved identically zero, the
 certification's wall time (:func:`gd_analyze.certify.certify.certify`), the wall time
 of ``region_model`` after it (its own certification into the empty cache, the choice of the

@@ -145,10 +145,10 @@ def _print_help(rest, parsers):
 def run() -> NoReturn:
     """The ``gd-analyze`` program: :func:`main` on ``sys.argv``, then exit with its status.
 
-    The main job runs as on an installation without dask (:func:`_without_dask`): it makes no
+    The main job runs as on an installation without dask (:func:`_without`): it makes no
     dask arrays, and xarray would otherwise import dask (about 0.3 s) to check that its numpy
     arrays are not dask arrays (the sweep, which runs on dask.distributed, only without
-    dask.array: :func:`_without_dask_arrays`). Its libraries (:data:`MAIN_JOB_IMPORTS`, and
+    dask.array). Its libraries (:data:`MAIN_JOB_IMPORTS`, and
     :data:`REPORT_IMPORTS` unless ``--no-report``) are imported first, then ``gc.freeze()``
     (Python's documented way to keep objects made at start-up out of the garbage collector's
     passes; every run of every command does the same, whatever the load). The interpreter then
@@ -165,49 +165,33 @@ def run() -> NoReturn:
 
 
     argv = sys.argv[1:]
-    if _main_job(argv):
-        _without_dask()
+    first = [a for a in argv if a != "--debug"][:1]
+    if not first or first[0] not in COMMANDS:      # the main job: no sub-command word first
+        _without("dask")
         for name in MAIN_JOB_IMPORTS + (() if "--no-report" in argv else REPORT_IMPORTS):
             importlib.import_module(name)
-    elif [a for a in argv if a != "--debug"][:1] == ["sweep"]:
-        _without_dask_arrays()
+    elif first == ["sweep"]:
+        _without("dask.array")
     gc.freeze()                 # after the imports: start-up objects leave the collector's passes
     code = main(argv)
     after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
     sys.exit(code)
 
 
-def _main_job(argv):
-    """Whether the command line is the main job (no sub-command word first)."""
-    words = [a for a in argv if a != "--debug"]
-    return not words or words[0] not in COMMANDS
+def _without(module: str) -> None:
+    """Make ``import <module>`` fail in this process, as where it is not installed.
 
-
-def _without_dask():
-    """Make ``import dask`` fail in this process, as where dask is not installed.
-
-    ``sys.modules["dask"] = None`` is Python's documented way to make an import raise
+    ``sys.modules[module] = None`` is Python's documented way to make an import raise
     ImportError (the import system reference, "The module cache"); xarray then treats dask as
-    absent, a configuration it supports. Only for the main job of the console script: one
-    command per process, and the job never makes a dask array. Nothing is done if dask is
-    imported already.
+    absent, a configuration it supports. ``"dask"`` only for the main job of the console
+    script: one command per process, and the job never makes a dask array. ``"dask.array"``
+    only for the ``sweep`` command of the console script: it runs on dask.distributed but
+    makes no dask array, and xarray imports dask.array (about 1 s of CPU time) only to check
+    that the sweep dataset's numpy arrays are not dask arrays; its local cluster's forked
+    workers inherit the same. Nothing is done if the module is imported already.
     """
-    if "dask" not in sys.modules:
-        sys.modules["dask"] = None
-
-
-def _without_dask_arrays() -> None:
-    """Make ``import dask.array`` fail in this process, as where dask's array extra is not
-    installed.
-
-    The sweep runs on dask.distributed but makes no dask array; xarray imports dask.array
-    (about 1 s of CPU time) only to check that the sweep dataset's numpy arrays are not dask
-    arrays, and treats it as absent when the import fails (as :func:`_without_dask`). Only
-    for the ``sweep`` command of the console script; its local cluster's forked workers
-    inherit the same. Nothing is done if dask.array is imported already.
-    """
-    if "dask.array" not in sys.modules:
-        sys.modules["dask.array"] = None  # type: ignore[assignment]
+    if module not in sys.modules:
+        sys.modules[module] = None  # type: ignore[assignment]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -8,6 +8,7 @@ the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import sys
@@ -545,9 +546,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if args.setpoints is None:
         args.setpoints = DEFAULT_SETPOINTS
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
-        placeholder = check_velocity_limits(robot)
-        if placeholder:
-            warnings.warn(placeholder, InputWarning)
+        warn_if(check_velocity_limits(robot))
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -555,13 +554,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
 
-    if not 2 <= args.setpoints <= 10**8:
-        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
-    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
-                                          <= LIMITS["duration"]):
-        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
-                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
-    _check_outputs(args.output)
+    _check_plan_options(args)
     try:
         qdd_max, qdd_source = acceleration_limits(robot, qdd_arg)
     except ValueError as exc:
@@ -569,7 +562,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
             from None
     if limits is not None and limits.qd_max is not None and limits.qdd_max is None:
         qdd_source = qdd_source.replace("qd_max", "the --qd-max given")
-    planning = _replace_limits(robot, qdd_max)
+    planning = dataclasses.replace(robot, qdd_max=qdd_max)      # for planning only
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
     try:
@@ -585,11 +578,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
                          else "--qdd-max")
     if not _write_plan(plan.chunks, robot.n, args.output, ": choose a longer --duration"):
         return EXIT_OK
-    record = {
-        "tool": "gd-analyze", "version": __version__,
-        "command": command_line(args),
-        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-        **chain_settings(args), **mounting_settings(args, robot),
+    side = _write_provenance(args, robot, {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": plan.n_setpoints, "duration_s": float(T),
@@ -602,16 +591,24 @@ def cmd_plan(args: argparse.Namespace) -> int:
                         "limit",
         "qdd_max_source": qdd_source,
         "trajectory": plan.source,
-    }
-    try:
-        side = write_provenance(args.output, record)
-    except OSError as exc:
-        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
-                         args.output) from None
+    })
     print(f"wrote {args.output}: {plan.n_setpoints} set points over {T:.4f} s "
           f"({plan.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
     return EXIT_OK
+
+
+def _write_provenance(args, robot, record):
+    """Write a planned trajectory's provenance beside ``args.output``: the tool, the command,
+    the robot and its chain and mounting, then ``record``; returns the file written."""
+    try:
+        return write_provenance(args.output, {
+            "tool": "gd-analyze", "version": __version__, "command": command_line(args),
+            "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+            **chain_settings(args), **mounting_settings(args, robot), **record})
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         args.output) from None
 
 
 def _write_plan(pieces, n, output, advice):
@@ -648,19 +645,32 @@ def _write_plan(pieces, n, output, advice):
     return output != "-"
 
 
-def _check_outputs(output):
-    """Refuse an output CSV or provenance that this run may not write (store/staging.py)."""
-    if output != "-":
-        check_output_file(output)
-        check_output_file(provenance_path(output))
+def _check_plan_options(args, positive=False):
+    """Refuse ``plan``'s --setpoints, --duration and --base-frequency out of range (with
+    ``positive``: a --duration or --base-frequency <= 0 as not positive, first), then an
+    output CSV or provenance that this run may not write (store/staging.py)."""
+    if args.setpoints is not None and not 2 <= args.setpoints <= 10**8:
+        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
+    for name, value in (("--duration", args.duration), ("--base-frequency",
+                                                        args.base_frequency)):
+        if positive and value is not None and not value > 0:
+            raise InputError(f"must be positive, got {value:g}", column=name)
+    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
+                                          <= LIMITS["duration"]):
+        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
+                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
+    if args.base_frequency is not None and not (1e-6 <= args.base_frequency <= 1e4):
+        raise InputError(f"must be in [1e-6, 1e4] rad/s, got {args.base_frequency:g}",
+                         column="--base-frequency")
+    if args.output != "-":
+        check_output_file(args.output)
+        check_output_file(provenance_path(args.output))
 
 
 def _planning_region(args, robot):
     """The arm with the user's region (``--q-limits``, ``--qd-max``, clipped to the robot's) as
     its limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
     m/s^2] (or None)."""
-    import dataclasses
-
     import numpy as np
 
     limits = region_limits(args, robot)
@@ -706,23 +716,8 @@ def _plan_excitation(args, robot, qdd_arg):
     if args.ignore_limits:
         raise InputError("not with --excitation (an excitation always stays within the "
                          "limits)", column="--ignore-limits")
-    placeholder = check_velocity_limits(robot)
-    if placeholder:
-        warnings.warn(placeholder, InputWarning)
-    if args.setpoints is not None and not 2 <= args.setpoints <= 10**8:
-        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
-    for name, value in (("--duration", args.duration), ("--base-frequency",
-                                                        args.base_frequency)):
-        if value is not None and not value > 0:
-            raise InputError(f"must be positive, got {value:g}", column=name)
-    if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
-                                          <= LIMITS["duration"]):
-        raise InputError(f"must be a number of seconds in [{LIMITS['min_duration']:g}, "
-                         f"{LIMITS['duration']:g}], got {args.duration:g}", column="--duration")
-    if args.base_frequency is not None and not (1e-6 <= args.base_frequency <= 1e4):
-        raise InputError(f"must be in [1e-6, 1e4] rad/s, got {args.base_frequency:g}",
-                         column="--base-frequency")
-    _check_outputs(args.output)
+    warn_if(check_velocity_limits(robot))
+    _check_plan_options(args, positive=True)
     harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     if harmonics > 100:
         raise InputError(f"at most 100 harmonics, got {harmonics}", column="--harmonics")
@@ -746,11 +741,7 @@ def _plan_excitation(args, robot, qdd_arg):
     if not _write_plan(lambda: [traj], robot.n, args.output, ""):
         return EXIT_OK
     series, limits = ex.series, ex.limits
-    record = {
-        "tool": "gd-analyze", "version": __version__,
-        "command": command_line(args),
-        "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-        **chain_settings(args), **mounting_settings(args, robot),
+    side = _write_provenance(args, robot, {
         "trajectory": traj.source,
         "excitation": {
             "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
@@ -778,12 +769,7 @@ def _plan_excitation(args, robot, qdd_arg):
         "qdd_max": _limits(limits["qdd_max"]),
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
         "qdd_max_source": limits["qdd_source"],
-    }
-    try:
-        side = write_provenance(args.output, record)
-    except OSError as exc:
-        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
-                         args.output) from None
+    })
     best_start = float(np.min(ex.start_conditions))
     print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
           f"({traj.source}); scaled condition number {ex.condition:.4g} of "
@@ -793,19 +779,34 @@ def _plan_excitation(args, robot, qdd_arg):
     return EXIT_OK
 
 
-def _replace_limits(robot, qdd_max):
-    """The robot with other acceleration limits, for planning only."""
-    import dataclasses
+def _load_model(args):
+    """``evaluate``'s and ``control``'s inputs: the model of ``args.model``, its robot and the
+    trajectory of ``args.trajectory``, with one warning line when the trajectory's provenance
+    names another robot."""
+    model = load_model(args.model)
+    model_robot = cast(Robot, model.robot)      # the model file's arm
+    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
+    warn_if(provenance_mismatch(args.trajectory, model_robot))
+    return model, model_robot, traj
 
-    return dataclasses.replace(robot, qdd_max=qdd_max)
 
+def warn_if(message: str | None) -> None:
+    """One warning line (:class:`gd_analyze.errors.InputWarning`) with ``message``, if any.
 
-def _warn_provenance(csv_path, robot):
-    """One warning line when the trajectory's provenance names another robot."""
-
-    message = provenance_mismatch(csv_path, robot)
+    Parameters
+    ----------
+    message : str or None
+        The warning; None or "" warns nothing.
+    """
     if message:
         warnings.warn(message, InputWarning)
+
+
+def _print_coverage(scope):
+    """The model's guarantee and whether it covers the trajectory
+    (:func:`gd_analyze.jobs.evaluate.coverage`), as ``evaluate`` and ``control`` print them."""
+    print(f"model's guarantee: {scope['statement']}")
+    print(f"covers this trajectory: {'yes' if scope['covered'] else 'no'}: {scope['reason']}")
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
@@ -830,10 +831,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     import json
 
 
-    model = load_model(args.model)
-    model_robot = cast(Robot, model.robot)      # the model file's arm
-    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
-    _warn_provenance(args.trajectory, model_robot)
+    model, model_robot, traj = _load_model(args)
     plant = apply_payload(model_mounting(model_robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
     worst = err.pop("max_relative_peak_error")
@@ -862,9 +860,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
                   + ("  (relative to s_i: no torque here)" if err["relative_to"][j] == "s_i"
                      else "  (no torque, no s_i)" if err["relative_to"][j] == "none" else ""))
         print(f"largest relative peak error: {worst:.3e}")
-        print(f"model's guarantee: {scope['statement']}")
-        print(f"covers this trajectory: {'yes' if scope['covered'] else 'no'}: "
-              f"{scope['reason']}")
+        _print_coverage(scope)
         print("gate: " + (f"--max-error {args.max_error:g}" if args.max_error is not None
                           else "the model's tolerance x scale (EPS s_i) per joint"
                           if verdict["by"] else
@@ -927,10 +923,7 @@ def cmd_control(args: argparse.Namespace) -> int:
     """
     import json
 
-    model = load_model(args.model)
-    model_robot = cast(Robot, model.robot)      # the model file's arm
-    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
-    _warn_provenance(args.trajectory, model_robot)
+    model, model_robot, traj = _load_model(args)
     outdir = output_folder(args.outdir, model_robot.name, Path(args.trajectory).stem, "control")
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
@@ -977,8 +970,6 @@ def cmd_control(args: argparse.Namespace) -> int:
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")
         print(judged["verdict"])
-        said = summary["guarantee"]
-        print(f"model's guarantee: {said['statement']}")
-        print(f"covers this trajectory: {'yes' if said['covered'] else 'no'}: {said['reason']}")
+        _print_coverage(summary["guarantee"])
         print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

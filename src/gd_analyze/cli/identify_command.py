@@ -62,7 +62,7 @@ def _summary(result, outdir, written, args):
     lines = [f"identified {result.prior.name} from {sum(f.role == 'train' for f in result.recordings)}"
              f" recording(s): {len(p.names)} parameters, rank {result.rank}, condition number "
              f"{result.condition_number:.4g} (column-scaled, weighted regressor)"]
-    unident = [nm for nm, ok in zip(p.names, p.identifiable) if not ok]
+    unident = p.unidentifiable
     if unident:
         lines.append(f"not identifiable on these data (kept at the robot file's value): "
                      f"{', '.join(unident)}")

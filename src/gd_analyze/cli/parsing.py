@@ -332,12 +332,18 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                             "whatever --explicit says)")
 
 
-def _add_verbose_argument(p):
+def _add_verbose_argument(p, quiet=False):
+    """-v (with ``quiet``: -q before it)."""
+    if quiet:
+        p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("-v", "--verbose", action="store_true",
                    help="list every file written (default: how many, and the folder)")
 
 
-def _add_print_arguments(p):
+def _add_print_arguments(p, skip=None):
+    """--paper and --latex (with ``skip``, the report's files: --no-report before them)."""
+    if skip:
+        p.add_argument("--no-report", action="store_true", help=f"skip {skip}")
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
     p.add_argument("--latex", action="store_true",
@@ -571,11 +577,9 @@ def control_parser() -> argparse.ArgumentParser:
                         "if its peak tracking error is within this, or twice the full-model "
                         f"controller's, on every revolute joint [rad] and prismatic joint [m] "
                         f"(default {rad:g},{metre:g}; one number for both)")
-    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
-    _add_print_arguments(p)
+    _add_print_arguments(p, "the HTML and PDF report")
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
-    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    _add_verbose_argument(p)
+    _add_verbose_argument(p, quiet=True)
     _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
                                "gravity controllers; the simplified model keeps its own)")
     return p
@@ -629,10 +633,8 @@ def sweep_parser() -> argparse.ArgumentParser:
     p.add_argument("--held-out", metavar="K", type=_whole("--held-out"), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
-    p.add_argument("--no-report", action="store_true", help="skip the HTML and PDF report")
-    _add_print_arguments(p)
-    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    _add_verbose_argument(p)
+    _add_print_arguments(p, "the HTML and PDF report")
+    _add_verbose_argument(p, quiet=True)
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
@@ -726,8 +728,7 @@ def identify_parser() -> argparse.ArgumentParser:
     p.add_argument("--simplify", action="store_true",
                    help="also build the simplified model of the identified robot and state its "
                         "error on the validation recordings")
-    p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
-    _add_print_arguments(p)
+    _add_print_arguments(p, "report.html and report.pdf")
     _add_chain_arguments(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("-v", "--verbose", action="store_true", help="list every file written")

@@ -11,7 +11,7 @@ import contextlib
 import sys
 from pathlib import Path
 
-from ..errors import InputError, InputWarning
+from ..errors import InputError
 from ..jobs.payload import sweep_payloads
 from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
 from ..jobs.sweep_merged import merged_model, with_budget_model, with_model_cost
@@ -36,6 +36,7 @@ from .commands import (
     output_folder,
     payload_mass_list,
     region_limits,
+    warn_if,
     wrote_line,
 )
 from .parsing import EXIT_OK, tool_version
@@ -194,11 +195,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:
-        placeholder = check_velocity_limits(robot)           # random plans need them
-        if placeholder:
-            import warnings
-
-            warnings.warn(placeholder, InputWarning)
+        warn_if(check_velocity_limits(robot))               # random plans need them
         trajectories = random_trajectories(robot, args.random, seed=args.seed)
     masses = payload_mass_list(args)
     loaded = apply_payload(robot, args)

@@ -199,14 +199,10 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
         references="Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4 (Eq. 3.4-24, Sec. 3.4.1) "
                    "and Ch. 5 (computed-torque technique)")
     attrs.update({
-        "trajectory_file": prov.get("trajectory_file", ""),
-        "trajectory_path": prov.get("trajectory_path", ""),
-        "trajectory_sha256": prov.get("trajectory_sha256", ""),
-        "trajectory_derivatives": prov.get("trajectory_derivatives", ""),
-        "model_file": prov.get("model_file", ""),
-        "model_path": prov.get("model_path", ""),
-        "model_sha256": prov.get("model_sha256", ""),
-        "model_trajectory_sha256": prov.get("model_trajectory_sha256", ""),
+        **{k: prov.get(k, "") for k in ("trajectory_file", "trajectory_path",
+                                         "trajectory_sha256", "trajectory_derivatives",
+                                         "model_file", "model_path", "model_sha256",
+                                         "model_trajectory_sha256")},
         "trajectory_is_models": int(bool(prov.get("model_trajectory_sha256"))
                                     and prov.get("model_trajectory_sha256")
                                     == prov.get("trajectory_sha256")),

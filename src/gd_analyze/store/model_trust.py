@@ -70,7 +70,7 @@ REGION_RTOL = 1e-9
 #: (:func:`gd_analyze.certify.certify.prove_dropped`) before the region's full
 #: certification decides.
 QUICK_BOXES = 1024
-#: Positions the certification samples (the main job's, ``jobs.region_memo``).
+#: Positions the certification samples (the main job's, ``simplify.region_memo``).
 CERTIFICATION_SAMPLES = 1000
 
 #: Certifications kept in this process: certification key -> PairBounds.

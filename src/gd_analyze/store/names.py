@@ -24,7 +24,69 @@ __all__ = ["Var", "Attr", "ControlVar", "SweepVar", "SweepAttr", "VARIABLES", "A
            "ReportShown", "RankingColumn", "RANKING_COLUMNS"]
 
 
-class Var:
+class _Shared:
+    """The variables and coordinates ``results.h5``, ``control.h5`` and ``sweep.h5`` name
+    alike: the element and joint dims, the joints' types, the part kept per element and each
+    joint's peak |tau|. A base of :class:`Var`, :class:`ControlVar` and :class:`SweepVar`."""
+
+    __slots__ = ()
+
+    ELEMENT: Final = "element"
+    JOINT: Final = "joint"
+    JOINT_TYPE: Final = "joint_type"
+    CHOICE: Final = "choice"
+    TAU_PEAK: Final = "tau_peak"
+
+
+class _Ranked(_Shared):
+    """The ranking's variables that ``results.h5`` and ``sweep.h5`` name alike (per element,
+    and per joint the simplified model's torque error). A base of :class:`Var` and
+    :class:`SweepVar`."""
+
+    __slots__ = ()
+
+    SHARE_TRAN: Final = "share_tran"
+    DOMINANCE: Final = "dominance"
+    PEAK_TOTAL: Final = "peak_total"
+    ROUND_OFF: Final = "round_off"   # of a sweep, a payload sweep (results.h5: payload_round_off)
+    TAU_ERROR_PEAK: Final = "tau_error_peak"
+    TAU_ERROR_RMS: Final = "tau_error_rms"
+    TAU_ERROR_RELATIVE_PEAK: Final = "tau_error_relative_peak"
+    TAU_ERROR_RELATIVE_RMS: Final = "tau_error_relative_rms"
+    BASE_PARAMETER: Final = "base_parameter"
+
+
+class _Provenance:
+    """The global attributes of ``results.h5`` and ``sweep.h5`` alike: those of every
+    gd-analyze dataset (:func:`gd_analyze.store.schema.global_attributes`), the ranking's
+    thresholds, the command, the payload's mass and the mounting. A base of :class:`Attr`
+    and :class:`SweepAttr`."""
+
+    __slots__ = ()
+
+    CONVENTIONS: Final = "Conventions"
+    TITLE: Final = "title"
+    SOURCE: Final = "source"
+    REFERENCES: Final = "references"
+    HISTORY: Final = "history"
+    GD_ANALYZE_VERSION: Final = "gd_analyze_version"
+    ROBOT: Final = "robot"
+    ROBOT_DESCRIPTION: Final = "robot_description"
+    ROBOT_REFERENCE: Final = "robot_reference"
+    ROBOT_SOURCE: Final = "robot_source"
+    ROBOT_SHA256: Final = "robot_sha256"
+    GRAVITY: Final = "gravity"
+    GRAVITY_UNITS: Final = "gravity_units"
+    DOMINANCE_THRESHOLD: Final = "dominance_threshold"
+    NEGLIGIBLE_THRESHOLD: Final = "negligible_threshold"
+    COMMAND: Final = "command"
+    PAYLOAD_MASS: Final = "payload_mass"
+    MOUNTING_BASE_RPY_DEG: Final = "mounting_base_rpy_deg"
+    MOUNTING_GRAVITY_BASE: Final = "mounting_gravity_base"
+    MOUNTING_GRAVITY_WORLD: Final = "mounting_gravity_world"
+
+
+class Var(_Ranked):
     """Variables and coordinates of ``results.h5`` (:mod:`gd_analyze.store.datasets`).
 
     Each constant is the variable's name; ``Var.D_TRAN == "D_tran"``. Not instantiated.
@@ -36,7 +98,6 @@ class Var:
     D_ARM: Final = "D_arm"
     D_ROT: Final = "D_rot"
     D_TRAN: Final = "D_tran"
-    BASE_PARAMETER: Final = "base_parameter"
     BASE_PARAMETER_DROPPED: Final = "base_parameter_dropped"
     BASE_PARAMETER_RELATIVE_PEAK: Final = "base_parameter_relative_peak"
     BASE_PARAMETER_UNITS: Final = "base_parameter_units"
@@ -48,7 +109,6 @@ class Var:
     CHAPTER_MODEL_ERROR_RELATIVE_PEAK: Final = "chapter_model_error_relative_peak"
     CHAPTER_MODEL_ERROR_ROUND_OFF: Final = "chapter_model_error_round_off"
     CHAPTER_THRESHOLD: Final = "chapter_threshold"
-    CHOICE: Final = "choice"
     COST_ADDITIONS: Final = "cost_additions"
     COST_MODEL: Final = "cost_model"
     COST_MULTIPLICATIONS: Final = "cost_multiplications"
@@ -59,9 +119,7 @@ class Var:
     DH_D: Final = "dh_d"
     DH_OFFSET: Final = "dh_offset"
     DOF: Final = "dof"
-    DOMINANCE: Final = "dominance"
     DOMINANCE_RIGID_LINKS: Final = "dominance_rigid_links"
-    ELEMENT: Final = "element"
     ELEMENT_ROUND_OFF: Final = "element_round_off"
     ELEMENT_SCALE: Final = "element_scale"
     ELEMENT_UNITS: Final = "element_units"
@@ -71,11 +129,9 @@ class Var:
     H: Final = "h"
     H_ROT: Final = "h_rot"
     H_TRAN: Final = "h_tran"
-    JOINT: Final = "joint"
     JOINT_K: Final = "joint_k"
     JOINT_ROTATION: Final = "joint_rotation"
     JOINT_TRANSLATION: Final = "joint_translation"
-    JOINT_TYPE: Final = "joint_type"
     LADDER_OPERATIONS: Final = "ladder_operations"
     LADDER_TOLERANCE: Final = "ladder_tolerance"
     LADDER_TRIG: Final = "ladder_trig"
@@ -102,7 +158,6 @@ class Var:
     PAYLOAD_TAU_PEAK: Final = "payload_tau_peak"
     PEAK_ROT: Final = "peak_rot"
     PEAK_ROT_ROUND_OFF: Final = "peak_rot_round_off"
-    PEAK_TOTAL: Final = "peak_total"
     PEAK_TOTAL_ROUND_OFF: Final = "peak_total_round_off"
     PEAK_TRAN: Final = "peak_tran"
     PEAK_TRAN_ROUND_OFF: Final = "peak_tran_round_off"
@@ -123,9 +178,7 @@ class Var:
     REGION_QD_MAX: Final = "region_qd_max"
     REGION_QDD_MAX: Final = "region_qdd_max"
     REGION_QDD_MAX_ASSUMED: Final = "region_qdd_max_assumed"
-    ROUND_OFF: Final = "round_off"           # of a payload sweep (payload_round_off here)
     SHARE_ARM: Final = "share_arm"
-    SHARE_TRAN: Final = "share_tran"
     SIMPLIFIED_BOUND: Final = "simplified_bound"
     SIMPLIFIED_BOUND_CORIOLIS: Final = "simplified_bound_coriolis"
     SIMPLIFIED_BOUND_GRAVITY: Final = "simplified_bound_gravity"
@@ -137,14 +190,9 @@ class Var:
     SIMPLIFIED_SCALE: Final = "simplified_scale"
     T: Final = "t"
     TAU: Final = "tau"
-    TAU_ERROR_PEAK: Final = "tau_error_peak"
-    TAU_ERROR_RELATIVE_PEAK: Final = "tau_error_relative_peak"
-    TAU_ERROR_RELATIVE_RMS: Final = "tau_error_relative_rms"
-    TAU_ERROR_RMS: Final = "tau_error_rms"
     TAU_ERROR_ROUND_OFF: Final = "tau_error_round_off"
     TAU_F: Final = "tau_f"
     TAU_MAX: Final = "tau_max"
-    TAU_PEAK: Final = "tau_peak"
     TAU_SIMPLIFIED: Final = "tau_simplified"
     TAU_UNITS: Final = "tau_units"
     TORQUE_OFFSET: Final = "torque_offset"
@@ -154,7 +202,7 @@ class Var:
     XYZ_K: Final = "xyz_k"
 
 
-class Attr:
+class Attr(_Provenance):
     """Global attributes of ``results.h5``: provenance, thresholds, settings, the verification
     against Pinocchio and the simplified model's summary (:func:`gd_analyze.store.schema.global_attributes`,
     :func:`gd_analyze.store.datasets.summary_dataset`).
@@ -170,11 +218,8 @@ class Attr:
     CHAPTER_ELEMENTS_COMPARED: Final = "chapter_elements_compared"
     CHAPTER_WRIST_RANKED: Final = "chapter_wrist_ranked"
     CHAPTER_WRIST_ROTATION_LEADS: Final = "chapter_wrist_rotation_leads"
-    CONVENTIONS: Final = "Conventions"
     C_PREFIX: Final = "c_prefix"
-    COMMAND: Final = "command"
     DERIVATIVES: Final = "derivatives"
-    DOMINANCE_THRESHOLD: Final = "dominance_threshold"
     EXPLICIT: Final = "explicit"
     FORM: Final = "form"
     FORMULATIONS_JOINT_TYPES: Final = "formulations_joint_types"
@@ -182,18 +227,10 @@ class Attr:
     FORMULATIONS_SETPOINTS: Final = "formulations_setpoints"
     FULL_COEFFICIENTS: Final = "full_coefficients"
     FULL_HARMONICS: Final = "full_harmonics"
-    GD_ANALYZE_VERSION: Final = "gd_analyze_version"
-    GRAVITY: Final = "gravity"
-    GRAVITY_UNITS: Final = "gravity_units"
     GUARANTEE: Final = "guarantee"
-    HISTORY: Final = "history"
     INPUT_FILE: Final = "input_file"
     INPUT_PATH: Final = "input_path"
     INPUT_SHA256: Final = "input_sha256"
-    MOUNTING_BASE_RPY_DEG: Final = "mounting_base_rpy_deg"
-    MOUNTING_GRAVITY_BASE: Final = "mounting_gravity_base"
-    MOUNTING_GRAVITY_WORLD: Final = "mounting_gravity_world"
-    NEGLIGIBLE_THRESHOLD: Final = "negligible_threshold"
     OTHER_RULE: Final = "other_rule"
     OTHER_RULE_ADDITIONS: Final = "other_rule_additions"
     OTHER_RULE_COEFFICIENTS: Final = "other_rule_coefficients"
@@ -201,20 +238,13 @@ class Attr:
     OTHER_RULE_MULTIPLICATIONS: Final = "other_rule_multiplications"
     PAYLOAD_COM: Final = "payload_com"
     PAYLOAD_INERTIA: Final = "payload_inertia"
-    PAYLOAD_MASS: Final = "payload_mass"
-    REFERENCES: Final = "references"
     REGION_COVERAGE: Final = "region_coverage"
     REGION_COVERS_TRAJECTORY: Final = "region_covers_trajectory"
     REGION_NOTES: Final = "region_notes"
     REGION_SOURCE: Final = "region_source"
     REGION_SUMMARY: Final = "region_summary"
-    ROBOT: Final = "robot"
     ROBOT_BASE: Final = "robot_base"
-    ROBOT_DESCRIPTION: Final = "robot_description"
     ROBOT_PLACEHOLDER_INERTIA: Final = "robot_placeholder_inertia"
-    ROBOT_REFERENCE: Final = "robot_reference"
-    ROBOT_SHA256: Final = "robot_sha256"
-    ROBOT_SOURCE: Final = "robot_source"
     ROBOT_TIP: Final = "robot_tip"
     RULE: Final = "rule"
     SETPOINTS: Final = "setpoints"
@@ -250,8 +280,6 @@ class Attr:
     SIMPLIFIED_TERMS_KEPT: Final = "simplified_terms_kept"
     SIMPLIFIED_TOLERANCE: Final = "simplified_tolerance"
     SIMPLIFIED_TORQUE_FLOOR: Final = "simplified_torque_floor"
-    SOURCE: Final = "source"
-    TITLE: Final = "title"
     TOLERANCE: Final = "tolerance"
     TORQUE_FLOOR: Final = "torque_floor"
     VERIFICATION_ENGINE: Final = "verification_engine"
@@ -274,7 +302,7 @@ class Attr:
     VERIFICATION_TOLERANCE: Final = "verification_tolerance"
 
 
-class ControlVar:
+class ControlVar(_Shared):
     """Variables and coordinates of ``control.h5``
     (:func:`gd_analyze.store.control_dataset.control_dataset`; read by
     :class:`gd_analyze.store.stored_control.StoredControl`).
@@ -299,7 +327,6 @@ class ControlVar:
     ERROR_RMS_SETPOINTS: Final = "error_rms_setpoints"
     ERROR_PEAK_GRID: Final = "error_peak_grid"
     ERROR_RMS_GRID: Final = "error_rms_grid"
-    TAU_PEAK: Final = "tau_peak"
     TAU_RMS: Final = "tau_rms"
     NFEV: Final = "nfev"
     SUCCESS: Final = "success"
@@ -313,9 +340,7 @@ class ControlVar:
     INERTIA_SCALE_UNITS: Final = "inertia_scale_units"
     KP_PD_UNITS: Final = "Kp_pd_units"
     KV_PD_UNITS: Final = "Kv_pd_units"
-    JOINT_TYPE: Final = "joint_type"
     Q0_OFFSET: Final = "q0_offset"
-    CHOICE: Final = "choice"
     TAU_DIFFERENCE: Final = "tau_difference"
     TAU_DIFFERENCE_PEAK: Final = "tau_difference_peak"
     TAU_DIFFERENCE_RMS: Final = "tau_difference_rms"
@@ -326,14 +351,12 @@ class ControlVar:
     CONTROLLER: Final = "controller"
     CONTROLLER_DESCRIPTION: Final = "controller_description"
     TIME: Final = "time"
-    JOINT: Final = "joint"
-    ELEMENT: Final = "element"
     EVALUATOR: Final = "evaluator"
     MULTIPLICATIONS: Final = "multiplications"
     ADDITIONS: Final = "additions"
 
 
-class SweepVar:
+class SweepVar(_Ranked):
     """Variables and coordinates of ``sweep.h5``
     (:func:`gd_analyze.store.sweep_view.sweep_dataset`, the merged model's by
     :mod:`gd_analyze.jobs.sweep_merged`; read by :class:`gd_analyze.store.sweep_view.StoredSweep`).
@@ -344,22 +367,12 @@ class SweepVar:
 
     __slots__ = ()
 
-    SHARE_TRAN: Final = "share_tran"
-    DOMINANCE: Final = "dominance"
-    CHOICE: Final = "choice"
-    PEAK_TOTAL: Final = "peak_total"
-    ROUND_OFF: Final = "round_off"
     SOURCE: Final = "source"
     INPUT_SHA256: Final = "input_sha256"
     DURATION: Final = "duration"
     SETPOINTS: Final = "setpoints"
     Q_START: Final = "q_start"
     Q_GOAL: Final = "q_goal"
-    TAU_PEAK: Final = "tau_peak"
-    TAU_ERROR_PEAK: Final = "tau_error_peak"
-    TAU_ERROR_RMS: Final = "tau_error_rms"
-    TAU_ERROR_RELATIVE_PEAK: Final = "tau_error_relative_peak"
-    TAU_ERROR_RELATIVE_RMS: Final = "tau_error_relative_rms"
     MERGED_TAU_ERROR_PEAK: Final = "merged_tau_error_peak"
     MERGED_TAU_ERROR_RELATIVE_PEAK: Final = "merged_tau_error_relative_peak"
     CLASS_FRACTION: Final = "class_fraction"
@@ -372,11 +385,8 @@ class SweepVar:
     MERGED_ERROR_TAU_PEAK: Final = "merged_error_tau_peak"
     MERGED_ERROR_RELATIVE_PEAK: Final = "merged_error_relative_peak"
     MERGED_ERROR_RELATIVE_RMS: Final = "merged_error_relative_rms"
-    JOINT_TYPE: Final = "joint_type"
     TRAJECTORY: Final = "trajectory"
     CLASS: Final = "class"
-    ELEMENT: Final = "element"
-    JOINT: Final = "joint"
     MERGED_SCALE: Final = "merged_scale"
     MERGED_BOUND: Final = "merged_bound"
     MERGED_COVERED: Final = "merged_covered"
@@ -386,14 +396,13 @@ class SweepVar:
     PAIR_TAU_PEAK: Final = "pair_tau_peak"
     PAIR_PEAK: Final = "pair_peak"
     PARAMETER_PEAK: Final = "parameter_peak"
-    BASE_PARAMETER: Final = "base_parameter"
     PART: Final = "part"
     EVALUATOR: Final = "evaluator"
     MULTIPLICATIONS: Final = "multiplications"
     ADDITIONS: Final = "additions"
 
 
-class SweepAttr:
+class SweepAttr(_Provenance):
     """Global attributes of ``sweep.h5`` that the sweep report says in rows of their own, or
     that are results; any other attribute is a setting (:class:`gd_analyze.store.sweep_view.SweepSettings`).
 
@@ -403,14 +412,6 @@ class SweepAttr:
 
     __slots__ = ()
 
-    ROBOT: Final = "robot"
-    ROBOT_DESCRIPTION: Final = "robot_description"
-    ROBOT_SOURCE: Final = "robot_source"
-    ROBOT_SHA256: Final = "robot_sha256"
-    GRAVITY: Final = "gravity"
-    GRAVITY_UNITS: Final = "gravity_units"
-    DOMINANCE_THRESHOLD: Final = "dominance_threshold"
-    NEGLIGIBLE_THRESHOLD: Final = "negligible_threshold"
     SEED: Final = "seed"
     INPUT_FILES: Final = "input_files"
     INPUTS_SHA256: Final = "inputs_sha256"
@@ -423,26 +424,14 @@ class SweepAttr:
     BATCH_SIZE: Final = "batch_size"
     ELAPSED_S: Final = "elapsed_s"
     COMPUTE_S: Final = "compute_s"
-    HISTORY: Final = "history"
-    GD_ANALYZE_VERSION: Final = "gd_analyze_version"
-    CONVENTIONS: Final = "Conventions"
-    TITLE: Final = "title"
-    SOURCE: Final = "source"
-    REFERENCES: Final = "references"
     INPUT_KIND: Final = "input_kind"
     TRAJECTORIES: Final = "trajectories"
     STARTED: Final = "started"
-    ROBOT_REFERENCE: Final = "robot_reference"
     MERGED_RULE: Final = "merged_rule"
     MERGED_TOLERANCE: Final = "merged_tolerance"
     MERGED_TORQUE_FLOOR: Final = "merged_torque_floor"
     MERGED_WORST_SCALED_ERROR: Final = "merged_worst_scaled_error"
-    PAYLOAD_MASS: Final = "payload_mass"
     RANDOM_QDD_MAX_SOURCE: Final = "random_qdd_max_source"
-    COMMAND: Final = "command"
-    MOUNTING_BASE_RPY_DEG: Final = "mounting_base_rpy_deg"
-    MOUNTING_GRAVITY_BASE: Final = "mounting_gravity_base"
-    MOUNTING_GRAVITY_WORLD: Final = "mounting_gravity_world"
     OWN_MODEL_RULE: Final = "own_model_rule"
     MERGED_FORM: Final = "merged_form"
     MERGED_C_TERMS: Final = "merged_c_terms"
@@ -459,7 +448,7 @@ class SweepAttr:
 
 
 def _values(namespace: type) -> frozenset:
-    return frozenset(v for k, v in vars(namespace).items() if k.isupper())
+    return frozenset(v for c in namespace.__mro__ for k, v in vars(c).items() if k.isupper())
 
 
 #: Every variable name of :class:`Var`.

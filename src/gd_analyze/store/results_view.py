@@ -787,14 +787,12 @@ class Results(View):
         InputError
             If a variable or attribute of a results file is missing.
         """
-        for name in REQUIRED:
-            if name not in ds.variables:
-                raise InputError(f"missing variable {name!r}: not a gd-analyze results file",
-                                 source)
-        for name in REQUIRED_ATTRS:
-            if name not in ds.attrs:
-                raise InputError(f"missing attribute {name!r}: not a gd-analyze results file",
-                                 source)
+        for kind, names, held in (("variable", REQUIRED, ds.variables),
+                                  ("attribute", REQUIRED_ATTRS, ds.attrs)):
+            for name in names:
+                if name not in held:
+                    raise InputError(f"missing {kind} {name!r}: not a gd-analyze results file",
+                                     source)
         return cls.read(ds, source=source)
 
 

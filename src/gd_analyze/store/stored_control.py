@@ -150,12 +150,15 @@ class ModelFacts:
     guarantee_coverage: Any
 
 
-def _by_controller(ds, name):
-    """A variable over (controller, ...) by controller; None where not stored."""
-    if name not in ds.variables:
-        return None
-    return types.MappingProxyType({c: ds[name].sel(controller=c).values
-                                   for c in strings(ds[V.CONTROLLER].values)})
+def _by_controller(name):
+    """A :func:`derived` field: the variable ``name`` over (controller, ...) by controller;
+    None where not stored."""
+    def read(ds):
+        if name not in ds.variables:
+            return None
+        return types.MappingProxyType({c: ds[name].sel(controller=c).values
+                                       for c in strings(ds[V.CONTROLLER].values)})
+    return derived(read)
 
 
 @dataclass(frozen=True, eq=False)
@@ -215,18 +218,14 @@ class StoredControl(View):
     time: np.ndarray = stored(V.TIME)
     is_setpoint: np.ndarray = stored(V.IS_SETPOINT, lambda v: np.asarray(v).astype(bool))
     q_d: np.ndarray = stored(V.Q_D)
-    error: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, V.ERROR))
-    tau: Mapping[str, np.ndarray] = derived(lambda ds: _by_controller(ds, V.TAU))
-    error_peak_setpoints: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, V.ERROR_PEAK_SETPOINTS))
-    error_rms_setpoints: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, V.ERROR_RMS_SETPOINTS))
-    error_peak_grid: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, V.ERROR_PEAK_GRID))
-    error_rms_grid: Mapping[str, np.ndarray] = derived(
-        lambda ds: _by_controller(ds, V.ERROR_RMS_GRID))
-    tau_peak: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, V.TAU_PEAK))
-    tau_rms: Mapping[str, np.ndarray] | None = derived(lambda ds: _by_controller(ds, V.TAU_RMS))
+    error: Mapping[str, np.ndarray] = _by_controller(V.ERROR)
+    tau: Mapping[str, np.ndarray] = _by_controller(V.TAU)
+    error_peak_setpoints: Mapping[str, np.ndarray] = _by_controller(V.ERROR_PEAK_SETPOINTS)
+    error_rms_setpoints: Mapping[str, np.ndarray] = _by_controller(V.ERROR_RMS_SETPOINTS)
+    error_peak_grid: Mapping[str, np.ndarray] = _by_controller(V.ERROR_PEAK_GRID)
+    error_rms_grid: Mapping[str, np.ndarray] = _by_controller(V.ERROR_RMS_GRID)
+    tau_peak: Mapping[str, np.ndarray] | None = _by_controller(V.TAU_PEAK)
+    tau_rms: Mapping[str, np.ndarray] | None = _by_controller(V.TAU_RMS)
     tau_difference: np.ndarray | None = stored(V.TAU_DIFFERENCE, default=None)
     tau_difference_floor: np.ndarray | None = stored(V.TAU_DIFFERENCE_FLOOR, default=None)
     tau_difference_peak: np.ndarray | None = stored(V.TAU_DIFFERENCE_PEAK, default=None)

@@ -120,6 +120,11 @@ class ParameterTable:
     prior: np.ndarray
     identifiable: np.ndarray
 
+    @property
+    def unidentifiable(self) -> list[str]:
+        """list of str: the names of the parameters the data do not identify, in order."""
+        return [nm for nm, ok in zip(self.names, self.identifiable) if not ok]
+
 
 @dataclass(frozen=True, eq=False)
 class RecordingFit:
@@ -358,8 +363,7 @@ def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
                "inputs": json.dumps(result.inputs, sort_keys=True),
                "preprocessing": json.dumps(list(result.preprocessing)),
                "condition_number": float(result.condition_number), "rank": int(result.rank),
-               "unidentifiable": json.dumps([nm for nm, ok in zip(p.names, p.identifiable)
-                                             if not ok]),
+               "unidentifiable": json.dumps(p.unidentifiable),
                "standard_method": result.standard_method, "coulomb_model": "sign(qd)"})
     out = {"/": root}
     for fit in result.recordings:
@@ -446,10 +450,8 @@ def recordings_json(result: IdentificationResult) -> dict[str, Any]:
             item.update(simplified_relative_error=_finite(srel),
                         simplified_total_relative_error=_finite(stotal)[0])
         recs.append(item)
-    p = result.parameters
     return {"recordings": recs, "condition_number": float(result.condition_number),
-            "rank": int(result.rank),
-            "unidentifiable": [nm for nm, ok in zip(p.names, p.identifiable) if not ok]}
+            "rank": int(result.rank), "unidentifiable": result.parameters.unidentifiable}
 
 
 #: Variables the root group must have.

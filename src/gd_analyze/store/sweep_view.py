@@ -216,6 +216,10 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     def per_joint(key):
         return np.array([e[key] for e in err], dtype=float)
 
+    def each(key, dtype=None):
+        """Per trajectory, the summary's ``key``."""
+        return np.array([s[key] for s in summ], dtype=dtype)
+
     if merged_stats is None:
         nan = np.full(robot.n, np.nan)
         merged_stats = [{"peak": nan, "peak_tau": nan, "sum_sq": nan, "count": 0}] * K
@@ -239,48 +243,44 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         s_min, s_med, s_max = (np.nanmin(share_data, axis=0),
                                np.nanmedian(share_data, axis=0), np.nanmax(share_data, axis=0))
     torque, position = _torque_units(robot), _torque_units(robot, "q")
+    T, TE, TJ = (SV.TRAJECTORY,), (SV.TRAJECTORY, SV.ELEMENT), (SV.TRAJECTORY, SV.JOINT)
     data_vars = {
-        SV.SHARE_TRAN: var((SV.TRAJECTORY, SV.ELEMENT), share, "1",
+        SV.SHARE_TRAN: var(TE, share, "1",
                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        SV.DOMINANCE: var((SV.TRAJECTORY, SV.ELEMENT), classes, "1",
+        SV.DOMINANCE: var(TE, classes, "1",
                           "dominance class (translational, rotational, both, negligible)"),
-        SV.CHOICE: var((SV.TRAJECTORY, SV.ELEMENT), choice, "1",
+        SV.CHOICE: var(TE, choice, "1",
                        "part kept by the trajectory's own simplified model "
                        "(tran, rot, both, none)"),
-        SV.PEAK_TOTAL: var((SV.TRAJECTORY, SV.ELEMENT), peak_total, MIXED_UNITS,
+        SV.PEAK_TOTAL: var(TE, peak_total, MIXED_UNITS,
                            "peak |translational + rotational| along the trajectory"),
-        SV.ROUND_OFF: flag((SV.TRAJECTORY, SV.ELEMENT), round_off, "every part of the element is "
-                          "round-off on the trajectory (1: at most 1e-12 of its scale; its "
-                          "share_tran is noise), else 0"),
-        SV.SOURCE: var((SV.TRAJECTORY,), np.array([s["source"] for s in summ], dtype=str), "1",
+        SV.ROUND_OFF: flag(TE, round_off, "every part of the element is round-off on the "
+                          "trajectory (1: at most 1e-12 of its scale; its share_tran is noise), "
+                          "else 0"),
+        SV.SOURCE: var(T, each("source", str), "1",
                        "trajectory source (file name or random-<seed>-<index>)"),
-        SV.INPUT_SHA256: var((SV.TRAJECTORY,), np.array([s["sha256"] for s in summ], dtype=str),
-                             "1", "SHA-256 of the trajectory file (empty if generated)"),
-        SV.DURATION: var((SV.TRAJECTORY,), np.array([s["duration"] for s in summ]), "s",
-                         "trajectory duration"),
-        SV.SETPOINTS: var((SV.TRAJECTORY,), np.array([s["setpoints"] for s in summ]), "1",
-                          "number of set points"),
-        SV.Q_START: var((SV.TRAJECTORY, SV.JOINT), np.array([s["q_start"] for s in summ]), position,
-                        "joint position at the first set point"),
-        SV.Q_GOAL: var((SV.TRAJECTORY, SV.JOINT), np.array([s["q_goal"] for s in summ]), position,
-                       "joint position at the last set point"),
-        SV.TAU_PEAK: var((SV.TRAJECTORY, SV.JOINT), np.array([s["tau_peak"] for s in summ]),
-                         torque, "peak |tau| of the full model along the trajectory"),
-        SV.TAU_ERROR_PEAK: var((SV.TRAJECTORY, SV.JOINT), per_joint("peak_abs_error"), torque,
+        SV.INPUT_SHA256: var(T, each("sha256", str), "1",
+                             "SHA-256 of the trajectory file (empty if generated)"),
+        SV.DURATION: var(T, each("duration"), "s", "trajectory duration"),
+        SV.SETPOINTS: var(T, each("setpoints"), "1", "number of set points"),
+        SV.Q_START: var(TJ, each("q_start"), position, "joint position at the first set point"),
+        SV.Q_GOAL: var(TJ, each("q_goal"), position, "joint position at the last set point"),
+        SV.TAU_PEAK: var(TJ, each("tau_peak"), torque,
+                         "peak |tau| of the full model along the trajectory"),
+        SV.TAU_ERROR_PEAK: var(TJ, per_joint("peak_abs_error"), torque,
                                "own simplified model: peak |tau_simplified - tau|"),
-        SV.TAU_ERROR_RMS: var((SV.TRAJECTORY, SV.JOINT), per_joint("rms_error"), torque,
+        SV.TAU_ERROR_RMS: var(TJ, per_joint("rms_error"), torque,
                               "own simplified model: RMS of |tau_simplified - tau|"),
-        SV.TAU_ERROR_RELATIVE_PEAK: var((SV.TRAJECTORY, SV.JOINT),
-                                        per_joint("relative_peak_error"), "1",
+        SV.TAU_ERROR_RELATIVE_PEAK: var(TJ, per_joint("relative_peak_error"), "1",
                                         "own simplified model: peak |tau_simplified - tau| / "
                                         "peak |tau|"),
-        SV.TAU_ERROR_RELATIVE_RMS: var((SV.TRAJECTORY, SV.JOINT), per_joint("relative_rms_error"),
-                                       "1", "own simplified model: RMS |tau_simplified - tau| / "
-                                            "peak |tau|"),
-        SV.MERGED_TAU_ERROR_PEAK: var((SV.TRAJECTORY, SV.JOINT), m_peak, torque,
+        SV.TAU_ERROR_RELATIVE_RMS: var(TJ, per_joint("relative_rms_error"), "1",
+                                       "own simplified model: RMS |tau_simplified - tau| / "
+                                       "peak |tau|"),
+        SV.MERGED_TAU_ERROR_PEAK: var(TJ, m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
-        SV.MERGED_TAU_ERROR_RELATIVE_PEAK: var((SV.TRAJECTORY, SV.JOINT), m_rel, "1",
+        SV.MERGED_TAU_ERROR_RELATIVE_PEAK: var(TJ, m_rel, "1",
                                                "merged model: peak |tau_merged - tau| / peak "
                                                "|tau| along the trajectory"),
         SV.CLASS_FRACTION: var((SV.ELEMENT, SV.CLASS), fraction, "1",
