@@ -20,7 +20,6 @@ atomically (:func:`gd_analyze.files.atomic_path`).
 from __future__ import annotations
 
 import functools
-import math
 import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -53,14 +52,15 @@ from .common import (
     utc_now,
 )
 from .common import table as _table
-from .drawing import draw_figures, html_document, write_documents
+from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .figure_style import joint_axes, markevery
 from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
 from .sections import Outline
 from .ticks import decade_formatter, label_axes, set_ticks
-from .typeset import PAPER
+from .typeset import check_paper
 
 if TYPE_CHECKING:
     import os
@@ -280,10 +280,6 @@ def page_columns(n: int) -> int:
     return 2 if n <= 4 else 3
 
 
-def _stride(m):
-    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
-
-
 def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                   width=PAGE_WIDTH):
     """A figure with one panel per joint; values: name -> (M, n) array along the stored
@@ -294,10 +290,8 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     whose curve on a joint is all integrator noise is not drawn there: the panel says so; a
     log axis starts at the floor, a linear one shades the band within +-floor.
     """
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.ticker import LogLocator, NullFormatter
-
 
     t = np.asarray(s.time, dtype=float)
     is_set = s.is_setpoint
@@ -310,13 +304,9 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
     W = width
-    fig = Figure(figsize=(W, height))
-    # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / height,
-                        bottom=bottom / height, wspace=0.3 if column else _WSPACE[cols],
-                        hspace=0.35)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
-    k = _stride(t.size)
+    fig, axes = joint_axes(n, cols, (W, height), top, bottom,
+                           0.3 if column else _WSPACE[cols], 0.35)
+    k = markevery(t.size, _MAX_LINE_POINTS)
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
@@ -324,11 +314,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     linear = []
-    for j in range(rows * cols):
-        ax = axes[j // cols, j % cols]
-        if j >= n:
-            ax.set_visible(False)
-            continue
+    for j, ax in enumerate(axes):
         drawn = 0
         for order, (name, y) in enumerate(values.items()):
             yj = np.asarray(y[:, j], dtype=float)
@@ -1228,18 +1214,15 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
     (simplified model) and Ch. 5 (computed-torque control).
     """
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
     ctx = control_context(s)
     figures = make_control_figures(s)
     column = control_figures(s, COLUMN_WIDTH)
     drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
-    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
-                        "Subject": "Computed-torque control with the simplified G-D model (Fu, "
-                                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)",
-                        "Keywords": ctx["keywords"]},
-           "footer": f"gd-analyze {ctx['version']}: control report"}
+    pdf = pdf_info(ctx["version"], "Computed-torque control with the simplified G-D model (Fu, "
+                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)", ctx["keywords"],
+                   "control report")
     return write_documents(
         Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
         lambda o, d: html_document("control_report.html.j2", ctx, o, d), pdf,

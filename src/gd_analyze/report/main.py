@@ -40,7 +40,7 @@ from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
-from .drawing import draw_each, draw_figures, html_document, write_documents
+from .drawing import draw_each, draw_figures, html_document, pdf_info, write_documents
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -61,7 +61,7 @@ from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import Outline
 from .simplified_section import BUDGET_CAPTIONS, budget_makers, error_figure
 from .ticks import decade_formatter, scaled_formatter
-from .typeset import PAPER
+from .typeset import check_paper
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -657,8 +657,7 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
     formats = check_formats(formats, REPORT_FORMATS)
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     if isinstance(results, Results):                        # in memory: nothing read again
         return _write(results, Path(outdir), formats, paper, progress, column_figures, latex)
     with open_results(results, lazy=True) as ds:            # long series: in chunks
@@ -673,13 +672,10 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     data = plot_data(ds, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
-    pdf = {"metadata": {
-        "Author": f"gd-analyze {ctx['version']}",
-        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
-                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-        "Keywords": ctx["keywords"]},
-        "footer": f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set points",
-        "created": ctx["created"]}
+    pdf = pdf_info(ctx["version"], "Translational and rotational dominance of the generalized "
+                   "d'Alembert dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+                   ctx["keywords"], f"{ctx['robot_name']}, {ctx['N']:,} set points",
+                   ctx["created"])
     return write_documents(outdir, drawn, FIGURE_FILES, functools.partial(main_outline, ctx),
                            _html(ctx), pdf, formats, paper=paper, latex=latex,
                            shown=_FIGURE_ORDER)
