@@ -761,9 +761,9 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                 err_rows.append([_SHORT.get(c, c), where, fig])
                 err_values.append(v)
                 err_off.append(noisy(pk, q_floor))
-    q_u, tau_u = joint_units_of(s, "q"), joint_units_of(s, "tau")
+    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
     errors = _table(["controller", "sampled at", "figure"]
-                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
                     _with_columns(err_rows, err_values, err_off),
                     align=["left", "left", "left"] + ["right"] * n)
     diff_rows, diff_values, diff_off = [], [], []
@@ -781,7 +781,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         diff_rows.append(["noise floor (\u2261 0 at or below)"])
         diff_values.append(np.asarray(tau_floor, float))
         diff_off.append(np.zeros(n, bool))
-    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+    tau_diff = _table(["figure"] + tau_u,
                       _with_columns(diff_rows, diff_values, diff_off), align="right")
     tau_rows, tau_values = [], []
     for c in names:
@@ -789,7 +789,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
             for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms)):
                 tau_rows.append([_SHORT.get(c, c), fig])
                 tau_values.append(figures[c])
-    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+    tau_table = _table(["controller", "figure"] + tau_u,
                        _with_columns(tau_rows, tau_values),
                        align=["left", "left"] + ["right"] * n)
     cost = cost_table(s.costs)
@@ -806,8 +806,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
     prov = _table(["item", "value"], _provenance(s, __version__), align=["left", "left"])
-    floor = (f"Integrator noise ({rule['q']}) is not drawn: a log axis starts at that "
-             "floor.")
     captions = {
         "error": (f"Tracking error |e| = |q{_D} \u2212 q| per joint along the run, log scale "
                   f"({markers_words(s, names)}). Integrator noise, {rule['q']}, is not "
@@ -842,7 +840,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                        f"of D at the start of the motion (D{sub('ii')} at the start)."),
         "errors": errors,
         "error_note": f"Tracking error e = q{_D} \u2212 q per joint",
-        "floor_note": floor, "noise_rule": rule, "captions": captions,
+        "noise_rule": rule, "captions": captions,
         "tau_diff": tau_diff,
         "diff_note": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
                       f"\u03c4{sub('f')}: torque of the simplified-model "

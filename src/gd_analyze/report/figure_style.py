@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "joint_axes", "raise_small_text", "text_extent"]
+           "gridspec", "joint_axes", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
@@ -311,6 +311,58 @@ def markevery(m: int, most: int = MAX_MARKERS) -> int:
     (3, 1, 1)
     """
     return max(1, -(-int(m) // max(1, int(most))))
+
+
+def new_figure(width: float, height: float) -> Figure:
+    """A matplotlib figure of this size, made without pyplot (no global state).
+
+    Parameters
+    ----------
+    width, height : float
+        [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height))
+
+
+def grid_boxes(fig: Figure, n: int, cols: int, at: tuple[float, float],
+               size: tuple[float, float], gaps: tuple[float, float]
+               ) -> list[tuple[float, float, float, float]]:
+    """Where n panels go, ``cols`` a row in reading order, in a fixed layout in inches.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (its size [in]).
+    n, cols : int
+        Panels, and panels a row.
+    at : (float, float)
+        The first panel's top left corner (x, y) from the figure's top left [in].
+    size : (float, float)
+        Each panel's width and height [in].
+    gaps : (float, float)
+        Room between columns and between rows [in].
+
+    Returns
+    -------
+    list of (float, float, float, float)
+        Each panel's left, bottom, width and height as shares of the figure's, for
+        :meth:`~matplotlib.figure.Figure.add_axes` or
+        :meth:`~matplotlib.axes.Axes.set_position`.
+    """
+    W, H = fig.get_size_inches()
+    (x0, y0), (w, h), (gx, gy) = at, size, gaps
+    boxes = []
+    for k in range(n):
+        r, c = divmod(k, cols)
+        x, y = x0 + c * (w + gx), y0 + r * (h + gy)
+        boxes.append((x / W, 1 - (y + h) / H, w / W, h / H))
+    return boxes
 
 
 def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom: float,

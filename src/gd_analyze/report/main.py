@@ -18,9 +18,10 @@ sheet is inline. ``report.pdf`` is typeset by Typst from the same section list, 
 embedded from their SVG (:mod:`gd_analyze.report.typeset`), both from one outline
 (:func:`main_outline`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 
-Long trajectories are drawn through one helper that reduces a series of more than
-:data:`ENVELOPE_THRESHOLD` points to its min/max envelope (:func:`envelope`), one pair per pixel
-column of the panel at 300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
+Long trajectories are drawn from series read in chunks and reduced, past
+:data:`ENVELOPE_THRESHOLD` points, to their min/max envelope
+(:func:`gd_analyze.report.plot_data.plot_data`), one pair per pixel column of the panel at
+300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
 the figures, and the HTML, stay small whatever the number of set points (about 0.7 MB of HTML
 for 100,000 set points of a 6-joint arm).
 """
@@ -32,8 +33,6 @@ import os
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
-
-import numpy as np
 
 from ..ranking.ranking import ROUND_OFF
 from ..store.results_view import Results
@@ -64,15 +63,13 @@ from .ticks import decade_formatter, scaled_formatter
 from .typeset import check_paper
 
 if TYPE_CHECKING:
-    import numpy.typing as npt
     import xarray as xr
     from matplotlib.figure import Figure
 
-    from ..store.results_view import Results
     from .plot_data import PlotData
 
 __all__ = ["main_outline", "RANKING_TEXT", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
-           "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope", "COLUMN_FIGURES", "FIGURE_PARTS",
+           "ENVELOPE_COLUMNS", "FIGURE_FILES", "COLUMN_FIGURES", "FIGURE_PARTS",
            "make_figures", "figure_makers", "render_html", "write_report"]
 
 _X = "X"
@@ -274,77 +271,6 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
 
 #: The formats :func:`write_report` can write.
 REPORT_FORMATS = ("html", "pdf")
-
-
-# --------------------------------------------------------------------------------------------
-# Plotting helpers
-# --------------------------------------------------------------------------------------------
-
-def envelope(x: npt.ArrayLike, y: npt.ArrayLike,
-             columns: int = ENVELOPE_COLUMNS) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Reduce a series to its min/max envelope over equal-width columns of x.
-
-    Parameters
-    ----------
-    x : array_like, shape (N,)
-        Abscissae, e.g. time [s] or set point index; sorted here if they are not.
-    y : array_like, shape (N,)
-        Ordinates, any units; NaN values are ignored.
-    columns : int, optional
-        Number of columns (think of pixel columns) the range of x is cut into.
-
-    Returns
-    -------
-    xe, ye : ndarray, shape (M,)
-        The points of the series that are the minimum or the maximum of their column, plus the
-        first and the last point, in order of x; M <= 2 * columns + 2. The global minimum and
-        maximum of y are kept exactly. If N <= 2 * columns the series is returned unchanged
-        (as float copies).
-
-    Raises
-    ------
-    ValueError
-        If x and y are not 1-D of the same length, or columns < 1.
-
-    Notes
-    -----
-    Plotting the envelope instead of every point keeps figures of long trajectories small and
-    fast while drawing the same band a full plot would show at print resolution. Used for the
-    panels of the analogues of Figs. 3.10 and 3.11 (Sec. 3.4.1).
-    """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    if x.ndim != 1 or x.shape != y.shape:
-        raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
-    columns = int(columns)
-    if columns < 1:
-        raise ValueError(f"columns must be >= 1, got {columns}")
-    N = x.size
-    if N <= 2 * columns:
-        return x.copy(), y.copy()
-    if np.any(np.diff(x) < 0):
-        order = np.argsort(x, kind="stable")
-        x, y = x[order], y[order]
-    x0, x1 = x[0], x[-1]
-    if np.isfinite(x0) and np.isfinite(x1) and x1 > x0:
-        col = np.minimum(((x - x0) * (columns / (x1 - x0))).astype(np.intp), columns - 1)
-    else:                                   # degenerate or non-finite x: equal counts
-        col = (np.arange(N) * columns) // N
-    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
-    seg = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, N]))
-    with np.errstate(invalid="ignore"):
-        ymin = np.fmin.reduceat(y, starts)
-        ymax = np.fmax.reduceat(y, starts)
-
-    def first_hit(target):
-        hit = np.flatnonzero(y == target[seg])          # NaN never matches
-        found, first = np.unique(seg[hit], return_index=True)
-        idx = starts.copy()                             # an all-NaN column: its first point
-        idx[found] = hit[first]
-        return idx
-
-    idx = np.unique(np.concatenate([first_hit(ymin), first_hit(ymax), [0, N - 1]]))
-    return x[idx], y[idx]
 
 
 # --------------------------------------------------------------------------------------------
