@@ -305,7 +305,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
     W = width
     fig, axes = joint_axes(n, cols, (W, height), top, bottom,
-                           0.3 if column else _WSPACE[cols], 0.35)
+                           0.3 if column else _WSPACE[cols], 0.35, "time t [s]")
     k = markevery(t.size, _MAX_LINE_POINTS)
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
@@ -360,9 +360,6 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                     ha="center", va="center", fontsize=7, color="0.35")
             ax.set_yticks([])
         ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:     # the lowest panel of its column
-            ax.set_xlabel("time t [s]")
-            ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
     if handles:
@@ -1074,18 +1071,13 @@ def _provenance(s, version):
         rows.append(["command", stored_text(st.command)])
     rows += [list(run_row(s.run, "run")), list(gravity_row(s.run))]
     own = str(st.trajectory_is_models) == "1"
-    stored = {"trajectory_path": st.trajectory_path,
-              "trajectory_derivatives": st.trajectory_derivatives,
-              "model_path": st.model_path,
-              "model_trajectory_sha256": st.model_trajectory_sha256,
-              "trajectory_is_models": st.trajectory_is_models,
-              "model_guarantee_covered": s.model.guarantee_covered,
-              "references": st.references}
     for label, k in _PROVENANCE:
         if k == "model_trajectory_sha256" and own:
             continue                    # the trajectory's own SHA-256, said in Table 1.1
-        if stored[k] is not None:
-            value = stored_text(stored[k])
+        stored = (s.model.guarantee_covered if k == "model_guarantee_covered" else
+                  getattr(st, k))
+        if stored is not None:
+            value = stored_text(stored)
             if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
             if k == "trajectory_derivatives" and value in DERIVATIVES:
@@ -1215,9 +1207,8 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     check_paper(paper)
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
     ctx = control_context(s)
-    figures = make_control_figures(s)
-    column = control_figures(s, COLUMN_WIDTH)
-    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
+    column = {f"{k}_column": f for k, f in control_figures(s, COLUMN_WIDTH).items()}
+    drawn = draw_figures({**control_figures(s), **column}, FIGURE_RC)
     pdf = pdf_info(ctx["version"], "Computed-torque control with the simplified G-D model (Fu, "
                    "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)", ctx["keywords"],
                    "control report")

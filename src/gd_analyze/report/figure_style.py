@@ -366,7 +366,7 @@ def grid_boxes(fig: Figure, n: int, cols: int, at: tuple[float, float],
 
 
 def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom: float,
-               wspace: float, hspace: float) -> tuple[Figure, list[Axes]]:
+               wspace: float, hspace: float, xlabel: str) -> tuple[Figure, list[Axes]]:
     """A figure of one panel per joint, ``cols`` a row, sharing x, in fixed margins (no
     layout engine: drawing stays fast).
 
@@ -382,6 +382,8 @@ def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom:
         Margins above and below the panels [in]; 0.75 in on the left, 0.15 in on the right.
     wspace, hspace : float
         Room between panels [share of a panel's width, height].
+    xlabel : str
+        The x axis' label, with its tick labels, under the lowest panel of each column.
 
     Returns
     -------
@@ -398,6 +400,9 @@ def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom:
     axes = fig.subplots(math.ceil(n / cols), cols, squeeze=False, sharex=True).ravel()
     for ax in axes[n:]:
         ax.set_visible(False)
+    for ax in axes[max(0, n - cols):n]:           # the lowest panel of its column
+        ax.set_xlabel(xlabel)
+        ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
     return fig, list(axes[:n])
 
 

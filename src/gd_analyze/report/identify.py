@@ -171,8 +171,10 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
 
     n = len(joints)
     rows, cols = grid_shape(n, 2)
-    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45)
+    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
+                           "t [s]")
     k = stride(t.size)
+    units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(n)]
     handles = {}
     yaxes = []
     for j, ax in enumerate(axes):
@@ -185,14 +187,8 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
         yaxes.append(ax.yaxis)
-        unit = "N" if prismatic is not None and prismatic[j] else "N m"
-        left = j - j % cols
-        left_unit = "N" if prismatic is not None and prismatic[left] else "N m"
-        if j % cols == 0 or unit != left_unit:
-            ax.set_ylabel(f"{ylabel} [{unit}]")
-        if j >= n - cols:
-            ax.set_xlabel("t [s]")
-            ax.tick_params(labelbottom=True)
+        if j % cols == 0 or units[j] != units[j - j % cols]:
+            ax.set_ylabel(f"{ylabel} [{units[j]}]")
     label_axes(yaxes)
     fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
                frameon=False, bbox_to_anchor=(0.5, 0.02))

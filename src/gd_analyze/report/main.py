@@ -483,11 +483,6 @@ def _fig_formulations(counted, width=PAGE_WIDTH):
 # Drawing once, HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def _drawn(figures, pdf=True, created=None):
-    """Each figure drawn once as SVG and (if asked) typeset as PDF: {key: (svg, pdf, size)}."""
-    return draw_figures(figures, FIG_RC, pdf=pdf, created=created)
-
-
 def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
     """Render the report as one self-contained HTML document.
 
@@ -516,7 +511,8 @@ def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> 
     ctx = report_context(ds)
     if figures is None:
         figures = make_figures(ds, keys=_FIGURE_ORDER)
-    drawn = _drawn({k: figures[k] for k in _FIGURE_ORDER if k in figures}, pdf=False)
+    drawn = draw_figures({k: figures[k] for k in _FIGURE_ORDER if k in figures}, FIG_RC,
+                         pdf=False)
     return _html(ctx)(main_outline(ctx, drawn), drawn)
 
 

@@ -48,7 +48,7 @@ from ..ranking.ranking import (
     joint_units_text,
 )
 from ..store.schema import open_sweep
-from ..store.sweep_view import REQUIRED, MergedModel, PayloadSweep, StoredSweep
+from ..store.sweep_view import MergedModel, PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
@@ -92,9 +92,6 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
     from numpy.typing import ArrayLike
-
-__all__ = ["make_sweep_figures", "error_marks", "REQUIRED", "KEPT", "ERROR_FLOOR", "merged_claim",
-           "coverage", "sweep_context", "SWEEP_REPORT_FORMATS", "write_sweep_report"]
 
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
