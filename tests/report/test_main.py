@@ -473,49 +473,6 @@ def test_zero_velocity_has_no_nan_share(tmp_path, puma):
     assert [r[1] for r in h[1:] if r[0].startswith("h")] == ["\u2261 0"] * 6
 
 
-def test_envelope_long_series():
-    rng = np.random.default_rng(1)
-    N, columns = 100_000, 1000
-    x = np.linspace(0.0, 10.0, N)
-    y = np.sin(x) + 0.1 * rng.standard_normal(N)
-    y[12345], y[67890] = 7.5, -6.25                   # isolated spikes
-    xe, ye = report.envelope(x, y, columns)
-    assert xe.shape == ye.shape
-    assert len(xe) <= 2 * columns + 2
-    assert len(xe) >= columns                          # not over-reduced
-    assert ye.max() == y.max() == 7.5 and ye.min() == y.min() == -6.25
-    assert np.all(np.diff(xe) >= 0)
-    assert xe[0] == x[0] and xe[-1] == x[-1]
-    # every kept point is a point of the series
-    idx = np.searchsorted(x, xe)
-    np.testing.assert_array_equal(y[idx], ye)
-    # per column, the envelope holds the column's extremes
-    col = np.minimum((x / 10.0 * columns).astype(int), columns - 1)
-    cole = np.minimum((xe / 10.0 * columns).astype(int), columns - 1)
-    for c in (0, 123, 617, columns - 1):
-        assert ye[cole == c].max() == y[col == c].max()
-        assert ye[cole == c].min() == y[col == c].min()
-
-
-def test_envelope_short_unsorted_and_nan():
-    x = np.arange(31.0)
-    y = np.cos(x)
-    xe, ye = report.envelope(x, y, 1000)
-    np.testing.assert_array_equal(xe, x)
-    np.testing.assert_array_equal(ye, y)
-    rng = np.random.default_rng(2)
-    x = rng.uniform(0, 1, 50_000)
-    y = rng.standard_normal(50_000)
-    y[::7] = np.nan
-    xe, ye = report.envelope(x, y, 200)
-    assert len(xe) <= 402 and np.all(np.diff(xe) >= 0)
-    assert np.nanmax(ye) == np.nanmax(y) and np.nanmin(ye) == np.nanmin(y)
-    with pytest.raises(ValueError):
-        report.envelope(np.arange(3.0), np.arange(4.0))
-    with pytest.raises(ValueError):
-        report.envelope(np.arange(3.0), np.arange(3.0), columns=0)
-
-
 def test_plot_data_reads_long_series_in_chunks():
     """The chunked envelope holds each column's extremes of the full series (oracle: numpy on
     the whole array), whatever the chunk size."""
@@ -738,7 +695,7 @@ def test_envelope_text_gives_the_drawn_column_count(tmp_path, two_link):
     said = [int(m.replace(",", "")) for t in texts
             for m in re.findall(r"over (?:about )?([\d,]+) equal time columns", t)]
     assert len(said) >= 2 and set(said) == drawn, (said, drawn)
-    assert report.envelope.__defaults__[0] == drawn.pop()
+    assert report.ENVELOPE_COLUMNS == drawn.pop()
 
 
 def test_torque_caption_describes_the_drawn_figure(puma_report):

@@ -11,7 +11,7 @@ the reports' output is the interface, not these functions.
 from __future__ import annotations
 
 import datetime
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from importlib import resources
 from typing import TYPE_CHECKING, Any
 
@@ -163,7 +163,8 @@ FORMULATION_ABBR = {"lagrange-euler": "L-E", "newton-euler": "N-E", "gd": "G-D",
 
 def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
           align: Sequence[str] | str | None = None, widths: Sequence[float] | None = None,
-          colour_cols: Sequence[int] = ()) -> dict[str, Any]:
+          colour_cols: Sequence[int] = (),
+          cells: Callable[[str], str] = marked) -> dict[str, Any]:
     """A table as the templates and the PDF writers read it.
 
     Parameters
@@ -181,6 +182,10 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
         Relative column widths (PDF of the analysis report); default all 1.
     colour_cols : sequence of int, optional
         Columns whose cells are dominance classes, drawn in their colour.
+    cells : callable, optional
+        Each cell's text as shown: by default element labels lettered as mathematics
+        (:func:`gd_analyze.report.markup.marked`); :func:`gd_analyze.report.markup.clean`
+        leaves a cell as text (names from a file).
 
     Returns
     -------
@@ -191,7 +196,7 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
         align = ["left"] + [align] * (len(header) - 1)
 
     header = [keep_units(h) for h in header]
-    return {"header": header, "rows": [[marked(str(c)) for c in row] for row in rows],
+    return {"header": header, "rows": [[cells(str(c)) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 

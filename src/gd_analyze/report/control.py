@@ -20,7 +20,6 @@ atomically (:func:`gd_analyze.files.atomic_path`).
 from __future__ import annotations
 
 import functools
-import math
 import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -53,14 +52,15 @@ from .common import (
     utc_now,
 )
 from .common import table as _table
-from .drawing import draw_figures, html_document, write_documents
+from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .figure_style import joint_axes, markevery
 from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
 from .sections import Outline
 from .ticks import decade_formatter, label_axes, set_ticks
-from .typeset import PAPER
+from .typeset import check_paper
 
 if TYPE_CHECKING:
     import os
@@ -280,10 +280,6 @@ def page_columns(n: int) -> int:
     return 2 if n <= 4 else 3
 
 
-def _stride(m):
-    return max(1, int(math.ceil(m / _MAX_LINE_POINTS)))
-
-
 def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                   width=PAGE_WIDTH):
     """A figure with one panel per joint; values: name -> (M, n) array along the stored
@@ -294,10 +290,8 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     whose curve on a joint is all integrator noise is not drawn there: the panel says so; a
     log axis starts at the floor, a linear one shades the band within +-floor.
     """
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.ticker import LogLocator, NullFormatter
-
 
     t = np.asarray(s.time, dtype=float)
     is_set = s.is_setpoint
@@ -310,13 +304,9 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
     W = width
-    fig = Figure(figsize=(W, height))
-    # fixed margins [in] instead of a layout engine: drawing stays fast
-    fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / height,
-                        bottom=bottom / height, wspace=0.3 if column else _WSPACE[cols],
-                        hspace=0.35)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
-    k = _stride(t.size)
+    fig, axes = joint_axes(n, cols, (W, height), top, bottom,
+                           0.3 if column else _WSPACE[cols], 0.35, "time t [s]")
+    k = markevery(t.size, _MAX_LINE_POINTS)
     keep = np.zeros(t.size, dtype=bool)
     keep[::k] = True
     keep |= is_set
@@ -324,11 +314,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     linear = []
-    for j in range(rows * cols):
-        ax = axes[j // cols, j % cols]
-        if j >= n:
-            ax.set_visible(False)
-            continue
+    for j, ax in enumerate(axes):
         drawn = 0
         for order, (name, y) in enumerate(values.items()):
             yj = np.asarray(y[:, j], dtype=float)
@@ -374,9 +360,6 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                     ha="center", va="center", fontsize=7, color="0.35")
             ax.set_yticks([])
         ax.set_title(f"joint {j + 1}")
-        if j // cols == rows - 1 or j + cols >= n:     # the lowest panel of its column
-            ax.set_xlabel("time t [s]")
-            ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
     if handles:
@@ -775,9 +758,9 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                 err_rows.append([_SHORT.get(c, c), where, fig])
                 err_values.append(v)
                 err_off.append(noisy(pk, q_floor))
-    q_u, tau_u = joint_units_of(s, "q"), joint_units_of(s, "tau")
+    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
     errors = _table(["controller", "sampled at", "figure"]
-                    + [f"{j} [{u}]" for j, u in zip(joints, q_u)],
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
                     _with_columns(err_rows, err_values, err_off),
                     align=["left", "left", "left"] + ["right"] * n)
     diff_rows, diff_values, diff_off = [], [], []
@@ -795,7 +778,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         diff_rows.append(["noise floor (\u2261 0 at or below)"])
         diff_values.append(np.asarray(tau_floor, float))
         diff_off.append(np.zeros(n, bool))
-    tau_diff = _table(["figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+    tau_diff = _table(["figure"] + tau_u,
                       _with_columns(diff_rows, diff_values, diff_off), align="right")
     tau_rows, tau_values = [], []
     for c in names:
@@ -803,7 +786,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
             for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms)):
                 tau_rows.append([_SHORT.get(c, c), fig])
                 tau_values.append(figures[c])
-    tau_table = _table(["controller", "figure"] + [f"{j} [{u}]" for j, u in zip(joints, tau_u)],
+    tau_table = _table(["controller", "figure"] + tau_u,
                        _with_columns(tau_rows, tau_values),
                        align=["left", "left"] + ["right"] * n)
     cost = cost_table(s.costs)
@@ -820,8 +803,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
     prov = _table(["item", "value"], _provenance(s, __version__), align=["left", "left"])
-    floor = (f"Integrator noise ({rule['q']}) is not drawn: a log axis starts at that "
-             "floor.")
     captions = {
         "error": (f"Tracking error |e| = |q{_D} \u2212 q| per joint along the run, log scale "
                   f"({markers_words(s, names)}). Integrator noise, {rule['q']}, is not "
@@ -856,7 +837,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                        f"of D at the start of the motion (D{sub('ii')} at the start)."),
         "errors": errors,
         "error_note": f"Tracking error e = q{_D} \u2212 q per joint",
-        "floor_note": floor, "noise_rule": rule, "captions": captions,
+        "noise_rule": rule, "captions": captions,
         "tau_diff": tau_diff,
         "diff_note": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
                       f"\u03c4{sub('f')}: torque of the simplified-model "
@@ -1090,18 +1071,13 @@ def _provenance(s, version):
         rows.append(["command", stored_text(st.command)])
     rows += [list(run_row(s.run, "run")), list(gravity_row(s.run))]
     own = str(st.trajectory_is_models) == "1"
-    stored = {"trajectory_path": st.trajectory_path,
-              "trajectory_derivatives": st.trajectory_derivatives,
-              "model_path": st.model_path,
-              "model_trajectory_sha256": st.model_trajectory_sha256,
-              "trajectory_is_models": st.trajectory_is_models,
-              "model_guarantee_covered": s.model.guarantee_covered,
-              "references": st.references}
     for label, k in _PROVENANCE:
         if k == "model_trajectory_sha256" and own:
             continue                    # the trajectory's own SHA-256, said in Table 1.1
-        if stored[k] is not None:
-            value = stored_text(stored[k])
+        stored = (s.model.guarantee_covered if k == "model_guarantee_covered" else
+                  getattr(st, k))
+        if stored is not None:
+            value = stored_text(stored)
             if k in ("trajectory_is_models", "model_guarantee_covered"):
                 value = {"1": "yes", "0": "no"}.get(value, value)
             if k == "trajectory_derivatives" and value in DERIVATIVES:
@@ -1228,18 +1204,14 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     (:func:`gd_analyze.files.atomic_path`). Sources: Fu, Gonzalez & Lee (1987), Sec. 3.4.1
     (simplified model) and Ch. 5 (computed-torque control).
     """
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
     ctx = control_context(s)
-    figures = make_control_figures(s)
-    column = control_figures(s, COLUMN_WIDTH)
-    drawn = draw_figures({**figures, **{f"{k}_column": f for k, f in column.items()}}, FIGURE_RC)
-    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
-                        "Subject": "Computed-torque control with the simplified G-D model (Fu, "
-                                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)",
-                        "Keywords": ctx["keywords"]},
-           "footer": f"gd-analyze {ctx['version']}: control report"}
+    column = {f"{k}_column": f for k, f in control_figures(s, COLUMN_WIDTH).items()}
+    drawn = draw_figures({**control_figures(s), **column}, FIGURE_RC)
+    pdf = pdf_info(ctx["version"], "Computed-torque control with the simplified G-D model (Fu, "
+                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)", ctx["keywords"],
+                   "control report")
     return write_documents(
         Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
         lambda o, d: html_document("control_report.html.j2", ctx, o, d), pdf,

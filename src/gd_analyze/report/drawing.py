@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from .sections import Outline
 
 __all__ = ["figure_svg", "TicksOfTheDraw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
-           "write_documents"]
+           "pdf_info", "write_documents"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
 Drawn = tuple[str, bytes | None, tuple[float, float]]
@@ -315,6 +315,35 @@ def html_document(template: str, context: Mapping[str, Any], outline: Outline,
     figures = {k: Markup(prefix_ids(svg, f"fig-{k}")) for k, (svg, _, _) in drawn.items()}
     return render_template(template, {**context, "figures": figures, "outline": outline},
                            env_globals)
+
+
+def pdf_info(version: str, subject: str, keywords: str, footer: str,
+             created: str | None = None) -> dict[str, Any]:
+    """A report PDF's document information and page footer, as :func:`write_documents` takes
+    them.
+
+    Parameters
+    ----------
+    version : str
+        The gd-analyze version that wrote the report (the author, "gd-analyze 1.2").
+    subject : str
+        What the report is about.
+    keywords : str
+        The provenance: version, inputs' SHA-256, settings.
+    footer : str
+        What the footer says after "gd-analyze VERSION: ".
+    created : str, optional
+        The creation time, ISO 8601 UTC; none recorded if not given.
+
+    Returns
+    -------
+    dict
+        ``metadata``, ``footer`` and ``created`` of
+        :func:`gd_analyze.report.typeset.write_pdf`.
+    """
+    return {"metadata": {"Author": f"gd-analyze {version}", "Subject": subject,
+                         "Keywords": keywords},
+            "footer": f"gd-analyze {version}: {footer}", "created": created}
 
 
 def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str, str],

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
     from matplotlib.backend_bases import RendererBase
     from matplotlib.figure import Figure
     from matplotlib.gridspec import GridSpec
@@ -22,7 +23,7 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "raise_small_text", "text_extent"]
+           "gridspec", "joint_axes", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
@@ -310,6 +311,99 @@ def markevery(m: int, most: int = MAX_MARKERS) -> int:
     (3, 1, 1)
     """
     return max(1, -(-int(m) // max(1, int(most))))
+
+
+def new_figure(width: float, height: float) -> Figure:
+    """A matplotlib figure of this size, made without pyplot (no global state).
+
+    Parameters
+    ----------
+    width, height : float
+        [in].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(width, height))
+
+
+def grid_boxes(fig: Figure, n: int, cols: int, at: tuple[float, float],
+               size: tuple[float, float], gaps: tuple[float, float]
+               ) -> list[tuple[float, float, float, float]]:
+    """Where n panels go, ``cols`` a row in reading order, in a fixed layout in inches.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (its size [in]).
+    n, cols : int
+        Panels, and panels a row.
+    at : (float, float)
+        The first panel's top left corner (x, y) from the figure's top left [in].
+    size : (float, float)
+        Each panel's width and height [in].
+    gaps : (float, float)
+        Room between columns and between rows [in].
+
+    Returns
+    -------
+    list of (float, float, float, float)
+        Each panel's left, bottom, width and height as shares of the figure's, for
+        :meth:`~matplotlib.figure.Figure.add_axes` or
+        :meth:`~matplotlib.axes.Axes.set_position`.
+    """
+    W, H = fig.get_size_inches()
+    (x0, y0), (w, h), (gx, gy) = at, size, gaps
+    boxes = []
+    for k in range(n):
+        r, c = divmod(k, cols)
+        x, y = x0 + c * (w + gx), y0 + r * (h + gy)
+        boxes.append((x / W, 1 - (y + h) / H, w / W, h / H))
+    return boxes
+
+
+def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom: float,
+               wspace: float, hspace: float, xlabel: str) -> tuple[Figure, list[Axes]]:
+    """A figure of one panel per joint, ``cols`` a row, sharing x, in fixed margins (no
+    layout engine: drawing stays fast).
+
+    Parameters
+    ----------
+    n : int
+        Panels (joints).
+    cols : int
+        Panels a row.
+    size : (float, float)
+        Figure width and height [in].
+    top, bottom : float
+        Margins above and below the panels [in]; 0.75 in on the left, 0.15 in on the right.
+    wspace, hspace : float
+        Room between panels [share of a panel's width, height].
+    xlabel : str
+        The x axis' label, with its tick labels, under the lowest panel of each column.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : list of matplotlib.axes.Axes
+        The n panels in reading order; the grid's spare panels are hidden.
+    """
+    from matplotlib.figure import Figure
+
+    W, H = size
+    fig = Figure(figsize=size)
+    fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / H,
+                        bottom=bottom / H, wspace=wspace, hspace=hspace)
+    axes = fig.subplots(math.ceil(n / cols), cols, squeeze=False, sharex=True).ravel()
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    for ax in axes[max(0, n - cols):n]:           # the lowest panel of its column
+        ax.set_xlabel(xlabel)
+        ax.xaxis.set_tick_params(labelbottom=True)      # sharex hid them over a gap
+    return fig, list(axes[:n])
 
 
 def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: float,

@@ -35,13 +35,14 @@ from ..store.stored_identification import (
     StoredIdentification,
     StoredRecording,
 )
-from .common import BASE_RC, grid_shape, keep_units, utc_now
-from .drawing import draw_figures, html_document, write_documents
+from .common import BASE_RC, grid_shape, table, utc_now
+from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .figure_style import joint_axes, markevery
 from .markup import clean
 from .numbers import fmt, pct
 from .sections import Outline
 from .ticks import label_axes, set_ticks
-from .typeset import PAPER
+from .typeset import check_paper
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -159,32 +160,24 @@ def stride(m: int) -> int:
     int
         k >= 1: every k-th sample is drawn, at most :data:`MAX_POINTS` of them.
     """
-    return max(1, int(math.ceil(m / MAX_POINTS)))
+    return markevery(m, MAX_POINTS)
 
 
 def _panels(t, curves, joints, ylabel, width, prismatic=None):
     """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below; each
     panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
     panel whose unit differs from it."""
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
     n = len(joints)
     rows, cols = grid_shape(n, 2)
-    top, bottom = 0.3, 0.85
-    height = 1.6 * rows + top + bottom
-    fig = Figure(figsize=(width, height))
-    fig.subplots_adjust(left=0.75 / width, right=1 - 0.15 / width, top=1 - top / height,
-                        bottom=bottom / height, wspace=0.3, hspace=0.45)
-    axes = fig.subplots(rows, cols, squeeze=False, sharex=True)
+    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
+                           "t [s]")
     k = stride(t.size)
+    units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(n)]
     handles = {}
     yaxes = []
-    for j in range(rows * cols):
-        ax = axes[j // cols, j % cols]
-        if j >= n:
-            ax.set_visible(False)
-            continue
+    for j, ax in enumerate(axes):
         for name, y in curves.items():
             colour, ls, lw, label = MODEL_STYLES.get(name, RESIDUAL_STYLE)
             ax.plot(t[::k], np.asarray(y, float)[::k, j], color=colour, linestyle=ls,
@@ -194,14 +187,8 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
         yaxes.append(ax.yaxis)
-        unit = "N" if prismatic is not None and prismatic[j] else "N m"
-        left = j - j % cols
-        left_unit = "N" if prismatic is not None and prismatic[left] else "N m"
-        if j % cols == 0 or unit != left_unit:
-            ax.set_ylabel(f"{ylabel} [{unit}]")
-        if j >= n - cols:
-            ax.set_xlabel("t [s]")
-            ax.tick_params(labelbottom=True)
+        if j % cols == 0 or units[j] != units[j - j % cols]:
+            ax.set_ylabel(f"{ylabel} [{units[j]}]")
     label_axes(yaxes)
     fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
                frameon=False, bbox_to_anchor=(0.5, 0.02))
@@ -242,7 +229,7 @@ def identify_figures(root: StoredIdentification | xr.Dataset,
             rec = ident.recordings[name]
             t = rec.t
             n = rec.n
-            joints = _joint_names(ident, rec, n)
+            joints = _joints(n, rec.joint, ident.joint)
             curves = {v: rec.torques[v] for v in MODEL_STYLES if v in rec.torques}
             prismatic = (np.asarray(ident.prismatic, bool) if ident.prismatic is not None
                          else None)
@@ -254,10 +241,12 @@ def identify_figures(root: StoredIdentification | xr.Dataset,
     return out
 
 
-def _joint_names(ident, rec, n):
-    for joint in (rec.joint, ident.joint):
+def _joints(n, *stored):
+    """The joints' names: the first of the ``stored`` coordinates (None where missing) that
+    names n joints, else their numbers."""
+    for joint in stored:
         if joint is not None and joint.size == n:
-            return [str(v) for v in joint]
+            return _strings(joint)
     return [str(j + 1) for j in range(n)]
 
 
@@ -290,10 +279,7 @@ def plain_table(header: Sequence[str], rows: Sequence[Sequence[Any]],
     -------
     dict
     """
-    header = [keep_units(h) for h in header]
-    return {"header": header, "rows": [[clean(str(c)) for c in row] for row in rows],
-            "align": list(align or ["left"] + ["right"] * (len(header) - 1)),
-            "widths": [1] * len(header), "colour_cols": list(colour_cols)}
+    return table(header, rows, align or "right", colour_cols=colour_cols, cells=clean)
 
 
 def parameter_units(name: str, kind: str) -> str:
@@ -332,13 +318,6 @@ def _strings(values):
             for v in np.asarray(values).reshape(-1)]
 
 
-def _joints(ident, rec, n):
-    for joint in (rec.joint, ident.joint):
-        if joint is not None and joint.size == n:
-            return _strings(joint)
-    return [str(j + 1) for j in range(n)]
-
-
 def _file_of(rec):
     return clean(str(rec.file_name))
 
@@ -363,7 +342,7 @@ def _recordings_table(groups):
 
 def _joint_table(ident, rec):
     n = rec.n
-    joints = _joints(ident, rec, n)
+    joints = _joints(n, rec.joint, ident.joint)
     cols = [(rec.rms_error, "RMS error [N m]", fmt),
             (rec.relative_error, "relative error", pct),
             (rec.prior_relative_error, "robot file: relative error", pct),
@@ -416,8 +395,7 @@ def _noise_table(stored):
     if stored.noise_std is None:
         return None
     noise = np.asarray(stored.noise_std, float)
-    joints = _strings(stored.joint) if stored.joint is not None and \
-        stored.joint.size == noise.size else [str(j + 1) for j in range(noise.size)]
+    joints = _joints(noise.size, stored.joint)
     return plain_table(["joint", "name", "residual standard deviation [N m]"],
                        [[str(j + 1), joints[j], fmt(noise[j], 4)] for j in range(noise.size)],
                        align=["right", "left", "right"])
@@ -542,20 +520,13 @@ def identify_context(root: StoredIdentification | xr.Dataset,
         "links": _links_table(stored),
         "noise": _noise_table(stored),
         "preprocessing": _sentences(_json(stored.preprocessing, [])),
-        "notes": {name: _sentences(json.loads(rec.notes))
-                  if _is_json_list(rec.notes) else [] for name, rec in recordings.items()},
+        "notes": {name: _sentences(notes) if isinstance(notes := _json(rec.notes, None), list)
+                  else [] for name, rec in recordings.items()},
         "provenance": _provenance(stored, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
         "version": clean(str("" if stored.gd_analyze_version is None
                              else stored.gd_analyze_version)),
         "keywords": f"identification; robot {robot}; condition number {fmt(cond, 4)}",
     }
-
-
-def _is_json_list(text):
-    try:
-        return isinstance(json.loads(str(text)), list)
-    except (TypeError, ValueError):
-        return False
 
 
 #: Names of the report files written into the output folder.
@@ -584,8 +555,8 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     o.section("1", "Torque errors", "errors")
     o.table(ctx["recordings"], "Total relative torque error ||E||_F / ||T||_F per recording: "
                                "the identified model beside the robot file as shipped.")
-    for k, (name, table) in enumerate(ctx["joint_tables"].items()):
-        o.table(table, f"Errors per joint on {ctx['files'][name]} ({ctx['roles'][name]}): "
+    for name, joint_table in ctx["joint_tables"].items():
+        o.table(joint_table, f"Errors per joint on {ctx['files'][name]} ({ctx['roles'][name]}): "
                        "RMS of tau_measured - tau_predicted and ||tau_meas,i - tau_i|| / "
                        "||tau_meas,i||.", size=7)
     o.section("2", "Measured and predicted torque", "torque")
@@ -656,18 +627,14 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
         If a file cannot be written.
     """
 
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     stored = StoredIdentification.from_dataset(root, groups)
     ctx = identify_context(stored)
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     drawn = draw_figures(identify_figures(stored), FIGURE_RC)
-    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
-                        "Subject": "Identification of a robot's base parameters and drives "
-                                   "from recorded torques",
-                        "Keywords": ctx["keywords"]},
-           "footer": f"gd-analyze {ctx['version']}: identify report"}
+    pdf = pdf_info(ctx["version"], "Identification of a robot's base parameters and drives "
+                   "from recorded torques", ctx["keywords"], "identify report")
     html = {"title": ctx["title"], "version": ctx["version"]}
     return write_documents(
         folder, drawn, {k: f"fig_identify_{k}" for k in drawn},

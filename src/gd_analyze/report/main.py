@@ -18,9 +18,10 @@ sheet is inline. ``report.pdf`` is typeset by Typst from the same section list, 
 embedded from their SVG (:mod:`gd_analyze.report.typeset`), both from one outline
 (:func:`main_outline`). Both are written atomically (:func:`gd_analyze.files.atomic_path`).
 
-Long trajectories are drawn through one helper that reduces a series of more than
-:data:`ENVELOPE_THRESHOLD` points to its min/max envelope (:func:`envelope`), one pair per pixel
-column of the panel at 300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
+Long trajectories are drawn from series read in chunks and reduced, past
+:data:`ENVELOPE_THRESHOLD` points, to their min/max envelope
+(:func:`gd_analyze.report.plot_data.plot_data`), one pair per pixel column of the panel at
+300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
 the figures, and the HTML, stay small whatever the number of set points (about 0.7 MB of HTML
 for 100,000 set points of a 6-joint arm).
 """
@@ -33,14 +34,12 @@ from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from ..ranking.ranking import ROUND_OFF
 from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
-from .drawing import draw_each, draw_figures, html_document, write_documents
+from .drawing import draw_each, draw_figures, html_document, pdf_info, write_documents
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -61,18 +60,16 @@ from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import Outline
 from .simplified_section import BUDGET_CAPTIONS, budget_makers, error_figure
 from .ticks import decade_formatter, scaled_formatter
-from .typeset import PAPER
+from .typeset import check_paper
 
 if TYPE_CHECKING:
-    import numpy.typing as npt
     import xarray as xr
     from matplotlib.figure import Figure
 
-    from ..store.results_view import Results
     from .plot_data import PlotData
 
 __all__ = ["main_outline", "RANKING_TEXT", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
-           "ENVELOPE_COLUMNS", "FIGURE_FILES", "envelope", "COLUMN_FIGURES", "FIGURE_PARTS",
+           "ENVELOPE_COLUMNS", "FIGURE_FILES", "COLUMN_FIGURES", "FIGURE_PARTS",
            "make_figures", "figure_makers", "render_html", "write_report"]
 
 _X = "X"
@@ -274,77 +271,6 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
 
 #: The formats :func:`write_report` can write.
 REPORT_FORMATS = ("html", "pdf")
-
-
-# --------------------------------------------------------------------------------------------
-# Plotting helpers
-# --------------------------------------------------------------------------------------------
-
-def envelope(x: npt.ArrayLike, y: npt.ArrayLike,
-             columns: int = ENVELOPE_COLUMNS) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Reduce a series to its min/max envelope over equal-width columns of x.
-
-    Parameters
-    ----------
-    x : array_like, shape (N,)
-        Abscissae, e.g. time [s] or set point index; sorted here if they are not.
-    y : array_like, shape (N,)
-        Ordinates, any units; NaN values are ignored.
-    columns : int, optional
-        Number of columns (think of pixel columns) the range of x is cut into.
-
-    Returns
-    -------
-    xe, ye : ndarray, shape (M,)
-        The points of the series that are the minimum or the maximum of their column, plus the
-        first and the last point, in order of x; M <= 2 * columns + 2. The global minimum and
-        maximum of y are kept exactly. If N <= 2 * columns the series is returned unchanged
-        (as float copies).
-
-    Raises
-    ------
-    ValueError
-        If x and y are not 1-D of the same length, or columns < 1.
-
-    Notes
-    -----
-    Plotting the envelope instead of every point keeps figures of long trajectories small and
-    fast while drawing the same band a full plot would show at print resolution. Used for the
-    panels of the analogues of Figs. 3.10 and 3.11 (Sec. 3.4.1).
-    """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    if x.ndim != 1 or x.shape != y.shape:
-        raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
-    columns = int(columns)
-    if columns < 1:
-        raise ValueError(f"columns must be >= 1, got {columns}")
-    N = x.size
-    if N <= 2 * columns:
-        return x.copy(), y.copy()
-    if np.any(np.diff(x) < 0):
-        order = np.argsort(x, kind="stable")
-        x, y = x[order], y[order]
-    x0, x1 = x[0], x[-1]
-    if np.isfinite(x0) and np.isfinite(x1) and x1 > x0:
-        col = np.minimum(((x - x0) * (columns / (x1 - x0))).astype(np.intp), columns - 1)
-    else:                                   # degenerate or non-finite x: equal counts
-        col = (np.arange(N) * columns) // N
-    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]])
-    seg = np.repeat(np.arange(starts.size), np.diff(np.r_[starts, N]))
-    with np.errstate(invalid="ignore"):
-        ymin = np.fmin.reduceat(y, starts)
-        ymax = np.fmax.reduceat(y, starts)
-
-    def first_hit(target):
-        hit = np.flatnonzero(y == target[seg])          # NaN never matches
-        found, first = np.unique(seg[hit], return_index=True)
-        idx = starts.copy()                             # an all-NaN column: its first point
-        idx[found] = hit[first]
-        return idx
-
-    idx = np.unique(np.concatenate([first_hit(ymin), first_hit(ymax), [0, N - 1]]))
-    return x[idx], y[idx]
 
 
 # --------------------------------------------------------------------------------------------
@@ -557,11 +483,6 @@ def _fig_formulations(counted, width=PAGE_WIDTH):
 # Drawing once, HTML and PDF
 # --------------------------------------------------------------------------------------------
 
-def _drawn(figures, pdf=True, created=None):
-    """Each figure drawn once as SVG and (if asked) typeset as PDF: {key: (svg, pdf, size)}."""
-    return draw_figures(figures, FIG_RC, pdf=pdf, created=created)
-
-
 def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
     """Render the report as one self-contained HTML document.
 
@@ -590,7 +511,8 @@ def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> 
     ctx = report_context(ds)
     if figures is None:
         figures = make_figures(ds, keys=_FIGURE_ORDER)
-    drawn = _drawn({k: figures[k] for k in _FIGURE_ORDER if k in figures}, pdf=False)
+    drawn = draw_figures({k: figures[k] for k in _FIGURE_ORDER if k in figures}, FIG_RC,
+                         pdf=False)
     return _html(ctx)(main_outline(ctx, drawn), drawn)
 
 
@@ -657,8 +579,7 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
     Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
     """
     formats = check_formats(formats, REPORT_FORMATS)
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     if isinstance(results, Results):                        # in memory: nothing read again
         return _write(results, Path(outdir), formats, paper, progress, column_figures, latex)
     with open_results(results, lazy=True) as ds:            # long series: in chunks
@@ -673,13 +594,10 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     data = plot_data(ds, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
-    pdf = {"metadata": {
-        "Author": f"gd-analyze {ctx['version']}",
-        "Subject": "Translational and rotational dominance of the generalized d'Alembert "
-                   "dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-        "Keywords": ctx["keywords"]},
-        "footer": f"gd-analyze {ctx['version']}: {ctx['robot_name']}, {ctx['N']:,} set points",
-        "created": ctx["created"]}
+    pdf = pdf_info(ctx["version"], "Translational and rotational dominance of the generalized "
+                   "d'Alembert dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+                   ctx["keywords"], f"{ctx['robot_name']}, {ctx['N']:,} set points",
+                   ctx["created"])
     return write_documents(outdir, drawn, FIGURE_FILES, functools.partial(main_outline, ctx),
                            _html(ctx), pdf, formats, paper=paper, latex=latex,
                            shown=_FIGURE_ORDER)

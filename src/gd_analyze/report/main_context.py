@@ -1061,7 +1061,7 @@ def _report_context_base(results):
         "compare": {"applicable": applicable, "note": note, "table": compare,
                     "conclusions": conclusions,
                     "n_agree": n_agree, "n_compared": n_compared},
-        "provenance": _kv(prov), "enveloped": enveloped,
+        "provenance": _kv(prov),
         "formulations": formulations, "payload": payload,
         "envelope_note": (f"The trajectory has {count(N)} set points: curves are drawn as their "
                           f"min/max envelope over {count(ENVELOPE_COLUMNS)} equal time columns per panel, "

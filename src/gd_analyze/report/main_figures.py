@@ -34,7 +34,7 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from .common import joint_style, units_text
-from .figure_style import element_markevery
+from .figure_style import element_markevery, grid_boxes, new_figure
 from .markup import label as _math
 from .numbers import decade_label
 from .plot_data import (
@@ -105,16 +105,13 @@ _MIN_COLUMN_PANEL_W = 0.5
 MAX_ROWS = {"page": 6, "column": 8}
 
 
-def _figure(w, h):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(w, h))
-
-
-def _axes(fig, x, y, w, h):
-    """Axes at (x, y) from the top left, of size w x h [in]."""
-    W, H = fig.get_size_inches()
-    return fig.add_axes((x / W, 1 - (y + h) / H, w / W, h / H))
+def _y_axis(ax, nbins, *arrays):
+    """y limits around the arrays (:func:`_limits`), round ticks within the data's range,
+    labelled by the figure (:func:`gd_analyze.report.ticks.label_axes`)."""
+    lo, hi = _limits(*arrays)
+    ax.set_ylim(lo, hi)
+    pad = (hi - lo) / 1.2 * 0.1
+    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
 
 
 def _limits(*arrays):
@@ -175,10 +172,7 @@ def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     (:func:`gd_analyze.report.ticks.label_axes`: one notation per figure)."""
     for part, y in parts.items():
         _plot(ax, x, y, part, enveloped, len(parts))
-    lo, hi = _limits(*parts.values())
-    ax.set_ylim(lo, hi)
-    pad = (hi - lo) / 1.2 * 0.1
-    set_ticks(ax.yaxis, lo + pad, hi - pad, nbins, labels=False)
+    _y_axis(ax, nbins, *parts.values())
     ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}",
                  color=_CLASS_COLOURS.get(cls, "black"))
 
@@ -279,11 +273,11 @@ def _element_figure(x, panels, enveloped, width, key, kind):
     title_h = 0.4 + 0.14 * (width < PAGE_WIDTH)     # the title colours' key: two rows
     panels_h = _TOP + rows * h + (rows - 1) * _HGAP + 0.3 if panels else 0.0
     H = panels_h + (legend_h + title_h if panels else 0.0) + 0.14 * (note.count("\n") + 1) + 0.12
-    fig = _figure(width, H)
+    fig = new_figure(width, H)
     first, ys = None, []
-    for k, (label, parts, cls, units) in enumerate(panels):
-        r, c = divmod(k, cols)
-        ax = _axes(fig, _LEFT + c * (w + _WGAP), _TOP + r * (h + _HGAP), w, h)
+    boxes = grid_boxes(fig, len(panels), cols, (_LEFT, _TOP), (w, h), (_WGAP, _HGAP))
+    for k, ((label, parts, cls, units), box) in enumerate(zip(panels, boxes)):
+        ax = fig.add_axes(box)
         _element_panel(ax, x, parts, label, cls, enveloped, 2 if h < 0.6 else 3)
         if first is None or len(parts) > len(first[1]):
             first = (ax, parts)
@@ -468,18 +462,18 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
     row_h, gap_h, bottom = (0.95, 0.42, 0.4) if column else (1.5, 0.55, 0.45)
     top = 0.25 + 0.16 * math.ceil(n / (3 if column else 7))
     W, H = width, top + rows * row_h + (rows - 1) * gap_h + bottom
-    fig = _figure(W, H)
+    fig = new_figure(W, H)
     left, gap = 0.6, 0.55
     w = (W - left - 0.1 - (per_row - 1) * gap) / per_row
     symbols = ("q", "q\u0307", "q\u0308")
     first: dict[Any, Any] = {}
-    for p, (kind, k) in enumerate(panels):
-        r, c = divmod(p, per_row)
+    boxes = grid_boxes(fig, len(panels), per_row, (left, top), (w, row_h), (gap, gap_h))
+    for (kind, k), box in zip(panels, boxes):
         joints = np.flatnonzero(prismatic == kind)
         scale = 1000.0 if kind else np.degrees(1.0)
         units = joint_motion_units(kind, shown=True)
         name = ("q", "qd", "qdd")[k]
-        ax = _axes(fig, left + c * (w + gap), top + r * (row_h + gap_h), w, row_h)
+        ax = fig.add_axes(box)
         y = data.series[name][:, joints] * scale
         for col, jn in enumerate(joints):
             style = joint_style(int(jn), 1 if data.enveloped else y.shape[0], len(joints))
@@ -487,10 +481,7 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
                 style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
             ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
         first.setdefault(kind, ax)
-        lo, hi = _limits(y)
-        ax.set_ylim(lo, hi)
-        pad = (hi - lo) / 1.2 * 0.1
-        set_ticks(ax.yaxis, lo + pad, hi - pad, 4 if row_h > 1.2 else 3, labels=False)
+        _y_axis(ax, 4 if row_h > 1.2 else 3, y)
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
         ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
@@ -534,18 +525,14 @@ def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
     left, gap, hgap, w_h = 0.55, 0.5, 0.55, 1.05
     w = (PAGE_WIDTH - left - 0.1 - (cols - 1) * gap) / cols
     H = 0.3 + rows * w_h + (rows - 1) * hgap + 0.65
-    fig = _figure(PAGE_WIDTH, H)
-    for i in range(n):
-        r, c = divmod(i, cols)
-        ax = _axes(fig, left + c * (w + gap), 0.3 + r * (w_h + hgap), w, w_h)
+    fig = new_figure(PAGE_WIDTH, H)
+    for i, box in enumerate(grid_boxes(fig, n, cols, (left, 0.3), (w, w_h), (gap, hgap))):
+        ax = fig.add_axes(box)
         ax.plot(data.x, tau[:, i], color=_FULL, linestyle="-", linewidth=1.0,
                 label="full model \u03c4")
         ax.plot(data.x, tau_s[:, i], color=_SIMPLIFIED, linestyle="--", linewidth=1.2,
                 label="simplified model")
-        lo, hi = _limits(tau[:, i], tau_s[:, i])
-        ax.set_ylim(lo, hi)
-        pad = (hi - lo) / 1.2 * 0.1
-        set_ticks(ax.yaxis, lo + pad, hi - pad, 3, labels=False)
+        _y_axis(ax, 3, tau[:, i], tau_s[:, i])
         _time_axis(ax, data.x, True)
         ax.set_xlabel("t [s]", labelpad=1.0)
         units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"

@@ -26,7 +26,7 @@ from ..ranking.ranking import (
 )
 from ..store.stored_simplified import InertiaCheck, StoredSimplified
 from .common import count, fmt, pct, pct_column, table, torque_units
-from .figure_style import markevery
+from .figure_style import grid_boxes, markevery, new_figure
 from .markup import element as _el
 from .markup import powers, sub
 from .markup import scope as scope_markup
@@ -87,12 +87,6 @@ BUDGET_CAPTIONS = {
                    f"turned to {_S_I} where its model has another scale, or a published figure, "
                    "which is on its authors' own scale)." + _WRITTEN,
 }
-
-
-def _figure(W, H):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(W, H))
 
 
 def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.NDArray[np.float64]]:
@@ -156,13 +150,11 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
         h = 1.1
     w = (width - left - right - (cols - 1) * gap) / cols
     H = top + rows * h + (rows - 1) * hgap + 0.4
-    fig = _figure(width, H)
+    fig = new_figure(width, H)
     every = markevery(x.size, 8)
     ys = []
-    for i in range(n):
-        r, c = divmod(i, cols)
-        ax = fig.add_axes(((left + c * (w + gap)) / width,
-                           1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
+    for i, box in enumerate(grid_boxes(fig, n, cols, (left, top), (w, h), (gap, hgap))):
+        ax = fig.add_axes(box)
         for k, key in enumerate(keys):
             _, name, colour, ls, marker = style[key]
             kw: dict[str, Any] = {"color": colour, "linestyle": ls, "label": name,
@@ -195,10 +187,8 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     if room > left:
         left, gap = room, max(gap, room)
         w = (width - left - right - (cols - 1) * gap) / cols
-        for i, ax in enumerate(fig.axes):
-            r, c = divmod(i, cols)
-            ax.set_position(((left + c * (w + gap)) / width,
-                             1 - (top + r * (h + hgap) + h) / H, w / width, h / H))
+        for ax, box in zip(fig.axes, grid_boxes(fig, n, cols, (left, top), (w, h), (gap, hgap))):
+            ax.set_position(box)
     fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="upper center",
                ncol=2 if column else (4 if len(keys) > 6 else 3), frameon=False, fontsize=7,
                handlelength=3.0,
@@ -334,7 +324,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     column = width < _PAGE
     H = 2.7 if width >= _PAGE else 3.3
     top = 0.6 if width >= _PAGE else 0.95         # the legend: two rows, or four
-    fig = _figure(width, H)
+    fig = new_figure(width, H)
     ax = fig.add_axes((0.7 / width, 0.7 / H, (width - 0.9) / width, (H - 0.7 - top) / H))
     x = np.arange(1, n + 1)
     bottom: np.ndarray = np.zeros(n)
@@ -538,7 +528,7 @@ def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> 
                                   for k, p in enumerate(points)),
                         int((width - 0.3) / 0.058))
     H, top, bottom = (3.4, 0.7, 0.8) if not column else (4.6, 1.0, 1.5)
-    fig = _figure(width, H)
+    fig = new_figure(width, H)
     ax = fig.add_axes((0.7 / width, bottom / H, (width - 0.9) / width, (H - bottom - top) / H))
     ax.set_xscale("log")
     names = {"exact": "exact model (error 0)", "model": "model built (measured)",
@@ -1089,9 +1079,6 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         get no panel: a note below names them ("nothing dropped: Δτ = 0 up to round-off")
         with their peak difference.
     """
-    from matplotlib.figure import Figure
-
-
     s = StoredSimplified.of(ds)
     n = s.n
     units = s.tau_units
@@ -1130,7 +1117,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     note_h = 0.12 + 0.16 * (note.count("\n") + 1) if quiet else 0.0
     H = (top + rows * h + (rows - 1) * hgap + bottom if shown else 0.1) + note_h
     w = (W - left - right - (cols - 1) * gap) / cols
-    fig = Figure(figsize=(W, H))
+    fig = new_figure(W, H)
     if data is not None and data.enveloped:     # the set points' range, not the columns'
         t = np.asarray(t, float)
         t0, t1 = s.time_span()
@@ -1138,10 +1125,9 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
     handles = None
     ys = []
-    for k, i in enumerate(shown):
-        r, c = divmod(k, cols)
-        x0, y0 = left + c * (w + gap), top + r * (h + hgap)
-        ax = fig.add_axes((x0 / W, 1 - (y0 + h) / H, w / W, h / H))
+    for i, box in zip(shown, grid_boxes(fig, len(shown), cols, (left, top), (w, h),
+                                        (gap, hgap))):
+        ax = fig.add_axes(box)
         ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
         set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
         ax.set_title(f"joint {i + 1}", fontsize=8)

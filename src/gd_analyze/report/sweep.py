@@ -48,7 +48,7 @@ from ..ranking.ranking import (
     joint_units_text,
 )
 from ..store.schema import open_sweep
-from ..store.sweep_view import REQUIRED, MergedModel, PayloadSweep, StoredSweep
+from ..store.sweep_view import MergedModel, PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import SUPTITLE_RC as _RC
@@ -69,7 +69,7 @@ from .common import gridspec as _gridspec
 from .common import pct as _pct
 from .common import share as _share_text
 from .common import table as _table
-from .drawing import draw_figures, html_document, write_documents
+from .drawing import draw_figures, html_document, pdf_info, write_documents
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
 from .main_provenance import gravity_row, run_row, software_row
@@ -84,7 +84,7 @@ from .numbers import decade_label
 from .sections import Outline
 from .simplified_section import region_pruning
 from .ticks import decade_formatter
-from .typeset import PAPER, TABLE_COLOURS
+from .typeset import TABLE_COLOURS, check_paper
 
 if TYPE_CHECKING:
     import os
@@ -92,9 +92,6 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
     from numpy.typing import ArrayLike
-
-__all__ = ["make_sweep_figures", "error_marks", "REQUIRED", "KEPT", "ERROR_FLOOR", "merged_claim",
-           "coverage", "sweep_context", "SWEEP_REPORT_FORMATS", "write_sweep_report"]
 
 # The choices of the merged model in the colours of their classes.
 _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOURS["rotational"],
@@ -194,15 +191,11 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_
         ax.axhline(y, color="0.35", lw=0.6, ls="--")
     finite = values[np.isfinite(values)]
     if finite.size:
-        bp = ax.boxplot([finite], positions=[0.0], widths=0.55, whis=(0, 100), showfliers=False,
-                        patch_artist=True, manage_ticks=False)
-        for box in bp["boxes"]:
-            box.set(facecolor="white", edgecolor="black", linewidth=0.8)
-        for key in ("whiskers", "caps"):
-            for line in bp[key]:
-                line.set(color="black", linewidth=0.7)
-        for line in bp["medians"]:
-            line.set(color=_CHOICE_COLOURS.get(merged, "black"), linewidth=1.6)
+        whisker = {"color": "black", "linewidth": 0.7}
+        ax.boxplot([finite], positions=[0.0], widths=0.55, whis=(0, 100), showfliers=False,
+                   patch_artist=True, manage_ticks=False, whiskerprops=whisker, capprops=whisker,
+                   boxprops={"facecolor": "white", "edgecolor": "black", "linewidth": 0.8},
+                   medianprops={"color": _CHOICE_COLOURS.get(merged, "black"), "linewidth": 1.6})
         if finite.size <= 60:
             jitter = np.linspace(-0.18, 0.18, finite.size) if finite.size > 1 else [0.0]
             ax.plot(np.asarray(jitter) + 0.45, finite, ".", ms=2.0, color="0.3")
@@ -428,11 +421,10 @@ def _fig_error(w, width=_PAGE_WIDTH):
             vals = data[np.isfinite(data) & (data > ERROR_FLOOR)]     # round-off: not drawn
             if not vals.size:
                 continue
-            bp = ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
-                            showfliers=False, manage_ticks=False)
-            for key in ("boxes", "whiskers", "caps", "medians"):
-                for line in bp[key]:
-                    line.set(color=colour, linewidth=0.9)
+            line = {"color": colour, "linewidth": 0.9}
+            ax.boxplot([vals], positions=[j + 1 + off], widths=0.3, whis=(0, 100),
+                       showfliers=False, manage_ticks=False, boxprops=line, whiskerprops=line,
+                       capprops=line, medianprops=line)
         if np.isfinite(overall[j]) and overall[j] > ERROR_FLOOR:
             ax.plot(j + 1.18, overall[j], marker="D", ms=4, color="#CC79A7", ls="none")
         finite = np.concatenate([own[:, j], merged[:, j]])
@@ -1470,19 +1462,15 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     """
 
     formats = check_formats(formats, SWEEP_REPORT_FORMATS)
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
     stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
     ctx = sweep_context(stored, part)
     drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
-    pdf = {"metadata": {"Author": f"gd-analyze {ctx['version']}",
-                        "Subject": "Dominance of the translational and rotational G-D terms "
-                                   "over a sweep of trajectories (Fu, Gonzalez & Lee 1987, "
-                                   "Sec. 3.4.1)",
-                        "Keywords": _keywords(ctx)},
-           "footer": f"gd-analyze {ctx['version']}: {ctx['title']}"}
+    pdf = pdf_info(ctx["version"], "Dominance of the translational and rotational G-D terms "
+                   "over a sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
+                   _keywords(ctx), ctx["title"])
     return write_documents(Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
                            _html(ctx), pdf, formats, "sweep_report", paper, latex, "sweep")
 

@@ -43,12 +43,29 @@ from .common import keep_units
 if TYPE_CHECKING:
     from .sections import Outline
 
-__all__ = ["PAPER", "MIN_PRINTED_PT", "NEAR_EMPTY", "printed_scale", "TABLE_COLOURS",
+__all__ = ["PAPER", "check_paper", "MIN_PRINTED_PT", "NEAR_EMPTY", "printed_scale", "TABLE_COLOURS",
            "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_pdfs", "fonts_loaded"]
 
 #: Page sizes [in] and their Typst names.
 PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
 _TYPST_PAPER = {"a4": "a4", "letter": "us-letter"}
+
+
+def check_paper(paper: str) -> None:
+    """Raise unless ``paper`` is a page size of :data:`PAPER`.
+
+    Parameters
+    ----------
+    paper : str
+        ``"a4"`` or ``"letter"``.
+
+    Raises
+    ------
+    ValueError
+        Naming the page sizes there are.
+    """
+    if paper not in PAPER:
+        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
 #: Margins [in]: left and right, top, bottom (the footer sits in the bottom margin).
 MARGINS = (0.75, 0.7, 0.85)
 #: Colours of the class and yes/no cells of every table.
@@ -225,8 +242,7 @@ def document_data(outline: Outline, sizes: Mapping[str, tuple[float, float]], pa
     >>> round(d["sections"][1]["blocks"][0]["width"], 2)        # scaled to fit the page
     4.62
     """
-    if paper not in PAPER:
-        raise ValueError(f"paper must be one of {sorted(PAPER)}, got {paper!r}")
+    check_paper(paper)
     metadata = dict(metadata or {})
     sections = []
     for s in outline.sections:

@@ -13,10 +13,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..ranking.ranking import (
-    element_units,
     joint_torque_units,
     joint_units_text,
-    parse_element_label,
 )
 from ..store.results_view import Results
 from ..store.schema import strings as _strings
@@ -26,7 +24,7 @@ if TYPE_CHECKING:
     import numpy.typing as npt
     import xarray as xr
 
-__all__ = ["keep_units", "prismatic_joints", "units_text", "torque_units", "element_units_of",
+__all__ = ["keep_units", "prismatic_joints", "units_text", "torque_units",
            "units_said_once"]
 
 
@@ -104,24 +102,6 @@ def torque_units(ds: Results | MergedModel | xr.Dataset) -> list[str]:
         From :func:`gd_analyze.ranking.labels.joint_torque_units`.
     """
     return [joint_torque_units(p) for p in prismatic_joints(ds)]
-
-
-def element_units_of(ds: xr.Dataset) -> list[str]:
-    """The printed units of the ranked elements (kg m², kg m, kg, N m, N), from the joint types.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        With the ``element`` coordinate.
-
-    Returns
-    -------
-    list of str, length M
-        From :func:`gd_analyze.ranking.labels.element_units`.
-    """
-    n, prismatic = ds.sizes["joint"], prismatic_joints(ds)
-    return [units_text(element_units(kind, i, j, prismatic)) for kind, i, j in
-            (parse_element_label(lab, n) for lab in _strings(ds["element"].values))]
 
 
 def units_said_once(ds: Results | xr.Dataset, kind: str) -> str:
