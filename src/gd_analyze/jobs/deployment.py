@@ -93,7 +93,7 @@ def deploy_models(robot: Robot, trajectory: Trajectory, ranking: Ranking, part_p
     (``"auto"``) when it may be deployed (``form`` is not ``"recursive"``) and its estimated
     size is cheap (:func:`.peak_jobs.derives_explicit`). Which one is deployed is
     :func:`choose_form`'s decision, its D_s checked by :func:`inertia_checked`. The tolerance
-    ladder is of the form deployed (:func:`.recursive_ladder.recursive_ladder` for the
+    ladder is of the form deployed (:func:`gd_analyze.simplify.recursive_ladder.recursive_ladder` for the
     recursive one, pruned as it is).
     """
     tolerance, rule, torque_floor, form = (options.tolerance, options.rule,

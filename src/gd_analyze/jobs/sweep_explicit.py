@@ -185,7 +185,7 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     held_out : sequence of Trajectory, optional
         Trajectories not swept (measured, not guaranteed).
     reference : callable, optional
-        tau_full(q, qd, qdd), as :func:`validate` takes it (default: the G-D terms).
+        tau_full(q, qd, qdd), as :func:`gd_analyze.simplify.explicit_model.validate` takes it (default: the G-D terms).
     bound : ndarray, shape (K, n), optional
         The guaranteed bound on each trajectory [N m]; default ``relative_bound`` x scales.
     errors : callable, optional
@@ -197,7 +197,7 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     Returns
     -------
     dict
-        The error over the swept trajectories together (as :func:`validate`), plus
+        The error over the swept trajectories together (as :func:`gd_analyze.simplify.explicit_model.validate`), plus
         ``relative_bound`` (n,); ``worst_scaled_error``: the largest measured
         peak |tau_s - tau| / scale_{t,i} over trajectories and joints (<= relative_bound);
         ``per_trajectory``: ``peak_abs_error``, ``rms_error``, ``peak_tau``, ``scale`` and
@@ -244,7 +244,7 @@ def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Traject
     trajectories : sequence of Trajectory
         Each q, qd, qdd (N_k, n) [rad, rad/s, rad/s^2].
     reference : callable, optional
-        tau_full(q, qd, qdd), as :func:`validate` takes it (default: the G-D terms).
+        tau_full(q, qd, qdd), as :func:`gd_analyze.simplify.explicit_model.validate` takes it (default: the G-D terms).
     chunk : int, optional
         Set points evaluated at once (a chunk may cut through trajectories).
 

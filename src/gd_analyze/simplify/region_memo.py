@@ -108,11 +108,30 @@ def fresh_certification(robot: Robot, base: BaseParameters, region: Region,
                    values=values)
 
 
-def _no_search(robot, region, tolerance, torque_floor, samples, n, b):
+def _no_search(*args: Any) -> tuple[None, str]:
+    """No search kept.
+
+    Parameters
+    ----------
+    *args
+        As :class:`Derivations`' ``read_search`` takes them; unused.
+
+    Returns
+    -------
+    tuple
+        ``(None, "")``: no entry, nowhere.
+    """
     return None, ""
 
 
-def _no_keeping(*args):
+def _no_keeping(*args: Any) -> None:
+    """Nothing kept.
+
+    Parameters
+    ----------
+    *args
+        As :class:`Derivations`' ``write_search`` or ``made`` takes them; unused.
+    """
     return None
 
 
@@ -121,7 +140,7 @@ class Derivations:
     """Where a region's certification and the searches under it are kept between runs.
 
     The model building here is pure; the shell gives it a store (the derivation cache,
-    :data:`gd_analyze.store.certification_cache.DERIVATIONS`) or none (:data:`UNKEPT`:
+    :data:`gd_analyze.store.derivations.DERIVATIONS`) or none (:data:`UNKEPT`:
     everything computed afresh, once per process).
 
     Attributes
