@@ -97,6 +97,13 @@ def fresh_certification(robot: Robot, base: BaseParameters, region: Region,
     Returns
     -------
     PairBounds
+        Each (base parameter, part) pair's proved bound over the region and the scale s_i
+        [N m or N], as :func:`gd_analyze.certify.certify.certify` returns them.
+
+    Notes
+    -----
+    Source: the bounds of :func:`gd_analyze.certify.certify.certify` (interval branch and
+    bound on the Newton-Euler regressor recursion, Khalil & Kleinfinger 1987).
     """
     if values is None and drawn is not None:
         cols = np.flatnonzero(base.independent.reshape(-1))
