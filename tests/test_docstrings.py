@@ -51,8 +51,9 @@ def _undocumented(modname):
         if inspect.isclass(obj):
             targets = [m for m_name, m in vars(obj).items()
                        if inspect.isfunction(m) and not m_name.startswith("_")]
-            init = vars(obj).get("__init__")
-            if init is not None and inspect.isfunction(init):
+            init = vars(obj).get("__init__")        # its own, not one typing put there
+            if init is not None and inspect.isfunction(init) and \
+                    init.__qualname__.startswith(f"{obj.__qualname__}."):
                 targets.append(("__init__", init))
         for target in targets:
             func = target[1] if isinstance(target, tuple) else target

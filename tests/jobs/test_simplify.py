@@ -10,9 +10,7 @@ from conftest import SHIPPED, golden_run
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
-from gd_analyze.jobs.sweep_explicit import sweep_model
 from gd_analyze.store.model_file import load_model
-from gd_analyze.trajectory.planning import random_trajectories
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 
@@ -129,50 +127,6 @@ def test_torque_floor_lowers_the_cost(tmp_path, capsys, shared_main):
         dropped.append({tuple(p) for p in spec["recursive"]["dropped"]})
     assert costs[1] <= costs[0] and all(c["proved"] and c["lower_bound"] > 0 for c in checks)
     assert dropped[0] and (dropped[0] <= dropped[1] or checks[1]["restored"])
-
-
-def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
-    robot = load_robot("puma560")
-    trajs = random_trajectories(robot, 6, seed=5)
-    held = random_trajectories(robot, 3, seed=99)
-    model, sel = sweep_model(robot, trajs, tolerance=0.02, held_out=held)
-    scale = np.zeros(6)
-    refs = [_rnea(robot, t.q, t.qd, t.qdd) for t in trajs]
-    for ref in refs:
-        scale = np.maximum(scale, np.abs(ref).max(axis=0))
-    np.testing.assert_allclose(sel.scale, scale, rtol=1e-9)
-    for t, ref in zip(trajs, refs):
-        err = np.abs(model.torque(t.q, t.qd, t.qdd) - ref).max(axis=0)
-        assert (err <= 0.02 * scale * (1 + 1e-9)).all()
-    assert model.validation["trajectories"] == 6
-    assert len(model.validation["held_out"]["peak_abs_error"]) == 6
-
-
-def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
-    """The per-trajectory errors of a sweep, computed on all states at once in chunks that
-    cut through trajectories, equal the errors against Pinocchio's rnea on each alone."""
-    import gd_analyze.jobs.sweep_explicit as simplify
-
-    robot = load_robot("puma560")
-    trajs = random_trajectories(robot, 5, seed=11)
-    model = sweep_model(robot, trajs, tolerance=0.05)[0]
-    real = simplify.per_trajectory_errors
-    monkeypatch.setattr(simplify, "per_trajectory_errors",
-                        lambda m, t, r=None: real(m, t, r, chunk=7))      # cuts trajectories
-    v = simplify.sweep_validation(model, trajs, np.ones((5, robot.n)), np.zeros(robot.n))
-    per = v["per_trajectory"]
-    for k, t in enumerate(trajs):
-        ref = _rnea(robot, t.q, t.qd, t.qdd)
-        err = model.torque(t.q, t.qd, t.qdd) - ref
-        tol = 1e-9 * np.abs(ref).max()
-        np.testing.assert_allclose(per["peak_abs_error"][k], np.abs(err).max(axis=0), atol=tol)
-        np.testing.assert_allclose(per["rms_error"][k], np.sqrt((err ** 2).mean(axis=0)),
-                                   atol=tol)
-        np.testing.assert_allclose(per["peak_tau"][k], np.abs(ref).max(axis=0), atol=tol)
-    every = np.concatenate([model.torque(t.q, t.qd, t.qdd) - _rnea(robot, t.q, t.qd, t.qdd)
-                            for t in trajs])
-    np.testing.assert_allclose(v["peak_abs_error"], np.abs(every).max(axis=0),
-                               atol=1e-9 * np.abs(every).max())
 
 
 def test_report_section_reads_the_stored_dataset(shared_main):

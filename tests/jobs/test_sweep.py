@@ -371,7 +371,7 @@ def _rnea(robot, q, qd, qdd):
 
 @pytest.mark.parametrize("eps, floor", [(0.002, 0.0), (0.01, 0.0), (0.05, 0.0), (0.01, 1.0)])
 def test_budget_merged_model_within_eps_of_each_trajectory_scale(puma, mixed, eps, floor):
-    from gd_analyze.jobs.sweep_explicit import sweep_model
+    from gd_analyze.simplify.sweep_model import sweep_model
 
     model, _ = sweep_model(puma, mixed, tolerance=eps, torque_floor=floor)
     assert model.rule == "budget"
@@ -439,9 +439,9 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
 _OWN = "chapter rule: share-based classes of Sec. 3.4.1, no error bound"
 
 def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_path):
-    from gd_analyze.jobs.sweep_explicit import sweep_model
     from gd_analyze.jobs.sweep_merged import with_budget_model
     from gd_analyze.report.sweep import write_sweep_report
+    from gd_analyze.simplify.sweep_model import sweep_model
 
     write_sweep(sweep, tmp_path / "chapter.h5")
     html = write_sweep_report(tmp_path / "chapter.h5", tmp_path / "rc",

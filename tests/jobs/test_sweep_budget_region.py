@@ -18,9 +18,9 @@ from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.jobs.sweep import ERRORS_SETPOINTS_MAX, WorkerErrors, run_sweep
 from gd_analyze.jobs.sweep_budget import budget_region_model, budget_sweep_model
-from gd_analyze.jobs.sweep_explicit import per_trajectory_errors, sweep_validation
 from gd_analyze.jobs.sweep_merged import with_budget_model
 from gd_analyze.model.limits import acceleration_limits
+from gd_analyze.simplify.sweep_model import per_trajectory_errors, sweep_validation
 from gd_analyze.store.sweep_guarantee import merged_guarantee
 from gd_analyze.trajectory.planning import random_trajectories
 
@@ -239,7 +239,7 @@ def test_a_model_that_cannot_travel_is_measured_here(puma, planned, client):
     per_trajectory_errors and no task submitted."""
     import threading
 
-    from gd_analyze.jobs.sweep_explicit import per_trajectory_errors
+    from gd_analyze.simplify.sweep_model import per_trajectory_errors
 
     settings = {"tolerance": 0.01, "guarantee": "region", "explicit": "never"}
     model = budget_region_model(puma, planned, **settings)[0]

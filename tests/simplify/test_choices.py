@@ -118,3 +118,41 @@ def test_merged_masks_cover_each_models_masks(puma):
             assert np.all(m_merged >= m_own)
     with pytest.raises(ValueError, match="no simplified models"):
         merge_choices([])
+
+
+def test_a_recursive_models_choices_say_pruned_where_its_d_or_h_differ_from_pinocchios(puma,
+                                                                                       shipped):
+    """recursive_choices and sweep_choices: "pruned" exactly where the model's D_s or h_s
+    differs from Pinocchio's crba or nonLinearEffects minus gravity beyond 1e-9 of the
+    element's scale at the compared set points, "both" elsewhere; an exact model (EPS = 0) is
+    "both" everywhere."""
+    from gd_analyze.simplify.choices import recursive_choices, sweep_choices
+    from gd_analyze.simplify.deploy import build_recursive
+
+    q, qd, qdd = shipped.q, shipped.qd, shipped.qdd
+    pm = pinocchio_model(puma)
+    data = pm.createData()
+    D = np.array([pin.crba(pm, data, x) for x in q])
+    D = np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
+    h = np.array([pin.nonLinearEffects(pm, data, a, b) - pin.computeGeneralizedGravity(pm, data, a)
+                  for a, b in zip(q, qd)])
+    n, iu = puma.n, np.triu_indices(puma.n)
+    diag = np.sqrt(np.abs(np.einsum("kii->ki", D)))
+    scale = np.concatenate([(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
+                            np.abs(h + [pin.computeGeneralizedGravity(pm, data, a) for a in q]
+                                   + np.einsum("kij,kj->ki", D, qdd)).max(axis=0)])
+    labels = element_labels(n)
+    for eps in (0.0, 0.05):
+        model = build_recursive(puma, q, qd, qdd, tolerance=eps)[0]
+        fns = model.functions().numpy()
+        D_s = np.asarray(fns["inertia"](q), float).reshape(-1, n, n)
+        h_s = np.asarray(fns["velocity_terms"](q, qd), float).reshape(-1, n)
+        diff = np.concatenate([np.abs(D_s - D).max(axis=0)[iu], np.abs(h_s - h).max(axis=0)])
+        want = {lab: "pruned" if d > 1e-9 * s else "both"
+                for lab, d, s in zip(labels, diff, scale)}
+        ranking = type("R", (), {"labels": labels, "scale": scale})
+        got = recursive_choices(model, q, qd, gd_terms(puma, q, qd), ranking)
+        assert got == want
+        assert ("pruned" in got.values()) == (eps > 0)
+        swept = sweep_choices(model, [shipped], setpoints=len(q)).choices
+        assert swept == want

@@ -216,7 +216,7 @@ def test_urdf_robot_name_stays_in_comments(tmp_path_factory, name):
 
 def test_sweep_model_uses_the_same_header(two_link):
     """merged_model.* come from the same SimplifiedModel emitters: one hostile sweep model."""
-    from gd_analyze.jobs.sweep_explicit import sweep_model
+    from gd_analyze.simplify.sweep_model import sweep_model
     from gd_analyze.trajectory.planning import plan_quintic
 
     robot = dataclasses.replace(two_link, name=C_CONSTRUCTOR)

@@ -34,13 +34,13 @@ from ..ranking.chapter_comparison import CHAPTER_CHOICES, S_VALUES, agreement_ag
 from ..ranking.labels import joint_torque_units
 from ..ranking.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
 from ..simplify.budget import PartPeaks
+from ..simplify.choices import recursive_choices
 from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
 from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
 from ..store.schema import append_dataset
 from .deployment import deploy_models
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
-from .simplified_dataset import recursive_choices
 
 if TYPE_CHECKING:                       # for the type hints only
     import os

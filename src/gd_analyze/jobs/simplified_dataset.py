@@ -12,9 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..dynamics import dalembert
 from ..dynamics.opcount import book_counts, operation_counts
-from ..ranking.ranking import arm_scales, element_labels, is_round_off
 from ..simplify.simplified import SOURCE_STEM
 from ..store.datasets import guarantee_fields, joint_units, units_attribute
 from ..symbolic.emit_model import artefact_names
@@ -23,16 +21,12 @@ from ..symbolic.recursive_model import PART_NAMES
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
-    from numpy.typing import NDArray
 
-    from ..dynamics.dalembert import GDTerms
     from ..simplify.budget import Selection
     from ..simplify.simplified import SimplifiedModel
     from ..symbolic.explicit import Term
-    from ..trajectory.trajectory import Trajectory
 
-__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset",
-           "recursive_choices", "sweep_choices"]
+__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
 #: (multiplications, additions, total); the split of the simplified model is not given.
@@ -114,89 +108,6 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
     if getattr(model.robot, "name", "") == "puma560" and n == 6:     # AKB's arm only
         rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
     return rows
-
-
-def recursive_choices(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
-                      terms: GDTerms, ranking: Any) -> dict[str, str]:
-    """A recursive model's choice per element, as results.h5 stores it: "pruned" where the
-    (base parameter, part) pairs it drops change the element, else "both" (never "both"
-    for every element although XY2's terms are dropped).
-
-    Parameters
-    ----------
-    model : SimplifiedModel
-        Of the recursive form.
-    q, qd : ndarray, shape (N, n)
-        Set points to compare on [rad, rad/s; m, m/s].
-    terms : GDTerms
-        The G-D terms there (the full model's D, with the armature, and h).
-    ranking : Ranking
-        Its ``labels`` (D's upper triangle, then h) and each element's ``scale`` (any object
-        with these two).
-
-    Returns
-    -------
-    dict of str to str
-        "pruned" where max |D_s - D| or max |h_s + friction - h - friction| over the set points
-        is not round-off of the element's scale (:func:`gd_analyze.ranking.ranking.is_round_off`,
-        with the arm's scale of D or of h), else "both".
-    """
-
-    n = model.robot.n
-    fns = model.functions().numpy()
-    D_s = np.asarray(fns["inertia"](q), float).reshape(-1, n, n)
-    h_s = np.asarray(fns["velocity_terms"](q, qd), float).reshape(-1, n)
-    h = terms.h + (0.0 if terms.tau_f is None else terms.tau_f)     # h_s holds the friction
-    iu = np.triu_indices(n)
-    diff = np.concatenate([np.abs(D_s - terms.D).max(axis=0)[iu], np.abs(h_s - h).max(axis=0)])
-    scale = np.asarray(ranking.scale, float)
-    kind = ["D"] * iu[0].size + ["h"] * n
-    off = is_round_off(diff, scale, arm_scale=arm_scales(scale, kind))
-    return {lab: "both" if o else "pruned" for lab, o in zip(ranking.labels, off)}
-
-
-def sweep_choices(model: SimplifiedModel, trajectories: Sequence[Trajectory],
-                  setpoints: int = 64) -> SimplifiedModel:
-    """A recursive merged model's choice per element (:func:`recursive_choices`), compared on
-    set points spread evenly over the swept trajectories.
-
-    Parameters
-    ----------
-    model : SimplifiedModel
-        The merged model; one of the explicit form is returned as it is.
-    trajectories : sequence of Trajectory
-        The K swept trajectories (q, qd, qdd of shape (N_k, n)).
-    setpoints : int, optional
-        How many set points, evenly spread over the trajectories one after the other.
-
-    Returns
-    -------
-    SimplifiedModel
-        With ``choices`` "pruned" where its dropped pairs change D_ij or h_i at those set
-        points beyond round-off of the element's scale there (peak sqrt(D_ii D_jj) [kg m^2],
-        or peak |tau_i| [N m]), else "both".
-
-    Notes
-    -----
-    D and h are the G-D terms (Eqs. (3.4-25) to (3.4-33)) at those set points.
-    """
-    import dataclasses
-    from types import SimpleNamespace
-
-    if model.recursive is None or not trajectories:
-        return model
-    q, qd, qdd = (np.concatenate([np.asarray(getattr(t, k), float) for t in trajectories])
-                  for k in ("q", "qd", "qdd"))
-    at = np.unique(np.linspace(0, len(q) - 1, min(len(q), setpoints)).round().astype(int))
-    q, qd, qdd = q[at], qd[at], qdd[at]
-    terms = dalembert.gd_terms(model.robot, q, qd)
-    n = model.robot.n
-    diag = np.sqrt(np.abs(np.einsum("kii->ki", terms.D)))
-    iu = np.triu_indices(n)
-    scale = np.concatenate([(diag[:, iu[0]] * diag[:, iu[1]]).max(axis=0),
-                            np.abs(terms.tau(qdd)).max(axis=0)])
-    ranking = SimpleNamespace(labels=element_labels(n), scale=scale)
-    return dataclasses.replace(model, choices=recursive_choices(model, q, qd, terms, ranking))
 
 
 def coefficient_structure(terms: Term) -> tuple[int, int]:

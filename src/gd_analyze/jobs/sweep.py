@@ -46,6 +46,7 @@ from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..simplify.simplified import TorqueErrorAccumulator, merge_choices, simplified_torque
+from ..simplify.sweep_model import per_trajectory_errors
 from ..store.names import SweepAttr as SA
 from ..store.schema import attribute_value
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
@@ -53,13 +54,13 @@ from ..symbolic.pruning import stacked_peaks
 from .analyze import analysis_pass
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
-from .sweep_explicit import per_trajectory_errors
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
     from distributed import Client
 
     from ..model.robot import Robot
+    from ..simplify.choices import Motion
     from ..simplify.simplified import SimplifiedModel
     from ..trajectory.trajectory import Trajectory
 
@@ -287,7 +288,7 @@ def _errors_task(packed, trajectories):
 
 class WorkerErrors:
     """A merged model's errors along many trajectories, measured by the workers of a dask
-    cluster: :func:`gd_analyze.jobs.sweep_explicit.per_trajectory_errors` in tasks over
+    cluster: :func:`gd_analyze.simplify.sweep_model.per_trajectory_errors` in tasks over
     batches of trajectories, each returning four small arrays.
 
     Parameters
@@ -308,7 +309,7 @@ class WorkerErrors:
     Notes
     -----
     Pass it as ``errors`` to :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`
-    (:func:`gd_analyze.jobs.sweep_explicit.sweep_validation`). Each task carries the model,
+    (:func:`gd_analyze.simplify.sweep_model.sweep_validation`). Each task carries the model,
     its reference and its batch, so that a task whose worker is lost runs again on another;
     a failure of the cluster raises :class:`~.dask_cluster.ClusterLost`.
     """
@@ -319,10 +320,10 @@ class WorkerErrors:
         self.client, self.tasks = client, 0
         self.batch = None if batch is None else int(batch)
 
-    def __call__(self, model: SimplifiedModel, trajectories: Sequence[Trajectory],
+    def __call__(self, model: SimplifiedModel, trajectories: Sequence[Motion],
                  reference: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None
                  = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:func:`~gd_analyze.jobs.sweep_explicit.per_trajectory_errors` of all
+        """:func:`~gd_analyze.simplify.sweep_model.per_trajectory_errors` of all
         ``trajectories`` (K of them), in the same order: peak |tau_s - tau|, the sum of its
         squares, peak |tau| (K, n) [N m, N^2 m^2, N m] and the set points (K,)."""
         trajectories = list(trajectories)

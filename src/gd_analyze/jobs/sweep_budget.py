@@ -8,7 +8,7 @@ together (:func:`gd_analyze.symbolic.recursive_model.sweep_recursive_model`), fr
 contributions that the dask workers computed per trajectory
 (:func:`gd_analyze.jobs.sweep.run_sweep` with ``recursive_peaks=True``), each taken
 relative to its own trajectory's scale, so that the budget holds on every one of them. The
-explicit model (:func:`gd_analyze.jobs.sweep_explicit.explicit_sweep_model`) is derived only where
+explicit model (:func:`gd_analyze.simplify.sweep_model.explicit_sweep_model`) is derived only where
 its expansion is estimated cheap (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`),
 as the main job does, and deployed only where it counts fewer operations
 (:func:`budget_sweep_model`). The deployed model never costs more than the exact recursive
@@ -28,38 +28,21 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..certify.positive_definite import with_inertia_check
 from ..config import defaults
-from ..dynamics.base_parameters import base_parameters
 from ..errors import InputError
 from ..simplify.budget import DEFAULT_TOLERANCE
+from ..simplify.choices import sweep_choices
 from ..simplify.deploy import (
     guarantee_region,
-    rebuilt,
-    recursive_simplified,
-    region_search,
-    restored_rebuild,
-    trajectory_guarantee,
 )
-from ..simplify.explicit_model import full_program, full_torque
-from ..simplify.form_choice import (
-    choose_form,
-    exact_explicit_model,
-    inertia_checked,
-    recursive_costs,
-)
-from ..simplify.guarantee import Guarantee
+from ..simplify.merged_model import region_merged_model, trajectory_merged_model
+from ..simplify.sweep_model import sweep_validation, trajectories_sha256
 from ..store import explicit_cache
 from ..store.derivations import DERIVATIONS
-from ..store.model_trust import remember_claim
 from ..store.names import SweepVar as SV
 from ..symbolic.explicit_estimate import is_expensive
-from ..symbolic.pruning import dropped_peaks, settle_restored
-from ..symbolic.recursive_model import sweep_recursive_model
 from .evaluate import coverages
 from .options import EXPLICIT, FORMS, GUARANTEES
-from .simplified_dataset import sweep_choices
-from .sweep_explicit import explicit_sweep_model, sweep_validation, trajectories_sha256
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -69,8 +52,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
     from ..simplify.explicit_model import TorqueFunction
     from ..simplify.simplified import SimplifiedModel
+    from ..simplify.sweep_model import TrajectoryErrors
     from ..trajectory.trajectory import Trajectory
-    from .sweep_explicit import TrajectoryErrors
 
 __all__ = ["pair_peaks", "budget_sweep_model", "budget_region_model"]
 
@@ -153,7 +136,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         earlier (e.g. while the workers ranked the trajectories); it is then only measured.
     errors : callable, optional
         How the model's errors along the trajectories are measured
-        (:func:`gd_analyze.jobs.sweep_explicit.sweep_validation`; e.g. by the workers of a
+        (:func:`gd_analyze.simplify.sweep_model.sweep_validation`; e.g. by the workers of a
         dask cluster, :class:`gd_analyze.jobs.sweep.WorkerErrors`).
 
     Returns
@@ -168,14 +151,14 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         than the exact recursive model; its guarantee of kind ``"trajectory"``
         (scale: the largest scale_{t,i} over the trajectories). ``costs`` holds the counts
         of the candidates, the exact recursive model and Newton-Euler; ``validation`` as
-        :func:`gd_analyze.jobs.sweep_explicit.sweep_validation`, ``per_trajectory["bound"]``
+        :func:`gd_analyze.simplify.sweep_model.sweep_validation`, ``per_trajectory["bound"]``
         the bound on each trajectory [N m] and ``per_trajectory["scale"]`` the scale it is
         relative to (s_i over the region for a region model) [N m]; a region model's
         ``per_trajectory["covered"]`` and ``["coverage"]`` say whether each swept trajectory
         lies inside the region, and why (:func:`gd_analyze.jobs.evaluate.coverage`),
         ``held_out_inside_region`` how many held-out ones do. A recursive model's ``choices``
         are "pruned" where its dropped pairs change the element on the swept trajectories
-        (:func:`gd_analyze.jobs.simplified_dataset.sweep_choices`), else "both".
+        (:func:`gd_analyze.simplify.choices.sweep_choices`), else "both".
 
     Raises
     ------
@@ -196,13 +179,14 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
     if sweep_ds.sizes[SV.TRAJECTORY] != len(trajectories):
         raise ValueError(f"{len(trajectories)} trajectories for a sweep of "
                          f"{sweep_ds.sizes['trajectory']}")
-    provenance, digest, derive, (region, missing, proved) = _settings(
+    provenance, digest, derive, (box, missing, proved) = _settings(
         robot, trajectories, provenance, explicit, form, guarantee, region)
     K, n = len(trajectories), robot.n
     if proved:              # the bound holds at every state of the region: checked on each
-        merged, reference = prepared if prepared is not None else _region_merged(
-            robot, trajectories, region, tolerance, torque_floor, provenance, digest, derive,
-            form)
+        merged, reference = prepared if prepared is not None else region_merged_model(
+            robot, trajectories, box,  # type: ignore[arg-type]  # proved: a region
+            tolerance, torque_floor, provenance, digest,
+            _terms(robot, derive), form, DERIVATIONS)
         g: Any = merged.guarantee                # a region model's guarantee: never None
         s_i, proved_bound = np.asarray(g.scale, float), np.asarray(g.bound, float)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -216,38 +200,9 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
         validation["held_out_inside_region"] = sum(c["covered"] for c in said[K:])
         return sweep_choices(dataclasses.replace(merged, validation=validation), trajectories)
     tau_peak, peak, whole_peak = pair_peaks(sweep_ds)
-    scales = np.maximum(tau_peak, float(torque_floor))
-    base = base_parameters(robot)
-    rec, _ = sweep_recursive_model(robot, scales, peak, whole_peak, tolerance, base=base)
-    model: Any = recursive_simplified(robot, rec, base, tolerance=tolerance,
-                                      torque_floor=torque_floor, trajectory_sha256=digest,
-                                      provenance=provenance)
-    costs = recursive_costs(model)
-    reference, ex = None, None                  # the G-D terms, D qdd + h + c
-    if derive:
-        ex, _, ex_scales, relative, terms = explicit_sweep_model(
-            robot, trajectories, tolerance, torque_floor, provenance)
-        costs.update({"explicit, budget": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
-    if choose_form("budget", form, False, model.cost,
-                   None if ex is None else ex.cost).form == "explicit":
-        model, scales, reference = ex, ex_scales, full_torque(robot, terms)
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    # D_s positive definite on the swept positions, before the model is measured; a restore
-    # derives the bound on each trajectory again for the pairs still dropped
-    model = with_inertia_check(model, np.concatenate([t.q for t in trajectories]),
-                               rebuild=_sweep_rebuild(peak, whole_peak, scales, tolerance))
-    bound: Any = None                           # an explicit model's: relative x scales
-    if model.recursive is not None:
-        bound = _trajectory_bounds(peak, whole_peak, model.recursive.dropped).sum(axis=1)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            relative = np.where(bound > 0, bound / scales, 0.0).max(axis=0)
-    validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
-                                  reference=reference, bound=bound, errors=errors)
-    return sweep_choices(dataclasses.replace(
-        model, validation=validation, guarantee=_sweep_guarantee(
-            robot, model, trajectories, scales, relative, tolerance, region, missing)),
-        trajectories)
+    return trajectory_merged_model(robot, trajectories, tau_peak, peak, whole_peak, tolerance,
+                                   torque_floor, held_out, provenance, digest,
+                                   _terms(robot, derive), form, box, missing, errors)
 
 
 def _settings(robot, trajectories, provenance, explicit, form, guarantee, region):
@@ -301,91 +256,14 @@ def budget_region_model(robot: Robot, trajectories: Sequence[Trajectory],
         If ``explicit``, ``form`` or ``guarantee`` is unknown.
     """
     trajectories = list(trajectories)
-    provenance, digest, derive, (region, _, proved) = _settings(
+    provenance, digest, derive, (box, _, proved) = _settings(
         robot, trajectories, provenance, explicit, form, guarantee, region)
-    if not proved:
+    if box is None or not proved:
         return None
-    return _region_merged(robot, trajectories, region, tolerance, torque_floor, provenance,
-                          digest, derive, form)
+    return region_merged_model(robot, trajectories, box, tolerance, torque_floor,
+                               provenance, digest, _terms(robot, derive), form, DERIVATIONS)
 
 
-def _region_merged(robot, trajectories, region, tolerance, torque_floor, provenance, digest,
-                   derive, form):
-    """:func:`budget_region_model`'s model and reference, for the settings it checked."""
-    base = base_parameters(robot)
-    found = region_search(robot, base, region, tolerance, torque_floor, screen=False,
-                          derive=DERIVATIONS)
-    first = recursive_simplified(robot, found.rec, base, tolerance=tolerance,
-                                 torque_floor=torque_floor, trajectory_sha256=digest,
-                                 provenance=provenance, guarantee=found.guarantee,
-                                 forms=found.forms, searched=found.store)
-    remember_claim(first)           # its bound proved here: not proved again by its checks
-    costs = recursive_costs(first)
-    terms: Any = None
-    if derive:
-        terms, _ = explicit_cache.explicit_terms(robot)
-        costs["explicit, full"] = dict(full_program(robot, terms).cost())
-    choice = choose_form("budget", form, True, first.cost, full=costs.get("explicit, full"))
-    model, reference = first, None              # the G-D terms, D qdd + h + c
-    if choice.form == "exact explicit":
-        full = explicit_sweep_model(robot, trajectories, 0.0, torque_floor, provenance)[0]
-        model = exact_explicit_model(full, terms, first.guarantee,  # type: ignore[arg-type]  # a region model's
-                                     tolerance, choice.why)
-        reference = full_torque(robot, terms)
-    model = dataclasses.replace(model, costs=costs,
-                                full_cost=dict(costs.get("explicit, full", model.full_cost)))
-    # D_s proved positive definite over the region, parameters restored where it is not (bound
-    # and sampled error derived again); an explicit model not proved is not deployed under it
-    model, replaced = inertia_checked(
-        model, dataclasses.replace(first, costs=costs,
-                                   full_cost=dict(costs.get("explicit, full", {}))),
-        restored_rebuild(None, None, None, region=region, derive=DERIVATIONS))
-    return model, None if replaced is not None else reference
-
-
-def _trajectory_bounds(peak, whole_peak, dropped):
-    """The bound on each trajectory, split by part (K, 4, n), of the pairs ``dropped``, a
-    parameter with all its parts dropped counted whole."""
-
-    dropped = np.asarray(dropped, bool)
-    return dropped_peaks(peak, whole_peak, dropped, dropped.all(axis=1))
-
-def _sweep_rebuild(peak, whole_peak, scales, tolerance):
-    """A ``rebuild`` for :func:`gd_analyze.certify.positive_definite.with_inertia_check`
-    on a trajectory sweep: the recursive model with the given pairs dropped (the restored
-    parameters restored in full where their remaining parts would break the budget on a
-    trajectory, or cost more), its bounds on each trajectory derived again."""
-
-    def rebuild(model, dropped):
-        robot, rec = model.robot, model.recursive
-        base = rec.base(robot)
-        dropped = settle_restored(robot, base, rec.dropped, dropped)
-        each = _trajectory_bounds(peak, whole_peak, dropped)
-        if np.any(each.sum(axis=1) > tolerance * scales * (1 + 1e-12)):
-            dropped = dropped.copy()
-            dropped[np.asarray(rec.dropped, bool)[:, 0] & ~dropped[:, 0]] = False
-            each = _trajectory_bounds(peak, whole_peak, dropped)
-        new_rec = dataclasses.replace(rec, dropped=dropped,
-                                      bound=each.sum(axis=1).max(axis=0),
-                                      bound_by_part=each.max(axis=0))
-        return rebuilt(model, new_rec, base)
-    return rebuild
-
-
-def _sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, region, missing):
-    """The merged model's guarantee on the swept trajectories (kind ``"trajectory"``):
-    ``scale`` the largest scale_{t,i} over them, ``bound`` ``relative`` (n,) times it (on
-    trajectory t the error is at most relative_i scale_{t,i}); for the recursive form the
-    error sampled over the robot's region relative to s_i there, where it has one."""
-    scale = np.asarray(scales, float).max(axis=0)
-    bound = np.asarray(relative, float) * scale
-    shas = tuple(getattr(t, "sha256", "") or "" for t in trajectories)
-    method = ("the dropped pairs' (or terms') largest peaks relative to each swept "
-              "trajectory's scale_i, summed (triangle inequality)")
-    sampled = None
-    if model.recursive is not None and region is not None:
-        sampled = trajectory_guarantee(robot, base_parameters(robot), model.recursive,
-                                       tolerance, region=region).region_sampled_error
-    return Guarantee("trajectory", float(tolerance), bound=bound, scale=scale,
-                     trajectories_sha256=shas, region_sampled_error=sampled,
-                     region_missing=missing, method=method, region=region)
+def _terms(robot, derive):
+    """The robot's explicit terms from the derivation cache where ``derive``, else None."""
+    return explicit_cache.explicit_terms(robot)[0] if derive else None

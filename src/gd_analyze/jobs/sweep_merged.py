@@ -117,7 +117,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         From :func:`~gd_analyze.jobs.sweep.run_sweep` (K trajectories, n joints).
     model : SimplifiedModel
         From :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model` (recursive or
-        explicit form) or :func:`gd_analyze.jobs.sweep_explicit.sweep_model` on the same
+        explicit form) or :func:`gd_analyze.simplify.sweep_model.sweep_model` on the same
         trajectories, in the same order (its ``validation["per_trajectory"]``).
 
     Returns

@@ -137,7 +137,7 @@ def _no_keeping(*args: Any) -> None:
     Parameters
     ----------
     *args
-        As :class:`Derivations`' ``write_search`` or ``made`` takes them; unused.
+        As :class:`Derivations`' ``write_search``, ``made`` or ``claimed`` takes them; unused.
     """
     return None
 
@@ -167,12 +167,16 @@ class Derivations:
     made : callable
         ``made(robot, region, torque_floor, samples, pb)``: told of each certification made
         or read in this process.
+    claimed : callable
+        ``claimed(model)``: told of a model whose region bound was proved in this process, so
+        that its checks need not prove it again.
     """
 
     certification: Callable[..., PairBounds] = fresh_certification
     read_search: Callable[..., tuple[Any, str]] = _no_search
     write_search: Callable[..., None] = _no_keeping
     made: Callable[..., None] = _no_keeping
+    claimed: Callable[..., None] = _no_keeping
 
 
 #: Nothing kept between runs.

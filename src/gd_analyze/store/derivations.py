@@ -4,8 +4,9 @@ The model building (:mod:`gd_analyze.simplify.deploy`) is pure and keeps nothing
 itself; the jobs give it :data:`DERIVATIONS`, which reads and writes the region's
 certification (:func:`.certification_cache.certification`, each entry checked before it is
 used) and the searches under it (:func:`.certification_cache.read_search`,
-:func:`.certification_cache.write_search`), and notes each certification for the checks of a
-model file built in the same process (:func:`.model_trust.remember`).
+:func:`.certification_cache.write_search`), and notes each certification, and each model whose
+bound was proved, for the checks of a model file built in the same process
+(:func:`.model_trust.remember`, :func:`.model_trust.remember_claim`).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 from ..cache import entry_path
 from ..simplify.region_memo import Derivations
 from .certification_cache import certification, read_search, search_key, write_search
-from .model_trust import remember
+from .model_trust import remember, remember_claim
 
 if TYPE_CHECKING:
     from ..certify.region import Region
@@ -42,4 +43,4 @@ def _write(robot: Robot, region: Region, tolerance: float, torque_floor: float, 
 
 #: The derivation cache (:mod:`gd_analyze.cache`; off with ``GD_ANALYZE_NO_CACHE``).
 DERIVATIONS = Derivations(certification=certification, read_search=_read, write_search=_write,
-                          made=remember)
+                          made=remember, claimed=remember_claim)

@@ -1,8 +1,9 @@
 """The simplified explicit model over the trajectories of a sweep.
 
-robot -> explicit terms (cached derivation) -> peaks along every trajectory -> one selection
-by the budget rule whose bound holds on each -> model, validated on them (and on held-out
-ones), and the per-trajectory errors the workers compute. Nothing here prints or writes files.
+robot -> explicit terms (given, or derived here) -> peaks along every trajectory -> one
+selection by the budget rule whose bound holds on each -> model, validated on them (and on
+held-out ones), and the per-trajectory errors the workers compute. Pure: the jobs pass the
+terms read from the derivation cache (:func:`gd_analyze.store.explicit_cache.explicit_terms`).
 """
 
 from __future__ import annotations
@@ -14,34 +15,34 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..dynamics.dalembert import gd_terms
-from ..simplify.budget import DEFAULT_TOLERANCE
-from ..simplify.explicit_model import Peaks, build_model, collect_peaks, full_torque
-from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator
-from ..store.explicit_cache import explicit_terms
+from ..symbolic.explicit import derive, model_terms
+from .budget import DEFAULT_TOLERANCE
+from .explicit_model import Peaks, build_model, collect_peaks, full_torque
+from .simplified import SimplifiedModel, TorqueErrorAccumulator
 
 if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import NDArray
 
     from ..model.robot import Robot
-    from ..simplify.budget import Selection
     from ..symbolic.explicit import Term
-    from ..trajectory.trajectory import Trajectory
+    from .budget import Selection
+    from .choices import Motion
 
     #: tau(q, qd, qdd), each of shape (N, n), -> tau, shape (N, n) [N m]
     TorqueFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
     #: errors(model, trajectories, reference) -> (peak, sum_sq, peak_tau, counts), as
     #: per_trajectory_errors returns them
-    TrajectoryErrors = Callable[[SimplifiedModel, Sequence[Trajectory], TorqueFunction | None],
+    TrajectoryErrors = Callable[[SimplifiedModel, Sequence[Motion], TorqueFunction | None],
                                 tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
 
 __all__ = ["sweep_model", "explicit_sweep_model", "sweep_validation", "trajectories_sha256",
            "per_trajectory_errors"]
 
 
-def sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
+def sweep_model(robot: Robot, trajectories: Sequence[Motion],
                 tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
-                held_out: Sequence[Trajectory] = (), provenance: Mapping[str, Any] | None = None
-                ) -> tuple[SimplifiedModel, Selection]:
+                held_out: Sequence[Motion] = (), provenance: Mapping[str, Any] | None = None,
+                terms: Term | None = None) -> tuple[SimplifiedModel, Selection]:
     """One simplified explicit model guaranteed on every trajectory of a sweep (budget rule).
 
     Each joint's scale is per trajectory, scale_{t,i} = max(peak_t |tau_i|, TAU); every part's
@@ -53,15 +54,18 @@ def sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
     Parameters
     ----------
     robot : Robot
-    trajectories : sequence of Trajectory
+    trajectories : sequence of Motion
         The swept trajectories, q, qd, qdd of shape (N_t, n).
     tolerance : float, optional
         EPS.
     torque_floor : float, optional
         TAU [N m].
-    held_out : sequence of Trajectory, optional
+    held_out : sequence of Motion, optional
         Trajectories not swept: the error there is measured, not guaranteed.
     provenance : dict, optional
+    terms : Term, optional
+        All the robot's explicit terms (:func:`gd_analyze.symbolic.explicit.model_terms`);
+        derived here (:func:`gd_analyze.symbolic.explicit.derive`) where not given.
 
     Returns
     -------
@@ -78,19 +82,19 @@ def sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
     """
     trajectories = list(trajectories)
     model, sel, scales, relative, terms = explicit_sweep_model(robot, trajectories, tolerance,
-                                                               torque_floor, provenance)
+                                                               torque_floor, provenance, terms)
     validation = sweep_validation(model, trajectories, scales, relative, held_out=held_out,
                                   reference=full_torque(robot, terms))
     return dataclasses.replace(model, validation=validation), sel
 
 
-def trajectories_sha256(trajectories: Sequence[Trajectory]) -> str:
+def trajectories_sha256(trajectories: Sequence[Motion]) -> str:
     """One SHA-256 of a sweep's trajectories: their files' digests, or the arrays of planned
     trajectories.
 
     Parameters
     ----------
-    trajectories : sequence of Trajectory
+    trajectories : sequence of Motion
         Each with ``sha256`` (of its file; empty for a planned one) and q, qd, qdd (N, n).
 
     Returns
@@ -107,22 +111,24 @@ def trajectories_sha256(trajectories: Sequence[Trajectory]) -> str:
     return h.hexdigest()
 
 
-def explicit_sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
+def explicit_sweep_model(robot: Robot, trajectories: Sequence[Motion],
                          tolerance: float = DEFAULT_TOLERANCE, torque_floor: float = 0.0,
-                         provenance: Mapping[str, Any] | None = None
+                         provenance: Mapping[str, Any] | None = None, terms: Term | None = None
                          ) -> tuple[SimplifiedModel, Selection, np.ndarray, np.ndarray, Term]:
     """The explicit model of :func:`sweep_model`, not yet validated.
 
     Parameters
     ----------
     robot : Robot
-    trajectories : sequence of Trajectory
+    trajectories : sequence of Motion
         K >= 1 swept trajectories.
     tolerance : float, optional
         EPS.
     torque_floor : float, optional
         TAU [N m].
     provenance : dict, optional
+    terms : Term, optional
+        As :func:`sweep_model` takes them.
 
     Returns
     -------
@@ -145,7 +151,8 @@ def explicit_sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
     trajectories = list(trajectories)
     if not trajectories:
         raise ValueError("no trajectories")
-    terms, _ = explicit_terms(robot)
+    if terms is None:
+        terms = model_terms(derive(robot))
     peaks: Peaks | None = None
     scales: Any = []                   # a list, then its array (K, n)
     for tr in trajectories:
@@ -166,9 +173,9 @@ def explicit_sweep_model(robot: Robot, trajectories: Sequence[Trajectory],
     return model, sel, scales, relative, terms
 
 
-def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Motion],
                      scales: NDArray[np.float64], relative_bound: NDArray[np.float64],
-                     held_out: Sequence[Trajectory] = (), reference: TorqueFunction | None = None,
+                     held_out: Sequence[Motion] = (), reference: TorqueFunction | None = None,
                      bound: NDArray[np.float64] | None = None,
                      errors: TrajectoryErrors | None = None) -> dict[str, Any]:
     """A sweep model's errors on each swept trajectory, over all of them and on held-out ones.
@@ -176,13 +183,13 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     Parameters
     ----------
     model : SimplifiedModel
-    trajectories : sequence of Trajectory
+    trajectories : sequence of Motion
         The K swept trajectories.
     scales : ndarray, shape (K, n)
         scale_{t,i} [N m].
     relative_bound : ndarray, shape (n,)
         The guaranteed bound on peak |tau_s - tau| / scale_{t,i} (<= EPS).
-    held_out : sequence of Trajectory, optional
+    held_out : sequence of Motion, optional
         Trajectories not swept (measured, not guaranteed).
     reference : callable, optional
         tau_full(q, qd, qdd), as :func:`gd_analyze.simplify.explicit_model.validate` takes it (default: the G-D terms).
@@ -232,7 +239,7 @@ def sweep_validation(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     return validation
 
 
-def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Trajectory],
+def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Motion],
                           reference: TorqueFunction | None = None, chunk: int = 65536
                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A model's torque error along each of K trajectories, all evaluated together.
@@ -241,7 +248,7 @@ def per_trajectory_errors(model: SimplifiedModel, trajectories: Sequence[Traject
     ----------
     model : SimplifiedModel
         With n joints.
-    trajectories : sequence of Trajectory
+    trajectories : sequence of Motion
         Each q, qd, qdd (N_k, n) [rad, rad/s, rad/s^2].
     reference : callable, optional
         tau_full(q, qd, qdd), as :func:`gd_analyze.simplify.explicit_model.validate` takes it (default: the G-D terms).
