@@ -47,7 +47,7 @@ TIMED = (
     ("gd_analyze.jobs.run", "run_analysis", "run_analysis"),
     ("gd_analyze.jobs.analyze", "analyze_to_file", "analyze_to_file"),
     ("gd_analyze.jobs.analyze", "_verify_sample", "verify"),
-    ("gd_analyze.jobs.deployment", "deploy_models", "simplified_model"),
+    ("gd_analyze.simplify.form_choice", "deploy", "simplified_model"),
     ("gd_analyze.report.main", "write_report", "write_report"),
     ("gd_analyze.store.schema", "open_results", "report_read_results"),
     ("gd_analyze.report.main", "_html", "report_html"),

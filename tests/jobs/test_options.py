@@ -1,7 +1,6 @@
 """The main job's settings as values: the user's region through the Python API."""
 
 import numpy as np
-import pytest
 
 import gd_analyze as gd
 
@@ -25,10 +24,3 @@ def test_region_limits_pass_through_the_api_into_the_dataset():
     assert ds.attrs["region_summary"].splitlines()[0] == \
         "region: q [deg] 1 [-28.65, 28.65], 2 [-57.3, 57.3]"
     assert ds.attrs["simplified_guarantee_kind"] == "region"
-
-
-def test_simplify_options_take_only_a_region_value():
-    with pytest.raises(ValueError, match="RegionLimits"):
-        gd.SimplifyOptions(region={"qd_max": 1.0})
-    with pytest.raises(ValueError, match="--qd-max"):
-        gd.RegionLimits(qd_max=(float("nan"),))

@@ -73,3 +73,49 @@ def test_one_decision_chooses_the_form(rule, form, proved, rec, ex, full, expect
         assert f"{rec:,} operations against the pruned explicit one's {ex:,}" in choice.why
         assert ("--form recursive" in choice.why) == (form == "recursive")
         assert ("proved over the joint-limit region" in choice.why) == (proved and ex < rec)
+
+
+@pytest.mark.parametrize("form", ["cheapest", "explicit"])
+def test_deploy_builds_the_model_within_its_bound_and_leaves_no_cache(form, puma, shipped,
+                                                                        tmp_path, monkeypatch):
+    """The main job's decision called directly, with nothing kept between runs: the deployed
+    model's error against Pinocchio's rnea on the trajectory is within its bound and EPS s_i;
+    the form asked for is deployed; its ladder's rungs are cheaper as EPS grows; and the
+    derivation cache folder stays empty."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from gd_analyze.dynamics.dalembert import gd_terms
+    from gd_analyze.ranking.ranking import rank_dominance
+    from gd_analyze.simplify.budget import PartPeaks
+    from gd_analyze.simplify.form_choice import deploy
+    from gd_analyze.simplify.options import SimplifyOptions
+    from gd_analyze.symbolic.explicit import derive, model_terms, term_peaks
+    from gd_analyze.symbolic.pruning import contribution_peaks
+
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
+    q, qd, qdd = shipped.q, shipped.qd, shipped.qdd
+    t = gd_terms(puma, q, qd)
+    tau = t.tau(qdd)
+    ranking = rank_dominance(t.D_tran, t.D_rot, t.h_tran, t.h_rot, tau)
+    parts = PartPeaks(puma.n)
+    parts.update(t.D_tran, t.D_rot, t.h_tran, t.h_rot, qdd, tau)
+    base = base_parameters(puma)
+    terms = model_terms(derive(puma))
+    with ThreadPoolExecutor(2) as pool:
+        rec = pool.submit(lambda: (base, contribution_peaks(puma, base, q, qd, qdd)))
+        ex = pool.submit(lambda: (terms, term_peaks(terms, np.zeros(puma.n), q, qd, qdd,
+                                                     prismatic=puma.prismatic)))
+        d = deploy(puma, shipped, ranking, parts, SimplifyOptions(form=form), {}, rec, ex)
+        rows = d.ladder_rows()
+    assert d.model.form == ("explicit" if form == "explicit" else "recursive")
+    ref = np.array([pin.rnea(pinocchio_model(puma), pinocchio_model(puma).createData(), *x)
+                    for x in zip(q, qd, qdd)])
+    err = np.abs(d.model.torque(q, qd, qdd) - ref).max(axis=0)
+    g = d.model.guarantee
+    assert np.all(err <= np.asarray(g.bound) * (1 + 1e-9) + 1e-12)
+    assert np.all(np.asarray(g.bound) <= 0.01 * np.asarray(g.scale) * (1 + 1e-12))
+    rows = sorted(rows, key=lambda r: r["tolerance"])
+    costs = [r["multiplications"] + r["additions"] for r in rows]
+    assert rows and costs == sorted(costs, reverse=True)
+    assert all(r["worst_relative_error"] <= r["tolerance"] * (1 + 1e-9) + 1e-12 for r in rows)
+    assert not (tmp_path / "cache").exists() or not any((tmp_path / "cache").rglob("*"))

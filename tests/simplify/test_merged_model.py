@@ -12,7 +12,6 @@ from gd_analyze.simplify.deploy import guarantee_region
 from gd_analyze.simplify.merged_model import region_merged_model, trajectory_merged_model
 from gd_analyze.symbolic.explicit import derive, model_terms
 from gd_analyze.symbolic.pruning import stacked_peaks
-from gd_analyze.trajectory.planning import random_trajectories
 
 
 def _rnea(robot, q, qd, qdd):

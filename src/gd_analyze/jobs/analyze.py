@@ -35,12 +35,14 @@ from ..ranking.labels import joint_torque_units
 from ..ranking.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
 from ..simplify.budget import PartPeaks
 from ..simplify.choices import recursive_choices
+from ..simplify.form_choice import deploy
 from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
 from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
+from ..store.derivations import DERIVATIONS
 from ..store.schema import append_dataset
-from .deployment import deploy_models
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
+from .simplified_dataset import deployment_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -367,8 +369,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     choices = ranking.choices()
     model = simplified = other = None
     if simplify is not None:
-        model, other, finish = deploy_models(robot, trajectory, ranking, parts, simplify,
-                                             provenance or {}, background)
+        deployed = deploy(robot, trajectory, ranking, parts, simplify, provenance or {},
+                          background["recursive"], background.get("explicit"), DERIVATIONS)
+        model, other = deployed.model, deployed.other
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
@@ -410,7 +413,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     if own:
         bar.close()
     if simplify is not None:
-        simplified = finish(None if other_errors is None else other_errors.result())
+        simplified = deployment_dataset(
+            deployed, trajectory, None if other_errors is None else other_errors.result())
     sample = _concat(samples)
     at = {i: k for k, i in enumerate(sample_idx)}
     verification = {}

@@ -58,7 +58,7 @@ def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
 
 def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
     """Whether the main job prunes the recursive model on bounds proved over the robot's
-    joint-limit region, as :func:`gd_analyze.jobs.deployment.deploy_models` decides it.
+    joint-limit region, as :func:`gd_analyze.simplify.form_choice.deploy` decides it.
 
     Parameters
     ----------

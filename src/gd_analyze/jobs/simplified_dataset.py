@@ -15,6 +15,7 @@ import numpy as np
 from ..dynamics.opcount import book_counts, operation_counts
 from ..simplify.simplified import SOURCE_STEM
 from ..store.datasets import guarantee_fields, joint_units, units_attribute
+from ..store.names import Attr
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.explicit import merge_parts
 from ..symbolic.recursive_model import PART_NAMES
@@ -22,11 +23,15 @@ from ..symbolic.recursive_model import PART_NAMES
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
+    from ..certify.region import Region
     from ..simplify.budget import Selection
+    from ..simplify.form_choice import Deployment
     from ..simplify.simplified import SimplifiedModel
     from ..symbolic.explicit import Term
+    from ..trajectory.trajectory import Trajectory
 
-__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset"]
+__all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset",
+           "deployment_dataset", "region_coverage", "region_screen_attrs"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
 #: (multiplications, additions, total); the split of the simplified model is not given.
@@ -339,3 +344,91 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
          ds.attrs["other_rule_coefficients"]) = coefficient_structure(
             other.terms)
     return ds
+
+
+def deployment_dataset(deployment: Deployment, trajectory: Trajectory,
+                       other_error: Mapping[str, Any] | None = None) -> xr.Dataset:
+    """The deployed model's stored variables: :func:`simplified_dataset` of a
+    :class:`~gd_analyze.simplify.form_choice.Deployment`, with its ladder, its notes and the
+    region's coverage of the trajectory.
+
+    Parameters
+    ----------
+    deployment : Deployment
+        From :func:`gd_analyze.simplify.form_choice.deploy`; its ladder is waited for.
+    trajectory : Trajectory
+        The analysed trajectory, q, qd, qdd of shape (N, n).
+    other_error : dict, optional
+        The other rule's model's error on the trajectory (its accumulator's result).
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`simplified_dataset`, with the attributes ``simplified_ladder_skipped``,
+        ``simplified_ladder_form`` and ``simplified_form_note`` where they apply, and those of
+        :func:`region_coverage` and :func:`region_screen_attrs`.
+    """
+    d = deployment
+    rungs = d.ladder_rows()
+    table = cost_rows(d.model.robot.n, d.model, other=d.other, ladder_rows=rungs,
+                      formulation_counts=d.counts)
+    extra = simplified_dataset(d.model, d.selection, other=d.other, ladder_rows=rungs,
+                               cost_table=table, other_error=other_error, full_terms=d.terms)
+    if d.ladder_skipped:
+        extra.attrs["simplified_ladder_skipped"] = d.ladder_skipped
+    if rungs:
+        extra.attrs["simplified_ladder_form"] = d.model.form
+    if d.form_note:
+        extra.attrs["simplified_form_note"] = d.form_note
+    extra.attrs.update(region_coverage(d.region, trajectory))
+    if d.screen:
+        extra.attrs.update(region_screen_attrs(d.screen))
+    return extra
+
+
+def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
+    """The screen that chose the exact recursive model, as results.h5 stores it.
+
+    Parameters
+    ----------
+    screen : dict
+        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`: the sampled pre-screen that
+        skipped the region's certification, or the screen of the pairs searched under the
+        proved bounds (``proved``).
+
+    Returns
+    -------
+    dict
+        ``simplified_region_screen`` (the sentence with the numbers),
+        ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
+        (shares of the exact recursive model's operations [1]), and
+        ``simplified_region_screen_proved`` (1: the proved screen, 0: the sampled one).
+    """
+    return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
+            Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
+            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"]),
+            Attr.SIMPLIFIED_REGION_SCREEN_PROVED: int(bool(screen.get("proved", False)))}
+
+
+def region_coverage(region: Region | None, trajectory: Trajectory) -> dict[str, Any]:
+    """Whether the analysed trajectory stays in the region, as results.h5 stores it.
+
+    Parameters
+    ----------
+    region : Region or None
+        The model's region (None: no region, nothing stored).
+    trajectory : Trajectory
+        q, qd, qdd of shape (N, n).
+
+    Returns
+    -------
+    dict
+        ``region_covers_trajectory`` (1 or 0) and ``region_coverage``: "" inside, else the
+        clause of :meth:`gd_analyze.certify.region.Excursion.text` (the joint, the
+        quantity and its extreme against the limit); empty without a region.
+    """
+    if region is None:
+        return {}
+    out = region.excursion(trajectory.q, trajectory.qd, trajectory.qdd)
+    return {"region_covers_trajectory": int(out is None),
+            "region_coverage": "" if out is None else out.text()}

@@ -36,13 +36,13 @@ from ..simplify.deploy import (
     guarantee_region,
 )
 from ..simplify.merged_model import region_merged_model, trajectory_merged_model
+from ..simplify.options import EXPLICIT, FORMS, GUARANTEES
 from ..simplify.sweep_model import sweep_validation, trajectories_sha256
 from ..store import explicit_cache
 from ..store.derivations import DERIVATIONS
 from ..store.names import SweepVar as SV
 from ..symbolic.explicit_estimate import is_expensive
 from .evaluate import coverages
-from .options import EXPLICIT, FORMS, GUARANTEES
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr

@@ -4,7 +4,7 @@ trajectory.
 robot -> base parameters -> pruned recursive model within the budget over the joint-limit
 region or on the trajectory -> SimplifiedModel of the recursive form, with the exact recursive
 model's count beside it (:func:`build_recursive`). Which model is deployed beside the explicit
-ones is :mod:`gd_analyze.jobs.deployment`'s. Nothing here prints or writes files; what is kept
+ones is :func:`gd_analyze.simplify.form_choice.deploy`'s. Nothing here prints or writes files; what is kept
 between runs goes through a :class:`~gd_analyze.simplify.region_memo.Derivations`.
 """
 

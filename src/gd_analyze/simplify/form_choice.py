@@ -3,14 +3,16 @@ overturn it.
 
 The pruned recursive model, the explicit model of the rule, or the exact explicit model under
 a region guarantee (:func:`choose_form`); an explicit model whose D_s is not proved positive
-definite gives way to the recursive one (:func:`inertia_checked`). Nothing here prints or
-writes files.
+definite gives way to the recursive one (:func:`inertia_checked`). :func:`deploy` builds the
+candidates for the main job, makes that decision and starts the tolerance ladder of the form
+deployed, returning a :class:`Deployment`. Nothing here prints or writes files.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -19,16 +21,33 @@ import numpy as np
 from ..certify.positive_definite import with_inertia_check
 from ..dynamics.opcount import operation_counts
 from .choices import full_choices
-from .explicit_model import full_program
+from .deploy import build_recursive, guarantee_region, recursive_selection, restored_rebuild
+from .explicit_model import (
+    LADDER,
+    build_model,
+    collect_peaks,
+    full_program,
+    full_torque,
+    ladder,
+    ladder_skipped,
+)
+from .guarantee import Guarantee
+from .recursive_ladder import recursive_ladder
+from .region_memo import UNKEPT, Derivations
 from .simplified import total_operations
 
 if TYPE_CHECKING:
+    from ..certify.region import Region
+    from ..model.robot import Robot
+    from ..ranking.ranking import Ranking
     from ..symbolic.explicit import Term
-    from .guarantee import Guarantee
+    from .budget import PartPeaks, Selection
+    from .choices import Motion
+    from .options import SimplifyOptions
     from .simplified import SimplifiedModel
 
 __all__ = ["FormChoice", "choose_form", "inertia_checked", "recursive_costs",
-           "exact_explicit_model"]
+           "exact_explicit_model", "Deployment", "deploy"]
 
 
 @dataclass(frozen=True)
@@ -202,3 +221,206 @@ def exact_explicit_model(full: SimplifiedModel, terms: Term, guarantee: Guarante
             guarantee, bound=np.zeros(n), sampled_error=np.zeros(n), tilings=(),
             method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
                    + guarantee.method))
+
+
+@dataclass(frozen=True, eq=False)
+class Deployment:
+    """The main job's simplified model and what its choice leaves for the record.
+
+    Attributes
+    ----------
+    model : SimplifiedModel
+        The deployed model, its D_s checked (:func:`inertia_checked`).
+    other : SimplifiedModel or None
+        The explicit model of the other rule, compared with it (None: not derived).
+    selection : Selection
+        The deployed model's selection (its dropped terms or pairs, bound and scale).
+    ladder : list of dict or Future
+        The tolerance ladder's rows of the form deployed, or their Future (measured in a
+        thread); empty where it is not built.
+    ladder_skipped : str
+        Why the ladder is not built, or "".
+    form_note : str
+        Why the deployed form is not the one first chosen, or why the recursive one was, or "".
+    region : Region or None
+        The joint-limit region (None under the chapter rule or without limits).
+    screen : dict or None
+        The screen that chose the exact recursive model
+        (:meth:`gd_analyze.certify.screen.RegionScreen.to_dict`), under a region guarantee.
+    terms : Term or None
+        The robot's explicit terms, where derived.
+    counts : dict
+        The formulations' operation counts (:func:`gd_analyze.dynamics.opcount.operation_counts`).
+    """
+
+    model: SimplifiedModel
+    other: SimplifiedModel | None
+    selection: Selection
+    ladder: Any
+    ladder_skipped: str
+    form_note: str
+    region: Region | None
+    screen: Mapping[str, Any] | None
+    terms: Term | None
+    counts: Mapping[str, Any]
+
+    def ladder_rows(self) -> list[dict[str, Any]]:
+        """The ladder's rows, waiting for their thread where it measures them.
+
+        Returns
+        -------
+        list of dict
+            As :func:`gd_analyze.simplify.recursive_ladder.recursive_ladder` or
+            :func:`gd_analyze.simplify.explicit_model.ladder` give them.
+        """
+        return self.ladder.result() if isinstance(self.ladder, Future) else list(self.ladder)
+
+
+def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartPeaks,
+           options: SimplifyOptions, provenance: Mapping[str, Any],
+           recursive_peaks: Future[Any], explicit_peaks: Future[Any] | None = None,
+           derive: Derivations = UNKEPT) -> Deployment:
+    """The main job's one decision: which simplified model is deployed, the model of the other
+    rule compared with it, and the tolerance ladder of the form deployed.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectory : Motion
+        q, qd, qdd of shape (N, n), and its file's ``sha256``.
+    ranking : Ranking
+        The trajectory's dominance ranking (its chapter choices, thresholds and scales).
+    part_peaks : PartPeaks
+        Accumulated in the pass over the G-D terms.
+    options : SimplifyOptions
+        Tolerance, rule, torque floor, form, guarantee and region.
+    provenance : dict
+        Recorded with the models.
+    recursive_peaks : Future
+        The base parameters and their contribution peaks on the trajectory
+        (:func:`gd_analyze.symbolic.pruning.contribution_peaks`), computed beside the caller.
+    explicit_peaks : Future, optional
+        The robot's explicit terms and their atom peaks on the trajectory; None: the explicit
+        model is not derived.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs (default nowhere).
+
+    Returns
+    -------
+    Deployment
+
+    Notes
+    -----
+    The pruned recursive model is always built; the explicit model where ``explicit_peaks``
+    is given. Which one is deployed is :func:`choose_form`'s decision, its D_s checked by
+    :func:`inertia_checked`. The tolerance ladder is of the form deployed
+    (:func:`gd_analyze.simplify.recursive_ladder.recursive_ladder` for the recursive one,
+    pruned as it is). Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) and the error budget
+    (:mod:`gd_analyze.simplify.budget`).
+    """
+    tolerance, rule, torque_floor, form = (options.tolerance, options.rule,
+                                           options.torque_floor, options.form)
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    common: dict[str, Any] = dict(ranking=ranking, trajectory_sha256=trajectory.sha256,
+                                  provenance=provenance)
+    counts = operation_counts(robot)
+    region, missing, proved = guarantee_region(robot, options.guarantee, options.region) \
+        if rule == "budget" else (None, "", False)
+    contributions = recursive_peaks.result()
+    rec, _ = build_recursive(robot, q, qd, qdd, tolerance=tolerance, torque_floor=torque_floor,
+                          contributions=contributions, region=region if proved else None,
+                          sample_region=region, region_missing=missing, derive=derive,
+                          **common)
+    costs = recursive_costs(rec, counts)
+    ex: Any = None                 # the explicit model of the rule, its terms and peaks
+    terms: Any = None
+    other: SimplifiedModel | None = None
+    if explicit_peaks is not None:
+        terms, term = explicit_peaks.result()
+        peaks = collect_peaks(robot, terms, q, qd, qdd, gd=part_peaks, term=term)
+        ex, ex_sel = build_model(robot, terms, peaks, tolerance=tolerance, rule=rule,
+                                 torque_floor=torque_floor,
+                                 chapter_choices=ranking.choices(), **common)
+        other, _ = build_model(robot, terms, peaks, tolerance=tolerance,
+                               rule="chapter" if rule == "budget" else "budget",
+                               torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                               **common)
+        costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
+    choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
+                         None if ex is None else ex.full_cost)
+    # a screen chose the exact recursive model; the sampled pre-screen skipped the region's
+    # certification too (not the screen of the pairs searched under the proved bounds), so
+    # no ladder is certified either
+    screen = rec.provenance.get("region_screen") if proved else None
+    screened = screen if screen and not screen.get("proved") else None
+    rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
+    sel: Any = None             # the deployed model's selection, set for each form below
+    model, skipped = rec, _screened_ladder(screened)
+    if choice.form == "explicit":               # the ladder of the form deployed
+        model, sel = ex, ex_sel
+        skipped = ladder_skipped(ex.full_cost, counts)
+        rows = [] if skipped else ladder(robot, terms, peaks, (q, qd, qdd),
+                                         torque_floor=torque_floor,
+                                         reference=full_torque(robot, terms))
+    elif choice.form == "exact explicit":
+        full, sel = build_model(robot, terms, peaks, tolerance=0.0, rule="budget",
+                                torque_floor=torque_floor, chapter_choices=ranking.choices(),
+                                **common)
+        model = exact_explicit_model(full, terms, rec.guarantee, tolerance, choice.why)  # type: ignore[arg-type]  # proved: a region guarantee
+        skipped = ("not built: the deployed model is the exact explicit one, which holds "
+                   "over the whole region, and the ladder prunes on the trajectory")
+    form_note = choice.why if choice.form == "recursive" else ""
+
+    def with_costs(m):
+        return dataclasses.replace(m, costs=costs, program_cache=m.program(),
+                                   full_cost=dict(costs.get("explicit, full", m.full_cost)))
+    model = with_costs(model)
+    if model.guarantee is None:
+        model = dataclasses.replace(model, guarantee=_trajectory_guarantee(
+            model, sel, trajectory, missing, region))
+    # D_s proved positive definite where the bound holds; parameters restored where it is
+    # not, the bound and sampled error derived again for the model finally deployed
+    rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
+                               sample_region=region, region_missing=missing,
+                               contributions=contributions, derive=derive)
+    model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
+    if replaced is not None:
+        check: Any = replaced.inertia_check
+        form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
+                     + " recursive one: the explicit model's D_s "
+                     + ("was not proved positive definite over the region."
+                        if replaced.guarantee is not None and replaced.guarantee.proved else
+                        "is not positive definite at the sampled positions of the trajectory "
+                        f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
+    if model.recursive is not None:             # its own bound, restored pairs included
+        sel, skipped, rows = recursive_selection(model), _screened_ladder(screened), []
+    pool = None
+    if model.recursive is not None and not screened:        # the recursive form's ladder
+        # measured over the trajectory in a thread, beside the error pass
+        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
+        rows = recursive_ladder(robot, contributions[0], (q, qd, qdd), LADDER, torque_floor,
+                                region=region if proved else None,
+                                contributions=contributions[1], deployed=model, pool=pool,
+                                derive=derive)
+        pool.shutdown(wait=False)               # the thread ends when its one job has
+    return Deployment(model, other, sel, rows, skipped, form_note, region, screen, terms, counts)
+
+
+def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
+    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
+    if model.rule != "budget":
+        return None
+    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
+                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+                     region_missing=missing, region=region,
+                     method="sum of the dropped terms' peak contributions on the trajectory "
+                            "(triangle inequality)")
+
+
+def _screened_ladder(screen):
+    """Why the ladder is not built when the pre-screen skipped the region's certification
+    (or "" without a screen)."""
+    return "" if not screen else (
+        "not built: the region was not certified (" + str(screen["statement"])
+        + "), and each rung would need its certification")

@@ -1,0 +1,83 @@
+"""How the simplified model is built, as one frozen value.
+
+Its defaults come from :data:`gd_analyze.config.defaults`; the command line builds it from its
+arguments and the main job (:class:`gd_analyze.jobs.options.AnalysisOptions`) holds it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..certify.region import RegionLimits
+from ..config import defaults
+
+__all__ = ["SimplifyOptions", "RULES", "EXPLICIT", "FORMS", "GUARANTEES"]
+
+RULES = ("budget", "chapter")
+EXPLICIT = ("auto", "always", "never")
+FORMS = ("cheapest", "recursive", "explicit")
+GUARANTEES = ("auto", "region", "trajectory")
+
+
+def _check_choice(name, value, allowed):
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+
+
+@dataclass(frozen=True)
+class SimplifyOptions:
+    """How the simplified model is built (Sec. 3.4.1 and the error budget).
+
+    Attributes
+    ----------
+    tolerance : float
+        EPS: every joint's simplified torque stays within EPS times its scale on the
+        trajectory (rule ``"budget"``).
+    rule : {"budget", "chapter"}
+        ``"budget"``: terms dropped by their torque contribution within EPS;
+        ``"chapter"``: the share-based classes of Sec. 3.4.1 (no bound).
+    torque_floor : float
+        TAU [N m], the least scale of a joint torque.
+    explicit : {"auto", "always", "never"}
+        Whether the explicit G-D model is derived besides the recursive one.
+    form : {"cheapest", "recursive", "explicit"}
+        The form written.
+    guarantee : {"auto", "region", "trajectory"}
+        Where the budget model's bound must hold: proved over the robot's joint-limit region,
+        or on the analysed trajectory; ``"auto"``: the region when the robot gives position
+        and velocity limits for every joint.
+    region : RegionLimits, optional
+        The user's region (:class:`gd_analyze.certify.region.RegionLimits`, SI units):
+        position ranges, velocity and acceleration limits, each in place of the robot's and
+        clipped to the robot's own limits; None: the robot's limits, with the acceleration
+        limits it lacks assumed (2 s^-1 x qd_max).
+
+    Raises
+    ------
+    ValueError
+        If a value is out of range or not one of its choices, or ``region`` is not a
+        RegionLimits.
+
+    Examples
+    --------
+    >>> SimplifyOptions().tolerance, SimplifyOptions(rule="chapter").rule
+    (0.01, 'chapter')
+    """
+
+    tolerance: float = defaults["tolerance"]
+    rule: str = defaults["rule"]
+    torque_floor: float = defaults["torque_floor"]
+    explicit: str = defaults["explicit"]
+    form: str = defaults["form"]
+    guarantee: str = defaults["guarantee"]
+    region: RegionLimits | None = None
+
+    def __post_init__(self):
+        if self.region is not None and not isinstance(self.region, RegionLimits):
+            raise ValueError("region must be a RegionLimits (or None: the robot's limits)")
+        if not self.tolerance >= 0.0 or not self.torque_floor >= 0.0:
+            raise ValueError("tolerance and torque_floor must be >= 0 (and not NaN)")
+        _check_choice("rule", self.rule, RULES)
+        _check_choice("explicit", self.explicit, EXPLICIT)
+        _check_choice("form", self.form, FORMS)
+        _check_choice("guarantee", self.guarantee, GUARANTEES)

@@ -1,0 +1,34 @@
+"""How the simplified model is built, as one checked value."""
+
+import math
+
+import pytest
+
+from gd_analyze.certify.region import RegionLimits
+from gd_analyze.config import defaults
+from gd_analyze.simplify.options import EXPLICIT, FORMS, GUARANTEES, RULES, SimplifyOptions
+
+
+def test_simplify_options_take_only_a_region_value():
+    with pytest.raises(ValueError, match="RegionLimits"):
+        SimplifyOptions(region={"qd_max": 1.0})
+    with pytest.raises(ValueError, match="--qd-max"):
+        RegionLimits(qd_max=(float("nan"),))
+
+
+def test_defaults_are_the_configured_ones_and_each_choice_is_checked():
+    o = SimplifyOptions()
+    assert (o.tolerance, o.rule, o.torque_floor, o.explicit, o.form, o.guarantee) == (
+        defaults["tolerance"], defaults["rule"], defaults["torque_floor"], defaults["explicit"],
+        defaults["form"], defaults["guarantee"])
+    for name, allowed in (("rule", RULES), ("explicit", EXPLICIT), ("form", FORMS),
+                          ("guarantee", GUARANTEES)):
+        for value in allowed:
+            assert getattr(SimplifyOptions(**{name: value}), name) == value
+        with pytest.raises(ValueError, match=f"{name} must be one of"):
+            SimplifyOptions(**{name: "nonsense"})
+    for bad in (-0.01, math.nan):
+        with pytest.raises(ValueError, match=">= 0"):
+            SimplifyOptions(tolerance=bad)
+        with pytest.raises(ValueError, match=">= 0"):
+            SimplifyOptions(torque_floor=bad)
