@@ -22,21 +22,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._version import VERSION
-from ..dynamics.base_parameters import base_parameters, base_regressor
+from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError
 from ..estimation.consistent import (
     SolverFailure,
-    base_map,
-    closest_standard,
-    consistent_standard,
-    loadable,
-    min_eigenvalues,
-    robot_with_standard,
-    rounding_cleaned,
 )
-from ..estimation.estimate import combine_factors, joint_factors, least_squares
+from ..estimation.fit import FitFailure, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
-from ..estimation.regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
+from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
 from ..model.robots import load_robot
 from ..store.stored_identification import (
@@ -45,7 +38,7 @@ from ..store.stored_identification import (
     RecordingFit,
     group_names,
 )
-from ..symbolic.drive_regressor import IdentificationColumns, identification_regressor
+from ..symbolic.drive_regressor import identification_regressor
 from ..trajectory.recording import Recording, read_recording
 from ..trajectory.trajectory import trajectory_from_arrays
 from .analyze import analyze
@@ -58,8 +51,6 @@ if TYPE_CHECKING:
 
 __all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
-#: A training row whose residual exceeds this many noise standard deviations is an outlier.
-OUTLIER_SIGMAS = 5.0
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
 
@@ -192,17 +183,6 @@ def _prepared(rec, cutoff, options, label, prismatic):
     return pre
 
 
-def _consistent(base, theta, est, phi0, drive_kind, drive_prior):
-    """:func:`consistent_standard`, a failure of both solvers said on one line (exit 2)."""
-    try:
-        return consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
-                                   drive_prior)
-    except SolverFailure as exc:
-        raise InputError(f"cannot find physically consistent parameters: {exc}; the "
-                         "recordings may not excite the arm enough (try plan --excitation)"
-                         ) from None
-
-
 def identify(robot: Robot | str | Path,
              recordings: Sequence[str | os.PathLike | Recording],
              validate: Sequence[str | os.PathLike | Recording] = (),
@@ -266,94 +246,19 @@ def identify(robot: Robot | str | Path,
                          f"spans less than {STILL_SPAN['revolute']:g} rad or "
                          f"{STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
-    base = base_parameters(prior)
-    kinds = tuple(k for k in DRIVE_KINDS if k in options.drives)     # the columns' order
-    col_names, col_kinds = column_names(base, n, kinds)
-    columns = IdentificationColumns.keeping_all(base, n, kinds)
-    theta0 = prior_values(base, prior, kinds)
-    # rows at rest: thresholds from all training data
-    qd_train = np.concatenate([p.qd[p.keep] for p in pres[:len(train)]])
-    _, threshold = moving_rows(qd_train)
-    notes.append("rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
-                 "speed are left out of the fit: at rest the torque holds an unknown static "
-                 "friction (they count in the errors), except where the joint is held still "
-                 "all along a recording (its offset takes that friction); Coulomb friction is "
-                 "F_c sign(qd), not smoothed, as in the robot file")
-
-    def fitted(p):      # the rows (sample, joint) a training recording fits
-        return moving_rows(p.qd[p.keep], threshold)[0] | p.held[None, :]
-    factors: Any = None  # joint_factors' pair, once the first recording is read
-    kept_Y = []          # the training recordings' filtered regressors, for their predictions
-    for p in pres[:len(train)]:
-        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
-        f = joint_factors(Yr, p.tau[p.keep], fitted(p))
-        kept_Y.append(Yr)
-        factors = f if factors is None else combine_factors(factors, f)
     try:
-        est = least_squares(factors, theta0)
-        # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
-        # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
-        refit: Any
-        dropped, refit, fit_rows = 0, None, []
-        for p, Yr in zip(pres[:len(train)], kept_Y):
-            used = fitted(p)
-            resid = np.abs(p.tau[p.keep] - Yr @ est.value)
-            out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
-            dropped += int(out.sum())
-            fit_rows.append(used & ~out)
-        if dropped:
-            for p, Yr, rows in zip(pres[:len(train)], kept_Y, fit_rows):
-                f = joint_factors(Yr, p.tau[p.keep], rows)
-                refit = f if refit is None else combine_factors(refit, f)
-            est = least_squares(refit, theta0)
-            notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
-                         f"joint's noise standard deviation) left out and the fit repeated")
-    except ValueError as exc:
+        fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
+                                    options.consistent)
+    except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}") from None
-    phi0 = base.standard
-    b = base.rank
-    drive_kind = col_kinds[b:]
-    theta = est.value
-    nonneg = np.array([k != "offset" for k in drive_kind], bool)
-    if options.consistent:
-        sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
-        phi, drives = sol.phi, sol.drives
-        theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
-        method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
-                  f">= 0; cvxpy with {sol.solver}): "
-                  + ("they reproduce the identified base parameters; among those, the closest "
-                     "to the robot file's" if sol.reproduces else
-                     f"no consistent parameters reproduce the identified ones: the closest fit "
-                     f"(weighted residual {sol.residual:.3g} of the fit's scale), and among "
-                     f"those the closest to the robot file's"))
-        file_phi, file_drives, file_note = phi, drives, None
-    else:
-        phi = closest_standard(base, theta[:b], phi0)
-        drives = theta[b:]
-        method = ("the standard parameters closest to the robot file's that reproduce the "
-                  "identified base parameters (least-norm deviation)")
-        file_phi, file_drives = rounding_cleaned(phi, drives, nonneg)
-        file_note = None
-        if not loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
-            sol = _consistent(base, theta, est, phi0, drive_kind, theta0[b:])
-            file_phi, file_drives = sol.phi, sol.drives
-            file_note = ("the least-squares parameters are not physically realisable (a "
-                         "link's inertia or mass, or a friction < 0), which a robot file cannot "
-                         "hold: identified_robot.toml holds the physically consistent "
-                         "parameters (as --consistent)"
-                         + ("" if sol.reproduces else ", which do not reproduce the identified "
-                            "ones exactly"))
-            notes.append(file_note)
-    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
-    for k, kind in enumerate(drive_kind):
-        per_kind[kind][k % n] = file_drives[k]
-    identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
-                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
-                                     torque_offset=per_kind["offset"])
-    offsets = per_kind["offset"]
-    eig = min_eigenvalues(phi)
-    scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
-    consistent = eig >= -1e-10 * scaleJ
+    except SolverFailure as exc:
+        raise InputError(f"cannot find physically consistent parameters: {exc}; the "
+                         "recordings may not excite the arm enough (try plan --excitation)"
+                         ) from None
+    notes += fit.notes
+    base, b, theta, est, columns = fit.base, fit.base.rank, fit.theta, fit.estimate, fit.columns
+    identified, method, file_note = fit.identified, fit.method, fit.robot_file_note
+    kept_Y: list[Any] = regressors     # each dropped once its recording is predicted
     simplified = _simplified_model(identified, pres, len(train), options) \
         if options.simplify else None
     fits = []
@@ -371,33 +276,34 @@ def identify(robot: Robot | str | Path,
         tau_s = None
         if simplified is not None:
             tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
-        used_r = fit_rows[k] if is_train else np.zeros(p.q[keep].shape, bool)
+        used_r = fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,
             role="train" if is_train else "validate", t=p.t[keep], q=p.q[keep],
             qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep], tau_predicted=pred,
             tau_prior=tau_prior, used=used_r, notes=tuple(rec.notes) + tuple(p.notes),
             tau_simplified=tau_s))
-    unident = [nm for nm, ok in zip(col_names, est.identifiable) if not ok]
+    unident = [nm for nm, ok in zip(fit.names, est.identifiable) if not ok]
     if unident:
         notes.append(f"not identifiable on these data (kept at the robot file's value): "
                      f"{', '.join(unident)}")
-    table = ParameterTable(names=col_names, kinds=col_kinds, value=theta, std=est.std,
-                           ols_value=est.ols_value, prior=theta0,
+    table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta,
+                           std=est.std, ols_value=est.ols_value, prior=fit.prior,
                            identifiable=est.identifiable)
     if simplified is not None:
         notes.append(f"simplified model of the identified robot (the main job's analysis along "
                      f"{names[simplified[2]]}): {simplified[1]}")
     settings = {**options.settings(), "cutoff_hz_used": cutoff,
-                "idle_threshold": threshold.tolist(), "standard_method": method,
+                "idle_threshold": fit.threshold.tolist(), "standard_method": method,
                 "robot_file_note": file_note,
                 "simplified_guarantee": None if simplified is None else simplified[1]}
     inputs = {r.source: r.sha256 for r in train + valid}
     inputs[str(prior.source)] = prior.sha256
     return IdentificationResult(
-        prior=prior, identified=identified, offsets=offsets, parameters=table,
-        condition_number=est.condition_number, rank=est.rank, standard=np.asarray(phi),
-        standard_prior=phi0, min_eigenvalue=eig, consistent=consistent,
+        prior=prior, identified=identified, offsets=fit.offsets, parameters=table,
+        condition_number=est.condition_number, rank=est.rank, standard=fit.standard,
+        standard_prior=base.standard, min_eigenvalue=fit.min_eigenvalue,
+        consistent=fit.consistent,
         standard_method=method, recordings=tuple(fits), settings=settings, inputs=inputs,
         preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
 

@@ -1,0 +1,241 @@
+"""The identification's fit: recordings (preprocessed) -> the robot's base parameters and
+drive terms -> the standard parameters a robot file holds.
+
+The weighted least-squares fit of the identification regressor (:mod:`.estimate`) on the
+rows where the joint moves (:func:`.regressor.moving_rows`), once more without the outlier
+rows; then the standard parameters: physically consistent ones
+(:func:`.consistent.consistent_standard`), or those closest to the robot file's that reproduce the identified
+base parameters, replaced by consistent ones where a robot file cannot hold them. Pure: the
+job reads the recordings and writes the results.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..dynamics.base_parameters import base_parameters
+from ..symbolic.drive_regressor import IdentificationColumns, identification_regressor
+from .consistent import (
+    base_map,
+    closest_standard,
+    consistent_standard,
+    loadable,
+    min_eigenvalues,
+    robot_with_standard,
+    rounding_cleaned,
+)
+from .estimate import Estimate, combine_factors, joint_factors, least_squares
+from .regressor import DRIVE_KINDS, column_names, moving_rows, prior_values
+
+if TYPE_CHECKING:
+    from ..dynamics.base_parameters import BaseParameters
+    from ..model.robot import Robot
+    from .preprocess import Preprocessed
+
+__all__ = ["OUTLIER_SIGMAS", "Fit", "FitFailure", "fit_robot"]
+
+#: A training row whose residual exceeds this many noise standard deviations is an outlier.
+OUTLIER_SIGMAS = 5.0
+
+
+class FitFailure(ValueError):
+    """The least-squares fit cannot be made on these recordings (its message says why)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Fit:
+    """An identified robot: the fitted columns and the standard parameters behind them.
+
+    Attributes
+    ----------
+    base : BaseParameters
+        The prior robot's b base parameters.
+    columns : IdentificationColumns
+        The regressor's columns: base parameters, then the drive columns.
+    names, kinds : tuple of str, length p
+        Each column's name and kind (:func:`.regressor.column_names`).
+    prior : ndarray, shape (p,)
+        The robot file's values of the columns.
+    threshold : ndarray, shape (n,)
+        |qd_i| below which a row is at rest [rad/s or m/s] (:func:`.regressor.moving_rows`).
+    estimate : Estimate
+        The least-squares fit (after the outlier rows were left out, if any were).
+    theta : ndarray, shape (p,)
+        The identified columns as predicted: with ``consistent``, those of the consistent
+        standard parameters.
+    used : tuple of ndarray of bool, each shape (N_k, n)
+        The rows (sample, joint) of each training recording's kept samples that the fit used.
+    standard : ndarray, shape (n, 10)
+        The standard parameters behind ``theta`` (per link: m, m c, inertia about the frame).
+    identified : Robot
+        The prior robot with the parameters a robot file can hold (armature, viscous and
+        Coulomb friction, torque offsets among them).
+    offsets : ndarray, shape (n,)
+        The torque offsets [N m or N].
+    min_eigenvalue : ndarray, shape (n,)
+        The smallest eigenvalue of each link's pseudo-inertia [kg m^2].
+    consistent : ndarray of bool, shape (n,)
+        Each link's pseudo-inertia is positive semidefinite (to 1e-10 of its scale).
+    method : str
+        How the standard parameters were chosen, in words.
+    robot_file_note : str or None
+        Why the robot file holds other parameters than ``standard``, or None.
+    notes : tuple of str
+        What the fit left out, and why, in words.
+    """
+
+    base: BaseParameters
+    columns: IdentificationColumns
+    names: tuple[str, ...]
+    kinds: tuple[str, ...]
+    prior: np.ndarray
+    threshold: np.ndarray
+    estimate: Estimate
+    theta: np.ndarray
+    used: tuple[np.ndarray, ...]
+    standard: np.ndarray
+    identified: Robot
+    offsets: np.ndarray
+    min_eigenvalue: np.ndarray
+    consistent: np.ndarray
+    method: str
+    robot_file_note: str | None
+    notes: tuple[str, ...]
+
+
+def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequence[str],
+              consistent: bool = False) -> tuple[Fit, list[np.ndarray]]:
+    """Identify a robot's base parameters and drive terms from its training recordings.
+
+    Parameters
+    ----------
+    prior : Robot
+        The robot file's arm, with n joints.
+    train : sequence of Preprocessed
+        The training recordings, filtered and differentiated (:func:`.preprocess.preprocess`).
+    drive_columns : sequence of str
+        The drive columns, among ``armature``, ``viscous``, ``coulomb``, ``offset``.
+    consistent : bool, optional
+        Physically consistent standard parameters (every pseudo-inertia positive
+        semidefinite, armature and friction >= 0).
+
+    Returns
+    -------
+    fit : Fit
+    regressors : list of ndarray, each shape (N_k, n, p)
+        Each training recording's filtered regressor at its kept samples, for its
+        prediction (the caller may drop each once used).
+
+    Raises
+    ------
+    FitFailure
+        If the least-squares fit cannot be made (e.g. no rows).
+    gd_analyze.estimation.consistent.SolverFailure
+        If the consistent parameters are needed and neither solver finds them.
+
+    Notes
+    -----
+    Source: weighted least squares on the base-parameter regressor (Gautier & Khalil 1990;
+    Swevers, Verdonck & De Schutter 2007), physical consistency by the pseudo-inertia
+    (Wensing, Kim & Slotine 2018).
+    """
+    n = prior.n
+    base = base_parameters(prior)
+    kinds = tuple(k for k in DRIVE_KINDS if k in drive_columns)     # the columns' order
+    col_names, col_kinds = column_names(base, n, kinds)
+    columns = IdentificationColumns.keeping_all(base, n, kinds)
+    theta0 = prior_values(base, prior, kinds)
+    # rows at rest: thresholds from all training data
+    qd_train = np.concatenate([p.qd[p.keep] for p in train])
+    _, threshold = moving_rows(qd_train)
+    notes = ["rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
+             "speed are left out of the fit: at rest the torque holds an unknown static "
+             "friction (they count in the errors), except where the joint is held still "
+             "all along a recording (its offset takes that friction); Coulomb friction is "
+             "F_c sign(qd), not smoothed, as in the robot file"]
+
+    def fitted(p):      # the rows (sample, joint) a training recording fits
+        return moving_rows(p.qd[p.keep], threshold)[0] | p.held[None, :]
+    factors: Any = None  # joint_factors' pair, once the first recording is read
+    kept_Y = []          # the training recordings' filtered regressors, for their predictions
+    for p in train:
+        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
+        f = joint_factors(Yr, p.tau[p.keep], fitted(p))
+        kept_Y.append(Yr)
+        factors = f if factors is None else combine_factors(factors, f)
+    try:
+        est = least_squares(factors, theta0)
+        # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
+        # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
+        refit: Any
+        dropped, refit, fit_rows = 0, None, []
+        for p, Yr in zip(train, kept_Y):
+            used = fitted(p)
+            resid = np.abs(p.tau[p.keep] - Yr @ est.value)
+            out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
+            dropped += int(out.sum())
+            fit_rows.append(used & ~out)
+        if dropped:
+            for p, Yr, rows in zip(train, kept_Y, fit_rows):
+                f = joint_factors(Yr, p.tau[p.keep], rows)
+                refit = f if refit is None else combine_factors(refit, f)
+            est = least_squares(refit, theta0)
+            notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
+                         f"joint's noise standard deviation) left out and the fit repeated")
+    except ValueError as exc:
+        raise FitFailure(str(exc)) from None
+    phi0 = base.standard
+    b = base.rank
+    drive_kind = col_kinds[b:]
+    theta = est.value
+    nonneg = np.array([k != "offset" for k in drive_kind], bool)
+    if consistent:
+        sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                  theta0[b:])
+        phi, drives = sol.phi, sol.drives
+        theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
+        method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
+                  f">= 0; cvxpy with {sol.solver}): "
+                  + ("they reproduce the identified base parameters; among those, the closest "
+                     "to the robot file's" if sol.reproduces else
+                     f"no consistent parameters reproduce the identified ones: the closest fit "
+                     f"(weighted residual {sol.residual:.3g} of the fit's scale), and among "
+                     f"those the closest to the robot file's"))
+        file_phi, file_drives, file_note = phi, drives, None
+    else:
+        phi = closest_standard(base, theta[:b], phi0)
+        drives = theta[b:]
+        method = ("the standard parameters closest to the robot file's that reproduce the "
+                  "identified base parameters (least-norm deviation)")
+        file_phi, file_drives = rounding_cleaned(phi, drives, nonneg)
+        file_note = None
+        if not loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
+            sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
+                                      theta0[b:])
+            file_phi, file_drives = sol.phi, sol.drives
+            file_note = ("the least-squares parameters are not physically realisable (a "
+                         "link's inertia or mass, or a friction < 0), which a robot file cannot "
+                         "hold: identified_robot.toml holds the physically consistent "
+                         "parameters (as --consistent)"
+                         + ("" if sol.reproduces else ", which do not reproduce the identified "
+                            "ones exactly"))
+            notes.append(file_note)
+    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
+    for k, kind in enumerate(drive_kind):
+        per_kind[kind][k % n] = file_drives[k]
+    identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
+                                     viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
+                                     torque_offset=per_kind["offset"])
+    eig = min_eigenvalues(phi)
+    scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
+    fit = Fit(base=base, columns=columns, names=col_names, kinds=col_kinds,
+              prior=theta0, threshold=threshold, estimate=est, theta=theta,
+              used=tuple(fit_rows), standard=np.asarray(phi), identified=identified,
+              offsets=per_kind["offset"], min_eigenvalue=eig,
+              consistent=eig >= -1e-10 * scaleJ, method=method, robot_file_note=file_note,
+              notes=tuple(notes))
+    return fit, kept_Y

@@ -1,0 +1,58 @@
+"""The identification's fit on its own: preprocessed recordings that the test makes with a true
+arm (the robot file with other inertial parameters, friction and offsets), against Pinocchio."""
+
+import numpy as np
+from identify_recordings import fourier, irregular_clock, truth_for
+
+from gd_analyze import load_robot
+from gd_analyze.estimation.fit import fit_robot
+from gd_analyze.estimation.preprocess import preprocess
+from gd_analyze.estimation.regressor import DRIVE_KINDS, moving_rows
+
+
+def _prepared(truth, robot, seconds, seed, noise=0.0, outliers=0):
+    n = robot.n
+    t = irregular_clock(seconds, seed)
+    q, qd, qdd = fourier(n, t, seed=seed)
+    tau = truth.torque(q, qd, qdd)
+    rng = np.random.default_rng(seed + 7)
+    if noise:
+        tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
+    if outliers:
+        rows = rng.choice(len(t), outliers, replace=False)
+        tau[rows, 0] += 50 * tau[:, 0].std()
+    return preprocess(t, q, tau, qd, qdd, cutoff=None, label=f"rec{seed}",
+                      prismatic=robot.prismatic), (q, qd, qdd)
+
+
+def test_noise_free_training_gives_the_true_torques_and_drives():
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=3)
+    fit, regressors = fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
+    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    scale = np.abs(tau_true).max()
+    assert np.abs(regressors[0] @ fit.theta - tau_true).max() < 1e-8 * scale
+    values = dict(zip(fit.names, fit.theta))
+    for kind, true in (("viscous", truth.viscous), ("coulomb", truth.coulomb),
+                       ("offset", truth.offset)):
+        got = np.array([values[f"{kind}_{j + 1}"] for j in range(robot.n)])
+        np.testing.assert_allclose(got, true, rtol=0, atol=1e-8 * scale)
+    np.testing.assert_allclose(fit.offsets, truth.offset, rtol=0, atol=1e-8 * scale)
+    # the robot file as shipped is far off: the test can fail
+    assert np.abs(regressors[0] @ fit.prior - tau_true).max() > 1e-2 * scale
+    assert fit.kinds[fit.base.rank:] == tuple(k for k in DRIVE_KINDS
+                                             if k in ("viscous", "coulomb", "offset")
+                                             for _ in range(robot.n))
+
+
+def test_outlier_rows_are_left_out_and_the_fit_repeated():
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=4, noise=1e-3, outliers=5)
+    fit, regressors = fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
+    assert any("outlier rows" in note for note in fit.notes)
+    moving = moving_rows(pre.qd[pre.keep], fit.threshold)[0] | pre.held[None, :]
+    assert (moving[:, 0] & ~fit.used[0][:, 0]).sum() >= 5     # the five, at least
+    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    assert np.abs(regressors[0] @ fit.theta - tau_true).max() < 1e-2 * np.abs(tau_true).max()
