@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import math
 import textwrap
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    import numpy.typing as npt
     from matplotlib.artist import Artist
     from matplotlib.axes import Axes
     from matplotlib.backend_bases import RendererBase
@@ -23,7 +24,7 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "joint_axes", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
+           "gridspec", "joint_axes", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
@@ -430,3 +431,61 @@ def gridspec(fig: Figure, rows: int, cols: int, left: float, right: float, top: 
     ah = (H - top - bottom - (rows - 1) * hgap) / max(rows, 1)
     return fig.add_gridspec(rows, cols, left=left / W, right=1 - right / W, bottom=bottom / H,
                             top=1 - top / H, wspace=wgap / aw, hspace=hgap / ah)
+
+
+def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, str], Any]],
+                titles: Sequence[str], ylabels: Sequence[str], width: float, cols: int = 2,
+                step: int = 1) -> Figure:
+    """A figure of one panel per joint (:func:`joint_axes`), each drawing the same curves
+    against time, their key below.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Time [s].
+    curves : sequence of ((str, object, float, str), array_like)
+        Per curve its style, (colour, line style, line width [pt], key label), and its values,
+        shape (N, n) [each joint's units].
+    titles : sequence of str, length n
+        Each panel's title, set on its left and taken as plain text (no mathtext).
+    ylabels : sequence of str, length n
+        Each panel's y label, said on a row's first panel and on any panel whose label
+        differs from that panel's.
+    width : float
+        Figure width [in].
+    cols : int, optional
+        Most panels a row.
+    step : int, optional
+        Every ``step``-th sample is drawn.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        1.6 in a row of panels, round y ticks labelled in one notation for the figure
+        (:func:`gd_analyze.report.ticks.label_axes`), time on the lowest panel of each column.
+    """
+    import numpy as np
+    from matplotlib.lines import Line2D
+
+    from .ticks import label_axes, set_ticks
+
+    n = len(titles)
+    rows, cols = grid_shape(n, cols)
+    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
+                           "t [s]")
+    t = np.asarray(t, float)
+    handles: dict[str, Line2D] = {}
+    for j, ax in enumerate(axes):
+        for (colour, ls, lw, label), y in curves:
+            ax.plot(t[::step], np.asarray(y, float)[::step, j], color=colour, linestyle=ls,
+                    linewidth=lw)
+            handles.setdefault(label, Line2D([], [], color=colour, linestyle=ls, linewidth=lw))
+        ax.set_title(titles[j], loc="left", parse_math=False)
+        lo, hi = ax.get_ylim()
+        set_ticks(ax.yaxis, lo, hi, 4, labels=False)
+        if j % cols == 0 or ylabels[j] != ylabels[j - j % cols]:
+            ax.set_ylabel(ylabels[j])
+    label_axes([ax.yaxis for ax in axes])
+    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
+               frameon=False, bbox_to_anchor=(0.5, 0.02))
+    return fig

@@ -35,13 +35,12 @@ from ..store.stored_identification import (
     StoredIdentification,
     StoredRecording,
 )
-from .common import BASE_RC, grid_shape, table, utc_now
+from .common import BASE_RC, table, utc_now
 from .drawing import draw_figures, html_document, pdf_info, write_documents
-from .figure_style import joint_axes, markevery
+from .figure_style import joint_lines, markevery
 from .markup import clean
 from .numbers import fmt, pct
 from .sections import Outline
-from .ticks import label_axes, set_ticks
 from .typeset import check_paper
 
 if TYPE_CHECKING:
@@ -166,33 +165,11 @@ def stride(m: int) -> int:
 def _panels(t, curves, joints, ylabel, width, prismatic=None):
     """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below; each
     panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
-    panel whose unit differs from it."""
-    from matplotlib.lines import Line2D
-
-    n = len(joints)
-    rows, cols = grid_shape(n, 2)
-    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
-                           "t [s]")
-    k = stride(t.size)
-    units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(n)]
-    handles = {}
-    yaxes = []
-    for j, ax in enumerate(axes):
-        for name, y in curves.items():
-            colour, ls, lw, label = MODEL_STYLES.get(name, RESIDUAL_STYLE)
-            ax.plot(t[::k], np.asarray(y, float)[::k, j], color=colour, linestyle=ls,
-                    linewidth=lw)
-            handles.setdefault(label, Line2D([], [], color=colour, linestyle=ls, linewidth=lw))
-        ax.set_title(f"joint {j + 1}: {short(joints[j])}", loc="left", parse_math=False)
-        lo, hi = ax.get_ylim()
-        set_ticks(ax.yaxis, lo, hi, 4, labels=False)
-        yaxes.append(ax.yaxis)
-        if j % cols == 0 or units[j] != units[j - j % cols]:
-            ax.set_ylabel(f"{ylabel} [{units[j]}]")
-    label_axes(yaxes)
-    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
-               frameon=False, bbox_to_anchor=(0.5, 0.02))
-    return fig
+    panel whose unit differs from it (:func:`gd_analyze.report.figure_style.joint_lines`)."""
+    units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(len(joints))]
+    return joint_lines(t, [(MODEL_STYLES.get(name, RESIDUAL_STYLE), y) for name, y in curves.items()],
+                       [f"joint {j + 1}: {short(name)}" for j, name in enumerate(joints)],
+                       [f"{ylabel} [{u}]" for u in units], width, step=stride(len(t)))
 
 
 def identify_figures(root: StoredIdentification | xr.Dataset,

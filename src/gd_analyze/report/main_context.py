@@ -42,7 +42,6 @@ from .common import attr_text as _text
 from .common import check as _check
 from .common import fmt as _fmt
 from .common import fmt_column as _column
-from .common import fmt_column as _fmt_column
 from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
@@ -901,7 +900,7 @@ def ranking_table(results: Results) -> dict[str, Any]:
             cells[c.field] = [next(arm_peak) if row[1] == "." else row[1]
                               for row in arm["rows"]]
         elif r.kind == "number":
-            cells[c.field] = _fmt_column(table.column(c.field), off=zero)
+            cells[c.field] = _column(table.column(c.field), off=zero)
         elif r.kind == "units":
             cells[c.field] = [units_text(str(v)) for v in table.column(c.field)]
         elif r.kind != "peak":                  # the label, a class: as stored

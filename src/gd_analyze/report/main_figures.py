@@ -34,7 +34,7 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from .common import joint_style, units_text
-from .figure_style import element_markevery, grid_boxes, new_figure
+from .figure_style import element_markevery, grid_boxes, joint_lines, new_figure
 from .markup import label as _math
 from .numbers import decade_label
 from .plot_data import (
@@ -516,30 +516,15 @@ def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
     Returns
     -------
     matplotlib.figure.Figure
-        7.2 in wide, three panels a row.
+        7.2 in wide, three panels a row (:func:`gd_analyze.report.figure_style.joint_lines`).
     """
     tau, tau_s = data.series["tau"], data.series["tau_simplified"]
     n = tau.shape[1]
-    cols = min(n, 3)
-    rows = math.ceil(n / cols)
-    left, gap, hgap, w_h = 0.55, 0.5, 0.55, 1.05
-    w = (PAGE_WIDTH - left - 0.1 - (cols - 1) * gap) / cols
-    H = 0.3 + rows * w_h + (rows - 1) * hgap + 0.65
-    fig = new_figure(PAGE_WIDTH, H)
-    for i, box in enumerate(grid_boxes(fig, n, cols, (left, 0.3), (w, w_h), (gap, hgap))):
-        ax = fig.add_axes(box)
-        ax.plot(data.x, tau[:, i], color=_FULL, linestyle="-", linewidth=1.0,
-                label="full model \u03c4")
-        ax.plot(data.x, tau_s[:, i], color=_SIMPLIFIED, linestyle="--", linewidth=1.2,
-                label="simplified model")
-        _y_axis(ax, 3, tau[:, i], tau_s[:, i])
-        _time_axis(ax, data.x, True)
-        ax.set_xlabel("t [s]", labelpad=1.0)
-        units = joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
-        ax.set_ylabel(_math("\u03c4" + str(i + 1)) + f" [{units}]", labelpad=1.0)
-        rel = f"{100 * rel_error[i]:.2g} %" if np.isfinite(rel_error[i]) else "n/a"
-        ax.set_title(f"joint {i + 1}: peak error {rel}")
-    label_axes([ax.yaxis for ax in fig.axes])
-    fig.legend(*fig.axes[0].get_legend_handles_labels(), loc="lower center", ncol=2,
-               frameon=False, handlelength=2.6, bbox_to_anchor=(0.5, 0.0))
-    return fig
+    units = [joint_torque_units(bool(prismatic[i])) if prismatic is not None else "N m"
+             for i in range(n)]
+    rel = [f"{100 * r:.2g} %" if np.isfinite(r) else "n/a" for r in rel_error]
+    return joint_lines(data.x, [((_FULL, "-", 1.0, "full model \u03c4"), tau),
+                                ((_SIMPLIFIED, "--", 1.2, "simplified model"), tau_s)],
+                       [f"joint {i + 1}: peak error {rel[i]}" for i in range(n)],
+                       [_math("\u03c4" + str(i + 1)) + f" [{units[i]}]" for i in range(n)],
+                       PAGE_WIDTH, 3)

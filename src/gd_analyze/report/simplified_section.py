@@ -114,6 +114,21 @@ def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.N
     return out
 
 
+def _time_panel(ax, i, t, y, nbins, **xlabel):
+    """Joint i's panel against time: t from t[0] to t[1] (a second long where they meet), y
+    from y[0] to y[1] with 8 % of their span added each side, round ticks (the y ones labelled
+    by the figure: :func:`gd_analyze.report.ticks.label_axes`), its title and t label."""
+    (lo, hi), (t0, t1) = y, t
+    pad = 0.08 * (hi - lo)
+    ax.set_ylim(lo - pad, hi + pad)
+    set_ticks(ax.yaxis, lo, hi, nbins, labels=False)
+    t1 = t1 if t1 > t0 else t0 + 1.0
+    ax.set_xlim(t0, t1)
+    set_ticks(ax.xaxis, t0, t1, 4)
+    ax.set_title(f"joint {i + 1}", fontsize=8)
+    ax.set_xlabel("t [s]", labelpad=1.0, **xlabel)
+
+
 def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool = False,
                              width: float = _PAGE) -> Figure:
     """Per joint against time: the five G-D contributions to tau and the simplified torque.
@@ -171,14 +186,7 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
         lo, hi = (float(vals.min()), float(vals.max())) if vals.size else (-1.0, 1.0)
         if hi - lo <= 1e-300:
             lo, hi = lo - 1.0, hi + 1.0
-        pad = 0.08 * (hi - lo)
-        ax.set_ylim(lo - pad, hi + pad)
-        set_ticks(ax.yaxis, lo, hi, 4, labels=False)
-        t0, t1 = float(x[0]), float(x[-1])
-        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
-        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
-        ax.set_title(f"joint {i + 1}", fontsize=8)
-        ax.set_xlabel("t [s]", labelpad=1.0)
+        _time_panel(ax, i, (float(x[0]), float(x[-1])), (lo, hi), 4)
         ax.set_ylabel(f"[{units[i]}]", labelpad=1.0)
         ys.append(ax.yaxis)
     label_axes(ys)
@@ -1128,10 +1136,6 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     for i, box in zip(shown, grid_boxes(fig, len(shown), cols, (left, top), (w, h),
                                         (gap, hgap))):
         ax = fig.add_axes(box)
-        ax.set_xlim(t0, t1 if t1 > t0 else t0 + 1.0)
-        set_ticks(ax.xaxis, t0, t1 if t1 > t0 else t0 + 1.0, 4)
-        ax.set_title(f"joint {i + 1}", fontsize=8)
-        ax.set_xlabel("t [s]", fontsize=8, labelpad=1.0)
         ax.tick_params(labelsize=7)
         which = "" if column else f" (joint {i + 1})"   # a column's panels are short
         ax.set_ylabel(f"\u0394\u03c4{which} [{units[i]}]", fontsize=8,
@@ -1151,9 +1155,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         lo, hi = min(span), max(span)
         if hi - lo <= 1e-300:
             lo, hi = -1.0, 1.0
-        pad = 0.08 * (hi - lo)
-        ax.set_ylim(lo - pad, hi + pad)
-        set_ticks(ax.yaxis, lo, hi, 4 if h > 1.2 else 3, labels=False)
+        _time_panel(ax, i, (t0, t1), (lo, hi), 4 if h > 1.2 else 3, fontsize=8)
         ys.append(ax.yaxis)
     label_axes(ys)
     if handles:                     # above the panels: no curve or bound runs through it

@@ -58,7 +58,6 @@ from .common import (
     cost_table,
     count,
     fmt_column,
-    grid_shape,
     pct_column,
     torque_units,
     units_said_once,
@@ -159,36 +158,21 @@ def _fraction_text(fractions):
     return " \u00b7 ".join(parts)
 
 
-def _share_axes(ax):
-    """A share panel's axes: the share [1] from 0 to 1, ticks at 0, 0.5 and 1, no x ticks."""
-    ax.set_xlim(-0.6, 0.8)
-    ax.set_ylim(-0.03, 1.03)
-    ax.set_xticks([])
-    ax.set_yticks([0.0, 0.5, 1.0])
-    ax.yaxis.set_major_formatter("{x:.2g}")
-    ax.tick_params(length=2.0, pad=1.5)
-
-
-def _zero_share_panel(ax, label, merged):
-    """An element that is round-off on every trajectory: no share (it would be noise)."""
-    ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
-            fontsize=10, color="0.35")
-    _share_axes(ax)
-    ax.grid(False)
-    ax.set_title(f"{_math(label)}: \u2261 0", color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5)
-
-
-def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_lines=False):
-    """One element: a box of its share_tran over the trajectories, thresholds s and 1 - s;
-    trajectories on which the element is round-off (``zero``) are left out of the box."""
-    if zero is not None:
-        if zero.all():
-            return _zero_share_panel(ax, label, merged)
-        values = values[~zero]
-    ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
-    ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
-    for y in (s, 1.0 - s):
-        ax.axhline(y, color="0.35", lw=0.6, ls="--")
+def _share_panel(ax, w, label, two_lines=False):
+    """One element of the stored sweep ``w``: a box of its share_tran over the trajectories,
+    thresholds s and 1 - s; trajectories on which the element is round-off are left out of the
+    box, and an element round-off on every trajectory has no share (it would be noise)."""
+    k = list(w.elements).index(label)
+    merged, zero, s = w.merged.choice[k], w.round_off[:, k], _thresholds(w)[0]
+    values = w.share_tran[:, k][~zero]
+    if zero.all():
+        ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
+                fontsize=10, color="0.35")
+    else:
+        ax.axhspan(s, 1.0, color=_CLASS_COLOURS["translational"], alpha=0.09, lw=0)
+        ax.axhspan(0.0, 1.0 - s, color=_CLASS_COLOURS["rotational"], alpha=0.09, lw=0)
+        for y in (s, 1.0 - s):
+            ax.axhline(y, color="0.35", lw=0.6, ls="--")
     finite = values[np.isfinite(values)]
     if finite.size:
         whisker = {"color": "black", "linewidth": 0.7}
@@ -199,22 +183,24 @@ def _share_panel(ax, values, label, merged, fractions, s, small, zero=None, two_
         if finite.size <= 60:
             jitter = np.linspace(-0.18, 0.18, finite.size) if finite.size > 1 else [0.0]
             ax.plot(np.asarray(jitter) + 0.45, finite, ".", ms=2.0, color="0.3")
-    else:
+    elif not zero.all():
         ax.text(0.5, 0.5, "no data", transform=ax.transAxes, ha="center", va="center")
-    _share_axes(ax)
+    # the share [1] from 0 to 1, ticks at 0, 0.5 and 1, no x ticks
+    ax.set_xlim(-0.6, 0.8)
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xticks([])
+    ax.set_yticks([0.0, 0.5, 1.0])
+    ax.yaxis.set_major_formatter("{x:.2g}")
+    ax.tick_params(length=2.0, pad=1.5)
+    colour = _CHOICE_COLOURS.get(merged, "black")
+    if zero.all():
+        ax.grid(False)
+        ax.set_title(f"{_math(label)}: \u2261 0", color=colour, pad=2.5)
+        return
     ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
-                 color=_CHOICE_COLOURS.get(merged, "black"), pad=2.5,
-                 linespacing=1.0)           # a narrow panel: two lines
-    ax.set_xlabel(_fraction_text(fractions), fontsize=7.0, labelpad=1.5,
+                 color=colour, pad=2.5, linespacing=1.0)           # a narrow panel: two lines
+    ax.set_xlabel(_fraction_text(w.class_fraction[k]), fontsize=7.0, labelpad=1.5,
                   color="0.15")
-
-
-def _shares(w):
-    """What the share figures draw: n, the elements' labels, share_tran (K, M), the merged
-    choice by label, the class fractions (M, C), the round-off marks (K, M) and s."""
-    labels = list(w.elements)
-    return (w.joints, labels, w.share_tran, dict(zip(labels, w.merged.choice)),
-            w.class_fraction, w.round_off, _thresholds(w)[0])
 
 
 def _key_text(w, K):
@@ -237,20 +223,18 @@ def _key_text(w, K):
 def _fig_D(w, width=_PAGE_WIDTH):
     from matplotlib.figure import Figure
 
-    if width < _PAGE_WIDTH:
-        return _fig_D_column(w, width)
-    n, labels, share, merged, frac, zero, s = _shares(w)
+    n = w.joints
+    if width < _PAGE_WIDTH:         # reading order, three a row
+        return _share_grid(w, [element_label("D", i, j) for i in range(n) for j in range(i, n)],
+                           width, 3)
     W = _PAGE_WIDTH
     H = 0.98 + n * 0.56 + (n - 1) * 0.46                # titles of two lines
     fig = Figure(figsize=(W, H))
     gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.46)
     for i in range(n):
         for j in range(i, n):
-            label = element_label("D", i, j)
-            k = labels.index(label)
             ax = fig.add_subplot(gs[i, j])
-            _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
-                         zero=zero[:, k], two_lines=True)
+            _share_panel(ax, w, element_label("D", i, j), two_lines=True)
             ax.tick_params(labelleft=(i == j))
     if n > 1:
         k = n // 2
@@ -264,62 +248,45 @@ def _fig_D(w, width=_PAGE_WIDTH):
     return fig
 
 
-def _fig_D_column(w, W):
-    """The share boxes of D in reading order, three a row, the key below (a column)."""
-    from matplotlib.figure import Figure
-
-    n, labels, share, merged, frac, zero, s = _shares(w)
-    elements = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
-    cols = 3
-    rows = -(-len(elements) // cols)
-    H = 0.74 + rows * 1.08 + 1.55           # titles of two lines
-    fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, rows, cols, left=0.55, right=0.08, top=0.74, bottom=1.75, wgap=0.3,
-                   hgap=0.55)
-    for m, label in enumerate(elements):
-        k = labels.index(label)
-        ax = fig.add_subplot(gs[m // cols, m % cols])
-        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=True,
-                     zero=zero[:, k], two_lines=True)
-        ax.tick_params(labelleft=(m % cols == 0))
-    fig.text(0.1 / W, 1.5 / H, textwrap.fill(_key_text(w, w.trajectories)
-                                             .replace("\n", " "), 68),
-             va="top", ha="left", fontsize=7, linespacing=1.25)
-    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
-    fig.suptitle("Translational share of the elements of D\nover the sweep (layout of Fig. "
-                 "3.10)", y=1 - 0.08 / H, va="top", fontsize=9)
-    return fig
-
-
 def _fig_h(w, width=_PAGE_WIDTH):
+    n = w.joints
+    return _share_grid(w, [element_label("h", i) for i in range(n)], width,
+                       min(n, 2 if width < _PAGE_WIDTH else 3))
+
+
+def _share_grid(w, labels, width, cols):
+    """The share boxes of ``labels`` (all of D or of h) in reading order, ``cols`` a row, the
+    key below: D's panels with titles of two lines and y tick labels on a row's first panel
+    only (a column), h's each with its axis label."""
     from matplotlib.figure import Figure
 
-    n, labels, share, merged, frac, zero, s = _shares(w)
-    column = width < _PAGE_WIDTH
-    rows, cols = grid_shape(n, 2 if column else 3)
-    W = width
-    H = (2.3 + 1.6 * rows) if column else (2.45 + 1.55 * rows)
-    fig = Figure(figsize=(W, H))
+    d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
+    rows = -(-len(labels) // cols)
+    H = 0.74 + rows * 1.08 + 1.55 if d else (2.3 + 1.6 * rows) if column else 2.45 + 1.55 * rows
+    fig = Figure(figsize=(width, H))
     # the key below the panels takes up to six lines at the printed 8 pt, under the last
     # row's tick and class labels
-    gs = _gridspec(fig, rows, cols, left=0.65, right=0.1, top=0.55 if column else 0.5,
-                   bottom=1.75, wgap=0.6, hgap=0.5)
-    for i in range(n):
-        label = element_label("h", i)
-        k = labels.index(label)
-        ax = fig.add_subplot(gs[i // cols, i % cols])
-        _share_panel(ax, share[:, k], label, merged[label], frac[k], s, small=False,
-                     zero=zero[:, k])
-        ax.set_ylabel("translational share [1]")
-    key = textwrap.fill(_key_text(w, w.trajectories).replace("\n", " "),
-                        68 if column else 120)
-    fig.text(0.1 / W if column else 0.3 / W, 0.1 / H, key, ha="left", va="bottom",
-             fontsize=7.0, linespacing=1.25 if column else 1.3)
-    fig.suptitle("Translational share of the elements of h over the sweep "
-                 "(layout of Fig. 3.11)" if not column else
-                 "Translational share of the elements of h\nover the sweep (layout of Fig. "
-                 "3.11)", y=1 - 0.15 / H if not column else 1 - 0.08 / H, va="top",
-                 fontsize=None if not column else 9)
+    gs = _gridspec(fig, rows, cols, left=0.55 if d else 0.65, right=0.08 if d else 0.1,
+                   top=0.74 if d else 0.55 if column else 0.5, bottom=1.75,
+                   wgap=0.3 if d else 0.6, hgap=0.55 if d else 0.5)
+    for m, label in enumerate(labels):
+        ax = fig.add_subplot(gs[m // cols, m % cols])
+        _share_panel(ax, w, label, two_lines=d)
+        if d:
+            ax.tick_params(labelleft=(m % cols == 0))
+        else:
+            ax.set_ylabel("translational share [1]")
+    key = textwrap.fill(_key_text(w, w.trajectories).replace("\n", " "), 68 if column else 120)
+    if d:
+        fig.text(0.1 / width, 1.5 / H, key, va="top", ha="left", fontsize=7, linespacing=1.25)
+        fig.supylabel("translational share [1]", x=0.05 / width, ha="left")
+    else:
+        fig.text((0.1 if column else 0.3) / width, 0.1 / H, key, ha="left", va="bottom",
+                 fontsize=7.0, linespacing=1.25 if column else 1.3)
+    fig.suptitle(f"Translational share of the elements of {labels[0][0]}"
+                 f"{chr(10) if column else ' '}over the sweep (layout of Fig. "
+                 f"{'3.10' if d else '3.11'})", y=1 - (0.08 if column else 0.15) / H,
+                 va="top", fontsize=9 if column else None)
     return fig
 
 
