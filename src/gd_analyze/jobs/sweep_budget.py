@@ -1,23 +1,15 @@
-"""The budget rule's merged model of a sweep: the cheapest form within EPS, proved over the
-joint-limit region or on every swept trajectory.
+"""The budget rule's merged model of a sweep, as the sweep command builds it: the cheapest form
+within EPS, proved over the joint-limit region or on every swept trajectory.
 
-The explicit G-D form alone would cost more than the
-exact customized recursive Newton-Euler model on every arm measured (the Panda's 97,074
-operations against 610). Here the recursive model is pruned over all swept trajectories
-together (:func:`gd_analyze.symbolic.recursive_model.sweep_recursive_model`), from the peaks of its (base parameter, part)
-contributions that the dask workers computed per trajectory
-(:func:`gd_analyze.jobs.sweep.run_sweep` with ``recursive_peaks=True``), each taken
-relative to its own trajectory's scale, so that the budget holds on every one of them. The
-explicit model (:func:`gd_analyze.simplify.sweep_model.explicit_sweep_model`) is derived only where
-its expansion is estimated cheap (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`),
-as the main job does, and deployed only where it counts fewer operations
-(:func:`budget_sweep_model`). The deployed model never costs more than the exact recursive
-model: at worst it is that model (:func:`gd_analyze.symbolic.pruning.pruned_program`).
-
-Under a region guarantee (``guarantee="region"``, or ``"auto"`` where the robot gives its
-limits, as the main job's ``--guarantee``) the region does not depend on the trajectories: the
-merged model is the main job's region model (:func:`budget_region_model`), checked on every
-swept trajectory, each said to lie inside the region or not.
+The model itself is built by :mod:`gd_analyze.simplify.merged_model` (pure): on the
+trajectories from the peaks of the recursive model's (base parameter, part) contributions that
+the dask workers computed per trajectory (:func:`gd_analyze.jobs.sweep.run_sweep` with
+``recursive_peaks=True``; :func:`pair_peaks` reads them from the sweep's dataset), or over the
+region, where it does not depend on the trajectories (:func:`budget_region_model`). Here the
+options are checked, the explicit terms are read from the derivation cache where the
+explicit model is derived (where its expansion is estimated cheap,
+:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`, as the main job does), and a
+region model is measured on every swept trajectory, each said to lie inside the region or not.
 """
 
 from __future__ import annotations
