@@ -10,17 +10,22 @@ from conftest import random_states
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.ranking.ranking import RankingAccumulator, element_series
+from gd_analyze.ranking.statistics import ROWS
 from gd_analyze.simplify.budget import PartPeaks, part_index
 
 
 class NumpyRanking:
-    """RankingAccumulator's sums and peaks as numpy arrays (the formulation before the kernel)."""
+    """RankingAccumulator's sums and peaks as numpy arrays (the formulation before the kernel),
+    by name; the statistics the kernel added since, by (series, statistic) in ``more``."""
 
     def __init__(self, n):
         m = n * (n + 1) // 2 + n
         self.n = n
         self.sum_tran, self.sum_rot = np.zeros(m), np.zeros(m)
         self.peak_tran, self.peak_rot, self.peak_total = np.zeros(m), np.zeros(m), np.zeros(m)
+        self.more = {key: np.zeros(m) for key in (
+            ("tran", "sum_sq"), ("rot_arm", "sum_sq"), ("total", "sum_abs"),
+            ("total", "sum_sq"), ("rot_arm", "peak_abs"))}
         self.sum_arm, self.arm = np.zeros(m), np.zeros(m)
         self.scale_D = np.zeros(n * (n + 1) // 2)
         self.peak_tau = np.zeros(n)
@@ -41,6 +46,13 @@ class NumpyRanking:
         np.maximum(self.peak_rot, np.abs(rot).max(axis=0), out=self.peak_rot)
         np.maximum(self.peak_total, np.abs(tran + rot + self.arm).max(axis=0),
                    out=self.peak_total)
+        rot_arm, total = rot + self.arm, tran + rot + self.arm
+        self.more["tran", "sum_sq"] += (tran * tran).sum(axis=0)
+        self.more["rot_arm", "sum_sq"] += (rot_arm * rot_arm).sum(axis=0)
+        self.more["total", "sum_abs"] += np.abs(total).sum(axis=0)
+        self.more["total", "sum_sq"] += (total * total).sum(axis=0)
+        np.maximum(self.more["rot_arm", "peak_abs"], np.abs(rot_arm).max(axis=0),
+                   out=self.more["rot_arm", "peak_abs"])
         diag = np.clip(np.diagonal(D_tran + D_rot, axis1=1, axis2=2) + arm_d, 0.0, None)
         iu = np.triu_indices(n)
         with np.errstate(invalid="ignore"):         # 0 x inf
@@ -63,8 +75,12 @@ def numpy_part_peaks(peaks, tau_peak, n, D_tran, D_rot, h_tran, h_rot, qdd, tau)
     np.maximum(tau_peak, np.abs(tau).max(axis=0), out=tau_peak)
 
 
-RANKED = ("sum_tran", "sum_rot", "sum_arm", "arm", "peak_tran", "peak_rot", "peak_total",
-          "scale_D", "peak_tau")
+#: The accumulator's attributes the oracle holds under the same name.
+RANKED = ("sum_arm", "arm", "scale_D", "peak_tau")
+#: The oracle's sums and peaks by name, and the statistic of the accumulator each is.
+STATISTICS = {"sum_tran": ("tran", "sum_abs"), "sum_rot": ("rot_arm", "sum_abs"),
+              "peak_tran": ("tran", "peak_abs"), "peak_rot": ("rot", "peak_abs"),
+              "peak_total": ("total", "peak_abs")}
 
 
 def _same(a, b):
@@ -87,6 +103,10 @@ def _feed(chunks, armature=None):
         parts.update(D_tran, D_rot, h_tran, h_rot, qdd, tau)
     for name in RANKED:
         assert _same(getattr(acc, name), getattr(ref, name)), name
+    expected = {**{key: getattr(ref, name) for name, key in STATISTICS.items()}, **ref.more}
+    assert sorted(expected) == sorted(ROWS)                 # every statistic is checked
+    for key, value in expected.items():
+        assert _same(acc.statistic(*key), value), key
     assert _same(parts.peaks, peaks) and _same(parts.tau_peak, tau_peak)
     return acc
 

@@ -1,4 +1,4 @@
-"""Compiled chunk updates of the ranking's sums and peaks and of the parts' peak contributions.
+"""Compiled chunk updates of the ranking's statistics and of the parts' peak contributions.
 
 :class:`gd_analyze.ranking.ranking.RankingAccumulator` and
 :class:`gd_analyze.simplify.budget.PartPeaks` take the G-D terms of a trajectory chunk by
@@ -22,6 +22,21 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .statistics import (
+    N_ROWS,
+    ROT_ARM_PEAK_ABS,
+    ROT_ARM_SUM_ABS,
+    ROT_ARM_SUM_SQ,
+    ROT_PEAK_ABS,
+    SUMS,
+    TOTAL_PEAK_ABS,
+    TOTAL_SUM_ABS,
+    TOTAL_SUM_SQ,
+    TRAN_PEAK_ABS,
+    TRAN_SUM_ABS,
+    TRAN_SUM_SQ,
+)
+
 __all__ = ["ranking_kernel", "part_peaks_kernel", "inertia_block_kernel",
            "inertia_screen_kernel"]
 
@@ -32,35 +47,68 @@ def _peak(m, v):  # pragma: no cover - compiled
     return v if (v > m or v != v) else m
 
 
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _element(c, e, t, r, a):  # pragma: no cover - compiled
+    """One set point of element e (tran t, rot r, armature a) into the chunk's statistics c,
+    of shape (M, N_ROWS): its sums and peaks from 0."""
+    ra = r + a
+    v = (t + r) + a
+    at = abs(t)
+    ara = abs(ra)
+    av = abs(v)
+    c[e, TRAN_SUM_ABS] += at
+    c[e, TRAN_SUM_SQ] += t * t
+    c[e, ROT_ARM_SUM_ABS] += ara
+    c[e, ROT_ARM_SUM_SQ] += ra * ra
+    c[e, TOTAL_SUM_ABS] += av
+    c[e, TOTAL_SUM_SQ] += v * v
+    c[e, TRAN_PEAK_ABS] = _peak(c[e, TRAN_PEAK_ABS], at)
+    c[e, ROT_ARM_PEAK_ABS] = _peak(c[e, ROT_ARM_PEAK_ABS], ara)
+    c[e, TOTAL_PEAK_ABS] = _peak(c[e, TOTAL_PEAK_ABS], av)
+    c[e, ROT_PEAK_ABS] = _peak(c[e, ROT_PEAK_ABS], abs(r))
+
+
 @njit(cache=True, fastmath=False, nogil=True)
-def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, sum_tran, sum_rot,
-                   peak_tran, peak_rot, peak_total, scale_D, peak_tau):  # pragma: no cover
-    """Add a chunk of set points to the ranking's running sums and peaks, in place.
+def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, stats, scale_D,
+                   peak_tau):  # pragma: no cover - compiled
+    """Add a chunk of set points to the ranking's running statistics, in place.
 
     Parameters
     ----------
-    D_tran, D_rot, h_tran, h_rot, tau : ndarray
-        The chunk's terms and torques, as
-        :meth:`gd_analyze.ranking.ranking.RankingAccumulator.update` takes them.
+    D_tran, D_rot : ndarray, shape (N, n, n)
+        The chunk's inertia matrix parts [kg m^2].
+    h_tran, h_rot : ndarray, shape (N, n)
+        The chunk's Coriolis and centrifugal parts [N m].
+    tau : ndarray, shape (N, n)
+        The chunk's joint torques [N m].
     arm : ndarray, shape (M,)
         The armature on each element (Ia_i on D_ii, 0 elsewhere) [kg m^2].
     arm_d : ndarray, shape (n,)
         The armature Ia [kg m^2] (zeros without drives).
-    sum_tran, sum_rot, peak_tran, peak_rot, peak_total, scale_D, peak_tau : ndarray
-        The accumulator's running sums of |tran| and |rot + arm| and peaks of |tran|, |rot|,
-        |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) and
-        |tau_i|, updated.
+    stats : ndarray, shape (len(ROWS), M)
+        The running statistics of each element's series, row r being entry r of
+        :data:`gd_analyze.ranking.statistics.ROWS`: sums of |x| and peaks of |x| in the
+        element's units ([kg m^2] for D, [N m] for h), sums of x^2 in their squares; updated.
+    scale_D : ndarray, shape (n (n + 1) / 2,)
+        The running peak sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) [kg m^2],
+        updated.
+    peak_tau : ndarray, shape (n,)
+        The running peak |tau_i| [N m], updated.
 
     Notes
     -----
     The M = n (n + 1) / 2 + n elements are the upper triangle of D row by row, then h
-    (:func:`gd_analyze.ranking.ranking.element_series`).
+    (:func:`gd_analyze.ranking.ranking.element_series`); the series and statistics are those
+    of :mod:`gd_analyze.ranking.statistics`. The chunk's statistics are formed apart, element
+    by element in one block (faster than updating the running peaks in place): a sum is the
+    chunk's values added in row order to 0, then added to the running sum (module docstring);
+    a peak is the chunk's from 0 (|x| >= 0), then the larger of it and the running one, NaN
+    propagating as it would row by row.
     """
     N, n = h_tran.shape
     T = n * (n + 1) // 2
     M = T + n
-    s_tran = np.zeros(M)
-    s_rot = np.zeros(M)
+    c = np.zeros((M, N_ROWS))           # the chunk's statistics, element by element
     diag = np.empty(n)
     for k in range(N):
         for i in range(n):
@@ -69,28 +117,18 @@ def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, sum_tran, sum_
         e = 0
         for i in range(n):
             for j in range(i, n):
-                t = D_tran[k, i, j]
-                r = D_rot[k, i, j]
-                s_tran[e] += abs(t)
-                s_rot[e] += abs(r + arm[e])
-                peak_tran[e] = _peak(peak_tran[e], abs(t))
-                peak_rot[e] = _peak(peak_rot[e], abs(r))
-                peak_total[e] = _peak(peak_total[e], abs((t + r) + arm[e]))
+                _element(c, e, D_tran[k, i, j], D_rot[k, i, j], arm[e])
                 scale_D[e] = _peak(scale_D[e], np.sqrt(diag[i] * diag[j]))
                 e += 1
         for i in range(n):
-            t = h_tran[k, i]
-            r = h_rot[k, i]
-            s_tran[e] += abs(t)
-            s_rot[e] += abs(r + arm[e])
-            peak_tran[e] = _peak(peak_tran[e], abs(t))
-            peak_rot[e] = _peak(peak_rot[e], abs(r))
-            peak_total[e] = _peak(peak_total[e], abs((t + r) + arm[e]))
+            _element(c, e, h_tran[k, i], h_rot[k, i], arm[e])
             peak_tau[i] = _peak(peak_tau[i], abs(tau[k, i]))
             e += 1
     for e in range(M):
-        sum_tran[e] += s_tran[e]
-        sum_rot[e] += s_rot[e]
+        for r in range(SUMS):
+            stats[r, e] += c[e, r]
+        for r in range(SUMS, N_ROWS):
+            stats[r, e] = _peak(stats[r, e], c[e, r])
 
 
 @njit(cache=True, fastmath=False, nogil=True)

@@ -51,6 +51,7 @@ from .labels import (
     joint_units_text,
     parse_element_label,
 )
+from .statistics import ROWS, row
 
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
@@ -361,6 +362,23 @@ class RankingAccumulator:
     n : int
         Number of joints.
 
+    Attributes
+    ----------
+    stats : ndarray, shape (len(ROWS), M)
+        The running statistics of each element's series (tran, rot + arm, tran + rot + arm:
+        sum |x|, sum x^2, peak |x|; and peak |rot|), row r being entry r of
+        :data:`gd_analyze.ranking.statistics.ROWS`; read one with :meth:`statistic`.
+        [kg m^2] for D and [N m] for h, squared for a sum of squares.
+    sum_arm, arm : ndarray, shape (M,)
+        The sum over the set points of the armature on each element, and the armature
+        itself (Ia_i on D_ii, 0 elsewhere) [kg m^2].
+    scale_D : ndarray, shape (n (n + 1) / 2,)
+        Peak sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) [kg m^2].
+    peak_tau : ndarray, shape (n,)
+        Peak |tau_i| [N m].
+    count : int
+        The set points accumulated.
+
     Examples
     --------
     Fed in two chunks, it ranks as :func:`rank_dominance` ranks the whole (up to round-off):
@@ -384,17 +402,36 @@ class RankingAccumulator:
     def __init__(self, n):
         m = n * (n + 1) // 2 + n
         self.n = int(n)
-        self.sum_tran = np.zeros(m)
-        self.sum_rot = np.zeros(m)
-        self.peak_tran = np.zeros(m)
-        self.peak_rot = np.zeros(m)
-        self.peak_total = np.zeros(m)
+        self.stats = np.zeros((len(ROWS), m))
         self.sum_arm = np.zeros(m)
         self.arm = np.zeros(m)
         self.peak_diag = np.zeros(n)
         self.scale_D = np.zeros(n * (n + 1) // 2)
         self.peak_tau = np.zeros(n)
         self.count = 0
+
+    def statistic(self, series, statistic):
+        """One running statistic of every element (a view of :attr:`stats`).
+
+        Parameters
+        ----------
+        series : str
+            One of :data:`gd_analyze.ranking.statistics.SERIES`: ``"tran"``, ``"rot_arm"``
+            (rot + arm), ``"total"`` (tran + rot + arm) or ``"rot"`` (peak only).
+        statistic : str
+            ``"sum_abs"``, ``"sum_sq"`` or ``"peak_abs"``.
+
+        Returns
+        -------
+        ndarray, shape (M,)
+            Per element: [kg m^2] for D and [N m] for h, squared for ``"sum_sq"``.
+
+        Raises
+        ------
+        ValueError
+            If that statistic of that series is not accumulated.
+        """
+        return self.stats[row(series, statistic)]
 
     def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None):
         """Add a chunk of set points.
@@ -418,9 +455,9 @@ class RankingAccumulator:
         Notes
         -----
         One compiled pass over the chunk (:func:`gd_analyze.ranking.kernels.ranking_kernel`):
-        the sums of |tran| and |rot + arm| (the chunk's in row order, then added), the peaks of
-        |tran|, |rot|, |tran + rot + arm|, sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and
-        |tau|, with the elements of :func:`element_series`.
+        the sums of |x| and x^2 (the chunk's in row order, then added) and the peaks of |x| of
+        x = tran, rot + arm and tran + rot + arm, the peaks of |rot|, sqrt(D_ii D_jj)
+        (D_ii + Ia_i clipped at 0) and |tau|, with the elements of :func:`element_series`.
         """
         n = self.n
         D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
@@ -441,8 +478,7 @@ class RankingAccumulator:
 
         c = np.ascontiguousarray
         ranking_kernel(c(D_tran), c(D_rot), c(h_tran), c(h_rot), c(tau), self.arm, c(arm_d),
-                       self.sum_tran, self.sum_rot, self.peak_tran, self.peak_rot,
-                       self.peak_total, self.scale_D, self.peak_tau)
+                       self.stats, self.scale_D, self.peak_tau)
         self.count += N
 
     def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
@@ -470,15 +506,19 @@ class RankingAccumulator:
             raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
         if self.count == 0:
             raise ValueError("no set points were accumulated")
-        total = self.sum_tran + self.sum_rot        # sum_rot holds sum|rot + arm|
+        stat = self.statistic
+        sum_tran = stat("tran", "sum_abs")
+        total = sum_tran + stat("rot_arm", "sum_abs")
+        peak_tran, peak_rot = stat("tran", "peak_abs"), stat("rot", "peak_abs")
+        peak_total = stat("total", "peak_abs")
         with np.errstate(invalid="ignore", divide="ignore"):
-            share = np.where(total > 0, self.sum_tran / np.where(total > 0, total, 1.0), np.nan)
+            share = np.where(total > 0, sum_tran / np.where(total > 0, total, 1.0), np.nan)
             share_arm = np.where(total > 0, self.sum_arm / np.where(total > 0, total, 1.0), 0.0)
         scale = np.concatenate([self.scale_D, self.peak_tau])
-        zero = identically_zero(self.peak_tran, self.peak_rot, self.peak_total, scale)
+        zero = identically_zero(peak_tran, peak_rot, peak_total, scale)
         classes = []
         for k in range(share.size):
-            if (self.peak_total[k] < negligible * scale[k] or not np.isfinite(share[k])
+            if (peak_total[k] < negligible * scale[k] or not np.isfinite(share[k])
                     or zero[k]):
                 classes.append("negligible")
             elif share[k] >= dominance:
@@ -488,8 +528,8 @@ class RankingAccumulator:
             else:
                 classes.append("both")
         return Ranking(labels=tuple(element_labels(self.n)), share_tran=share,
-                       dominance=tuple(classes), peak_tran=self.peak_tran.copy(),
-                       peak_rot=self.peak_rot.copy(), peak_total=self.peak_total.copy(),
+                       dominance=tuple(classes), peak_tran=peak_tran.copy(),
+                       peak_rot=peak_rot.copy(), peak_total=peak_total.copy(),
                        scale=scale, dominance_threshold=float(dominance),
                        negligible_threshold=float(negligible), share_arm=share_arm,
                        peak_arm=self.arm.copy())

@@ -625,9 +625,25 @@ def _peak_flag(part: str) -> str:
 
 #: The ranking table's per-element columns, in the order both renderers show them (the
 #: command line shows those with a ``cli``, the report those with a ``report``).
-#: :func:`gd_analyze.store.datasets.summary_dataset` writes them, the results view reads them
-#: and :meth:`gd_analyze.store.results_view.RankingTable.text` and the report render them by
-#: iterating this; a new column is one entry here (and its field of the Ranking).
+#: :func:`gd_analyze.store.datasets.summary_dataset` writes them (with a round-off flag where
+#: one is named), the results view reads them, and
+#: :meth:`gd_analyze.store.results_view.RankingTable.text` and the report render them, by
+#: iterating this.
+#:
+#: Which new columns are 2-file changes: a column of ``source="ranking"`` whose value is a
+#: function of what :class:`gd_analyze.ranking.ranking.RankingAccumulator` accumulates is one
+#: entry here (and its ``Var`` constants above; ``required=False``, so that results files
+#: written before it still read) plus, in ranking/ranking.py, its field of
+#: :class:`gd_analyze.ranking.ranking.Ranking` and the one line of
+#: :meth:`~gd_analyze.ranking.ranking.RankingAccumulator.result` that computes it. What is
+#: accumulated (:mod:`gd_analyze.ranking.statistics`): per element, for each of x = tran,
+#: rot + arm and tran + rot + arm, sum |x|, sum x^2 and peak |x|; peak |rot|; the element's
+#: scale, its armature and the number of set points N. So, e.g., the RMS sqrt(sum x^2 / N)
+#: or the mean |x| of any of the three, a share of two sums, a crest factor peak / RMS. No
+#: other column is: another statistic or another series (the signed mean of x, a quantile,
+#: the set point of the peak, a statistic of tau) also changes the compiled pass
+#: (ranking/kernels.py and ranking/statistics.py), and a column of another source needs its
+#: values brought to :func:`gd_analyze.store.datasets.summary_dataset` (store/datasets.py).
 RANKING_COLUMNS: Final[tuple[RankingColumn, ...]] = (
     RankingColumn(Var.ELEMENT, "label", "coordinate", "1", "ranked element of D (i <= j) or h", text=True,
                   stored=False, cli=CliShown("element", "<8"),
