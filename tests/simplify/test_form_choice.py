@@ -108,8 +108,7 @@ def test_deploy_builds_the_model_within_its_bound_and_leaves_no_cache(form, puma
         d = deploy(puma, shipped, ranking, parts, SimplifyOptions(form=form), {}, rec, ex)
         rows = d.ladder_rows()
     assert d.model.form == ("explicit" if form == "explicit" else "recursive")
-    ref = np.array([pin.rnea(pinocchio_model(puma), pinocchio_model(puma).createData(), *x)
-                    for x in zip(q, qd, qdd)])
+    ref = _rnea(puma, q, qd, qdd)
     err = np.abs(d.model.torque(q, qd, qdd) - ref).max(axis=0)
     g = d.model.guarantee
     assert np.all(err <= np.asarray(g.bound) * (1 + 1e-9) + 1e-12)

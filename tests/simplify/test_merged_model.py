@@ -3,21 +3,14 @@ Pinocchio's rnea: within EPS of each trajectory's own scale on every swept traje
 within its proved bound over the region."""
 
 import numpy as np
-import pinocchio as pin
 import pytest
+from symbolic_helpers import rnea
 
 from gd_analyze.dynamics.base_parameters import base_parameters
-from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.simplify.deploy import guarantee_region
 from gd_analyze.simplify.merged_model import region_merged_model, trajectory_merged_model
 from gd_analyze.symbolic.explicit import derive, model_terms
 from gd_analyze.symbolic.pruning import stacked_peaks
-
-
-def _rnea(robot, q, qd, qdd):
-    model = pinocchio_model(robot)
-    data = model.createData()
-    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
 
 
 def _peaks(robot, trajectories):
@@ -34,7 +27,7 @@ def test_within_eps_of_each_trajectorys_own_scale(puma, mixed, explicit):
     assert model.guarantee.kind == "trajectory"
     worst = 0.0
     for t in mixed:
-        ref = _rnea(puma, t.q, t.qd, t.qdd)
+        ref = rnea(puma, t.q, t.qd, t.qdd)
         scale = np.maximum(np.abs(ref).max(axis=0), floor)
         err = np.abs(model.torque(t.q, t.qd, t.qdd) - ref).max(axis=0)
         assert np.all(err <= eps * scale * (1 + 1e-9)), (err / scale).max()
@@ -56,7 +49,7 @@ def test_region_model_holds_its_proved_bound_at_sampled_states_and_tells_the_sto
     q = rng.uniform(region.q_min, region.q_max, (400, puma.n))
     qd = rng.uniform(-1, 1, (400, puma.n)) * region.qd_max
     qdd = rng.uniform(-1, 1, (400, puma.n)) * region.qdd_max
-    err = np.abs(model.torque(q, qd, qdd) - _rnea(puma, q, qd, qdd)).max(axis=0)
+    err = np.abs(model.torque(q, qd, qdd) - rnea(puma, q, qd, qdd)).max(axis=0)
     bound = np.asarray(model.guarantee.bound, float)
     assert np.all(np.isfinite(bound)) and np.all(err <= bound * (1 + 1e-9) + 1e-12)
     assert np.all(bound <= 0.01 * np.asarray(model.guarantee.scale) * (1 + 1e-9))

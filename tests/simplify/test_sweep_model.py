@@ -3,18 +3,11 @@ on every swept trajectory, its errors gathered per trajectory, and pure (the ter
 or derives itself; nothing kept between runs)."""
 
 import numpy as np
-import pinocchio as pin
+from symbolic_helpers import rnea
 
 from gd_analyze import load_robot
-from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.simplify.sweep_model import sweep_model
 from gd_analyze.trajectory.planning import random_trajectories
-
-
-def _rnea(robot, q, qd, qdd):
-    model = pinocchio_model(robot)
-    data = model.createData()
-    return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
 
 
 def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
@@ -23,7 +16,7 @@ def test_sweep_model_is_guaranteed_on_every_swept_trajectory():
     held = random_trajectories(robot, 3, seed=99)
     model, sel = sweep_model(robot, trajs, tolerance=0.02, held_out=held)
     scale = np.zeros(6)
-    refs = [_rnea(robot, t.q, t.qd, t.qdd) for t in trajs]
+    refs = [rnea(robot, t.q, t.qd, t.qdd) for t in trajs]
     for ref in refs:
         scale = np.maximum(scale, np.abs(ref).max(axis=0))
     np.testing.assert_allclose(sel.scale, scale, rtol=1e-9)
@@ -48,14 +41,14 @@ def test_sweep_errors_gathered_in_chunks_are_each_trajectorys(monkeypatch):
     v = simplify.sweep_validation(model, trajs, np.ones((5, robot.n)), np.zeros(robot.n))
     per = v["per_trajectory"]
     for k, t in enumerate(trajs):
-        ref = _rnea(robot, t.q, t.qd, t.qdd)
+        ref = rnea(robot, t.q, t.qd, t.qdd)
         err = model.torque(t.q, t.qd, t.qdd) - ref
         tol = 1e-9 * np.abs(ref).max()
         np.testing.assert_allclose(per["peak_abs_error"][k], np.abs(err).max(axis=0), atol=tol)
         np.testing.assert_allclose(per["rms_error"][k], np.sqrt((err ** 2).mean(axis=0)),
                                    atol=tol)
         np.testing.assert_allclose(per["peak_tau"][k], np.abs(ref).max(axis=0), atol=tol)
-    every = np.concatenate([model.torque(t.q, t.qd, t.qdd) - _rnea(robot, t.q, t.qd, t.qdd)
+    every = np.concatenate([model.torque(t.q, t.qd, t.qdd) - rnea(robot, t.q, t.qd, t.qdd)
                             for t in trajs])
     np.testing.assert_allclose(v["peak_abs_error"], np.abs(every).max(axis=0),
                                atol=1e-9 * np.abs(every).max())
@@ -76,7 +69,7 @@ def test_derives_its_terms_without_the_cache_and_uses_those_given(tmp_path, monk
     model = sweep_model(robot, trajs, tolerance=0.0)[0]
     assert not (tmp_path / "cache").exists() or not any((tmp_path / "cache").rglob("*"))
     for t in trajs:
-        ref = _rnea(robot, t.q, t.qd, t.qdd)
+        ref = rnea(robot, t.q, t.qd, t.qdd)
         np.testing.assert_allclose(model.torque(t.q, t.qd, t.qdd), ref,
                                    atol=1e-9 * np.abs(ref).max())
     terms = model_terms(derive(robot))
@@ -84,6 +77,6 @@ def test_derives_its_terms_without_the_cache_and_uses_those_given(tmp_path, monk
     monkeypatch.setattr(module, "derive", lambda r: (_ for _ in ()).throw(AssertionError))
     twice = sweep_model(robot, trajs, tolerance=0.0, terms=doubled)[0]
     for t in trajs:
-        ref = _rnea(robot, t.q, t.qd, t.qdd)
+        ref = rnea(robot, t.q, t.qd, t.qdd)
         np.testing.assert_allclose(twice.torque(t.q, t.qd, t.qdd), 2 * ref,
                                    atol=1e-9 * np.abs(ref).max())

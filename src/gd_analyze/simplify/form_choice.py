@@ -329,9 +329,9 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
         if rule == "budget" else (None, "", False)
     contributions = recursive_peaks.result()
     rec, _ = build_recursive(robot, q, qd, qdd, tolerance=tolerance, torque_floor=torque_floor,
-                          contributions=contributions, region=region if proved else None,
-                          sample_region=region, region_missing=missing, derive=derive,
-                          **common)
+                             contributions=contributions, region=region if proved else None,
+                             sample_region=region, region_missing=missing, derive=derive,
+                             **common)
     costs = recursive_costs(rec, counts)
     ex: Any = None                 # the explicit model of the rule, its terms and peaks
     terms: Any = None

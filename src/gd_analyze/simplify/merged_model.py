@@ -192,6 +192,12 @@ def region_merged_model(robot: Robot, trajectories: Sequence[Motion], region: Re
     reference : callable or None
         tau_full(q, qd, qdd) its errors are measured against: the full explicit model for an
         explicit model, else None (the G-D terms).
+
+    Notes
+    -----
+    Source: the region bound of :func:`gd_analyze.simplify.deploy.region_search` (interval
+    branch and bound on the Newton-Euler regressor recursion, rounded outward); the forms
+    compared by :func:`~gd_analyze.simplify.form_choice.choose_form`.
     """
     base = base_parameters(robot)
     found = region_search(robot, base, region, tolerance, torque_floor, screen=False,
