@@ -118,13 +118,6 @@ def _position(k, mid, half, t, P, pris):
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
-def _rot_t(k, a, trig, PT, norms, pris):
-    """R_k^T a = Rz(q_k)^T P_k^T a (revolute) or P_k^T a (prismatic)."""
-    u = _matvec(PT[k], norms[k], a)
-    return u if pris[k] else _rot_z(u, trig[k], True)
-
-
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _rot(k, a, trig, P, norms, pris):
     """R_k a = P_k Rz(q_k) a (revolute) or P_k a (prismatic)."""
     if not pris[k]:

@@ -47,12 +47,11 @@ from .safe_text import (
 )
 
 if TYPE_CHECKING:
-    from .codegen import Program
     from .model_functions import ModelFunctions
 
 
 __all__ = ["FunctionSpec", "FUNCTIONS", "Artefact", "ARTEFACTS", "artefact_names", "render",
-           "c_header", "c_source", "numpy_source", "numpy_function", "casadi_source"]
+           "c_header", "c_source", "numpy_source", "casadi_source"]
 
 
 @dataclass(frozen=True)
@@ -383,31 +382,6 @@ def _numpy_function(spec, program, shape):
              f"    {args}{',' if len(spec.inputs) == 1 else ''} = _states({args})",
              f"    out = np.zeros(({spec.inputs[0]}.shape[0], {', '.join(map(str, shape))}))"]
     return lines + NUMPY.body(program, idx) + ["    return out"]
-
-
-def numpy_function(spec: FunctionSpec, program: Program, shape: tuple[int, ...]
-                   ) -> Callable:
-    """One function of :func:`numpy_source` alone, compiled.
-
-    Parameters
-    ----------
-    spec : FunctionSpec
-        Which function (e.g. the inertia matrix's).
-    program : Program
-        Its program.
-    shape : tuple of int
-        Its result's shape for one set point, e.g. (n, n).
-
-    Returns
-    -------
-    callable
-        As the function of the emitted module (inputs of shape (N, n)).
-    """
-    src = "\n".join(["import numpy as np", f"N_JOINTS = {program.n}"]
-                    + _NUMPY_STATES.split("\n") + _numpy_function(spec, program, shape))
-    ns: dict = {}
-    exec(compile(src, f"<{spec.key}>", "exec"), ns)
-    return ns[spec.key]
 
 
 _CASADI_TAIL = '''

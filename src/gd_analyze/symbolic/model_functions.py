@@ -52,7 +52,7 @@ if TYPE_CHECKING:
 
 
 __all__ = ["FunctionSpec", "FUNCTIONS", "ModelFunctions", "recursive_functions",
-           "recursive_inertia", "with_armature", "explicit_functions", "joint_labels"]
+           "recursive_inertia", "explicit_functions", "joint_labels"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -269,27 +269,6 @@ def recursive_inertia(robot: Robot, base: BaseParameters, left_out: ArrayLike,
     still = dataclasses.replace(robot, gravity=np.zeros(3))
     return _inertia_from_linear(parts_program(still, np.stack([values] * 3), search=search),
                                 robot.n)
-
-
-def with_armature(program: Program, robot: Robot) -> Program:
-    """D_s with the drives' armature Ia_i added on the diagonal.
-
-    Parameters
-    ----------
-    program : Program
-        D_s row-major (n x n) [kg m^2; kg].
-    robot : Robot
-        Its ``armature`` [kg m^2; kg].
-
-    Returns
-    -------
-    Program
-    """
-    n, out = robot.n, list(program.outputs)
-    for i, a in enumerate(np.asarray(robot.armature, float)):
-        if a:
-            out[i * n + i] = out[i * n + i] + se.RealDouble(float(a))
-    return Program(n, program.assignments, out)
 
 
 def explicit_functions(robot: Robot, terms: Term, tau: Program) -> ModelFunctions:
