@@ -3,6 +3,7 @@ the model JSON read back, and a trajectory outside the region flagged."""
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,3 +147,18 @@ def test_tolerance_help_says_the_region_is_the_default(capsys):
     text = " ".join(analyze_parser().format_help().split())
     assert "by default the largest |tau_i| over the region" in text
     assert "within EPS times its scale on the analysed trajectory" not in text
+
+
+def test_the_output_folder_is_refused_where_a_file_stands(tmp_path):
+    """-o naming a file: one InputError naming it, for every command that writes a folder;
+    a folder, or none given (reports/ROBOT-STEM), is taken as it is."""
+    from gd_analyze.cli.commands import output_folder
+    from gd_analyze.errors import InputError
+
+    afile = tmp_path / "out"
+    afile.write_text("a file")
+    with pytest.raises(InputError, match="exists and is not a folder") as err:
+        output_folder(afile, "puma560", "control")
+    assert str(afile) in str(err.value)
+    assert output_folder(tmp_path) == tmp_path
+    assert output_folder(None, "puma 560", "t") == Path("reports") / "puma_560-t"

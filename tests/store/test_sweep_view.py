@@ -59,3 +59,40 @@ def test_more_tasks_are_counted_on_a_new_dataset():
     more = with_more_tasks(ds, 3)
     assert StoredSweep.from_dataset(more).settings.n_tasks == 5
     assert StoredSweep.from_dataset(ds).settings.n_tasks == 2   # the sweep's own count unchanged
+
+
+def test_a_payload_dataset_stores_each_mass_ranking_with_its_round_off(two_link):
+    """Two masses of a two-link arm: the per-mass results stored as given, and an element's
+    round_off flag 1 exactly where all its parts are zero (by construction), 0 where any one
+    of them (translational, rotational or total) is its scale."""
+    from gd_analyze.ranking.labels import element_labels
+    from gd_analyze.store.sweep_view import payload_dataset
+    from gd_analyze.trajectory.trajectory import Trajectory
+
+    labels = element_labels(two_link.n)
+    M = len(labels)
+    which = np.arange(M) % 4                     # 0: all parts zero; 1, 2, 3: only that part
+    zero = which == 0
+    results = []
+    for p in range(2):
+        part = [np.where(which == k, 1.0 + p, 0.0) for k in (1, 2, 3)]
+        results.append({"share_tran": np.full(M, 0.25 * (p + 1)),
+                        "classes": ("both",) * M,
+                        "choices": {lab: ("tran", "rot")[p] for lab in labels},
+                        "peaks": {"peak_tran": part[0], "peak_rot": part[1],
+                                  "peak_total": part[2], "scale": np.full(M, 1.0 + p)},
+                        "summary": {"tau_peak": np.array([3.0, 4.0 + p]),
+                                    "error": {"relative_peak_error": np.array([0.1, 0.2])}}})
+    t = np.linspace(0.0, 1.0, 3)
+    q = np.zeros((3, two_link.n))
+    traj = Trajectory(t=t, q=q, qd=q, qdd=q, source="a.csv")
+    ds = payload_dataset(two_link, traj, np.array([0.0, 1.0]), (0, 0, 0), (0, 0, 0),
+                         results, 0.9, 0.01)
+    assert ds["round_off"].dims == ("payload", "element")
+    assert ds["round_off"].values.tolist() == [zero.astype(int).tolist()] * 2
+    assert ds["share_tran"].values[:, 0].tolist() == [0.25, 0.5]
+    assert ds["choice"].values[:, 0].tolist() == ["tran", "rot"]
+    assert ds["tau_peak"].values.tolist() == [[3.0, 4.0], [3.0, 5.0]]
+    assert ds["tau_peak"].dims == ("payload", "joint")
+    assert ds["peak_total"].values[1].tolist() == np.where(which == 3, 2.0, 0.0).tolist()
+    assert "along the trajectory" in ds["round_off"].attrs["long_name"]

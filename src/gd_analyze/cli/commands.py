@@ -143,12 +143,15 @@ def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
 
 
 def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
-    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>."""
+    """The output folder: -o as given, or reports/<sanitised parts joined by '-'>; InputError
+    if it is there and is not a folder, or a name in it is too long for the file system."""
     import os
 
 
     folder = Path(args_outdir) if args_outdir else \
         Path("reports") / "-".join(safe_name(p) for p in parts)
+    if folder.exists() and not folder.is_dir():
+        raise InputError("exists and is not a folder", folder)
     base = folder.absolute()
     while not os.path.exists(base) and base != base.parent:
         base = base.parent
@@ -576,44 +579,31 @@ def cmd_plan(args: argparse.Namespace) -> int:
                          f"velocity limits ({qdd_source}) are too small to plan with",
                          column=None if args.duration is not None or qdd_arg is None
                          else "--qdd-max")
-    if not _write_plan(plan.chunks, robot.n, args.output, ": choose a longer --duration"):
-        return EXIT_OK
-    side = _write_provenance(args, robot, {
+    side = _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": plan.n_setpoints, "duration_s": float(T),
         "duration_from": "--duration" if args.duration is not None else "limits",
         **({} if limits is None else {"region": limits.settings()}),
-        "q_min": _limits(robot.q_min), "q_max": _limits(robot.q_max),
-        "qd_max": _limits(robot.qd_max),
-        "qdd_max": _limits(qdd_max),
+        **{k: _limits(v) for k, v in (("q_min", robot.q_min), ("q_max", robot.q_max),
+                                      ("qd_max", robot.qd_max), ("qdd_max", qdd_max))},
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: no "
                         "limit",
         "qdd_max_source": qdd_source,
         "trajectory": plan.source,
     })
+    if side is None:                            # standard output: no provenance, no summary
+        return EXIT_OK
     print(f"wrote {args.output}: {plan.n_setpoints} set points over {T:.4f} s "
           f"({plan.source}); acceleration limits: {qdd_source}; provenance in {side}",
           file=sys.stderr)
     return EXIT_OK
 
 
-def _write_provenance(args, robot, record):
-    """Write a planned trajectory's provenance beside ``args.output``: the tool, the command,
-    the robot and its chain and mounting, then ``record``; returns the file written."""
-    try:
-        return write_provenance(args.output, {
-            "tool": "gd-analyze", "version": __version__, "command": command_line(args),
-            "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-            **chain_settings(args), **mounting_settings(args, robot), **record})
-    except OSError as exc:
-        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
-                         args.output) from None
-
-
-def _write_plan(pieces, n, output, advice):
-    """Write a planned trajectory piece by piece, every piece's values checked against the CSV
-    reader's limits before it is written.
+def _write_plan(args, robot, pieces, advice, record):
+    """Write a planned trajectory piece by piece to ``args.output``, every piece's values
+    checked against the CSV reader's limits before it is written, then its provenance beside
+    it: the tool, the command, the robot and its chain and mounting, then ``record``.
 
     A file is written under a temporary name (:func:`write_trajectory_chunks`), each piece
     checked just before it is written: a piece beyond the limits stops the write and removes
@@ -621,8 +611,8 @@ def _write_plan(pieces, n, output, advice):
     cannot take back what it was given: every piece is checked first, then written.
 
     ``pieces`` is a callable returning the trajectory's pieces in order (called twice for
-    standard output), ``n`` the number of joints. Returns False when it went to standard
-    output (no provenance then)."""
+    standard output). Returns the provenance file written, or None when the trajectory went
+    to standard output (no provenance then)."""
 
     def checked(pieces):
         for piece in pieces:
@@ -632,6 +622,7 @@ def _write_plan(pieces, n, output, advice):
                                      f"{LIMITS[name]:g}{advice}", column="--duration")
             yield piece
 
+    output = args.output
     if output == "-":
         for _ in checked(pieces()):
             pass
@@ -639,10 +630,19 @@ def _write_plan(pieces, n, output, advice):
     else:
         written = checked(pieces())
     try:
-        write_trajectory_chunks(written, n, output)
+        write_trajectory_chunks(written, robot.n, output)
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
-    return output != "-"
+    if output == "-":
+        return None
+    try:
+        return write_provenance(output, {
+            "tool": "gd-analyze", "version": __version__, "command": command_line(args),
+            "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
+            **chain_settings(args), **mounting_settings(args, robot), **record})
+    except OSError as exc:
+        raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
+                         output) from None
 
 
 def _check_plan_options(args, positive=False):
@@ -721,11 +721,11 @@ def _plan_excitation(args, robot, qdd_arg):
     harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     if harmonics > 100:
         raise InputError(f"at most 100 harmonics, got {harmonics}", column="--harmonics")
+    seed = 0 if args.seed is None else args.seed
     try:
         ex = plan_excitation(robot, duration=args.duration, harmonics=harmonics,
                              base_frequency=args.base_frequency, n_setpoints=args.setpoints,
-                             seed=0 if args.seed is None else args.seed,
-                             qdd_max=qdd_arg)
+                             seed=seed, qdd_max=qdd_arg)
     except ValueError as exc:
         column = ("--duration" if "duration" in str(exc) or "period" in str(exc)
                   else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)
@@ -738,17 +738,15 @@ def _plan_excitation(args, robot, qdd_arg):
     if first_beyond(traj.t, LIMITS["t"]) is not None:
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")
-    if not _write_plan(lambda: [traj], robot.n, args.output, ""):
-        return EXIT_OK
     series, limits = ex.series, ex.limits
-    side = _write_provenance(args, robot, {
+    side = _write_plan(args, robot, lambda: [traj], "", {
         "trajectory": traj.source,
         "excitation": {
             "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
                       "start and end at rest, optimised by SLSQP for the scaled condition "
                       "number",
             "harmonics": series.harmonics, "base_frequency_rad_s": series.wf,
-            "periods": ex.periods, "seed": 0 if args.seed is None else args.seed,
+            "periods": ex.periods, "seed": seed,
             "q0": series.q0.tolist(), "a": series.a.tolist(), "b": series.b.tolist(),
             "coefficients_units": "q0 rad, a and b rad/s (m, m/s for a prismatic joint)",
             "regressor_columns": ex.columns.names(),
@@ -764,12 +762,12 @@ def _plan_excitation(args, robot, qdd_arg):
                        "grid_points_per_period": ex.bounds.points},
         },
         "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
-        "q_min": _limits(limits["q_min"]), "q_max": _limits(limits["q_max"]),
-        "qd_max": _limits(limits["qd_max"]),
-        "qdd_max": _limits(limits["qdd_max"]),
+        **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
         "qdd_max_source": limits["qdd_source"],
     })
+    if side is None:                            # standard output: no provenance, no summary
+        return EXIT_OK
     best_start = float(np.min(ex.start_conditions))
     print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
           f"({traj.source}); scaled condition number {ex.condition:.4g} of "
@@ -902,6 +900,13 @@ def cmd_compare(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _peak_row(name, peaks, floors, what):
+    """A line of ``control``'s table: the name, each joint's peak (\u2261 0 at or below its
+    floor, the report's rule: noise is not data), then what the peaks are."""
+    return (f"{name:<12}" + "".join(f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
+                                    for v, f in zip(peaks, floors)) + f"   {what}")
+
+
 def cmd_control(args: argparse.Namespace) -> int:
     """``control``: computed-torque tracking with the exact and the simplified model.
 
@@ -925,8 +930,6 @@ def cmd_control(args: argparse.Namespace) -> int:
 
     model, model_robot, traj = _load_model(args)
     outdir = output_folder(args.outdir, model_robot.name, Path(args.trajectory).stem, "control")
-    if outdir.exists() and not outdir.is_dir():
-        raise InputError("exists and is not a folder", outdir)
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
@@ -954,18 +957,14 @@ def cmd_control(args: argparse.Namespace) -> int:
         print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
                                                for j in range(model_robot.n)))
         for name, fig in summary["tracking"].items():
-            print(f"{name:<12}" + "".join(
-                f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
-                for v, f in zip(fig["peak_grid"], q_floor))
-                  + f"   peak |e| [{_joint_units(model_robot, 'q')}]")
+            print(_peak_row(name, fig["peak_grid"], q_floor,
+                            f"peak |e| [{_joint_units(model_robot, 'q')}]"))
         if summary["tau_difference"]:
             floor = result.tau_noise_floor
             assert floor is not None      # None without a measured integrator noise
-            print(f"{'tau diff':<12}" + "".join(
-                f"{ZERO_MARK if v <= f else format(v, '.3e'):>11}"
-                for v, f in zip(summary["tau_difference"]["peak"], floor))
-                  + "   peak |tau_simplified - tau_full| "
-                    f"[{_joint_units(model_robot, 'tau')}]")
+            print(_peak_row("tau diff", summary["tau_difference"]["peak"], floor,
+                            "peak |tau_simplified - tau_full| "
+                            f"[{_joint_units(model_robot, 'tau')}]"))
             how = "measured" if result.tau_noise is not None else "not measured: rtol x peak |tau|"
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")

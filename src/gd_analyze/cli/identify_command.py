@@ -109,8 +109,6 @@ def cmd_identify(args: argparse.Namespace) -> int:
     robot = load_robot_arg(args)
     options = _options(args)
     outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
-    if outdir.exists() and not outdir.is_dir():
-        raise InputError("exists and is not a folder", outdir)
     result = identify(robot, list(args.recordings), validate=list(args.validate),
                       options=options)
     with staged_output(outdir, IDENTIFY_FILES, "identify") as stage, writing(outdir, stage):

@@ -160,6 +160,11 @@ def _fraction(lo, hi, name, lo_open=True):
     return parse
 
 
+def _nonnegative(name):
+    """A finite number >= 0."""
+    return _fraction(0.0, math.inf, name, lo_open=False)
+
+
 def _angles(text):
     try:
         return [_number(v) for v in text.split(",")]
@@ -168,29 +173,32 @@ def _angles(text):
                                          f"{exc}") from None
 
 
-def _verdict_tolerance(text):
-    """RAD or RAD,M: the control verdict's tolerance for revolute [rad] and prismatic [m]
-    joints (one number: both)."""
-    vals = _angles(text)
-    if len(vals) not in (1, 2) or not all(0 < v <= 1e3 for v in vals):
-        raise argparse.ArgumentTypeError(f"--verdict-tolerance needs 1 or 2 numbers in (0, 1e3], "
-                                         f"got {text!r}")
-    return (vals[0], vals[-1])
-
-
-def _vector3(name):
+def _numbers(check, message):
+    """Comma-separated numbers (:func:`_angles`) for which ``check`` holds; else the error
+    ``message`` followed by ``got TEXT``."""
     def parse(text):
         vals = _angles(text)
-        if len(vals) != 3:
-            raise argparse.ArgumentTypeError(f"{name} needs 3 comma-separated numbers, got "
-                                             f"{text!r}")
+        if not check(vals):
+            raise argparse.ArgumentTypeError(f"{message}, got {text!r}")
         return vals
     return parse
 
 
+def _verdict_tolerance(text):
+    """RAD or RAD,M: the control verdict's tolerance for revolute [rad] and prismatic [m]
+    joints (one number: both)."""
+    vals = _numbers(lambda v: len(v) in (1, 2) and all(0 < x <= 1e3 for x in v),
+                    "--verdict-tolerance needs 1 or 2 numbers in (0, 1e3]")(text)
+    return (vals[0], vals[-1])
+
+
+def _vector3(name):
+    return _numbers(lambda v: len(v) == 3, f"{name} needs 3 comma-separated numbers")
+
+
 def _add_payload_arguments(p):
     g = p.add_argument_group("payload (a rigid load fixed to the last link)")
-    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", False),
+    g.add_argument("--payload", metavar="MASS", type=_nonnegative("--payload"),
                    help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
     g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
                    default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
@@ -252,13 +260,7 @@ def _q_ranges(text):
 
 def _positive_list(name):
     """Comma-separated finite positive numbers (one for all joints or one per joint)."""
-    def parse(text):
-        vals = _angles(text)
-        if not all(v > 0 for v in vals):
-            raise argparse.ArgumentTypeError(f"{name} limits must be finite and positive, got "
-                                             f"{text!r}")
-        return vals
-    return parse
+    return _numbers(lambda v: all(x > 0 for x in v), f"{name} limits must be finite and positive")
 
 
 #: What the region options say, for the main job, sweep and plan.
@@ -300,12 +302,11 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
                  "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
                  "trajectory, TAU)")
-    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, math.inf, "--tolerance",
-                                                                False), default=defaults["tolerance"],
+    g.add_argument("--tolerance", metavar="EPS", type=_nonnegative("--tolerance"),
+                   default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
                         f"its scale {where} (default {defaults['tolerance']:g})")
-    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0.0, math.inf,
-                                                                   "--torque-floor", False),
+    g.add_argument("--torque-floor", metavar="TAU", type=_nonnegative("--torque-floor"),
                    default=defaults["torque_floor"],
                    help=f"least scale of a joint torque [N m] (default "
                         f"{defaults['torque_floor']:g})")
@@ -506,8 +507,7 @@ def evaluate_parser() -> argparse.ArgumentParser:
                             "the model's guarantee and whether it covers the trajectory.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
-    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error",
-                                                                False),
+    p.add_argument("--max-error", metavar="REL", type=_nonnegative("--max-error"),
                    help="exit with status 3 if the peak relative torque error of any joint "
                         "(relative to its peak |tau| on the trajectory; to the model's s_i "
                         "where that is 0) exceeds REL (default: exit 3 if any joint's error "

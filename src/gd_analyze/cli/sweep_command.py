@@ -200,8 +200,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     masses = payload_mass_list(args)
     loaded = apply_payload(robot, args)
     outdir = output_folder(args.outdir, robot.name, "sweep")
-    if outdir.exists() and not outdir.is_dir():
-        raise InputError("exists and is not a folder", outdir)
     settings = {"command": command_line(args),
                 "payload_mass": float(args.payload or 0.0), **chain_settings(args),
                 **mounting_settings(args, robot)}

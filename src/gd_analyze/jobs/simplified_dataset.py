@@ -231,24 +231,21 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     def var(dims, data, units, desc):
         return xr.Variable(dims, data, {"units": units, "long_name": desc})
 
-    dv = {
-        "simplified_scale": var(("joint",), selection.scale, torque,
-                                "scale_i = max(peak |tau_i|, torque floor)"),
-        "simplified_bound": var(("joint",), selection.bound, torque,
-                                "guaranteed bound on |tau_s - tau| on the trajectory"),
-        "simplified_bound_inertia": var(("joint",), selection.bound_by_kind["D"], torque,
-                                        "share of the bound from dropped terms of D (D qdd)"),
-        "simplified_bound_coriolis": var(("joint",), selection.bound_by_kind["h"], torque,
-                                         "share of the bound from dropped terms of h"),
-        "simplified_bound_gravity": var(("joint",), selection.bound_by_kind["c"], torque,
-                                        "share of the bound from dropped terms of c"),
-        "simplified_element_bound": var(("joint",), selection.element_bound, torque,
-                                        "bound of the whole-part (element) choices"),
-    }
+    by_kind = selection.bound_by_kind
+    dv = {name: var(("joint",), data, torque, what) for name, data, what in (
+        ("simplified_scale", selection.scale, "scale_i = max(peak |tau_i|, torque floor)"),
+        ("simplified_bound", selection.bound,
+         "guaranteed bound on |tau_s - tau| on the trajectory"),
+        ("simplified_bound_inertia", by_kind["D"],
+         "share of the bound from dropped terms of D (D qdd)"),
+        ("simplified_bound_coriolis", by_kind["h"], "share of the bound from dropped terms of h"),
+        ("simplified_bound_gravity", by_kind["c"], "share of the bound from dropped terms of c"),
+        ("simplified_element_bound", selection.element_bound,
+         "bound of the whole-part (element) choices"))}
     scope_vars, scope_attrs = guarantee_fields(model, torque)
     dv.update({k: xr.Variable(*v) for k, v in scope_vars.items()})
-    if "whole" in selection.bound_by_kind:
-        dv["simplified_bound_whole"] = var(("joint",), selection.bound_by_kind["whole"], torque,
+    if "whole" in by_kind:
+        dv["simplified_bound_whole"] = var(("joint",), by_kind["whole"], torque,
                                            "share of the bound from base parameters dropped "
                                            "whole")
     if cost_table:

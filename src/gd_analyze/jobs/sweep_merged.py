@@ -37,6 +37,14 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["merged_model", "with_budget_model", "with_model_cost"]
 
 
+#: The merged model's validation (its torque error over all trajectories) from the sweep's
+#: variables: key -> variable.
+_VALIDATION = {"peak_abs_error": SV.MERGED_ERROR_PEAK, "rms_error": SV.MERGED_ERROR_RMS,
+               "peak_tau": SV.MERGED_ERROR_TAU_PEAK,
+               "relative_peak_error": SV.MERGED_ERROR_RELATIVE_PEAK,
+               "relative_rms_error": SV.MERGED_ERROR_RELATIVE_RMS}
+
+
 def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     """The sweep's merged simplified model of the chapter rule (no error bound).
 
@@ -68,9 +76,8 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     The validation is computed by :func:`~gd_analyze.jobs.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    needed = ("merged_choice", SV.MERGED_ERROR_PEAK, "merged_error_rms", "merged_error_tau_peak",
-              "merged_error_relative_peak", "merged_error_relative_rms")
-    missing = [v for v in needed if v not in sweep_ds.variables]
+    missing = [v for v in (SV.MERGED_CHOICE, *_VALIDATION.values())
+               if v not in sweep_ds.variables]
     if missing:
         raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
     sha = sweep_ds.attrs.get(SA.ROBOT_SHA256, "")
@@ -84,11 +91,7 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     choices = dict(zip(labels, strings(sweep_ds[SV.MERGED_CHOICE].values)))
     choice_masks(choices, robot.n)
     validation = {
-        "peak_abs_error": sweep_ds[SV.MERGED_ERROR_PEAK].values.tolist(),
-        "rms_error": sweep_ds[SV.MERGED_ERROR_RMS].values.tolist(),
-        "peak_tau": sweep_ds[SV.MERGED_ERROR_TAU_PEAK].values.tolist(),
-        "relative_peak_error": sweep_ds[SV.MERGED_ERROR_RELATIVE_PEAK].values.tolist(),
-        "relative_rms_error": sweep_ds[SV.MERGED_ERROR_RELATIVE_RMS].values.tolist(),
+        **{key: sweep_ds[name].values.tolist() for key, name in _VALIDATION.items()},
         "trajectories": int(sweep_ds.sizes.get("trajectory", 0)),
         "setpoints": int(sweep_ds.attrs.get(SA.SETPOINTS_TOTAL, 0)),
     }

@@ -193,21 +193,16 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     n = robot.n
     labels = element_labels(n)
     K = len(results)
-    share = np.array([r["share_tran"] for r in results])
-    classes = np.array([r["classes"] for r in results], dtype=str)
-    choice = np.array([[r["choices"][lab] for lab in labels] for r in results], dtype=str)
-    peak_total = np.array([r["peaks"]["peak_total"] for r in results])
-    peak_part = np.max([[r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")]
-                        for r in results], axis=1)
-    scale = np.array([r["peaks"]["scale"] for r in results])
-    arm = element_arm_scales(scale, labels, robot.prismatic)  # type: ignore[arg-type]  # never None (Robot.__post_init__)
-    round_off = is_round_off(peak_part, scale, arm_scale=arm)
+    T, TE, TJ = (SV.TRAJECTORY,), (SV.TRAJECTORY, SV.ELEMENT), (SV.TRAJECTORY, SV.JOINT)
+    ranking, peaks, arm, round_off = _ranking_vars(
+        TE, results, labels, robot, "part kept by the trajectory's own simplified "
+        "model (tran, rot, both, none)", "on the trajectory")
     # the share as data: 0 or 1 where one part is round-off of the element's scale or of the
     # arm's (a share of 4e-14 or of 2e-12 is round-off, not data), left out where the element
     # is round-off on a trajectory
-    tran_off, rot_off = (is_round_off(np.array([r["peaks"][k] for r in results]), scale,
-                                      arm_scale=arm)
+    tran_off, rot_off = (is_round_off(peaks[k], peaks["scale"], arm_scale=arm)
                          for k in ("peak_tran", "peak_rot"))
+    share = ranking[SV.SHARE_TRAN][1]
     share_data = np.where(tran_off & ~rot_off, 0.0, np.where(rot_off & ~tran_off, 1.0, share))
     share_data = np.where(round_off, np.nan, share_data)
     summ = [r["summary"] for r in results]
@@ -235,6 +230,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         safe = np.where(all_tau > 0, all_tau, 1.0)
         all_rel_peak = np.where(all_tau > 0, all_peak / safe, np.nan)
         all_rel_rms = np.where(all_tau > 0, all_rms / safe, np.nan)
+    classes = ranking[SV.DOMINANCE][1]
     fraction = np.stack([(classes == c).mean(axis=0) for c in CLASSES], axis=1)
     import warnings
 
@@ -243,20 +239,9 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         s_min, s_med, s_max = (np.nanmin(share_data, axis=0),
                                np.nanmedian(share_data, axis=0), np.nanmax(share_data, axis=0))
     torque, position = _torque_units(robot), _torque_units(robot, "q")
-    T, TE, TJ = (SV.TRAJECTORY,), (SV.TRAJECTORY, SV.ELEMENT), (SV.TRAJECTORY, SV.JOINT)
+    tau_peak = ranking.pop(SV.TAU_PEAK)
     data_vars = {
-        SV.SHARE_TRAN: var(TE, share, "1",
-                           "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        SV.DOMINANCE: var(TE, classes, "1",
-                          "dominance class (translational, rotational, both, negligible)"),
-        SV.CHOICE: var(TE, choice, "1",
-                       "part kept by the trajectory's own simplified model "
-                       "(tran, rot, both, none)"),
-        SV.PEAK_TOTAL: var(TE, peak_total, MIXED_UNITS,
-                           "peak |translational + rotational| along the trajectory"),
-        SV.ROUND_OFF: flag(TE, round_off, "every part of the element is round-off on the "
-                          "trajectory (1: at most 1e-12 of its scale; its share_tran is noise), "
-                          "else 0"),
+        **ranking,
         SV.SOURCE: var(T, each("source", str), "1",
                        "trajectory source (file name or random-<seed>-<index>)"),
         SV.INPUT_SHA256: var(T, each("sha256", str), "1",
@@ -265,8 +250,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         SV.SETPOINTS: var(T, each("setpoints"), "1", "number of set points"),
         SV.Q_START: var(TJ, each("q_start"), position, "joint position at the first set point"),
         SV.Q_GOAL: var(TJ, each("q_goal"), position, "joint position at the last set point"),
-        SV.TAU_PEAK: var(TJ, each("tau_peak"), torque,
-                         "peak |tau| of the full model along the trajectory"),
+        SV.TAU_PEAK: tau_peak,
         SV.TAU_ERROR_PEAK: var(TJ, per_joint("peak_abs_error"), torque,
                                "own simplified model: peak |tau_simplified - tau|"),
         SV.TAU_ERROR_RMS: var(TJ, per_joint("rms_error"), torque,
@@ -360,31 +344,13 @@ def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, co
     labels = element_labels(n)
     I_p = np.asarray(inertia, dtype=float)
     I_p = np.diag(I_p) if I_p.shape == (3,) else I_p.reshape(3, 3)
-    torque = _torque_units(robot)
-    PE = (Var.PAYLOAD, Var.ELEMENT)
-    data_vars = {
-        Var.SHARE_TRAN: var(PE, np.array([r["share_tran"] for r in results]), "1",
-                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
-        Var.DOMINANCE: var(PE, np.array([r["classes"] for r in results], dtype=str), "1",
-                           "dominance class (translational, rotational, both, negligible)"),
-        Var.CHOICE: var(PE, np.array([[r["choices"][lab] for lab in labels] for r in results],
-                                     dtype=str), "1",
-                        "part kept by the simplified model (tran, rot, both, none)"),
-        Var.PEAK_TOTAL: var(PE, np.array([r["peaks"]["peak_total"] for r in results]),
-                            MIXED_UNITS, "peak |translational + rotational| along the trajectory"),
-        Var.TAU_PEAK: var((Var.PAYLOAD, Var.JOINT),
-                          np.array([r["summary"]["tau_peak"] for r in results]), torque,
-                          "peak |tau| of the full model along the trajectory"),
-        Var.ROUND_OFF: _round_off_var(np.array([is_round_off(
-            np.max([r["peaks"][k] for k in ("peak_tran", "peak_rot", "peak_total")], axis=0),
-            r["peaks"]["scale"], arm_scale=element_arm_scales(
-                r["peaks"]["scale"], labels,
-                robot.prismatic)[0]) for r in results]),  # type: ignore[arg-type]  # never None (Robot.__post_init__)
-            "along the trajectory"),
-        Var.TAU_ERROR_RELATIVE_PEAK: var(
-            (Var.PAYLOAD, Var.JOINT),
-            np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
-            "own simplified model: peak |tau_simplified - tau| / peak |tau|")}
+    data_vars = _ranking_vars((Var.PAYLOAD, Var.ELEMENT), results, labels, robot,
+                              "part kept by the simplified model (tran, rot, both, none)",
+                              "along the trajectory")[0]
+    data_vars[Var.TAU_ERROR_RELATIVE_PEAK] = var(
+        (Var.PAYLOAD, Var.JOINT),
+        np.array([r["summary"]["error"]["relative_peak_error"] for r in results]), "1",
+        "own simplified model: peak |tau_simplified - tau| / peak |tau|")
     source = Path(str(trajectory.source))
     return _by_payload(
         robot, masses, {"long_name": "payload mass on the last link", "units": "kg"},
@@ -448,7 +414,7 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
     frac, share, dom, choice, tau = (np.array(x) for x in list(zip(*parts))[:5])
     n = robot.n
     PE = (Var.PAYLOAD, Var.ELEMENT)
-    extra = ({Var.ROUND_OFF: _round_off_var(np.array([p[5] for p in parts]),
+    extra = ({Var.ROUND_OFF: _round_off_var(PE, np.array([p[5] for p in parts]),
                                             "on every trajectory")}
              if all(len(p) > 5 for p in parts) else {})
     coords = element_coords(n, joints=robot.joint_names())
@@ -476,10 +442,36 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
          "payload_inertia_units": "kg m2 (principal moments)"})
 
 
-def _round_off_var(flags, where):
-    """The (payload, element) flag: every part of the element is round-off (its share is
-    noise, :func:`gd_analyze.ranking.ranking.is_round_off`)."""
-    return flag(("payload", "element"), flags, f"every part of the element is round-off {where} "
+def _ranking_vars(dims, results, labels, robot, kept, where):
+    """The ranking's variables over ``dims`` (trajectory or payload, then element) from the
+    per-run results of :func:`gd_analyze.jobs.sweep.analyze_one`: share, class, the part kept
+    (``kept``: its long name), peak, round-off (``where``: on which run) and each joint's peak
+    |tau|; with the peaks (each of shape (K, M)), the arm's scales and the round-off flags."""
+    peaks = {k: np.array([r["peaks"][k] for r in results])
+             for k in ("peak_tran", "peak_rot", "peak_total", "scale")}
+    arm = element_arm_scales(peaks["scale"], labels, robot.prismatic)
+    round_off = is_round_off(np.max([peaks[k] for k in ("peak_tran", "peak_rot", "peak_total")],
+                                    axis=0), peaks["scale"], arm_scale=arm)
+    return {
+        Var.SHARE_TRAN: var(dims, np.array([r["share_tran"] for r in results]), "1",
+                            "translational share sum|tran| / (sum|tran| + sum|rot|)"),
+        Var.DOMINANCE: var(dims, np.array([r["classes"] for r in results], dtype=str), "1",
+                           "dominance class (translational, rotational, both, negligible)"),
+        Var.CHOICE: var(dims, np.array([[r["choices"][lab] for lab in labels] for r in results],
+                                       dtype=str), "1", kept),
+        Var.PEAK_TOTAL: var(dims, peaks["peak_total"], MIXED_UNITS,
+                            "peak |translational + rotational| along the trajectory"),
+        Var.TAU_PEAK: var((dims[0], Var.JOINT),
+                          np.array([r["summary"]["tau_peak"] for r in results]),
+                          _torque_units(robot), "peak |tau| of the full model along the trajectory"),
+        Var.ROUND_OFF: _round_off_var(dims, round_off, where),
+    }, peaks, arm, round_off
+
+
+def _round_off_var(dims, flags, where):
+    """The (trajectory or payload, element) flag: every part of the element is round-off (its
+    share is noise, :func:`gd_analyze.ranking.ranking.is_round_off`)."""
+    return flag(dims, flags, f"every part of the element is round-off {where} "
                 "(1: at most 1e-12 of its scale; its share_tran is noise), else 0")
 
 

@@ -1,0 +1,42 @@
+"""The command line's argument types (gd_analyze.cli.parsing): a value out of its range is
+one line naming the option and the value given, exit status 2, before any file is read."""
+
+import pytest
+
+from gd_analyze.cli import main
+
+
+@pytest.mark.parametrize("argv, line", [
+    (["--payload-com", "1,2"],
+     "argument --payload-com: --payload-com needs 3 comma-separated numbers, got '1,2'"),
+    (["--gravity=-9.81,0"],
+     "argument --gravity: --gravity needs 3 comma-separated numbers, got '-9.81,0'"),
+    (["--qd-max", "1,0"],
+     "argument --qd-max: --qd-max limits must be finite and positive, got '1,0'"),
+    (["--tolerance=-0.5"], "argument --tolerance: --tolerance must be in [0.0, inf], got -0.5"),
+    (["--payload", "-1"], "argument --payload: --payload must be in [0.0, inf], got -1.0"),
+    (["--qdd-max", "1,x"],
+     "argument --qdd-max: expected comma-separated numbers, got '1,x': "),
+])
+def test_a_bad_value_is_one_line_naming_the_option(capsys, argv, line):
+    code = main(["puma560", "no-such-file.csv", *argv])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.startswith(f"gd-analyze: error: {line}") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("value, ok", [("0.01", (0.01, 0.01)), ("0.01,0.002", (0.01, 0.002)),
+                                       ("0", None), ("1,2,3", None), ("2000", None)])
+def test_the_verdict_tolerance_takes_one_or_two_numbers_in_range(capsys, value, ok):
+    from gd_analyze.cli.parsing import control_parser
+
+    if ok is not None:
+        args = control_parser().parse_intermixed_args(
+            ["m.json", "t.csv", f"--verdict-tolerance={value}"])
+        assert args.verdict_tolerance == ok
+        return
+    code = main(["control", "m.json", "t.csv", f"--verdict-tolerance={value}"])
+    err = capsys.readouterr().err
+    assert code == 2 and err == ("gd-analyze: error: control: argument --verdict-tolerance: "
+                                 "--verdict-tolerance needs 1 or 2 numbers in (0, 1e3], got "
+                                 f"{value!r}\n")
