@@ -300,13 +300,10 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                                               else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
-    W = width
-    fig, axes = joint_axes(n, cols, (W, height), top, bottom,
+    fig, axes = joint_axes(n, cols, (width, height), top, bottom,
                            0.3 if column else _WSPACE[cols], 0.35, "time t [s]")
-    k = markevery(t.size, _MAX_LINE_POINTS)
-    keep = np.zeros(t.size, dtype=bool)
-    keep[::k] = True
-    keep |= is_set
+    # every k-th sample and every set point drawn
+    keep = is_set | (np.arange(t.size) % markevery(t.size, _MAX_LINE_POINTS) == 0)
     every = marker_stride(s, len(values))
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
@@ -374,7 +371,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     extra = 0.0 if column else _NOTE_LINE * note.count("\n")
     if extra:                           # a page-width note of more lines: room above the panels
         height += extra
-        fig.set_size_inches(W, height)
+        fig.set_size_inches(width, height)
         fig.subplots_adjust(top=1 - (top + extra) / height, bottom=bottom / height)
     fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
                  fontweight="bold", y=1 - 0.12 / height, va="top")

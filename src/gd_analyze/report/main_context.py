@@ -788,10 +788,6 @@ def _caption_units(ds):
             "tau": units_said_once(ds, "tau")}
 
 
-def _is_puma560(name):
-    return is_chapter_puma(name)
-
-
 #: The models every cost is shown against, by their label in the stored cost table.
 _COST_REFERENCES = ("project N-E as implemented", "recursive N-E, exact", "explicit, full")
 
@@ -972,7 +968,7 @@ def _report_context_base(results):
     rel_peak = errors.column("relative_peak")
 
     # 6. comparison with the chapter
-    applicable = n == 6 and _is_puma560(robot_name)
+    applicable = n == 6 and is_chapter_puma(robot_name)
     n_compared = sum(bool(c) for c in chapter)          # the elements the chapter classes
     n_agree = sum(ours == c for ours, c in zip(dominance, chapter) if c)
     compare_rows = [[lab, ours, theirs, "yes" if ours == theirs else "no", share_cells[k],

@@ -863,8 +863,6 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
               + (("pruned",) if "pruned" in merged else ())}
-    kept = sum(m != "none" for m in merged)
-    single = sum(m in ("tran", "rot") for m in merged)
     worst = _worst_cases(w, labels)
     rule, heading, merged_text = _merged_rule(m)
     if rule == "budget":
@@ -879,8 +877,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} "
                + (_recursive_clause(m) if m.form == "recursive" else
-                  f"keeps both parts of {counts['both']} elements, one part of {single}, and "
-                  f"drops {len(labels) - kept}")
+                  f"keeps both parts of {counts['both']} elements, one part of "
+                  f"{counts['tran'] + counts['rot']}, and drops {counts['none']}")
                + f"; it {claim}. {_held_out(m)}{_gravity(m)}"
                f"{_cost_sentence(m)}{_own_sentence(w)}").strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
@@ -1410,7 +1408,8 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     check_paper(paper)
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
-    stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
+    stored = StoredSweep.of(open_sweep(sweep_path, "sweep"))
+    part = None if payload is None else PayloadSweep.of(payload)  # type: ignore[arg-type]
     ctx = sweep_context(stored, part)
     drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
     return write_report_files(
@@ -1420,8 +1419,3 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         {"class_colours": _CLASS_COLOURS, "pruned_colour": TABLE_COLOURS["pruned"]},
         formats=formats, stem="sweep_report", paper=paper, latex=latex, prefix="sweep")
 
-
-def _views(ds, payload):
-    """The typed views of a sweep and of its payload sweep (None without one), each read
-    once."""
-    return StoredSweep.of(ds), None if payload is None else PayloadSweep.of(payload)
