@@ -144,3 +144,15 @@ def test_fmt_inside_the_range_is_never_e_notation():
         assert abs(float(text.replace(",", "")) - v) <= 0.5 + 1e-3 * abs(v)
     assert "e" in fmt(2e5, digits=4, sci_outside=(1e-3, 1e5))
     assert "e" in fmt(4e-4, digits=4, sci_outside=(1e-3, 1e5))
+
+
+def test_or_default_keeps_every_stored_value_but_none():
+    assert rp.or_default(None, "x") == "x"
+    for stored in (0, 0.0, "", False, "chapter", np.float64(np.nan)):
+        assert rp.or_default(stored, "x") is stored
+
+
+def test_joints_text_agrees_with_the_count():
+    assert rp.joints_text([3]) == "joint 3"
+    assert rp.joints_text(["1", "2", "4"]) == "joints 1, 2, 4"
+    assert rp.joints_text((5, 6)) == "joints 5, 6"

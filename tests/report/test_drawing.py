@@ -9,6 +9,7 @@ import matplotlib.axis
 import pytest
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from pdf_checks import info
 
 from gd_analyze.report import drawing
 from gd_analyze.report.drawing import TicksOfTheDraw, draw_each, draw_figures, figure_svg, svg_size
@@ -155,3 +156,29 @@ def test_a_pdf_that_fails_on_the_worker_thread_leaves_no_file(tmp_path):
     with pytest.raises(ValueError, match="paper"):
         _write(tmp_path, "a5")
     assert [p for p in tmp_path.rglob("*") if p.is_file()] == []
+
+
+def test_write_report_files_renders_the_template_and_the_pdf_information(tmp_path):
+    """The HTML is the template rendered from the context and the outline; the PDF carries
+    the context's version, the subject and the keywords given (or the context's own)."""
+    drawn = draw_figures({"a": _figure()}, BASE_RC, created=CREATED)
+    ctx = {"version": "9.8.7", "title": "A <b>report</b>", "keywords": "from the context"}
+
+    def outline(context, shown):
+        o = Outline(context["title"], figures=set(shown))
+        o.section("1", "Figures")
+        o.figure("a", "a figure")
+        return o
+
+    for keywords, expected in ((None, "from the context"), ("given", "given")):
+        folder = tmp_path / str(keywords)
+        files = drawing.write_report_files(folder, ctx, drawn, {"a": "fig_a"}, outline,
+                                           "control_report.html.j2", "the subject", "foot",
+                                           keywords, stem="rep", latex=False)
+        assert [p.name for p in files[:4]] == ["rep.html", "rep.pdf", "fig_a.pdf", "fig_a.svg"]
+        html = (folder / "rep.html").read_text(encoding="utf-8")
+        assert "<title>A &lt;b&gt;report&lt;/b&gt;</title>" in html    # escaped, from ctx
+        assert 'content="gd-analyze 9.8.7"' in html and "<svg" in html
+        meta = info(folder / "rep.pdf")
+        assert meta["Subject"] == "the subject" and meta["Keywords"] == expected
+        assert meta["Author"] == "gd-analyze 9.8.7"

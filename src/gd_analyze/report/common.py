@@ -50,7 +50,7 @@ __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
            "panel_markevery",
            "gridspec", "render_template", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
-           "units_text", "units_said_once", "cost_table"]
+           "units_text", "units_said_once", "cost_table", "or_default", "joints_text"]
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
@@ -126,6 +126,40 @@ def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
 
     text = clean(str(value))            # no sub/superscript marks from a file's text
     return powers(text) if text else default      # unit powers (s^-1) as superscripts
+
+
+def or_default(value: Any, default: Any) -> Any:
+    """A stored attribute's value, or ``default`` where it is missing.
+
+    Parameters
+    ----------
+    value : object or None
+        The value as stored; None where missing.
+    default : object
+        What stands for a missing value.
+
+    Returns
+    -------
+    object
+        ``value`` unless it is None (a stored 0 or "" is kept), else ``default``.
+    """
+    return default if value is None else value
+
+
+def joints_text(joints: Sequence[object]) -> str:
+    """Joints named by number, the noun agreeing with their count.
+
+    Parameters
+    ----------
+    joints : sequence of int or str, length >= 1
+        The joints' numbers (one-based), in the order said.
+
+    Returns
+    -------
+    str
+        "joint 3" for one, "joints 1, 2, 4" for several.
+    """
+    return f"joint{'s' if len(joints) > 1 else ''} {', '.join(map(str, joints))}"
 
 
 def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:

@@ -48,11 +48,13 @@ from .common import (
     fmt,
     fmt_column,
     grid_shape,
+    joints_text,
     panel_markevery,
     utc_now,
 )
+from .common import or_default as _or
 from .common import table as _table
-from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .drawing import draw_figures, write_report_files
 from .figure_style import joint_axes, markevery
 from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
@@ -124,8 +126,7 @@ def _joint_types(prismatic):
     groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
     if len(groups) < 2:
         return ""
-    return ("; ".join(f"joint{'s' if len(js) > 1 else ''} {', '.join(map(str, js))} "
-                      f"{'prismatic' if kind else 'revolute'} ({u}, "
+    return ("; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
                       f"{joint_torque_units(kind)})"
                       for (u, _, js), kind in zip(groups, (False, True))) + ": ")
 
@@ -206,17 +207,13 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                 "it still beats PD + gravity")
     else:
         head = "Verdict: the simplified model is NOT good enough for computed-torque control"
-    if len(kinds) == 1:
-        (u, _, _), kind = groups["full"][0], kinds[0]
-        tolerance_text = (f"{fmt_number(bounds[0])} {u}, the larger of {tol[kind]:g} {u} and twice "
-                          "the full model's")
-    else:
-        tolerance_text = (" and ".join(
-            f"{fmt_number(b)} {u} ({'prismatic' if kind else 'revolute'})"
-            for b, (u, _, _), kind in zip(bounds, groups["full"], kinds))
-            + ", each the larger of " + " or ".join(
-                f"{tol[kind]:g} {u}" for (u, _, _), kind in zip(groups["full"], kinds))
-            + " and twice the full model's")
+    units, mixed = [u for u, _, _ in groups["full"]], len(kinds) > 1   # each type apart
+    tolerance_text = (" and ".join(
+        f"{fmt_number(b)} {u}" + (f" ({'prismatic' if kind else 'revolute'})" if mixed else "")
+        for b, u, kind in zip(bounds, units, kinds))
+        + (", each" if mixed else ",") + " the larger of "
+        + " or ".join(f"{tol[kind]:g} {u}" for u, kind in zip(units, kinds))
+        + " and twice the full model's")
     return (f"{head}: {_joint_types(prismatic)}"
             f"peak tracking error {said('simplified', simp)} against "
             f"{said('full', full)} with the full model{pd_text} (tolerance: "
@@ -303,13 +300,10 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                                               else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
-    W = width
-    fig, axes = joint_axes(n, cols, (W, height), top, bottom,
+    fig, axes = joint_axes(n, cols, (width, height), top, bottom,
                            0.3 if column else _WSPACE[cols], 0.35, "time t [s]")
-    k = markevery(t.size, _MAX_LINE_POINTS)
-    keep = np.zeros(t.size, dtype=bool)
-    keep[::k] = True
-    keep |= is_set
+    # every k-th sample and every set point drawn
+    keep = is_set | (np.arange(t.size) % markevery(t.size, _MAX_LINE_POINTS) == 0)
     every = marker_stride(s, len(values))
     handles = {}
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
@@ -370,16 +364,14 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     if floor is not None:
         notes = [f"Integrator noise ({noise_words(s, which, figure=True)}) is not drawn"]
         for name, where in quiet.items():            # said as noise: its digits are not data
-            joints = ("every joint" if len(where) == n else
-                      "joint" + ("s " if len(where) > 1 else " ")
-                      + ", ".join(str(j + 1) for j, _ in where))
+            joints = "every joint" if len(where) == n else joints_text([j + 1 for j, _ in where])
             notes.append(f"{CONTROL_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
         # wrapped by the width drawn (at the size it prints at, 8 pt)
         note = textwrap.fill("; ".join(notes) + ".", 70 if column else _NOTE_CHARS)
     extra = 0.0 if column else _NOTE_LINE * note.count("\n")
     if extra:                           # a page-width note of more lines: room above the panels
         height += extra
-        fig.set_size_inches(W, height)
+        fig.set_size_inches(width, height)
         fig.subplots_adjust(top=1 - (top + extra) / height, bottom=bottom / height)
     fig.suptitle(textwrap.fill(title, 48) if column else title, fontsize=9 if column else 10,
                  fontweight="bold", y=1 - 0.12 / height, va="top")
@@ -433,11 +425,6 @@ def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False
     if figure:                          # short: the note is one line at page width
         return f"at most {tol:g} of the joint's scale"
     return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
-
-
-def _or(value, default):
-    """A stored attribute's value, or ``default`` where it is missing (None)."""
-    return default if value is None else value
 
 
 def marker_stride(ds: StoredControl | xr.Dataset, lines: int) -> int:
@@ -716,11 +703,12 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     judged = dataset_verdict(s)
     summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
     q_floor, tau_floor = judged["floors"]
+    files = {"robot": (st.robot, st.robot_sha256),         # the inputs, each with its SHA-256
+             "trajectory": (st.trajectory_file, st.trajectory_sha256),
+             "model": (st.model_file, st.model_sha256)}
     setup = _table(["item", "value"], [
-        ["robot", f"{stored_text(st.robot)} (SHA-256 {stored_text(st.robot_sha256)})"],
-        ["trajectory", f"{stored_text(st.trajectory_file)} (SHA-256 "
-                       f"{stored_text(st.trajectory_sha256)})"],
-        ["simplified model", f"{stored_text(st.model_file)} (SHA-256 {stored_text(st.model_sha256)})"],
+        *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
+           f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
         ["controllers", "; ".join(CONTROL_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
@@ -746,24 +734,15 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
          if s.q0_offset is not None else "0"],
     ], align=["left", "left"])
     gains = _gains_table(s, joints)
-    def noisy(peaks, floor):             # at or below the joint's noise floor: not data
-        return is_round_off(peaks, floor, 1.0)
-
-    err_rows, err_values, err_off = [], [], []
-    for c in names:
-        for where, peaks, rmss in (("set points", s.error_peak_setpoints, s.error_rms_setpoints),
-                                   ("fine grid", s.error_peak_grid, s.error_rms_grid)):
-            pk, rm = peaks[c], rmss[c]
-            for fig, v in (("peak", pk), ("RMS", rm)):
-                err_rows.append([_SHORT.get(c, c), where, fig])
-                err_values.append(v)
-                err_off.append(noisy(pk, q_floor))
-    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
-    errors = _table(["controller", "sampled at", "figure"]
-                    + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
-                    _with_columns(err_rows, err_values, err_off),
-                    align=["left", "left", "left"] + ["right"] * n)
-    diff_rows, diff_values, diff_off = [], [], []
+    # each row: its leading cells, its numbers per joint, and which are integrator noise (at
+    # or below the joint's noise floor: not data)
+    error_rows = [([_SHORT.get(c, c), where, fig], v[c], is_round_off(peaks[c], q_floor, 1.0))
+                  for c in names
+                  for where, peaks, rms in (
+                      ("set points", s.error_peak_setpoints, s.error_rms_setpoints),
+                      ("fine grid", s.error_peak_grid, s.error_rms_grid))
+                  for fig, v in (("peak", peaks), ("RMS", rms))]
+    diff = []
     if s.tau_difference_peak is not None:
         pairs = [("peak, fine grid", s.tau_difference_peak, s.tau_difference_peak),
                  ("RMS, fine grid", s.tau_difference_rms, s.tau_difference_peak)]
@@ -771,29 +750,18 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
             at = s.tau_difference_peak_setpoints
             pairs += [("peak, set points", at, at),
                       ("RMS, set points", s.tau_difference_rms_setpoints, at)]
-        for fig, value, peak in pairs:
-            diff_rows.append([fig])
-            diff_values.append(value)
-            diff_off.append(noisy(peak, tau_floor))
-        diff_rows.append(["noise floor (\u2261 0 at or below)"])
-        diff_values.append(np.asarray(tau_floor, float))
-        diff_off.append(np.zeros(n, bool))
-    tau_diff = _table(["figure"] + tau_u,
-                      _with_columns(diff_rows, diff_values, diff_off), align="right")
-    tau_rows, tau_values = [], []
-    for c in names:
-        if s.tau_peak is not None and s.tau_rms is not None:
-            for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms)):
-                tau_rows.append([_SHORT.get(c, c), fig])
-                tau_values.append(figures[c])
-    tau_table = _table(["controller", "figure"] + tau_u,
-                       _with_columns(tau_rows, tau_values),
+        diff = [([fig], value, is_round_off(peak, tau_floor, 1.0)) for fig, value, peak in pairs]
+        diff.append((["noise floor (\u2261 0 at or below)"], tau_floor, np.zeros(n, bool)))
+    applied = [([_SHORT.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
+               if s.tau_peak is not None and s.tau_rms is not None
+               for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms))]
+    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
+    errors = _table(["controller", "sampled at", "figure"]
+                    + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
+                    _with_columns(error_rows), align=["left", "left", "left"] + ["right"] * n)
+    tau_diff = _table(["figure"] + tau_u, _with_columns(diff), align="right")
+    tau_table = _table(["controller", "figure"] + tau_u, _with_columns(applied),
                        align=["left", "left"] + ["right"] * n)
-    cost = cost_table(s.costs)
-    cost_note = ("Operations per set point, counted (not timed): the emitted models on their "
-                 "expressions (constants and structural 0/\u00b11 free, a square one "
-                 "multiplication), the project's Newton-Euler with every multiplication and "
-                 "addition of one run counted.")
     model_note, recursive = _model_note(s)
     choice = dict(zip(s.elements, s.choice))
     rows = [[f"D, row {i + 1}"] + [choice.get(element_label("D", i, j), "") if j >= i else ""
@@ -835,40 +803,24 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                        f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
                        f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
                        f"of D at the start of the motion (D{sub('ii')} at the start)."),
-        "errors": errors,
-        "error_note": f"Tracking error e = q{_D} \u2212 q per joint",
-        "noise_rule": rule, "captions": captions,
-        "tau_diff": tau_diff,
-        "diff_note": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
-                      f"\u03c4{sub('f')}: torque of the simplified-model "
-                      "computed-torque controller minus that of the full-model one, each along "
-                      "its own closed-loop run, at the same times"),
-        "diff_not": ("It is not the open-loop "
-                     f"error of the main report ({_TAU_S} \u2212 \u03c4 of the two models "
-                     "along the desired trajectory)."),
-        "tau_table": tau_table,
-        "cost": cost, "cost_note": cost_note,
+        "errors": errors, "noise_rule": rule, "captions": captions, "tau_diff": tau_diff,
+        "tau_table": tau_table, "cost": cost_table(s.costs),
         "choices": choices, "model_note": model_note, "provenance": prov,
-        "keywords": (f"robot {stored_text(st.robot)} sha256 {stored_text(st.robot_sha256)}; "
-                     f"trajectory {stored_text(st.trajectory_file)} sha256 "
-                     f"{stored_text(st.trajectory_sha256)}; model {stored_text(st.model_file)} sha256 "
-                     f"{stored_text(st.model_sha256)}"),
+        "keywords": "; ".join(f"{k} {stored_text(file)} sha256 {stored_text(sha)}"
+                              for k, (file, sha) in files.items()),
     }
 
 
-def _with_columns(rows, values, off=None, digits=3):
+def _with_columns(entries, digits=3):
     """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
     one notation (:func:`gd_analyze.report.numbers.fmt_column`: one format per
     column).
 
     Parameters
     ----------
-    rows : list of list of str, length R
-        The leading cells of each row.
-    values : list of array_like, shape (R, n)
-        The numbers of each row, one per joint [that column's units].
-    off : list of array_like of bool, shape (R, n), optional
-        Integrator noise by the report's rule: "\u2261 0".
+    entries : list of (list of str, array_like, array_like of bool), length R
+        Per row: its leading cells, its numbers, one per joint [that column's units], shape
+        (n,), and which of them are integrator noise by the report's rule ("\u2261 0").
     digits : int, optional
         Significant digits each entry keeps, at least.
 
@@ -876,10 +828,10 @@ def _with_columns(rows, values, off=None, digits=3):
     -------
     list of list of str
     """
-    if not rows:
+    if not entries:
         return []
-    v = np.asarray(values, float)
-    hide = np.zeros(v.shape, bool) if off is None else np.asarray(off, bool)
+    rows, values, off = zip(*entries)
+    v, hide = np.asarray(values, float), np.asarray(off, bool)
     cols = [fmt_column(v[:, j], digits, hide[:, j]) for j in range(v.shape[1])]
     return [list(r) + list(c) for r, c in zip(rows, zip(*cols))]
 
@@ -915,13 +867,12 @@ def _model_note(s):
     if form not in ("recursive", "explicit"):
         return ("The control dataset does not record what the simplified model keeps.",
                 False)
-    recursive = form == "recursive"
+    recursive, own = form == "recursive", str(st.trajectory_is_models) == "1"
     if recursive:
         dropped_g = [v for v in str(_or(m.gravity_dropped, "")).split(", ") if v]
         gravity = gravity_clause(rule, gravity_dropped=dropped_g)
         facts = (int(_or(m.base_parameters, 0)), int(_or(m.pairs_dropped, 0)),
                  int(_or(m.pairs, 0)))
-        own = str(st.trajectory_is_models) == "1"
         where = "this trajectory" if own else "the trajectory the model was built on"
         if str(_or(m.guarantee_kind, "")) == "region":
             where = "the joint-limit region"           # pruned on bounds over the region
@@ -942,14 +893,15 @@ def _model_note(s):
         text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
                  f"{_TAU_S} \u2212 \u03c4 is guaranteed within \u03b5\u00b7{_S_I}, "
                  f"{ROUND_OFF_CLAUSE}, on the trajectory the model was built on"
-                 + (" (this one)." if
-                                                         str(st.trajectory_is_models)
-                                                         == "1" else
-                                                         ", not on this one."))
+                 + (" (this one)." if own else ", not on this one."))
     elif rule == "chapter":
-        text += (" Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
-                 "its dominant part; there is no error bound.")
+        text += f" {_CHAPTER_RULE}; there is no error bound."
     return text, recursive
+
+
+#: The chapter's rule, as the model's note states it.
+_CHAPTER_RULE = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
+                 "dominant part")
 
 
 def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
@@ -983,8 +935,7 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     scope = scope_markup(str(_or(m.scope, "")))
     if kind not in ("region", "trajectory"):
         if rule == "chapter":
-            return ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps "
-                    f"its dominant part; there is no error bound (the model's scope: {scope}).")
+            return f"{_CHAPTER_RULE}; there is no error bound (the model's scope: {scope})."
         return f"The model's guarantee: {scope}."
     where = " (stated for the trajectory it was built on)" if kind == "trajectory" else ""
     text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}. The model's guarantee{where}: "
@@ -1015,12 +966,9 @@ def _gains_table(s, joints):
     per_joint = {}
     for name, title in ((V.INERTIA_SCALE, "D" + sub("ii") + " at the start"),
                         (V.KP_PD, "PD K" + sub("p")), (V.KV_PD, "PD K" + sub("v"))):
-        stored = s.gain_units[name]
-        if stored is not None:
-            units = [_GAIN_UNITS.get(u, u) for u in stored]
-        else:                               # an older file: units from the joint types
-
-            units = [_GAIN_UNITS.get(u, u) for u in gain_units(prismatic)[name]]
+        stored = s.gain_units[name]         # an older file: units from the joint types
+        units = [_GAIN_UNITS.get(u, u) for u in
+                 (gain_units(prismatic)[name] if stored is None else stored)]
         same = len(set(units)) == 1
         header.append(f"{title} [{units[0]}]" if same else title)
         per_joint[name] = ([""] * len(units) if same else
@@ -1130,16 +1078,20 @@ def _outline(ctx, figures):
     # each figure right under the sentence citing it, its table after it: a figure that does
     # not fit there goes to the next page's top, and the table fills this page
     o.section("2", "Tracking error", "tracking")
-    o.paragraph(f"{ctx['error_note']}: along the run in {_next_figure(o)}, its peak |e| and "
-                "RMS at the set points of the trajectory and on the fine grid (set points "
-                "included) in Table 2.1.", "note")
+    o.paragraph(f"Tracking error e = q{_D} \u2212 q per joint: along the run in "
+                f"{_next_figure(o)}, its peak |e| and RMS at the set points of the trajectory "
+                "and on the fine grid (set points included) in Table 2.1.", "note")
     o.figure("error", ctx["captions"]["error"])
     o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
                            f"noise ({ctx['noise_rule']['q']}), not data.", size=7)
     o.section("3", "Torques", "torque")
     drawn = "tau_difference" in o.available
-    o.paragraph(f"{ctx['diff_note']} ({_next_figure(o) + ', ' if drawn else ''}Table 3.1). "
-                f"{ctx['diff_not']}", "note")
+    o.paragraph(f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 \u03c4"
+                f"{sub('f')}: torque of the simplified-model computed-torque controller minus "
+                "that of the full-model one, each along its own closed-loop run, at the same "
+                f"times ({_next_figure(o) + ', ' if drawn else ''}Table 3.1). It is not the "
+                f"open-loop error of the main report ({_TAU_S} \u2212 \u03c4 of the two models "
+                "along the desired trajectory).", "note")
     if drawn:
         o.figure("tau_difference", ctx["captions"]["tau_difference"])
     else:
@@ -1153,7 +1105,10 @@ def _outline(ctx, figures):
     o.figure("tau", ctx["captions"]["tau"])
     o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
     o.section("4", "Evaluation cost of the model", "cost")
-    o.paragraph(ctx["cost_note"], "note")
+    o.paragraph("Operations per set point, counted (not timed): the emitted models on their "
+                "expressions (constants and structural 0/\u00b11 free, a square one "
+                "multiplication), the project's Newton-Euler with every multiplication and "
+                "addition of one run counted.", "note")
     if ctx["cost"]:
         o.table(ctx["cost"], "Operations per set point of each evaluator.")
     else:
@@ -1209,10 +1164,8 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     ctx = control_context(s)
     column = {f"{k}_column": f for k, f in control_figures(s, COLUMN_WIDTH).items()}
     drawn = draw_figures({**control_figures(s), **column}, FIGURE_RC)
-    pdf = pdf_info(ctx["version"], "Computed-torque control with the simplified G-D model (Fu, "
-                   "Gonzalez & Lee 1987, Sec. 3.4.1 and Ch. 5)", ctx["keywords"],
-                   "control report")
-    return write_documents(
-        Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
-        lambda o, d: html_document("control_report.html.j2", ctx, o, d), pdf,
-        stem="control_report", paper=paper, latex=latex, prefix="control")
+    return write_report_files(
+        outdir, ctx, drawn, _FIGURE_FILES, _outline, "control_report.html.j2",
+        "Computed-torque control with the simplified G-D model (Fu, Gonzalez & Lee 1987, Sec. "
+        "3.4.1 and Ch. 5)", "control report", stem="control_report", paper=paper, latex=latex,
+        prefix="control")

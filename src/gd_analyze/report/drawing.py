@@ -12,7 +12,9 @@ every file of a report, staged together.
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
+import os
 import re
 from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
@@ -30,7 +32,7 @@ if TYPE_CHECKING:
     from .sections import Outline
 
 __all__ = ["figure_svg", "TicksOfTheDraw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
-           "pdf_info", "write_documents"]
+           "pdf_info", "write_documents", "write_report_files"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
 Drawn = tuple[str, bytes | None, tuple[float, float]]
@@ -416,3 +418,56 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
             for done in typeset:
                 done.result()
     return docs + files + tables
+
+
+def write_report_files(folder: str | os.PathLike[str], ctx: Mapping[str, Any],
+                       drawn: Mapping[str, Drawn], names: Mapping[str, str],
+                       outline: Callable[[Any, Collection[str]], Outline], template: str,
+                       subject: str, footer: str, keywords: str | None = None,
+                       env_globals: Mapping[str, Any] | None = None, created: str | None = None,
+                       **options: Any) -> list[Path]:
+    """Write a report's files from its context, its outline and its drawn figures: the HTML
+    from ``template``, the PDF with its document information, every figure and table
+    (:func:`write_documents`).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The output folder.
+    ctx : dict
+        The report's context: the HTML template's variables; its ``version`` (and, unless
+        ``keywords`` is given, its ``keywords``) go to the PDF's document information.
+    drawn, names
+        As for :func:`write_documents`.
+    outline : callable
+        ``outline(ctx, figures)``: the report's sections from its context and the keys of
+        the figures it shows.
+    template : str
+        The HTML's Jinja2 template (:func:`html_document`).
+    subject, footer : str
+        As for :func:`pdf_info`.
+    keywords : str, optional
+        The PDF's keywords, if not ``ctx["keywords"]``.
+    env_globals : dict, optional
+        Globals of the template's environment.
+    created : str, optional
+        The PDF's creation time, ISO 8601 UTC (:func:`pdf_info`).
+    **options
+        ``formats``, ``stem``, ``paper``, ``latex``, ``prefix`` and ``shown`` of
+        :func:`write_documents`.
+
+    Returns
+    -------
+    list of pathlib.Path
+        As :func:`write_documents`: the documents, the figures' files, the tables' files.
+
+    Raises
+    ------
+    OSError
+        If a file cannot be written: then none is.
+    """
+    pdf = pdf_info(ctx["version"], subject, ctx["keywords"] if keywords is None else keywords,
+                   footer, created)
+    return write_documents(Path(folder), drawn, names, functools.partial(outline, ctx),
+                           lambda o, d: html_document(template, ctx, o, d, env_globals), pdf,
+                           **options)

@@ -19,7 +19,6 @@ each figure as ``figures/fig_identify_*.pdf`` and ``.svg``, are written atomical
 
 from __future__ import annotations
 
-import functools
 import json
 import math
 import os
@@ -36,7 +35,7 @@ from ..store.stored_identification import (
     StoredRecording,
 )
 from .common import BASE_RC, table, utc_now
-from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .drawing import draw_figures, write_report_files
 from .figure_style import joint_lines, markevery
 from .markup import clean
 from .numbers import fmt, pct
@@ -610,11 +609,7 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     drawn = draw_figures(identify_figures(stored), FIGURE_RC)
-    pdf = pdf_info(ctx["version"], "Identification of a robot's base parameters and drives "
-                   "from recorded torques", ctx["keywords"], "identify report")
-    html = {"title": ctx["title"], "version": ctx["version"]}
-    return write_documents(
-        folder, drawn, {k: f"fig_identify_{k}" for k in drawn},
-        functools.partial(identify_outline, ctx),
-        lambda o, d: html_document("control_report.html.j2", html, o, d), pdf, paper=paper,
-        latex=latex)
+    return write_report_files(
+        folder, ctx, drawn, {k: f"fig_identify_{k}" for k in drawn}, identify_outline,
+        "control_report.html.j2", "Identification of a robot's base parameters and drives from "
+        "recorded torques", "identify report", paper=paper, latex=latex)

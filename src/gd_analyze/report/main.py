@@ -39,7 +39,7 @@ from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
-from .drawing import draw_each, draw_figures, html_document, pdf_info, write_documents
+from .drawing import draw_each, draw_figures, html_document, write_report_files
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -384,27 +384,21 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     wanted = set(order if keys is None else keys)
     arm = results.robot_record.armature
     prismatic = prismatic_joints(results)
-    makers = {"joints": lambda: fig_joints(data, prismatic),
-              "h": lambda: fig_h(data, dom, zero, prismatic),
-              "torque": lambda: _fig_error(results, data),
-              "joints_column": lambda: fig_joints(data, prismatic, COLUMN_WIDTH),
-              "D_column": lambda: fig_D(data, dom, zero, s, e, prismatic, COLUMN_WIDTH,
-                                        armature=arm),
-              "h_column": lambda: fig_h(data, dom, zero, prismatic, COLUMN_WIDTH),
-              "torque_column": lambda: _fig_error(results, data, COLUMN_WIDTH)}
-    d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
-    for k in range(len(element_parts(d_labels))):
-        makers["D" if k == 0 else f"D_{k + 1}"] = functools.partial(
-            fig_D, data, dom, zero, s, e, prismatic, armature=arm, part=k)
-    makers.update(budget_makers(results, data))
-    payload = results.payload
-    if payload is not None:
-        makers["payload"] = lambda: payload_figure(payload)
-        makers["payload_column"] = lambda: payload_figure(payload, COLUMN_WIDTH)
+    D = functools.partial(fig_D, data, dom, zero, s, e, prismatic, armature=arm)
+    page: dict[str, Callable[..., Figure]] = {
+        "joints": functools.partial(fig_joints, data, prismatic), "D": D,
+        "h": functools.partial(fig_h, data, dom, zero, prismatic),
+        "torque": functools.partial(_fig_error, results, data)}
+    if results.payload is not None:
+        page["payload"] = functools.partial(payload_figure, results.payload)
     if results.formulations is not None:
-        counted = results.formulations
-        makers["formulations"] = lambda: _fig_formulations(counted)
-        makers["formulations_column"] = lambda: _fig_formulations(counted, COLUMN_WIDTH)
+        page["formulations"] = functools.partial(_fig_formulations, results.formulations)
+    makers = {**page, **{f"{k}_column": functools.partial(make, width=COLUMN_WIDTH)
+                         for k, make in page.items()}}
+    d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
+    for k in range(1, len(element_parts(d_labels))):
+        makers[f"D_{k + 1}"] = functools.partial(D, part=k)
+    makers.update(budget_makers(results, data))
     return {k: functools.partial(_made, makers[k]) for k in order
             if k in makers and k in wanted}
 
@@ -513,12 +507,8 @@ def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> 
         figures = make_figures(ds, keys=_FIGURE_ORDER)
     drawn = draw_figures({k: figures[k] for k in _FIGURE_ORDER if k in figures}, FIG_RC,
                          pdf=False)
-    return _html(ctx)(main_outline(ctx, drawn), drawn)
-
-
-def _html(ctx):
-    return lambda outline, drawn: html_document("report.html.j2", ctx, outline, drawn,
-                                                {"class_colours": _CLASS_COLOURS})
+    return html_document("report.html.j2", ctx, main_outline(ctx, drawn), drawn,
+                         {"class_colours": _CLASS_COLOURS})
 
 
 # --------------------------------------------------------------------------------------------
@@ -594,10 +584,10 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     data = plot_data(ds, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
-    pdf = pdf_info(ctx["version"], "Translational and rotational dominance of the generalized "
-                   "d'Alembert dynamics (Fu, Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
-                   ctx["keywords"], f"{ctx['robot_name']}, {ctx['N']:,} set points",
-                   ctx["created"])
-    return write_documents(outdir, drawn, FIGURE_FILES, functools.partial(main_outline, ctx),
-                           _html(ctx), pdf, formats, paper=paper, latex=latex,
-                           shown=_FIGURE_ORDER)
+    return write_report_files(
+        outdir, ctx, drawn, FIGURE_FILES, main_outline, "report.html.j2",
+        "Translational and rotational dominance of the generalized d'Alembert dynamics (Fu, "
+        "Gonzalez & Lee 1987, Sec. 3.4.1, Figs. 3.10-3.11)",
+        f"{ctx['robot_name']}, {ctx['N']:,} set points",
+        env_globals={"class_colours": _CLASS_COLOURS}, created=ctx["created"],
+        formats=formats, paper=paper, latex=latex, shown=_FIGURE_ORDER)

@@ -31,6 +31,7 @@ from .common import (
     FORMULATION_NAMES,
     count,
     given,
+    joints_text,
     prismatic_joints,
     torque_units,
     units_said_once,
@@ -696,7 +697,7 @@ def _effort_text(rows):
     if not rows:
         return ""
     over = [str(r[0]) for r in rows if r.exceeded]
-    verdict = (f"joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+    verdict = (f"{joints_text(over)} exceed"
                f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
                "along this trajectory" if over else "every joint stays within its limit")
     return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
@@ -782,14 +783,9 @@ def _caption_units(ds):
         if joints:
             what = "prismatic" if kind else "revolute"
             motion.append(", ".join(joint_motion_units(kind, shown=True))
-                          + (f" for {what} joint{'s' if len(joints) > 1 else ''} "
-                             f"{', '.join(joints)}" if prismatic.any() else ""))
+                          + (f" for {what} {joints_text(joints)}" if prismatic.any() else ""))
     return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
             "tau": units_said_once(ds, "tau")}
-
-
-def _is_puma560(name):
-    return is_chapter_puma(name)
 
 
 #: The models every cost is shown against, by their label in the stored cost table.
@@ -972,19 +968,13 @@ def _report_context_base(results):
     rel_peak = errors.column("relative_peak")
 
     # 6. comparison with the chapter
-    applicable = n == 6 and _is_puma560(robot_name)
-    compare_rows, n_agree, n_compared = [], 0, 0
-    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter)):
-        shown = share_cells[k]
-        if theirs:
-            n_compared += 1
-            agree = ours == theirs
-            n_agree += agree
-            compare_rows.append([lab, ours, theirs, "yes" if agree else "no", shown,
-                                 disagreement_cause(lab, ours, theirs, share[k], zero[k], s,
-                                                    robot_name)])
-        else:
-            compare_rows.append([lab, ours, "\u2014", "\u2014", shown, ""])
+    applicable = n == 6 and is_chapter_puma(robot_name)
+    n_compared = sum(bool(c) for c in chapter)          # the elements the chapter classes
+    n_agree = sum(ours == c for ours, c in zip(dominance, chapter) if c)
+    compare_rows = [[lab, ours, theirs, "yes" if ours == theirs else "no", share_cells[k],
+                     disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
+                    if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
+                    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
     if applicable:
         note = ("The chapter reads these classes by eye off Figs. 3.10 and 3.11 for its own "
                 "PUMA 560 trajectory of 31 set points; it notes that the simplification depends "

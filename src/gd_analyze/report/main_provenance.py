@@ -17,6 +17,7 @@ import numpy as np
 from ..store.schema import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
+from .common import joints_text
 from .markup import scope as scope_markup
 from .markup import sub as _sub
 from .simplified_section import REGION_SCALE
@@ -120,7 +121,7 @@ def _prismatic_joints(p):
     pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
     if not pris:
         return ""
-    return f", joint{'s' if len(pris) > 1 else ''} {', '.join(pris)} prismatic"
+    return f", {joints_text(pris)} prismatic"
 
 
 def provenance_rows(results: Results, created: str, version: str,

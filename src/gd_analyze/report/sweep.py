@@ -29,7 +29,6 @@ Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are wr
 
 from __future__ import annotations
 
-import functools
 import textwrap
 from collections.abc import Sequence
 from pathlib import Path
@@ -58,6 +57,7 @@ from .common import (
     cost_table,
     count,
     fmt_column,
+    joints_text,
     pct_column,
     torque_units,
     units_said_once,
@@ -65,10 +65,11 @@ from .common import (
 )
 from .common import fmt as _fmt
 from .common import gridspec as _gridspec
+from .common import or_default as _or
 from .common import pct as _pct
 from .common import share as _share_text
 from .common import table as _table
-from .drawing import draw_figures, html_document, pdf_info, write_documents
+from .drawing import draw_figures, write_report_files
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
 from .main_provenance import gravity_row, run_row, software_row
@@ -412,7 +413,7 @@ def _fig_error(w, width=_PAGE_WIDTH):
                   "peak |\u0394\u03c4| / s [1]")    # one scale for all
     own_rule, rule = m.own_rule, m.rule
     no_bound = {"chapter": ", no bound"}
-    merged_rule = (f"budget rule, \u03b5 = {float(m.tolerance):g}"
+    merged_rule = (f"budget rule, \u03b5 = {_eps(m)}"
                    + ("; / s over the region" if region else "")
                    if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
     ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
@@ -499,13 +500,12 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
         (:func:`coverage`).
     """
     m = MergedModel.of(ds)
-    eps = f"{float(m.tolerance):g}"
     if m.region:
         said = m.guarantee
         return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "  # type: ignore[index]  # a merged model's
                 f"|{_TAU_I}| found over the region, at least {_floor(m)}); "
                 f"{_bound_clause(m)}{coverage(m)}")
-    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {eps}), {ROUND_OFF_CLAUSE}, "
+    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {_eps(m)}), {ROUND_OFF_CLAUSE}, "
              "on every swept "
              f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
              f"{_floor(m)})); {_bound_clause(m)}its largest "
@@ -516,8 +516,7 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
         rel, j, over = beyond
         claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
                   f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
-                  f"\u03b5 on joint{'s' if len(over) > 1 else ''} "
-                  f"{', '.join(map(str, over))})")
+                  f"\u03b5 on {joints_text(over)})")
     return claim
 
 
@@ -564,9 +563,8 @@ def _region_rule(m):
     """How a region model was built and what it guarantees, for Sec. 5: the main report's
     words on pruning over the region (:func:`gd_analyze.report.simplified_section.region_pruning`),
     the guarantee's statement and the swept trajectories it covers."""
-    eps = f"{float(m.tolerance):g}"
     statement = scope_markup(str(m.guarantee_statement))
-    head = (f"One model for the whole sweep, by the budget rule (\u03b5 = {eps}) over the "
+    head = (f"One model for the whole sweep, by the budget rule (\u03b5 = {_eps(m)}) over the "
             "robot's joint-limit region (its position, velocity and acceleration limits), as "
             "the main job builds it: the region does not depend on the trajectories. ")
     if m.form != "recursive":
@@ -586,39 +584,40 @@ def _region_rule(m):
 def _merged_rule(m):
     """The merged model's rule, the heading of its section and its description, in words that
     follow the rule: a bound only for the budget rule."""
-    rule = m.rule
+    rule, recursive, after = m.rule, m.form == "recursive", ""
     if rule == "budget" and m.region:
-        eps = f"{float(m.tolerance):g}"
-        return rule, (f"5. Merged model (budget rule over the joint-limit region, \u03b5 = "
-                      f"{eps}) and its torque error"), (
-            _region_rule(m) + " " + _keeps(m) + " " + _cost_sentence(m, table=True))
-    if rule == "budget":
-        eps = f"{float(m.tolerance):g}"
-        recursive = m.form == "recursive"
+        said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m)
+    elif rule == "budget":
+        said = f"budget rule, \u03b5 = {_eps(m)}"
         what = ("One customized recursive Newton-Euler model on the base inertial parameters "
                 "for the whole sweep, by the budget rule: the peak contribution of every (base "
                 "parameter, part) pair (inertial, velocity, gravity), computed per trajectory "
                 "by the dask workers," if recursive else
                 "One explicit model for the whole sweep, by the budget rule: every term's peak "
                 "contribution")
-        return rule, f"5. Merged model (budget rule, \u03b5 = {eps}) and its torque error", (
-            f"{what} on each trajectory is divided by that trajectory's {_SI} = "
-            f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} are "
-            f"dropped while these ratios sum to at most \u03b5 = {eps} for every joint. By the "
-            f"triangle inequality its torque error is guaranteed within \u03b5\u00b7{_SI}, "
-            f"{ROUND_OFF_CLAUSE}, on every swept trajectory (not on others)"
-            + ("; the bound on each trajectory, "
-               + ("the sum of the dropped pairs' peaks there" if recursive else
-                  f"the sum of the dropped terms' largest ratios times its {_SI}")
-               + f", is stored per trajectory and joint in sweep.h5 and is at most "
-               f"{_worst_bound(m)}. "
-               if m.bound is not None else ". ")
-            + _keeps(m) + ("" if recursive else " The budget weighs single terms too, so a "
-                            "part it keeps may lose some of its terms.") + " "
-            + _cost_sentence(m, table=True))
-    return rule, "5. Merged model (chapter rule, no error bound) and its torque error", (
-        _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
-                       "guaranteed. " + _keeps(m) + " " + _cost_sentence(m, table=True))
+        text = (f"{what} on each trajectory is divided by that trajectory's {_SI} = "
+                f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} "
+                f"are dropped while these ratios sum to at most \u03b5 = {_eps(m)} for every "
+                f"joint. By the triangle inequality its torque error is guaranteed within "
+                f"\u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept trajectory (not on others)"
+                + ("; the bound on each trajectory, "
+                   + ("the sum of the dropped pairs' peaks there" if recursive else
+                      f"the sum of the dropped terms' largest ratios times its {_SI}")
+                   + f", is stored per trajectory and joint in sweep.h5 and is at most "
+                   f"{_worst_bound(m)}." if m.bound is not None else "."))
+        after = "" if recursive else (" The budget weighs single terms too, so a part it keeps "
+                                      "may lose some of its terms.")
+    else:
+        said, text = "chapter rule, no error bound", (
+            _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
+                           "guaranteed.")
+    return rule, f"5. Merged model ({said}) and its torque error", (
+        f"{text} {_keeps(m)}{after} {_cost_sentence(m, table=True)}")
+
+
+def _eps(m):
+    """The merged model's tolerance \u03b5 as the text writes it ("0.01")."""
+    return f"{float(m.tolerance):g}"
 
 
 def _keeps(m):
@@ -768,14 +767,11 @@ def _models(m):
              "budget": "guaranteed within \u03b5\u00b7" + _SI + f", {ROUND_OFF_CLAUSE}, on its "
                        "own trajectory"}
     own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
-    if rule == "budget" and m.region:
-        merged = (f"the merged model (budget rule, \u03b5 = "
-                  f"{float(m.tolerance):g}: "
-                  f"{scope_markup(str(m.guarantee_statement))})")
-    elif rule == "budget":
-        merged = (f"the merged model (budget rule, \u03b5 = "
-                  f"{float(m.tolerance):g}: guaranteed within "
-                  f"\u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept trajectory)")
+    if rule == "budget":
+        said = (scope_markup(str(m.guarantee_statement)) if m.region else
+                f"guaranteed within \u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept "
+                "trajectory")
+        merged = f"the merged model (budget rule, \u03b5 = {_eps(m)}: {said})"
     else:
         merged = "the merged model (chapter rule: no error bound)"
     return own, merged
@@ -837,9 +833,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         inputs = f"{K} random quintic trajectories (seed {_text(st.seed)})"
     else:
         inputs = f"{K} trajectories ({kind or 'given'})"
-    durations = w.duration
-    setpoints = w.setpoints
-    settings = _settings(w, inputs, setpoints, durations, __version__)
+    settings = _settings(w, inputs, __version__)
     zero = np.asarray(w.round_off.all(axis=0) if w.round_off_stored
                       else np.zeros(len(labels), bool), bool)
     envelope = _table(
@@ -869,14 +863,11 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
               + (("pruned",) if "pruned" in merged else ())}
-    kept = sum(m != "none" for m in merged)
-    single = sum(m in ("tran", "rot") for m in merged)
     worst = _worst_cases(w, labels)
     rule, heading, merged_text = _merged_rule(m)
     if rule == "budget":
-        eps = f"{float(m.tolerance):g}"
         claim = merged_claim(m)
-        name = f"The merged model (budget rule, \u03b5 = {eps})"
+        name = f"The merged model (budget rule, \u03b5 = {_eps(m)})"
     else:
         claim = ("has no error bound: its largest peak torque error over all trajectories is "
                  f"{_pct(np.nanmax(w.merged_error_relative_peak))} of that joint's "
@@ -886,8 +877,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
                f"{inputs}, s = {s:g}, e = {e:g}. {name} "
                + (_recursive_clause(m) if m.form == "recursive" else
-                  f"keeps both parts of {counts['both']} elements, one part of {single}, and "
-                  f"drops {len(labels) - kept}")
+                  f"keeps both parts of {counts['both']} elements, one part of "
+                  f"{counts['tran'] + counts['rot']}, and drops {counts['none']}")
                + f"; it {claim}. {_held_out(m)}{_gravity(m)}"
                f"{_cost_sentence(m)}{_own_sentence(w)}").strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
@@ -927,15 +918,10 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     return ctx
 
 
-def _or(value, default):
-    """A stored attribute's value, or ``default`` where it is missing (None)."""
-    return default if value is None else value
-
-
-def _settings(w, inputs, setpoints, durations, version):
+def _settings(w, inputs, version):
     """The settings and provenance of the sweep, each once and in words
     (:mod:`gd_analyze.report.main_provenance` rows for the software, the run and gravity)."""
-    st, m = w.settings, w.merged
+    st, m, setpoints, durations = w.settings, w.merged, w.setpoints, w.duration
     K = w.trajectories
     s, e = _thresholds(w)
     batch, tasks = int(_or(st.batch_size, 0)), int(_or(st.n_tasks, 0))
@@ -980,28 +966,25 @@ def _settings(w, inputs, setpoints, durations, version):
                      {"robot": "the robot's acceleration limits"}.get(
                          str(st.random_qdd_max_source),
                          _text(st.random_qdd_max_source))))
-    rows += [
-        ("computed on", f"{_text(st.cluster)} (the {K} trajectories in {batches} "
-                        f"batch{'es' if batches != 1 else ''}: ranked, and the merged model "
-                        "built and checked on every trajectory, in the process of the command)")
-        if not int(_or(st.n_workers, 1)) else
-        ("computed on", f"dask, {_text(st.cluster)} ({_text(st.n_workers)} "
-                        f"worker{'s' if str(st.n_workers) != '1' else ''} "
-                        f"joined; scheduler at {_text(st.scheduler_address)}); {tasks} "
-                        f"tasks (the {K} "
-                        f"trajectories in {batches} batch{'es' if batches != 1 else ''} of "
-                        f"at most {batch}, "
-                        + ("each batch once to rank and once to check the merged model"
-                           + (f"; {tasks - 2 * batches} more to check it on the held-out "
-                              "trajectories" if tasks > 2 * batches else "") + ")"
-                           if tasks > batches else
-                           "each batch once to rank and to find the peaks of the recursive "
-                           "model's contributions; the merged model was built and checked on "
-                           "the client)")),
-        ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
-    ]
-    rows += [(key.replace("_", " "), _text(value)) for key, value in st.others]
-    return rows
+    in_batches = f"the {K} trajectories in {batches} batch{'es' if batches != 1 else ''}"
+    if not int(_or(st.n_workers, 1)):
+        where = (f"{_text(st.cluster)} ({in_batches}: ranked, and the merged model built and "
+                 "checked on every trajectory, in the process of the command)")
+    else:
+        where = (f"dask, {_text(st.cluster)} ({_text(st.n_workers)} "
+                 f"worker{'s' if str(st.n_workers) != '1' else ''} joined; scheduler at "
+                 f"{_text(st.scheduler_address)}); {tasks} tasks ({in_batches} of at most "
+                 f"{batch}, "
+                 + ("each batch once to rank and once to check the merged model"
+                    + (f"; {tasks - 2 * batches} more to check it on the held-out "
+                       "trajectories" if tasks > 2 * batches else "") + ")"
+                    if tasks > batches else
+                    "each batch once to rank and to find the peaks of the recursive "
+                    "model's contributions; the merged model was built and checked on "
+                    "the client)"))
+    return rows + [("computed on", where),
+                   ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
+                   *((key.replace("_", " "), _text(value)) for key, value in st.others)]
 
 
 def _gravity(m):
@@ -1256,8 +1239,7 @@ def _error_sentence(w):
     text = (f"shows the relative peak errors per trajectory and joint: the merged model's is "
             f"{largest(merged)}, each trajectory's own model's {largest(own)}")
     if quiet and len(quiet) < w.joints:
-        text += (f"; on joint{'s' if len(quiet) > 1 else ''} "
-                 f"{', '.join(map(str, quiet))} the merged model's error is round-off on every "
+        text += (f"; on {joints_text(quiet)} the merged model's error is round-off on every "
                  "trajectory and not drawn")
     return text + "."
 
@@ -1352,12 +1334,6 @@ def _outline(ctx, figures):
     return o
 
 
-def _html(ctx):
-    return lambda outline, drawn: html_document(
-        "sweep_report.html.j2", ctx, outline, drawn,
-        {"class_colours": _CLASS_COLOURS, "pruned_colour": TABLE_COLOURS["pruned"]})
-
-
 _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
                  "classes": "fig_sweep_class_fractions", "error": "fig_sweep_torque_error",
                  "payload": "fig_payload_dominance"}
@@ -1432,17 +1408,14 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     check_paper(paper)
     if payload is not None and not hasattr(payload, "data_vars"):
         payload = open_sweep(payload, "payload")
-    stored, part = _views(open_sweep(sweep_path, "sweep"), payload)  # type: ignore[arg-type]
+    stored = StoredSweep.of(open_sweep(sweep_path, "sweep"))
+    part = None if payload is None else PayloadSweep.of(payload)  # type: ignore[arg-type]
     ctx = sweep_context(stored, part)
     drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
-    pdf = pdf_info(ctx["version"], "Dominance of the translational and rotational G-D terms "
-                   "over a sweep of trajectories (Fu, Gonzalez & Lee 1987, Sec. 3.4.1)",
-                   _keywords(ctx), ctx["title"])
-    return write_documents(Path(outdir), drawn, _FIGURE_FILES, functools.partial(_outline, ctx),
-                           _html(ctx), pdf, formats, "sweep_report", paper, latex, "sweep")
+    return write_report_files(
+        outdir, ctx, drawn, _FIGURE_FILES, _outline, "sweep_report.html.j2",
+        "Dominance of the translational and rotational G-D terms over a sweep of trajectories "
+        "(Fu, Gonzalez & Lee 1987, Sec. 3.4.1)", ctx["title"], _keywords(ctx),
+        {"class_colours": _CLASS_COLOURS, "pruned_colour": TABLE_COLOURS["pruned"]},
+        formats=formats, stem="sweep_report", paper=paper, latex=latex, prefix="sweep")
 
-
-def _views(ds, payload):
-    """The typed views of a sweep and of its payload sweep (None without one), each read
-    once."""
-    return StoredSweep.of(ds), None if payload is None else PayloadSweep.of(payload)
