@@ -127,7 +127,7 @@ def shipped_dataset():
     ``analyze_to_file`` and read back from its results.h5, loaded; one analysis per robot a
     session (:func:`built_once`). Shared: tests must not modify it. The model is pruned on the
     trajectory (``guarantee="trajectory"``), so that the figures and tables have errors to
-    draw on every arm (the UR5's region model drops nothing).
+    draw on every arm (a region model may drop nothing).
     """
     from gd_analyze.jobs.analyze import analyze_to_file
     from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions

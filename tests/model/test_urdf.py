@@ -17,7 +17,14 @@ from urdf_oracle import (
 )
 
 from gd_analyze.errors import InputError
-from gd_analyze.model.urdf import URDF_BUILTIN, axis_rotation, builtin_urdf_path, read_urdf_chain
+from gd_analyze.model.urdf import (
+    RIGHT_ANGLE_TOL,
+    URDF_BUILTIN,
+    axis_rotation,
+    builtin_urdf_path,
+    read_urdf_chain,
+    right_angle_rotation,
+)
 
 
 def _check_against_urdf(path, chain, seed):
@@ -137,6 +144,43 @@ def test_axis_rotation(axis):
     assert A @ [0, 0, 1] == pytest.approx(a, abs=1e-15)
     assert A.T @ A == pytest.approx(np.eye(3), abs=1e-15)
     assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-15)
+
+
+def _rpy(r, p, y):
+    """Rz(y) Ry(p) Rx(r), URDF's convention, by Pinocchio (an independent construction)."""
+    return np.array(pin.rpy.rpyToMatrix(r, p, y))
+
+
+@pytest.mark.parametrize("rpy", [(0, 3.14159265359, 0), (-1.57079632679, 0, 3.14159265359),
+                                 (0, -1.5707963268, 0), (0, 0, -3.1415926536)])
+def test_a_turn_by_pi_written_with_few_digits_is_taken_as_exact(rpy):
+    # the same turn with pi and pi/2 to full precision is the oracle: a signed permutation
+    exact = _rpy(*[round(2 * v / math.pi) * math.pi / 2 for v in rpy])
+    written = _rpy(*rpy)
+    assert 1e-14 < np.abs(written - np.round(written)).max() <= RIGHT_ANGLE_TOL   # the file's
+    got = right_angle_rotation(written)
+    assert np.array_equal(got, np.round(exact)) and not np.signbit(got[got == 0]).any()
+
+
+@pytest.mark.parametrize("rpy", [(0.3, 0, 0), (0, 3.14159, 0), (0.1, 0.2, 0.3),
+                                 (0, 0, 1.570796325)])
+def test_a_turn_off_a_right_angle_is_kept(rpy):
+    # 3.14159 is 2.7e-6 off pi and 1.570796325 is 1.8e-9 off pi/2: kept as written, so that
+    # the arm stays within 1e-10 of the file's
+    R = _rpy(*rpy)
+    assert np.array_equal(right_angle_rotation(R), R)
+
+
+def test_the_urdfs_placements_are_exact_right_angle_turns_where_written_so(tmp_path):
+    # the UR5's file writes pi/2 as 1.57079632679: every placement of its chain is a signed
+    # permutation or a turn about z by a non-right angle, with exact 0 and +-1 entries; the
+    # chain still matches Pinocchio's own model of the file (the file's decimals are 1e-12)
+    chain = read_urdf_chain(builtin_urdf_path("ur5"))
+    for joint in chain.joints:
+        R = joint["rotation"]
+        near = np.abs(R - np.round(R)) <= RIGHT_ANGLE_TOL
+        assert not near.all() or np.array_equal(R, np.round(R))
+    _check_against_urdf(builtin_urdf_path("ur5"), chain, seed=12)
 
 
 def test_missing_velocity_limit_is_not_given(tmp_path):

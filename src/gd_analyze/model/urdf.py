@@ -20,6 +20,14 @@ the turned frame (A_i^T r_i, A_i^T I_i A_i). A continuous joint is a revolute jo
 position limits. URDF has no acceleration limits: ``qdd_max`` is None. ROS's placeholders for an
 unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity="0"`` and
 ``effort="0"`` (NaN); only planning needs the limits.
+
+A placement's rotation whose every entry lies within :data:`RIGHT_ANGLE_TOL` of 0 or +-1 is
+taken as that exact signed permutation (:func:`right_angle_rotation`): URDF files write pi and
+pi/2 with a few digits (``rpy="0 3.14159265359 0"``: sin is -2.1e-12, not 0), and such a turn is
+meant as an exact one. Left as read, the regressor's columns that the turn makes dependent are
+dependent only to 1e-12, so the base parameters' regrouping (Gautier 1990) would be exact for
+another arm than the one the models are checked against. The G-D terms, Pinocchio's reference
+(built from the same placements) and every model use the turn as taken.
 """
 
 from __future__ import annotations
@@ -49,7 +57,8 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from .robot import Robot
 
-__all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation"]
+__all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation",
+           "right_angle_rotation", "RIGHT_ANGLE_TOL"]
 
 #: Built-in robots vendored as URDF files in ``gd_analyze/data`` (``data/robots/`` in the
 #: repository): file, chain and the text the reports show.
@@ -80,6 +89,45 @@ URDF_BUILTIN: dict[str, dict[str, Any]] = {
 }
 
 _TOL = 1e-12
+#: Entries of a placement's rotation within this of 0 or +-1 make it an exact right-angle turn
+#: (:func:`right_angle_rotation`): 1e-10 takes pi and pi/2 written with 11 or more digits, and
+#: keeps the arm within 1e-10 of the file's (a turn 1.8e-9 off, pi/2 as 1.570796325, stays).
+RIGHT_ANGLE_TOL = 1e-10
+
+
+def right_angle_rotation(R: ArrayLike) -> np.ndarray:
+    """A rotation matrix, as the exact signed permutation it is within :data:`RIGHT_ANGLE_TOL`.
+
+    Parameters
+    ----------
+    R : array_like, shape (3, 3)
+        A rotation matrix (a URDF placement's).
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        Every entry rounded to 0 or +-1 when every entry lies within :data:`RIGHT_ANGLE_TOL` of
+        one of them and the rounded matrix is a rotation (orthogonal, determinant +1); R
+        unchanged otherwise.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> c, s = np.cos(3.14159265359), np.sin(3.14159265359)      # pi to 12 digits
+    >>> right_angle_rotation([[c, 0, s], [0, 1, 0], [-s, 0, c]]).tolist()
+    [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]
+    >>> t = 0.3                                                 # a turn of 0.3 rad stays
+    >>> R = [[np.cos(t), -np.sin(t), 0], [np.sin(t), np.cos(t), 0], [0, 0, 1]]
+    >>> bool(np.array_equal(right_angle_rotation(R), R))
+    True
+    """
+    R = np.asarray(R, float)
+    rounded = np.round(R)
+    if (np.abs(R - rounded).max(initial=0.0) <= RIGHT_ANGLE_TOL
+            and np.array_equal(rounded @ rounded.T, np.eye(3))
+            and round(float(np.linalg.det(rounded))) == 1):
+        return rounded + 0.0                                    # no -0.0
+    return R
 
 
 def _pin():
@@ -370,7 +418,7 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
             lo, hi = -math.inf, math.inf
         joints.append({
             "type": kind,
-            "rotation": np.array(placement.rotation),
+            "rotation": right_angle_rotation(placement.rotation),
             "translation": np.array(placement.translation),
             "mass": float(inertia.mass),
             "com": R.T @ np.array(inertia.lever),
