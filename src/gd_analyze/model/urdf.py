@@ -23,7 +23,7 @@ unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity
 
 A placement's rotation whose every entry lies within :data:`RIGHT_ANGLE_TOL` of 0 or +-1 is
 taken as that exact signed permutation (:func:`right_angle_rotation`): URDF files write pi and
-pi/2 with a few digits (``rpy="0 3.14159265359 0"``: sin is -2.1e-12, not 0), and such a turn is
+pi/2 with a few digits (``rpy="0 3.14159265359 0"``: sin is -2.1e-13, not 0), and such a turn is
 meant as an exact one. Left as read, the regressor's columns that the turn makes dependent are
 dependent only to 1e-12, so the base parameters' regrouping (Gautier 1990) would be exact for
 another arm than the one the models are checked against. The G-D terms, Pinocchio's reference
