@@ -150,8 +150,6 @@ def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Pa
 
     folder = Path(args_outdir) if args_outdir else \
         Path("reports") / "-".join(safe_name(p) for p in parts)
-    if folder.exists() and not folder.is_dir():
-        raise InputError("exists and is not a folder", folder)
     base = folder.absolute()
     while not os.path.exists(base) and base != base.parent:
         base = base.parent
@@ -163,6 +161,9 @@ def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Pa
         if len(os.fsencode(part)) > limit:
             raise InputError(f"a name of {len(os.fsencode(part))} bytes in the path is longer "
                              f"than the file system allows ({limit})", folder)
+    # after the names' lengths: asking for a name the file system cannot hold raises
+    if folder.exists() and not folder.is_dir():
+        raise InputError("exists and is not a folder", folder)
     return folder
 
 
