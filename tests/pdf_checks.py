@@ -16,7 +16,13 @@ __all__ = ["info", "font_types", "text", "words", "printed_sizes", "page_lines",
 
 
 def _run(*args):
-    return subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    try:
+        return subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    except FileNotFoundError:       # one clear line, not a traceback per test
+        import pytest
+
+        pytest.fail(f"poppler's {args[0]} is not installed: run `bash .ci/system-packages` "
+                    "(apt-get install poppler-utils)", pytrace=False)
 
 
 def info(path):

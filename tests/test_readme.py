@@ -29,7 +29,8 @@ def test_the_first_screen_keeps_the_two_commands_for_a_fresh_machine():
     first_screen = "\n".join(README.split("\n")[:24])
     for command in ("python3 -m venv .venv && . .venv/bin/activate && pip install -e . && "
                     "gd-analyze puma560 data/puma560_trajectory.csv",
-                    'python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[test]" '
+                    'bash .ci/system-packages && python3 -m venv .venv && . .venv/bin/activate && '
+                    'pip install -e ".[test]" '
                     "&& python -m pytest -q -n auto"):
         assert f"\n    {command}\n" in first_screen, command
 

@@ -14,6 +14,7 @@ import re
 
 import pytest
 from pdf_checks import figure_pages, last_page_fill, page_lines, printed_sizes
+from pdf_checks import text as pdf_text
 
 from gd_analyze.report.typeset import MARGINS, MIN_PRINTED_PT, NEAR_EMPTY
 
@@ -58,10 +59,7 @@ def test_no_page_ends_with_a_heading(pdf):
 
 
 def test_text_layer_reads_dotted_q_with_its_subscript_as_one_word(pdf):
-    import subprocess
-
-    text = subprocess.run(["pdftotext", str(pdf), "-"], check=True, capture_output=True,
-                          text=True).stdout
+    text = pdf_text(pdf)
     assert "v = q\u0308d + Kv (q\u0307d \u2212 q\u0307)" in text
     assert "(q, q\u0307, q\u0308)" in text
     assert not re.search("(q[\u0307\u0308])\\1", text)
