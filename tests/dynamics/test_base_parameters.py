@@ -9,8 +9,8 @@ from symbolic_helpers import ROBOTS, rnea, robot, states
 from gd_analyze.dynamics.base_parameters import (
     PARAMETER_NAMES,
     base_parameters,
-    shortest_decimal,
     regressor,
+    shortest_decimal,
     standard_parameters,
 )
 from gd_analyze.dynamics.pinocchio import pinocchio_model

@@ -320,7 +320,7 @@ def shortest_decimal(values: ArrayLike, tol: ArrayLike) -> np.ndarray:
 
     Examples
     --------
-    >>> shortest_decimal([0.00288 + 4e-18, 0.1 + 0.2, 1 / 3], 1e-15).tolist()
+    >>> shortest_decimal([0.00288 + 4e-18, 0.1 + 0.2, 1 / 3], 1e-16).tolist()
     [0.00288, 0.3, 0.3333333333333333]
     """
     values = np.asarray(values, float)
