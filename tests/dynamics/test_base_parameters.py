@@ -119,3 +119,24 @@ def test_shortest_decimal():
     assert out[4] == 0.0 and np.isnan(out[5])
     assert np.all(np.abs(out - noisy)[:5] <= tol[:5])
     assert np.array_equal(shortest_decimal(noisy[:4], 0.0), noisy[:4])     # nothing may move
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_decimal_coefficients_fit_other_set_points_as_well_as_least_squares(name, monkeypatch):
+    """On set points the coefficients were not fitted to, W_D - W_B K is no larger (within
+    4 eps of the largest column) with the decimal K than with the least-squares K it was made
+    from: the decimals are taken only where they are the exact regrouping (a general
+    chain's, "mixed-chain" and "modified-dh", mostly keep their least-squares values)."""
+    import gd_analyze.dynamics.base_parameters as module
+
+    arm = robot(name)
+    bp = base_parameters(arm)
+    monkeypatch.setattr(module, "_decimal_columns", lambda K, WB, WD: K)
+    least = base_parameters(arm).K
+    q, qd, qdd = states(arm, 4 * arm.n + 20, 11)
+    W = regressor(arm, q, qd, qdd).reshape(-1, 10 * arm.n)
+    B = bp.independent.reshape(-1)
+    WB, WD = W[:, B], W[:, ~B]
+    eps_big = np.finfo(float).eps * np.linalg.norm(W, axis=0).max()
+    fit = np.linalg.norm(WD - WB @ bp.K, axis=0)
+    assert np.all(fit <= np.linalg.norm(WD - WB @ least, axis=0) + 4 * eps_big), fit / eps_big

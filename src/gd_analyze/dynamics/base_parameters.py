@@ -336,6 +336,21 @@ def shortest_decimal(values: ArrayLike, tol: ArrayLike) -> np.ndarray:
     return out
 
 
+def _decimal_columns(K, WB, WD):
+    """K with each column its entries' shortest decimals (within K_DECIMAL_EPS eps of
+    max(|K_ij|, 1)) where those fit the stacked regressor as well as the least-squares
+    column, ||W_D,j - W_B K_j|| larger by at most eps of the largest column norm of W_B (both
+    at rounding level): the decimals are then the exact regrouping; a general chain's
+    irrational coefficients, whose decimals fit worse, keep their least-squares values."""
+    eps = np.finfo(float).eps
+    dec = shortest_decimal(K, K_DECIMAL_EPS * eps * np.maximum(np.abs(K), 1.0))
+    with threadpool_limits(1, "blas"):
+        fit = np.linalg.norm(WD - WB @ K, axis=0)
+        fit_dec = np.linalg.norm(WD - WB @ dec, axis=0)
+    slack = eps * np.linalg.norm(WB, axis=0).max(initial=0.0)
+    return np.where((fit_dec <= fit + slack)[None, :], dec, K)
+
+
 def _snap_standard(phi):
     """Standard parameters with rounding noise (below SNAP of their kind's scale) set to 0,
     the others their shortest decimal within PHI_DECIMAL_EPS eps of their size."""
@@ -369,10 +384,10 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     Kleinfinger's regrouping (1987): YY_j, MZ_j and M_j of a revolute joint j are regrouped
     into XX_j, ZZ_j and the parameters of link j-1. W is stacked at random set points, its
     QR taken without pivoting, a column kept when its diagonal entry is not negligible, and
-    K solves R_BB K = R_BD (Gautier 1990). Each entry of K, and each standard parameter, is
-    then its shortest decimal within a few eps (:func:`shortest_decimal`), and each beta an
-    exactly rounded sum, so that beta has the same bits for any seed, BLAS or platform where
-    the robot file's numbers are decimals. Both factorisations run on one BLAS thread (a
+    K solves R_BB K = R_BD (Gautier 1990). Each standard parameter, and each column of K
+    whose decimals fit W as well, is then its shortest decimal within a few eps
+    (:func:`shortest_decimal`), and each beta an exactly rounded sum, so that beta has the
+    same bits for any seed, BLAS or platform where the robot file's numbers are decimals. Both factorisations run on one BLAS thread (a
     stacked regressor of 4 n^2 rows and 10 n columns: threaded LAPACK is several times slower
     on a busy machine, and its result can depend on the thread count in the last bits).
 
@@ -405,7 +420,7 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     phi = _snap_standard(standard_parameters(robot))
     scale = np.tile(_kind_scales(phi), n)
     K = np.where(np.abs(K) * scale[D][None, :] <= SNAP * scale[B][:, None], 0.0, K)
-    K = shortest_decimal(K, K_DECIMAL_EPS * np.finfo(float).eps * np.maximum(np.abs(K), 1.0))
+    K = _decimal_columns(K, WB, WD)
     flat = phi.reshape(-1)
     terms = np.abs(flat[B]) + np.abs(K * flat[D][None, :]).sum(axis=1)
     # each sum exact, then rounded once: the same bits whatever the BLAS's order of addition
