@@ -7,15 +7,26 @@ its page (``pdftotext -bbox``).
 
 from __future__ import annotations
 
+import functools
 import html
+import os
 import re
 import subprocess
 
-__all__ = ["info", "font_types", "text", "words", "printed_sizes", "page_lines",
+__all__ = ["info", "font_types", "text", "words", "page_texts", "printed_sizes", "page_lines",
            "figure_pages", "last_page_fill", "CITATION"]
 
 
 def _run(*args):
+    """A poppler tool's output on the file of its arguments, run once per file and process
+    (the report tests read the same shared reports many times)."""
+    path = next(a for a in args if os.path.isfile(a))
+    st = os.stat(path)
+    return _run_once(args, st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=128)
+def _run_once(args, mtime_ns, size):
     try:
         return subprocess.run(args, check=True, capture_output=True, text=True).stdout
     except FileNotFoundError:       # one clear line, not a traceback per test
@@ -59,6 +70,22 @@ def words(path):
                                    r'yMax="([\d.]+)">(.*?)</word>', page.group(3))]
         pages.append((float(page.group(1)), float(page.group(2)), ws))
     return pages
+
+
+def page_texts(path):
+    """Each page's text as pypdf extracts it (a tuple of str), parsed once per file and
+    process: pypdf's extraction takes about half a second a report, and the report tests read
+    the same shared reports many times. A file written again (another size or time) is read
+    again."""
+    st = os.stat(path)
+    return _page_texts(os.fspath(path), st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=64)
+def _page_texts(path, mtime_ns, size):
+    from pypdf import PdfReader
+
+    return tuple(page.extract_text() for page in PdfReader(path).pages)
 
 
 def printed_sizes(path):

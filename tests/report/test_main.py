@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import SHIPPED, built_once
+from pdf_checks import page_texts
 
 import gd_analyze
 from gd_analyze.errors import InputError
@@ -363,7 +364,7 @@ def test_pdf_is_a_document(which, puma_report, two_link_report):
     sizes = {tuple(round(float(v), 1) for v in page.mediabox[2:]) for page in reader.pages}
     assert sizes == {(595.3, 841.9)}                 # ISO A4: 210 x 297 mm
     K = len(reader.pages)
-    texts = [page.extract_text() for page in reader.pages]
+    texts = list(page_texts(rep["out"] / "report.pdf"))
     for k, text in enumerate(texts):
         assert f"page {k + 1} of {K}" in text
     # every section of the HTML, as a bookmark, in order

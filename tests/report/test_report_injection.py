@@ -16,7 +16,7 @@ from importlib import resources
 
 import numpy as np
 import pytest
-from pdf_checks import info, words
+from pdf_checks import info, page_texts, words
 
 from gd_analyze import load_robot
 from gd_analyze.jobs.analyze import analyze
@@ -52,9 +52,7 @@ class _Collect(HTMLParser):
 def _pdf_text(path):
     """The PDF's text as pypdf extracts it: a hyphen that ends a line is kept (pdftotext
     joins the line to the next without it)."""
-    from pypdf import PdfReader
-
-    return "".join(page.extract_text() for page in PdfReader(path).pages)
+    return "".join(page_texts(path))
 
 
 def _footers(path):

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import ROOT
-from pypdf import PdfReader
+from pdf_checks import page_texts
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -50,7 +50,7 @@ def _html_text(reports, which):
 
 def _pdf_text(reports, which):
     folder, stem = reports[which]
-    return "\n".join(p.extract_text() for p in PdfReader(folder / f"{stem}.pdf").pages)
+    return "\n".join(page_texts(folder / f"{stem}.pdf"))
 
 
 def _bare_integers(text):

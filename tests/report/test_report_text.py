@@ -58,7 +58,7 @@ def _files(reports, which):
 
 
 def _pdf_text(path):
-    return "\n".join(page.extract_text() for page in PdfReader(path).pages)
+    return "\n".join(pdf_checks.page_texts(path))
 
 
 def _tables(html):
