@@ -172,8 +172,10 @@ def test_report_text_follows_the_model(tmp_path):
             assert f"Of the {pairs} (parameter, part) pairs that contribute {where}, " \
                 f"{dropped} are dropped" in ctx["simplified_model"]["text"]
         else:
-            assert "it is exact, nothing is dropped" in ctx["summary"]
-            assert "no part is dropped" in ctx["simplified_model"]["text"]
+            assert f"of the {pairs} inertial, velocity and gravity parts" in ctx["summary"]
+            assert "it drops none: it is exact." in ctx["summary"]
+            assert f"of the {pairs} (parameter, part) pairs that contribute, none is " \
+                "dropped; the model is exact" in ctx["simplified_model"]["text"]
         assert ctx["choices_heading"].endswith("Base parameters and the parts kept")
 
 

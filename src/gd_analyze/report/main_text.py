@@ -265,15 +265,16 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     >>> model_sentence(recursive=(36, 4, 40), gravity="keeps c whole (no gravity part is "
     ...                "dropped)")[-80:]
     ' on this trajectory, it drops 4, and keeps c whole (no gravity part is dropped).'
+    >>> model_sentence(recursive=(36, 0, 40))[-51:]     # parts that are identically 0 do not act
+    'act on this trajectory, it drops none: it is exact.'
     """
     if recursive is not None:
         b, dropped, pairs = recursive
         return (f"The simplified model is the recursive Newton-Euler model on {b} base "
-                "parameters" + (": it is exact, nothing is dropped." if dropped == 0 else
-                                f"; of the {pairs} inertial, velocity and gravity parts of "
-                                f"their contributions that act on {trajectory}, it drops "
-                                f"{dropped}" + (f", and {gravity}" if gravity else "")
-                                + "."))
+                f"parameters; of the {pairs} inertial, velocity and gravity parts of their "
+                f"contributions that act on {trajectory}, it drops "
+                + ("none: it is exact." if dropped == 0 else f"{dropped}"
+                   + (f", and {gravity}" if gravity else "") + "."))
     choice = list(choice or [])
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
     terms = kept["tran"] + kept["rot"] + 2 * kept["both"]

@@ -925,8 +925,9 @@ def _recursive_text(s, eps, floor):
             + " \u03b2; each parameter's contribution splits into an inertial part (in "
             "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
     if dropped == 0:
-        return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: no part is dropped, "
-                       "the model is exact (its difference from the full torque is round-off)."
+        return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: of the {pairs} (parameter, "
+                       "part) pairs that contribute, none is dropped; the model is exact (its "
+                       "difference from the full torque is round-off)."
                        + _scope(s, exact=True))
     rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
             + (f", torque floor {floor:g} N m" if floor else ""))
