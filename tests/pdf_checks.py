@@ -17,16 +17,23 @@ __all__ = ["info", "font_types", "text", "words", "page_texts", "printed_sizes",
            "figure_pages", "last_page_fill", "CITATION"]
 
 
-def _run(*args):
-    """A poppler tool's output on the file of its arguments, run once per file and process
-    (the report tests read the same shared reports many times)."""
-    path = next(a for a in args if os.path.isfile(a))
+def _version(path):
+    """(time [ns], size) of a file as it is now, or None if there is none: a file written
+    again is read again by the cached readers below."""
+    if not os.path.isfile(path):
+        return None
     st = os.stat(path)
-    return _run_once(args, st.st_mtime_ns, st.st_size)
+    return st.st_mtime_ns, st.st_size
+
+
+def _run(*args):
+    """A poppler tool's output on the file among its arguments, run once per file version and
+    process (the report tests read the same shared reports many times)."""
+    return _run_once(args, _version(next((a for a in args if os.path.isfile(a)), "")))
 
 
 @functools.lru_cache(maxsize=128)
-def _run_once(args, mtime_ns, size):
+def _run_once(args, version):
     try:
         return subprocess.run(args, check=True, capture_output=True, text=True).stdout
     except FileNotFoundError:       # one clear line, not a traceback per test
@@ -77,12 +84,11 @@ def page_texts(path):
     process: pypdf's extraction takes about half a second a report, and the report tests read
     the same shared reports many times. A file written again (another size or time) is read
     again."""
-    st = os.stat(path)
-    return _page_texts(os.fspath(path), st.st_mtime_ns, st.st_size)
+    return _page_texts(os.fspath(path), _version(path))
 
 
 @functools.lru_cache(maxsize=64)
-def _page_texts(path, mtime_ns, size):
+def _page_texts(path, version):
     from pypdf import PdfReader
 
     return tuple(page.extract_text() for page in PdfReader(path).pages)

@@ -387,9 +387,10 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     K solves R_BB K = R_BD (Gautier 1990). Each standard parameter, and each column of K
     whose decimals fit W as well, is then its shortest decimal within a few eps
     (:func:`shortest_decimal`), and each beta an exactly rounded sum, so that beta has the
-    same bits for any seed, BLAS or platform where the robot file's numbers are decimals. Both factorisations run on one BLAS thread (a
-    stacked regressor of 4 n^2 rows and 10 n columns: threaded LAPACK is several times slower
-    on a busy machine, and its result can depend on the thread count in the last bits).
+    same bits for any seed, BLAS or platform where the robot file's numbers are decimals.
+    Both factorisations run on one BLAS thread (a stacked regressor of 4 n^2 rows and 10 n
+    columns: threaded LAPACK is several times slower on a busy machine, and its result can
+    depend on the thread count in the last bits).
 
     Examples
     --------
