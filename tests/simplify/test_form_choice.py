@@ -118,3 +118,24 @@ def test_deploy_builds_the_model_within_its_bound_and_leaves_no_cache(form, puma
     assert rows and costs == sorted(costs, reverse=True)
     assert all(r["worst_relative_error"] <= r["tolerance"] * (1 + 1e-9) + 1e-12 for r in rows)
     assert not (tmp_path / "cache").exists() or not any((tmp_path / "cache").rglob("*"))
+
+
+def test_the_form_note_gives_the_deployed_model_s_own_cost():
+    """The UR5's region model is chosen over the explicit one at 280 operations, then its
+    proof that D_s is positive definite restores a parameter (YZ4): the note that says why it
+    is deployed gives the count of the model deployed, the sum of its own multiplications and
+    additions (it said 280 beside Table 5.5's 290)."""
+    from conftest import ROOT
+
+    from gd_analyze import load_robot
+    from gd_analyze.jobs.analyze import analyze
+    from gd_analyze.jobs.options import AnalysisOptions
+    from gd_analyze.trajectory.trajectory import read_trajectory
+
+    robot = load_robot("ur5")
+    traj = read_trajectory(ROOT / "data" / "ur5_trajectory.csv", robot.n)
+    a = analyze(robot, traj, AnalysisOptions(verify=False, formulations=False))
+    assert a.model.inertia_check["restored"]            # the case: a parameter restored
+    total = a.model.cost["multiplications"] + a.model.cost["additions"]
+    note = a.dataset.attrs["simplified_form_note"]
+    assert f"({total:,} operations, with the parameters its D_s proof restored," in note, note

@@ -46,7 +46,7 @@ if TYPE_CHECKING:
     from .options import SimplifyOptions
     from .simplified import SimplifiedModel
 
-__all__ = ["FormChoice", "choose_form", "inertia_checked", "recursive_costs",
+__all__ = ["FormChoice", "choose_form", "recursive_note", "inertia_checked", "recursive_costs",
            "exact_explicit_model", "Deployment", "deploy"]
 
 
@@ -113,12 +113,43 @@ def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any]
                           "cheaper than the recursive model pruned over the region")
     if explicit is None:
         return FormChoice("recursive")
-    ex = total_operations(explicit)
+    return FormChoice("recursive", recursive_note(rec, total_operations(explicit), form, proved))
+
+
+def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
+                   restored: bool = False) -> str:
+    """The sentence saying why the pruned recursive model is deployed, not the explicit one.
+
+    Parameters
+    ----------
+    recursive, explicit : int
+        Operations per set point (multiplications + additions) of the deployed recursive model
+        and of the pruned explicit model of the rule.
+    form : {"cheapest", "recursive", "explicit"}
+        The ``--form`` choice.
+    proved : bool
+        The recursive model's bound is proved over the joint-limit region.
+    restored : bool, optional
+        Parameters were restored after the choice, for the proof that D_s is positive definite
+        (:func:`gd_analyze.certify.positive_definite.with_inertia_check`): ``recursive`` is the
+        cost after it.
+
+    Returns
+    -------
+    str
+        One sentence with both counts.
+
+    Examples
+    --------
+    >>> recursive_note(290, 498, "cheapest", True).split(" (")[1]
+    "290 operations against the pruned explicit one's 498)."
+    """
     why = (", --form recursive" if form != "cheapest" else
            ", whose bound holds on this trajectory only, while the recursive one's is proved "
-           "over the joint-limit region" if proved and ex < rec else "")
-    return FormChoice("recursive", f"The deployed model is the pruned recursive one ({rec:,} "
-                                   f"operations against the pruned explicit one's {ex:,}{why}).")
+           "over the joint-limit region" if proved and explicit < recursive else "")
+    after = ", with the parameters its D_s proof restored," if restored else ""
+    return (f"The deployed model is the pruned recursive one ({recursive:,} operations{after} "
+            f"against the pruned explicit one's {explicit:,}{why}).")
 
 
 def inertia_checked(model: SimplifiedModel, recursive: SimplifiedModel,
@@ -385,6 +416,9 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
                                sample_region=region, region_missing=missing,
                                contributions=contributions, derive=derive)
     model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
+    if form_note and replaced is None and model.cost != rec.cost:   # the restored model's count
+        form_note = recursive_note(total_operations(model.cost), total_operations(ex.cost),
+                                   form, proved, restored=True)
     if replaced is not None:
         check: Any = replaced.inertia_check
         form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
