@@ -138,4 +138,5 @@ def test_the_form_note_gives_the_deployed_model_s_own_cost():
     assert a.model.inertia_check["restored"]            # the case: a parameter restored
     total = a.model.cost["multiplications"] + a.model.cost["additions"]
     note = a.dataset.attrs["simplified_form_note"]
-    assert f"({total:,} operations, with the parameters its D_s proof restored," in note, note
+    assert f"({total:,} operations, with the parameters restored for the proof that its " \
+        "inertia matrix is positive definite," in note, note

@@ -147,7 +147,8 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
     why = (", --form recursive" if form != "cheapest" else
            ", whose bound holds on this trajectory only, while the recursive one's is proved "
            "over the joint-limit region" if proved and explicit < recursive else "")
-    after = ", with the parameters its D_s proof restored," if restored else ""
+    after = (", with the parameters restored for the proof that its inertia matrix is "
+             "positive definite," if restored else "")
     return (f"The deployed model is the pruned recursive one ({recursive:,} operations{after} "
             f"against the pruned explicit one's {explicit:,}{why}).")
 
@@ -422,7 +423,7 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
     if replaced is not None:
         check: Any = replaced.inertia_check
         form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
-                     + " recursive one: the explicit model's D_s "
+                     + " recursive one: the explicit model's inertia matrix "
                      + ("was not proved positive definite over the region."
                         if replaced.guarantee is not None and replaced.guarantee.proved else
                         "is not positive definite at the sampled positions of the trajectory "
