@@ -50,7 +50,7 @@ TIMED = (
     ("gd_analyze.simplify.form_choice", "deploy", "simplified_model"),
     ("gd_analyze.report.main", "write_report", "write_report"),
     ("gd_analyze.store.schema", "open_results", "report_read_results"),
-    ("gd_analyze.report.main", "_html", "report_html"),
+    ("gd_analyze.report.drawing", "html_document", "report_html"),
     ("gd_analyze.report.drawing", "figure_svg", "report_figures_draw_page"),
     ("gd_analyze.report.drawing", "write_documents", "report_documents"),
     ("gd_analyze.report.typeset", "write_pdf", "report_pdf"),

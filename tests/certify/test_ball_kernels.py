@@ -1,11 +1,21 @@
 """The compiled ball recursion encloses what the array code encloses, and holds at points."""
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from gd_analyze import load_robot
 from gd_analyze.certify import regressor_bounds as rb
-from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.base_parameters import base_parameters, standard_parameters
 from gd_analyze.dynamics.opcount import random_chain
+from gd_analyze.dynamics.pinocchio import pinocchio_model
+
+
+def _crba(robot, q):
+    """Pinocchio's D(q) at each row of q, both triangles filled."""
+    pm = pinocchio_model(robot)
+    data = pm.createData()
+    D = np.array([pin.crba(pm, data, x) for x in q])
+    return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
 
 
 def _boxes(robot, count, width, seed):
@@ -81,3 +91,37 @@ def test_pair_magnitudes_by_the_kernels_equal_the_array_codes():
     want = rb.channel_magnitudes(*_array_code(robot, lo, hi, cols), qd_max, qdd_max)
     assert np.abs(got - want).max() <= 1e-14 * np.abs(want).max()
     assert got.shape == (7, 3, n, cols.size) and np.all(got >= 0)
+
+
+@pytest.mark.parametrize("name", ["puma560", "panda", "stanford", "two-link"])
+def test_compiled_inertia_enclosure_is_the_array_codes(name):
+    """The compiled kernel (ball arithmetic, box by box) gives the array code's enclosures in
+    the same arithmetic (its oracle) to round-off of D's size, on boxes narrow, wide and past
+    the arc limit of a rotation (half-width > pi/2), on points, and with a prismatic joint
+    (stanford); and it holds Pinocchio's D at points inside each box."""
+    robot = load_robot(name)
+    n = robot.n
+    phi = standard_parameters(robot)
+    rng = np.random.default_rng(7)
+    centre = rng.uniform(-2, 2, (40, n))
+    half = rng.uniform(0.0, 2.0, (40, n)) * rng.uniform(0, 1, (40, 1))
+    half[:5] = 0.0
+    half[5:10] = rng.uniform(1.6, 3.0, (5, n))
+    lo_q, hi_q = rb._boxes(robot, centre - half, centre + half)
+    lo, hi = rb.inertia_enclosure(robot, lo_q, hi_q, phi)
+    a_lo, a_hi = rb._inertia_arrays(robot, lo_q, hi_q, phi, rb._Ball)
+    arm = np.asarray(robot.armature, float)
+    idx = np.arange(n)
+    a_lo[:, idx, idx] += arm
+    a_hi[:, idx, idx] += arm
+    a_lo = np.maximum(a_lo, np.swapaxes(a_lo, 1, 2))
+    a_hi = np.minimum(a_hi, np.swapaxes(a_hi, 1, 2))
+    size = np.abs(a_lo).max() + np.abs(a_hi).max()
+    assert np.all(np.isfinite(lo)) and np.all(np.isfinite(hi))
+    assert np.abs(lo - a_lo).max() <= 1e-14 * size
+    assert np.abs(hi - a_hi).max() <= 1e-14 * size
+    assert np.all(lo <= hi)
+    for b in range(0, 40, 4):
+        q = rng.uniform(lo_q[b], hi_q[b], (50, n))
+        D = _crba(robot, q)
+        assert ((lo[b] <= D) & (D <= hi[b])).all()

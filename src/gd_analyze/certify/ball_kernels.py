@@ -23,7 +23,7 @@ from numba import njit
 
 from .balls import ARC_LIMIT, ROUNDING
 
-__all__ = ["backward_kernel"]
+__all__ = ["backward_kernel", "forward_kernel", "inertia_kernel"]
 
 _SLACK = 32 * ROUNDING
 _ROT_SLACK = 4 * _SLACK + 1e-15
@@ -245,3 +245,200 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
                         _set(f[q], x, fi)
                         _set(mom[q], x, _add(moved, _cross(p, fi)))
     return lo, hi
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _rot_t(k, a, trig, P, norms_t, pris):
+    """R_k^T a = Rz(q_k)^T P_k^T a (revolute) or P_k^T a (prismatic)."""
+    u = _matvec(P[k].T, norms_t[k], a)
+    if pris[k]:
+        return u
+    return _rot_z(u, trig[k], True)
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def inertia_kernel(mid, half, P, norms, norms_t, t, pris, values, inertia, inertia_norms):
+    """Enclosures of the inertia matrix's columns over every box, before the armature.
+
+    Parameters
+    ----------
+    mid, half : ndarray, shape (B, n)
+        The boxes' mid points and half-widths [rad or m] (``regressor_bounds._Ball``'s,
+        widened).
+    P : ndarray, shape (n, 3, 3)
+        The joints' fixed placements.
+    norms, norms_t : ndarray, shape (n,)
+        Upper bounds of the spectral norms of P_k and of P_k^T.
+    t : ndarray, shape (n, 3)
+        The placements' translations [m].
+    pris : ndarray of bool, shape (n,)
+    values : ndarray, shape (n, 10)
+        Per link XX, XY, XZ, YY, YZ, ZZ [kg m^2], MX, MY, MZ [kg m], M [kg].
+    inertia : ndarray, shape (n, 3, 3)
+        Per link, the symmetric inertia tensor of ``values`` [kg m^2].
+    inertia_norms : ndarray, shape (n,)
+        Upper bounds of their spectral norms.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (B, n, n)
+        ``[b, i, j]``: lo <= D_ij(q) <= hi over box b, without the armature and before D_ij and
+        D_ji are intersected [kg m^2; kg m; kg].
+
+    Raises
+    ------
+    None: the caller (``regressor_bounds.inertia_enclosure``) passes checked arrays.
+
+    Notes
+    -----
+    Column j of D is the torque of the Newton-Euler recursion at qd = 0, qdd = e_j and g = 0
+    (Walker & Orin 1982, method 1; Fu, Gonzalez & Lee 1987, Table 3.3): forward, the links'
+    angular and linear accelerations per column; backward, the links' wrenches
+    f = m vd + wd x (m c), n = I wd + (m c) x vd summed from the tip, in the ball arithmetic
+    of :mod:`.balls`, with the operations of ``regressor_bounds.inertia_enclosure``'s
+    array code in the same order.
+    """
+    B, n = mid.shape
+    lo = np.zeros((B, n, n))
+    hi = np.zeros((B, n, n))
+    WD = np.zeros((n, n, 4))            # per link k, column j: the balls of wd and vd
+    VD = np.zeros((n, n, 4))
+    f = np.zeros((n, 4))
+    mom = np.zeros((n, 4))
+    for b in range(B):
+        m, h = mid[b], half[b]
+        trig = _trig(m, h)
+        wd = np.zeros((n, 4))
+        vd = np.zeros((n, 4))
+        for k in range(n):
+            p = _position(k, m, h, t, P, pris)
+            for j in range(n):
+                a = _add(_get(vd, j), _cross(_get(wd, j), p))
+                _set(vd, j, _rot_t(k, a, trig, P, norms_t, pris))
+                _set(wd, j, _rot_t(k, _get(wd, j), trig, P, norms_t, pris))
+            if pris[k]:
+                vd[k, 2] += 1.0
+            else:
+                wd[k, 2] += 1.0
+            WD[k] = wd
+            VD[k] = vd
+        for k in range(n - 1, -1, -1):
+            v = values[k]
+            mc = (v[6], v[7], v[8], 0.0)
+            for j in range(n):
+                wdj, vdj = _get(WD[k], j), _get(VD[k], j)
+                fk = _add(_scale(vdj, v[9]), _cross(wdj, mc))
+                mk = _add(_matvec(inertia[k], inertia_norms[k], wdj), _cross(mc, vdj))
+                if k == n - 1:
+                    _set(f, j, fk)
+                    _set(mom, j, mk)
+                else:
+                    _set(f, j, _add(fk, _get(f, j)))
+                    _set(mom, j, _add(mk, _get(mom, j)))
+                src = f if pris[k] else mom
+                lo[b, k, j] = src[j, 2] - src[j, 3]
+                hi[b, k, j] = src[j, 2] + src[j, 3]
+            if k:
+                p = _position(k, m, h, t, P, pris)
+                for j in range(n):
+                    fj = _rot(k, _get(f, j), trig, P, norms, pris)
+                    _set(f, j, fj)
+                    _set(mom, j, _add(_rot(k, _get(mom, j), trig, P, norms, pris),
+                                      _cross(p, fj)))
+    return lo, hi
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
+    """The forward recursion of the regressor's channels, every box: the links' angular
+    velocities per unit joint velocity and their accelerations per channel, as balls.
+
+    Parameters
+    ----------
+    mid, half : ndarray, shape (B, n)
+        The boxes' mid points and half-widths [rad or m] (``regressor_bounds._Ball``'s,
+        widened).
+    P : ndarray, shape (n, 3, 3)
+        The joints' fixed placements.
+    norms_t : ndarray, shape (n,)
+        Upper bounds of the spectral norms of P_k^T.
+    t : ndarray, shape (n, 3)
+        The placements' translations [m].
+    pris : ndarray of bool, shape (n,)
+    gravity : ndarray, shape (3,)
+        [m/s^2].
+    top : int
+        The links to run, the first ``top``.
+
+    Returns
+    -------
+    W : ndarray, shape (top, B, top, 4)
+        Per link k and box, the angular velocity of link k per unit qd_j, j < top (centre and
+        radius along the last axis).
+    WD, VD : ndarray, shape (top, B, C, 4)
+        Per link k and box, its angular and linear accelerations per channel (C = 1 + top +
+        top^2: gravity, qdd_j, the velocity pairs qd_j qd_l), in the layout of
+        ``regressor_bounds._forward``, whose array code (the tests' oracle) performs the same
+        operations over all boxes at once.
+
+    Raises
+    ------
+    None: the caller (``regressor_bounds._ball_links``) passes checked arrays.
+
+    Notes
+    -----
+    Source: the forward recursion of the Newton-Euler equations (Fu, Gonzalez & Lee 1987,
+    Table 3.3) per channel, as the regressor of Khalil & Kleinfinger (1987), in the ball
+    arithmetic of :mod:`.balls`.
+    """
+    B = mid.shape[0]
+    n = top
+    C = 1 + n + n * n
+    W = np.zeros((n, B, n, 4))
+    WD = np.zeros((n, B, C, 4))
+    VD = np.zeros((n, B, C, 4))
+    w = np.zeros((n, 4))
+    wp = np.zeros((n, 4))
+    wd = np.zeros((C, 4))
+    vd = np.zeros((C, 4))
+    a = np.zeros((C, 4))
+    ez = (0.0, 0.0, 1.0, 0.0)
+    for b in range(B):
+        m, h = mid[b], half[b]
+        trig = _trig(m, h)
+        w[:] = 0.0
+        wd[:] = 0.0
+        vd[:] = 0.0
+        vd[0, 0], vd[0, 1], vd[0, 2] = -gravity[0], -gravity[1], -gravity[2]
+        for k in range(n):
+            p = _position(k, m, h, t, P, pris)
+            for c in range(C):
+                _set(a, c, _add(_get(vd, c), _cross(_get(wd, c), p)))
+            for idx in range(n * n):
+                c = 1 + n + idx
+                j, l = idx // n, idx % n
+                _set(a, c, _add(_get(a, c), _cross(_get(w, j), _cross(_get(w, l), p))))
+            for c in range(C):
+                _set(vd, c, _rot_t(k, _get(a, c), trig, P, norms_t, pris))
+            for j in range(n):
+                _set(wp, j, _rot_t(k, _get(w, j), trig, P, norms_t, pris))
+            for c in range(C):
+                _set(wd, c, _rot_t(k, _get(wd, c), trig, P, norms_t, pris))
+            if pris[k]:
+                vd[1 + k, 2] += 1.0
+                for j in range(n):
+                    c = 1 + n + j * n + k
+                    zk = _cross(_get(wp, j), ez)
+                    _set(vd, c, _add(_get(vd, c), _scale(zk, 2.0)))
+            else:
+                wd[1 + k, 2] += 1.0
+                for j in range(n):
+                    c = 1 + n + j * n + k
+                    zk = _cross(_get(wp, j), ez)
+                    _set(wd, c, _add(_get(wd, c), zk))
+                wp[k, 2] += 1.0
+            w[:] = wp
+            W[k, b] = w
+            WD[k, b] = wd
+            VD[k, b] = vd
+    return W, WD, VD

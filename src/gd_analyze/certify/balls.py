@@ -20,7 +20,7 @@ import numpy.typing as npt
 _Ball = tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
 
 __all__ = ["point", "zeros", "add", "scale", "cross", "matvec", "rot_z", "z_interval",
-           "ROUNDING"]
+           "spectral_norm", "ROUNDING"]
 
 #: Unit round-off of a float [1].
 ROUNDING = np.finfo(float).eps / 2
@@ -33,6 +33,41 @@ def _norm(c):
     """|c| over the last axis (3): it only scales the rounding slack of a radius."""
     x, y, z = c[..., 0], c[..., 1], c[..., 2]
     return np.sqrt(x * x + y * y + z * z)
+
+
+def _cross(a, b):
+    """a x b over the last axis (3), broadcast: the products and differences of
+    :func:`numpy.cross`, in its order (the same floats), without its axis handling."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack(np.broadcast_arrays(a1 * b2 - a2 * b1, a2 * b0 - a0 * b2,
+                                        a0 * b1 - a1 * b0), axis=-1)
+
+
+#: ||M||_2 of the point matrices :func:`matvec` has met, by their bytes: a chain's few
+#: constant rotations and inertia tensors, met again on every batch of boxes.
+_NORMS: dict[bytes, float] = {}
+
+
+def spectral_norm(M: npt.NDArray[np.float64]) -> float:
+    """||M||_2 of a (3, 3) matrix, as :func:`numpy.linalg.norm` (ord 2) gives it, kept by the
+    matrix's bytes (at most 4,096 kept).
+
+    Parameters
+    ----------
+    M : ndarray, shape (3, 3)
+
+    Returns
+    -------
+    float
+    """
+    key = M.tobytes()
+    norm = _NORMS.get(key)
+    if norm is None:
+        norm = float(np.linalg.norm(M, 2))
+        if len(_NORMS) < 4096:
+            _NORMS[key] = norm
+    return norm
 
 
 def point(c: npt.ArrayLike) -> _Ball:
@@ -116,7 +151,7 @@ def cross(a: _Ball, b: _Ball) -> _Ball:
     (ndarray, ndarray)
     """
     na, nb = _norm(a[0]), _norm(b[0])
-    c = np.asarray(np.cross(a[0], b[0]), float)
+    c = _cross(a[0], b[0])
     r = na * b[1] + a[1] * nb + a[1] * b[1]
     return c, np.asarray(r * (1 + _SLACK) + _SLACK * na * nb, float)
 
@@ -134,7 +169,7 @@ def matvec(M: npt.NDArray[np.float64], a: _Ball) -> _Ball:
     (ndarray, ndarray)
     """
     M = np.asarray(M, float)
-    norm = float(np.linalg.norm(M, 2)) * (1 + 1e-12)
+    norm = spectral_norm(M) * (1 + 1e-12)
     return a[0] @ M.T, norm * a[1] * (1 + _SLACK) + _SLACK * norm * _norm(a[0])
 
 

@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 
 from . import balls
 from . import intervals as iv
-from .ball_kernels import backward_kernel
+from .ball_kernels import backward_kernel, forward_kernel, inertia_kernel
 from .vertex_kernel import vertex_extremes
 
 if TYPE_CHECKING:
@@ -402,22 +402,23 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
     link). :func:`_column_groups`' values in the ball arithmetic, by the compiled kernels of
     :mod:`.ball_kernels`, link by link and in the link's own channels (gravity, the
     accelerations of joints 0..k, the velocity pairs of joints 0..k), which are the only ones
-    not exactly zero at link k. The forward recursion is :func:`_forward`'s."""
+    not exactly zero at link k. The forward recursion is :func:`_forward`'s, compiled
+    (:func:`.ball_kernels.forward_kernel`)."""
     n = robot.n
     columns = np.asarray(columns, int)
     top = int(columns.max()) // 10 + 1 if columns.size else 0
     if top == 0:
         return
-    chain = _Chain(robot, q_lo, q_hi, _Ball)
-    links = _forward(chain, robot.gravity if gravity is None else gravity, top)
+    A = _Ball(q_lo, q_hi)
     P = np.ascontiguousarray(robot.rotation, float)
-    norms = np.array([float(np.linalg.norm(M, 2)) * (1 + 1e-12) for M in P])
+    norms = _norms(P)
     t = np.ascontiguousarray(robot.translation, float)
     pris = np.asarray(robot.prismatic, bool)
+    g = np.ascontiguousarray(robot.gravity if gravity is None else gravity, float)
+    W, WD, VD = forward_kernel(A.mid, A.half, P, _norms(P.transpose(0, 2, 1)), t, pris, g, top)
     for k, ms, _, _, ch in _links(columns, top, n):
-        W, WD, VD = (np.concatenate([c, r[..., None]], axis=-1) for c, r in links[k])
-        lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W, WD, VD,
-                                 chain.A.mid, chain.A.half, P, norms, t, pris, top)
+        lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W[k], WD[k], VD[k],
+                                 A.mid, A.half, P, norms, t, pris, top)
         yield k, ms, ch, lo, hi
 
 
@@ -881,6 +882,45 @@ def _inertial_forward(chain):
     return out
 
 
+def _inertia_tensors(values):
+    """Per link, the symmetric inertia tensor (3, 3) of its XX, XY, XZ, YY, YZ, ZZ."""
+    v = np.asarray(values, float)
+    return np.stack([v[:, [0, 1, 2]], v[:, [1, 3, 4]], v[:, [2, 4, 5]]], axis=1)
+
+
+def _norms(matrices):
+    """Upper bounds of the spectral norms of (m, 3, 3) matrices, as :func:`.balls.matvec`
+    takes them."""
+    return np.array([balls.spectral_norm(np.asarray(M)) * (1 + 1e-12) for M in matrices])
+
+
+def _inertia_arrays(robot, q_lo, q_hi, values, algebra):
+    """:func:`inertia_enclosure` before the armature and the symmetric intersection, as array
+    code over the boxes in the arithmetic ``algebra`` (:class:`_Ball` or :class:`_Box`): the
+    box arithmetic's, and the oracle of the compiled ball kernel
+    (:func:`.ball_kernels.inertia_kernel`), which performs the same operations box by box."""
+    n = robot.n
+    chain = _Chain(robot, q_lo, q_hi, algebra)
+    A, B = chain.A, chain.B
+    links = _inertial_forward(chain)
+    lo, hi = np.zeros((B, n, n)), np.zeros((B, n, n))
+    f = m = None
+    for k in range(n - 1, -1, -1):
+        wd, vd = links[k]
+        p = values[k]
+        inertia = _inertia_tensors(values[k:k + 1])[0]
+        mc = A.point(p[6:9])
+        fk = A.add(A.scale(vd, p[9]), A.cross(wd, mc))
+        mk = A.add(A.matvec(inertia, wd), A.cross(mc, vd))
+        f, m = (fk, mk) if f is None else (A.add(fk, f), A.add(mk, m))
+        zl, zh = A.z(f if chain.pris[k] else m)
+        lo[:, k], hi[:, k] = zl, zh
+        if k:
+            f = chain.rot(k, f)
+            m = A.add(chain.rot(k, m), A.cross(chain.p(k), f))
+    return lo, hi
+
+
 def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: np.ndarray,
                       armature: ArrayLike | None = None, arithmetic: str = "ball"
                       ) -> tuple[np.ndarray, np.ndarray]:
@@ -929,25 +969,17 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
     values = np.asarray(values, float)
     if values.shape != (n, 10):
         raise ValueError(f"values must have shape ({n}, 10), got {values.shape}")
-    algebra = {"ball": _Ball, "box": _Box}[arithmetic]
-    chain = _Chain(robot, q_lo, q_hi, algebra)
-    A, B = chain.A, chain.B
-    links = _inertial_forward(chain)
-    lo, hi = np.zeros((B, n, n)), np.zeros((B, n, n))
-    f = m = None
-    for k in range(n - 1, -1, -1):
-        wd, vd = links[k]
-        p = values[k]
-        inertia = np.array([[p[0], p[1], p[2]], [p[1], p[3], p[4]], [p[2], p[4], p[5]]])
-        mc = A.point(p[6:9])
-        fk = A.add(A.scale(vd, p[9]), A.cross(wd, mc))
-        mk = A.add(A.matvec(inertia, wd), A.cross(mc, vd))
-        f, m = (fk, mk) if f is None else (A.add(fk, f), A.add(mk, m))
-        zl, zh = A.z(f if chain.pris[k] else m)
-        lo[:, k], hi[:, k] = zl, zh
-        if k:
-            f = chain.rot(k, f)
-            m = A.add(chain.rot(k, m), A.cross(chain.p(k), f))
+    if arithmetic == "ball":
+        A = _Ball(q_lo, q_hi)
+        P = np.ascontiguousarray(robot.rotation, float)
+        inertia = np.ascontiguousarray(_inertia_tensors(values))
+        lo, hi = inertia_kernel(
+            A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)),
+            np.ascontiguousarray(robot.translation, float),
+            np.asarray(robot.prismatic, bool), np.ascontiguousarray(values), inertia,
+            _norms(inertia))
+    else:
+        lo, hi = _inertia_arrays(robot, q_lo, q_hi, values, {"box": _Box}[arithmetic])
     arm = np.asarray(robot.armature if armature is None else armature, float)
     idx = np.arange(n)
     lo[:, idx, idx] = np.nextafter(lo[:, idx, idx] + arm, -np.inf)
