@@ -410,11 +410,9 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
     if top == 0:
         return
     A = _Ball(q_lo, q_hi)
-    P = np.ascontiguousarray(robot.rotation, float)
+    P, t, pris = _geometry(robot)
     norms = _norms(P)
-    t = np.ascontiguousarray(robot.translation, float)
-    pris = np.asarray(robot.prismatic, bool)
-    g = np.ascontiguousarray(robot.gravity if gravity is None else gravity, float)
+    g = np.array(robot.gravity if gravity is None else gravity, float)
     W, WD, VD = forward_kernel(A.mid, A.half, P, _norms(P.transpose(0, 2, 1)), t, pris, g, top)
     for k, ms, _, _, ch in _links(columns, top, n):
         lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W[k], WD[k], VD[k],
@@ -888,6 +886,14 @@ def _inertia_tensors(values):
     return np.stack([v[:, [0, 1, 2]], v[:, [1, 3, 4]], v[:, [2, 4, 5]]], axis=1)
 
 
+def _geometry(robot):
+    """The joints' placements P (n, 3, 3), translations t (n, 3) [m] and prismatic flags (n,),
+    as new writable C arrays: the compiled kernels see one array type whatever the robot
+    holds (one compilation each)."""
+    return (np.array(robot.rotation, float), np.array(robot.translation, float),
+            np.array(robot.prismatic, bool))
+
+
 def _norms(matrices):
     """Upper bounds of the spectral norms of (m, 3, 3) matrices, as :func:`.balls.matvec`
     takes them."""
@@ -971,13 +977,10 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
         raise ValueError(f"values must have shape ({n}, 10), got {values.shape}")
     if arithmetic == "ball":
         A = _Ball(q_lo, q_hi)
-        P = np.ascontiguousarray(robot.rotation, float)
+        P, t, pris = _geometry(robot)
         inertia = np.ascontiguousarray(_inertia_tensors(values))
-        lo, hi = inertia_kernel(
-            A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)),
-            np.ascontiguousarray(robot.translation, float),
-            np.asarray(robot.prismatic, bool), np.ascontiguousarray(values), inertia,
-            _norms(inertia))
+        lo, hi = inertia_kernel(A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)), t,
+                                pris, np.array(values, float), inertia, _norms(inertia))
     else:
         lo, hi = _inertia_arrays(robot, q_lo, q_hi, values, {"box": _Box}[arithmetic])
     arm = np.asarray(robot.armature if armature is None else armature, float)
