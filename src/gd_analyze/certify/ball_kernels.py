@@ -248,6 +248,23 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _copy(dst, src):
+    """dst[:] = src for two (m, 4) arrays of balls, element by element (a slice assignment
+    would compile numba's shape-mismatch message formatting into the kernel)."""
+    for i in range(src.shape[0]):
+        for c in range(4):
+            dst[i, c] = src[i, c]
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _zero(dst):
+    """dst[:] = 0 for an (m, 4) array of balls, element by element."""
+    for i in range(dst.shape[0]):
+        for c in range(4):
+            dst[i, c] = 0.0
+
+
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _rot_t(k, a, trig, P, norms_t, pris):
     """R_k^T a = Rz(q_k)^T P_k^T a (revolute) or P_k^T a (prismatic)."""
     u = _matvec(P[k].T, norms_t[k], a)
@@ -320,8 +337,8 @@ def inertia_kernel(mid, half, P, norms, norms_t, t, pris, values, inertia, inert
                 vd[k, 2] += 1.0
             else:
                 wd[k, 2] += 1.0
-            WD[k] = wd
-            VD[k] = vd
+            _copy(WD[k], wd)
+            _copy(VD[k], vd)
         for k in range(n - 1, -1, -1):
             v = values[k]
             mc = (v[6], v[7], v[8], 0.0)
@@ -406,9 +423,9 @@ def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
     for b in range(B):
         m, h = mid[b], half[b]
         trig = _trig(m, h)
-        w[:] = 0.0
-        wd[:] = 0.0
-        vd[:] = 0.0
+        _zero(w)
+        _zero(wd)
+        _zero(vd)
         vd[0, 0], vd[0, 1], vd[0, 2] = -gravity[0], -gravity[1], -gravity[2]
         for k in range(n):
             p = _position(k, m, h, t, P, pris)
@@ -437,8 +454,8 @@ def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
                     zk = _cross(_get(wp, j), ez)
                     _set(wd, c, _add(_get(wd, c), zk))
                 wp[k, 2] += 1.0
-            w[:] = wp
-            W[k, b] = w
-            WD[k, b] = wd
-            VD[k, b] = vd
+            _copy(w, wp)
+            _copy(W[k, b], w)
+            _copy(WD[k, b], wd)
+            _copy(VD[k, b], vd)
     return W, WD, VD
