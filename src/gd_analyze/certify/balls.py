@@ -60,6 +60,17 @@ def spectral_norm(M: npt.NDArray[np.float64]) -> float:
     Returns
     -------
     float
+        The largest singular value of M [M's unit].
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        If the singular values do not converge (a matrix with NaN or inf).
+
+    Notes
+    -----
+    The same value as ``numpy.linalg.norm(M, 2)``; a chain's constant rotations and inertia
+    tensors are met on every batch of boxes, so each is decomposed once per process.
     """
     key = M.tobytes()
     norm = _NORMS.get(key)

@@ -968,7 +968,9 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
     wd x (m c) and n = I wd + (m c) x vd with its own parameters (Featherstone 2008, Eq. 2.63
     at zero velocity), so the links' contributions are summed as wrenches before the joints
     take their components. D_ij and D_ji are enclosed separately; their intersection is
-    returned.
+    returned. The ball arithmetic runs compiled, box by box
+    (:func:`.ball_kernels.inertia_kernel`); the box arithmetic runs as array code over the
+    boxes (:func:`_inertia_arrays`, also the kernel's test oracle in the ball arithmetic).
     """
     q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
