@@ -45,6 +45,47 @@ def test_region_of_the_robots_limits_and_the_missing_ones():
     assert not limited.contains(q + 10, q * 0, q * 0)[0][:5].any()
 
 
+def _contains_elementwise(region, q, qd, qdd, rtol=1e-9):
+    """The definition, state by state: each q within its limits (a full-turn joint's angle
+    taken into [-pi, pi)), |qd| and |qdd| within theirs, up to rtol."""
+    q = np.where(region.full_turn, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
+    span = np.maximum(np.abs(region.q_max - region.q_min), 1e-300)
+    return np.stack([
+        np.all((q >= region.q_min - rtol * span) & (q <= region.q_max + rtol * span), axis=0),
+        np.all(np.abs(qd) <= region.qd_max * (1 + rtol), axis=0),
+        np.all(np.abs(qdd) <= region.qdd_max * (1 + rtol), axis=0)])
+
+
+@pytest.mark.parametrize("name", ["puma560", "ur5"])
+def test_contains_is_the_statewise_definition_with_nan_and_inf(name):
+    """contains (column extremes) equals the state-by-state definition on states inside,
+    just outside (either side, each quantity) and holding NaN or +-inf."""
+    robot = load_robot(name)
+    region = joint_region(robot, robot.qdd_max if name == "puma560" else np.full(6, 3.0))
+    rng = np.random.default_rng(5)
+    q = sample_positions(region, 40)
+    qd = rng.uniform(-1, 1, q.shape) * region.qd_max
+    qdd = rng.uniform(-1, 1, q.shape) * region.qdd_max
+    assert region.contains(q, qd, qdd).all()
+    cases = []
+    for k, x in enumerate((q, qd, qdd)):
+        for bad in (1.1, -1.1, np.nan, np.inf, -np.inf):
+            arrays = [q.copy(), qd.copy(), qdd.copy()]
+            j = int(rng.integers(6))
+            limit = (region.q_max if bad > 0 else region.q_min) if k == 0 and np.isfinite(
+                bad) else (region.qd_max, region.qdd_max)[k - 1] if k else 0.0
+            arrays[k][int(rng.integers(40)), j] = (
+                bad if not np.isfinite(bad) else limit[j] * abs(bad) * np.sign(bad)
+                + (0.1 * np.sign(bad) if k == 0 else 0.0))
+            # a full-turn joint's angle wraps: any finite angle lies inside
+            cases.append((arrays, k == 0 and region.full_turn[j] and np.isfinite(bad)))
+    for arrays, inside in cases:
+        got = region.contains(*arrays)
+        assert got.all() == inside
+        assert np.array_equal(got, _contains_elementwise(region, *arrays))
+    assert region.contains(q[:0], qd[:0], qdd[:0]).all()
+
+
 def test_worst_states_are_states_of_the_region_and_the_largest_over_the_vertices():
     """At each sampled position, the torque at the state worst_states returns equals its value
     (Pinocchio's rnea), and no vertex of the velocity and acceleration limits gives more."""

@@ -44,18 +44,15 @@ def test_keeping_only_one_part_is_the_half_model(puma):
     np.testing.assert_allclose(_model(puma, "none").torque(q, qd, qdd), c, rtol=0, atol=1e-13)
 
 
-def test_torque_in_blocks_is_the_program_on_the_whole_arrays(puma, monkeypatch):
-    """The torque is evaluated TORQUE_BLOCK rows at a time; each row alone, so every value is
-    bit for bit the emitted program's on the whole arrays (and across uneven blocks)."""
-    import gd_analyze.simplify.simplified as simplified
-
+def test_torque_is_the_program_on_the_whole_arrays(puma):
+    """torque is the emitted program's tau bit for bit (its blocks: test_codegen.py), for
+    many states, one state and none."""
     model = _model(puma, "tran")
     q, qd, qdd = random_states(puma, 23, 31)
     whole = model.program()._tau_function(q, qd, qdd)
-    monkeypatch.setattr(simplified, "TORQUE_BLOCK", 5)
-    blocked = model.torque(q, qd, qdd)
-    assert blocked.shape == whole.shape == (23, puma.n)
-    assert np.array_equal(blocked, whole)
+    got = model.torque(q, qd, qdd)
+    assert got.shape == whole.shape == (23, puma.n)
+    assert np.array_equal(got, whole)
     assert model.torque(q[:0], qd[:0], qdd[:0]).shape == (0, puma.n)
     assert np.array_equal(model.torque(q[3], qd[3], qdd[3]), whole[3:4])
 

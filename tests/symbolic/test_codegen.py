@@ -57,3 +57,31 @@ def test_trig_modes_compute_the_same_torques():
     n_rev = int((~np.asarray(arm.prismatic)).sum())
     assert prod.cost()["sin"] <= n_rev and prod.cost()["cos"] <= n_rev
     assert calls.cost()["sin"] + calls.cost()["cos"] >= prod.cost()["sin"] + prod.cost()["cos"]
+
+
+def test_blocked_tau_is_the_emitted_program_on_any_layout(monkeypatch):
+    """python_function evaluates TAU_BLOCK set points at a time on column-contiguous copies:
+    every value is bit for bit the emitted module's tau on the whole arrays, for row-major,
+    column-major and strided inputs, across uneven blocks; one state and no state keep their
+    shapes, and a joint-count mismatch still raises ValueError."""
+    import gd_analyze.symbolic.codegen as codegen
+    from gd_analyze.symbolic.emit import emit_python
+
+    arm, prog = explicit_program("mixed")
+    ns = {}
+    exec(compile(emit_python(prog, {}), "<emitted>", "exec"), ns)
+    q, qd, qdd = states(arm, 23, 8)
+    whole = ns["tau"](q, qd, qdd)
+    monkeypatch.setattr(codegen, "TAU_BLOCK", 5)
+    tau = python_function(prog)
+    table = np.hstack([np.zeros((23, 1)), q, qd, qdd])      # a trajectory file's columns
+    n = arm.n
+    for args in ((q, qd, qdd), tuple(np.asfortranarray(x) for x in (q, qd, qdd)),
+                 (table[:, 1:n + 1], table[:, n + 1:2 * n + 1], table[:, 2 * n + 1:])):
+        got = tau(*args)
+        assert got.shape == (23, n) and np.array_equal(got, whole)
+    assert np.array_equal(tau(q[3], qd[3], qdd[3]), whole[3:4])
+    assert np.array_equal(tau(q[2:5], qd[3], qdd[3]), ns["tau"](q[2:5], qd[3], qdd[3]))
+    assert tau(q[:0], qd[:0], qdd[:0]).shape == (0, n)
+    with pytest.raises(ValueError):
+        tau(q[:, :-1], qd[:, :-1], qdd[:, :-1])

@@ -355,6 +355,12 @@ class Excursion:
                 f"({show(self.value):.4g} {unit} > {show(self.limit):.4g} {unit})")
 
 
+def _peak(x):
+    """max |x| per column of a non-empty (N, n) array, without a temporary of its size; NaN
+    where a column holds NaN."""
+    return np.maximum(x.max(axis=0), -x.min(axis=0))
+
+
 @dataclass(frozen=True, eq=False)
 class Region:
     """A box of joint positions with velocity and acceleration limits.
@@ -430,15 +436,23 @@ class Region:
         """
         span = np.maximum(np.abs(self.q_max - self.q_min), 1e-300)
         q = self._wrapped(q)
+        qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (qd, qdd))
+        if not (q.shape[0] and qd.shape[0] and qdd.shape[0]):
+            return np.ones((3, self.n), bool)
+        # column extremes, no temporaries; a NaN makes them NaN, and every compare False
         return np.stack([
-            np.all((q >= self.q_min - rtol * span) & (q <= self.q_max + rtol * span), axis=0),
-            np.all(np.abs(qd) <= self.qd_max * (1 + rtol), axis=0),
-            np.all(np.abs(qdd) <= self.qdd_max * (1 + rtol), axis=0)])
+            (q.min(axis=0) >= self.q_min - rtol * span)
+            & (q.max(axis=0) <= self.q_max + rtol * span),
+            _peak(qd) <= self.qd_max * (1 + rtol),
+            _peak(qdd) <= self.qdd_max * (1 + rtol)])
 
     def _wrapped(self, q):
         """q with a full-turn joint's angle taken modulo 2 pi into [-pi, pi)."""
         q = np.atleast_2d(np.asarray(q, float))
-        return np.where(self.full_turn, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
+        full = self.full_turn
+        if not full.any():
+            return q
+        return np.where(full, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
 
     def excursion(self, q, qd, qdd, rtol=1e-9):
         """Where a trajectory leaves the region the most, or None if it stays in it.

@@ -11,6 +11,7 @@ The README's "Limits" section lists the same values.
 
 from __future__ import annotations
 
+import math
 import numbers
 from typing import TYPE_CHECKING
 
@@ -98,6 +99,8 @@ def first_beyond(values: ArrayLike, limit: float) -> tuple[int, ...] | None:
     True
     """
     arr = np.asarray(values, dtype=float)
+    if arr.size and -limit <= arr.min() and arr.max() <= limit and limit < math.inf:
+        return None                 # min and max are NaN when any value is, and fail here
     # NaN compares False, so it is caught; +-inf is caught even under an infinite limit
     bad = ~(np.abs(arr) <= limit) | ~np.isfinite(arr)
     if not bad.any():

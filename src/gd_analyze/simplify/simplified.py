@@ -57,10 +57,6 @@ __all__ = ["SCHEMA_VERSION", "CHOICES", "SimplifiedModel", "choice_masks", "merg
 
 #: Version of the simplified_model.json layout (2: explicit terms, rule, tolerance, cost).
 SCHEMA_VERSION = 2
-#: Set points per block of :meth:`SimplifiedModel.torque`: each temporary of the program is
-#: 64 KiB, so a block's stay in the cache (twice as fast at 10^6 set points as whole chunks of
-#: 65,536); every row is computed alone, so the torques do not depend on the block.
-TORQUE_BLOCK = 8192
 #: Older layouts still read (their model is rebuilt from the choices, without pruning).
 READABLE_SCHEMAS = (1, 2)
 #: The stem of the main job's emitted files (``simplified_model.h``, ``.c``, ...).
@@ -430,12 +426,7 @@ class SimplifiedModel:
         """
 
         q, qd, qdd = as_states(self.robot, q, qd, qdd)
-        tau = self._python_tau()
-        out = np.empty(q.shape)
-        for a in range(0, q.shape[0], TORQUE_BLOCK):
-            rows = slice(a, a + TORQUE_BLOCK)
-            out[rows] = tau(q[rows], qd[rows], qdd[rows])
-        return out
+        return np.asarray(self._python_tau()(q, qd, qdd))   # evaluated in blocks
 
     def to_dict(self) -> dict:
         """The model in the layout of simplified_model.json.

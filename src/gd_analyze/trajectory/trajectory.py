@@ -18,6 +18,7 @@ import os
 import re
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -168,12 +169,15 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     """
     path = str(path)
     raw = _read_bytes(path)
-    sha256 = hashlib.sha256(raw).hexdigest()
-    if raw.startswith(_BOM):
-        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
-                      InputNote, stacklevel=2)
-        raw = raw[len(_BOM):]
-    parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
+    # a large file is hashed on a thread beside the parse (hashlib releases the GIL)
+    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-csv-sha256") as pool:
+        digest = pool.submit(_sha256, raw)         # the bytes read, BOM included
+        if raw.startswith(_BOM):
+            warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                          InputNote, stacklevel=2)
+            raw = raw[len(_BOM):]
+        parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
+        sha256 = digest.result()
     values, names, n = parsed if parsed is not None else _validated_values(raw, path,
                                                                             n_joints)
     t = values[:, 0]
@@ -186,6 +190,11 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         how = "cubic-spline"
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
+
+
+def _sha256(data):
+    """SHA-256 of bytes, as 64 hexadecimal digits."""
+    return hashlib.sha256(data).hexdigest()
 
 
 def _spline(t, q, path, row_of):
