@@ -156,3 +156,22 @@ def test_a_recursive_models_choices_say_pruned_where_its_d_or_h_differ_from_pino
         assert ("pruned" in got.values()) == (eps > 0)
         swept = sweep_choices(model, [shipped], setpoints=len(q)).choices
         assert swept == want
+
+
+def test_torque_in_blocks_is_the_masks_on_the_whole_arrays(puma, monkeypatch):
+    """simplified_torque runs block by block; every row is computed alone, so the torques are
+    bit for bit those of the masks applied to the whole arrays, across uneven blocks."""
+    import gd_analyze.simplify.choices as choices_module
+    from gd_analyze.dynamics.dalembert import assemble_tau
+
+    q, qd, qdd = random_states(puma, 11, 9)
+    terms = gd_terms(puma, q, qd)
+    rng = np.random.default_rng(2)
+    choices = {label: CHOICES[k] for label, k in
+               zip(element_labels(puma.n), rng.integers(0, 4, len(element_labels(puma.n))))}
+    Mt, Mr, mt, mr = choice_masks(choices, puma.n)
+    whole = assemble_tau(Mt * terms.D_tran + Mr * terms.D_rot,
+                         mt * terms.h_tran + mr * terms.h_rot, terms.c, qdd)
+    monkeypatch.setattr(choices_module, "_BLOCK", 4)
+    got = simplified_torque(terms, choices, qdd)
+    assert got.shape == (11, puma.n) and np.array_equal(got, whole)

@@ -135,3 +135,37 @@ def test_the_ladder_s_errors_are_measured_block_by_block(puma):
         peaks.append(tracemalloc.get_traced_memory()[1])
         tracemalloc.stop()
     assert peaks[1] < 2 * peaks[0], peaks
+
+
+def test_rungs_with_the_same_code_share_one_evaluation(puma, monkeypatch):
+    """Rungs whose programs are separately built but the same code (and one the same code as
+    the exact program) get the errors each would get alone, from one evaluation per distinct
+    program."""
+    import dataclasses
+
+    import gd_analyze.simplify.recursive_ladder as ladder
+    from gd_analyze.dynamics.base_parameters import random_states
+    from gd_analyze.symbolic.recursive import recursive_program
+
+    robot, base, states, _ = puma
+    exact = recursive_program(robot, base.values)
+
+    def rung(eps):
+        return recursive_model(robot, *states, eps, base=base).choice(robot)[0]
+    # new objects of the same code (programs are memoised: built again, they are the same one)
+    programs = [rung(0.01), dataclasses.replace(exact), rung(0.1),
+                dataclasses.replace(rung(0.01))]
+    assert programs[0] is not programs[3] and programs[1] is not exact
+    q, qd, qdd = random_states(robot, 500, 7)
+    want = np.array([np.abs(python_function(p)(q, qd, qdd) - python_function(exact)(q, qd, qdd))
+                     .max(axis=0) for p in programs])
+    evaluated = []
+
+    def spy(program):
+        evaluated.append(program)
+        return python_function(program)
+    monkeypatch.setattr(ladder, "python_function", spy)
+    got = ladder._worst_errors(exact, programs, q, qd, qdd, 6, block=200)
+    np.testing.assert_array_equal(got, want)
+    assert want[1].max() == 0 and want[0].max() > 0 and want[2].max() > want[0].max()
+    assert {id(p) for p in evaluated} == {id(exact), id(programs[0]), id(programs[2])}

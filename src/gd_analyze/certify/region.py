@@ -355,6 +355,17 @@ class Excursion:
                 f"({show(self.value):.4g} {unit} > {show(self.limit):.4g} {unit})")
 
 
+def _extremes(q, full_turn):
+    """min and max per column of a non-empty (N, n) array of joint positions, each taken
+    modulo 2 pi into [-pi, pi) where ``full_turn`` (:meth:`Region._wrapped`, on those
+    columns only); NaN where a column holds NaN."""
+    lo, hi = q.min(axis=0), q.max(axis=0)
+    for j in np.flatnonzero(np.broadcast_to(full_turn, lo.shape)):
+        column = np.mod(q[:, j] + np.pi, 2 * np.pi) - np.pi
+        lo[j], hi[j] = column.min(), column.max()
+    return lo, hi
+
+
 def _peak(x):
     """max |x| per column of a non-empty (N, n) array, without a temporary of its size; NaN
     where a column holds NaN."""
@@ -435,14 +446,14 @@ class Region:
             Per quantity (q, qd, qdd) and joint: all set points within the limit.
         """
         span = np.maximum(np.abs(self.q_max - self.q_min), 1e-300)
-        q = self._wrapped(q)
-        qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (qd, qdd))
+        q, qd, qdd = (np.atleast_2d(np.asarray(x, float)) for x in (q, qd, qdd))
         if not (q.shape[0] and qd.shape[0] and qdd.shape[0]):
             return np.ones((3, self.n), bool)
-        # column extremes, no temporaries; a NaN makes them NaN, and every compare False
+        # column extremes, no temporaries of the arrays' size; a NaN makes them NaN, and
+        # every compare False
+        lo, hi = _extremes(q, self.full_turn)
         return np.stack([
-            (q.min(axis=0) >= self.q_min - rtol * span)
-            & (q.max(axis=0) <= self.q_max + rtol * span),
+            (lo >= self.q_min - rtol * span) & (hi <= self.q_max + rtol * span),
             _peak(qd) <= self.qd_max * (1 + rtol),
             _peak(qdd) <= self.qdd_max * (1 + rtol)])
 

@@ -111,6 +111,10 @@ def choice_masks(choices: dict, n: int
     return Mt, Mr, mt, mr
 
 
+#: Set points of :func:`simplified_torque` at once.
+_BLOCK = 2048
+
+
 def simplified_torque(terms: GDTerms, choices: dict, qdd: ArrayLike) -> np.ndarray:
     """Torques of the simplified model from already computed G-D terms.
 
@@ -136,10 +140,14 @@ def simplified_torque(terms: GDTerms, choices: dict, qdd: ArrayLike) -> np.ndarr
     """
     n = terms.c.shape[1]
     Mt, Mr, mt, mr = choice_masks(choices, n)
-    D_s = Mt * terms.D_tran + Mr * terms.D_rot
-    h_s = mt * terms.h_tran + mr * terms.h_rot
     qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
-    tau = assemble_tau(D_s, h_s, terms.c, qdd)
+    tau = np.empty(qdd.shape)
+    # block by block: D_s's temporaries stay small (each row is computed alone)
+    for a in range(0, len(qdd), _BLOCK):
+        rows = slice(a, a + _BLOCK)
+        D_s = Mt * terms.D_tran[rows] + Mr * terms.D_rot[rows]
+        h_s = mt * terms.h_tran[rows] + mr * terms.h_rot[rows]
+        tau[rows] = assemble_tau(D_s, h_s, terms.c[rows], qdd[rows])
     if terms.armature is not None:
         tau += terms.armature * qdd
     if terms.tau_f is not None:

@@ -163,13 +163,31 @@ def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
         [N m; N]; NaN where a torque is NaN.
     """
 
-    err = np.zeros((len(programs), n))
+    # rungs whose programs are the same straight-line code (the same assignments and
+    # outputs) share one evaluation; the exact program's rung has none
+    measured: list = []                     # the distinct programs measured
+    which = []                              # each rung's index in it, or -1 for the exact
+    for program in programs:
+        same = [i for i, p in enumerate(measured) if _same_code(p, program)]
+        if program is exact or _same_code(program, exact):
+            which.append(-1)
+        elif same:
+            which.append(same[0])
+        else:
+            which.append(len(measured))
+            measured.append(program)
+    peak = np.zeros((len(measured), n))
     reference = python_function(exact)
     for a in range(0, q.shape[0], max(1, int(block))):
         rows = slice(a, a + block)
         tau = reference(q[rows], qd[rows], qdd[rows])
-        for k, program in enumerate(programs):
-            if program is not exact:
-                got = python_function(program)(q[rows], qd[rows], qdd[rows])
-                np.maximum(err[k], np.abs(np.asarray(got) - tau).max(axis=0), out=err[k])
-    return err
+        for k, program in enumerate(measured):
+            got = python_function(program)(q[rows], qd[rows], qdd[rows])
+            np.maximum(peak[k], np.abs(np.asarray(got) - tau).max(axis=0), out=peak[k])
+    return np.array([np.zeros(n) if k < 0 else peak[k] for k in which]).reshape(-1, n)
+
+
+def _same_code(a, b):
+    """Whether two programs are the same straight-line code: equal assignments and outputs,
+    so their torques are the same floats."""
+    return a is b or (a.n == b.n and a.assignments == b.assignments and a.outputs == b.outputs)
