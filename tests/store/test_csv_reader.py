@@ -274,11 +274,12 @@ def test_fuzz_large_files_parsed_in_pieces_match_the_reference(tmp_path_factory,
         trajectory.PARSE_PIECE = saved
 
 
+@pytest.mark.parametrize("threads", [1, 3])
 @pytest.mark.parametrize("piece", [509, 4099, 1 << 25])
-def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, piece):
+def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, piece, threads):
     """The pandas path, not its cell-by-cell fall-back (which hides a fault of the fast path
-    behind the same answer): a regular file in many pieces gives the reference's values, in
-    order."""
+    behind the same answer): a regular file in many pieces, parsed on one or three threads,
+    gives the reference's values, in order."""
     import gd_analyze.trajectory.trajectory as trajectory
 
     rng = np.random.default_rng(5)
@@ -288,6 +289,7 @@ def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, 
     raw = ("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "\n".join(",".join(r) for r in rows)
            + "\n").encode()
     monkeypatch.setattr(trajectory, "PARSE_PIECE", piece)
+    monkeypatch.setattr(trajectory, "PARSE_THREADS", threads)
     parsed = trajectory._fast_values(raw, "f.csv", None)
     assert parsed is not None
     values, names, n = parsed

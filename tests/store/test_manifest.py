@@ -161,3 +161,36 @@ def test_a_run_into_a_folder_edited_during_its_computation_is_refused_untouched(
             (stage / "a.txt").write_text("new")
     assert (target / "a.txt").read_text() == "own"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_file_hashed_beside_the_run_is_recorded_only_while_unchanged(tmp_path, monkeypatch):
+    """hash_beside's digest goes into the manifest when the file is as it was; a file
+    rewritten after (even to the same size) is hashed again, and the manifest holds the bytes'
+    true SHA-256 either way."""
+    import hashlib
+    import json
+
+    import gd_analyze.store.manifest as manifest
+
+    kept, edited = tmp_path / "kept.bin", tmp_path / "edited.bin"
+    kept.write_bytes(os.urandom(3 << 20))
+    edited.write_bytes(b"a" * 1000)
+    manifest.hash_beside(kept)
+    manifest.hash_beside(edited)
+    time.sleep(0.02)
+    edited.write_bytes(b"b" * 1000)                 # same size, new bytes
+    for _, digest in list(manifest._STAGED.values()):
+        digest.result()                             # both threads done before the spy
+    hashed = []
+    real = manifest.file_sha256
+
+    def spy(path):
+        hashed.append(os.path.basename(path))
+        return real(path)
+    monkeypatch.setattr(manifest, "file_sha256", spy)
+    manifest.write_manifest(tmp_path, "analyze", "0")
+    files = json.loads((tmp_path / manifest_name("analyze")).read_text())["files"]
+    for name in ("kept.bin", "edited.bin"):
+        assert files[name]["sha256"] == hashlib.sha256((tmp_path / name).read_bytes()).hexdigest()
+    assert hashed == ["edited.bin"]
+    assert manifest._STAGED == {}

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import InputError
 from ..model.robot import with_payload
 from ..simplify.simplified import SOURCE_STEM
+from ..store.manifest import hash_beside
 from ..store.model_file import save_model
 from ..store.names import Var
 from ..store.results_view import Results
@@ -205,6 +206,7 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
                                    progress=progress, extra=extra)
+        hash_beside(results)                    # for the manifest, while the rest is written
         model = analysis.model
         save_model(model, stage / "simplified_model.json")
         written = [results, stage / "simplified_model.json"]

@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..files import file_sha256, read_regular
 
 __all__ = ["MANIFEST_PREFIX", "RESERVED_PREFIX", "FolderOwners", "manifest_name",
-           "folder_owners", "write_manifest", "write_transition", "walk_files"]
+           "folder_owners", "write_manifest", "write_transition", "walk_files", "hash_beside"]
 
 MANIFEST_PREFIX = ".gd-analyze-manifest-"
 #: The prefix of gd-analyze's own names: its manifests (inside the folder), its lock and its
@@ -371,12 +371,57 @@ def write_manifest(folder: str | os.PathLike[str], command: str, version: str) -
     for path, st in walk_files(folder):
         if not stat.S_ISREG(st.st_mode):
             continue                            # a run writes regular files only
-        entries[path] = {"sha256": file_sha256(os.path.join(folder, path)),
-                         "size": st.st_size}
+        full = os.path.join(folder, path)
+        entries[path] = {"sha256": _staged_digest(full, st), "size": st.st_size}
     _write_new(os.path.join(folder, manifest_name(command)),
                {"tool": "gd-analyze", "format": 1, "version": str(version),
                 "command": command, "files": entries})
     return list(entries)
+
+
+def hash_beside(path: str | os.PathLike[str]) -> None:
+    """Start hashing a finished file of a run's staging folder on a thread of its own, for
+    :func:`write_manifest` (a large ``results.h5`` is hashed while the run writes the rest).
+
+    The digest is used only if the file's device, inode, size, modification and change times
+    are still those taken before hashing began; otherwise the manifest hashes it again. The
+    staging folder is the run's own (mode 0700). The thread only reads.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A regular file in the staging folder, closed.
+    """
+    full = os.path.abspath(path)
+    try:
+        key = _key(os.stat(full))
+    except OSError:
+        return                                  # write_manifest reports it
+    future: Future = Future()
+
+    def work():
+        try:
+            future.set_result(file_sha256(full))
+        except OSError as exc:
+            future.set_exception(exc)
+    _STAGED[full] = (key, future)
+    threading.Thread(target=work, name="gd-analyze-digest-out", daemon=True).start()
+
+
+def _staged_digest(path, st):
+    """A staged file's SHA-256: the one :func:`hash_beside` made if the file's status is
+    unchanged since, else hashed now."""
+    known = _STAGED.pop(os.path.abspath(path), None)
+    if known is not None and known[0] == _key(st):
+        try:
+            return known[1].result()
+        except OSError:
+            pass                                # hashed again, which reports the error
+    return file_sha256(path)
+
+
+#: Files being hashed by :func:`hash_beside`: absolute path -> (status key, Future of digest).
+_STAGED: dict[str, tuple[tuple, Future]] = {}
 
 
 def _write_new(path, data):

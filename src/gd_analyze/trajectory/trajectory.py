@@ -10,6 +10,7 @@ Rows are counted as a spreadsheet counts them: the header is row 1, the first se
 
 from __future__ import annotations
 
+import collections
 import csv
 import functools
 import hashlib
@@ -433,26 +434,42 @@ def _fast_values(raw, path, n_joints):
                      != (len(names) - 1) * lines):
         return None
     # parsed piece by piece, whole lines each, into one array: the file's bytes and the values
-    # are held once, with pandas' columns of one piece at a time (not of the whole file)
-    values = np.empty((lines, len(names)))
-    start, row = head_end + 1, 0
-    try:
+    # are held once, with pandas' columns of a few pieces at a time (not of the whole file).
+    # The pieces are parsed on PARSE_THREADS threads (pandas' parser releases the GIL) and
+    # copied in in order.
+    def parse(start, stop):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            while start < len(raw):
-                stop = _piece_end(raw, start, PARSE_PIECE)
-                frame = pd.read_csv(io.BytesIO(raw[start:stop]), header=None, names=names,
-                                    dtype=float, engine="c", skipinitialspace=True,
-                                    skip_blank_lines=False, index_col=False,
-                                    **_exact_floats())
-                piece = frame.to_numpy()
-                del frame
-                if piece.shape[1] != len(names) or row + piece.shape[0] > lines:
-                    return None
-                values[row:row + piece.shape[0]] = piece
-                row, start = row + piece.shape[0], stop
+            frame = pd.read_csv(io.BytesIO(raw[start:stop]), header=None, names=names,
+                                dtype=float, engine="c", skipinitialspace=True,
+                                skip_blank_lines=False, index_col=False, **_exact_floats())
+        return frame.to_numpy()
+
+    bounds = []
+    start = head_end + 1
+    while start < len(raw):
+        stop = _piece_end(raw, start, PARSE_PIECE)
+        bounds.append((start, stop))
+        start = stop
+    values = np.empty((lines, len(names)))
+    row = 0
+    pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
+    try:
+        pending = collections.deque(pool.submit(parse, *b) for b in bounds[:PARSE_THREADS + 1])
+        following = iter(bounds[PARSE_THREADS + 1:])
+        while pending:
+            piece = pending.popleft().result()
+            after = next(following, None)
+            if after is not None:
+                pending.append(pool.submit(parse, *after))
+            if piece.shape[1] != len(names) or row + piece.shape[0] > lines:
+                return None
+            values[row:row + piece.shape[0]] = piece
+            row += piece.shape[0]
     except (ValueError, pd.errors.ParserError):
         return None
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
     if (row != lines or not np.isfinite(values).all()
             or not (np.diff(values[:, 0]) > 0).all()):
         return None
@@ -462,6 +479,8 @@ def _fast_values(raw, path, n_joints):
 
 #: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`).
 PARSE_PIECE = 1 << 25
+#: Threads that parse a large file's pieces (at most PARSE_THREADS + 1 pieces' values held).
+PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
 def _piece_end(raw, start, size):
