@@ -14,6 +14,7 @@ import collections
 import csv
 import functools
 import hashlib
+import io
 import math
 import os
 import re
@@ -407,8 +408,6 @@ def _exact_floats():
 def _fast_values(raw, path, n_joints):
     """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
     parser gives the answer, or the exact error)."""
-    import io
-
     import pandas as pd
 
     head_end = raw.find(b"\n")
@@ -440,11 +439,12 @@ def _fast_values(raw, path, n_joints):
     def parse(start, stop):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = pd.read_csv(io.BytesIO(raw[start:stop]), header=None, names=names,
+            frame = pd.read_csv(_PieceReader(view[start:stop]), header=None, names=names,
                                 dtype=float, engine="c", skipinitialspace=True,
                                 skip_blank_lines=False, index_col=False, **_exact_floats())
         return frame.to_numpy()
 
+    view = memoryview(raw)
     bounds = []
     start = head_end + 1
     while start < len(raw):
@@ -475,6 +475,25 @@ def _fast_values(raw, path, n_joints):
         return None
     _check_magnitudes(values, names, path, lambda k: k + 2)
     return values, names, n
+
+
+class _PieceReader:
+    """A binary file over a piece of the file's bytes, read in the blocks pandas asks for: no
+    copy of the whole piece (a fresh 32 MiB per piece, every page of it a fault)."""
+
+    def __init__(self, view: memoryview) -> None:
+        self._view, self._at = view, 0
+
+    def read(self, size: int = -1) -> bytes:
+        """The next ``size`` bytes (all that remain if ``size`` < 0), b"" at the end."""
+        end = len(self._view) if size is None or size < 0 else self._at + size
+        block = bytes(self._view[self._at:end])
+        self._at += len(block)
+        return block
+
+    def __iter__(self):
+        """Lines, for a caller that iterates (pandas' C parser reads blocks)."""
+        return iter(io.BytesIO(bytes(self._view[self._at:])))
 
 
 #: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`).
@@ -535,8 +554,6 @@ def _byte_count(raw, byte, block=COUNT_BLOCK):
 
 def _validated_values(raw, path, n_joints):
     """Parse cell by cell; raise an InputError naming the row and column of the first fault."""
-    import io
-
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:
