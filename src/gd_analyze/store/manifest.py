@@ -248,6 +248,7 @@ def _defer(path, st):
         future: Future = Future()
 
         def work():
+            _yield_cpu()
             try:
                 _remember(key, file_sha256(path))
             except OSError:
@@ -377,6 +378,16 @@ def write_manifest(folder: str | os.PathLike[str], command: str, version: str) -
                {"tool": "gd-analyze", "format": 1, "version": str(version),
                 "command": command, "files": entries})
     return list(entries)
+
+
+def _yield_cpu():
+    """Lower the calling thread's scheduling priority (Linux: the nice value of one thread;
+    elsewhere nothing): a digest wanted only at the run's end takes the processor time the
+    run's computation leaves."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 19)
+    except (AttributeError, OSError):
+        pass
 
 
 def hash_beside(path: str | os.PathLike[str]) -> None:
