@@ -455,8 +455,8 @@ def _fast_values(raw, path, n_joints):
     row = 0
     pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
     try:
-        pending = collections.deque(pool.submit(parse, *b) for b in bounds[:PARSE_THREADS + 1])
-        following = iter(bounds[PARSE_THREADS + 1:])
+        pending = collections.deque(pool.submit(parse, *b) for b in bounds[:PARSE_THREADS])
+        following = iter(bounds[PARSE_THREADS:])
         while pending:
             piece = pending.popleft().result()
             after = next(following, None)
@@ -498,7 +498,7 @@ class _PieceReader:
 
 #: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`).
 PARSE_PIECE = 1 << 25
-#: Threads that parse a large file's pieces (at most PARSE_THREADS + 1 pieces' values held).
+#: Threads that parse a large file's pieces (at most PARSE_THREADS pieces in flight).
 PARSE_THREADS = max(1, min(4, os.cpu_count() or 1))
 
 
