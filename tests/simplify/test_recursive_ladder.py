@@ -108,39 +108,46 @@ def test_the_default_run_stores_and_draws_the_recursive_ladder(shared_puma):
 
 
 def test_the_ladder_s_errors_are_measured_block_by_block(puma):
-    """_worst_errors gives each rung's peak |tau_s - tau| per joint, as the whole trajectory
-    at once does, and its largest allocation for 10^5 set points is less than twice that for
-    10^4 (it held every rung's (N, n) torques and temporaries at once)."""
+    """The meter gives each rung's peak |tau_s - tau| per joint, fed in uneven blocks, as the
+    whole trajectory at once does, with the deployed rung's torques given or evaluated; and
+    the ladder measured here holds no more for 10^5 set points than for 10^4 (less than
+    twice: every rung's (N, n) torques are never held at once)."""
     import tracemalloc
 
     from gd_analyze.dynamics.base_parameters import random_states
-    from gd_analyze.simplify.recursive_ladder import _worst_errors
+    from gd_analyze.simplify.recursive_ladder import LadderMeter
+    from gd_analyze.symbolic.drive_regressor import with_drives
     from gd_analyze.symbolic.recursive import recursive_program
 
     robot, base, states, _ = puma
-    exact = recursive_program(robot, base.values)
-    programs = [exact] + [recursive_model(robot, *states, eps, base=base).choice(robot)[0]
-                          for eps in (0.01, 0.1)]
+    exact = with_drives(recursive_program(robot, base.values), robot)
+    rungs = [(eps, rec, with_drives(rec.choice(robot)[0], robot)) for eps, rec in
+             ((eps, recursive_model(robot, *states, eps, base=base)) for eps in (0.0, 0.01, 0.1))]
     q, qd, qdd = random_states(robot, 3000, 5)
-    want = np.array([np.abs(python_function(p)(q, qd, qdd) - python_function(exact)(q, qd, qdd))
-                     .max(axis=0) for p in programs])
-    np.testing.assert_array_equal(_worst_errors(exact, programs, q, qd, qdd, 6, block=700),
-                                  want)
-    assert want[0].max() == 0 and want[2].max() > 0
+    ref = python_function(exact)(q, qd, qdd)
+    want = np.array([np.abs(python_function(p)(q, qd, qdd) - ref).max(axis=0)
+                     for _, _, p in rungs])
+    for deployed, given in ((None, False), (1, False), (1, True)):
+        meter = LadderMeter(robot.n, rungs, deployed)
+        for a in range(0, 3000, 700):
+            rows = slice(a, a + 700)
+            mine = python_function(rungs[1][2])(q[rows], qd[rows], qdd[rows]) if given else None
+            meter.update(q[rows], qd[rows], qdd[rows], ref[rows], mine)
+        np.testing.assert_array_equal(meter.peaks(), want)
+    assert want[0].max() < 1e-9 * np.abs(ref).max() and want[2].max() > want[1].max() > 0
     peaks = []
     for N in (10_000, 100_000):
         q, qd, qdd = random_states(robot, N, 6)
         tracemalloc.start()
-        _worst_errors(exact, programs, q, qd, qdd, 6)
+        recursive_ladder(robot, base, (q, qd, qdd), (0.01, 0.1), contributions=None)
         peaks.append(tracemalloc.get_traced_memory()[1])
         tracemalloc.stop()
     assert peaks[1] < 2 * peaks[0], peaks
 
 
 def test_rungs_with_the_same_code_share_one_evaluation(puma, monkeypatch):
-    """Rungs whose programs are separately built but the same code (and one the same code as
-    the exact program) get the errors each would get alone, from one evaluation per distinct
-    program."""
+    """Rungs whose programs are separately built but the same code get the errors each
+    would get alone, from one evaluation per distinct program."""
     import dataclasses
 
     import gd_analyze.simplify.recursive_ladder as ladder
@@ -151,21 +158,26 @@ def test_rungs_with_the_same_code_share_one_evaluation(puma, monkeypatch):
     exact = recursive_program(robot, base.values)
 
     def rung(eps):
-        return recursive_model(robot, *states, eps, base=base).choice(robot)[0]
+        rec = recursive_model(robot, *states, eps, base=base)
+        return eps, rec, rec.choice(robot)[0]
     # new objects of the same code (programs are memoised: built again, they are the same one)
-    programs = [rung(0.01), dataclasses.replace(exact), rung(0.1),
-                dataclasses.replace(rung(0.01))]
-    assert programs[0] is not programs[3] and programs[1] is not exact
+    rungs = [rung(0.01), rung(0.0), rung(0.1), rung(0.01)]
+    rungs[3] = (*rungs[3][:2], dataclasses.replace(rungs[3][2]))
+    assert rungs[0][2] is not rungs[3][2]
     q, qd, qdd = random_states(robot, 500, 7)
-    want = np.array([np.abs(python_function(p)(q, qd, qdd) - python_function(exact)(q, qd, qdd))
-                     .max(axis=0) for p in programs])
+    ref = python_function(exact)(q, qd, qdd)
+    want = np.array([np.abs(python_function(p)(q, qd, qdd) - ref).max(axis=0)
+                     for _, _, p in rungs])
     evaluated = []
 
     def spy(program):
         evaluated.append(program)
         return python_function(program)
     monkeypatch.setattr(ladder, "python_function", spy)
-    got = ladder._worst_errors(exact, programs, q, qd, qdd, 6, block=200)
-    np.testing.assert_array_equal(got, want)
-    assert want[1].max() == 0 and want[0].max() > 0 and want[2].max() > want[0].max()
-    assert {id(p) for p in evaluated} == {id(exact), id(programs[0]), id(programs[2])}
+    meter = ladder.LadderMeter(robot.n, rungs)
+    evaluated.clear()
+    meter.update(q, qd, qdd, ref)
+    np.testing.assert_array_equal(meter.peaks(), want)
+    assert want[2].max() > want[0].max() > 0
+    assert {id(p) for p in evaluated} == {id(rungs[k][2]) for k in (0, 1, 2)}
+    assert len(evaluated) == 3

@@ -379,12 +379,17 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     # the model of the other rule, compared side by side: its error in the same pass
     other_errors = None if other is None else TorqueErrorAccumulator(n)
     tau_s_all = []
+    # the recursive ladder's rungs, measured against this pass's tau and the deployed model's
+    meter = deployed.meter() if simplify is not None else None
     with contextlib.ExitStack() as stack:
-        # the other rule's model runs chunk by chunk on a thread of its own beside the deployed
-        # one (numpy releases the GIL in its loops); its chunks keep their order
+        # the other rule's model and the ladder's rungs run chunk by chunk on threads of their
+        # own beside the deployed model (numpy releases the GIL in its loops); their chunks
+        # keep their order, one in flight each
         side = None if other is None else stack.enter_context(
             ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-other"))
-        pending = None
+        rungs = None if meter is None else stack.enter_context(
+            ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder"))
+        pending = measuring = None
         for k, (a, b) in enumerate(ranges):
             if hold:
                 terms, tau = held[k], held_tau[k]
@@ -403,13 +408,18 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
                 model.torque(q[a:b], qd[a:b], qdd[a:b])
             errors.update(tau_s, tau)
+            if rungs is not None:
+                if measuring is not None:
+                    measuring.result()
+                measuring = rungs.submit(meter.update, q[a:b], qd[a:b], qdd[a:b], tau, tau_s)
             if writer is not None:
                 writer.write(a, {"tau_simplified": tau_s})
             if hold:                        # in memory too: the report reads them from there
                 tau_s_all.append(tau_s)
             bar.update(b - a)
-        if pending is not None:
-            pending.result()
+        for job in (pending, measuring):
+            if job is not None:
+                job.result()
     if own:
         bar.close()
     if simplify is not None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -32,7 +32,7 @@ from .explicit_model import (
     ladder_skipped,
 )
 from .guarantee import Guarantee
-from .recursive_ladder import recursive_ladder
+from .recursive_ladder import LadderMeter, recursive_ladder
 from .region_memo import UNKEPT, Derivations
 from .simplified import total_operations
 
@@ -267,9 +267,10 @@ class Deployment:
         The explicit model of the other rule, compared with it (None: not derived).
     selection : Selection
         The deployed model's selection (its dropped terms or pairs, bound and scale).
-    ladder : list of dict or Future
-        The tolerance ladder's rows of the form deployed, or their Future (measured in a
-        thread); empty where it is not built.
+    ladder : list of dict or LadderMeter
+        The tolerance ladder's rows of the form deployed, or the recursive form's rungs
+        waiting to be measured on the trajectory (:meth:`meter`); empty where it is not
+        built.
     ladder_skipped : str
         Why the ladder is not built, or "".
     form_note : str
@@ -297,7 +298,7 @@ class Deployment:
     counts: Mapping[str, Any]
 
     def ladder_rows(self) -> list[dict[str, Any]]:
-        """The ladder's rows, waiting for their thread where it measures them.
+        """The ladder's rows (the meter's as measured so far: after the caller's pass).
 
         Returns
         -------
@@ -305,7 +306,13 @@ class Deployment:
             As :func:`gd_analyze.simplify.recursive_ladder.recursive_ladder` or
             :func:`gd_analyze.simplify.explicit_model.ladder` give them.
         """
-        return self.ladder.result() if isinstance(self.ladder, Future) else list(self.ladder)
+        return self.ladder.rows() if isinstance(self.ladder, LadderMeter) else list(self.ladder)
+
+    def meter(self) -> LadderMeter | None:
+        """The recursive ladder's rungs, built and waiting for the trajectory's blocks
+        (:meth:`~gd_analyze.simplify.recursive_ladder.LadderMeter.update`), or None where the
+        ladder is measured already or not built."""
+        return self.ladder if isinstance(self.ladder, LadderMeter) else None
 
 
 def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartPeaks,
@@ -386,7 +393,7 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
     # no ladder is certified either
     screen = rec.provenance.get("region_screen") if proved else None
     screened = screen if screen and not screen.get("proved") else None
-    rows: Any = []              # the ladder's rows, or their Future (recursive_ladder)
+    rows: Any = []              # the ladder's rows, or its meter (recursive_ladder)
     sel: Any = None             # the deployed model's selection, set for each form below
     model, skipped = rec, _screened_ladder(screened)
     if choice.form == "explicit":               # the ladder of the form deployed
@@ -430,15 +437,12 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
                         f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
     if model.recursive is not None:             # its own bound, restored pairs included
         sel, skipped, rows = recursive_selection(model), _screened_ladder(screened), []
-    pool = None
     if model.recursive is not None and not screened:        # the recursive form's ladder
-        # measured over the trajectory in a thread, beside the error pass
-        pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder")
+        # built here, measured by the caller's pass over the trajectory (Deployment.meter)
         rows = recursive_ladder(robot, contributions[0], (q, qd, qdd), LADDER, torque_floor,
                                 region=region if proved else None,
-                                contributions=contributions[1], deployed=model, pool=pool,
+                                contributions=contributions[1], deployed=model, beside=True,
                                 derive=derive)
-        pool.shutdown(wait=False)               # the thread ends when its one job has
     return Deployment(model, other, sel, rows, skipped, form_note, region, screen, terms, counts)
 
 

@@ -8,7 +8,6 @@ counted, and its torque error measured on the trajectory. Nothing here prints or
 
 from __future__ import annotations
 
-import concurrent.futures
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -27,7 +26,7 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
 
-__all__ = ["recursive_ladder", "LADDER_BLOCK"]
+__all__ = ["recursive_ladder", "LadderMeter", "LADDER_BLOCK"]
 
 #: Set points whose torques each rung evaluates at once (the blocks of
 #: :meth:`gd_analyze.simplify.simplified.SimplifiedModel.torque`).
@@ -39,9 +38,8 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
                      tolerances: Sequence[float], torque_floor: float = 0.0,
                      region: Region | None = None,
                      contributions: tuple[np.ndarray, ...] | None = None,
-                     deployed: SimplifiedModel | None = None,
-                     pool: concurrent.futures.Executor | None = None,
-                     derive: Derivations = UNKEPT) -> list[dict] | concurrent.futures.Future:
+                     deployed: SimplifiedModel | None = None, beside: bool = False,
+                     derive: Derivations = UNKEPT) -> list[dict] | LadderMeter:
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -69,21 +67,22 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
         The recursive model built at one of the tolerances
         (:func:`gd_analyze.simplify.deploy.recursive_simplified`): its rung takes its program
         instead of building it again, and every rung its exact program.
-    pool : concurrent.futures.Executor, optional
-        Where the rungs' errors are measured over the trajectory (numpy array code, which
-        releases the GIL), beside the caller's next work; the rungs' models, programs and
-        counts are built before, in the caller's thread. Then a Future of the list is returned.
+    beside : bool, optional
+        Build the rungs (models, programs, counts) and return them unmeasured, as a
+        :class:`LadderMeter` the caller feeds with the trajectory's blocks and its own
+        reference torques (the main job's pass, on a thread beside it); default: measured here
+        against the exact recursive program, block by block.
     derive : Derivations, optional
         Where certifications and searches are kept between runs
         (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
 
     Returns
     -------
-    list of dict, or concurrent.futures.Future of it (with ``pool``)
+    list of dict, or LadderMeter (with ``beside``)
         Per EPS: ``tolerance``; ``multiplications``, ``additions``, ``sin``, ``cos`` of the
         rung's program with the drives (:func:`gd_analyze.symbolic.drive_regressor.with_drives`);
         ``worst_relative_error``: max over joints of peak |tau_s - tau| / s_i on the
-        trajectory, tau from the exact recursive program and s_i the rung's scale (over the
+        trajectory, tau from the exact recursive program (or the caller's reference) and s_i the rung's scale (over the
         region, or the trajectory's peak |tau_i| with the floor); ``worst_relative_bound``: max over joints of
         its bound / s_i (<= EPS).
 
@@ -120,71 +119,102 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
                                  rec.dropped.any() else None)[0]
             if store is not None:
                 store(exact.forms, None if program is exact else program.forms)
-        rungs.append((eps, rec, program, with_drives(program, robot).cost()))
-    programs = [program for _, _, program, _ in rungs]
-    for program in (exact, *programs):       # compiled here, in the caller's thread
-        python_function(program)
+        rungs.append((eps, rec, with_drives(program, robot)))
+    at = [k for k, (eps, _, _) in enumerate(rungs)
+          if deployed is not None and eps == float(deployed.tolerance)]
+    meter = LadderMeter(robot.n, rungs, at[0] if at else None)
+    if beside:
+        return meter
+    reference = python_function(with_drives(exact, robot))
+    for a in range(0, q.shape[0], LADDER_BLOCK):
+        rows = slice(a, a + LADDER_BLOCK)
+        meter.update(q[rows], qd[rows], qdd[rows], reference(q[rows], qd[rows], qdd[rows]))
+    return meter.rows()
 
-    def measured():
-        err = _worst_errors(exact, programs, q, qd, qdd, robot.n)
+
+class LadderMeter:
+    """The rungs of a tolerance ladder, built, and each one's peak |tau_s - tau| per joint,
+    measured block by block against a reference torque (:meth:`update`).
+
+    Rungs whose programs are the same straight-line code share one evaluation. The deployed
+    model's rung takes the deployed model's torques when the caller has them (the main job's
+    pass computes them anyway).
+
+    Parameters
+    ----------
+    n : int
+        Joints.
+    rungs : list of (float, RecursiveModel, Program)
+        Per EPS: the pruned model and its program with the drives
+        (:func:`gd_analyze.symbolic.drive_regressor.with_drives`).
+    deployed : int, optional
+        The index of the deployed model's rung.
+    """
+
+    def __init__(self, n: int, rungs: list, deployed: int | None = None) -> None:
+        self.n, self._rungs, self._deployed = n, rungs, deployed
+        self._distinct: list = []           # the programs evaluated
+        self._which: list[int] = []         # each rung's index in them; -1 the deployed one's
+        for k, (_, _, program) in enumerate(rungs):
+            same = [i for i, p in enumerate(self._distinct) if _same_code(p, program)]
+            if k == deployed:
+                self._which.append(-1)
+            elif same:
+                self._which.append(same[0])
+            else:
+                self._which.append(len(self._distinct))
+                self._distinct.append(program)
+        for program in self._distinct:      # compiled here, in the caller's thread
+            python_function(program)
+        self._peak = np.zeros((len(self._distinct), n))
+        self._deployed_peak = np.zeros(n)
+
+    def update(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
+               tau_deployed: np.ndarray | None = None) -> None:
+        """Fold one block of set points into the peaks.
+
+        Parameters
+        ----------
+        q, qd, qdd : ndarray, shape (B, n)
+            The block's states [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+        tau : ndarray, shape (B, n)
+            The reference torques there (the exact model's) [N m; N].
+        tau_deployed : ndarray, shape (B, n), optional
+            The deployed model's torques there; evaluated here when not given.
+        """
+        if len(q) == 0:
+            return
+        for k, program in enumerate(self._distinct):
+            got = np.asarray(python_function(program)(q, qd, qdd))
+            np.maximum(self._peak[k], np.abs(got - tau).max(axis=0), out=self._peak[k])
+        if self._deployed is not None:
+            got = tau_deployed if tau_deployed is not None else np.asarray(
+                python_function(self._rungs[self._deployed][2])(q, qd, qdd))
+            np.maximum(self._deployed_peak, np.abs(got - tau).max(axis=0),
+                       out=self._deployed_peak)
+
+    def peaks(self) -> np.ndarray:
+        """ndarray, shape (rungs, n): each rung's peak |tau_s - tau| per joint so far [N m; N];
+        NaN where a torque was NaN."""
+        return np.array([self._deployed_peak if k < 0 else self._peak[k]
+                         for k in self._which]).reshape(-1, self.n)
+
+    def rows(self) -> list[dict]:
+        """The ladder's rows, as :func:`recursive_ladder` returns them.
+
+        Returns
+        -------
+        list of dict
+        """
         rows = []
-        for (eps, rec, _, cost), worst in zip(rungs, err):
+        for (eps, rec, program), worst in zip(self._rungs, self.peaks()):
             scale = np.asarray(rec.scale, float)
             safe = np.where(scale > 0, scale, np.inf)
-            rows.append({"tolerance": eps, **cost,
+            rows.append({"tolerance": eps, **program.cost(),
                          "worst_relative_error": float(np.max(worst / safe)),
                          "worst_relative_bound": float(np.max(np.asarray(rec.bound, float)
                                                               / safe))})
         return rows
-
-    return measured() if pool is None else pool.submit(measured)
-
-
-def _worst_errors(exact, programs, q, qd, qdd, n, block=LADDER_BLOCK):
-    """Peak |tau_s - tau| per joint of each program against the exact one, block by block.
-
-    Parameters
-    ----------
-    exact : Program
-        The exact recursive program (the reference tau).
-    programs : list of Program
-        The rungs' programs; one that is ``exact`` has error 0.
-    q, qd, qdd : ndarray, shape (N, n)
-        The trajectory [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    n : int
-        Joints.
-    block : int, optional
-        Set points evaluated at once: memory stays a few (block, n) temporaries of each
-        program whatever N is, and the peaks do not depend on it (every row is computed alone).
-
-    Returns
-    -------
-    ndarray, shape (len(programs), n)
-        [N m; N]; NaN where a torque is NaN.
-    """
-
-    # rungs whose programs are the same straight-line code (the same assignments and
-    # outputs) share one evaluation; the exact program's rung has none
-    measured: list = []                     # the distinct programs measured
-    which = []                              # each rung's index in it, or -1 for the exact
-    for program in programs:
-        same = [i for i, p in enumerate(measured) if _same_code(p, program)]
-        if program is exact or _same_code(program, exact):
-            which.append(-1)
-        elif same:
-            which.append(same[0])
-        else:
-            which.append(len(measured))
-            measured.append(program)
-    peak = np.zeros((len(measured), n))
-    reference = python_function(exact)
-    for a in range(0, q.shape[0], max(1, int(block))):
-        rows = slice(a, a + block)
-        tau = reference(q[rows], qd[rows], qdd[rows])
-        for k, program in enumerate(measured):
-            got = python_function(program)(q[rows], qd[rows], qdd[rows])
-            np.maximum(peak[k], np.abs(np.asarray(got) - tau).max(axis=0), out=peak[k])
-    return np.array([np.zeros(n) if k < 0 else peak[k] for k in which]).reshape(-1, n)
 
 
 def _same_code(a, b):
