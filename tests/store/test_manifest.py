@@ -194,3 +194,26 @@ def test_a_file_hashed_beside_the_run_is_recorded_only_while_unchanged(tmp_path,
         assert files[name]["sha256"] == hashlib.sha256((tmp_path / name).read_bytes()).hexdigest()
     assert hashed == ["edited.bin"]
     assert manifest._STAGED == {}
+
+
+def test_the_digest_thread_yields_the_processor_and_the_run_does_not():
+    """_yield_cpu lowers the calling thread's priority only (Linux: its nice value 19); the
+    thread that called it is the only one changed."""
+    import sys
+    import threading
+
+    import gd_analyze.store.manifest as manifest
+
+    seen = {}
+
+    def work():
+        manifest._yield_cpu()
+        if sys.platform.startswith("linux"):
+            seen["thread"] = os.getpriority(os.PRIO_PROCESS, threading.get_native_id())
+    before = os.getpriority(os.PRIO_PROCESS, 0)
+    t = threading.Thread(target=work)
+    t.start()
+    t.join()
+    assert os.getpriority(os.PRIO_PROCESS, 0) == before
+    if sys.platform.startswith("linux"):
+        assert seen["thread"] == 19

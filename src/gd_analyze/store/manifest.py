@@ -17,6 +17,7 @@ import json
 import os
 import re
 import stat
+import sys
 import threading
 import time
 from collections.abc import Collection, Iterator, Mapping
@@ -384,6 +385,8 @@ def _yield_cpu():
     """Lower the calling thread's scheduling priority (Linux: the nice value of one thread;
     elsewhere nothing): a digest wanted only at the run's end takes the processor time the
     run's computation leaves."""
+    if not sys.platform.startswith("linux"):  # elsewhere the id would name a process
+        return
     try:
         os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 19)
     except (AttributeError, OSError):
