@@ -366,7 +366,6 @@ def deployment_dataset(deployment: Deployment, trajectory: Trajectory,
         :func:`region_coverage` and :func:`region_screen_attrs`.
     """
     d = deployment
-    coverage = region_coverage(d.region, trajectory)    # while the ladder's thread ends
     rungs = d.ladder_rows()
     table = cost_rows(d.model.robot.n, d.model, other=d.other, ladder_rows=rungs,
                       formulation_counts=d.counts)
@@ -378,7 +377,7 @@ def deployment_dataset(deployment: Deployment, trajectory: Trajectory,
         extra.attrs["simplified_ladder_form"] = d.model.form
     if d.form_note:
         extra.attrs["simplified_form_note"] = d.form_note
-    extra.attrs.update(coverage)
+    extra.attrs.update(region_coverage(d.region, trajectory))
     if d.screen:
         extra.attrs.update(region_screen_attrs(d.screen))
     return extra

@@ -28,8 +28,8 @@ if TYPE_CHECKING:
 
 __all__ = ["recursive_ladder", "LadderMeter", "LADDER_BLOCK"]
 
-#: Set points whose torques each rung evaluates at once (the blocks of
-#: :meth:`gd_analyze.simplify.simplified.SimplifiedModel.torque`).
+#: Set points whose torques each rung evaluates at once where :func:`recursive_ladder`
+#: measures the ladder itself (the main job's pass feeds its own blocks).
 LADDER_BLOCK = 8192
 
 
@@ -82,9 +82,10 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
         Per EPS: ``tolerance``; ``multiplications``, ``additions``, ``sin``, ``cos`` of the
         rung's program with the drives (:func:`gd_analyze.symbolic.drive_regressor.with_drives`);
         ``worst_relative_error``: max over joints of peak |tau_s - tau| / s_i on the
-        trajectory, tau from the exact recursive program (or the caller's reference) and s_i the rung's scale (over the
-        region, or the trajectory's peak |tau_i| with the floor); ``worst_relative_bound``: max over joints of
-        its bound / s_i (<= EPS).
+        trajectory, tau from the exact recursive program with the drives (or the caller's
+        reference) and s_i the rung's scale (over the region, or the trajectory's peak
+        |tau_i| with the floor); ``worst_relative_bound``: max over joints of its bound / s_i
+        (<= EPS).
 
     Raises
     ------
