@@ -479,7 +479,7 @@ def _fast_values(raw, path, n_joints):
 
 class _PieceReader:
     """A binary file over a piece of the file's bytes, read in the blocks pandas asks for: no
-    copy of the whole piece (a fresh 32 MiB per piece, every page of it a fault)."""
+    copy of the whole piece (a fresh allocation per piece, every page of it a fault)."""
 
     def __init__(self, view: memoryview) -> None:
         self._view, self._at = view, 0
