@@ -361,9 +361,14 @@ def _extremes(q, full_turn):
     columns only); NaN where a column holds NaN."""
     lo, hi = q.min(axis=0), q.max(axis=0)
     for j in np.flatnonzero(np.broadcast_to(full_turn, lo.shape)):
-        column = np.mod(q[:, j] + np.pi, 2 * np.pi) - np.pi
+        column = _wrap(q[:, j])
         lo[j], hi[j] = column.min(), column.max()
     return lo, hi
+
+
+def _wrap(angle):
+    """An angle [rad] taken modulo 2 pi into [-pi, pi)."""
+    return np.mod(angle + np.pi, 2 * np.pi) - np.pi
 
 
 def _peak(x):
@@ -463,7 +468,7 @@ class Region:
         full = self.full_turn
         if not full.any():
             return q
-        return np.where(full, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
+        return np.where(full, _wrap(q), q)
 
     def excursion(self, q, qd, qdd, rtol=1e-9):
         """Where a trajectory leaves the region the most, or None if it stays in it.

@@ -150,6 +150,11 @@ class LadderMeter:
         (:func:`gd_analyze.symbolic.drive_regressor.with_drives`).
     deployed : int, optional
         The index of the deployed model's rung.
+
+    Notes
+    -----
+    tau is Eq. (3.4-24) of Fu, Gonzalez & Lee (1987); each rung's program is that of
+    :func:`recursive_ladder` (Algorithm 3.1 on the base parameters, pruned).
     """
 
     def __init__(self, n: int, rungs: list, deployed: int | None = None) -> None:
@@ -179,7 +184,7 @@ class LadderMeter:
         q, qd, qdd : ndarray, shape (B, n)
             The block's states [rad, rad/s, rad/s^2; m, m/s, m/s^2].
         tau : ndarray, shape (B, n)
-            The reference torques there (the exact model's) [N m; N].
+            The reference torques there: the exact model's, drives included [N m; N].
         tau_deployed : ndarray, shape (B, n), optional
             The deployed model's torques there; evaluated here when not given.
         """

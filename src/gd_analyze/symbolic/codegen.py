@@ -109,10 +109,8 @@ def _blocked(tau):
         q, qd, qdd = (np.asarray(x, dtype=float) for x in (q, qd, qdd))
         if q.ndim != 2 or q.shape != qd.shape or q.shape != qdd.shape:
             return tau(q, qd, qdd)
-        if q.shape[0] <= TAU_BLOCK:
-            return tau(np.asfortranarray(q), np.asfortranarray(qd), np.asfortranarray(qdd))
         out = np.empty(q.shape)
-        for a in range(0, q.shape[0], TAU_BLOCK):
+        for a in range(0, max(q.shape[0], 1), TAU_BLOCK):    # no set point: tau checks n
             rows = slice(a, a + TAU_BLOCK)
             out[rows] = tau(np.asfortranarray(q[rows]), np.asfortranarray(qd[rows]),
                             np.asfortranarray(qdd[rows]))
