@@ -25,6 +25,14 @@ def _prepared(truth, robot, seconds, seed, noise=0.0, outliers=0):
                       prismatic=robot.prismatic), (q, qd, qdd)
 
 
+def _stacked(rows):
+    """A recording's filtered regressor rows (RegressorRows) as one array, shape (N, n, p)."""
+    blocks = sorted(rows, key=lambda block: block[0])
+    assert [a for a, _, _ in blocks[1:]] == [b for _, b, _ in blocks[:-1]]   # a tiling
+    assert blocks[0][0] == 0 and blocks[-1][1] == rows.rows
+    return np.concatenate([Y for _, _, Y in blocks])
+
+
 def test_noise_free_training_gives_the_true_torques_and_drives():
     robot = load_robot("puma560")
     truth = truth_for(robot)
@@ -32,7 +40,7 @@ def test_noise_free_training_gives_the_true_torques_and_drives():
     fit, regressors = fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
     tau_true = truth.torque(q, qd, qdd)[pre.keep]
     scale = np.abs(tau_true).max()
-    assert np.abs(regressors[0] @ fit.theta - tau_true).max() < 1e-8 * scale
+    assert np.abs(_stacked(regressors[0]) @ fit.theta - tau_true).max() < 1e-8 * scale
     values = dict(zip(fit.names, fit.theta))
     for kind, true in (("viscous", truth.viscous), ("coulomb", truth.coulomb),
                        ("offset", truth.offset)):
@@ -40,7 +48,7 @@ def test_noise_free_training_gives_the_true_torques_and_drives():
         np.testing.assert_allclose(got, true, rtol=0, atol=1e-8 * scale)
     np.testing.assert_allclose(fit.offsets, truth.offset, rtol=0, atol=1e-8 * scale)
     # the robot file as shipped is far off: the test can fail
-    assert np.abs(regressors[0] @ fit.prior - tau_true).max() > 1e-2 * scale
+    assert np.abs(_stacked(regressors[0]) @ fit.prior - tau_true).max() > 1e-2 * scale
     assert fit.kinds[fit.base.rank:] == tuple(k for k in DRIVE_KINDS
                                              if k in ("viscous", "coulomb", "offset")
                                              for _ in range(robot.n))
@@ -55,4 +63,4 @@ def test_outlier_rows_are_left_out_and_the_fit_repeated():
     moving = moving_rows(pre.qd[pre.keep], fit.threshold)[0] | pre.held[None, :]
     assert (moving[:, 0] & ~fit.used[0][:, 0]).sum() >= 5     # the five, at least
     tau_true = truth.torque(q, qd, qdd)[pre.keep]
-    assert np.abs(regressors[0] @ fit.theta - tau_true).max() < 1e-2 * np.abs(tau_true).max()
+    assert np.abs(_stacked(regressors[0]) @ fit.theta - tau_true).max() < 1e-2 * np.abs(tau_true).max()

@@ -88,3 +88,37 @@ def test_a_joint_held_still_has_zero_speed_and_acceleration():
     assert any("joint(s) 2 held still" in note for note in pre.notes)
     small = np.column_stack([0.0025 * np.sin(0.5 * t), 0.0025 * np.sin(0.5 * t)])
     assert still_joints(small, np.array([True, False])).tolist() == [False, True]
+
+
+@pytest.mark.parametrize("cutoff", [5.0, 1.5, None])
+@pytest.mark.parametrize("rows", [1, 7, 64, 10**6])
+def test_blocks_are_the_whole_segments_filtered(cutoff, rows):
+    """filtered_blocks against scipy's sosfiltfilt on each whole segment: the same numbers,
+    every sample once, each sample made at most twice, never more than a block at a time."""
+    t = np.concatenate([np.arange(0, 6, 0.01), np.arange(10, 15, 0.01)])    # a gap: 2 segments
+    q = _signal(t)[0]
+    pre = preprocess(t, q, q, cutoff=cutoff)
+    assert len(pre.segments) == 2
+    x = np.random.default_rng(3).normal(size=(pre.t.size, 2, 3))
+    if cutoff is None:
+        whole = x
+    else:
+        sos = signal.butter(4, cutoff, fs=1 / pre.step, output="sos")
+        whole = np.concatenate([signal.sosfiltfilt(sos, x[a:b], axis=0)
+                                for a, b in pre.segments])
+    made = np.zeros(pre.t.size, int)
+
+    def make(a, b):
+        assert b - a <= max(rows, 3 * (2 * 2 + 1) + 1)     # a block, or an end's extension
+        made[a:b] += 1
+        return x[a:b].copy()
+    out = np.full(x.shape, np.nan)
+    for a, b, y in pre.filtered_blocks(make, rows):
+        assert np.isnan(out[a:b]).all()                     # each sample yielded once
+        out[a:b] = y
+    assert np.array_equal(out, whole)
+    assert made.max() <= 3 and np.median(made) <= (1 if cutoff is None else 2)
+    for a, b, y in pre.filtered_blocks(lambda a, b: x[a:b, 0, 0], rows):  # a 1-D signal
+        np.testing.assert_array_equal(y, whole[a:b, 0, 0])
+    with pytest.raises(ValueError, match="rows"):
+        next(pre.filtered_blocks(make, 0))

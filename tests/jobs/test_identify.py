@@ -293,3 +293,65 @@ def test_simplify_builds_the_region_model_of_the_identified_robot():
     rel_simp = np.linalg.norm(meas - fit.tau_simplified) / np.linalg.norm(meas)
     assert np.isclose(fit.errors("simplified")[2], rel_simp, rtol=1e-12)
     assert rel_full < 0.05 and abs(rel_simp - rel_full) < 0.01, (rel_full, rel_simp)
+
+
+def test_a_recording_too_large_to_keep_is_identified_block_by_block_alike(monkeypatch):
+    """A recording whose regressor exceeds the kept budget is made again block by block for
+    each pass (fit, outliers, refit, prediction): the same identification as with every block
+    kept, to round-off, on filtered recordings with noise, an outlier and a gap."""
+    from gd_analyze.estimation import fit, preprocess
+
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    train, _ = _record(truth, robot.n, 20, seed=2, noise=1e-3)
+    tau = train.tau.copy()
+    tau[len(tau) // 3, 1] += 40 * tau[:, 1].std()                  # an outlier row
+    keep = (train.t < 8) | (train.t > 9)                           # a gap: two segments
+    train = recording_from_arrays(train.t[keep], train.q[keep], tau[keep], source="train")
+    held, _ = _record(truth, robot.n, 8, seed=5, noise=1e-3, derivatives=False)
+    options = IdentifyOptions(cutoff=8.0)
+    kept = identify(robot, [train], validate=[held], options=options)
+    monkeypatch.setattr(fit, "KEEP_BYTES", 0)
+    monkeypatch.setattr(preprocess, "FILTER_BLOCK", 97)
+    made = identify(robot, [train], validate=[held], options=options)
+    assert any("outlier rows" in note for note in made.preprocessing)
+    assert any("2 separate segments" in note for r in made.recordings for note in r.notes)
+    a, b = kept.parameters, made.parameters
+    np.testing.assert_allclose(b.value, a.value, rtol=1e-9, atol=1e-9 * np.abs(a.value).max())
+    np.testing.assert_allclose(b.std, a.std, rtol=1e-7)
+    for r, s in zip(kept.recordings, made.recordings):
+        scale = np.abs(r.tau_measured).max()
+        for name in ("tau_predicted", "tau_prior"):
+            np.testing.assert_allclose(getattr(s, name), getattr(r, name), rtol=0,
+                                       atol=1e-9 * scale)
+        np.testing.assert_array_equal(s.used, r.used)
+
+
+def test_the_fit_s_memory_does_not_hold_the_regressor_of_a_long_recording(monkeypatch):
+    """With the blocks made again (a recording beyond the kept budget), the fit's largest
+    allocation grows with the samples by a few (N, n) arrays, not by the regressor's
+    N x n x p numbers (tracemalloc)."""
+    import tracemalloc
+
+    from gd_analyze.estimation import fit, preprocess
+
+    monkeypatch.setattr(fit, "KEEP_BYTES", 0)
+    monkeypatch.setattr(preprocess, "FILTER_BLOCK", 1024)
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    peaks, sizes = [], []
+    for seconds in (6, 24):
+        t = np.arange(0.0, seconds, 1e-3)
+        q, qd, qdd = fourier(robot.n, t, seed=3)
+        pre = preprocess.preprocess(t, q, truth.torque(q, qd, qdd), cutoff=10.0,
+                                    prismatic=robot.prismatic)
+        fit.fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))     # warm
+        tracemalloc.start()
+        _, rows = fit.fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+        sizes.append((rows[0].rows, rows[0].columns.count))
+    (n0, p), (n1, _) = sizes
+    grown = peaks[1] - peaks[0]
+    assert grown < 12 * (n1 - n0) * robot.n * 8, (peaks, sizes)   # a dozen (N, n) arrays
+    assert (n1 - n0) * robot.n * p * 8 > 4 * grown                  # the regressor: far more

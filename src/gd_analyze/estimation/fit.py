@@ -11,7 +11,7 @@ job reads the recordings and writes the results.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -19,6 +19,7 @@ import numpy as np
 
 from ..dynamics.base_parameters import base_parameters
 from ..symbolic.drive_regressor import IdentificationColumns, identification_regressor
+from . import preprocess
 from .consistent import (
     base_map,
     closest_standard,
@@ -107,8 +108,98 @@ class Fit:
     notes: tuple[str, ...]
 
 
+#: Most bytes of a recording's filtered regressor kept in memory between the passes over it
+#: (:class:`RegressorRows`); a larger one is made again, block by block, for each pass.
+KEEP_BYTES = 512 << 20
+
+
+class RegressorRows:
+    """A recording's filtered identification regressor at its kept samples, block by block.
+
+    Iterating gives ``(a, b, Y)``: Y, shape (b - a, n, p), the rows a to b - 1 of
+    ``p.filtered(identification_regressor(robot, p.q, p.qd, p.qdd, columns))[p.keep]``
+    (:meth:`.preprocess.Preprocessed.filtered_blocks`; parallel filtering, Gautier 1997).
+    The first pass keeps the blocks when they hold at most :data:`KEEP_BYTES` together, so
+    that later passes read them; otherwise each pass makes them again, and memory stays a
+    few blocks whatever the recording's length.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm.
+    pre : Preprocessed
+        The recording, preprocessed.
+    columns : IdentificationColumns
+        The regressor's columns.
+    """
+
+    def __init__(self, robot: Robot, pre: Preprocessed, columns: IdentificationColumns) -> None:
+        self.robot, self.pre, self.columns = robot, pre, columns
+        self.keep = np.ones(pre.t.size, bool) if pre.keep is None else pre.keep
+        kept = int(np.count_nonzero(self.keep))
+        self.rows = kept
+        self._size = kept * robot.n * columns.count * 8
+        self._kept: list[tuple[int, int, np.ndarray]] | None = None
+
+    def _made(self) -> Iterator[tuple[int, int, np.ndarray]]:
+        pre, robot, columns = self.pre, self.robot, self.columns
+        before = np.cumsum(self.keep) - self.keep       # kept samples before each sample
+
+        def make(a, b):
+            return identification_regressor(robot, pre.q[a:b], pre.qd[a:b], pre.qdd[a:b],
+                                            columns)
+        for a, b, Y in pre.filtered_blocks(make):
+            keep = self.keep[a:b]
+            if keep.any():
+                start = int(before[a])
+                yield start, start + int(keep.sum()), Y[keep]
+
+    def times(self, V: np.ndarray) -> np.ndarray:
+        """The filtered regressor's rows times a matrix: ``Y @ V`` at every kept sample.
+
+        Parameters
+        ----------
+        V : ndarray, shape (p, k)
+            Column values, k of them (e.g. the identified parameters).
+
+        Returns
+        -------
+        ndarray, shape (rows, n, k)
+            [N m or N]. From the kept blocks where they are kept; otherwise the regressor is
+            made once, multiplied by V block by block and the (N, n, k) products filtered: the
+            filter is linear, so filtered(Y) V = filtered(Y V), to round-off.
+        """
+        V = np.asarray(V, float)
+        pre, n = self.pre, self.robot.n
+        if self._kept is not None:
+            out = np.empty((self.rows, n) + V.shape[1:])
+            for a, b, Y in self._kept:
+                out[a:b] = Y @ V
+            return out
+        raw = np.empty((pre.t.size, n) + V.shape[1:])
+        step = preprocess.FILTER_BLOCK          # read when called (tests change it)
+        for a in range(0, pre.t.size, step):
+            b = min(a + step, pre.t.size)
+            raw[a:b] = identification_regressor(self.robot, pre.q[a:b], pre.qd[a:b],
+                                                pre.qdd[a:b], self.columns) @ V
+        return pre.filtered(raw)[self.keep]
+
+    def __iter__(self) -> Iterator[tuple[int, int, np.ndarray]]:
+        if self._kept is not None:
+            yield from self._kept
+            return
+        keep = self._size <= KEEP_BYTES
+        kept = []
+        for block in self._made():
+            if keep:
+                kept.append(block)
+            yield block
+        if keep:
+            self._kept = kept
+
+
 def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequence[str],
-              consistent: bool = False) -> tuple[Fit, list[np.ndarray]]:
+              consistent: bool = False) -> tuple[Fit, list[RegressorRows]]:
     """Identify a robot's base parameters and drive terms from its training recordings.
 
     Parameters
@@ -126,9 +217,9 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
     Returns
     -------
     fit : Fit
-    regressors : list of ndarray, each shape (N_k, n, p)
-        Each training recording's filtered regressor at its kept samples, for its
-        prediction (the caller may drop each once used).
+    regressors : list of RegressorRows
+        Each training recording's filtered regressor at its kept samples, block by block,
+        for its prediction.
 
     Raises
     ------
@@ -160,29 +251,31 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
 
     def fitted(p):      # the rows (sample, joint) a training recording fits
         return moving_rows(p.qd[p.keep], threshold)[0] | p.held[None, :]
-    factors: Any = None  # joint_factors' pair, once the first recording is read
-    kept_Y = []          # the training recordings' filtered regressors, for their predictions
-    for p in train:
-        Yr = p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[p.keep]
-        f = joint_factors(Yr, p.tau[p.keep], fitted(p))
-        kept_Y.append(Yr)
-        factors = f if factors is None else combine_factors(factors, f)
+    rows = [RegressorRows(prior, p, columns) for p in train]
+    factors: Any = None  # the factors of all training rows, block by block
+    for p, src in zip(train, rows):
+        used, tau = fitted(p), p.tau[p.keep]
+        for a, b, Y in src:
+            f = joint_factors(Y, tau[a:b], used[a:b])
+            factors = f if factors is None else combine_factors(factors, f)
     try:
         est = least_squares(factors, theta0)
         # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
         # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
         refit: Any
         dropped, refit, fit_rows = 0, None, []
-        for p, Yr in zip(train, kept_Y):
+        limit = OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300)
+        for p, src in zip(train, rows):
             used = fitted(p)
-            resid = np.abs(p.tau[p.keep] - Yr @ est.value)
-            out = used & (resid > OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300))
-            dropped += int(out.sum())
-            fit_rows.append(used & ~out)
+            used &= ~(np.abs(p.tau[p.keep] - src.times(est.value[:, None])[..., 0]) > limit)
+            dropped += int(fitted(p).sum() - used.sum())
+            fit_rows.append(used)
         if dropped:
-            for p, Yr, rows in zip(train, kept_Y, fit_rows):
-                f = joint_factors(Yr, p.tau[p.keep], rows)
-                refit = f if refit is None else combine_factors(refit, f)
+            for p, src, used in zip(train, rows, fit_rows):
+                tau = p.tau[p.keep]
+                for a, b, Y in src:
+                    f = joint_factors(Y, tau[a:b], used[a:b])
+                    refit = f if refit is None else combine_factors(refit, f)
             est = least_squares(refit, theta0)
             notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
                          f"joint's noise standard deviation) left out and the fit repeated")
@@ -238,4 +331,4 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
               offsets=per_kind["offset"], min_eigenvalue=eig,
               consistent=eig >= -1e-10 * scaleJ, method=method, robot_file_note=file_note,
               notes=tuple(notes))
-    return fit, kept_Y
+    return fit, rows

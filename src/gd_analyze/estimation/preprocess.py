@@ -32,6 +32,7 @@ The default cutoff is chosen from the data (:func:`default_cutoff`).
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -39,7 +40,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "still_joints",
-           "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN"]
+           "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
+           "FILTER_BLOCK"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -55,6 +57,9 @@ EDGE_PERIODS = 3.0
 #: A joint whose kept positions span less than this is held still [rad for a revolute joint
 #: (0.57 deg), m for a prismatic one].
 STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
+#: Samples per block of :meth:`Preprocessed.filtered_blocks` (a block of the regressor holds
+#: this many x n x p numbers).
+FILTER_BLOCK = 4096
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,6 +127,78 @@ class Preprocessed:
         for a, b in self.segments:
             out[a:b] = signal.sosfiltfilt(self.sos, x[a:b], axis=0)
         return out
+
+    def filtered_blocks(self, make: Callable[[int, int], npt.NDArray[np.float64]],
+                        rows: int | None = None
+                        ) -> Iterator[tuple[int, int, npt.NDArray[np.float64]]]:
+        """:meth:`filtered` of a signal made block by block, in memory bounded by the block.
+
+        Parameters
+        ----------
+        make : callable
+            ``make(a, b)`` returns the signal's samples a to b - 1, an array of shape
+            (b - a, ...) (e.g. the regressor of those samples, shape (b - a, n, p)); it is
+            called twice per block with a filter (once without).
+        rows : int, optional
+            Samples per block (>= 1); default :data:`FILTER_BLOCK`.
+
+        Yields
+        ------
+        a, b : int
+            The block's samples, within one segment.
+        y : ndarray, shape (b - a, ...)
+            ``self.filtered(x)[a:b]`` for the whole signal x. The blocks of a segment come
+            last to first with a filter, first to last without.
+
+        Raises
+        ------
+        ValueError
+            If ``rows`` < 1.
+
+        Notes
+        -----
+        Per segment, the recurrences of ``scipy.signal.sosfiltfilt`` with its default odd
+        extension of 3 (2 s + 1) samples (s sections; fewer where a section's b2 and a2 are
+        both 0) at each end, and its initial states: forwards over the segment, keeping the
+        filter's state at each block's start; then backwards, each block made again and
+        filtered forwards from its kept state, then backwards from the state the later
+        blocks left. The same operations in the same order as on the whole segment, so the
+        same numbers, with a few blocks in memory instead of the whole signal.
+        """
+        rows = FILTER_BLOCK if rows is None else int(rows)
+        if rows < 1:
+            raise ValueError(f"rows must be >= 1, got {rows}")
+        for s0, s1 in self.segments:
+            if self.sos is None:
+                for a in range(s0, s1, rows):
+                    yield a, min(a + rows, s1), make(a, min(a + rows, s1))
+            else:
+                yield from _segment_blocks(self.sos, make, s0, s1, rows)
+
+
+def _segment_blocks(sos, make, s0, s1, rows):
+    """:meth:`Preprocessed.filtered_blocks` on one segment [s0, s1), with a filter."""
+    from scipy import signal
+
+    sections = sos.shape[0]
+    edge = 3 * (2 * sections + 1 - min(int((sos[:, 2] == 0).sum()), int((sos[:, 5] == 0).sum())))
+    head, tail = make(s0, s0 + edge + 1), make(s1 - edge - 1, s1)
+    unit = signal.sosfilt_zi(sos).reshape((sections, 2) + (1,) * (head.ndim - 1))
+    left = 2 * head[:1] - head[edge:0:-1]         # scipy.signal.odd_ext's two ends
+    right = 2 * tail[-1:] - tail[-2::-1]
+    _, z = signal.sosfilt(sos, left, axis=0, zi=unit * left[:1])
+    starts = range(s0, s1, rows)
+    states = []
+    for a in starts:
+        states.append(z)
+        _, z = signal.sosfilt(sos, make(a, min(a + rows, s1)), axis=0, zi=z)
+    y, z = signal.sosfilt(sos, right, axis=0, zi=z)
+    _, z = signal.sosfilt(sos, y[::-1], axis=0, zi=unit * y[-1:])
+    for k in reversed(range(len(starts))):
+        a, b = starts[k], min(starts[k] + rows, s1)
+        y, _ = signal.sosfilt(sos, make(a, b), axis=0, zi=states[k])
+        y, z = signal.sosfilt(sos, y[::-1], axis=0, zi=z)
+        yield a, b, y[::-1]
 
 
 def _segments(t):

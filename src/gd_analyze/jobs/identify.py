@@ -17,7 +17,7 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,7 +27,7 @@ from ..errors import InputError
 from ..estimation.consistent import (
     SolverFailure,
 )
-from ..estimation.fit import FitFailure, fit_robot
+from ..estimation.fit import FitFailure, RegressorRows, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
@@ -38,7 +38,6 @@ from ..store.stored_identification import (
     RecordingFit,
     group_names,
 )
-from ..symbolic.drive_regressor import identification_regressor
 from ..trajectory.recording import Recording, read_recording
 from ..trajectory.trajectory import trajectory_from_arrays
 from .analyze import analyze
@@ -258,21 +257,20 @@ def identify(robot: Robot | str | Path,
     notes += fit.notes
     base, b, theta, est, columns = fit.base, fit.base.rank, fit.theta, fit.estimate, fit.columns
     identified, method, file_note = fit.identified, fit.method, fit.robot_file_note
-    kept_Y: list[Any] = regressors     # each dropped once its recording is predicted
     simplified = _simplified_model(identified, pres, len(train), options) \
         if options.simplify else None
     fits = []
+    pending = dict(enumerate(regressors))       # each freed once its recording is predicted
     for k, (p, name) in enumerate(zip(pres, names)):
         is_train = k < len(train)
         rec = (train + valid)[k]
         keep = p.keep
-        Yr = kept_Y[k] if is_train else \
-            p.filtered(identification_regressor(prior, p.q, p.qd, p.qdd, columns))[keep]
-        pred = Yr @ theta
-        tau_prior = Yr[:, :, :b] @ base.beta + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
-        if is_train:
-            kept_Y[k] = None
-        del Yr
+        rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
+        rigid = np.zeros(theta.size)
+        rigid[:b] = base.beta                   # the robot file's rigid links, without drives
+        products = rows.times(np.column_stack([theta, rigid]))
+        pred = products[..., 0]
+        tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None
         if simplified is not None:
             tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
