@@ -17,7 +17,7 @@ from gd_analyze.dynamics.base_parameters import base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.errors import InputError
 from gd_analyze.estimation.consistent import base_map, pseudo_inertia
-from gd_analyze.jobs.analyze import analyze
+from gd_analyze.jobs.analyze import analyze, analyze_to_file
 from gd_analyze.jobs.identify import IdentifyOptions, identify
 from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.model.robot_file import robot_toml
@@ -355,3 +355,35 @@ def test_the_fit_s_memory_does_not_hold_the_regressor_of_a_long_recording(monkey
     grown = peaks[1] - peaks[0]
     assert grown < 12 * (n1 - n0) * robot.n * 8, (peaks, sizes)   # a dozen (N, n) arrays
     assert (n1 - n0) * robot.n * p * 8 > 4 * grown                  # the regressor: far more
+
+
+@pytest.mark.slow
+def test_a_long_recording_s_simplified_model_is_streamed_alike(monkeypatch, tmp_path):
+    """``simplify`` on a recording longer than one chunk: the main job's analysis streamed
+    through a private temporary file (bounded memory) gives the model the in-memory analysis
+    gives (the same guarantee and torques on the validation recording), and the file is
+    gone afterwards."""
+    import tempfile
+
+    from gd_analyze.jobs import identify as job
+
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    train, _ = _record(truth, robot.n, 10, seed=2, noise=0.01)
+    held, _ = _record(truth, robot.n, 5, seed=5, noise=0.01)
+    options = IdentifyOptions(simplify=True)
+    whole = identify(robot, [train], validate=[held], options=options)
+    monkeypatch.setattr(job, "STREAM_CHUNK", 97)
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    streamed_to = []
+
+    def spy(robot, trajectory, path, options):
+        streamed_to.append(path)
+        assert path.parent.parent == tmp_path
+        return analyze_to_file(robot, trajectory, path, options)
+    monkeypatch.setattr(job, "analyze_to_file", spy)
+    streamed = identify(robot, [train], validate=[held], options=options)
+    assert len(streamed_to) == 1 and list(tmp_path.iterdir()) == []
+    assert streamed.settings["simplified_guarantee"] == whole.settings["simplified_guarantee"]
+    a, b = whole.recordings[1].tau_simplified, streamed.recordings[1].tau_simplified
+    np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max())

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,7 +41,7 @@ from ..store.stored_identification import (
 )
 from ..trajectory.recording import Recording, read_recording
 from ..trajectory.trajectory import trajectory_from_arrays
-from .analyze import analyze
+from .analyze import STREAM_CHUNK, analyze, analyze_to_file
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
 
@@ -310,13 +311,19 @@ def identify(robot: Robot | str | Path,
 def _simplified_model(identified, pres, n_train, options):
     """The simplified model of the identified robot: the main job's analysis
     (:func:`gd_analyze.jobs.analyze.analyze`, its default options but the formulations'
-    comparison) along the first validation recording's kept samples (the first training
+    comparison; a recording longer than one chunk streamed through a private temporary file,
+    :func:`gd_analyze.jobs.analyze.analyze_to_file`) along the first validation recording's kept samples (the first training
     recording's if there is none). Returns (model, guarantee statement, recording index)."""
     index = n_train if len(pres) > n_train else 0
     p = pres[index]
     traj = trajectory_from_arrays(p.t[p.keep], p.q[p.keep], p.qd[p.keep], p.qdd[p.keep],
                                   n_joints=identified.n)
-    model = analyze(identified, traj, AnalysisOptions(formulations=False)).model
+    options = AnalysisOptions(formulations=False)
+    if traj.n_setpoints <= STREAM_CHUNK:
+        model = analyze(identified, traj, options).model
+    else:               # streamed through a private file, deleted: memory bounded by chunks
+        with tempfile.TemporaryDirectory(prefix="gd-analyze-identify-") as tmp:
+            model = analyze_to_file(identified, traj, Path(tmp) / "results.h5", options).model
     statement = model.guarantee.statement() if model.guarantee is not None else \
         "no guarantee beyond the analysed recording"
     return model, statement, index
