@@ -24,7 +24,8 @@ from ..model.limits import check_finite
 from ..ranking.labels import joint_torque_units
 from ..ranking.ranking import arm_scales, is_round_off
 from ..simplify.guarantee import within_bound
-from ..simplify.simplified import parameters_sha256, torque_error
+from ..simplify.simplified import parameters_sha256
+from ..simplify.torque_error import TorqueErrorAccumulator
 from ..store.model_trust import check_guarantee
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -39,7 +40,7 @@ __all__ = ["evaluate", "model_torque", "model_scale", "coverage", "coverages", "
 
 
 def model_torque(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
-                 qdd: NDArray[np.float64]) -> np.ndarray:
+                 qdd: NDArray[np.float64], first: int = 0) -> np.ndarray:
     """A simplified model's torques, refused where they are not finite.
 
     Parameters
@@ -48,6 +49,8 @@ def model_torque(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.
         The model (e.g. read from a hand-edited file).
     q, qd, qdd : ndarray, shape (N, n)
         Set points [rad, rad/s, rad/s^2].
+    first : int, optional
+        The index of the first set point in the trajectory (a block of it), for the message.
 
     Returns
     -------
@@ -70,9 +73,27 @@ def model_torque(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.
     bad = ~np.isfinite(tau)
     if bad.any():
         k, j = (int(v[0]) for v in np.nonzero(bad))
-        raise InputError(f"the model's torque is not finite at set point {k + 1}, joint {j + 1}: "
+        raise InputError(f"the model's torque is not finite at set point {first + k + 1}, "
+                         f"joint {j + 1}: "
                          "its explicit_terms.coef are beyond the range of a float")
     return tau
+
+
+#: Set points per block where a model's torques are compared with the full model's along a
+#: trajectory (:func:`evaluate`, :func:`check_trajectory_claim`): memory stays a few blocks.
+EVALUATE_BLOCK = 8192
+
+
+def _torque_errors(model, trajectory, plant):
+    """The model's torque error against the plant's full torque (G-D terms, Eq. (3.4-24))
+    along the trajectory, block by block: a :class:`TorqueErrorAccumulator`."""
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    errors = TorqueErrorAccumulator(plant.n)
+    for a in range(0, q.shape[0], EVALUATE_BLOCK):
+        b = slice(a, a + EVALUATE_BLOCK)
+        tau = check_finite("tau", gd_terms(plant, q[b], qd[b]).tau(qdd[b]), first=a)
+        errors.update(model_torque(model, q[b], qd[b], qdd[b], first=a), tau)
+    return errors
 
 
 def evaluate(model: SimplifiedModel, trajectory: Trajectory,
@@ -110,10 +131,7 @@ def evaluate(model: SimplifiedModel, trajectory: Trajectory,
         the model's coefficients beyond a float: :func:`model_torque`).
     """
     robot: Robot = model.robot
-    plant = robot if plant is None else plant
-    full = gd_terms(plant, trajectory.q, trajectory.qd)
-    err = torque_error(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd),
-                       check_finite("tau", full.tau(trajectory.qdd)))
+    err = _torque_errors(model, trajectory, robot if plant is None else plant).result()
     peak, rms = (np.asarray(err[k], float) for k in ("peak_abs_error", "rms_error"))
     peak_tau = np.asarray(err["peak_tau"], float)
     scale = model_scale(model)
@@ -289,9 +307,8 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
     """
     g = model.guarantee
     robot: Robot = model.robot
-    tau = check_finite("tau", gd_terms(robot, trajectory.q, trajectory.qd).tau(trajectory.qdd))
-    err = np.abs(model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd) - tau)
-    peak, peak_tau = err.max(axis=0), np.abs(tau).max(axis=0)
+    errors = _torque_errors(model, trajectory, robot)
+    peak, peak_tau = errors.peak, errors.peak_tau
     scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     own = np.maximum(peak_tau, scale)
     ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate

@@ -151,7 +151,8 @@ def real_values(name: str, values: ArrayLike) -> np.ndarray:
     return arr.astype(float, copy=False)
 
 
-def check_finite(name: str, values: ArrayLike, what: str = "computed") -> np.ndarray:
+def check_finite(name: str, values: ArrayLike, what: str = "computed",
+                 first: int = 0) -> np.ndarray:
     """Raise if an array holds NaN or inf.
 
     Parameters
@@ -162,6 +163,9 @@ def check_finite(name: str, values: ArrayLike, what: str = "computed") -> np.nda
         The array; axis 0 is the set point where it has one.
     what : str, optional
         How the array came about, for the message.
+    first : int, optional
+        The index of the array's first set point in the trajectory (a block of it), for the
+        message.
 
     Returns
     -------
@@ -177,7 +181,7 @@ def check_finite(name: str, values: ArrayLike, what: str = "computed") -> np.nda
     arr = np.asarray(values)
     if arr.dtype.kind in "fc" and not np.isfinite(arr).all():
         idx = first_beyond(arr, np.inf)
-        where = f" at set point {idx[0]}" if idx and arr.ndim > 1 else ""
+        where = f" at set point {first + idx[0]}" if idx and arr.ndim > 1 else ""
         raise InputError(f"the {what} {name} is not finite{where}: the inputs are beyond the "
                          f"magnitudes gd-analyze supports (see docs/limits-and-safety.md)")
     return arr
