@@ -129,3 +129,30 @@ def test_result_is_frozen_and_bad_method_raises():
         dynamics(robot, np.zeros(2), np.zeros(2), "euler-lagrange")
     with pytest.raises(ValueError):
         inverse_dynamics(robot, np.zeros(2), np.zeros(2), np.zeros(3), "newton-euler")
+
+
+@pytest.mark.parametrize("block", [1, 3, 7])
+def test_compare_in_blocks_is_the_whole_arrays_definition(monkeypatch, block):
+    """Gathered block by block, each figure is still max|a - b| / max(max|a|, max|b|) over
+    every set point (computed here on the whole arrays): a formulation wrong at one set point
+    of a late block is found, and the other figures are unchanged."""
+    robot = load_robot("two-link")
+    q, qd, qdd = _states(2, 20, seed=3)
+    real = formulations.ne_terms
+    bad = q[17]
+
+    def wrong(robot, q, qd):
+        D, h, c = real(robot, q, qd)
+        at = np.all(q == bad, axis=-1)
+        return np.where(at[:, None, None], 1.5 * D, D), h, c
+
+    monkeypatch.setattr(formulations, "ne_terms", wrong)
+    whole = compare(robot, q, qd, qdd)
+    monkeypatch.setattr(formulations, "COMPARE_BLOCK", block)
+    blocked = compare(robot, q, qd, qdd)
+    assert blocked == whole
+    D_ne = wrong(robot, q, qd)[0]
+    D_gd = formulations.dynamics(robot, q, qd, "gd").D
+    expected = np.abs(D_ne - D_gd).max() / max(np.abs(D_ne).max(), np.abs(D_gd).max())
+    assert blocked["D"]["newton-euler vs gd"] == pytest.approx(expected, rel=1e-12)
+    assert blocked["D"]["newton-euler vs gd"] > 0.1

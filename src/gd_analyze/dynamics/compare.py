@@ -29,7 +29,7 @@ from .dalembert import assemble_tau, gd_terms
 from .lagrange_euler import le_terms
 from .newton_euler import ne_tau, ne_terms
 from .opcount import book_counts, joint_types, operation_counts
-from .pinocchio import pinocchio_model, relative_error
+from .pinocchio import pinocchio_model
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -44,6 +44,8 @@ __all__ = ["METHODS", "DynamicsResult", "dynamics", "inverse_dynamics", "compare
 #: The formulations, in report order.
 METHODS = ("lagrange-euler", "newton-euler", "gd", "pinocchio")
 _QUANTITIES = ("D", "h", "c", "tau")
+#: Set points per block of :func:`compare`: memory stays a few blocks whatever N is.
+COMPARE_BLOCK = 8192
 
 
 @dataclass(frozen=True, eq=False)
@@ -203,11 +205,6 @@ def inverse_dynamics(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     return dynamics(robot, q, qd, method).tau(qdd)
 
 
-def _disagreement(a, b):
-    """max|a - b| / max(max|a|, max|b|), from reference.relative_error both ways."""
-    return min(relative_error(a, b), relative_error(b, a))
-
-
 def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
             gd: GDTerms | None = None) -> dict[str, Any]:
     """Largest relative disagreement between each pair of formulations.
@@ -231,8 +228,9 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     dict
         ``{quantity: {"<method a> vs <method b>": float}}`` for quantity in D, h, c, tau and the
         six pairs of :data:`METHODS`. Each figure is max|a - b| over all set points and
-        elements divided by the larger of max|a| and max|b| (0 if both are 0). tau is each
-        method's own route (:func:`inverse_dynamics`). Plain floats and strings: JSON-ready.
+        elements divided by the larger of max|a| and max|b| (0 if both are 0), gathered in
+        blocks of :data:`COMPARE_BLOCK` set points. tau is each method's own route
+        (:func:`inverse_dynamics`). Plain floats and strings: JSON-ready.
 
     Raises
     ------
@@ -248,18 +246,35 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     """
     robot = rigid_links(robot)
     q, qd, qdd = as_states(robot, q, qd, qdd)
-    given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D_tran + gd.D_rot, gd.h,
-                                                        gd.c)}
-    results = {m: given[m] if m in given else dynamics(robot, q, qd, m) for m in METHODS}
-    taus = {m: results[m].tau(qdd) if m in given else inverse_dynamics(robot, q, qd, qdd, m)
-            for m in METHODS}
-    out = {}
-    for quantity in _QUANTITIES:
-        values = taus if quantity == "tau" else {m: getattr(r, quantity)
-                                                 for m, r in results.items()}
-        out[quantity] = {f"{a} vs {b}": float(_disagreement(values[a], values[b]))
-                         for a, b in combinations(METHODS, 2)}
-    return out
+    N = q.shape[0]
+    pairs = list(combinations(METHODS, 2))
+    # running maxima over the blocks: max|a - b| per pair, max|a| per method
+    diff = {x: dict.fromkeys(pairs, 0.0) for x in _QUANTITIES}
+    peak = {x: dict.fromkeys(METHODS, 0.0) for x in _QUANTITIES}
+    step = max(1, N if gd is not None else COMPARE_BLOCK)   # given terms: the caller's, whole
+    for start in range(0, N, step):
+        b = slice(start, start + step)
+        given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D_tran + gd.D_rot, gd.h,
+                                                            gd.c)}
+        results = {m: given[m] if m in given else dynamics(robot, q[b], qd[b], m)
+                   for m in METHODS}
+        taus = {m: results[m].tau(qdd[b]) if m in given else
+                inverse_dynamics(robot, q[b], qd[b], qdd[b], m) for m in METHODS}
+        for quantity in _QUANTITIES:
+            values = taus if quantity == "tau" else {m: getattr(r, quantity)
+                                                     for m, r in results.items()}
+            if np.asarray(values[METHODS[0]]).size == 0:
+                continue
+            for m in METHODS:
+                peak[quantity][m] = float(np.maximum(peak[quantity][m],
+                                                     np.max(np.abs(values[m]))))
+            for a, c in pairs:
+                diff[quantity][a, c] = float(np.maximum(diff[quantity][a, c], np.max(
+                    np.abs(np.asarray(values[a], float) - np.asarray(values[c], float)))))
+    tiny = np.finfo(float).tiny
+    return {quantity: {f"{a} vs {c}": float(diff[quantity][a, c] / np.maximum(
+        np.maximum(peak[quantity][a], peak[quantity][c]), tiny)) for a, c in pairs}
+        for quantity in _QUANTITIES}
 
 
 def compare_report(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> dict[str, Any]:
