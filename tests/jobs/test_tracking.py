@@ -79,3 +79,26 @@ def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_mod
                   for c in (model, BatchOnly()))
     assert one.success and batch.success and one.nfev == batch.nfev > 50
     assert np.array_equal(one.q, batch.q) and np.array_equal(one.tau, batch.tau)
+
+
+def test_a_run_stopped_on_a_dense_trajectory_says_how_many_set_points(puma, monkeypatch):
+    """The integrator's evaluations grow with the set points the desired motion passes
+    through (C2 joins): a run stopped by the bound on a dense trajectory says their number
+    and spacing; on a sparse one it does not."""
+    from gd_analyze.jobs import tracking
+    from gd_analyze.trajectory.planning import plan_quintic
+
+    monkeypatch.setattr(tracking, "MAX_RHS_EVALS", 200)
+    start, goal = np.radians([-60, 20, -150, -80, -60, -120]), np.radians([60, 110, -60, 80,
+                                                                          60, 120])
+    for n_setpoints, dense in ((31, False), (tracking.DENSE_SETPOINTS + 1, True)):
+        traj = plan_quintic(puma, start, goal, n_setpoints=n_setpoints)
+        with pytest.raises(ValueError, match="within 200 evaluations") as err:
+            tracking.track(puma, "full", control_gains(puma, traj.q[0]), desired_motion(traj),
+                           traj.t)
+        said = str(err.value)
+        assert "too stiff" in said
+        assert (f"passes through {n_setpoints} set points" in said) == dense, said
+        if dense:
+            spacing = (traj.t[-1] - traj.t[0]) / (n_setpoints - 1)
+            assert f"({spacing:.3g} s apart)" in said
