@@ -252,10 +252,9 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     diff = {x: dict.fromkeys(pairs, 0.0) for x in _QUANTITIES}
     peak = {x: dict.fromkeys(METHODS, 0.0) for x in _QUANTITIES}
     step = max(1, N if gd is not None else COMPARE_BLOCK)   # given terms: the caller's, whole
+    given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D_tran + gd.D_rot, gd.h, gd.c)}
     for start in range(0, N, step):
         b = slice(start, start + step)
-        given = {} if gd is None else {"gd": DynamicsResult("gd", gd.D_tran + gd.D_rot, gd.h,
-                                                            gd.c)}
         results = {m: given[m] if m in given else dynamics(robot, q[b], qd[b], m)
                    for m in METHODS}
         taus = {m: results[m].tau(qdd[b]) if m in given else
@@ -263,8 +262,6 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
         for quantity in _QUANTITIES:
             values = taus if quantity == "tau" else {m: getattr(r, quantity)
                                                      for m, r in results.items()}
-            if np.asarray(values[METHODS[0]]).size == 0:
-                continue
             for m in METHODS:
                 peak[quantity][m] = float(np.maximum(peak[quantity][m],
                                                      np.max(np.abs(values[m]))))

@@ -131,6 +131,13 @@ class RegressorRows:
         The recording, preprocessed.
     columns : IdentificationColumns
         The regressor's columns.
+
+    Attributes
+    ----------
+    keep : ndarray of bool, shape (N,)
+        The recording's kept samples (all of them if it keeps no list).
+    rows : int
+        The kept samples: the rows of each joint.
     """
 
     def __init__(self, robot: Robot, pre: Preprocessed, columns: IdentificationColumns) -> None:
@@ -266,9 +273,10 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
         dropped, refit, fit_rows = 0, None, []
         limit = OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300)
         for p, src in zip(train, rows):
-            used = fitted(p)
-            used &= ~(np.abs(p.tau[p.keep] - src.times(est.value[:, None])[..., 0]) > limit)
-            dropped += int(fitted(p).sum() - used.sum())
+            moving = fitted(p)
+            used = moving & ~(np.abs(p.tau[p.keep] - src.times(est.value[:, None])[..., 0])
+                              > limit)
+            dropped += int(moving.sum() - used.sum())
             fit_rows.append(used)
         if dropped:
             for p, src, used in zip(train, rows, fit_rows):

@@ -262,13 +262,13 @@ def identify(robot: Robot | str | Path,
         if options.simplify else None
     fits = []
     pending = dict(enumerate(regressors))       # each freed once its recording is predicted
+    rigid = np.zeros(theta.size)
+    rigid[:b] = base.beta                       # the robot file's rigid links, without drives
     for k, (p, name) in enumerate(zip(pres, names)):
         is_train = k < len(train)
         rec = (train + valid)[k]
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
-        rigid = np.zeros(theta.size)
-        rigid[:b] = base.beta                   # the robot file's rigid links, without drives
         products = rows.times(np.column_stack([theta, rigid]))
         pred = products[..., 0]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
@@ -312,8 +312,8 @@ def _simplified_model(identified, pres, n_train, options):
     """The simplified model of the identified robot: the main job's analysis
     (:func:`gd_analyze.jobs.analyze.analyze`, its default options but the formulations'
     comparison; a recording longer than one chunk streamed through a private temporary file,
-    :func:`gd_analyze.jobs.analyze.analyze_to_file`) along the first validation recording's kept samples (the first training
-    recording's if there is none). Returns (model, guarantee statement, recording index)."""
+    :func:`gd_analyze.jobs.analyze.analyze_to_file`) along the first validation recording's
+    kept samples (the first training recording's if there is none). Returns (model, guarantee statement, recording index)."""
     index = n_train if len(pres) > n_train else 0
     p = pres[index]
     traj = trajectory_from_arrays(p.t[p.keep], p.q[p.keep], p.qd[p.keep], p.qdd[p.keep],
