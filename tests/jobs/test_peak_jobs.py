@@ -10,6 +10,7 @@ from conftest import SHIPPED
 from gd_analyze.dynamics.base_parameters import base_parameters, regressor
 from gd_analyze.jobs.options import SimplifyOptions
 from gd_analyze.jobs.peak_jobs import derives_explicit, proves_over_region, start_peaks
+from gd_analyze.simplify.region_memo import UNKEPT
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 
@@ -62,3 +63,57 @@ def test_threaded_peaks_are_the_peaks_of_the_numpy_regressor(puma):
     np.testing.assert_allclose(tau_peak, np.abs(C.sum(axis=(0, 3))).max(axis=0), rtol=1e-12)
     # triangle inequality: each joint's peak |tau| is at most the sum of its atoms' peaks
     assert np.all(tau_peak <= term.sum(axis=0) * (1 + 1e-12))
+
+
+@pytest.mark.parametrize("floor", [0.0, 1.0])
+def test_the_region_searches_made_beside_the_pass_are_those_made_after_it(puma, floor):
+    """Under the budget rule with a region, the region's searches start beside the pass (no
+    trajectory needed) and find what the deployment's own calls find, at the model's EPS and
+    at every other rung of the ladder; the torque floor's second choice is made too."""
+    from gd_analyze.simplify.deploy import _floor_zero_choice, guarantee_region, region_search
+    from gd_analyze.simplify.explicit_model import LADDER
+
+    options = SimplifyOptions(torque_floor=floor)
+    traj = read_trajectory(SHIPPED, puma.n)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        jobs = start_peaks(pool, puma, traj, options)
+        searches = jobs["region"].result()
+    base = base_parameters(puma)
+    region = guarantee_region(puma, options.guarantee, options.region)[0]
+    own = region_search(puma, base, region, options.tolerance, floor)
+    assert searches.found.screen is None and own.screen is None
+    np.testing.assert_array_equal(searches.found.rec.dropped, own.rec.dropped)
+    assert sorted(searches.rungs) == sorted(e for e in LADDER if e != options.tolerance)
+    for eps, rung in searches.rungs.items():
+        np.testing.assert_array_equal(
+            rung.rec.dropped,
+            region_search(puma, base, region, eps, floor, sampled=False).rec.dropped)
+    if floor == 0:
+        assert searches.floor_zero is None
+    else:
+        zero = _floor_zero_choice(puma, base, region, options.tolerance, floor, UNKEPT)
+        np.testing.assert_array_equal(searches.floor_zero.rec.dropped, zero.rec.dropped)
+
+
+def test_no_region_searches_for_a_trajectory_guarantee_and_errors_reach_the_caller(
+        puma, monkeypatch):
+    import threading
+
+    from gd_analyze.jobs import peak_jobs
+
+    traj = read_trajectory(SHIPPED, puma.n)
+    seen = []
+
+    def fails(*args):
+        seen.append(threading.current_thread())
+        raise ValueError("made to fail")
+
+    monkeypatch.setattr(peak_jobs, "region_searches", fails)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        assert "region" not in start_peaks(pool, puma, traj,
+                                           SimplifyOptions(guarantee="trajectory"))
+        job = start_peaks(pool, puma, traj, SimplifyOptions())["region"]
+        with pytest.raises(ValueError, match="made to fail"):
+            job.result()
+    # its own daemon thread: an interrupted run does not wait for the certification
+    assert seen[0].daemon and seen[0] is not threading.main_thread()

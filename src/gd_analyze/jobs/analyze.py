@@ -286,7 +286,7 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     # the simplification's compiled peak passes need only the trajectory: they run in threads
     # (the kernels release the GIL) beside the pass over the G-D terms, always
     with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
-        background = start_peaks(pool, robot, trajectory, simplify)
+        background = start_peaks(pool, robot, trajectory, simplify, DERIVATIONS)
         try:
             return _analysis_pass(*args, background=background)
         finally:
@@ -370,7 +370,8 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     model = simplified = other = None
     if simplify is not None:
         deployed = deploy(robot, trajectory, ranking, parts, simplify, provenance or {},
-                          background["recursive"], background.get("explicit"), DERIVATIONS)
+                          background["recursive"], background.get("explicit"), DERIVATIONS,
+                          background.get("region"))
         model, other = deployed.model, deployed.other
         choices = model.choices
     bar.reset(total=N)

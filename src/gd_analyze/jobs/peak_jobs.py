@@ -5,18 +5,25 @@ the trajectory (unless it is pruned on bounds proved over the joint-limit region
 :func:`proves_over_region`), the explicit model the peaks of its atoms: both depend on q, qd,
 qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks` submits
 them to a thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
-(:func:`gd_analyze.jobs.analyze.analysis_pass`) then takes their results. Nothing here
-prints or writes files.
+(:func:`gd_analyze.jobs.analyze.analysis_pass`) then takes their results. A model proved over
+the region needs no peaks but the region's certification and searches, which depend on the
+robot and the options only: :func:`region_job` makes them on a thread of its own beside the
+pass too. Nothing here prints; only the derivation cache is written (by the region's searches,
+as they do after the pass).
 """
 
 from __future__ import annotations
 
+import threading
+from concurrent.futures import Future
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..dynamics.base_parameters import base_parameters
-from ..simplify.deploy import robot_region
+from ..simplify.deploy import guarantee_region, region_searches, robot_region
+from ..simplify.explicit_model import LADDER
+from ..simplify.region_memo import UNKEPT, Derivations
 from ..store import explicit_cache
 from ..symbolic.explicit import term_peaks
 from ..symbolic.explicit_estimate import is_expensive
@@ -24,12 +31,13 @@ from ..symbolic.pruning import contribution_peaks
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
+    from ..simplify.deploy import RegionSearches
     from ..symbolic.explicit import Term
     from .options import SimplifyOptions
 
 
 __all__ = ["derives_explicit", "proves_over_region", "contribution_job", "explicit_job",
-           "start_peaks"]
+           "region_job", "start_peaks"]
 
 
 def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
@@ -133,8 +141,61 @@ def explicit_job(robot: Robot, q: np.ndarray, qd: np.ndarray,
     return terms, term_peaks(terms, np.zeros(robot.n), q, qd, qdd, prismatic=robot.prismatic)
 
 
-def start_peaks(pool, robot, trajectory, options):
-    """Submit the simplification's peak passes to a pool of threads.
+def region_job(recursive: Future, robot: Robot, options: SimplifyOptions,
+               derive: Derivations = UNKEPT) -> RegionSearches:
+    """The region searches of the main job's recursive model and its ladder.
+
+    Parameters
+    ----------
+    recursive : Future
+        :func:`contribution_job`'s, for the robot's base parameters (waited for).
+    robot : Robot
+        The arm, with n joints.
+    options : SimplifyOptions
+        EPS, TAU, ``guarantee`` and ``region`` of the command line; the model is proved over
+        the region (:func:`proves_over_region`).
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs (default nowhere).
+
+    Returns
+    -------
+    RegionSearches
+        :func:`gd_analyze.simplify.deploy.region_searches` at the model's EPS and the
+        ladder's (:data:`gd_analyze.simplify.explicit_model.LADDER`), what
+        :func:`gd_analyze.simplify.form_choice.deploy` would otherwise make after the pass.
+
+    Raises
+    ------
+    ValueError
+        If the tolerance is negative or not finite, or the robot has no region under the
+        options.
+    """
+    region, missing, proved = guarantee_region(robot, options.guarantee, options.region)
+    if region is None or not proved:
+        raise ValueError(f"no region to prove the model over ({missing or options.guarantee})")
+    return region_searches(robot, recursive.result()[0], region, options.tolerance,
+                           options.torque_floor, LADDER, derive)
+
+
+def _on_daemon(fn, *args) -> Future:
+    """``fn(*args)`` on a daemon thread of its own, as a Future: an interrupted run exits
+    without waiting for it (a pool's threads are joined at the interpreter's exit)."""
+    future: Future = Future()
+
+    def work():
+        if not future.set_running_or_notify_cancel():
+            return
+        try:
+            future.set_result(fn(*args))
+        except BaseException as exc:    # noqa: BLE001  handed to the caller's result()
+            future.set_exception(exc)
+    threading.Thread(target=work, name="gd-region", daemon=True).start()
+    return future
+
+
+def start_peaks(pool, robot, trajectory, options, derive=UNKEPT):
+    """Submit the simplification's peak passes to a pool of threads, and start the region
+    searches on a thread of their own where the model is proved over the region.
 
     Parameters
     ----------
@@ -146,17 +207,23 @@ def start_peaks(pool, robot, trajectory, options):
         q, qd, qdd of shape (N, n).
     options : SimplifyOptions
         The simplification's options (:func:`derives_explicit`).
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs (default nowhere).
 
     Returns
     -------
     dict of str to concurrent.futures.Future
         ``"recursive"``: :func:`contribution_job`, without the peaks where the model is
         proved over the region (:func:`proves_over_region`); ``"explicit"``:
-        :func:`explicit_job`, only where the explicit model is derived.
+        :func:`explicit_job`, only where the explicit model is derived; ``"region"``:
+        :func:`region_job`, only where the model is proved over the region (the
+        certification, read back or made, no longer waits for the pass).
     """
     args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    jobs = {"recursive": pool.submit(contribution_job, *args,
-                                     peaks=not proves_over_region(robot, options))}
+    proved = proves_over_region(robot, options)
+    jobs = {"recursive": pool.submit(contribution_job, *args, peaks=not proved)}
     if derives_explicit(robot, options):
         jobs["explicit"] = pool.submit(explicit_job, *args)
+    if proved:
+        jobs["region"] = _on_daemon(region_job, jobs["recursive"], robot, options, derive)
     return jobs

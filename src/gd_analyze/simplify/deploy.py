@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -65,7 +65,8 @@ if TYPE_CHECKING:
     from ..ranking.ranking import Ranking
 
 __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "region_model",
-           "region_search", "RegionSearch", "trajectory_guarantee", "certified", "robot_region",
+           "region_search", "RegionSearch", "RegionSearches", "region_searches",
+           "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
            "SCOUT_RATIO", "screened_exact", "RESTORED_MIN_SAVING"]
 
@@ -385,7 +386,8 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
                     provenance: dict | None = None, region: Region | None = None,
                     sample_region: Region | None = None, region_missing: str = "",
                     contributions: tuple[BaseParameters, tuple[np.ndarray, ...]] | None = None,
-                    derive: Derivations = UNKEPT) -> tuple[SimplifiedModel, Selection]:
+                    derive: Derivations = UNKEPT, searches: RegionSearches | None = None
+                    ) -> tuple[SimplifiedModel, Selection]:
     """The pruned customized recursive Newton-Euler model within the budget.
 
     Parameters
@@ -424,6 +426,10 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
     derive : Derivations, optional
         Where certifications and searches are kept between runs
         (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
+    searches : RegionSearches, optional
+        :func:`region_searches` of this robot, ``base``, ``region``, ``tolerance`` and
+        ``torque_floor``, if the caller made them already (the main job makes them beside its
+        pass over the G-D terms); made here otherwise.
 
     Returns
     -------
@@ -446,15 +452,15 @@ def build_recursive(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
         found = RegionSearch(rec, trajectory_guarantee(robot, base, rec, tolerance,
                                                        trajectory_sha256, sample_region,
                                                        region_missing))
+        candidates: list[RegionSearch | None] = [found]
     else:
-        found = region_search(robot, base, region, tolerance, torque_floor, derive=derive)
+        if searches is None:
+            searches = region_searches(robot, base, region, tolerance, torque_floor,
+                                       derive=derive)
+        found = searches.found
         if found.screen is not None:    # no region model saves enough: the exact one built
             provenance = {**(provenance or {}), "region_screen": found.screen.to_dict()}
-    if region is not None and found.screen is None and torque_floor > 0:
-        candidates = [found, _floor_zero_choice(robot, base, region, tolerance, torque_floor,
-                                                derive)]
-    else:
-        candidates = [found]
+        candidates = [found, searches.floor_zero]
     models = [recursive_simplified(robot, c.rec, base, tolerance=tolerance,
                                    torque_floor=torque_floor, ranking=ranking,
                                    trajectory_sha256=trajectory_sha256, provenance=provenance,
@@ -485,6 +491,81 @@ def recursive_selection(model: SimplifiedModel) -> Selection:
                      kept=None, scale=rec.scale, bound=rec.bound,
                      bound_by_kind=dict(zip(("D", "h", "c", "whole"), rec.bound_by_part)),
                      element_bound=np.full(model.robot.n, np.nan))
+
+
+@dataclass(frozen=True)
+class RegionSearches:
+    """The region searches a main job's recursive model and its tolerance ladder take
+    (:func:`region_searches`).
+
+    Attributes
+    ----------
+    found : RegionSearch
+        :func:`region_search` at the model's EPS.
+    floor_zero : RegionSearch or None
+        With a torque floor TAU > 0 and a pruned model found: the pairs the search drops
+        without the floor, proved under the floor's certification, where they fit; else None.
+    rungs : dict of float to RegionSearch
+        :func:`region_search` (``sampled`` False) at each other EPS of the ladder asked for;
+        empty where ``found`` is the exact model the sampled pre-screen chose (no ladder is
+        certified then).
+    """
+
+    found: RegionSearch
+    floor_zero: RegionSearch | None = None
+    rungs: Mapping[float, RegionSearch] = dataclasses.field(default_factory=dict)
+
+
+def region_searches(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
+                    torque_floor: float = 0.0, ladder: Sequence[float] = (),
+                    derive: Derivations = UNKEPT) -> RegionSearches:
+    """The region searches of a main job's recursive model and of its tolerance ladder.
+
+    They depend on the robot, its base parameters, the region, EPS and TAU, not on the
+    trajectory, so the main job makes them on a thread beside its pass over the G-D terms
+    (:func:`gd_analyze.jobs.peak_jobs.start_peaks`) and hands them to
+    :func:`build_recursive` and :func:`gd_analyze.simplify.recursive_ladder.recursive_ladder`.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its b base parameters.
+    region : Region
+        The joint-limit region the bounds are proved over.
+    tolerance : float
+        EPS >= 0 of the model.
+    torque_floor : float, optional
+        TAU [N m or N].
+    ladder : sequence of float, optional
+        EPS of the ladder's rungs; the model's own EPS among them is not searched again.
+    derive : Derivations, optional
+        Where certifications and searches are kept between runs (default nowhere).
+
+    Returns
+    -------
+    RegionSearches
+
+    Raises
+    ------
+    ValueError
+        If a tolerance is negative or not finite (:func:`region_search`).
+
+    Notes
+    -----
+    The same calls, in the same order, as :func:`build_recursive` and the ladder made
+    themselves: a search's outcome does not depend on the thread that makes it.
+    """
+    found = region_search(robot, base, region, tolerance, torque_floor, derive=derive)
+    floor_zero = _floor_zero_choice(robot, base, region, tolerance, torque_floor, derive) \
+        if found.screen is None and torque_floor > 0 else None
+    if found.screen is not None and not found.screen.proved:
+        return RegionSearches(found)            # the sampled pre-screen: no ladder
+    rungs = {float(eps): region_search(robot, base, region, float(eps), torque_floor,
+                                       sampled=False, derive=derive)
+             for eps in ladder if float(eps) != float(tolerance)}
+    return RegionSearches(found, floor_zero, rungs)
 
 
 def _floor_zero_choice(robot, base, region, tolerance, torque_floor, derive):

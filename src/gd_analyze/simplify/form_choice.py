@@ -318,7 +318,7 @@ class Deployment:
 def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartPeaks,
            options: SimplifyOptions, provenance: Mapping[str, Any],
            recursive_peaks: Future[Any], explicit_peaks: Future[Any] | None = None,
-           derive: Derivations = UNKEPT) -> Deployment:
+           derive: Derivations = UNKEPT, searches: Future[Any] | None = None) -> Deployment:
     """The main job's one decision: which simplified model is deployed, the model of the other
     rule compared with it, and the tolerance ladder of the form deployed.
 
@@ -344,6 +344,10 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
         model is not derived.
     derive : Derivations, optional
         Where certifications and searches are kept between runs (default nowhere).
+    searches : Future, optional
+        :func:`gd_analyze.simplify.deploy.region_searches` of the robot's region at the
+        model's EPS and the ladder's (:data:`gd_analyze.simplify.explicit_model.LADDER`),
+        made beside the caller, for a model proved over the region; None: made here.
 
     Returns
     -------
@@ -367,10 +371,11 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
     region, missing, proved = guarantee_region(robot, options.guarantee, options.region) \
         if rule == "budget" else (None, "", False)
     contributions = recursive_peaks.result()
+    searched = searches.result() if searches is not None and proved else None
     rec, _ = build_recursive(robot, q, qd, qdd, tolerance=tolerance, torque_floor=torque_floor,
                              contributions=contributions, region=region if proved else None,
                              sample_region=region, region_missing=missing, derive=derive,
-                             **common)
+                             searches=searched, **common)
     costs = recursive_costs(rec, counts)
     ex: Any = None                 # the explicit model of the rule, its terms and peaks
     terms: Any = None
@@ -442,7 +447,8 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
         rows = recursive_ladder(robot, contributions[0], (q, qd, qdd), LADDER, torque_floor,
                                 region=region if proved else None,
                                 contributions=contributions[1], deployed=model, beside=True,
-                                derive=derive)
+                                derive=derive, searched=None if searched is None
+                                else searched.rungs)
     return Deployment(model, other, sel, rows, skipped, form_note, region, screen, terms, counts)
 
 

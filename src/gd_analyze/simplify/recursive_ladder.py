@@ -8,7 +8,7 @@ counted, and its torque error measured on the trajectory. Nothing here prints or
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from ..dynamics.base_parameters import BaseParameters
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
+    from .deploy import RegionSearch
 
 __all__ = ["recursive_ladder", "LadderMeter", "LADDER_BLOCK"]
 
@@ -39,7 +40,9 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
                      region: Region | None = None,
                      contributions: tuple[np.ndarray, ...] | None = None,
                      deployed: SimplifiedModel | None = None, beside: bool = False,
-                     derive: Derivations = UNKEPT) -> list[dict] | LadderMeter:
+                     derive: Derivations = UNKEPT,
+                     searched: Mapping[float, RegionSearch] | None = None
+                     ) -> list[dict] | LadderMeter:
     """The pruned recursive model's cost and measured worst error at each tolerance EPS.
 
     Parameters
@@ -75,6 +78,10 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
     derive : Derivations, optional
         Where certifications and searches are kept between runs
         (:class:`~gd_analyze.simplify.region_memo.Derivations`; default nowhere).
+    searched : dict of float to RegionSearch, optional
+        With ``region``: the rungs' searches the caller made already, by EPS
+        (:attr:`gd_analyze.simplify.deploy.RegionSearches.rungs`); a rung missing there is
+        searched here.
 
     Returns
     -------
@@ -109,8 +116,8 @@ def recursive_ladder(robot: Robot, base: BaseParameters,
             rec, program = deployed.recursive, deployed.choice_cache[0]  # type: ignore[index]  # a deployed model has its choice
         else:
             if region is not None:      # as the main job would deploy it at this EPS
-                found = region_search(robot, base, region, eps, torque_floor, sampled=False,
-                                      derive=derive)
+                found = (searched or {}).get(eps) or region_search(
+                    robot, base, region, eps, torque_floor, sampled=False, derive=derive)
                 rec, forms, store = found.rec, found.forms, found.store
             else:
                 rec = recursive_model(robot, q, qd, qdd, eps, torque_floor, base=base,
