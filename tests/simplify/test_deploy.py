@@ -300,3 +300,42 @@ def test_a_trajectory_model_s_sampled_error_is_pinocchios_over_the_samples():
     np.testing.assert_allclose(stored, expected, rtol=1e-6, atol=1e-9)
     ref = _rnea(puma, where[:, :n], where[:, n:2 * n], where[:, 2 * n:])
     np.testing.assert_allclose(np.abs(ref[np.arange(n), np.arange(n)]), scale, rtol=1e-9)
+
+
+def test_a_search_is_made_once_per_process_for_the_same_inputs_and_entry(puma):
+    """region_search's in-process memo: the same inputs and stored entry give the first
+    search's result; it equals a search made afresh (the memo emptied); another region
+    (its source alone differs) or EPS is searched on its own; a bad stored entry is warned
+    of at every call, never kept."""
+    import dataclasses
+    import warnings
+
+    from gd_analyze.cache import CacheWarning
+    from gd_analyze.simplify import deploy
+    from gd_analyze.simplify.region_memo import Derivations
+
+    base = base_parameters(puma)
+    region = deploy.robot_region(puma, None)[0]
+    deploy._SEARCHED.clear()
+    first = deploy.region_search(puma, base, region, 0.01, sampled=False)
+    assert deploy.region_search(puma, base, region, 0.01, sampled=False) is first
+    deploy._SEARCHED.clear()
+    fresh = deploy.region_search(puma, base, region, 0.01, sampled=False)
+    assert fresh is not first
+    np.testing.assert_array_equal(fresh.rec.dropped, first.rec.dropped)
+    other = dataclasses.replace(region, source="the user's --region")
+    assert deploy.region_search(puma, base, other, 0.01, sampled=False) is not fresh
+    assert deploy.region_search(puma, base, region, 0.05, sampled=False) is not fresh
+    assert len(deploy._SEARCHED) <= deploy._SEARCHED_MAX
+
+    # an entry whose pairs are all dropped cannot fit the budget: warned of each time
+    bad = {"dropped": np.ones((base.rank, 3), bool), "whole": np.ones(base.rank, bool),
+           "exact_forms": ("products",) * puma.n, "pruned_forms": None}
+    store = Derivations(read_search=lambda *args: (bad, "an entry"))
+    for _ in range(2):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            found = deploy.region_search(puma, base, region, 0.01, sampled=False,
+                                         derive=store)
+        assert any(issubclass(w.category, CacheWarning) for w in caught)
+        np.testing.assert_array_equal(found.rec.dropped, fresh.rec.dropped)

@@ -11,6 +11,7 @@ between runs goes through a :class:`~gd_analyze.simplify.region_memo.Derivations
 from __future__ import annotations
 
 import dataclasses
+import json
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -52,6 +53,7 @@ from .region_memo import (
     UNKEPT,
     Derivations,
     certified,
+    region_key,
     region_magnitudes,
     region_values,
 )
@@ -697,6 +699,13 @@ class RegionSearch:
     screen: RegionScreen | None = None
 
 
+#: Searches made in this process (:func:`region_search`), by their inputs and stored entry.
+_SEARCHED: dict = {}
+#: Searches :data:`_SEARCHED` keeps (a main job makes up to five: its EPS, the ladder's other
+#: rungs, the torque floor's second choice).
+_SEARCHED_MAX = 12
+
+
 def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
                   torque_floor: float = 0.0, sampled: bool = True, screen: bool = True,
                   derive: Derivations = UNKEPT) -> RegionSearch:
@@ -740,13 +749,48 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     screen only chooses between two sound paths, so it is not run again (the entry itself is
     checked: its pairs must pass the budget, its forms only choose among programs that compute
     the same torques). A bad entry is ignored with a warning.
+
+    A search is made once per process for the same arm, base parameters, region (with its
+    source and notes), EPS, TAU, flags and store, and the same stored entry (its content, read again each time): a second
+    analysis of the arm in one session (the Python API, a test run) takes the first one's
+    result. One made after a bad entry's warning is not kept, so that the warning is given
+    again while the entry stays.
     """
     found, where = derive.read_search(robot, region, tolerance, torque_floor, REGION_SAMPLES,
                                       robot.n, base.rank)
+    key = None if isinstance(found, str) else (
+        region_key(robot, region, torque_floor), json.dumps(region.to_dict(), sort_keys=True),
+        np.asarray(base.beta, float).tobytes(),
+        np.asarray(base.independent, bool).tobytes(), float(tolerance), bool(sampled),
+        bool(screen), derive, _entry_key(found))
+    if key in _SEARCHED:
+        return _SEARCHED[key]
+    result, kept = _region_search(robot, base, region, tolerance, torque_floor, sampled,
+                                  screen, derive, found, where)
+    if kept and key is not None:
+        while len(_SEARCHED) >= _SEARCHED_MAX:
+            _SEARCHED.pop(next(iter(_SEARCHED)))
+        _SEARCHED[key] = result
+    return result
+
+
+def _entry_key(found):
+    """A stored search's content as a key (None: no entry)."""
+    if found is None:
+        return None
+    return (np.asarray(found["dropped"], bool).tobytes(),
+            np.asarray(found["whole"], bool).tobytes(), tuple(found["exact_forms"]),
+            None if found["pruned_forms"] is None else tuple(found["pruned_forms"]))
+
+
+def _region_search(robot, base, region, tolerance, torque_floor, sampled, screen, derive,
+                   found, where):
+    """:func:`region_search` from the stored entry read (``found``, ``where``), and whether
+    its result may be kept for the process (no bad entry was warned of)."""
     exact = None if isinstance(found, dict) or not screen else screened_exact(
         robot, base, region, tolerance, torque_floor)
     if exact is not None:
-        return RegionSearch(exact[0], exact[1], screen=exact[2])
+        return RegionSearch(exact[0], exact[1], screen=exact[2]), True
     pb = certified(robot, base, region, torque_floor, derive)
     if isinstance(found, dict):
         try:
@@ -759,10 +803,11 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
             proved = _proved_exact(robot, base, region, tolerance, pb, pr[0].dropped,
                                    sampled) if screen else None
             if proved is not None:
-                return RegionSearch(proved[0], proved[1], forms, screen=proved[2])
+                return RegionSearch(proved[0], proved[1], forms, screen=proved[2]), True
             rec, guarantee = _region_model(robot, base, region, tolerance, pb, pr, sampled)
-            return RegionSearch(rec, guarantee, forms)
-    if isinstance(found, str):
+            return RegionSearch(rec, guarantee, forms), True
+    kept = not isinstance(found, str)
+    if not kept:
         warnings.warn(one_line(f"{where}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
@@ -775,9 +820,9 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     if screen:
         proved = _proved_exact(robot, base, region, tolerance, pb, pr.dropped, sampled)
         if proved is not None:
-            return RegionSearch(proved[0], proved[1], store=store, screen=proved[2])
+            return RegionSearch(proved[0], proved[1], store=store, screen=proved[2]), kept
     rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
-    return RegionSearch(rec, guarantee, store=store)
+    return RegionSearch(rec, guarantee, store=store), kept
 
 
 def _proved_exact(robot, base, region, tolerance, pb, dropped, restore=True):

@@ -35,13 +35,13 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
 
 __all__ = ["REGION_SAMPLES", "Derivations", "UNKEPT", "fresh_certification", "certified",
-           "region_values", "region_magnitudes"]
+           "region_values", "region_magnitudes", "region_key"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
 REGION_SAMPLES = 1000
 
-#: Certifications kept in this process (keyed by :func:`_region_key`).
+#: Certifications kept in this process (keyed by :func:`region_key`).
 _CERTIFIED: dict = {}
 #: The region samples kept in this process without a certification (the same key, floor 0).
 _SAMPLED: dict = {}
@@ -60,11 +60,26 @@ def _keep(memo, key, make):
     return memo[key]
 
 
-def _region_key(robot, region, torque_floor):
-    """SHA-256 of the arm, the region, the floor and :data:`REGION_SAMPLES` (in-process keys)."""
+def region_key(robot: Robot, region: Region, torque_floor: float) -> str:
+    """The in-process key of an arm's region: the SHA-256 of the arm, the region, the floor
+    and :data:`REGION_SAMPLES`.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm (its whole description: geometry, inertial parameters, limits, drives).
+    region : Region
+        Its joint-limit region.
+    torque_floor : float
+        TAU [N m or N].
+
+    Returns
+    -------
+    str
+        64 hexadecimal digits.
+    """
     import hashlib
     import json
-
 
     text = json.dumps(json_safe(robot.to_dict()), sort_keys=True)
     return hashlib.sha256(text.encode() + b"".join(
@@ -207,7 +222,7 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
         magnitudes kept for :func:`region_magnitudes`: the certification's sampled peaks
         are their largest over the positions.
     """
-    key = _region_key(robot, region, 0.0)
+    key = region_key(robot, region, 0.0)
     drawn = _SAMPLED.get(key)                                   # the same samples, if drawn
     if drawn is not None and key in _MAGNITUDES:                # and their sampled peaks
         drawn = (*drawn, _MAGNITUDES[key].max(axis=0))
@@ -224,7 +239,7 @@ def certified(robot: Robot, base: BaseParameters, region: Region,
                                   samples=REGION_SAMPLES, values=drawn, drawn=fresh)
         derive.made(robot, region, torque_floor, REGION_SAMPLES, pb)  # a model built here
         return pb                                       # is checked without it again
-    return _keep(_CERTIFIED, _region_key(robot, region, torque_floor), make)
+    return _keep(_CERTIFIED, region_key(robot, region, torque_floor), make)
 
 
 def region_values(robot: Robot, base: BaseParameters, region: Region
@@ -244,7 +259,7 @@ def region_values(robot: Robot, base: BaseParameters, region: Region
         floor 0 already made in this process samples the same positions with the same seed
         and gives these values; it is read instead.
     """
-    key = _region_key(robot, region, 0.0)
+    key = region_key(robot, region, 0.0)
     if key in _CERTIFIED:
         pb = _CERTIFIED[key]
         return pb.positions, pb.values, pb.scale, pb.scale_state
@@ -271,4 +286,4 @@ def region_magnitudes(robot: Robot, base: BaseParameters, region: Region) -> np.
         V = region_values(robot, base, region)[1]
         return pair_magnitudes_at(V, np.asarray(base.beta, float), region.qd_max,
                                   region.qdd_max)
-    return _keep(_MAGNITUDES, _region_key(robot, region, 0.0), make)
+    return _keep(_MAGNITUDES, region_key(robot, region, 0.0), make)
