@@ -66,16 +66,21 @@ def test_threaded_peaks_are_the_peaks_of_the_numpy_regressor(puma):
 
 
 @pytest.mark.parametrize("floor", [0.0, 1.0])
-def test_the_region_searches_made_beside_the_pass_are_those_made_after_it(puma, floor):
+def test_the_region_searches_made_beside_the_pass_are_those_made_after_it(puma, floor,
+                                                                          monkeypatch):
     """Under the budget rule with a region, the region's searches start beside the pass (no
     trajectory needed) and find what the deployment's own calls find, at the model's EPS and
-    at every other rung of the ladder; the torque floor's second choice is made too."""
+    at every other rung of the ladder; the torque floor's second choice is made too. Below
+    REGION_BESIDE_SETPOINTS set points the deployment makes them itself."""
+    from gd_analyze.jobs import peak_jobs
     from gd_analyze.simplify.deploy import _floor_zero_choice, guarantee_region, region_search
     from gd_analyze.simplify.explicit_model import LADDER
 
     options = SimplifyOptions(torque_floor=floor)
     traj = read_trajectory(SHIPPED, puma.n)
     with ThreadPoolExecutor(max_workers=2) as pool:
+        assert "region" not in start_peaks(pool, puma, traj, options)
+        monkeypatch.setattr(peak_jobs, "REGION_BESIDE_SETPOINTS", traj.q.shape[0])
         jobs = start_peaks(pool, puma, traj, options)
         searches = jobs["region"].result()
     base = base_parameters(puma)
@@ -109,6 +114,7 @@ def test_no_region_searches_for_a_trajectory_guarantee_and_errors_reach_the_call
         raise ValueError("made to fail")
 
     monkeypatch.setattr(peak_jobs, "region_searches", fails)
+    monkeypatch.setattr(peak_jobs, "REGION_BESIDE_SETPOINTS", 1)
     with ThreadPoolExecutor(max_workers=2) as pool:
         assert "region" not in start_peaks(pool, puma, traj,
                                            SimplifyOptions(guarantee="trajectory"))

@@ -7,8 +7,8 @@ qdd only, and both run compiled kernels that release the GIL. :func:`start_peaks
 them to a thread pool before the pass over the G-D terms, which runs meanwhile; the simplification
 (:func:`gd_analyze.jobs.analyze.analysis_pass`) then takes their results. A model proved over
 the region needs no peaks but the region's certification and searches, which depend on the
-robot and the options only: :func:`region_job` makes them on a thread of its own beside the
-pass too. Nothing here prints; only the derivation cache is written (by the region's searches,
+robot and the options only: on a long trajectory :func:`region_job` makes them on a thread of
+its own beside the pass too. Nothing here prints; only the derivation cache is written (by the region's searches,
 as they do after the pass).
 """
 
@@ -37,7 +37,12 @@ if TYPE_CHECKING:
 
 
 __all__ = ["derives_explicit", "proves_over_region", "contribution_job", "explicit_job",
-           "region_job", "start_peaks"]
+           "region_job", "start_peaks", "REGION_BESIDE_SETPOINTS"]
+
+#: Set points from which the region's searches run beside the pass over the G-D terms: below
+#: it the pass is too short to hide them (a few milliseconds against about a second), and the
+#: deployment makes them after it, without a thread's switching.
+REGION_BESIDE_SETPOINTS = 65_536
 
 
 def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
@@ -216,14 +221,15 @@ def start_peaks(pool, robot, trajectory, options, derive=UNKEPT):
         ``"recursive"``: :func:`contribution_job`, without the peaks where the model is
         proved over the region (:func:`proves_over_region`); ``"explicit"``:
         :func:`explicit_job`, only where the explicit model is derived; ``"region"``:
-        :func:`region_job`, only where the model is proved over the region (the
-        certification, read back or made, no longer waits for the pass).
+        :func:`region_job`, only where the model is proved over the region and the
+        trajectory has at least :data:`REGION_BESIDE_SETPOINTS` set points (the
+        certification, read back or made, then does not wait for the pass).
     """
     args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
     proved = proves_over_region(robot, options)
     jobs = {"recursive": pool.submit(contribution_job, *args, peaks=not proved)}
     if derives_explicit(robot, options):
         jobs["explicit"] = pool.submit(explicit_job, *args)
-    if proved:
+    if proved and trajectory.q.shape[0] >= REGION_BESIDE_SETPOINTS:
         jobs["region"] = _on_daemon(region_job, jobs["recursive"], robot, options, derive)
     return jobs
