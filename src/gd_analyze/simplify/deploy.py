@@ -751,10 +751,10 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     the same torques). A bad entry is ignored with a warning.
 
     A search is made once per process for the same arm, base parameters, region (with its
-    source and notes), EPS, TAU, flags and store, and the same stored entry (its content, read again each time): a second
-    analysis of the arm in one session (the Python API, a test run) takes the first one's
-    result. One made after a bad entry's warning is not kept, so that the warning is given
-    again while the entry stays.
+    source and notes), EPS, TAU, flags and store, and the same stored entry (its content,
+    read again each time): a second analysis of the arm in one session (the Python API, a
+    test run) takes the first one's result. One made after a bad entry's warning is not kept,
+    so that the warning is given again while the entry stays.
     """
     found, where = derive.read_search(robot, region, tolerance, torque_floor, REGION_SAMPLES,
                                       robot.n, base.rank)
