@@ -69,6 +69,47 @@ def test_a_signal_inside_a_gc_callback_is_not_swallowed(sig):
     assert code == 128 + sig and "Exception ignored" not in err, err
 
 
+WEAKREF_CALLBACK = """
+    import time, weakref
+    from gd_analyze.store.signals import install, pending
+    install()
+
+    class Thing:
+        pass
+
+    def remove(ref):                     # as WeakValueDictionary's: run when a value dies
+        print("in callback", flush=True)
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < 60 and not pending():
+            time.sleep(0.001)            # the signal arrives here
+
+    try:
+        thing = Thing()
+        ref = weakref.ref(thing, remove)
+        del thing
+        print("after callback", flush=True)
+        while True:
+            time.sleep(0.001)
+    except KeyboardInterrupt:
+        raise SystemExit(130)
+    except BaseException as exc:
+        raise SystemExit(128 + int(exc.args[0]))
+"""
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_inside_a_weakref_callback_is_not_swallowed(sig):
+    """A weakref callback's exception is reported as ignored (sys.unraisablehook), as a gc
+    callback's is: the signal raised there is delivered again, not lost (a SIGINT during the
+    10^6 main job landed in a WeakValueDictionary's callback and the job ran to its end)."""
+    proc = _start(WEAKREF_CALLBACK)
+    _wait_for(proc, "in callback")
+    proc.send_signal(sig)
+    code = proc.wait(timeout=HANG)
+    err = proc.stderr.read()
+    assert code == 128 + sig and "Exception ignored" not in err, err
+
+
 AFTER_WROTE = """
     import signal, sys, threading
     from gd_analyze import cli

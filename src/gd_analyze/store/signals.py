@@ -6,9 +6,12 @@ command line (:func:`gd_analyze.cli.main`) exits with 128 + the signal's number 
 places would lose the signal:
 
 - Python code that the interpreter runs on its own (a ``gc.callbacks`` entry such as
-  distributed's GC diagnosis, a ``__del__`` method) reports an exception raised in it as
-  "Exception ignored" and goes on: the sweep then ran to its end and exited 0. The handler
-  does not raise there; it delivers the signal again to the main thread once that code has
+  distributed's GC diagnosis, a ``__del__`` method, a weakref's callback such as a
+  ``WeakValueDictionary``'s) reports an exception raised in it as "Exception ignored" and
+  goes on: the sweep then ran to its end and exited 0. The handler does not raise where it
+  sees such code on the stack; where it cannot see it (a weakref's callback is any
+  function), the exception it raised reaches ``sys.unraisablehook``, which :func:`install`
+  sets. Either way the signal is delivered again to the main thread once that code has
   returned (:func:`_deliver_later`).
 - After the command returned, during the interpreter's shutdown (joining threads, atexit
   handlers), a KeyboardInterrupt printed a traceback after "wrote" with exit status 0.
@@ -33,6 +36,10 @@ SIGNALS = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGH
 #: callback to return; not a test's wait).
 _AGAIN = 0.02
 _PENDING: list = []
+#: The exception the handler raised last, with its signal (for :func:`_unraisable`).
+_RAISED: list = []
+#: The ``sys.unraisablehook`` before :func:`install`.
+_HOOK: list = [sys.unraisablehook]
 
 
 def pending() -> tuple[int, ...]:
@@ -79,11 +86,27 @@ def _on_signal(signum, frame):
     if _in_interpreter_callback(frame):
         _deliver_later(signum)
         return
-    raise _exception(signum)
+    exc = _exception(signum)
+    _RAISED[:] = [(exc, signum)]
+    raise exc
+
+
+def _unraisable(unraisable):
+    """``sys.unraisablehook``: a signal's exception the interpreter would report as ignored
+    (raised in a callback it runs itself: a weakref's, a finalizer's) is delivered again to
+    the main thread instead; anything else goes to the hook there was before."""
+    for exc, signum in _RAISED:
+        if unraisable.exc_value is exc:
+            _RAISED.clear()
+            _deliver_later(signum)
+            return
+    _HOOK[0](unraisable)
 
 
 def install() -> None:
-    """Handle SIGINT, SIGTERM and SIGHUP by :func:`_on_signal` (main thread only).
+    """Handle SIGINT, SIGTERM and SIGHUP by :func:`_on_signal` (main thread only), and
+    set ``sys.unraisablehook`` so that a signal's exception raised in a callback the
+    interpreter runs itself is delivered again instead of lost.
 
     Raises
     ------
@@ -92,6 +115,9 @@ def install() -> None:
     """
     for sig in SIGNALS:
         signal.signal(sig, _on_signal)
+    if sys.unraisablehook is not _unraisable:
+        _HOOK[0] = sys.unraisablehook
+        sys.unraisablehook = _unraisable
 
 
 def after_run(prog: str) -> None:
