@@ -130,3 +130,29 @@ def test_region_table_and_whether_this_trajectory_lies_in_it():
     assert "it does not cover it" in text
     inside = gd.analyze(robot, (t, 0.1 * q), options)
     assert "Every set point of this trajectory lies in the region." in region_table(inside)[1]
+
+
+def test_the_core_s_statements_reach_the_report_as_mathematics():
+    """The screen's sentence (the proof of D_s restored some parameters) and a failed D_s
+    proof's statement, as the core writes them, are set with D and a subscript s, never
+    "D_s" (a 15-joint chain's report printed "the proof that D_s is positive definite")."""
+    from gd_analyze.certify.screen import RegionScreen
+    from gd_analyze.jobs.simplified_dataset import inertia_check_attrs
+    from gd_analyze.report.markup import html, plain, sub
+    from gd_analyze.report.simplified_section import _screen_note, inertia_check_text
+
+    screen = RegionScreen(tolerance=0.01, threshold=0.015, exact_operations=2701,
+                          best_operations=2690, dropped=np.zeros(3, bool), scale=np.ones(2),
+                          scale_state=np.zeros((2, 6)), relative_peak=np.zeros((3, 3)),
+                          seconds=0.0, proved=True, restored=12)
+    said = screen.text()
+    assert "D_s" in said                                 # the core's plain text
+    note = _screen_note(said, proved=True)
+    assert "the proof that D" + sub("s") + " is positive definite" in note
+    assert "D_s" not in note and "D_s" not in str(html(note)) and "D_s" not in plain(note)
+    assert "D<sub>s</sub>" in str(html(note))
+    bad = inertia_check_text(inertia_check_attrs(
+        {"where": "region", "samples": 200, "restored": [], "method": "m", "proved": False,
+         "sampled_min_eigenvalue": -0.5, "statement": "D_s has eigenvalue -0.5 at a sampled "
+                                                       "position"}))
+    assert "D_s" not in bad and "D" + sub("s") + " has eigenvalue -0.5" in bad

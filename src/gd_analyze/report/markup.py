@@ -101,13 +101,21 @@ def code(text: str) -> str:
     return f"{CODE}{text}{END}"
 
 
+#: The simplified model's symbols as the core's plain-text statements write them, and the
+#: letter each is set as with its subscript (s_i: the joint's torque scale).
+_STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s)\b")
+
+
 def scope(statement: str) -> str:
-    """A guarantee's statement (plain text, ``s_i``) as the reports write it: s with subscript i.
+    """A statement of the core (plain text: a guarantee's, a screen's, a proof's) as the
+    reports write it: ``s_i`` as s with subscript i, ``D_s``, ``h_s``, ``c_s`` and ``tau_s``
+    as D, h, c and tau with subscript s.
 
     Parameters
     ----------
     statement : str
-        :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`.
+        :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`, or a screen's or an
+        inertia check's statement.
 
     Returns
     -------
@@ -117,8 +125,14 @@ def scope(statement: str) -> str:
     --------
     >>> scope("within 1 % of s_i") == "within 1 % of s" + sub("i")
     True
+    >>> scope("the proof that D_s is positive definite") == (
+    ...     "the proof that D" + sub("s") + " is positive definite")
+    True
     """
-    return re.sub(r"\bs_i\b", sub("i").join(("s", "")), statement)
+    def symbol(m: re.Match[str]) -> str:
+        letter, index = m.group(1).split("_")
+        return ("\u03c4" if letter == "tau" else letter) + sub(index)
+    return _STATEMENT_SYMBOLS.sub(symbol, statement)
 
 
 def powers(text: str) -> str:

@@ -717,7 +717,7 @@ def inertia_check_text(check: InertiaCheck | Mapping[str, Any] | None) -> str:
         return text
     sampled = check.sampled_min_eigenvalue
     return (f" The inertia matrix of the model, {d_s}, is not proved positive definite: "
-            f"{check.statement}. Its smallest eigenvalue at the "
+            f"{scope_markup(check.statement)}. Its smallest eigenvalue at the "
             f"{count(check.samples)} sampled positions is {fmt(sampled, 3)}"
             + (" (sampled, not proved between the samples)." if sampled > 0 else
                ": forward dynamics with it is not safe there."))
@@ -856,6 +856,7 @@ def _screen_note(said, proved=False):
     pairs searched under the proved bounds, whose pruned model was not built."""
     if not said:
         return ""
+    said = scope_markup(said)
     return f"Pruned region model not built: {said}." if proved else \
         f"Region certification skipped: {said}."
 
