@@ -282,6 +282,17 @@ def test_html_torque_error_table(any_report):
         assert row[4].endswith("%")
 
 
+def test_summary_names_a_largest_error_only_where_one_is_not_round_off(any_report):
+    """The two-link arm's model is exact (every joint's stored torque error is round-off):
+    its summary says so instead of naming a joint's "≡ 0" as the largest error; the PUMA
+    560's drops terms and names its largest. Oracle: the stored round-off marks."""
+    noise = any_report["ds"]["tau_error_round_off"].values.astype(bool)
+    html = (any_report["out"] / "report.html").read_text(encoding="utf-8")
+    text = re.sub(r"\s+", " ", unescape(re.sub(r"<[^>]+>", "", html)))
+    assert ("at every joint (round-off only)" in text) == bool(noise.all())
+    assert ("largest open-loop torque error" in text) == (not noise.all())
+
+
 def test_html_robot_trajectory_and_provenance(puma_report):
     ds = puma_report["ds"]
     html = (puma_report["out"] / "report.html").read_text(encoding="utf-8")

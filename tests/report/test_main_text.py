@@ -106,3 +106,25 @@ def test_chapter_disagreement_causes_state_true_inequalities():
         assert ops[op](value, threshold), text
         if label.startswith("D"):
             assert "not the chapter's" in text and "rotor" not in text, text
+
+
+def test_an_error_that_is_round_off_everywhere_is_said_so_not_ranked():
+    """A 15-joint chain's exact model read "Its largest open-loop torque error ... is ≡ 0 of
+    peak |τ| at joint 5 (≡ 0 N m of 6.043 N m); every other joint is within ≡ 0": where the
+    stored round-off marks cover every joint, no joint is named as the largest."""
+    labels, dom, zero, choice = (["D11", "h1", "h2", "h3"], ["translational"] * 4,
+                                 np.zeros(4, bool), ["tran"] * 4)
+    rel, err, tau = np.array([3e-17, 1e-16, 2e-17]), np.array([1e-16, 3e-16, 1e-16]), \
+        np.array([4.0, 3.0, 6.0])
+    exact = conclusion(labels, dom, zero, choice, rel, err, tau, round_off=[True] * 3)
+    assert "is \u2261\u00a00 at every joint (round-off only)" in exact
+    assert "largest" not in exact and "every other joint" not in exact
+    assert exact.count(". ") == 2 and exact.endswith(".")
+    one = conclusion(labels, dom, zero, choice, np.array([3e-17, 0.004, 2e-17]), err, tau,
+                     round_off=[True, False, True])
+    assert "at joint 2" in one and "every other joint's is \u2261\u00a00" in one
+    plain = conclusion(labels, dom, zero, choice, np.array([0.001, 0.004, 0.002]), err, tau,
+                       round_off=[False] * 3)
+    assert "at joint 2" in plain and "every other joint is within 0.2" in plain
+    assert plain == conclusion(labels, dom, zero, choice, np.array([0.001, 0.004, 0.002]), err,
+                               tau)

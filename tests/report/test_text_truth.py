@@ -62,6 +62,7 @@ def _check_summary_against_dataset(folder):
         dominance = [str(v) for v in ds["dominance"].values]
         costs = dict(zip([str(v) for v in ds["cost_model"].values], ds["cost_total"].values))
         form = str(ds.attrs["simplified_form"])
+        noise = ds["tau_error_round_off"].values.astype(bool)
     for lab, cls in zip(labels, dominance):              # every negligible element named
         if cls == "negligible":
             # lettered D<sub>12</sub>: "D 12" once the tags are stripped
@@ -74,6 +75,9 @@ def _check_summary_against_dataset(folder):
             continue
         assert f"{int(costs[key]):,}" in summary, (key, summary)
     assert "open-loop torque error" in summary
+    # a largest error is named unless the stored marks make every joint's round-off
+    assert ("largest open-loop torque error" in summary) == (not noise.all()), summary
+    assert ("at every joint (round-off only)" in summary) == bool(noise.all()), summary
     assert ("recursive Newton-Euler model on" in summary) == (form == "recursive")
     return summary
 

@@ -1027,7 +1027,8 @@ def _report_context_base(results):
                          scope=_scope(_statement(ds)),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
-                         placeholder_inertia=results.robot_record.placeholder_inertia)
+                         placeholder_inertia=results.robot_record.placeholder_inertia,
+                         round_off=err_off)
     facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)

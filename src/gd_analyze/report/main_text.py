@@ -108,7 +108,8 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                recursive: tuple[int, int, int] | None = None, gravity: str | None = None,
                units: Sequence[str] | None = None, scope: str | None = None,
                where: str = "this trajectory", shown: Mapping[str, Sequence[str]] | None = None,
-               placeholder_inertia: bool = False) -> str:
+               placeholder_inertia: bool = False,
+               round_off: npt.ArrayLike | None = None) -> str:
     """The report's conclusion in three sentences.
 
     Parameters
@@ -119,6 +120,10 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         Elements zero in every part (:func:`gd_analyze.report.main_figures.identically_zero`).
     rel_peak, abs_peak, tau_peak : ndarray, shape (n,)
         Per joint: peak |tau_s - tau| / peak |tau| [1], peak |tau_s - tau| [N m], peak |tau|.
+    round_off : ndarray of bool, shape (n,), optional
+        Per joint, the torque error is round-off (``round_off`` of the stored torque error,
+        marked \u2261 0 in the error table): where every joint's is, the sentence says so
+        instead of naming a largest error.
     placeholder_inertia : bool, optional
         The robot's inertia tensors are placeholders (``robot_placeholder_inertia``): where
         rotational effects lead, the sentence says so (:data:`PLACEHOLDER_INERTIA`).
@@ -201,19 +206,27 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         text = str(shown[kind][k])
         return text.replace(" ", "\u00a0") if kind == "rel" else _qty_text(text, u)
 
-    third = (f"Its largest open-loop torque error ({_TAU_S} \u2212 \u03c4 along the "
-             f"trajectory) is {cell('rel', worst, 100 * rel[worst], '%')} of peak |\u03c4| at "
-             f"joint {worst + 1} ({cell('abs', worst, abs_peak[worst], unit[worst])} of "
-             f"{cell('tau', worst, tau_peak[worst], unit[worst])})")
+    noise = (np.zeros(rel.size, bool) if round_off is None
+             else np.asarray(round_off, bool).reshape(rel.size))
+    if noise.all():
+        third = (f"Its open-loop torque error ({_TAU_S} \u2212 \u03c4 along the trajectory) "
+                 f"is \u2261\u00a00 at every joint (round-off only)")
+    else:
+        third = (f"Its largest open-loop torque error ({_TAU_S} \u2212 \u03c4 along the "
+                 f"trajectory) is {cell('rel', worst, 100 * rel[worst], '%')} of peak |\u03c4| "
+                 f"at joint {worst + 1} ({cell('abs', worst, abs_peak[worst], unit[worst])} of "
+                 f"{cell('tau', worst, tau_peak[worst], unit[worst])})")
     big = float(np.nanmax(tau_peak))
-    if tau_peak[worst] < 0.01 * big:
+    if tau_peak[worst] < 0.01 * big and not noise.all():
         at = int(np.nanargmax(tau_peak))
         third += (f": that joint's own torque is under 1\u00a0% of the largest joint's "
                   f"({_qty(big, unit[at])}), so a tiny absolute error is a large share of it")
-    if others.size and np.any(np.isfinite(others)):
+    if others.size and np.any(np.isfinite(others)) and not noise.all():
         second_worst = int(np.nanargmax(np.where(np.arange(rel.size) == worst, -np.inf,
                                                  np.nan_to_num(rel, nan=-np.inf))))
-        third += (f"; every other joint is within "
+        third += ("; every other joint's is \u2261\u00a00"
+                  if np.delete(noise, worst).all() else
+                  f"; every other joint is within "
                   f"{cell('rel', second_worst, 100 * rel[second_worst], '%')}")
     if cost is not None:
         mult, add, ne = cost[:3]
