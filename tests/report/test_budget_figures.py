@@ -236,3 +236,47 @@ def test_wide_tick_labels_leave_room_for_every_panels_axis_label(shipped_dataset
             ticks = ax.yaxis.get_tightbbox(renderer)
             margin = 0.05 * fig.dpi                     # 0.05 in clear of the figure's edge
             assert label.x0 >= margin and ticks.x0 >= margin, (ax.get_title(), label.x0)
+
+
+def _tiled(ds, n):
+    """The PUMA 560's per-joint record repeated to n joints: the variables of dimension
+    ``joint`` alone, with the dataset's attributes (what the budget figure reads)."""
+    names = [v for v in ds.data_vars if ds[v].dims == ("joint",)]
+    out = ds[names].isel(joint=np.arange(n) % ds.sizes["joint"])
+    out = out.assign_coords(joint=[f"j{k + 1}" for k in range(n)])
+    out.attrs = dict(ds.attrs)
+    return out
+
+
+@pytest.mark.parametrize(("n", "width"), [(6, 7.2), (12, 7.2), (15, 7.2), (6, 3.5), (15, 3.5)])
+def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width, monkeypatch):
+    """Across a page, 15 joints' "joint i" labels ran into each other ("joint 9joint
+    10oint 11"), and so did their "nothing dropped": with its text raised to the printed
+    minimum as the report draws it, the figure has no collision (tests/figure_checks.py);
+    across a page 6 and 12 joints keep "joint i", 15 are numbered under an axis label
+    "joint"; where a joint's room is too narrow even for the note on its side (15 joints in
+    a column), the figure's note names the joints instead."""
+    from figure_checks import collisions
+
+    from gd_analyze.report import simplified_section
+    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
+
+    ds = _tiled(shipped_dataset("puma560"), n)
+    monkeypatch.setattr(simplified_section, "budget_parts",       # nothing dropped anywhere
+                        lambda s: {k: 0 * v for k, v in budget_parts(s).items()})
+    with matplotlib.rc_context(FIG_RC):
+        fig = fig_error_budget(ds, width=width)
+    raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+    assert not collisions(fig, FIG_RC), collisions(fig, FIG_RC)[:4]
+    ax = fig.axes[0]
+    notes = [t for t in ax.texts if "nothing" in t.get_text()]
+    below = " ".join(t.get_text().replace("\n", " ") for t in fig.texts)
+    listed = "Nothing dropped at joints " + ", ".join(map(str, range(1, n + 1))) + "."
+    assert len(notes) == n or (not notes and listed in below), (n, width)
+    assert (listed in below) == (not notes) and (notes or (n, width) == (15, 3.5))
+    labels = [t.get_text() for t in ax.get_xticklabels()]
+    full = [f"joint {k}" for k in range(1, n + 1)]
+    assert labels == full or labels == [str(k) for k in range(1, n + 1)]
+    assert (ax.get_xlabel() == "joint") == (labels != full)
+    assert (labels == full) == (width == 7.2 and n != 15)   # short where "joint i" won't fit

@@ -158,3 +158,42 @@ def test_error_figure_sentence_names_the_joints_where_the_merged_error_is_round_
     assert (sorted(map(int, m.group(1).split(", "))) if m else []) == \
         (quiet if len(quiet) < err.shape[1] else []), said
     assert re.search(r"the merged model's is at most [\d.]+ % of ", said), said
+
+
+@pytest.mark.parametrize(("n", "width"), [(6, 7.2), (15, 7.2), (6, 3.5), (15, 3.5)])
+def test_the_error_figures_joint_labels_and_notes_never_touch(n, width, monkeypatch):
+    """Fig. 4 across a page for an arm of 15 joints read "joint 9joint 10oint 11": with its
+    text raised to the printed minimum as the report draws it, and "round-off only" forced on
+    every joint, it has no collision (tests/figure_checks.py); where even the note on its
+    side is wider than a joint's room, the key names the joints instead. The golden PUMA 560
+    sweep, its joints repeated to n."""
+    import matplotlib
+    from conftest import golden_run
+    from figure_checks import collisions
+
+    from gd_analyze.report import sweep
+    from gd_analyze.report.common import SUPTITLE_RC
+    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
+    from gd_analyze.store.schema import open_sweep
+
+    roots, _ = golden_run("puma560-sweep")
+    with open_sweep(roots[0] / "puma560-sweep" / "sweep.h5") as ds:
+        ds = ds.load()
+    ds = ds.isel(joint=np.arange(n) % ds.sizes["joint"]).assign_coords(
+        joint=[f"j{k + 1}" for k in range(n)])
+    monkeypatch.setattr(sweep, "ERROR_FLOOR", np.inf)        # every joint round-off only
+    with matplotlib.rc_context(SUPTITLE_RC):
+        fig = sweep._fig_error(sweep.StoredSweep.of(ds), width=width)
+    raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+    found = [c for c in collisions(fig, SUPTITLE_RC) if "figure's edge" not in c]
+    assert not found, found[:4]             # (a key past the edge makes the drawing taller)
+    ax = fig.axes[0]
+    notes = [t for t in ax.texts if "round-off" in t.get_text()]
+    key = [t.get_text().replace("\n", " ") for t in ax.get_legend().get_texts()]
+    listed = "round-off only at joints " + ", ".join(map(str, range(1, n + 1)))
+    assert len(notes) == n or (not notes and listed in key), (n, width)
+    assert (listed in key) == (not notes) and (notes or (n, width) == (15, 3.5))
+    labels = [t.get_text() for t in ax.get_xticklabels()]
+    assert labels == ([f"joint {k}" for k in range(1, n + 1)] if width == 7.2 and n == 6
+                      else [str(k) for k in range(1, n + 1)])

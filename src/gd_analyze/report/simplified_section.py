@@ -31,7 +31,8 @@ from .markup import element as _el
 from .markup import powers, sub
 from .markup import scope as scope_markup
 from .plot_data import PlotData
-from .ticks import label_axes, set_ticks, tick_label_width
+from .ticks import joint_ticks, label_axes, set_ticks, tick_label_width
+from .typeset import MIN_PRINTED_PT, printed_scale
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -358,21 +359,24 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
             label="measured peak |\u0394\u03c4|", zorder=4)
     ymax = max(100 * eps, float(np.nanmax(bottom)) if n else 0.0,
                float(np.nanmax(np.nan_to_num(100 * measured))) if n else 0.0) * 1.25 or 1.0
+    ax.set_xlim(0.4, n + 0.6)
+    # "joint i" across, or "i" where those would touch (a column, or 12 joints and more)
+    least, slot = MIN_PRINTED_PT / printed_scale((width, H)), (width - 0.9) / max(n, 1)
+    short = joint_ticks(ax.xaxis, n, slot, least, short=column)
     # "nothing dropped" beside the budget's dash, on the side with more room (raised to the
-    # printed minimum it would reach the dash from below when the dash sits low)
+    # printed minimum it would reach the dash from below when the dash sits low), turned on
+    # its side where the joints are numbered short; named in the note below where even its
+    # two lines on their side are wider than a joint's room
     above = 100 * eps < 0.5 * ymax
+    listed = short and 2.3 * max(7.0, least) / 72 > 0.85 * slot
     for i in range(n):
-        if bottom[i] == 0:
+        if bottom[i] == 0 and not listed:
             ax.annotate("nothing\ndropped", (x[i], 100 * eps),
                         xytext=(0, 3 if above else -3), textcoords="offset points",
                         ha="center", va="bottom" if above else "top", fontsize=7,
-                        color="0.35", linespacing=1.1, rotation=90 if column else 0)
+                        color="0.35", linespacing=1.1, rotation=90 if short else 0)
     ax.set_ylim(0, ymax)
     set_ticks(ax.yaxis, 0, ymax / 1.25, 4)
-    ax.set_xlim(0.4, n + 0.6)
-    ax.set_xticks(x, [str(i) if column else f"joint {i}" for i in x])
-    if column:
-        ax.set_xlabel("joint", labelpad=1.0)
     ax.tick_params(axis="x", length=0)
     ax.set_ylabel("relative to s [%]", labelpad=1.0)
     ax.grid(axis="x", visible=False)
@@ -387,8 +391,17 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
             f"is the sum of the dropped terms' {what}"
             + (", or, where lower (\u25bc), the bound proved on their sum at the same state."
                if lower.any() else "."))
-    fig.text(0.1 / width, 0.04 / H, textwrap.fill(note, int((width - 0.2) / 0.058)),
-             fontsize=7, va="bottom", color="0.25")
+    none = [str(i + 1) for i in range(n) if bottom[i] == 0]
+    if listed and none:
+        note += f" Nothing dropped at joint{'s' * (len(none) > 1)} {', '.join(none)}."
+    note = textwrap.fill(note, int((width - 0.2) / 0.058))
+    fig.text(0.1 / width, 0.04 / H, note, fontsize=7, va="bottom", color="0.25")
+    # the panel raised above the note, its tick labels and axis label at their printed size
+    need = 0.04 + (note.count("\n") + 1) * 1.25 * max(7.0, least) / 72 + (0.45 if short
+                                                                              else 0.3)
+    box = ax.get_position()
+    if need > box.y0 * H:
+        ax.set_position((box.x0, need / H, box.width, box.y1 - need / H))
     return fig
 
 

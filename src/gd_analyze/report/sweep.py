@@ -83,8 +83,8 @@ from .markup import sub as _sub
 from .numbers import decade_label
 from .sections import Outline
 from .simplified_section import region_pruning
-from .ticks import decade_formatter
-from .typeset import TABLE_COLOURS, check_paper
+from .ticks import decade_formatter, joint_ticks
+from .typeset import MIN_PRINTED_PT, TABLE_COLOURS, check_paper, printed_scale
 
 if TYPE_CHECKING:
     import os
@@ -383,6 +383,13 @@ def _fig_error(w, width=_PAGE_WIDTH):
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
                        (H - (2.05 if column else 1.6)) / H))
+    # "joint i" across, or "i" where those would touch (a column, or 12 joints and more)
+    least, slot = MIN_PRINTED_PT / printed_scale((W, H)), (W - 0.95) / max(n, 1)
+    short = joint_ticks(ax.xaxis, n, slot, least, short=column)
+    # "round-off only" in each joint's room, on its side where the joints are numbered
+    # short; named in the title where even that is wider than the room
+    listed = short and 2.3 * max(7.0, least) / 72 > 0.85 * slot
+    only = []
     for j in range(n):
         for off, data, colour in ((-0.18, own[:, j], _OWN_COLOUR),
                                   (0.18, merged[:, j], _MERGED_COLOUR)):
@@ -398,16 +405,15 @@ def _fig_error(w, width=_PAGE_WIDTH):
         finite = np.concatenate([own[:, j], merged[:, j]])
         finite = finite[np.isfinite(finite)]
         if finite.size and (finite <= ERROR_FLOOR).all():
-            ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
-                    ha="center", va="center", fontsize=7, color="0.35")
+            only.append(str(j + 1))
+            if not listed:
+                ax.text(j + 1, 0.5, "round-off\nonly", transform=ax.get_xaxis_transform(),
+                        ha="center", va="center", fontsize=7, color="0.35",
+                        rotation=90 if short else 0)
     ax.set_yscale("log")
     # decades written 10⁻⁶ in the tick labels' own size (mathtext's exponents: 0.7 of it)
     ax.yaxis.set_major_formatter(decade_formatter())
     ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_xticks(np.arange(1, n + 1), [f"{j + 1}" if column else f"joint {j + 1}"
-                                         for j in range(n)])
-    if column:
-        ax.set_xlabel("joint", labelpad=1.0)
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u0394\u03c4| / peak |\u03c4| [1]" if not region else
                   "peak |\u0394\u03c4| / s [1]")    # one scale for all
@@ -423,8 +429,12 @@ def _fig_error(w, width=_PAGE_WIDTH):
                        Line2D([], [], color=_MERGED_COLOUR,
                               label=f"merged model ({merged_rule}), per trajectory"),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",
-                              label="merged model, over all trajectories")],
-              loc="upper center", bbox_to_anchor=(0.5, -0.2 if column else -0.08),
+                              label="merged model, over all trajectories")]
+              + ([Line2D([], [], ls="none", label=f"round-off only at joint"
+                         f"{'s' * (len(only) > 1)} {', '.join(only)}")]
+                 if listed and only else []),
+              loc="upper center",       # below the tick labels, and the axis label if any
+              bbox_to_anchor=(0.5, -0.2 if column else -0.3 if short else -0.12),
               ncol=1 if column else 2, frameon=False, fontsize=7)
     fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
                  "round-off not drawn)" if column else

@@ -4,7 +4,8 @@
 given limits; :func:`label_axes` writes the ticks of a figure's axes in one form with
 :class:`matplotlib.ticker.ScalarFormatter`, each axis in units of a power of ten stated once,
 in its axis label (no offset text: "[10⁻³ kg m²]"); :func:`decade_formatter` writes the
-decades of a logarithmic axis as 10⁶.
+decades of a logarithmic axis as 10⁶; :func:`joint_ticks` labels a panel's joints across
+"joint i", or "i" under an axis label "joint" where those would touch.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ if TYPE_CHECKING:
     from matplotlib.ticker import Formatter, ScalarFormatter
 
 __all__ = ["nice_ticks", "set_ticks", "label_axes", "tick_label_width", "with_power",
-           "scaled_formatter", "decade_formatter"]
+           "scaled_formatter", "decade_formatter", "joint_ticks"]
 
 #: :func:`label_axes` writes ticks as they are while the largest |tick| is in this range,
 #: in units of a power of ten outside (no 0.0015, no 20000 on a small panel).
@@ -199,6 +200,44 @@ def decade_formatter() -> Formatter:
     from matplotlib.ticker import FuncFormatter
 
     return FuncFormatter(lambda x, pos=None: decade_label(x))
+
+
+def joint_ticks(axis: Axis, n: int, slot: float, least: float, short: bool = False) -> bool:
+    """Label positions 1 to n of an axis as the arm's joints: "joint i" where the widest such
+    label, at the size it prints at, fits its slot with a gap, else "i" with the axis label
+    "joint" (a panel of 12 or 15 joints across a page: "joint 9joint 10oint 11").
+
+    Parameters
+    ----------
+    axis : matplotlib.axis.Axis
+        The axis across which the joints sit, at 1, ..., n.
+    n : int
+    slot : float
+        The room of one joint along the axis [in].
+    least : float
+        The least size [pt] a text of the figure is drawn at, so that it prints at the
+        reports' minimum (tick labels smaller than it are raised to it when drawn).
+    short : bool, optional
+        "i" whatever the room (a column-wide figure).
+
+    Returns
+    -------
+    bool
+        The short labels were set (the callers set their other per-joint texts the same way).
+    """
+    from matplotlib.textpath import TextPath
+
+    labels = [f"joint {i}" for i in range(1, n + 1)]
+    axis.set_ticks(range(1, n + 1), labels)
+    if not short and n:
+        size = max(float(axis.get_major_ticks()[0].label1.get_fontsize()), least)    # [pt]
+        widest = max(TextPath((0, 0), t, size=size).get_extents().width for t in labels) / 72
+        short = widest > 0.85 * slot
+    if short:
+        axis.set_ticks(range(1, n + 1), [str(i) for i in range(1, n + 1)])
+        axis.set_label_text("joint")
+        axis.labelpad = 1.0
+    return short
 
 
 def tick_label_width(axis: Axis) -> float:
