@@ -197,3 +197,72 @@ def test_the_error_figures_joint_labels_and_notes_never_touch(n, width, monkeypa
     labels = [t.get_text() for t in ax.get_xticklabels()]
     assert labels == ([f"joint {k}" for k in range(1, n + 1)] if width == 7.2 and n == 6
                       else [str(k) for k in range(1, n + 1)])
+
+
+def _tiled_sweep(n):
+    """The golden PUMA 560 sweep made an arm of n joints: each element of D or h takes the
+    data of one of the same kind, cyclically, each joint one joint's."""
+    from conftest import golden_run
+
+    from gd_analyze.ranking.ranking import element_label
+    from gd_analyze.store.schema import open_sweep
+
+    roots, _ = golden_run("puma560-sweep")
+    with open_sweep(roots[0] / "puma560-sweep" / "sweep.h5") as ds:
+        ds = ds.load()
+    labels = [str(v) for v in ds["element"].values]
+    D = [k for k, lab in enumerate(labels) if lab.startswith("D")]
+    h = [k for k, lab in enumerate(labels) if lab.startswith("h")]
+    new = [element_label("D", i, j) for i in range(n) for j in range(i, n)] + \
+        [element_label("h", i) for i in range(n)]
+    idx = [D[k % len(D)] for k in range(n * (n + 1) // 2)] + [h[k % len(h)] for k in range(n)]
+    out = ds.isel(element=idx, joint=np.arange(n) % ds.sizes["joint"])
+    return out.assign_coords(element=new, joint=[f"j{k + 1}" for k in range(n)])
+
+
+def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
+    """The sweep report of a 15-joint arm drew D's 120 panels in one triangle 15.8 in tall
+    (at its printed size every title ran into the next) and its class bars 20.4 in tall:
+    each share and class figure now goes in parts no taller than MOST_HEIGHT, every element
+    in exactly one, with no collision at the printed size; the report captions each part.
+    The PUMA 560's keep one figure each, D in the layout of Fig. 3.10."""
+    import matplotlib
+    from figure_checks import collisions
+
+    from gd_analyze.report import sweep
+    from gd_analyze.report.common import SUPTITLE_RC
+    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
+    from gd_analyze.store.schema import write_dataset
+
+    ds = _tiled_sweep(15)
+    with matplotlib.rc_context(SUPTITLE_RC):
+        figs = sweep.make_sweep_figures(ds)
+        six = sweep.make_sweep_figures(_tiled_sweep(6))
+    assert {k for k in six if k[0] in "Dhc"} == {"D", "h", "classes"}
+    assert len(six["D"].axes) == 21 + 1                   # the triangle and its key's axes
+    elements = [str(v) for v in ds["element"].values]
+    for key, kind in (("D", "D"), ("h", "h"), ("classes", "")):
+        parts = [figs[key]] + [figs[f"{key}_{p}"] for p in range(2, 13) if f"{key}_{p}" in figs]
+        assert len(parts) > 1, key
+        if kind:                                          # panel titles "D(3,12): keeps both"
+            drawn = [plain(ax.get_title()).split(":")[0] for f in parts for ax in f.axes]
+            want = [lab for lab in elements if lab.startswith(kind)]
+            assert len(drawn) == len(want) and len(set(drawn)) == len(want), key
+        else:
+            drawn = [t.get_text() for f in parts for t in f.axes[0].get_yticklabels()]
+            assert len(drawn) == len(elements) == len(set(drawn))
+        for k, fig in enumerate(parts):
+            assert fig.get_size_inches()[1] <= sweep.MOST_HEIGHT, (key, k)
+            assert f"part {k + 1} of {len(parts)}" in fig._suptitle.get_text(), (key, k)
+            raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+            found = [c for c in collisions(fig, SUPTITLE_RC) if "figure's edge" not in c]
+            assert not found, (key, k, found[:3])
+    path = tmp_path / "sweep.h5"
+    write_dataset(ds, path)
+    written = sweep.write_sweep_report(path, tmp_path / "out", formats=("html",))
+    names = {p.name for p in written}
+    assert {"fig_sweep_share_D_part8.pdf", "fig_sweep_class_fractions_part4.svg"} <= names
+    html = (tmp_path / "out" / "sweep_report.html").read_text(encoding="utf-8")
+    assert "Part 1 of 8." in html and "Part 8 of 8." in html and "Part 4 of 4." in html

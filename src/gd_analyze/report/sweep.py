@@ -221,13 +221,71 @@ def _key_text(w, K):
         f"trajectory (up to 60).", 52)
 
 
-def _fig_D(w, width=_PAGE_WIDTH):
+#: Most joints whose D figure keeps the upper-triangle layout of Fig. 3.10 across a page
+#: (every shipped arm); beyond, its panels go in reading order, six a row, in parts.
+TRIANGLE_JOINTS = 7
+#: The tallest a share or class figure is drawn [in], so that it prints with its caption on
+#: one page at its size; more panels or rows go into further parts (``D_2``, ``h_2``,
+#: ``classes_2``, ...).
+MOST_HEIGHT = 8.6
+
+
+def _parts(labels, per, least=1):
+    """``labels`` in as few parts of at most ``per`` as they need (at least ``least``), of
+    about one size."""
+    labels = list(labels)
+    k = min(max(least, -(-len(labels) // max(per, 1))), max(len(labels), 1))
+    cuts = [len(labels) * i // k for i in range(k + 1)]      # k parts, sizes differ by <= 1
+    return [labels[a:b] for a, b in zip(cuts, cuts[1:])]
+
+
+def _share_layout(w, key, width):
+    """The panels of D or h (``key``) in reading order and how many a row."""
+    n = w.joints
+    if key == "D":
+        return ([element_label("D", i, j) for i in range(n) for j in range(i, n)],
+                3 if width < _PAGE_WIDTH else 6)
+    return [element_label("h", i) for i in range(n)], min(n, 2 if width < _PAGE_WIDTH else 3)
+
+
+def _grid_parts(labels, width, cols, least=1):
+    """:func:`_share_grid`'s panels in parts no taller than :data:`MOST_HEIGHT` (at least
+    ``least`` of them), in whole rows: ``[labels, ...]``."""
+    d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
+    row, fixed = (1.08, 2.29) if d else (1.6, 2.3) if column else (1.55, 2.45)
+    rows = max(1, int((MOST_HEIGHT - fixed) // row))
+    parts = _parts(range(-(-len(labels) // cols)), rows, least)     # rows, balanced
+    return [labels[p[0] * cols:(p[-1] + 1) * cols] for p in parts if p]
+
+
+def _share_parts(w, key, widths):
+    """How many parts the share figure of D or h takes: as many at every width in
+    ``widths`` (a column twin for each part), 1 for D in the layout of Fig. 3.10."""
+    if key == "D" and w.joints <= TRIANGLE_JOINTS:
+        return 1
+    counts = []
+    for x in widths:
+        labels, cols = _share_layout(w, key, x)
+        counts.append(len(_grid_parts(labels, x, cols)))
+    return max(counts)
+
+
+def _share_figures(w, key, width, parts=1):
+    """The share figures of D or h (``key``) at ``width``: one, or its ``parts`` parts
+    ``key``, ``key_2``, ..."""
+    labels, cols = _share_layout(w, key, width)
+    if key == "D" and w.joints <= TRIANGLE_JOINTS:
+        return {"D": _fig_D(w) if width >= _PAGE_WIDTH else _share_grid(w, labels, width, 3)}
+    split = _grid_parts(labels, width, cols, parts)
+    return {key if k == 0 else f"{key}_{k + 1}": _share_grid(w, part, width, cols,
+                                                              (k + 1, len(split)))
+            for k, part in enumerate(split)}
+
+
+def _fig_D(w):
     from matplotlib.figure import Figure
 
     n = w.joints
-    if width < _PAGE_WIDTH:         # reading order, three a row
-        return _share_grid(w, [element_label("D", i, j) for i in range(n) for j in range(i, n)],
-                           width, 3)
     W = _PAGE_WIDTH
     H = 0.98 + n * 0.56 + (n - 1) * 0.46                # titles of two lines
     fig = Figure(figsize=(W, H))
@@ -249,16 +307,11 @@ def _fig_D(w, width=_PAGE_WIDTH):
     return fig
 
 
-def _fig_h(w, width=_PAGE_WIDTH):
-    n = w.joints
-    return _share_grid(w, [element_label("h", i) for i in range(n)], width,
-                       min(n, 2 if width < _PAGE_WIDTH else 3))
-
-
-def _share_grid(w, labels, width, cols):
-    """The share boxes of ``labels`` (all of D or of h) in reading order, ``cols`` a row, the
+def _share_grid(w, labels, width, cols, part=(1, 1)):
+    """The share boxes of ``labels`` (of D or of h) in reading order, ``cols`` a row, the
     key below: D's panels with titles of two lines and y tick labels on a row's first panel
-    only (a column), h's each with its axis label."""
+    only, h's each with its axis label; ``part``: (this part, of how many), said in the
+    title where more than one."""
     from matplotlib.figure import Figure
 
     d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
@@ -284,20 +337,36 @@ def _share_grid(w, labels, width, cols):
     else:
         fig.text((0.1 if column else 0.3) / width, 0.1 / H, key, ha="left", va="bottom",
                  fontsize=7.0, linespacing=1.25 if column else 1.3)
+    of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
     fig.suptitle(f"Translational share of the elements of {labels[0][0]}"
                  f"{chr(10) if column else ' '}over the sweep (layout of Fig. "
-                 f"{'3.10' if d else '3.11'})", y=1 - (0.08 if column else 0.15) / H,
+                 f"{'3.10' if d else '3.11'}{of})", y=1 - (0.08 if column else 0.15) / H,
                  va="top", fontsize=9 if column else None)
     return fig
 
 
-def _fig_classes(w, width=_PAGE_WIDTH):
+def _class_rows(w, width):
+    """The most elements a class figure at ``width`` holds (:data:`MOST_HEIGHT`)."""
+    column = width < _PAGE_WIDTH
+    return int((MOST_HEIGHT - (1.9 if column else 1.5)) // (0.17 if column else 0.14))
+
+
+def _class_figures(w, width, parts=1):
+    """The class figures at ``width``: one, or its parts ``classes``, ``classes_2``, ...
+    (at least ``parts``) of at most :func:`_class_rows` elements."""
+    split = _parts(range(len(w.elements)), _class_rows(w, width), parts)
+    return {"classes" if k == 0 else f"classes_{k + 1}": _fig_classes(
+        w, width, part, (k + 1, len(split))) for k, part in enumerate(split)}
+
+
+def _fig_classes(w, width=_PAGE_WIDTH, rows=None, part=(1, 1)):
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    labels = list(w.elements)
-    frac = w.class_fraction
-    merged = list(w.merged.choice)
+    rows = list(range(len(w.elements))) if rows is None else list(rows)
+    labels = [w.elements[k] for k in rows]
+    frac = w.class_fraction[rows]
+    merged = [w.merged.choice[k] for k in rows]
     M = len(labels)
     column = width < _PAGE_WIDTH
     W, H = width, (1.9 if column else 1.5) + (0.17 if column else 0.14) * M
@@ -322,8 +391,9 @@ def _fig_classes(w, width=_PAGE_WIDTH):
     fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
                loc="lower center", ncol=2 if column else 4, frameon=False,
                bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
+    of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
     fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
-                 f"{w.trajectories} trajectories",
+                 f"{w.trajectories} trajectories{of}",
                  y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
@@ -468,7 +538,10 @@ def make_sweep_figures(ds: StoredSweep | xr.Dataset,
         ``"D"``: box plots of share_tran [1] per element of D in the upper-triangle layout of
         Fig. 3.10; ``"h"``: the same for h (Fig. 3.11); ``"classes"``: class fractions per
         element; ``"error"``: relative peak torque error per joint of the trajectories' own
-        and of the merged model; ``"payload"`` (if given): :func:`payload_figure`.
+        and of the merged model; ``"payload"`` (if given): :func:`payload_figure`. A share or
+        class figure taller than :data:`MOST_HEIGHT` goes in parts, ``"D_2"``, ``"h_2"``,
+        ``"classes_2"``, ... (as many at both widths, each with its column twin); D keeps the
+        layout of Fig. 3.10 up to :data:`TRIANGLE_JOINTS` joints.
 
     Raises
     ------
@@ -479,12 +552,15 @@ def make_sweep_figures(ds: StoredSweep | xr.Dataset,
     import matplotlib
 
     with matplotlib.rc_context(_RC):  # type: ignore[arg-type]  # keys typed as literals
-        figs = {"D": _fig_D(w), "h": _fig_h(w), "classes": _fig_classes(w),
-                "error": _fig_error(w)}
-        if column:
-            figs.update({f"{k}_column": make(w, COLUMN_WIDTH) for k, make in
-                         (("D", _fig_D), ("h", _fig_h), ("classes", _fig_classes),
-                          ("error", _fig_error))})
+        figs = {}
+        widths = (_PAGE_WIDTH, COLUMN_WIDTH)[:1 + column]
+        parts = {key: _share_parts(w, key, widths) for key in ("D", "h")}
+        classes = max(-(-len(w.elements) // _class_rows(w, x)) for x in widths)
+        for width, end in zip(widths, ("", "_column")):      # a column twin for each part
+            made = {**_share_figures(w, "D", width, parts["D"]),
+                    **_share_figures(w, "h", width, parts["h"]),
+                    **_class_figures(w, width, classes), "error": _fig_error(w, width)}
+            figs.update({k + end: f for k, f in made.items()})
     if payload is not None:
         figs["payload"] = payload_figure(payload)
         if column:
@@ -1290,6 +1366,15 @@ def _cites(o, ctx, key):
     return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}"
 
 
+def _figure_parts(o, key, caption):
+    """Figure ``key`` and its further parts (``key_2``, ... where drawn), each captioned
+    with its part."""
+    k = 1 + sum(f"{key}_{p}" in o.available for p in range(2, MOST_PARTS + 1))
+    o.figure(key, caption + (f" Part 1 of {k}." if k > 1 else ""))
+    for p in range(2, k + 1):
+        o.figure(f"{key}_{p}", f"{caption} Part {p} of {k}.")
+
+
 def _outline(ctx, figures):
     """The sweep report's sections, once, for the HTML and the PDF
     (:class:`gd_analyze.report.sections.Outline`): each figure right under the paragraph
@@ -1304,15 +1389,15 @@ def _outline(ctx, figures):
             size=7)
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
     o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]) + " " + _cites(o, ctx, "D"), "note")
-    o.figure("D", ctx["captions"]["D"])
+    _figure_parts(o, "D", ctx["captions"]["D"])
     o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
     o.paragraph(_cites(o, ctx, "h"), "note")
-    o.figure("h", ctx["captions"]["h"])
+    _figure_parts(o, "h", ctx["captions"]["h"])
     o.section("4", "Envelope per element", "envelope")
     o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
                 "median and largest translational share over the trajectories (Table 4.1). "
                 + ctx["captions"]["none"] + " " + _cites(o, ctx, "classes"), "note")
-    o.figure("classes", ctx["captions"]["classes"])
+    _figure_parts(o, "classes", ctx["captions"]["classes"])
     o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
                              "translational share, and the merged model's choice. A share is "
                              "0 or 1 where one part is round-off (at most "
@@ -1349,8 +1434,13 @@ _FIGURE_FILES = {"D": "fig_sweep_share_D", "h": "fig_sweep_share_h",
                  "payload": "fig_payload_dominance"}
 #: Column-width (3.5 in) versions: ``figures/<name>_column.pdf`` and ``.svg`` (not in the
 #: report).
-_FIGURE_FILES.update({f"{k}_column": f"{_FIGURE_FILES[k]}_column"
-                      for k in ("D", "h", "classes", "error", "payload")})
+#: Most parts of a share or class figure (:data:`MOST_HEIGHT`): the D figure of 15 joints
+#: in a column takes 7.
+MOST_PARTS = 12
+#: Further parts: ``figures/<name>_part2.pdf``, ...
+_FIGURE_FILES.update({f"{k}_{p}": f"{_FIGURE_FILES[k]}_part{p}" for k in ("D", "h", "classes")
+                      for p in range(2, MOST_PARTS + 1)})
+_FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
 
 
 #: The settings of the sweep whose values are the PDF's keywords: its provenance.
