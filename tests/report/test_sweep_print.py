@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from html_checks import html_text
-from pdf_checks import CITATION, figure_pages, last_page_fill, page_lines, text
+from pdf_checks import CITATION, figure_pages, last_page_fill, page_lines, page_texts, text
 
 from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY
 
@@ -261,8 +261,24 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
             assert not found, (key, k, found[:3])
     path = tmp_path / "sweep.h5"
     write_dataset(ds, path)
-    written = sweep.write_sweep_report(path, tmp_path / "out", formats=("html",))
+    written = sweep.write_sweep_report(path, tmp_path / "out")
     names = {p.name for p in written}
     assert {"fig_sweep_share_D_part8.pdf", "fig_sweep_class_fractions_part4.svg"} <= names
     html = (tmp_path / "out" / "sweep_report.html").read_text(encoding="utf-8")
     assert "Part 1 of 8." in html and "Part 8 of 8." in html and "Part 4 of 4." in html
+    # in the PDF each section starts after the last part of the figure before it (Sec. 3
+    # was set on page 2, its figures on pages 10-11, D's parts floating past it)
+    pages = [re.sub(r"\s+", " ", t) for t in page_texts(tmp_path / "out" / "sweep_report.pdf")]
+
+    def first(said):
+        return min(k for k, t in enumerate(pages) if said in t)
+
+    def last(said):
+        return max(k for k, t in enumerate(pages) if said in t)
+    figures = [m for t in pages for m in re.findall(r"Figure (\d+)\.", t)]
+    assert figures == sorted(figures, key=int)                 # the figures in order
+    assert first("3. Translational share of the elements of h") >= last(
+        "Translational share of the elements of D over the sweep")      # the parts' titles
+    assert first("4. Envelope per element") >= last(
+        "Translational share of the elements of h over the sweep")
+    assert first("5. Merged model") >= last("Dominance class per element over")

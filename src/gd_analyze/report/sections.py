@@ -61,6 +61,9 @@ class Section:
     anchor : str
         The HTML id.
     blocks : list of Block
+    flush : bool
+        In the PDF, the figures still waiting are set before its heading (a section after a
+        figure in several parts starts after its last part).
     """
 
     number: str
@@ -68,6 +71,7 @@ class Section:
     level: int
     anchor: str
     blocks: list = field(default_factory=list)
+    flush: bool = False
 
     @property
     def heading(self) -> str:
@@ -107,7 +111,7 @@ class Outline:
         self.n_figures = 0
 
     def section(self, number: str, title: str, anchor: str | None = None,
-                level: int | None = None) -> None:
+                level: int | None = None, flush: bool = False) -> None:
         """Start a section ("5") or a subsection ("5.1").
 
         Parameters
@@ -120,10 +124,13 @@ class Outline:
             The HTML id; from the number if not given.
         level : {1, 2}, optional
             From the number's dots if not given.
+        flush : bool, optional
+            In the PDF, set the figures still waiting before its heading.
         """
         level = level or (1 + str(number).count("."))
         self.sections.append(Section(str(number), title, level,
-                                     anchor or "s" + str(number).replace(".", "-")))
+                                     anchor or "s" + str(number).replace(".", "-"),
+                                     flush=flush))
 
     def _add(self, block):
         self.sections[-1].blocks.append(block)

@@ -1390,10 +1390,11 @@ def _outline(ctx, figures):
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
     o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]) + " " + _cites(o, ctx, "D"), "note")
     _figure_parts(o, "D", ctx["captions"]["D"])
-    o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h")
+    o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h",
+              flush="D_2" in figures)
     o.paragraph(_cites(o, ctx, "h"), "note")
     _figure_parts(o, "h", ctx["captions"]["h"])
-    o.section("4", "Envelope per element", "envelope")
+    o.section("4", "Envelope per element", "envelope", flush="h_2" in figures)
     o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
                 "median and largest translational share over the trajectories (Table 4.1). "
                 + ctx["captions"]["none"] + " " + _cites(o, ctx, "classes"), "note")
@@ -1405,7 +1406,7 @@ def _outline(ctx, figures):
                              "\u2261 0: the element is round-off on every trajectory, it has no "
                              "share.")
     number, title = ctx["merged_heading"].split(" ", 1)
-    o.section(number.rstrip("."), title, "merged")
+    o.section(number.rstrip("."), title, "merged", flush="classes_2" in figures)
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
     o.section("5.1", "Open-loop torque error over all trajectories")
