@@ -248,12 +248,20 @@ def _share_layout(w, key, width):
     return [element_label("h", i) for i in range(n)], min(n, 2 if width < _PAGE_WIDTH else 3)
 
 
+def _grid_height(d, column, rows):
+    """The height [in] of :func:`_share_grid`'s figure of ``rows`` rows: of D (``d``) or h,
+    a column's or a page's."""
+    return (0.74 + 1.08 * rows + 1.55 if d else 2.3 + 1.6 * rows if column
+            else 2.45 + 1.55 * rows)
+
+
 def _grid_parts(labels, width, cols, least=1):
     """:func:`_share_grid`'s panels in parts no taller than :data:`MOST_HEIGHT` (at least
     ``least`` of them), in whole rows: ``[labels, ...]``."""
     d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
-    row, fixed = (1.08, 2.29) if d else (1.6, 2.3) if column else (1.55, 2.45)
-    rows = max(1, int((MOST_HEIGHT - fixed) // row))
+    rows = 1
+    while _grid_height(d, column, rows + 1) <= MOST_HEIGHT:
+        rows += 1
     parts = _parts(range(-(-len(labels) // cols)), rows, least)     # rows, balanced
     return [labels[p[0] * cols:(p[-1] + 1) * cols] for p in parts if p]
 
@@ -316,7 +324,7 @@ def _share_grid(w, labels, width, cols, part=(1, 1)):
 
     d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
     rows = -(-len(labels) // cols)
-    H = 0.74 + rows * 1.08 + 1.55 if d else (2.3 + 1.6 * rows) if column else 2.45 + 1.55 * rows
+    H = _grid_height(d, column, rows)
     fig = Figure(figsize=(width, H))
     # the key below the panels takes up to six lines at the printed 8 pt, under the last
     # row's tick and class labels
@@ -345,16 +353,23 @@ def _share_grid(w, labels, width, cols, part=(1, 1)):
     return fig
 
 
-def _class_rows(w, width):
+def _class_height(column, M):
+    """The height [in] of a class figure of ``M`` elements, a column's or a page's."""
+    return (1.9 if column else 1.5) + (0.17 if column else 0.14) * M
+
+
+def _class_rows(width):
     """The most elements a class figure at ``width`` holds (:data:`MOST_HEIGHT`)."""
-    column = width < _PAGE_WIDTH
-    return int((MOST_HEIGHT - (1.9 if column else 1.5)) // (0.17 if column else 0.14))
+    M = 1
+    while _class_height(width < _PAGE_WIDTH, M + 1) <= MOST_HEIGHT:
+        M += 1
+    return M
 
 
 def _class_figures(w, width, parts=1):
     """The class figures at ``width``: one, or its parts ``classes``, ``classes_2``, ...
     (at least ``parts``) of at most :func:`_class_rows` elements."""
-    split = _parts(range(len(w.elements)), _class_rows(w, width), parts)
+    split = _parts(range(len(w.elements)), _class_rows(width), parts)
     return {"classes" if k == 0 else f"classes_{k + 1}": _fig_classes(
         w, width, part, (k + 1, len(split))) for k, part in enumerate(split)}
 
@@ -369,7 +384,7 @@ def _fig_classes(w, width=_PAGE_WIDTH, rows=None, part=(1, 1)):
     merged = [w.merged.choice[k] for k in rows]
     M = len(labels)
     column = width < _PAGE_WIDTH
-    W, H = width, (1.9 if column else 1.5) + (0.17 if column else 0.14) * M
+    W, H = width, _class_height(column, M)
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
                        (W - (1.4 if column else 2.6)) / W,
@@ -555,7 +570,7 @@ def make_sweep_figures(ds: StoredSweep | xr.Dataset,
         figs = {}
         widths = (_PAGE_WIDTH, COLUMN_WIDTH)[:1 + column]
         parts = {key: _share_parts(w, key, widths) for key in ("D", "h")}
-        classes = max(-(-len(w.elements) // _class_rows(w, x)) for x in widths)
+        classes = max(-(-len(w.elements) // _class_rows(x)) for x in widths)
         for width, end in zip(widths, ("", "_column")):      # a column twin for each part
             made = {**_share_figures(w, "D", width, parts["D"]),
                     **_share_figures(w, "h", width, parts["h"]),
