@@ -7,7 +7,7 @@ from gd_analyze.jobs.analyze import analyze, analyze_to_file, verify
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.ranking.ranking import RankingAccumulator, rank_dominance
 from gd_analyze.trajectory.planning import plan_quintic
-from gd_analyze.trajectory.trajectory import read_trajectory
+from gd_analyze.trajectory.trajectory import read_trajectory, trajectory_from_arrays
 
 
 @pytest.mark.slow
@@ -155,6 +155,42 @@ def test_streaming_in_chunks_still_computes_the_terms_once(tmp_path, monkeypatch
     counted_mem = _count_gd(monkeypatch, traj.q)
     analyze(puma, traj, AnalysisOptions(formulations=True))
     assert counted_mem() == 31
+
+
+def test_a_long_arm_streams_in_chunks_of_a_seven_joint_arm_s_size(tmp_path, monkeypatch, puma):
+    """The streamed pass's chunks hold as many D entries per array as a 7-joint arm's
+    (STREAM_CHUNK set points of n^2 entries): a 15-joint arm's chunk held 65,536 set points,
+    113 MB an array, and its 10^6 set points peaked above 2 GiB. The terms are still computed
+    once per set point, and the 6-joint PUMA keeps its chunks of STREAM_CHUNK set points."""
+    from model.test_chain import random_chain_spec
+
+    from gd_analyze.dynamics import kernels
+    from gd_analyze.jobs.analyze import CHUNK_JOINTS, STREAM_CHUNK
+    from gd_analyze.model.robot_spec import robot_from_chain
+
+    robot = robot_from_chain("chain15", random_chain_spec(15, 4), [0.0, 0.0, -9.81],
+                             source="<test>")
+    sizes = []
+
+    def engine(q, *rest):
+        sizes.append(q.shape[0])
+        return compiled(q, *rest)
+    compiled = kernels.gd_kernel
+    monkeypatch.setattr(kernels, "gd_kernel", engine)
+    rng = np.random.default_rng(0)
+    N = 30_000
+    traj = trajectory_from_arrays(np.arange(N) * 1e-3, *(rng.uniform(-1, 1, (N, 15))
+                                                         for _ in range(3)), n_joints=15)
+    analyze_to_file(robot, traj, tmp_path / "r.h5",
+                    AnalysisOptions(verify=False, formulations=False, simplify=None))
+    assert sum(sizes) == N and len(sizes) > 1
+    assert max(sizes) * 15 ** 2 <= STREAM_CHUNK * CHUNK_JOINTS ** 2
+    sizes.clear()
+    traj = trajectory_from_arrays(np.arange(N) * 1e-3, *(rng.uniform(-1, 1, (N, 6))
+                                                         for _ in range(3)), n_joints=6)
+    analyze_to_file(puma, traj, tmp_path / "p.h5",
+                    AnalysisOptions(verify=False, formulations=False, simplify=None))
+    assert sizes == [N] and N <= STREAM_CHUNK
 
 
 def test_the_count_can_fail(monkeypatch, puma):

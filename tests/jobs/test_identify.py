@@ -373,7 +373,7 @@ def test_a_long_recording_s_simplified_model_is_streamed_alike(monkeypatch, tmp_
     held, _ = _record(truth, robot.n, 5, seed=5, noise=0.01)
     options = IdentifyOptions(simplify=True)
     whole = identify(robot, [train], validate=[held], options=options)
-    monkeypatch.setattr(job, "STREAM_CHUNK", 97)
+    monkeypatch.setattr(job, "stream_chunk", lambda n: 97)
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     streamed_to = []
 

@@ -81,3 +81,33 @@ def test_an_arm_beyond_the_counted_joints_gets_no_empty_count_table():
     within = _formulations_context(view(6))
     assert len(within["costs"]["rows"]) == 3
     assert "tabulated for" not in within["note"]
+
+
+def test_joints_alike_are_found_in_blocks_as_on_the_whole_motion(shipped_dataset, monkeypatch):
+    """alike_joints reads the motion block by block; its groups are those of the definition
+    on the whole columns (ALIKE), here with joints 2 and 5 given the same motion, joint 6
+    within ALIKE of it, and blocks of 4 set points."""
+    from gd_analyze.report.main_context import ALIKE, alike_joints
+    from gd_analyze.store.results_view import Results, StoredTrajectory
+
+    ds = shipped_dataset("puma560").copy(deep=True)
+    for v in ("q", "qd", "qdd"):
+        x = ds[v].values
+        x[:, 4] = x[:, 1]
+        x[:, 5] = x[:, 1] * (1 + ALIKE / 4)
+        ds[v].values = x
+    blocks = StoredTrajectory.motion_blocks
+    monkeypatch.setattr(StoredTrajectory, "motion_blocks", lambda self, rows: blocks(self, 4))
+    results = Results.from_dataset(ds)
+    series = results.trajectory.motion
+
+    def alike(i, j):
+        return all(np.max(np.abs(x[:, i] - x[:, j])) <= ALIKE * max(
+            np.max(np.abs(x[:, i])), np.max(np.abs(x[:, j]))) for x in series)
+    want = []
+    for i in range(6):
+        group = [i + 1] + [j + 1 for j in range(i + 1, 6) if alike(i, j)]
+        if len(group) > 1 and not any(i + 1 in g for g in want):
+            want.append(group)
+    assert want == [[2, 5, 6]]
+    assert alike_joints(results) == want

@@ -171,3 +171,15 @@ def test_what_section_5_says_is_not_repeated_raw_among_the_others(shipped_datase
     others = [k for k, _, _ in Results.from_dataset(ds).provenance.others]
     assert Attr.SIMPLIFIED_REGION_SCREEN_PROVED not in others
     assert Attr.SIMPLIFIED_REGION_SCREEN not in others
+
+
+def test_motion_blocks_are_the_motion_in_order(shipped_dataset):
+    """Read block by block (the report's tables of a long trajectory), the motion is the whole
+    motion, in order, in blocks of at most the rows asked for."""
+    traj = Results.from_dataset(shipped_dataset("puma560")).trajectory
+    whole = traj.motion
+    for rows in (1, 7, 31, 1000):
+        blocks = list(traj.motion_blocks(rows))
+        assert [b[0].shape[0] for b in blocks] == [min(rows, 31 - a) for a in range(0, 31, rows)]
+        for k in range(3):
+            np.testing.assert_array_equal(np.concatenate([b[k] for b in blocks]), whole[k])

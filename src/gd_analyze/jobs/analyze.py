@@ -56,14 +56,18 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
-           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "progress_bar"]
+           "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "CHUNK_JOINTS", "stream_chunk",
+           "progress_bar"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
 VERIFY_TOLERANCE = 1e-9
 #: Set points checked against Pinocchio at most (evenly spread over the trajectory).
 VERIFY_MAX_SETPOINTS = 2000
-#: Set points per chunk when streaming to a file.
+#: Set points per chunk when streaming to a file, for an arm of up to :data:`CHUNK_JOINTS`
+#: joints (:func:`stream_chunk`).
 STREAM_CHUNK = 65536
+#: Joints up to which a chunk holds :data:`STREAM_CHUNK` set points.
+CHUNK_JOINTS = 7
 #: Seconds a run must last before its progress bar appears.
 PROGRESS_DELAY = 1.0
 
@@ -228,8 +232,32 @@ class AnalysisPass:
     chapter_error: object = None
 
 
+def stream_chunk(n: int) -> int:
+    """Set points per chunk for an arm of n joints.
+
+    A chunk's terms hold n^2 entries of D_tran, D_rot and D per set point, so a larger arm's
+    chunk holds fewer set points: as many entries as :data:`STREAM_CHUNK` set points of a
+    :data:`CHUNK_JOINTS`-joint arm (about 25 MB an array), and at least 4,096 set points.
+
+    Parameters
+    ----------
+    n : int
+        Joints.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> stream_chunk(6), stream_chunk(7), stream_chunk(15)
+    (65536, 65536, 14272)
+    """
+    return max(4096, min(STREAM_CHUNK, STREAM_CHUNK * CHUNK_JOINTS ** 2 // max(int(n), 1) ** 2))
+
+
 def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
-                  provenance: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                  provenance: Mapping[str, Any] | None = None, chunk: int | None = None,
                   writer: SetpointWriter | None = None, progress: bool | tqdm = False,
                   terms: GDTerms | None = None) -> AnalysisPass:
     """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
@@ -254,7 +282,7 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     provenance : dict, optional
         The simplified model's provenance.
     chunk : int, optional
-        Set points per chunk.
+        Set points per chunk; default :func:`stream_chunk` of the arm's joints.
     writer : SetpointWriter, optional
         Receives the per-set-point variables; with more than one chunk, pass 2 reads the terms
         back from it instead of holding them.
@@ -279,6 +307,7 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    chunk = stream_chunk(robot.n) if chunk is None else chunk
     args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
     simplify = (AnalysisOptions() if options is None else options).simplify
     if simplify is None:
@@ -585,7 +614,7 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
 
 def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLike[str],
                     options: AnalysisOptions | None = None,
-                    settings: Mapping[str, Any] | None = None, chunk: int = STREAM_CHUNK,
+                    settings: Mapping[str, Any] | None = None, chunk: int | None = None,
                     progress: bool | tqdm = False, extra: xr.Dataset | None = None) -> Analysis:
     """:func:`analyze`, streamed into a results file in chunks of bounded memory.
 
@@ -608,7 +637,7 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
     settings : dict, optional
         Extra provenance.
     chunk : int, optional
-        Set points per chunk.
+        Set points per chunk; default :func:`stream_chunk` of the arm's joints.
     progress : bool or tqdm.tqdm, optional
         As for :func:`analysis_pass`.
     extra : xarray.Dataset, optional
@@ -633,6 +662,7 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
 
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
+    chunk = stream_chunk(n) if chunk is None else chunk
     with atomic_path(path, create=False) as tmp:
         with contextlib.closing(SetpointWriter(
                 tmp, N, n, chunk=min(max(1, int(chunk)), 8192), compress=options.compress,

@@ -41,7 +41,7 @@ from ..store.stored_identification import (
 )
 from ..trajectory.recording import Recording, read_recording
 from ..trajectory.trajectory import trajectory_from_arrays
-from .analyze import STREAM_CHUNK, analyze, analyze_to_file
+from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
 
@@ -319,7 +319,7 @@ def _simplified_model(identified, pres, n_train, options):
     traj = trajectory_from_arrays(p.t[p.keep], p.q[p.keep], p.qd[p.keep], p.qdd[p.keep],
                                   n_joints=identified.n)
     options = AnalysisOptions(formulations=False)
-    if traj.n_setpoints <= STREAM_CHUNK:
+    if traj.n_setpoints <= stream_chunk(identified.n):
         model = analyze(identified, traj, options).model
     else:               # streamed through a private file, deleted: memory bounded by chunks
         with tempfile.TemporaryDirectory(prefix="gd-analyze-identify-") as tmp:

@@ -22,7 +22,9 @@ from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
 from ..model.robot import with_payload
+from ..simplify import deploy
 from ..simplify.simplified import SOURCE_STEM
+from ..store import model_trust
 from ..store.manifest import hash_beside
 from ..store.model_file import save_model
 from ..store.names import Var
@@ -150,7 +152,10 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         (:class:`gd_analyze.store.results_view.Results`, with its per-set-point series), or the
         path of results.h5 when the series were streamed in chunks (the command line passes
         :func:`gd_analyze.report.main.write_report` with its page and font settings); None
-        writes no report.
+        writes no report. Before the report of series streamed in chunks, the region
+        searches, derivations and certifications kept in this process are released
+        (:func:`gd_analyze.simplify.deploy.release`,
+        :func:`gd_analyze.store.model_trust.release`).
     settings : dict, optional
         Extra provenance (the command line, the payload, the URDF chain), stored with the
         simplified-model settings in results.h5 and the model.
@@ -215,6 +220,9 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
             written.append(stage / name)
         if report is not None:          # from the result in memory when it holds the series
             whole = Var.T in analysis.dataset.variables
+            if not whole:               # a long trajectory: the report's memory, not the memos'
+                deploy.release()
+                model_trust.release()
             written += report(Results.from_dataset(analysis.dataset) if whole else results,
                               stage, progress)
     files = tuple(outdir / Path(p).relative_to(stage) for p in written)

@@ -496,18 +496,16 @@ def alike_joints(results: Results) -> list[list[int]]:
     columns (both columns 0: alike).
     """
     prismatic = np.array(results.prismatic)
-    traj = results.trajectory
-    series = [np.asarray(v, float) for v in traj.motion]
     n = prismatic.size
+    peak, apart = np.zeros((3, n)), np.zeros((3, n, n))     # per q, q̇, q̈: max |x_i|, |x_i - x_j|
+    for block in results.trajectory.motion_blocks(max(1, 2 ** 20 // n ** 2)):
+        for k, x in enumerate(block):
+            peak[k] = np.maximum(peak[k], np.abs(x).max(axis=0))
+            apart[k] = np.maximum(apart[k], np.abs(x[:, :, None] - x[:, None, :]).max(axis=0))
 
     def alike(i, j):
-        if prismatic[i] != prismatic[j]:
-            return False
-        for x in series:
-            scale = max(np.max(np.abs(x[:, i])), np.max(np.abs(x[:, j])))
-            if np.max(np.abs(x[:, i] - x[:, j])) > ALIKE * scale:
-                return False
-        return True
+        return prismatic[i] == prismatic[j] and bool(np.all(
+            apart[:, i, j] <= ALIKE * np.maximum(peak[:, i], peak[:, j])))
 
     groups, placed = [], set()
     for i in range(n):
@@ -576,13 +574,18 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     prismatic = np.array(results.prismatic)
     # the units of Fig. 1 (joint_motion_units shown): deg, or mm for a prismatic joint
     scale = np.where(prismatic, 1000.0, np.degrees(1.0))
-    q, qd, qdd = (v * scale for v in traj.motion)
+    extremes = []       # per block: q min, q max, peak |q̇|, peak |q̈|
+    for block in traj.motion_blocks():
+        q, qd, qdd = (v * scale for v in block)
+        extremes.append((q.min(axis=0), q.max(axis=0), np.abs(qd).max(axis=0),
+                         np.abs(qdd).max(axis=0)))
+    q_min, q_max, qd_peak, qdd_peak = (f(np.array(e), axis=0) for f, e in zip(
+        (np.min, np.max, np.max, np.max), zip(*extremes)))
     joints = _table(
         ["joint", "type", "q min", "q max", "peak |q\u0307|", "peak |q\u0308|", "units"],
         [[row[0], "prismatic" if prismatic[k] else "revolute", *row[1:],
           ", ".join(joint_motion_units(bool(prismatic[k]), shown=True))]
-         for k, row in enumerate(_rows(range(1, n + 1), q.min(axis=0), q.max(axis=0),
-                                       np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)))],
+         for k, row in enumerate(_rows(range(1, n + 1), q_min, q_max, qd_peak, qdd_peak))],
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
     efforts = effort_rows(results)

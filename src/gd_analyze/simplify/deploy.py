@@ -57,6 +57,7 @@ from .region_memo import (
     region_magnitudes,
     region_values,
 )
+from .region_memo import release as release_derivations
 from .simplified import SimplifiedModel, total_operations
 
 if TYPE_CHECKING:
@@ -70,7 +71,7 @@ __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "re
            "region_search", "RegionSearch", "RegionSearches", "region_searches",
            "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
-           "SCOUT_RATIO", "screened_exact", "RESTORED_MIN_SAVING"]
+           "SCOUT_RATIO", "screened_exact", "RESTORED_MIN_SAVING", "release"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -704,6 +705,24 @@ _SEARCHED: dict = {}
 #: Searches :data:`_SEARCHED` keeps (a main job makes up to five: its EPS, the ladder's other
 #: rungs, the torque floor's second choice).
 _SEARCHED_MAX = 12
+
+
+def release() -> None:
+    """Forget the region searches (:func:`region_search`) and the region derivations
+    (:func:`gd_analyze.simplify.region_memo.release`) kept in this process.
+
+    Their certifications hold the channel values of the region's sampled positions (about
+    415 MB for a 15-joint arm); a later model of the same arm derives them again or reads them
+    from the derivation cache.
+
+    Examples
+    --------
+    >>> release()
+    >>> _SEARCHED
+    {}
+    """
+    _SEARCHED.clear()
+    release_derivations()
 
 
 def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,

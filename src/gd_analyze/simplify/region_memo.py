@@ -35,7 +35,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
 
 __all__ = ["REGION_SAMPLES", "Derivations", "UNKEPT", "fresh_certification", "certified",
-           "region_values", "region_magnitudes", "region_key"]
+           "region_values", "region_magnitudes", "region_key", "release"]
 
 #: Positions sampled over the region for a model's sampled error (its velocity and
 #: acceleration at the worst vertices).
@@ -58,6 +58,24 @@ def _keep(memo, key, make):
             memo.pop(next(iter(memo)))
         memo[key] = make()
     return memo[key]
+
+
+def release() -> None:
+    """Forget the certifications, region samples and sampled magnitudes kept in this process.
+
+    A later model of the same arm derives them again (or reads them from the derivation
+    cache). :func:`gd_analyze.simplify.deploy.release` calls it: the main job releases them
+    before the report of a long trajectory, as the samples' channel values of a 15-joint arm
+    are about 415 MB, which would sit beside the report's own memory.
+
+    Examples
+    --------
+    >>> release()
+    >>> _CERTIFIED == _SAMPLED == _MAGNITUDES == {}
+    True
+    """
+    for memo in (_CERTIFIED, _SAMPLED, _MAGNITUDES):
+        memo.clear()
 
 
 def region_key(robot: Robot, region: Region, torque_floor: float) -> str:

@@ -17,7 +17,7 @@ The robot and trajectory (:class:`StoredRobot`, :class:`StoredTrajectory`), the 
 from __future__ import annotations
 
 import types
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -272,6 +272,28 @@ class StoredTrajectory(View):
         [rad/s or m/s] and accelerations [rad/s^2 or m/s^2]."""
         return (self.dataset[Var.Q].values, self.dataset[Var.QD].values,
                 self.dataset[Var.QDD].values)
+
+    def motion_blocks(self, rows: int = 65536
+                      ) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """:attr:`motion` in consecutive blocks of set points, read one block at a time.
+
+        Parameters
+        ----------
+        rows : int, optional
+            Set points per block (>= 1).
+
+        Yields
+        ------
+        (ndarray, ndarray, ndarray)
+            q, q̇ and q̈ of the next block, each of shape (k, n), k <= ``rows``, in the units
+            of :attr:`motion`; memory stays a block whatever N is.
+        """
+        q, qd, qdd = (self.dataset[v] for v in (Var.Q, Var.QD, Var.QDD))
+        step = max(1, int(rows))
+        for a in range(0, q.shape[0], step):
+            b = a + step
+            yield (np.asarray(q[a:b].values, float), np.asarray(qd[a:b].values, float),
+                   np.asarray(qdd[a:b].values, float))
 
     @property
     def tau_f(self) -> np.ndarray | None:

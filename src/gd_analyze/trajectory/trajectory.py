@@ -422,8 +422,11 @@ def _fast_values(raw, path, n_joints):
     if n_joints is not None and n != n_joints:
         return None
     header_bytes = raw[:head_end + 1]
-    if raw.translate(None, _PLAIN_BYTES) != header_bytes.translate(None, _PLAIN_BYTES):
-        return None                               # the body holds more than plain numbers
+    # the body holds only plain numbers: checked a piece at a time (a translation of the whole
+    # file would allocate its size again)
+    if any(raw[a:a + PARSE_PIECE].translate(None, _PLAIN_BYTES)
+           for a in range(head_end + 1, len(raw), PARSE_PIECE)):
+        return None
     # The field count of every line is checked: the commas must total the header's count per
     # line; pandas then refuses a line with more fields than the first, the shape check a first
     # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
