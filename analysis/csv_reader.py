@@ -36,7 +36,8 @@ def main(n_setpoints=200_000, repeats=5):
             pd.read_csv(path, dtype=float, engine="c").to_numpy()
             plain.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
-            a = tr._fast_values(raw, str(path), 6)
+            with open(path, "rb") as fh:
+                a = tr._fast_values(fh, str(path), 6)
             fast.append(time.perf_counter() - t0)
             t0 = time.perf_counter()
             b = tr._validated_values(raw, str(path), 6)

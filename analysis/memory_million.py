@@ -2,6 +2,7 @@
 main job with its report (HTML, PDF and the figure files).
 
     python analysis/memory_million.py [--setpoints N] [--no-terms] [--joints n] [--src DIR]
+                                      [--read-only]
 
 Each measurement runs in a fresh Python process that prints its own peak resident set size
 (ru_maxrss), so the figures do not mix. The main job runs as a user runs it, in one process.
@@ -13,7 +14,8 @@ jobs then share one derivation cache, filled by an untimed ``--no-report`` run o
 31-point trajectory first (the certification of a long arm is not what this measures), no
 gd_terms-only process is run (its (N, n, n) arrays are what the job avoids), and the limit is 2 GiB (issue 42: 15 joints under 2 GiB) instead of 1 GiB. ``--src DIR`` runs
 every process on another checkout's ``src`` (first on PYTHONPATH), to measure the code before
-a change. Prints one JSON line.
+a change. A process that only reads the CSV (``read_trajectory``) gives the reading's own peak;
+``--read-only`` runs that one alone (no job). Prints one JSON line.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ def main(argv=None):
     p.add_argument("--no-terms", action="store_true", help="skip the gd_terms-only process")
     p.add_argument("--joints", type=int, default=0, help="a random chain of this many joints")
     p.add_argument("--src", default="", help="another checkout's src folder")
+    p.add_argument("--read-only", action="store_true", help="measure the CSV's reading alone")
     args = p.parse_args(argv)
     N = args.setpoints
     if args.src:
@@ -83,6 +86,15 @@ def main(argv=None):
                     f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
                     f"np.radians(DEFAULT_GOAL_DEG), {N});")
             run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)
+        rss_read, t_read = run("from gd_analyze.trajectory.trajectory import read_trajectory; "
+                               f"tr = read_trajectory({str(csv)!r}); " + PEAK)
+        csv_size = csv.stat().st_size
+        if args.read_only:
+            print(json.dumps({"setpoints": N, "joints": args.joints or 6,
+                              "src": args.src or None, "load_average": os.getloadavg(),
+                              "read_csv_peak_rss_mib": rss_read, "read_csv_s": t_read,
+                              "csv_mib": csv_size / 2**20}))
+            return 0
         rss_terms, t_terms = (None, None) if args.no_terms or args.joints else run(
             plan + "from gd_analyze import gd_terms; t = gd_terms(r, tr.q, tr.qd); " + PEAK)
         rss_cli, t_cli = run(
@@ -90,13 +102,13 @@ def main(argv=None):
             f"rc = main([{arm!r}, {str(csv)!r}, '-o', {str(Path(tmp) / 'out')!r}, "
             f"'--no-report', '-q']); assert rc == 0; " + PEAK)
         size = (Path(tmp) / "out" / "results.h5").stat().st_size
-        csv_size = csv.stat().st_size
         rss_report, t_report = run(
             f"from gd_analyze.cli import main; "
             f"rc = main([{arm!r}, {str(csv)!r}, '-o', {str(Path(tmp) / 'rep')!r}, "
             f"'-q']); assert rc == 0; " + PEAK)
     print(json.dumps({"setpoints": N, "joints": args.joints or 6, "src": args.src or None,
-                      "load_average": os.getloadavg(), "gd_terms_peak_rss_mib": rss_terms,
+                      "load_average": os.getloadavg(), "read_csv_peak_rss_mib": rss_read,
+                      "read_csv_s": t_read, "gd_terms_peak_rss_mib": rss_terms,
                       "gd_terms_process_s": t_terms, "cli_no_report_peak_rss_mib": rss_cli,
                       "cli_no_report_s": t_cli, "cli_with_report_peak_rss_mib": rss_report,
                       "cli_with_report_s": t_report, "csv_mib": csv_size / 2**20,

@@ -5,6 +5,7 @@ a hypothesis fuzz test on small files and on files large enough for the pandas p
 """
 
 import csv
+import hashlib
 import io
 import os
 import re
@@ -290,8 +291,9 @@ def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, 
            + "\n").encode()
     monkeypatch.setattr(trajectory, "PARSE_PIECE", piece)
     monkeypatch.setattr(trajectory, "PARSE_THREADS", threads)
-    parsed = trajectory._fast_values(raw, "f.csv", None)
+    parsed = trajectory._fast_values(io.BytesIO(raw), "f.csv", None)
     assert parsed is not None
-    values, names, n = parsed
+    values, names, n, sha256 = parsed
     np.testing.assert_array_equal(values, reference_parse(raw))
+    assert sha256 == hashlib.sha256(raw).hexdigest()
     assert n == 2 and names[0] == "t"

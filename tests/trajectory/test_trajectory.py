@@ -129,6 +129,35 @@ def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, ro
         assert err.value.column == column
 
 
+def test_a_large_file_is_read_without_holding_its_bytes(tmp_path, puma, monkeypatch):
+    """A regular large file is parsed a piece at a time: the reading allocates its values and a
+    few pieces, not the file's bytes (which the reader held whole before). The values and the
+    SHA-256 are those of the whole file."""
+    import hashlib
+    import tracemalloc
+
+    import gd_analyze.trajectory.trajectory as trajectory
+
+    plan = _default_plan(puma, n=40_000)
+    path = tmp_path / "big.csv"
+    write_trajectory(plan, path)
+    size = path.stat().st_size
+    monkeypatch.setattr(trajectory, "PARSE_PIECE", 1 << 20)
+    read_trajectory(path, 6)                            # pandas' imports, not counted
+    tracemalloc.start()
+    try:
+        back = read_trajectory(path, 6)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    values = back.t.nbytes + back.q.nbytes + back.qd.nbytes + back.qdd.nbytes
+    assert size > 3 * values / 2
+    assert peak < values + size / 2, (peak, values, size)
+    np.testing.assert_array_equal(back.q, plan.q)
+    np.testing.assert_array_equal(back.qdd, plan.qdd)
+    assert back.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
+
+
 @pytest.mark.parametrize("block", [1, 7, 4096, 1 << 24])
 def test_the_block_count_of_a_byte_is_bytes_count(block):
     """_byte_count (numpy, block by block) equals bytes.count on random bytes, every value."""

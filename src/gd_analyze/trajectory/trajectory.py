@@ -143,6 +143,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     the header's number of fields, only the bytes of plain numbers, no quotes), and cell by cell
     otherwise, or whenever pandas' result fails a check; the cell-by-cell parse then names the
     first faulty row and column. Both accept exactly the same files and give the same values.
+    pandas reads a large file a piece at a time, so its bytes are never held whole: the memory
+    is that of the values (and of the whole file's bytes only when it is irregular).
 
     Parameters
     ----------
@@ -170,18 +172,19 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         names the file, the row (header = row 1) and the column.
     """
     path = str(path)
-    raw = _read_bytes(path)
-    # a large file is hashed on a thread beside the parse (hashlib releases the GIL)
-    with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-csv-sha256") as pool:
-        digest = pool.submit(_sha256, raw)         # the bytes read, BOM included
-        if raw.startswith(_BOM):
+    with _open(path) as fh:
+        if _read(fh, path, len(_BOM)) == _BOM:
             warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
                           InputNote, stacklevel=2)
-            raw = raw[len(_BOM):]
-        parsed = _fast_values(raw, path, n_joints) if len(raw) > FAST_PARSE_BYTES else None
-        sha256 = digest.result()
-    values, names, n = parsed if parsed is not None else _validated_values(raw, path,
-                                                                            n_joints)
+        fh.seek(0)
+        parsed = _fast_values(fh, path, n_joints) if _size(fh) > FAST_PARSE_BYTES else None
+        if parsed is None:        # small or irregular: the whole file, cell by cell
+            fh.seek(0)
+            raw = _read(fh, path)
+            sha256 = _sha256(raw)             # the bytes read, BOM included
+            values, names, n = _validated_values(raw.removeprefix(_BOM), path, n_joints)
+        else:
+            values, names, n, sha256 = parsed
     t = values[:, 0]
     q = values[:, 1:n + 1]
     if len(names) == 3 * n + 1:
@@ -365,7 +368,8 @@ _PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 MAX_CELL = 1000
 
 
-def _read_bytes(path):
+def _open(path):
+    """The file opened for reading bytes; an InputError if it is not a readable regular file."""
     if not os.path.exists(path):
         raise InputError("no such file", path)
     if os.path.isdir(path):
@@ -374,10 +378,30 @@ def _read_bytes(path):
         raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
                          path)
     try:
-        with open(path, "rb") as fh:
-            return fh.read()
+        return open(path, "rb")
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _read(fh, path, size=-1):
+    """``fh.read(size)``, an OSError as an InputError naming the file."""
+    try:
+        return fh.read(size)
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _size(fh):
+    """The size of an open file [bytes], from where it is to its end (it stays there)."""
+    at = fh.tell()
+    end = fh.seek(0, os.SEEK_END)
+    fh.seek(at)
+    return end - at
+
+
+def _read_bytes(path):
+    with _open(path) as fh:
+        return _read(fh, path)
 
 
 def _check_magnitudes(values, names, path, row_of):
@@ -405,70 +429,81 @@ def _exact_floats():
     return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
 
 
-def _fast_values(raw, path, n_joints):
-    """Parse a large, regular file with pandas; None if anything is off (then the cell-by-cell
-    parser gives the answer, or the exact error)."""
+def _fast_values(fh, path, n_joints):
+    """Parse a large, regular file with pandas, streamed a piece at a time from ``fh`` (a binary
+    file at its start); None if anything is off (then the cell-by-cell parser gives the answer,
+    or the exact error).
+
+    Returns
+    -------
+    (values, names, n, sha256) or None
+        values (N, 3 n + 1 or n + 1); sha256 that of the very bytes parsed, BOM included.
+
+    Notes
+    -----
+    Two passes over the file: the first counts its lines (the values' rows), the second
+    hashes, checks and parses each piece of about :data:`PARSE_PIECE` bytes (whole lines). At
+    no time are the file's bytes held whole: the memory is the values and the pieces in flight,
+    whatever the file's size. A file that changes between the passes parses to a different
+    number of rows (None: then it is read whole).
+    """
     import pandas as pd
 
-    head_end = raw.find(b"\n")
-    if head_end < 0 or b'"' in raw or (b"\r" in raw and
-                                       raw.count(b"\r") != raw.count(b"\r\n")):
+    digest = hashlib.sha256()
+    head = _read(fh, path, HEADER_BYTES)
+    end = head.find(b"\n")
+    if end < 0:
+        return None
+    head = head[:end + 1]
+    fh.seek(len(head))
+    digest.update(head)
+    head = head.removeprefix(_BOM)
+    if b'"' in head or head.count(b"\r") != head.count(b"\r\n"):
         return None
     try:
-        header = raw[:head_end].decode("utf-8").rstrip("\r").split(",")
-        names, n = _parse_header(header, path)
+        names, n = _parse_header(head.decode("utf-8").rstrip("\r\n").split(","), path)
     except (UnicodeDecodeError, InputError):
         return None
     if n_joints is not None and n != n_joints:
         return None
-    header_bytes = raw[:head_end + 1]
-    # the body holds only plain numbers: checked a piece at a time (a translation of the whole
-    # file would allocate its size again)
-    if any(raw[a:a + PARSE_PIECE].translate(None, _PLAIN_BYTES)
-           for a in range(head_end + 1, len(raw), PARSE_PIECE)):
+    lines = _line_count(fh, path)
+    if lines < 2:
         return None
-    # The field count of every line is checked: the commas must total the header's count per
-    # line; pandas then refuses a line with more fields than the first, the shape check a first
-    # line with more fields than the header, and the finite check (NaN fill) a line with fewer,
-    # which any surplus elsewhere implies.
-    lines = _byte_count(raw, b"\n") - 1 + (not raw.endswith(b"\n"))
-    if lines < 2 or (_byte_count(raw, b",") - header_bytes.count(b",")
-                     != (len(names) - 1) * lines):
-        return None
-    # parsed piece by piece, whole lines each, into one array: the file's bytes and the values
-    # are held once, with pandas' columns of a few pieces at a time (not of the whole file).
-    # The pieces are parsed on PARSE_THREADS threads (pandas' parser releases the GIL) and
-    # copied in in order.
-    def parse(start, stop):
+    fields = len(names)
+
+    def parse(piece):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = pd.read_csv(_PieceReader(view[start:stop]), header=None, names=names,
+            frame = pd.read_csv(_PieceReader(memoryview(piece)), header=None, names=names,
                                 dtype=float, engine="c", skipinitialspace=True,
                                 skip_blank_lines=False, index_col=False, **_exact_floats())
         return frame.to_numpy()
 
-    view = memoryview(raw)
-    bounds = []
-    start = head_end + 1
-    while start < len(raw):
-        stop = _piece_end(raw, start, PARSE_PIECE)
-        bounds.append((start, stop))
-        start = stop
-    values = np.empty((lines, len(names)))
+    values = np.empty((lines, fields))
     row = 0
+    pending: collections.deque = collections.deque()
+    # The pieces are parsed on PARSE_THREADS threads (pandas' parser releases the GIL), hashed
+    # and checked here meanwhile, and copied in in order.
     pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
     try:
-        pending = collections.deque(pool.submit(parse, *b) for b in bounds[:PARSE_THREADS])
-        following = iter(bounds[PARSE_THREADS:])
-        while pending:
-            piece = pending.popleft().result()
-            after = next(following, None)
-            if after is not None:
-                pending.append(pool.submit(parse, *after))
-            if piece.shape[1] != len(names) or row + piece.shape[0] > lines:
+        for piece in _pieces(fh, path):
+            digest.update(piece)
+            # only the bytes of plain numbers; every line with the header's fields: pandas
+            # then refuses a line with more fields than the first, the shape check a first
+            # line with more fields than the header, and the finite check (NaN fill) a line
+            # with fewer, which any surplus elsewhere implies
+            if (piece.translate(None, _PLAIN_BYTES)
+                    or (_byte_count(piece, b"\r") and
+                        _byte_count(piece, b"\r") != piece.count(b"\r\n"))
+                    or _byte_count(piece, b",") != (fields - 1) * (
+                        _byte_count(piece, b"\n") + (not piece.endswith(b"\n")))):
                 return None
-            values[row:row + piece.shape[0]] = piece
-            row += piece.shape[0]
+            pending.append(pool.submit(parse, piece))
+            del piece
+            while len(pending) > PARSE_THREADS or (pending and pending[0].done()):
+                row = _put_piece(values, row, pending.popleft().result())
+        while pending:
+            row = _put_piece(values, row, pending.popleft().result())
     except (ValueError, pd.errors.ParserError):
         return None
     finally:
@@ -477,7 +512,50 @@ def _fast_values(raw, path, n_joints):
             or not (np.diff(values[:, 0]) > 0).all()):
         return None
     _check_magnitudes(values, names, path, lambda k: k + 2)
-    return values, names, n
+    return values, names, n, digest.hexdigest()
+
+
+#: Longest header a file parsed by pandas may have [bytes] (a longer one is read whole).
+HEADER_BYTES = 1 << 16
+
+
+def _put_piece(values, row, piece):
+    """Copy a parsed piece into ``values`` at ``row``; the next row. ValueError if it does not
+    fit (a field more, or more lines than counted)."""
+    if piece.shape[1] != values.shape[1] or row + piece.shape[0] > values.shape[0]:
+        raise ValueError("the piece does not fit")
+    values[row:row + piece.shape[0]] = piece
+    return row + piece.shape[0]
+
+
+def _line_count(fh, path):
+    """The lines from ``fh``'s position to the end of the file (the last may lack its newline),
+    counted block by block; ``fh`` is put back where it was."""
+    at, lines, last = fh.tell(), 0, b"\n"
+    while block := _read(fh, path, PARSE_PIECE):
+        lines += _byte_count(block, b"\n")
+        last = block[-1:]
+    fh.seek(at)
+    return lines + (last != b"\n")
+
+
+def _pieces(fh, path):
+    """The rest of the file in pieces of whole lines, each about :data:`PARSE_PIECE` bytes
+    (longer where a line is); the last piece may lack its final newline. ValueError if a line
+    is longer than :data:`HEADER_BYTES` plus a piece (no regular file has one)."""
+    carry = b""
+    while block := _read(fh, path, PARSE_PIECE):
+        data = carry + block
+        cut = data.rfind(b"\n") + 1
+        if cut == 0:
+            if len(data) > HEADER_BYTES + PARSE_PIECE:
+                raise ValueError("a line longer than a piece")
+            carry = data
+            continue
+        carry = data[cut:]
+        yield data[:cut]
+    if carry:
+        yield carry
 
 
 class _PieceReader:
@@ -499,31 +577,13 @@ class _PieceReader:
         return iter(io.BytesIO(bytes(self._view[self._at:])))
 
 
-#: Bytes of a large file that pandas parses at once (whole lines; :func:`_piece_end`): the
-#: pieces in flight (their text and pandas' columns) add to the file's bytes and its values,
-#: at the job's peak of memory for 10^6 set points.
+#: Bytes of a large file that pandas parses at once (whole lines; :func:`_pieces`): the
+#: pieces in flight (their text and pandas' columns) add to the values, the file's bytes are
+#: never held whole.
 PARSE_PIECE = 1 << 23
 #: Threads that parse a large file's pieces (at most PARSE_THREADS pieces in flight): two
 #: parse 1.8x as fast as one; more would add memory at the peak.
 PARSE_THREADS = max(1, min(2, os.cpu_count() or 1))
-
-
-def _piece_end(raw, start, size):
-    """Where a piece of about ``size`` bytes from ``start`` ends: after the last newline
-    within it (after the first newline beyond it if a line is longer), or at the end.
-
-    Examples
-    --------
-    >>> raw = b"1,2\\n3,4\\n5,6"
-    >>> _piece_end(raw, 0, 5), _piece_end(raw, 4, 100), _piece_end(raw, 0, 2)
-    (4, 11, 4)
-    """
-    if len(raw) - start <= size:
-        return len(raw)
-    stop = raw.rfind(b"\n", start, start + size) + 1
-    if stop <= start:
-        stop = raw.find(b"\n", start + size) + 1
-    return stop if stop > start else len(raw)
 
 
 #: Bytes of a file counted at once by :func:`_byte_count` (a 16 MiB temporary).
