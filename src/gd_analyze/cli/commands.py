@@ -32,7 +32,7 @@ from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
 from ..model.robots import load_robot
 from ..ranking.labels import joint_motion_units, joint_torque_units, joint_units_text
-from ..report.control import CONTROL_REPORT_FILES, dataset_verdict, write_control_report
+from ..report.control import dataset_verdict, write_control_report
 from ..report.main import write_report
 from ..report.main_context import effort_rows
 from ..report.numbers import count
@@ -938,8 +938,7 @@ def cmd_control(args: argparse.Namespace) -> int:
                              verdict_tolerance=args.verdict_tolerance)
     except ValueError as exc:
         raise InputError(str(exc)) from None
-    with staged_output(outdir, (CONTROL_FILE, *CONTROL_REPORT_FILES, "figures", "tables"),
-                       "control") as stage, writing(outdir, stage):
+    with staged_output(outdir, command="control") as stage, writing(outdir, stage):
         path = stage / CONTROL_FILE
         control_file.write_control_dataset(result, path, {"command": command_line(args)})
         written = [path]

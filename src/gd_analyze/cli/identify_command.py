@@ -28,11 +28,8 @@ from ..store.stored_identification import (
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 
-__all__ = ["cmd_identify", "IDENTIFY_FILES"]
+__all__ = ["cmd_identify"]
 
-#: The files ``identify`` writes (the URDF where the robot was given as one).
-IDENTIFY_FILES = ("identification.h5", "identified_robot.toml", "identified_robot.urdf",
-                  "report.html", "report.pdf", "figures", "tables")
 
 
 def _options(args):
@@ -111,7 +108,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
     outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
     result = identify(robot, list(args.recordings), validate=list(args.validate),
                       options=options)
-    with staged_output(outdir, IDENTIFY_FILES, "identify") as stage, writing(outdir, stage):
+    with staged_output(outdir, command="identify") as stage, writing(outdir, stage):
         written = [write_identification(result, stage / "identification.h5")]
         toml = stage / "identified_robot.toml"
         toml.write_text(robot_toml(result.identified, _comments(result, args)),

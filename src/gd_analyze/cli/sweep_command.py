@@ -23,7 +23,6 @@ from ..store.schema import write_dataset
 from ..store.staging import staged_output, writing
 from ..store.sweep_guarantee import merged_guarantee
 from ..store.sweep_view import StoredSweep, beyond_the_floor, with_more_tasks
-from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.planning import check_velocity_limits, random_trajectories
 from ..trajectory.trajectory import read_trajectory
@@ -149,8 +148,6 @@ def _model_lines(model, ds, args):
 
 #: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
 MERGED_STEM = "merged_model"
-SWEEP_OUTPUTS = ("sweep.h5", "merged_model.json", "payload_sweep.h5", "sweep_report.html",
-                 "sweep_report.pdf", "figures", "tables", *artefact_names(MERGED_STEM))
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -257,7 +254,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             if errors is not None:
                 ds = with_more_tasks(ds, errors.tasks)
 
-    with staged_output(outdir, SWEEP_OUTPUTS, "sweep") as stage, writing(outdir, stage):
+    with staged_output(outdir, command="sweep") as stage, writing(outdir, stage):
         written = [stage / "sweep.h5"]
         if model is not None:
             files, ds = _sweep_model(loaded, model, args, stage, ds)

@@ -31,7 +31,6 @@ from ..store.names import Var
 from ..store.results_view import Results
 from ..store.staging import check_free_space, staged_output, writing
 from ..store.sweep_view import embed_payload
-from ..symbolic.emit_model import artefact_names
 from ..symbolic.safe_text import c_prefix, check_prefix
 from ..trajectory.trajectory import as_trajectory
 from .analyze import Analysis, analyze, analyze_to_file
@@ -44,12 +43,9 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
     from ..trajectory.trajectory import Trajectory
 
-__all__ = ["ANALYZE_OUTPUTS", "AnalysisOutputs", "Payload", "run_analysis",
+__all__ = ["AnalysisOutputs", "Payload", "run_analysis",
            "results_size", "results_dataset"]
 
-#: The files and folders the main job writes into its output folder.
-ANALYZE_OUTPUTS = ("results.h5", "simplified_model.json", *artefact_names(SOURCE_STEM),
-                   "report.html", "report.pdf", "figures")
 
 
 @dataclass(frozen=True)
@@ -206,7 +202,7 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     settings = _settings(options, settings, Payload() if payload is None else payload, robot,
                          prefix)
     prefix = settings["c_prefix"]
-    with staged_output(outdir, ANALYZE_OUTPUTS, "analyze") as stage, writing(outdir, stage):
+    with staged_output(outdir, command="analyze") as stage, writing(outdir, stage):
         check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
