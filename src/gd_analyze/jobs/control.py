@@ -455,7 +455,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     if model_path is None:
         model_file = "<in memory>"
         model_sha = model_sha256 or hashlib.sha256(json.dumps(
-            _json_ready(model.to_dict()), sort_keys=True).encode()).hexdigest()
+            json_safe(model.to_dict()), sort_keys=True).encode()).hexdigest()
     else:
         model_file = str(model_path)
         model_sha = model_sha256 or ""
@@ -601,14 +601,3 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
     fine = tight["simplified"].tau - tight["full"].tau
     return (np.nanmax(np.abs(loose - fine), axis=0),
             int(tight["full"].nfev + tight["simplified"].nfev))
-
-
-def _json_ready(obj):
-    return json_safe(obj)
-
-
-# --------------------------------------------------------------------------------------------
-# Dataset
-# --------------------------------------------------------------------------------------------
-
-
