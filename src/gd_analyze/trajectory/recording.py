@@ -26,9 +26,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError, InputNote
+from ..errors import InputError
 from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import MAX_CELL, _read_bytes, parse_number
+from .trajectory import _cell_values, _read_bytes, _text, _without_bom
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -36,7 +36,6 @@ __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"
 MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
-_BOM = b"\xef\xbb\xbf"
 _COLUMN = re.compile(r"^(t|q|qd|qdd|tau|i)(\d*)$")
 
 
@@ -131,12 +130,7 @@ def _columns(header, path, n_joints, current):
 
 
 def _parse(raw, path, n_joints, current):
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError("not a UTF-8 text file", path) from None
-    if "\x00" in text:
-        raise InputError("not a text file (holds a NUL byte)", path)
+    text = _text(raw, path)
     quick = _quick(text, path, n_joints, current)
     if quick is not None:
         values, names, cols, n, row_no = quick
@@ -179,20 +173,7 @@ def _cells(text, path, n_joints, current):
         raise InputError("empty file", path)
     names, cols, n = _columns(numbered[0][1], path, n_joints, current)
     data = numbered[1:]
-    values = np.empty((len(data), len(names)))
-    for k, (row_no, row) in enumerate(data):
-        if len(row) != len(names):
-            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}",
-                             path, row=row_no)
-        for j, cell in enumerate(row):
-            text_j = cell.strip(" \t")
-            if len(text_j) > MAX_CELL:
-                raise InputError(f"a cell of {len(text_j)} characters is not a number", path,
-                                 row=row_no, column=names[j])
-            try:
-                values[k, j] = parse_number(text_j)
-            except ValueError as exc:
-                raise InputError(str(exc), path, row=row_no, column=names[j]) from None
+    values = _cell_values(data, names, path)
     return values, names, cols, n, np.array([r for r, _ in data], int)
 
 
@@ -278,11 +259,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     path = str(path)
     raw = _read_bytes(path)
     sha256 = hashlib.sha256(raw).hexdigest()
-    if raw.startswith(_BOM):
-        warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
-                      InputNote, stacklevel=2)
-        raw = raw[len(_BOM):]
-    values, cols, n, rows = _parse(raw, path, n_joints, current)
+    values, cols, n, rows = _parse(_without_bom(raw, path), path, n_joints, current)
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
     get = {k: values[:, idx] for k, idx in cols.items()}

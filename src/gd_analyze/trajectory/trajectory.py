@@ -368,6 +368,26 @@ _PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 MAX_CELL = 1000
 
 
+def _without_bom(raw, path):
+    """The file's bytes without a UTF-8 byte-order mark, with an InputNote where one was."""
+    if not raw.startswith(_BOM):
+        return raw
+    warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                  InputNote, stacklevel=3)
+    return raw[len(_BOM):]
+
+
+def _text(raw, path):
+    """The file's bytes as text: UTF-8 without a NUL byte, else an InputError."""
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise InputError("not a UTF-8 text file", path) from None
+    if "\x00" in text:
+        raise InputError("not a text file (holds a NUL byte)", path)
+    return text
+
+
 def _open(path):
     """The file opened for reading bytes; an InputError if it is not a readable regular file."""
     if not os.path.exists(path):
@@ -620,12 +640,7 @@ def _byte_count(raw, byte, block=COUNT_BLOCK):
 
 def _validated_values(raw, path, n_joints):
     """Parse cell by cell; raise an InputError naming the row and column of the first fault."""
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError("not a UTF-8 text file", path) from None
-    if "\x00" in text:
-        raise InputError("not a text file (holds a NUL byte)", path)
+    text = _text(raw, path)
     try:
         rows = list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as exc:
@@ -648,13 +663,7 @@ def _validated_values(raw, path, n_joints):
     data = numbered[1:]
     if len(data) < 2:
         raise InputError(f"fewer than 2 set points ({len(data)})", path)
-    values = np.empty((len(data), len(names)))
-    for k, (row_no, row) in enumerate(data):
-        if len(row) != len(names):
-            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}", path,
-                             row=row_no)
-        for j, cell in enumerate(row):
-            values[k, j] = _cell_value(cell, path, row_no, names[j])
+    values = _cell_values(data, names, path)
     t = values[:, 0]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
@@ -665,15 +674,24 @@ def _validated_values(raw, path, n_joints):
     return values, names, n
 
 
-def _cell_value(cell, path, row_no, column):
-    text = cell.strip(" \t")
-    if len(text) > MAX_CELL:
-        raise InputError(f"a cell of {len(text)} characters is not a number", path, row=row_no,
-                         column=column)
-    try:
-        return parse_number(text)
-    except ValueError as exc:
-        raise InputError(str(exc), path, row=row_no, column=column) from None
+def _cell_values(data, names, path):
+    """The numbers of the rows ``data`` ((row number, cells) each) as an array, or an
+    InputError naming the row and column of the first ragged row or cell not a number."""
+    values = np.empty((len(data), len(names)))
+    for k, (row_no, row) in enumerate(data):
+        if len(row) != len(names):
+            raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}", path,
+                             row=row_no)
+        for j, cell in enumerate(row):
+            text = cell.strip(" \t")
+            if len(text) > MAX_CELL:
+                raise InputError(f"a cell of {len(text)} characters is not a number", path,
+                                 row=row_no, column=names[j])
+            try:
+                values[k, j] = parse_number(text)
+            except ValueError as exc:
+                raise InputError(str(exc), path, row=row_no, column=names[j]) from None
+    return values
 
 
 def parse_number(text: str, integer: bool = False) -> float | int:
