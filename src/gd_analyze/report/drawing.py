@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from .sections import Outline
 
 __all__ = ["figure_svg", "TicksOfTheDraw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
-           "pdf_info", "write_documents", "write_report_files"]
+           "write_documents", "write_report_files"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
 Drawn = tuple[str, bytes | None, tuple[float, float]]
@@ -319,35 +319,6 @@ def html_document(template: str, context: Mapping[str, Any], outline: Outline,
                            env_globals)
 
 
-def pdf_info(version: str, subject: str, keywords: str, footer: str,
-             created: str | None = None) -> dict[str, Any]:
-    """A report PDF's document information and page footer, as :func:`write_documents` takes
-    them.
-
-    Parameters
-    ----------
-    version : str
-        The gd-analyze version that wrote the report (the author, "gd-analyze 1.2").
-    subject : str
-        What the report is about.
-    keywords : str
-        The provenance: version, inputs' SHA-256, settings.
-    footer : str
-        What the footer says after "gd-analyze VERSION: ".
-    created : str, optional
-        The creation time, ISO 8601 UTC; none recorded if not given.
-
-    Returns
-    -------
-    dict
-        ``metadata``, ``footer`` and ``created`` of
-        :func:`gd_analyze.report.typeset.write_pdf`.
-    """
-    return {"metadata": {"Author": f"gd-analyze {version}", "Subject": subject,
-                         "Keywords": keywords},
-            "footer": f"gd-analyze {version}: {footer}", "created": created}
-
-
 def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str, str],
                     outline: Callable[[Collection[str]], Outline], html: Callable[..., str],
                     pdf: Mapping[str, Any], formats: Sequence[str] = ("html", "pdf"),
@@ -445,13 +416,14 @@ def write_report_files(folder: str | os.PathLike[str], ctx: Mapping[str, Any],
     template : str
         The HTML's Jinja2 template (:func:`html_document`).
     subject, footer : str
-        As for :func:`pdf_info`.
+        What the report is about (the PDF's subject), and what its footer says after
+        "gd-analyze VERSION: ".
     keywords : str, optional
         The PDF's keywords, if not ``ctx["keywords"]``.
     env_globals : dict, optional
         Globals of the template's environment.
     created : str, optional
-        The PDF's creation time, ISO 8601 UTC (:func:`pdf_info`).
+        The PDF's creation time, ISO 8601 UTC; none recorded if not given.
     **options
         ``formats``, ``stem``, ``paper``, ``latex``, ``prefix`` and ``shown`` of
         :func:`write_documents`.
@@ -466,8 +438,10 @@ def write_report_files(folder: str | os.PathLike[str], ctx: Mapping[str, Any],
     OSError
         If a file cannot be written: then none is.
     """
-    pdf = pdf_info(ctx["version"], subject, ctx["keywords"] if keywords is None else keywords,
-                   footer, created)
+    version = ctx["version"]
+    pdf = {"metadata": {"Author": f"gd-analyze {version}", "Subject": subject,
+                        "Keywords": ctx["keywords"] if keywords is None else keywords},
+           "footer": f"gd-analyze {version}: {footer}", "created": created}
     return write_documents(Path(folder), drawn, names, functools.partial(outline, ctx),
                            lambda o, d: html_document(template, ctx, o, d, env_globals), pdf,
                            **options)

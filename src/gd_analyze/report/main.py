@@ -39,7 +39,7 @@ from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints
-from .drawing import draw_each, draw_figures, html_document, write_report_files
+from .drawing import draw_each, write_report_files
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
@@ -70,7 +70,7 @@ if TYPE_CHECKING:
 
 __all__ = ["main_outline", "RANKING_TEXT", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
            "ENVELOPE_COLUMNS", "FIGURE_FILES", "COLUMN_FIGURES", "FIGURE_PARTS",
-           "make_figures", "figure_makers", "render_html", "write_report"]
+           "make_figures", "figure_makers", "write_report"]
 
 _X = "X"
 #: The ranking's rule in words (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987, with the negligible
@@ -415,8 +415,7 @@ def _fig_error(results, data, width=PAGE_WIDTH):
     if results.simplified is not None:          # tau_s - tau and its bound
         return error_figure(results.simplified, width, data=data)
     errors = results.torque_error
-    return fig_torque(data, errors.column("peak"), errors.column("relative_peak"),
-                      prismatic_joints(results))
+    return fig_torque(data, errors.column("relative_peak"), prismatic_joints(results))
 
 
 
@@ -466,49 +465,6 @@ def _fig_formulations(counted, width=PAGE_WIDTH):
                ncol=2 if column else 3, frameon=False, bbox_to_anchor=(0.5, 0.0),
                fontsize=7 if column else None)
     return fig
-
-
-# --------------------------------------------------------------------------------------------
-# Content shared by the HTML and the PDF
-# --------------------------------------------------------------------------------------------
-
-
-# --------------------------------------------------------------------------------------------
-# Drawing once, HTML and PDF
-# --------------------------------------------------------------------------------------------
-
-def render_html(ds: xr.Dataset, figures: Mapping[str, Figure] | None = None) -> str:
-    """Render the report as one self-contained HTML document.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        A stored analysis (see :func:`make_figures` for the variables used).
-    figures : dict of str to matplotlib.figure.Figure, optional
-        The figures of :func:`make_figures`; made here if not given.
-
-    Returns
-    -------
-    str
-        The HTML document: inline CSS, figures as inline SVG, no external resources. Built
-        with the Jinja2 template ``templates/report.html.j2`` (autoescape on).
-
-    Raises
-    ------
-    InputError
-        If ``ds`` lacks a variable of a gd-analyze results dataset.
-
-    Notes
-    -----
-    Source: Sec. 3.4.1 and Figs. 3.10-3.11 of Fu, Gonzalez & Lee (1987).
-    """
-    ctx = report_context(ds)
-    if figures is None:
-        figures = make_figures(ds, keys=_FIGURE_ORDER)
-    drawn = draw_figures({k: figures[k] for k in _FIGURE_ORDER if k in figures}, FIG_RC,
-                         pdf=False)
-    return html_document("report.html.j2", ctx, main_outline(ctx, drawn), drawn,
-                         {"class_colours": _CLASS_COLOURS})
 
 
 # --------------------------------------------------------------------------------------------

@@ -498,8 +498,7 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
     return fig
 
 
-def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
-               rel_error: npt.NDArray[np.float64],
+def fig_torque(data: PlotData, rel_error: npt.NDArray[np.float64],
                prismatic: npt.NDArray[np.bool_] | None = None) -> Figure:
     """tau of the full and of the simplified model per joint against time [N m].
 
@@ -507,9 +506,9 @@ def fig_torque(data: PlotData, peak_error: npt.NDArray[np.float64],
     ----------
     data : PlotData
         With ``tau`` and ``tau_simplified`` (M, n) [N m].
-    peak_error, rel_error : ndarray, shape (n,)
-        Peak |tau_s - tau| [N m] and the same over peak |tau| [1]; the titles give the
-        latter (the table of the report gives both).
+    rel_error : ndarray, shape (n,)
+        Peak |tau_s - tau| over peak |tau| [1], given in the titles (the table of the report
+        gives the peak error too).
     prismatic : ndarray of bool, shape (n,), optional
         Prismatic joints, whose axes read N (the others N m).
 

@@ -192,12 +192,3 @@ class Outline:
             Class -> number of elements.
         """
         self._add(Block("counts", dict(counts)))
-
-    def headings(self) -> list[str]:
-        """The numbered headings in order (the title block left out).
-
-        Returns
-        -------
-        list of str
-        """
-        return [s.heading for s in self.sections if s.level > 0]

@@ -672,9 +672,6 @@ BOUND_WHERE = {"region": "proved at every state of the region (positions, veloci
                "trajectory": "guaranteed on this trajectory only"}
 
 
-_S_I = "s" + sub("i")
-#: The simplified model's torque, its subscript set as such (8 pt at least in the PDF).
-_TAU_S = "\u03c4" + sub("s")
 _EPS_S = "\u03b5\u00b7" + _S_I
 _TAU_I, _TAU_J = "\u03c4" + sub("i"), "\u03c4" + sub("j")
 _D_IJ = _el("D", "ij")

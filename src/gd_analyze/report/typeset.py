@@ -299,26 +299,24 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
     """
     data = document_data(outline, {k: size for k, (_, size) in figures.items()}, paper,
                          metadata, footer)
-    inputs = {"gd-data": json.dumps(data, ensure_ascii=False)}
-    inputs.update({f"gd-figure-{k}": svg for k, (svg, _) in figures.items()})
-    pdf, end = _compile("report.typ", inputs, created, end=True)
+    svgs = {f"gd-figure-{k}": svg for k, (svg, _) in figures.items()}
+
+    def typeset(**flags):
+        inputs = {"gd-data": json.dumps({**data, **flags}, ensure_ascii=False), **svgs}
+        return _compile("report.typ", inputs, created, end=True)
+
+    pdf, end = typeset()
+    barrier = False
     if end["page"] > 1 and end.get("alone"):
         # a last page holding a figure alone: set again with no figure floating past the next
         # heading (the figure heads its page with the rest of its section), kept if that
         # ends no later and not so
-        data["barrier"] = True
-        inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
-        barred, end_barred = _compile("report.typ", inputs, created, end=True)
+        barred, end_barred = typeset(barrier=True)
         if end_barred["page"] <= end["page"] and not end_barred.get("alone"):
-            pdf, end = barred, end_barred
-        else:
-            data["barrier"] = False
-            inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
+            pdf, end, barrier = barred, end_barred, True
     if end["page"] > 1 and end["fill"] < NEAR_EMPTY:
         # a last page of a few lines: set tighter, kept if that saves the page
-        data["tight"] = True
-        inputs["gd-data"] = json.dumps(data, ensure_ascii=False)
-        tight, end_tight = _compile("report.typ", inputs, created, end=True)
+        tight, end_tight = typeset(barrier=barrier, tight=True)
         if end_tight["page"] < end["page"]:
             pdf = tight
     with open(path, "wb") as fh:
