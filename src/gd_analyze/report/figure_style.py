@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
-__all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_colours", "joint_style",
+__all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
            "gridspec", "joint_axes", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
@@ -175,25 +175,6 @@ def grid_shape(n: int, max_cols: int) -> tuple[int, int]:
     return math.ceil(n / cols), cols
 
 
-def joint_colours(n: int) -> list[tuple[float, ...]]:
-    """One colour per joint from the tab10 colour map.
-
-    Parameters
-    ----------
-    n : int
-        How many colours.
-
-    Returns
-    -------
-    list of tuple
-        RGBA, the ten of tab10 in turn.
-    """
-    from matplotlib import colormaps
-
-    cmap = colormaps["tab10"]
-    return [cmap(k % 10) for k in range(n)]
-
-
 #: Line style and marker of joints 1..7: no two joints share either, so that seven lines are
 #: told apart in greyscale (dash patterns as (offset, (on, off, ...)) in points).
 JOINT_STYLES = (("-", "o"), ((0, (4.0, 1.6)), "s"), ((0, (1.0, 1.3)), "^"),
@@ -222,9 +203,11 @@ def joint_style(j: int, n_lines: int = 1, in_panel: int = 1) -> dict[str, Any]:
         ``markersize``; the markers of joint j start at an offset so that two joints' markers
         do not fall on the same set points.
     """
+    from matplotlib import colormaps
+
     colours = ("#000000", "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9")
     ls, marker = JOINT_STYLES[j % len(JOINT_STYLES)]
-    colour = colours[j] if j < len(colours) else joint_colours(j + 1)[j]
+    colour = colours[j] if j < len(colours) else colormaps["tab10"](j % 10)     # then tab10
     every = panel_markevery(n_lines, in_panel)
     offset = (j * max(1, every // 7)) % every if every > 1 else 0
     return {"color": colour, "linestyle": ls, "marker": marker, "markevery": (offset, every),
