@@ -299,11 +299,11 @@ def test_marks_in_a_file_s_text_are_dropped():
     import xarray as xr
 
     from gd_analyze.report import markup
-    from gd_analyze.report.common import attr
+    from gd_analyze.report.common import attr_text
 
     ds = xr.Dataset(attrs={"robot": "arm" + markup.sub("<i>") + markup.sup("x")})
-    assert attr(ds, "robot") == "arm<i>x"
-    assert str(markup.html(attr(ds, "robot"))) == "arm&lt;i&gt;x"
+    assert attr_text(ds.attrs["robot"]) == "arm<i>x"
+    assert str(markup.html(attr_text(ds.attrs["robot"]))) == "arm&lt;i&gt;x"
 
 
 #: A number that is round-off of any quantity's scale the reports tabulate (1e-13 and below).

@@ -45,7 +45,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
            "keep_units",
-           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr", "attr_text", "check", "table",
+           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr_text", "check", "table",
            "grid_shape", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "panel_markevery",
            "gridspec", "render_template", "check_formats",
@@ -68,18 +68,16 @@ def utc_now() -> datetime.datetime:
     return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
 
 
-def attr(ds: xr.Dataset, key: str, default: str = "\u2014", *, parens: bool = True,
-         bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
-    """A global attribute of a dataset as text.
+def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
+              bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
+    """An attribute's stored value as text.
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The dataset.
-    key : str
-        The attribute's name.
+    value : object
+        The value as stored (a string, bytes, a number, an array), or None where missing.
     default : str, optional
-        Returned if the attribute is missing or empty.
+        Returned if the value is missing or empty.
     parens : bool, optional
         Put an array's values, joined by ", ", in parentheses.
     bools : bool, optional
@@ -91,25 +89,6 @@ def attr(ds: xr.Dataset, key: str, default: str = "\u2014", *, parens: bool = Tr
     -------
     str
         An integer as a count with thousands separators (:func:`count`).
-    """
-    return attr_text(ds.attrs.get(key, None), default, parens=parens, bools=bools,
-                     sci_outside=sci_outside)
-
-
-def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,
-              bools: bool = False, sci_outside: tuple[float, float] | None = None) -> str:
-    """An attribute's stored value as text, as :func:`attr` writes it.
-
-    Parameters
-    ----------
-    value : object
-        The value as stored (a string, bytes, a number, an array), or None where missing.
-    default, parens, bools, sci_outside
-        As :func:`attr`.
-
-    Returns
-    -------
-    str
     """
     if value is None:
         return default

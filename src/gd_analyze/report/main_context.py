@@ -38,7 +38,6 @@ from .common import (
     units_text,
     utc_now,
 )
-from .common import attr as _attr
 from .common import attr_text as _text
 from .common import check as _check
 from .common import fmt as _fmt
@@ -1062,7 +1061,7 @@ def _report_context_base(results):
                           if enveloped else ""),
         "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
                      f"input {_text(results.trajectory.input_file)} sha256 {sha_in or '-'}; "
-                     f"robot sha256 {_attr(ds, 'robot_sha256')}; s={s:g}; e={e:g}; "
+                     f"robot sha256 {_text(results.robot_record.sha256)}; s={s:g}; e={e:g}; "
                      f"verification {verified}"),
     }
 

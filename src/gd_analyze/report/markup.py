@@ -5,7 +5,7 @@ superscript characters (:func:`label`): Unicode's subscript characters print und
 
 A string of a report's context may hold spans marked with :func:`sub`, :func:`sup` and
 :func:`code` (private use characters; :func:`clean` drops them from the dataset's text
-attributes that :func:`gd_analyze.report.common.attr` reads, such as robot and file names).
+attributes that :func:`gd_analyze.report.common.attr_text` writes, such as robot and file names).
 The HTML renderer turns them into ``<sub>``/``<sup>``/``<code>`` (:func:`html`, every other
 character escaped); the PDF renderer (:mod:`gd_analyze.report.typeset`) takes the spans of
 :func:`spans` as data; :func:`unicode` gives the Unicode characters of a span where every

@@ -259,9 +259,7 @@ def _grid_parts(labels, width, cols, least=1):
     """:func:`_share_grid`'s panels in parts no taller than :data:`MOST_HEIGHT` (at least
     ``least`` of them), in whole rows: ``[labels, ...]``."""
     d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
-    rows = 1
-    while _grid_height(d, column, rows + 1) <= MOST_HEIGHT:
-        rows += 1
+    rows = _most(lambda k: _grid_height(d, column, k))
     parts = _parts(range(-(-len(labels) // cols)), rows, least)     # rows, balanced
     return [labels[p[0] * cols:(p[-1] + 1) * cols] for p in parts if p]
 
@@ -360,10 +358,16 @@ def _class_height(column, M):
 
 def _class_rows(width):
     """The most elements a class figure at ``width`` holds (:data:`MOST_HEIGHT`)."""
-    M = 1
-    while _class_height(width < _PAGE_WIDTH, M + 1) <= MOST_HEIGHT:
-        M += 1
-    return M
+    return _most(lambda M: _class_height(width < _PAGE_WIDTH, M))
+
+
+def _most(height):
+    """The most rows, at least one, whose figure's ``height(rows)`` [in] is at most
+    :data:`MOST_HEIGHT`."""
+    k = 1
+    while height(k + 1) <= MOST_HEIGHT:
+        k += 1
+    return k
 
 
 def _class_figures(w, width, parts=1):
