@@ -116,12 +116,6 @@ def _files_text(prefix):
             "CasADi " + code("functions()") + " of the same).")
 
 
-def _split(heading):
-    """("5.2", "Choice per element") from "5.2 Choice per element"."""
-    number, title = heading.split(" ", 1)
-    return number, title
-
-
 def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     """The main report's sections.
 
@@ -194,14 +188,14 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.table(ctx["error"], "Open-loop torque error of the simplified model per joint, "
                           "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
     o.figure("torque", caps["torque"])
-    o.section(*_split(ctx["choices_heading"]))
+    o.section(*ctx["choices_heading"].split(" ", 1))
     o.paragraph(ctx.get("choices_note", ""), "note")
     o.table(ctx["choices"], "Base parameters and the parts of their contributions the model "
                             "keeps." if ctx["choices"]["header"][0] == "base parameter" else
             "The part of each element the simplified model keeps.")
     sm = ctx.get("simplified_model")
     if sm:
-        o.section(*_split(ctx["model_heading"]))
+        o.section(*ctx["model_heading"].split(" ", 1))
         o.paragraph(sm["text"], "note")
         if sm.get("screen_note"):
             o.paragraph(sm["screen_note"], "note")
@@ -220,7 +214,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
                 o.paragraph(sm["form_note"], "note")
             o.figure("cost_ladder", BUDGET_CAPTIONS["cost_ladder"])
         if sm["ladder"] or sm["ladder_note"]:
-            o.section(*_split(sm["ladder_heading"]))
+            o.section(*sm["ladder_heading"].split(" ", 1))
             if sm["ladder"]:
                 o.table(sm["ladder"], "Cost and worst error of the model built at each "
                                       "tolerance \u03b5.")
