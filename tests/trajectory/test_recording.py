@@ -5,6 +5,7 @@ import pytest
 
 from gd_analyze.errors import InputError
 from gd_analyze.trajectory.recording import read_recording, recording_from_arrays
+from gd_analyze.trajectory.trajectory import FAST_PARSE_BYTES
 
 
 def _write(path, text):
@@ -65,12 +66,78 @@ def test_arrays_are_checked():
 
 
 def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
-    rows = [f"{0.001 * k},{float(np.sin(k))!r},{k}" for k in range(3000)]
+    rows = [f"{0.001 * k},{float(np.sin(k))!r},{k}" for k in range(15_000)]
     good = _write(tmp_path / "big.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")
+    assert good.stat().st_size > FAST_PARSE_BYTES
     rec = read_recording(good)
-    assert rec.q.shape == (3000, 1) and rec.rows[-1] == 3001
+    assert rec.q.shape == (15_000, 1) and rec.rows[-1] == 15_001
     assert rec.q[7, 0] == np.sin(7)
-    rows[2500] = "2.5,1_0,3"
+    rows[12_500] = "12.5,1_0,3"
     bad = _write(tmp_path / "bad.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")
-    with pytest.raises(InputError, match="row 2502, column q1"):
+    with pytest.raises(InputError, match="row 12502, column q1"):
         read_recording(bad)
+
+
+@pytest.mark.parametrize("defect", [None, "order", "cell", "huge", "blank"])
+def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_path,
+                                                                             monkeypatch,
+                                                                             defect):
+    """Above FAST_PARSE_BYTES a regular recording is parsed by pandas a piece at a time; its
+    values, rows, notes and SHA-256, or its error, are those of the cell-by-cell reading of the
+    same file (the threshold raised above its size); the streamed path is taken where the file
+    is regular, and it never holds the file's bytes whole."""
+    import hashlib
+    import tracemalloc
+
+    import gd_analyze.trajectory.trajectory as trajectory
+
+    rng = np.random.default_rng(3)
+    t = np.arange(10_000) * 1e-3
+    if defect == "order":
+        t[[100, 101]] = t[[101, 100]]
+        t[5000] = t[4999]
+    x = rng.normal(size=(t.size, 4)) * 10.0 ** rng.integers(-3, 3, (t.size, 4))
+    # every double written out exactly (80 decimals): the file is about 10 times its values
+    lines = [",".join(f"{float(v):.80f}" for v in (t[k], *x[k])) for k in range(t.size)]
+    if defect == "cell":
+        lines[7_000] = lines[7_000].replace(",", ",1_0,", 1).replace(",", "", 1)
+    elif defect == "huge":
+        lines[9000] = f"{float(t[9000]):.80f},0.5,0.5,1e30,2.0"
+    elif defect == "blank":
+        lines[3000] = ""
+    path = _write(tmp_path / "r.csv", "t,q1,q2,tau1,tau2\n" + "\n".join(lines) + "\n")
+    assert path.stat().st_size > FAST_PARSE_BYTES
+    monkeypatch.setattr(trajectory, "PARSE_PIECE", 1 << 16)
+    taken = []
+    stream = trajectory.streamed_values
+    monkeypatch.setattr(trajectory, "streamed_values",
+                        lambda *a: taken.append(stream(*a)) or taken[-1])
+
+    def read():
+        try:
+            return read_recording(path, 2)
+        except InputError as err:
+            return str(err)
+
+    read_recording(tmp_path / "f.csv" if (tmp_path / "f.csv").write_text(
+        "t,q1,tau1\n" + "".join(f"{k},0,0\n" for k in range(30_000))) else None)  # imports
+    taken.clear()
+    tracemalloc.start()
+    try:
+        streamed = read()
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert (taken[0] is not None) == (defect in (None, "order", "huge"))
+    monkeypatch.setattr(trajectory, "FAST_PARSE_BYTES", 1 << 40)
+    whole = read()
+    assert len(taken) == 1
+    if isinstance(whole, str):
+        assert streamed == whole and "row" in whole
+        return
+    for name in ("t", "q", "tau", "rows"):
+        np.testing.assert_array_equal(getattr(streamed, name), getattr(whole, name))
+    assert streamed.notes == whole.notes and (len(whole.notes) > 0) == (defect == "order")
+    assert streamed.sha256 == whole.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
+    if defect is None:        # the values, their copies in time order, pieces: not the bytes
+        assert peak < path.stat().st_size / 2, peak

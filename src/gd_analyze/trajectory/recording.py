@@ -19,7 +19,6 @@ import hashlib
 import io
 import os
 import re
-import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,7 +27,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import _cell_values, _read_bytes, _text, _without_bom
+from .trajectory import _cell_values, _read_csv, _text
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -130,40 +129,8 @@ def _columns(header, path, n_joints, current):
 
 
 def _parse(raw, path, n_joints, current):
-    text = _text(raw, path)
-    quick = _quick(text, path, n_joints, current)
-    if quick is not None:
-        values, names, cols, n, row_no = quick
-    else:
-        values, names, cols, n, row_no = _cells(text, path, n_joints, current)
-    limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
-              "tau": TAU_LIMIT}
-    for kind, idx in [("t", [0])] + list(cols.items()):
-        bad = first_beyond(values[:, idx], limits[kind])
-        if bad is not None:
-            j = idx[bad[1]]
-            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported "
-                             f"magnitude {limits[kind]:g}", path, row=int(row_no[bad[0]]),
-                             column=names[j])
-    return values, cols, n, row_no
-
-
-def _quick(text, path, n_joints, current):
-    """A large file without blank lines, parsed by pandas; None to parse cell by cell."""
-    end = text.find("\n")
-    if end <= 0 or "\n\n" in text or "\r\n\r\n" in text or text.count("\n") < 1000:
-        return None
-    names, cols, n = _columns(next(csv.reader([text[:end].rstrip("\r")])), path, n_joints,
-                              current)
-    lines = text.count("\n") - (1 if text.endswith("\n") else 0)
-    values = _fast(text, names, lines)
-    if values is None:
-        return None
-    return values, names, cols, n, np.arange(2, lines + 2)
-
-
-def _cells(text, path, n_joints, current):
     """Cell by cell, naming the row and column of the first fault."""
+    text = _text(raw, path)
     try:
         rows = list(csv.reader(io.StringIO(text, newline="")))
     except csv.Error as exc:
@@ -177,25 +144,17 @@ def _cells(text, path, n_joints, current):
     return values, names, cols, n, np.array([r for r, _ in data], int)
 
 
-def _fast(text, names, lines):
-    """pandas' parse of a regular file of plain numbers, or None (the cell-by-cell parser then
-    gives the answer or the exact error)."""
-    import pandas as pd
-
-    if lines < 1000 or '"' in text:
-        return None
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            frame = pd.read_csv(io.StringIO(text), header=0, dtype=float, engine="c",
-                                skip_blank_lines=True, index_col=False,
-                                float_precision="round_trip")
-    except (ValueError, pd.errors.ParserError):
-        return None
-    values = frame.to_numpy()
-    if values.shape != (lines, len(names)) or not np.isfinite(values).all():
-        return None
-    return values
+def _check_magnitudes(values, names, cols, row_no, path):
+    """An InputError for the first value beyond its kind's supported magnitude."""
+    limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
+              "tau": TAU_LIMIT}
+    for kind, idx in [("t", [0])] + list(cols.items()):
+        bad = first_beyond(values[:, idx], limits[kind])
+        if bad is not None:
+            j = idx[bad[1]]
+            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported "
+                             f"magnitude {limits[kind]:g}", path, row=int(row_no[bad[0]]),
+                             column=names[j])
 
 
 def _ordered(t, arrays, rows, path):
@@ -257,9 +216,22 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     (12, 1)
     """
     path = str(path)
-    raw = _read_bytes(path)
-    sha256 = hashlib.sha256(raw).hexdigest()
-    values, cols, n, rows = _parse(_without_bom(raw, path), path, n_joints, current)
+    found = {}
+
+    def header(fields):
+        try:
+            names, found["cols"], found["n"] = _columns(fields, path, n_joints, current)
+        except InputError:
+            return None
+        return names
+
+    def cells(raw):
+        values, names, found["cols"], found["n"], rows = _parse(raw, path, n_joints, current)
+        return values, names, rows
+
+    values, names, rows, sha256 = _read_csv(path, header, cells)
+    cols = found["cols"]
+    _check_magnitudes(values, names, cols, rows, path)
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
     get = {k: values[:, idx] for k, idx in cols.items()}

@@ -19,10 +19,10 @@ import math
 import os
 import re
 import warnings
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
@@ -37,7 +37,8 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
            "trajectory_columns",
-           "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL"]
+           "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL",
+           "streamed_values"]
 
 #: Files larger than this [bytes] are parsed by pandas first when they are regular; the
 #: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
@@ -172,19 +173,24 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         names the file, the row (header = row 1) and the column.
     """
     path = str(path)
-    with _open(path) as fh:
-        if _read(fh, path, len(_BOM)) == _BOM:
-            warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
-                          InputNote, stacklevel=2)
-        fh.seek(0)
-        parsed = _fast_values(fh, path, n_joints) if _size(fh) > FAST_PARSE_BYTES else None
-        if parsed is None:        # small or irregular: the whole file, cell by cell
-            fh.seek(0)
-            raw = _read(fh, path)
-            sha256 = _sha256(raw)             # the bytes read, BOM included
-            values, names, n = _validated_values(raw.removeprefix(_BOM), path, n_joints)
-        else:
-            values, names, n, sha256 = parsed
+
+    def header(fields):
+        try:
+            names, n = _parse_header(fields, path)
+        except InputError:
+            return None
+        return names if n_joints is None or n == n_joints else None
+
+    values, names, rows, sha256 = _read_csv(path, header,
+                                            lambda raw: _validated_values(raw, path, n_joints))
+    n = _parse_header(names, path)[1]
+    t = values[:, 0]
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        k = int(bad[0]) + 1
+        raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
+                         row=int(rows[k]), column="t")
+    _check_magnitudes(values, names, path, lambda k: int(rows[k]))
     t = values[:, 0]
     q = values[:, 1:n + 1]
     if len(names) == 3 * n + 1:
@@ -449,23 +455,62 @@ def _exact_floats():
     return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
 
 
-def _fast_values(fh, path, n_joints):
-    """Parse a large, regular file with pandas, streamed a piece at a time from ``fh`` (a binary
-    file at its start); None if anything is off (then the cell-by-cell parser gives the answer,
-    or the exact error).
+def _read_csv(path, header, cells):
+    """(values, names, row numbers, sha256) of a CSV file of numbers: a large, regular one
+    streamed by :func:`streamed_values` (``header`` as there), any other read whole and parsed
+    by ``cells`` (its bytes, without a byte-order mark, to (values, names, row numbers)); an
+    InputNote where a UTF-8 byte-order mark was stripped."""
+    with _open(path) as fh:
+        if _read(fh, path, len(_BOM)) == _BOM:
+            warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
+                          InputNote, stacklevel=3)
+        fh.seek(0)
+        parsed = streamed_values(fh, path, header) if _size(fh) > FAST_PARSE_BYTES else None
+        if parsed is not None:
+            values, names, sha256 = parsed
+            return values, names, np.arange(2, values.shape[0] + 2), sha256
+        fh.seek(0)
+        raw = _read(fh, path)
+    return (*cells(raw.removeprefix(_BOM)), _sha256(raw))          # the bytes, BOM included
+
+
+def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[str] | None]
+                    ) -> tuple[np.ndarray, list[str], str] | None:
+    """A large CSV file of plain numbers parsed by pandas, streamed a piece at a time.
+
+    Parameters
+    ----------
+    fh : binary file
+        The file, at its start (a UTF-8 byte-order mark is skipped).
+    path : str
+        Its name, for messages.
+    header : callable
+        Takes the header's fields (str, split at commas) and gives the column names, or None
+        to refuse the file.
 
     Returns
     -------
-    (values, names, n, sha256) or None
-        values (N, 3 n + 1 or n + 1); sha256 that of the very bytes parsed, BOM included.
+    (values, names, sha256) or None
+        values, shape (N, len(names)): the N rows after the header, every one finite; sha256:
+        that of the very bytes parsed, BOM included. None if anything is off (a header refused
+        or longer than :data:`HEADER_BYTES`, a quote, a byte other than those of plain numbers,
+        a blank line or a line with other fields than the header, a lone carriage return, a
+        value pandas cannot parse or that is not finite, fewer than 2 rows): then the caller
+        parses the whole file cell by cell, which gives the answer or the exact error.
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read.
 
     Notes
     -----
     Two passes over the file: the first counts its lines (the values' rows), the second
-    hashes, checks and parses each piece of about :data:`PARSE_PIECE` bytes (whole lines). At
-    no time are the file's bytes held whole: the memory is the values and the pieces in flight,
-    whatever the file's size. A file that changes between the passes parses to a different
-    number of rows (None: then it is read whole).
+    hashes, checks and parses each piece of about :data:`PARSE_PIECE` bytes (whole lines), on
+    :data:`PARSE_THREADS` threads (pandas' parser releases the GIL). At no time are the file's
+    bytes held whole: the memory is the values and the pieces in flight, whatever the file's
+    size. A file that changes between the passes parses to another number of rows (None). The
+    values are correctly rounded, as Python's ``float`` parses each cell.
     """
     import pandas as pd
 
@@ -481,10 +526,10 @@ def _fast_values(fh, path, n_joints):
     if b'"' in head or head.count(b"\r") != head.count(b"\r\n"):
         return None
     try:
-        names, n = _parse_header(head.decode("utf-8").rstrip("\r\n").split(","), path)
-    except (UnicodeDecodeError, InputError):
+        names = header(head.decode("utf-8").rstrip("\r\n").split(","))
+    except UnicodeDecodeError:
         return None
-    if n_joints is not None and n != n_joints:
+    if names is None:
         return None
     lines = _line_count(fh, path)
     if lines < 2:
@@ -494,16 +539,15 @@ def _fast_values(fh, path, n_joints):
     def parse(piece):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = pd.read_csv(_PieceReader(memoryview(piece)), header=None, names=names,
-                                dtype=float, engine="c", skipinitialspace=True,
-                                skip_blank_lines=False, index_col=False, **_exact_floats())
+            frame = pd.read_csv(_PieceReader(memoryview(piece)), header=None,
+                                names=list(range(fields)), dtype=float, engine="c",
+                                skipinitialspace=True, skip_blank_lines=False, index_col=False,
+                                **_exact_floats())
         return frame.to_numpy()
 
     values = np.empty((lines, fields))
     row = 0
     pending: collections.deque = collections.deque()
-    # The pieces are parsed on PARSE_THREADS threads (pandas' parser releases the GIL), hashed
-    # and checked here meanwhile, and copied in in order.
     pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
     try:
         for piece in _pieces(fh, path):
@@ -528,11 +572,9 @@ def _fast_values(fh, path, n_joints):
         return None
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
-    if (row != lines or not np.isfinite(values).all()
-            or not (np.diff(values[:, 0]) > 0).all()):
+    if row != lines or not np.isfinite(values).all():
         return None
-    _check_magnitudes(values, names, path, lambda k: k + 2)
-    return values, names, n, digest.hexdigest()
+    return values, names, digest.hexdigest()
 
 
 #: Longest header a file parsed by pandas may have [bytes] (a longer one is read whole).
@@ -639,7 +681,8 @@ def _byte_count(raw, byte, block=COUNT_BLOCK):
 
 
 def _validated_values(raw, path, n_joints):
-    """Parse cell by cell; raise an InputError naming the row and column of the first fault."""
+    """Parse cell by cell: (values, names, row numbers); an InputError naming the row and
+    column of the first fault."""
     text = _text(raw, path)
     try:
         rows = list(csv.reader(io.StringIO(text, newline="")))
@@ -663,15 +706,7 @@ def _validated_values(raw, path, n_joints):
     data = numbered[1:]
     if len(data) < 2:
         raise InputError(f"fewer than 2 set points ({len(data)})", path)
-    values = _cell_values(data, names, path)
-    t = values[:, 0]
-    bad = np.nonzero(np.diff(t) <= 0)[0]
-    if bad.size:
-        k = int(bad[0]) + 1
-        raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
-                         row=data[k][0], column="t")
-    _check_magnitudes(values, names, path, lambda k: data[k][0])
-    return values, names, n
+    return _cell_values(data, names, path), names, np.array([r for r, _ in data])
 
 
 def _cell_values(data, names, path):
