@@ -511,6 +511,16 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     bytes held whole: the memory is the values and the pieces in flight, whatever the file's
     size. A file that changes between the passes parses to another number of rows (None). The
     values are correctly rounded, as Python's ``float`` parses each cell.
+
+    Examples
+    --------
+    >>> import io
+    >>> values, names, _ = streamed_values(io.BytesIO(b"t,q1\\n0,1.5\\n0.5,-2e-3\\n"), "f.csv",
+    ...                                    lambda fields: fields)
+    >>> values.tolist(), names
+    ([[0.0, 1.5], [0.5, -0.002]], ['t', 'q1'])
+    >>> streamed_values(io.BytesIO(b"t,q1\\n0,1.5\\n0.5,nan\\n"), "f.csv", lambda f: f) is None
+    True
     """
     import pandas as pd
 
