@@ -244,3 +244,28 @@ def test_constants_computed_once_give_the_same_terms_as_pinocchio():
         assert relative_error(once.D[0], ref.D[k]) < 1e-12
         assert relative_error(once.h[0], ref.h[k]) < 1e-12
         assert relative_error(once.c[0], ref.c[k]) < 1e-12
+
+
+@pytest.mark.parametrize("name", ["puma560-drives", "stanford", "panda"])
+def test_one_state_terms_are_gd_terms_bit_for_bit(name):
+    """The simulation's one-state call gives what gd_terms gives at each state, every field
+    (friction and armature included), while its buffers are reused from call to call."""
+    from gd_analyze.dynamics.dalembert import one_state_terms
+
+    robot = load_robot(name)
+    n = robot.n
+    terms = one_state_terms(robot)
+    rng = np.random.default_rng(11)
+    kept = []
+    for _ in range(5):
+        y = np.concatenate([rng.uniform(-2, 2, n), rng.uniform(-3, 3, n)])
+        got = terms(y[None, :n], y[None, n:])
+        want = gd_terms(robot, y[None, :n], y[None, n:])
+        for field in ("D_tran", "D_rot", "h_tran", "h_rot", "c", "armature", "tau_f"):
+            a, b = getattr(got, field), getattr(want, field)
+            assert (a is None) == (b is None), field
+            if a is not None:
+                np.testing.assert_array_equal(a, b, err_msg=field)
+        kept.append(got.D.copy())
+    assert not np.array_equal(kept[0], kept[-1])
+    assert (name == "puma560-drives") == (got.tau_f is not None)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..dynamics.dalembert import allocate_terms, gd_terms, kernel_arguments, qdd_from_terms
+from ..dynamics.dalembert import gd_terms, one_state_terms, qdd_from_terms
 from ..ranking.labels import element_units
 
 if TYPE_CHECKING:
@@ -470,7 +470,7 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
         raise ValueError("the simplified controller needs the simplified model")
     d1, d2 = desired.derivative(1), desired.derivative(2)
     motion = _stacked(desired, d1, d2)             # q_d, qd_d, qdd_d: one evaluation a call
-    constants, buffers = kernel_arguments(robot), allocate_terms(1, n)
+    state_terms = one_state_terms(robot)
     calls = [0]
     at = getattr(choices, "torque_at", None) if controller == "simplified" else None
     # the simplified model at the one state of a call (choices.torque without torque_at)
@@ -481,7 +481,7 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
         if calls[0] > MAX_RHS_EVALS:
             raise _TooManyEvals
         q, qd = y[None, :n], y[None, n:]
-        terms = gd_terms(robot, q, qd, out=buffers, constants=constants)
+        terms = state_terms(q, qd)
         m = motion(t)[None]
         tau = controller_torque(controller, robot, gains, m[:, :n], m[:, n:2 * n],
                                 m[:, 2 * n:], q, qd, choices=choices, terms=terms,
