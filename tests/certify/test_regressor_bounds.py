@@ -163,34 +163,6 @@ def test_inertia_enclosures_hold_pinocchios_d_on_boxes(name, arithmetic):
     assert (phi_ - plo).max() <= 1e-12 * np.abs(D).max()
 
 
-@pytest.mark.parametrize("name", ["panda", "stanford"])
-def test_vertex_enclosure_of_the_velocity_part_is_sound_and_tighter(name):
-    """The velocity part enclosed at the vertices of the velocity box (dependence kept) bounds
-    |qd^T C(q) qd| at random q in each box and random qd anywhere in the velocity box, the
-    interior too (oracle: the regressor at points, itself checked against the regressor
-    above), and is never looser than the per-coefficient bound, tighter on some pairs."""
-    robot = load_robot(name)
-    n = robot.n
-    qdd_max = np.ones(n)                        # the velocity part does not depend on it
-    rng = np.random.default_rng(4)
-    lo = rng.uniform(robot.q_min, robot.q_max, (6, n))
-    hi = np.minimum(lo + 0.1 * (robot.q_max - robot.q_min), robot.q_max)
-    cols = np.arange(10 * n)
-    old = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, qdd_max)
-    new = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, qdd_max, vertices=True)
-    assert np.all(np.isfinite(new))
-    assert np.all(new <= old)
-    assert np.any(new[:, 1] < 0.9 * old[:, 1])
-    for b in range(lo.shape[0]):
-        q = rng.uniform(lo[b], hi[b], (300, n))
-        qd = rng.uniform(-1, 1, (300, n)) * robot.qd_max
-        k = rng.uniform(size=(300, n)) < 0.5                    # half the joints at a limit
-        qd = np.where(k, np.sign(qd) * robot.qd_max, qd)
-        V = channel_values(robot, q, cols)[:, 1 + n:]           # (N, n n, n, m)
-        vel = np.einsum("bcim,bc->bim", V, (qd[:, :, None] * qd[:, None, :]).reshape(300, -1))
-        assert np.all(np.abs(vel) <= new[b, 1][None] * (1 + 1e-9) + 1e-12), b
-
-
 def test_a_box_s_bounds_do_not_depend_on_the_batch_it_is_in():
     """The oracle: each box's bounds computed alone. In a batch of 64 boxes (and in batches
     of one link's columns) they are the same bit for bit, so that a read-back that evaluates

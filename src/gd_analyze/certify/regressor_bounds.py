@@ -15,7 +15,6 @@ encloses every coefficient over its box; with degenerate boxes it evaluates them
 
 from __future__ import annotations
 
-import itertools
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -420,124 +419,6 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
         yield k, ms, ch, lo, hi
 
 
-#: Most joints whose velocity vertices are run through the recursion as channels of their own
-#: (:func:`_vertex_groups`): 2^(VERTEX_JOINTS - 1) = 64 channels for the last link.
-VERTEX_JOINTS = 7
-
-
-def _vertex_forward(chain, verts):
-    """Per link k: w, wd, vd (B, K, 3) at qd = verts[v] (K, n), qdd = 0 and g = 0.
-
-    The velocity recursion of Table 3.3 (Fu, Gonzalez & Lee 1987) with the whole velocity
-    vector of each vertex, so the velocity terms of all joint pairs are summed on vectors
-    before any component is taken (the coefficients C_jl keep their dependence on q)."""
-    A, B, K = chain.A, chain.B, verts.shape[0]
-    ez = np.array([0.0, 0.0, 1.0])
-    w, wd, vd = A.zeros((B, K)), A.zeros((B, K)), A.zeros((B, K))
-    out = []
-    for k in range(verts.shape[1]):
-        p = chain.p(k)
-        a = A.add(A.add(vd, A.cross(wd, p)), A.cross(w, A.cross(w, p)))
-        vd, wp, wd = chain.rot_t(k, a), chain.rot_t(k, w), chain.rot_t(k, wd)
-        axis = A.point(verts[:, k, None] * ez)                            # qd_k z, (K, 3)
-        if chain.pris[k]:
-            vd = A.add(vd, A.cross(wp, A.point(2.0 * verts[:, k, None] * ez)))
-            w = wp
-        else:
-            wd = A.add(wd, A.cross(wp, axis))
-            w = A.add(wp, axis)
-        out.append((w, wd, vd))
-    return out
-
-
-def _vertex_wrench(A, c, w, wd, vd):
-    """Force and moment of a link per unit standard parameter c at the vertices (B, K, 3)."""
-    zero = A.zeros(wd[0].shape[:-1])
-    if c < 6:
-        ab = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))[c]
-        return zero, A.add(A.sym(wd, ab), A.cross(w, A.sym(w, ab)))
-    if c < 9:
-        e = A.point(_unit(c - 6))
-        return A.add(A.cross(wd, e), A.cross(w, A.cross(w, e))), A.cross(e, vd)
-    return vd, zero
-
-
-def _vertex_groups(robot, q_lo, q_hi, columns, qd_max, algebra=_Ball):
-    """Per link k with at most :data:`VERTEX_JOINTS` joints up to it, and joint i <= k: (the
-    positions in ``columns`` of the link's columns, i, enclosure of their velocity torques
-    qd^T C qd at joint i at each vertex qd of the velocity box of joints 0..k whose first
-    sign is +, shape (B, K, g) each).
-
-    Link k's velocity terms involve joints 0..k only; the vertices v and -v give the same
-    value, so half of them suffice."""
-    chain = _Chain(robot, q_lo, q_hi, algebra)
-    A = chain.A
-    n = robot.n
-    reach = min(n, VERTEX_JOINTS)
-    columns = np.asarray(columns, int)
-    qd_max = np.asarray(qd_max, float)
-    links = None
-    for k in range(reach):
-        ms = np.flatnonzero(columns // 10 == k)
-        if ms.size == 0:
-            continue
-        if links is None:
-            signs = np.array(list(itertools.product([-1.0, 1.0], repeat=reach - 1)),
-                             float).reshape(-1, reach - 1)
-            verts = np.hstack([np.ones((signs.shape[0], 1)), signs]) * qd_max[:reach]
-            links = _vertex_forward(chain, verts)
-        K = 1 << k                      # the vertices of joints 0..k: the first 2^k rows
-        # itertools.product varies the last joint fastest: take the rows whose signs of
-        # joints k+1.. are all +
-        rows = np.flatnonzero(np.all(signs[:, k:] > 0, axis=1))           # 2^k of them
-        w, wd, vd = (tuple(x[:, rows] for x in e) for e in links[k])
-        parts = [_vertex_wrench(A, int(columns[m]) % 10, w, wd, vd) for m in ms]
-        f = tuple(np.concatenate([p[0][e] for p in parts], axis=1) for e in range(2))
-        mom = tuple(np.concatenate([p[1][e] for p in parts], axis=1) for e in range(2))
-        for i in range(k, -1, -1):
-            z = A.z(mom if not chain.pris[i] else f)                  # (B, g K)
-            B = z[0].shape[0]
-            yield ms, i, tuple(x.reshape(B, ms.size, K).transpose(0, 2, 1) for x in z)
-            if i == 0:
-                break
-            f = chain.rot(i, f)
-            mom = A.add(chain.rot(i, mom), A.cross(chain.p(i), f))
-
-
-def _vertex_bound(F, diag, a):
-    """max |qd^T C qd| over |qd_j| <= a_j (j <= k) from the vertex enclosures F and the
-    diagonal coefficients' enclosures.
-
-    Parameters
-    ----------
-    F : (ndarray, ndarray), shape (B, K, g) each
-        Enclosures of qd^T C qd at the vertices (half of them: v and -v give the same value).
-    diag : (ndarray, ndarray), shape (B, k + 1, g) each
-        Enclosures of C_jj.
-    a : ndarray, shape (k + 1,)
-        qd_max [rad/s or m/s].
-
-    Returns
-    -------
-    ndarray, shape (B, g)
-
-    Notes
-    -----
-    For each q, f(x) = x^T C x is convex in each x_j with C_jj >= 0, so pushing those to
-    +-a_j does not lower f; with J the other joints, f - sum_J C_jj x_j^2 is affine in each
-    x_j of J, so its largest value is at a vertex v, where it is f(v) - sum_J C_jj a_j^2.
-    Hence max f <= max_v f(v) + sum_J a_j^2 (max(C_jj, 0) - C_jj), and the same for -f with
-    the joints whose C_jj may be positive.
-    """
-    dlo, dhi = diag
-    w = (np.asarray(a, float) ** 2)[None, :, None]
-    up = np.where(dlo < 0, (np.maximum(dhi, 0.0) - dlo) * w, 0.0).sum(axis=1)
-    down = np.where(dhi > 0, (dhi - np.minimum(dlo, 0.0)) * w, 0.0).sum(axis=1)
-    top = F[1].max(axis=1) + up
-    bottom = F[0].min(axis=1) - down
-    return np.maximum(np.maximum(top, -bottom), 0.0) * (1 + 1e-12) + 1e-300
-
-
 def _dot(x, w):
     """x @ w for x (B, P), w (P,), summed in the same order in every row whatever B (a
     matrix-vector product's order may depend on the number of rows)."""
@@ -664,7 +545,7 @@ def _boxes(robot, q_lo, q_hi):
 
 def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
                     qd_max: ArrayLike, qdd_max: ArrayLike, gravity: ArrayLike | None = None,
-                    arithmetic: str = "ball", vertices: bool = False) -> np.ndarray:
+                    arithmetic: str = "ball") -> np.ndarray:
     """Upper bounds of each column's three parts over boxes of q and the velocity and
     acceleration limits, per joint.
 
@@ -683,12 +564,6 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
     arithmetic : {"ball", "box"}, optional
         Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap; evaluated by the
         compiled kernels of :mod:`.ball_kernels`) or interval boxes (:mod:`.intervals`).
-    vertices : bool, optional
-        Also enclose the velocity part through the recursion at each vertex of the velocity
-        box (:func:`_vertex_groups`, links with at most :data:`VERTEX_JOINTS` joints up to
-        them) and keep the lesser of that bound and the per-coefficient one. Off by default:
-        on the PUMA 560, the Panda and the UR5 at EPS 0.01 it changed no region model's
-        count and took 25-100 % more certification time (analysis/region_costs.py).
 
     Returns
     -------
@@ -717,29 +592,17 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
     columns = np.asarray(columns, int)
     quad = _QuadraticBound(n, qd_max)
     out = np.zeros((q_lo.shape[0], 3, n, columns.size))
-    algebra = {"ball": _Ball, "box": _Box}[arithmetic]
-    diag = {}
-    if algebra is _Ball:                # link by link, in the link's own channels
+    if arithmetic == "ball":            # link by link, in the link's own channels
         quads: dict[int, _QuadraticBound] = {}
         for k, ms, _, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
             kk = k + 1
             quad_k = quads.setdefault(kk, _QuadraticBound(kk, qd_max[:kk]))
-            dj = 1 + kk + np.arange(kk) * (kk + 1)                    # the channels C_jj
             for i in range(k, -1, -1):
                 lo, hi = lo_k[:, i].transpose(0, 2, 1), hi_k[:, i].transpose(0, 2, 1)
                 out[:, :, i, ms] = _parts(lo, hi, quad_k, qdd_max[:kk])
-                diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
     else:
-        for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
+        for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, _Box):
             out[:, :, i, ms] = _parts(lo, hi, quad, qdd_max)
-            dj = 1 + n + np.arange(n) * (n + 1)                       # the channels C_jj
-            diag[(int(ms[0]), i)] = (lo[:, dj], hi[:, dj])
-    if vertices:    # the velocity terms with their dependence kept: the least of both bounds
-        for ms, i, F in _vertex_groups(robot, q_lo, q_hi, columns, qd_max, algebra):
-            k = F[0].shape[1].bit_length() - 1
-            dlo, dhi = diag[(int(ms[0]), i)]
-            tight = _vertex_bound(F, (dlo[:, :k + 1], dhi[:, :k + 1]), qd_max[:k + 1])
-            out[:, 1, i, ms] = np.minimum(out[:, 1, i, ms], tight)
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 
