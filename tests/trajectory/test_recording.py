@@ -78,7 +78,8 @@ def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
         read_recording(bad)
 
 
-@pytest.mark.parametrize("defect", [None, "order", "cell", "huge", "blank"])
+@pytest.mark.parametrize("defect", [None, "order", "cell", "huge", "blank", "bom crlf",
+                                    "spaced header", "unknown column"])
 def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_path,
                                                                              monkeypatch,
                                                                              defect):
@@ -88,6 +89,7 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
     is regular, and it never holds the file's bytes whole."""
     import hashlib
     import tracemalloc
+    import warnings
 
     import gd_analyze.trajectory.trajectory as trajectory
 
@@ -105,7 +107,12 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
         lines[9000] = f"{float(t[9000]):.80f},0.5,0.5,1e30,2.0"
     elif defect == "blank":
         lines[3000] = ""
-    path = _write(tmp_path / "r.csv", "t,q1,q2,tau1,tau2\n" + "\n".join(lines) + "\n")
+    header = {"spaced header": "t, q2 ,q1,tau2 , tau1", "unknown column": "t,q1,q2,tau1,x2"}.get(
+        defect, "t,q1,q2,tau1,tau2")
+    end = "\r\n" if defect == "bom crlf" else "\n"
+    path = tmp_path / "r.csv"
+    path.write_bytes((b"\xef\xbb\xbf" if defect == "bom crlf" else b"")
+                     + (header + end + end.join(lines) + end).encode())
     assert path.stat().st_size > FAST_PARSE_BYTES
     monkeypatch.setattr(trajectory, "PARSE_PIECE", 1 << 16)
     taken = []
@@ -113,11 +120,17 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
     monkeypatch.setattr(trajectory, "streamed_values",
                         lambda *a: taken.append(stream(*a)) or taken[-1])
 
+    bom_notes = []
+
     def read():
-        try:
-            return read_recording(path, 2)
-        except InputError as err:
-            return str(err)
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            try:
+                return read_recording(path, 2)
+            except InputError as err:
+                return str(err)
+            finally:
+                bom_notes.append(any("byte-order mark" in str(w.message) for w in said))
 
     read_recording(tmp_path / "f.csv" if (tmp_path / "f.csv").write_text(
         "t,q1,tau1\n" + "".join(f"{k},0,0\n" for k in range(30_000))) else None)  # imports
@@ -128,10 +141,12 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
         peak = tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
-    assert (taken[0] is not None) == (defect in (None, "order", "huge"))
+    assert (taken[0] is not None) == (defect in (None, "order", "huge", "bom crlf",
+                                                 "spaced header"))
     monkeypatch.setattr(trajectory, "FAST_PARSE_BYTES", 1 << 40)
     whole = read()
     assert len(taken) == 1
+    assert bom_notes[-2:] == [defect == "bom crlf"] * 2
     if isinstance(whole, str):
         assert streamed == whole and "row" in whole
         return
