@@ -241,7 +241,7 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
         figs = sweep.make_sweep_figures(ds)
         six = sweep.make_sweep_figures(_tiled_sweep(6))
     assert {k for k in six if k[0] in "Dhc"} == {"D", "h", "classes"}
-    assert len(six["D"].axes) == 21 + 1                   # the triangle and its key's axes
+    assert len(six["D"].axes) == 21                       # the triangle (its key a text)
     elements = [str(v) for v in ds["element"].values]
     for key, kind in (("D", "D"), ("h", "h"), ("classes", "")):
         parts = [figs[key]] + [figs[f"{key}_{p}"] for p in range(2, 13) if f"{key}_{p}" in figs]
@@ -282,3 +282,37 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
     assert first("4. Envelope per element") >= last(
         "Translational share of the elements of h over the sweep")
     assert first("5. Merged model") >= last("Dominance class per element over")
+
+
+@pytest.mark.parametrize("fractions", [None, (0.0, 0.06, 0.9, 0.04), (0.04, 0.06, 0.86, 0.04)])
+def test_the_share_figures_of_six_joints_have_no_collision_at_their_printed_size(fractions):
+    """D and h at the page's width (D in the layout of Fig. 3.10) and a column's, with the
+    golden sweep's class fractions, with three classes in every panel (R 6% \u00b7 B 90% \u00b7
+    N 4%, as a 50-trajectory PUMA 560 sweep has: it ran into its neighbour, and the triangle's
+    key into the diagonal's tick labels) and, at the page's width, with four: at the printed
+    size the fractions go on more lines where one would reach the next panel's or the
+    panel's own tick labels, and the key ends clear of them; no two texts overlap."""
+    import matplotlib
+    from figure_checks import collisions
+
+    from gd_analyze.report import sweep
+    from gd_analyze.report.common import SUPTITLE_RC
+    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
+
+    ds = _tiled_sweep(6)
+    if fractions is not None:
+        ds["class_fraction"][:] = np.broadcast_to(fractions, ds["class_fraction"].shape)
+    w = sweep.StoredSweep.of(ds)
+    four = fractions is not None and min(fractions) > 0
+    with matplotlib.rc_context(SUPTITLE_RC):
+        figs = {f"{key} {width}": f for key in "Dh" for width in (sweep._PAGE_WIDTH, 3.5)
+                if not (four and width < sweep._PAGE_WIDTH)
+                for f in sweep._share_figures(w, key, width).values()}
+    two = 0
+    for key, fig in figs.items():
+        raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
+        found = [c for c in collisions(fig, SUPTITLE_RC) if "figure's edge" not in c]
+        assert not found, (key, found[:3])
+        two += sum("\n" in ax.get_xlabel() for ax in fig.axes)
+    assert (two > 0) == (fractions is not None)

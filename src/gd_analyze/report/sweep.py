@@ -29,7 +29,6 @@ Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are wr
 
 from __future__ import annotations
 
-import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -153,16 +152,60 @@ def _thresholds(w):
                  for v in (st.dominance_threshold, st.negligible_threshold))
 
 
-def _fraction_text(fractions):
-    parts = [f"{_LETTER[c]} {100 * f:.0f}%" if f >= 0.01 else f"{_LETTER[c]} {100 * f:.1g}%"
-             for c, f in zip(CLASSES, fractions) if f > 0]
-    return " \u00b7 ".join(parts)
+def _width(text, size):
+    """The width [in] of one line of text at ``size`` [pt], in the current font, as Agg lays
+    it out at the figures' resolution (its hinting makes it resolution-dependent)."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.font_manager import FontProperties
+
+    dpi = float(matplotlib.rcParams["figure.dpi"])
+    width, _, _ = RendererAgg(1, 1, dpi).get_text_width_height_descent(
+        text, FontProperties(size=size), ismath=False)
+    return width / dpi
 
 
-def _share_panel(ax, w, label, two_lines=False):
+def _wrapped(parts, room, size, sep=" "):
+    """``parts`` joined by ``sep`` into lines no wider than ``room`` [in] at ``size`` [pt]."""
+    lines: list[str] = []
+    for part in parts:
+        if lines and _width(lines[-1] + sep + part, size) <= room:
+            lines[-1] += sep + part
+        else:
+            lines.append(part)
+    return "\n".join(lines)
+
+
+def _fraction_text(fractions, room=np.inf, size=7.0):
+    """The fractions of trajectories per class (``T 94% \u00b7 N 6%``), on as many lines as
+    keep each within ``room`` [in] at ``size`` [pt]."""
+    return _wrapped([f"{_LETTER[c]} {100 * f:.0f}%" if f >= 0.01 else
+                     f"{_LETTER[c]} {100 * f:.1g}%" for c, f in zip(CLASSES, fractions) if f > 0],
+                    room, size, " \u00b7 ")
+
+
+#: Font size of a share panel's class fractions [pt], at its drawn size.
+_FRACTION_PT = 7.0
+#: Room kept between two panels' class fractions [in].
+_FRACTION_GAP = 0.08
+#: Height of a further line of a panel's class fractions, added to each gap between rows [in].
+_SECOND_LINE = 0.13
+
+
+def _more_lines(w, rooms, size):
+    """The most lines beyond the first that a panel's class fractions take, over the panels
+    ``rooms`` ({label: the room [in] of its bottom line}) at ``size`` [pt]."""
+    index = {label: k for k, label in enumerate(w.elements)}
+    return max((_fraction_text(w.class_fraction[index[label]], room, size).count("\n")
+                for label, room in rooms.items()), default=0)
+
+
+def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
     """One element of the stored sweep ``w``: a box of its share_tran over the trajectories,
     thresholds s and 1 - s; trajectories on which the element is round-off are left out of the
-    box, and an element round-off on every trajectory has no share (it would be noise)."""
+    box, and an element round-off on every trajectory has no share (it would be noise). The
+    class fractions below go on two lines where one would be wider than ``room`` [in] at
+    ``size`` [pt] (its printed size)."""
     k = list(w.elements).index(label)
     merged, zero, s = w.merged.choice[k], w.round_off[:, k], _thresholds(w)[0]
     values = w.share_tran[:, k][~zero]
@@ -200,13 +243,13 @@ def _share_panel(ax, w, label, two_lines=False):
         return
     ax.set_title(f"{_math(label)}:{chr(10) if two_lines else ' '}{KEPT.get(merged, merged)}",
                  color=colour, pad=2.5, linespacing=1.0)           # a narrow panel: two lines
-    ax.set_xlabel(_fraction_text(w.class_fraction[k]), fontsize=7.0, labelpad=1.5,
-                  color="0.15")
+    ax.set_xlabel(_fraction_text(w.class_fraction[k], room, size), fontsize=_FRACTION_PT,
+                  labelpad=1.5, color="0.15", linespacing=1.0)
 
 
 def _key_text(w, K):
     s, e = _thresholds(w)
-    return textwrap.fill(
+    return (
         f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
         f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
         f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
@@ -218,7 +261,7 @@ def _key_text(w, K):
         f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
         f"trajectory, no share drawn; on the trajectories where an element is round-off its "
         f"share is left out of the box. Grey dots: the share on each trajectory, one dot per "
-        f"trajectory (up to 60).", 52)
+        f"trajectory (up to 60).")
 
 
 #: Most joints whose D figure keeps the upper-triangle layout of Fig. 3.10 across a page
@@ -250,7 +293,8 @@ def _share_layout(w, key, width):
 
 def _grid_height(d, column, rows):
     """The height [in] of :func:`_share_grid`'s figure of ``rows`` rows: of D (``d``) or h,
-    a column's or a page's."""
+    a column's or a page's (with the key's usual lines; :func:`_share_grid` makes it taller
+    where its key takes more)."""
     return (0.74 + 1.08 * rows + 1.55 if d else 2.3 + 1.6 * rows if column
             else 2.45 + 1.55 * rows)
 
@@ -291,22 +335,35 @@ def _share_figures(w, key, width, parts=1):
 def _fig_D(w):
     from matplotlib.figure import Figure
 
-    n = w.joints
-    W = _PAGE_WIDTH
-    H = 0.98 + n * 0.56 + (n - 1) * 0.46                # titles of two lines
+    n, k = w.joints, w.joints // 2
+    W, left, right, top, wgap = _PAGE_WIDTH, 0.5, 0.08, 0.68, 0.28
+    pitch = (W - left - right + wgap) / n                  # a panel and its gap [in]
+    # the class fractions at their printed size, on more lines where one would reach the
+    # next panel's, or the panel's own tick labels on the diagonal (the rows further apart)
+    rooms = {element_label("D", i, j): pitch - wgap if i == j else pitch - _FRACTION_GAP
+             for i in range(n) for j in range(i, n)}
+    H, hgap = 0.98 + n * 0.56 + (n - 1) * 0.46, 0.46      # titles of two lines
+    more = _more_lines(w, rooms, max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((W, H))))
+    H, hgap, bottom = (H + n * more * _SECOND_LINE, hgap + more * _SECOND_LINE,
+                       0.3 + more * _SECOND_LINE)
+    size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((W, H)))
+    # the key in the empty lower left, its top at row k's, clear of the diagonal's tick
+    # labels on its right
+    key = _wrapped(_key_text(w, w.trajectories).split(), k * pitch - 0.3,
+                   max(7.5, MIN_PRINTED_PT / printed_scale((W, H))))
     fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=0.5, right=0.08, top=0.68, bottom=0.3, wgap=0.28, hgap=0.46)
+    gs = _gridspec(fig, n, n, left=left, right=right, top=top, bottom=bottom, wgap=wgap,
+                   hgap=hgap)
     for i in range(n):
         for j in range(i, n):
             ax = fig.add_subplot(gs[i, j])
-            _share_panel(ax, w, element_label("D", i, j), two_lines=True)
+            label = element_label("D", i, j)
+            _share_panel(ax, w, label, two_lines=True, room=rooms[label], size=size)
             ax.tick_params(labelleft=(i == j))
     if n > 1:
-        k = n // 2
-        lax = fig.add_subplot(gs[k:, :k])
-        lax.axis("off")
-        lax.text(0.0, 0.9, _key_text(w, w.trajectories), transform=lax.transAxes,
-                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+        box = gs[k:, :k].get_position(fig)
+        fig.text(box.x0, box.y0 + box.height, key, va="top", ha="left", fontsize=7.5,
+                 linespacing=1.35)
     fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
     fig.suptitle("Translational share of the elements of D over the sweep "
                  "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
@@ -323,26 +380,38 @@ def _share_grid(w, labels, width, cols, part=(1, 1)):
     d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
     rows = -(-len(labels) // cols)
     H = _grid_height(d, column, rows)
+    left, right, wgap = (0.55, 0.08, 0.3) if d else (0.65, 0.1, 0.6)
+    pitch = (width - left - right + wgap) / cols            # a panel and its gap [in]
+    # the key below the panels, under the last row's class fractions (raised to the printed
+    # size, it is wrapped again and drawn lower: the drawing is made taller, figure_svg)
+    spacing, x0 = 1.25 if column or d else 1.3, 0.3 if not (column or d) else 0.1
+    key = _wrapped(_key_text(w, w.trajectories).split(), width - x0 - 0.1, 7.0)
+    # the class fractions at their printed size on more lines where one would reach the
+    # next panel's, the panel's own tick labels (D: on a row's first; h: on each) or the
+    # figure's right edge: the rows further apart, the panels shorter (the figure keeps its
+    # height, and so its printed scale)
+    rooms = {}
+    for m, label in enumerate(labels):
+        room = pitch - wgap if m % cols == 0 or not d else pitch - _FRACTION_GAP
+        if m % cols == cols - 1 or m == len(labels) - 1:
+            room = min(room, pitch - wgap + 2 * right - 0.02)
+        rooms[label] = room
+    size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((width, H)))
+    more = _more_lines(w, rooms, size) * _SECOND_LINE
     fig = Figure(figsize=(width, H))
-    # the key below the panels takes up to six lines at the printed 8 pt, under the last
-    # row's tick and class labels
-    gs = _gridspec(fig, rows, cols, left=0.55 if d else 0.65, right=0.08 if d else 0.1,
-                   top=0.74 if d else 0.55 if column else 0.5, bottom=1.75,
-                   wgap=0.3 if d else 0.6, hgap=0.55 if d else 0.5)
+    gs = _gridspec(fig, rows, cols, left=left, right=right,
+                   top=0.74 if d else 0.55 if column else 0.5, bottom=1.75 + more, wgap=wgap,
+                   hgap=(0.55 if d else 0.5) + more)
     for m, label in enumerate(labels):
         ax = fig.add_subplot(gs[m // cols, m % cols])
-        _share_panel(ax, w, label, two_lines=d)
+        _share_panel(ax, w, label, two_lines=d, room=rooms[label], size=size)
         if d:
             ax.tick_params(labelleft=(m % cols == 0))
         else:
             ax.set_ylabel("translational share [1]")
-    key = textwrap.fill(_key_text(w, w.trajectories).replace("\n", " "), 68 if column else 120)
+    fig.text(x0 / width, 1.5 / H, key, va="top", ha="left", fontsize=7, linespacing=spacing)
     if d:
-        fig.text(0.1 / width, 1.5 / H, key, va="top", ha="left", fontsize=7, linespacing=1.25)
         fig.supylabel("translational share [1]", x=0.05 / width, ha="left")
-    else:
-        fig.text((0.1 if column else 0.3) / width, 0.1 / H, key, ha="left", va="bottom",
-                 fontsize=7.0, linespacing=1.25 if column else 1.3)
     of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
     fig.suptitle(f"Translational share of the elements of {labels[0][0]}"
                  f"{chr(10) if column else ' '}over the sweep (layout of Fig. "
