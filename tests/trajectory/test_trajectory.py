@@ -142,7 +142,7 @@ def test_a_large_file_is_read_without_holding_its_bytes(tmp_path, puma, monkeypa
     path = tmp_path / "big.csv"
     write_trajectory(plan, path)
     size = path.stat().st_size
-    monkeypatch.setattr(trajectory, "PARSE_PIECE", 1 << 20)
+    monkeypatch.setattr(trajectory, "PARSE_PIECE", 1 << 18)
     read_trajectory(path, 6)                            # pandas' imports, not counted
     tracemalloc.start()
     try:
