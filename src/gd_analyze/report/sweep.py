@@ -204,8 +204,8 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
     """One element of the stored sweep ``w``: a box of its share_tran over the trajectories,
     thresholds s and 1 - s; trajectories on which the element is round-off are left out of the
     box, and an element round-off on every trajectory has no share (it would be noise). The
-    class fractions below go on two lines where one would be wider than ``room`` [in] at
-    ``size`` [pt] (its printed size)."""
+    class fractions below go on as many lines as keep each within ``room`` [in] at ``size``
+    [pt] (its printed size)."""
     k = list(w.elements).index(label)
     merged, zero, s = w.merged.choice[k], w.round_off[:, k], _thresholds(w)[0]
     values = w.share_tran[:, k][~zero]
