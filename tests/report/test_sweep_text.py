@@ -16,6 +16,7 @@ from html_checks import html_text as _text
 from gd_analyze import __version__
 from gd_analyze.cli import main
 from gd_analyze.report.sweep import write_sweep_report
+from gd_analyze.store.names import SweepAttr
 from gd_analyze.store.schema import write_dataset
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
@@ -195,3 +196,24 @@ def test_round_off_threshold_in_mathematics(swept):
     assert decade_label(ROUND_OFF) == "10\u207b\u00b9\u00b2"
     assert "1e-12" not in html and "1e\u221212" not in html
     assert text.count("at most 10\u207b\u00b9\u00b2 of") >= 2, text
+
+
+def test_a_region_scale_names_its_torque_floor_only_where_there_is_one(shared_main, tmp_path):
+    """s_i of a region model is max(largest |tau_i| over the region, floor): with the default
+    floor 0 the summary says no "at least 0 N m"; a stored floor of 2 is said."""
+    out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1",
+                      "--held-out", "0", "--rule", "budget")      # the budget case of ``swept``
+
+    def summary(html):
+        text = _text(html)
+        return text[text.index("puma560: translational share"):text.index("The generalized")]
+
+    said = summary((out / "sweep_report.html").read_text())
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        stored = ds.load()
+    assert float(stored.attrs[SweepAttr.MERGED_TORQUE_FLOOR]) == 0.0
+    assert "found over the region)" in said and "at least" not in said
+    stored.attrs[SweepAttr.MERGED_TORQUE_FLOOR] = 2.0
+    write_dataset(stored, tmp_path / "sweep.h5")
+    html = write_sweep_report(tmp_path / "sweep.h5", tmp_path / "r", formats=["html"])[0]
+    assert "found over the region, at least 2 N m)" in summary(html.read_text())

@@ -677,7 +677,8 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
     if m.region:
         said = m.guarantee
         return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "  # type: ignore[index]  # a merged model's
-                f"|{_TAU_I}| found over the region, at least {_floor(m)}); "
+                f"|{_TAU_I}| found over the region"
+                f"{f', at least {_floor(m)}' if m.torque_floor > 0 else ''}); "
                 f"{_bound_clause(m)}{coverage(m)}")
     claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {_eps(m)}), {ROUND_OFF_CLAUSE}, "
              "on every swept "
