@@ -8,6 +8,7 @@ hand-made model that drops the wrist's inertia (D_s singular: not proved, restor
 region certification's own leaves for the bound of the model finally deployed."""
 
 import dataclasses
+from importlib import resources
 
 import numpy as np
 import pinocchio as pin
@@ -122,6 +123,41 @@ def test_a_model_that_drops_the_wrists_inertia_is_not_proved_and_is_restored():
     D = fixed.functions().numpy()["inertia"](q)
     assert np.linalg.eigvalsh(D)[:, 0].min() >= check["lower_bound"] > 0
     assert fixed.cost == fixed.program().cost()
+
+
+def test_with_no_floor_under_d_a_d_s_singular_at_samples_is_restored_until_positive_there(
+        tmp_path):
+    """A point-mass wrist link (no rotational inertia) leaves D without a floor, so D_s
+    cannot be proved (example-robot-data's iCub arm). Dropping links 5 and 6 whole then made
+    D_s singular at the sampled positions, and that model was deployed as it was. Now the
+    inertial parts are restored until D_s is positive definite at every sampled position, and
+    the check says it is not a proof. Oracle: numpy's eigenvalues of D_s at those positions,
+    and Pinocchio's crba, which D_s then equals where nothing inertial is dropped."""
+    text = resources.files("gd_analyze").joinpath("data/puma560.toml").read_text()
+    wrist = "com = [0.0, 0.0, 0.032]\ninertia = [0.15e-3, 0.15e-3, 0.04e-3]"
+    assert wrist in text              # a point mass off joint 6's axis: D stays regular
+    path = tmp_path / "point_wrist.toml"
+    path.write_text(text.replace(wrist, "com = [0.02, 0.0, 0.032]\ninertia = [0.0, 0.0, 0.0]"))
+    robot = load_robot(path)
+    assert not (inertia_floor(robot) > 0).all()
+    assert np.linalg.eigvalsh(crba(robot, random_states(robot, 200, 3)[0]))[:, 0].min() > 0
+    q, qd, qdd = random_states(robot, 60, 2)
+    rec = recursive_model(robot, q, qd, qdd, 0.0)
+    dropped = np.zeros_like(rec.dropped)
+    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
+    dropped[last] = True
+    broken = _model(robot, dataclasses.replace(rec, dropped=dropped))
+    fixed = with_inertia_check(broken, q)
+    check = fixed.inertia_check
+    assert not check["proved"] and "no floor under D" in check["why"]
+    assert check["restored"] and set(check["restored"]) <= {rec.names[k] for k in last}
+    assert check["sampled_min_eigenvalue"] > 0
+    assert "not proved" in check["statement"] and "NOT" not in check["statement"]
+    _, positions = sample_positions(fixed, q, 2000, 0)
+    D = fixed.functions().numpy()["inertia"](positions)
+    assert np.linalg.eigvalsh(D)[:, 0].min() > 0
+    kept = [rec.names.index(name) for name in check["restored"]]
+    assert not fixed.recursive.dropped[kept, 0].any() and fixed.recursive.dropped[kept, 1:].all()
 
 
 @pytest.mark.slow

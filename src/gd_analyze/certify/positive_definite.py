@@ -6,8 +6,9 @@ dynamics (qdd = D_s^-1 (tau - h_s - c_s)) and every controller that inverts it. 
 bounding box of its trajectories' positions (kind ``"trajectory"``).
 
 Where the proof fails for a model of the recursive form, the parameters whose inertial part
-was dropped are restored, whole and largest inertial contribution first, until it holds, and
-those not needed are then dropped again: restoring a parameter whole removes whole units from
+was dropped are restored, whole and largest inertial contribution first, until it holds (or,
+for an arm whose D has no floor to prove D_s on, until D_s is positive definite at the sampled
+positions, which is said and not called proved), and those not needed are then dropped again: restoring a parameter whole removes whole units from
 the dropped set, so a bound computed again for the pairs still dropped holds. The caller
 builds the restored model (``rebuild``) so that its bound and sampled error are those of the
 model deployed. An explicit model that drops terms is checked at sampled positions only, and
@@ -309,7 +310,8 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
         With ``inertia_check``: ``where`` (``"region"`` or ``"trajectory"``), ``proved``,
         ``lower_bound`` [kg m^2], ``ratio``, ``d_upper``, ``floor``, ``boxes``,
         ``samples``, ``sampled_min_eigenvalue``, ``restored`` (base parameters whose inertial
-        part, the only one in D_s, is restored for the proof), ``why``, ``unit``, ``method``
+        part, the only one in D_s, is restored for the proof, or, with no floor under D, until
+        D_s is positive definite at the sampled positions), ``why``, ``unit``, ``method``
         and ``statement``. An explicit model
         that drops terms is not proved (its dropped terms are not parameters): it is
         checked at the trajectory's positions only, and says so. A model with no region and
@@ -343,11 +345,17 @@ def with_inertia_check(model, q=None, max_boxes=MAX_BOXES, samples=SAMPLES, seed
     def candidate(left_out):        # a restore's trial: a smaller budget of boxes
         return prove(left_out, min(max_boxes, CANDIDATE_BOXES)).proved
 
+    def positive_at_samples(left_out):  # where D has no floor to prove D_s on: samples
+        return prove(left_out).sampled_min > 0
+
     proof = prove(left)
     restored = []
-    # restore only where it can help: when D itself is proved (the floor under it positive)
-    if not proof.proved and rec is not None and (proof.floor > 0).all():
-        trial, restored = _restore(np.array(rec.dropped, bool), rec.relative_peak, candidate)
+    # restore where it can help: to a proof when D itself has a floor; else, where D_s is not
+    # positive definite at a sampled position, until it is there (said: not a proof)
+    if not proof.proved and rec is not None and (
+            (proof.floor > 0).all() or proof.sampled_min <= 0):
+        trial, restored = _restore(np.array(rec.dropped, bool), rec.relative_peak,
+                                   candidate if (proof.floor > 0).all() else positive_at_samples)
         if restored:
             model = (rebuild or _default_rebuild)(model, trial)
             rec = model.recursive
