@@ -1,6 +1,7 @@
 """URDF import against the URDF's own Pinocchio model (pin.buildModelFromUrdf), not the chain."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -209,3 +210,15 @@ def test_a_joint_named_as_a_link_is_read(tmp_path, toy, joint, link):
         for key in ("rotation", "translation", "mass", "com", "inertia"):
             np.testing.assert_array_equal(a[key], b[key])
     _check_against_urdf(same, chain, seed=5)
+
+
+def test_example_robot_datas_b1_z1_arm_whose_joint_has_its_links_name():
+    """The Z1 arm on the B1 quadruped (example-robot-data's b1-z1.urdf): its fixed joint
+    "gripperStator" leads into the link "gripperStator", and the legs are locked; read up to
+    the gripper, the chain matches the URDF's own Pinocchio model."""
+    from robot_files import erd_path
+
+    path = erd_path("b1_description/urdf/b1-z1.urdf")
+    chain = read_urdf_chain(path, tip="gripperMover")
+    assert chain.n == 7 and '<joint name="gripperStator"' in Path(path).read_text()
+    _check_against_urdf(path, chain, seed=7)
