@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import types
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -36,7 +36,17 @@ from .names import (
     Var,
     verification_attribute,
 )
-from .schema import View, derived, open_results, stored, stored_prismatic, strings, texts
+from .schema import (
+    Record,
+    View,
+    derived,
+    open_results,
+    stored,
+    stored_name,
+    stored_prismatic,
+    strings,
+    texts,
+)
 from .stored_simplified import BaseParameters, CostTable, StoredSimplified
 from .sweep_view import PayloadSweep, payload_part
 
@@ -79,8 +89,7 @@ SHOWN_ELSEWHERE = frozenset({
 _BUILT = "simplified_"
 
 
-@dataclass(frozen=True)
-class Provenance:
+class Provenance(Record):
     """How the results were made: the provenance and settings attributes, as stored.
 
     Each field but ``others`` is the attribute of :class:`gd_analyze.store.names.Attr` of the
@@ -113,35 +122,13 @@ class Provenance:
         ``simplified_<x>``'s ``<x>``, or None).
     """
 
-    gd_analyze_version: Any
-    command: Any
-    history: Any
-    conventions: Any
-    references: Any
-    rule: Any
-    tolerance: Any
-    torque_floor: Any
-    form: Any
-    explicit: Any
-    other_rule: Any
-    guarantee: Any
-    simplified_rule: Any
-    simplified_tolerance: Any
-    simplified_torque_floor: Any
-    simplified_form: Any
-    payload_mass: Any
-    payload_com: Any
-    payload_inertia: Any
-    mounting_base_rpy_deg: Any
-    mounting_gravity_world: Any
-    formulations_setpoints: Any
-    formulations_n: Any
-    formulations_joint_types: Any
-    simplified_files: Any
-    simplified_guarantee_kind: Any
-    simplified_guarantee_statement: Any
-    verification_engine: Any
-    others: tuple[tuple[str, Any, Any], ...]
+    names = tuple("""gd_analyze_version command history conventions references rule tolerance
+                     torque_floor form explicit other_rule guarantee simplified_rule
+                     simplified_tolerance simplified_torque_floor simplified_form payload_mass
+                     payload_com payload_inertia mounting_base_rpy_deg mounting_gravity_world
+                     formulations_setpoints formulations_n formulations_joint_types
+                     simplified_files simplified_guarantee_kind simplified_guarantee_statement
+                     verification_engine""".split())
 
     @classmethod
     def from_attrs(cls, attrs: Mapping[str, Any]) -> Provenance:
@@ -156,13 +143,11 @@ class Provenance:
         -------
         Provenance
         """
-        names = {f.name: getattr(Attr, f.name.upper()) for f in fields(cls)
-                 if f.name != "others"}
-        typed = SHOWN_ELSEWHERE | set(names.values())
+        typed = SHOWN_ELSEWHERE | {stored_name(n) for n in cls.names}
         others = tuple(
             (k, attrs[k], attrs.get(k[len(_BUILT):]) if k.startswith(_BUILT) else None)
             for k in sorted(attrs) if k not in typed and not k.startswith(VERIFICATION_PREFIX))
-        return cls(**{f: attrs.get(name) for f, name in names.items()}, others=others)
+        return cls(attrs, others=others)
 
 #: The robot's variables every results file holds.
 ROBOT_VARIABLES = (Var.LINK_MASS, Var.LINK_COM, Var.LINK_INERTIA, Var.DH_D, Var.DH_A,

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
            "element_coords", "joint_coordinate", "joint_type_var", "strings", "stored_prismatic",
-           "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
+           "Record", "stored_name", "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
@@ -302,16 +302,93 @@ def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
         return (False,) * int(ds.sizes[Var.JOINT])
     return tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
 
-_D = TypeVar("_D")
+_R = TypeVar("_R", bound="Record")
 
 
-def from_attrs(cls: type[_D], attrs: Mapping[str, Any], prefix: str = "", /, **given: Any) -> _D:
-    """A dataclass whose fields are global attributes, as stored.
+class Record:
+    """Global attributes of a dataset as stored, read by name: one class for every record of a
+    file's settings and provenance (:class:`RunRecord`, the control and sweep settings, the
+    results' provenance), each naming its attributes once in :attr:`names`.
+
+    Each name is an attribute of the record: the global attribute ``prefix + name`` (spelt as
+    its constant of :class:`gd_analyze.store.names.Attr` where that differs in case,
+    ``conventions`` is ``Conventions``), None where the dataset has none; a field given is
+    as given. Read-only.
+
+    Parameters
+    ----------
+    attrs : Mapping
+        The global attributes.
+    prefix : str, optional
+        The attributes' common prefix (``"model_"``).
+    **given
+        Fields given, not read (e.g. ``others``).
+    """
+
+    #: The record's attributes.
+    names: ClassVar[tuple[str, ...]] = ()
+    __slots__ = ("_values",)
+
+    def __init__(self, attrs: Mapping[str, Any], prefix: str = "", /, **given: Any) -> None:
+        values = {n: attrs.get(stored_name(prefix + n)) for n in self.names}
+        object.__setattr__(self, "_values", {**values, **given})
+
+    @classmethod
+    def from_attrs(cls: type[_R], attrs: Mapping[str, Any]) -> _R:
+        """The record of a dataset's global attributes.
+
+        Parameters
+        ----------
+        attrs : Mapping
+
+        Returns
+        -------
+        The record.
+        """
+        return cls(attrs)
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(f"{type(self).__name__} has no {name!r}") from None
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        raise AttributeError(f"{type(self).__name__} is read-only")
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self._values!r})"
+
+
+def stored_name(name: str) -> str:
+    """A global attribute's name as stored: its constant of
+    :class:`gd_analyze.store.names.Attr`, else the name itself.
+
+    Parameters
+    ----------
+    name : str
+        Lower case (``"conventions"``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> stored_name("conventions"), stored_name("model_rule")
+    ('Conventions', 'model_rule')
+    """
+    return getattr(Attr, name.upper(), name)
+
+
+def from_attrs(cls: type[_R], attrs: Mapping[str, Any], prefix: str = "", /,
+               **given: Any) -> _R:
+    """A record (:class:`Record`) of global attributes, as stored.
 
     Parameters
     ----------
     cls : type
-        A dataclass.
+        A :class:`Record`.
     attrs : Mapping
         The global attributes.
     prefix : str, optional
@@ -323,8 +400,7 @@ def from_attrs(cls: type[_D], attrs: Mapping[str, Any], prefix: str = "", /, **g
     -------
     An instance of ``cls``.
     """
-    return cls(**{f.name: attrs.get(prefix + f.name)                   # type: ignore[call-arg]
-                  for f in fields(cls) if f.name not in given}, **given)  # type: ignore[arg-type]
+    return cls(attrs, prefix, **given)
 
 _V = TypeVar("_V", bound="View")
 #: The default of a :func:`stored` field that the dataset must hold.
@@ -477,8 +553,7 @@ class View:
         return ds if isinstance(ds, cls) else cls.from_dataset(ds, *args)  # type: ignore[return-value, call-arg, arg-type]
 
 
-@dataclass(frozen=True)
-class RunRecord:
+class RunRecord(Record):
     """When and by what a stored run was computed, and the arm's gravity and mounting: the
     attributes every dataset (results, sweep, control) stores alike, as stored (None where
     missing).
@@ -493,26 +568,8 @@ class RunRecord:
         How the base is turned: roll, pitch, yaw [deg].
     """
 
-    gd_analyze_version: Any
-    history: Any
-    gravity: Any
-    mounting_gravity_base: Any
-    mounting_gravity_world: Any
-    mounting_base_rpy_deg: Any
-
-    @classmethod
-    def from_attrs(cls, attrs: Mapping[str, Any]) -> RunRecord:
-        """The record of a dataset's global attributes.
-
-        Parameters
-        ----------
-        attrs : Mapping
-
-        Returns
-        -------
-        RunRecord
-        """
-        return cls(**{f.name: attrs.get(getattr(Attr, f.name.upper())) for f in fields(cls)})
+    names = ("gd_analyze_version", "history", "gravity", "mounting_gravity_base",
+             "mounting_gravity_world", "mounting_base_rpy_deg")
 
 
 @dataclass(frozen=True, eq=False)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import types
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,10 +23,10 @@ from ..errors import InputError
 from .names import ControlVar as V
 from .schema import (
     EvaluatorCosts,
+    Record,
     RunRecord,
     View,
     derived,
-    from_attrs,
     stored,
     stored_prismatic,
     strings,
@@ -46,8 +46,7 @@ REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOIN
 _TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
 
 
-@dataclass(frozen=True)
-class ControlSettings:
+class ControlSettings(Record):
     """The run's files, settings and provenance, as stored (None where missing).
 
     Each field is the global attribute of the same name.
@@ -79,40 +78,15 @@ class ControlSettings:
         The command line, the method's references.
     """
 
-    robot: Any
-    robot_sha256: Any
-    trajectory_file: Any
-    trajectory_sha256: Any
-    trajectory_path: Any
-    trajectory_derivatives: Any
-    model_file: Any
-    model_sha256: Any
-    model_path: Any
-    model_trajectory_sha256: Any
-    trajectory_is_models: Any
-    plant: Any
-    interpolation: Any
-    integrator: Any
-    rtol: Any
-    atol: Any
-    noise_rtol: Any
-    noise_atol: Any
-    noise_nfev: Any
-    noise_factor: Any
-    noise_unmeasured: Any
-    samples: Any
-    setpoints: Any
-    grid_points: Any
-    wn: Any
-    zeta: Any
-    verdict_tolerance_revolute: Any
-    verdict_tolerance_prismatic: Any
-    command: Any
-    references: Any
+    names = tuple("""robot robot_sha256 trajectory_file trajectory_sha256 trajectory_path
+                     trajectory_derivatives model_file model_sha256 model_path
+                     model_trajectory_sha256 trajectory_is_models plant interpolation integrator
+                     rtol atol noise_rtol noise_atol noise_nfev noise_factor noise_unmeasured
+                     samples setpoints grid_points wn zeta verdict_tolerance_revolute
+                     verdict_tolerance_prismatic command references""".split())
 
 
-@dataclass(frozen=True)
-class ModelFacts:
+class ModelFacts(Record):
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
     them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
     missing.
@@ -133,21 +107,9 @@ class ModelFacts:
         The model's scope, its guarantee's kind, whether it covers the tracked motion and why.
     """
 
-    rule: Any
-    tolerance: Any
-    form: Any
-    base_parameters: Any
-    pairs: Any
-    pairs_dropped: Any
-    pairs_known: Any
-    dropped_pairs: Any
-    gravity_dropped: Any
-    c_terms: Any
-    c_terms_kept: Any
-    scope: Any
-    guarantee_kind: Any
-    guarantee_covered: Any
-    guarantee_coverage: Any
+    names = tuple("""rule tolerance form base_parameters pairs pairs_dropped pairs_known
+                     dropped_pairs gravity_dropped c_terms c_terms_kept scope guarantee_kind
+                     guarantee_covered guarantee_coverage""".split())
 
 
 def _by_controller(name):
@@ -243,8 +205,8 @@ class StoredControl(View):
     elements: tuple[str, ...] = stored(V.ELEMENT, texts, ())
     choice: tuple[str, ...] = stored(V.CHOICE, texts)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
-    settings: ControlSettings = derived(lambda ds: from_attrs(ControlSettings, ds.attrs))
-    model: ModelFacts = derived(lambda ds: from_attrs(ModelFacts, ds.attrs, "model_"))
+    settings: ControlSettings = derived(lambda ds: ControlSettings(ds.attrs))
+    model: ModelFacts = derived(lambda ds: ModelFacts(ds.attrs, "model_"))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
     @property

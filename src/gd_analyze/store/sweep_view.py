@@ -46,12 +46,12 @@ from .names import SweepVar as SV
 from .schema import (
     MIXED_UNITS,
     EvaluatorCosts,
+    Record,
     RunRecord,
     View,
     derived,
     element_coords,
     flag,
-    from_attrs,
     global_attributes,
     joint_type_var,
     stored,
@@ -702,8 +702,7 @@ class MergedModel(View):
         return self.guarantee_kind == "region"
 
 
-@dataclass(frozen=True)
-class SweepSettings:
+class SweepSettings(Record):
     """The sweep's inputs, settings and run, as stored (None where missing).
 
     Each field but ``others`` is the global attribute of the same name.
@@ -725,30 +724,11 @@ class SweepSettings:
         Every other attribute (not in :data:`SAID`), sorted by name.
     """
 
-    robot: Any
-    robot_description: Any
-    robot_reference: Any
-    robot_source: Any
-    robot_sha256: Any
-    input_kind: Any
-    seed: Any
-    input_files: Any
-    inputs_sha256: Any
-    setpoints_total: Any
-    dominance_threshold: Any
-    negligible_threshold: Any
-    merged_rule: Any
-    payload_mass: Any
-    random_qdd_max_source: Any
-    command: Any
-    cluster: Any
-    n_workers: Any
-    scheduler_address: Any
-    batch_size: Any
-    n_tasks: Any
-    elapsed_s: Any
-    compute_s: Any
-    others: tuple[tuple[str, Any], ...]
+    names = tuple("""robot robot_description robot_reference robot_source robot_sha256 input_kind
+                     seed input_files inputs_sha256 setpoints_total dominance_threshold
+                     negligible_threshold merged_rule payload_mass random_qdd_max_source command
+                     cluster n_workers scheduler_address batch_size n_tasks elapsed_s
+                     compute_s""".split())
 
 
 @dataclass(frozen=True, eq=False)
@@ -823,7 +803,7 @@ class StoredSweep(View):
     merged_error_relative_peak: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_PEAK)
     merged_error_relative_rms: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_RMS)
     merged: MergedModel = derived(MergedModel.read)
-    settings: SweepSettings = derived(lambda ds: from_attrs(SweepSettings, ds.attrs, others=tuple(
+    settings: SweepSettings = derived(lambda ds: SweepSettings(ds.attrs, others=tuple(
         (k, ds.attrs[k]) for k in sorted(set(ds.attrs) - SAID))))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
