@@ -9,13 +9,17 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import math
 import os
+import shlex
 import sys
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
 from typing import cast
+
+import numpy as np
 
 from .._version import VERSION as __version__
 from ..certify.region import RegionLimits, joint_region
@@ -67,8 +71,6 @@ __all__ = []
 def command_line(args: argparse.Namespace) -> str:
     """The command as :func:`gd_analyze.cli.main` was given it, for the provenance (a shell
     could run it: each argument quoted as needed)."""
-    import shlex
-
     return shlex.join([PROG] + [str(a) for a in getattr(args, "given_argv", ())])
 
 
@@ -105,9 +107,6 @@ def model_mounting(model_robot: Robot, args: argparse.Namespace,
     """The reference arm of ``evaluate`` and ``control``: the model's robot mounted by
     ``--gravity`` and ``--base-rpy`` in the world, in place of the mounting it was built with
     (never on top of it); an option equal to that mounting changes nothing, with one note."""
-    import numpy as np
-
-
     rpy, g_world = mounting_of(model_robot)
     for opt, given, own in (("--gravity", args.gravity, g_world),
                             ("--base-rpy", args.base_rpy, rpy)):
@@ -145,9 +144,6 @@ def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
 def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>; InputError
     if it is there and is not a folder, or a name in it is too long for the file system."""
-    import os
-
-
     folder = Path(args_outdir) if args_outdir else \
         Path("reports") / "-".join(safe_name(p) for p in parts)
     base = folder.absolute()
@@ -371,9 +367,6 @@ def region_limits(args: argparse.Namespace, robot: Robot) -> RegionLimits | None
         If an option has neither one nor n values, or a range lies wholly outside the robot's
         limits: one line naming the option.
     """
-    import numpy as np
-
-
     given = {k: getattr(args, k, None) for k in ("q_limits", "qd_max", "qdd_max")}
     if all(v is None for v in given.values()):
         return None
@@ -485,9 +478,6 @@ def _check_plan(robot, start, goal, duration):
     """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
 
     start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
-    import numpy as np
-
-
     prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
 
     def show(j, v, unit=""):
@@ -672,8 +662,6 @@ def _planning_region(args, robot):
     """The arm with the user's region (``--q-limits``, ``--qd-max``, clipped to the robot's) as
     its limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
     m/s^2] (or None)."""
-    import numpy as np
-
     limits = region_limits(args, robot)
     if limits is None:
         return robot, None, None
@@ -707,9 +695,6 @@ def _plan_excitation(args, robot, qdd_arg):
     int
         0; bad input raises :class:`~gd_analyze.errors.InputError`.
     """
-    import numpy as np
-
-
     for name in ("start", "goal"):
         if getattr(args, name) is not None:
             raise InputError("not with --excitation (a Fourier series has no start or goal)",
@@ -827,9 +812,6 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    import json
-
-
     model, model_robot, traj = _load_model(args)
     plant = apply_payload(model_mounting(model_robot, args, args.model), args)
     err = evaluate(model, traj, plant=plant)
@@ -889,9 +871,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    import json
-
-
     robot, traj = _load(args, args.trajectory)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
@@ -927,8 +906,6 @@ def cmd_control(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    import json
-
     model, model_robot, traj = _load_model(args)
     outdir = output_folder(args.outdir, model_robot.name, Path(args.trajectory).stem, "control")
     try:
