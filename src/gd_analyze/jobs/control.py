@@ -85,6 +85,7 @@ from ..ranking.ranking import ROUND_OFF
 from ..simplify.explicit_model import full_program
 from ..simplify.simplified import choice_masks, json_safe
 from ..store import explicit_cache
+from ..store.control_dataset import peak_rms
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
@@ -130,11 +131,6 @@ CONTROL_FILE = "control.h5"
 NOISE_TIGHTEN = 100.0
 #: The noise floor of the torque difference is this many times its measured noise.
 NOISE_FACTOR = 2.0
-
-
-def _peak_rms(x, axis=0):
-    x = np.asarray(x, dtype=float)
-    return np.abs(x).max(axis=axis), np.sqrt((x**2).mean(axis=axis))
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,8 +223,8 @@ class ControlResult:
             If the controller was not run.
         """
         e = self.runs[controller].error
-        ps, rs = _peak_rms(e[self.is_setpoint])
-        pg, rg = _peak_rms(e)
+        ps, rs = peak_rms(e[self.is_setpoint])
+        pg, rg = peak_rms(e)
         return {"peak_setpoints": ps.tolist(), "rms_setpoints": rs.tolist(),
                 "peak_grid": pg.tolist(), "rms_grid": rg.tolist()}
 
@@ -256,7 +252,7 @@ class ControlResult:
         diff = self.tau_difference
         td = None
         if diff is not None:
-            pk, rm = _peak_rms(diff)
+            pk, rm = peak_rms(diff)
             td = {"peak": pk.tolist(), "rms": rm.tolist()}
         return {"robot": self.robot.name, "wn": self.gains.wn.tolist(),
                 "zeta": self.gains.zeta.tolist(),

@@ -1,8 +1,8 @@
 """The settings of the main job, as frozen values.
 
 :class:`AnalysisOptions` says how a trajectory is analysed (and holds a
-:class:`~gd_analyze.simplify.options.SimplifyOptions`: how the simplified model is built),
-:class:`ReportOptions` whether and how the report is written. Their defaults come from :data:`gd_analyze.config.defaults`.
+:class:`~gd_analyze.simplify.options.SimplifyOptions`: how the simplified model is built);
+its defaults come from :data:`gd_analyze.config.defaults`.
 The command line builds them from its arguments (:mod:`gd_analyze.cli.commands`) and hands
 them to :func:`gd_analyze.jobs.run.run_analysis`.
 """
@@ -14,7 +14,8 @@ from dataclasses import dataclass, field
 from ..config import defaults
 from ..simplify.options import SimplifyOptions
 
-__all__ = ["SimplifyOptions", "AnalysisOptions", "ReportOptions"]
+__all__ = ["SimplifyOptions", "AnalysisOptions"]
+
 
 @dataclass(frozen=True)
 class AnalysisOptions:
@@ -61,24 +62,3 @@ class AnalysisOptions:
             raise ValueError(f"negligible must be in [0, 1), got {self.negligible!r}")
         if self.compress not in range(10):
             raise ValueError(f"compress must be 0-9, got {self.compress!r}")
-
-
-@dataclass(frozen=True)
-class ReportOptions:
-    """Whether and how the HTML and PDF reports are written.
-
-    Attributes
-    ----------
-    enabled : bool
-        Write report.html, report.pdf and figures/.
-    paper : {"a4", "letter"}
-        Page size of the PDF.
-
-    Examples
-    --------
-    >>> ReportOptions().paper
-    'a4'
-    """
-
-    enabled: bool = True
-    paper: str = defaults["paper"]

@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
@@ -24,10 +25,24 @@ if TYPE_CHECKING:                       # for the type hints only
 
     import xarray as xr
 
-__all__ = ["control_dataset", "write_control_dataset"]
+__all__ = ["control_dataset", "write_control_dataset", "peak_rms"]
 
 
-def _peak_rms(x, axis=0):
+def peak_rms(x: ArrayLike, axis: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Peak |x| and the RMS of x along an axis.
+
+    Parameters
+    ----------
+    x : array_like
+        Samples, e.g. shape (T, n) [N m or rad].
+    axis : int, optional
+        The axis of the samples.
+
+    Returns
+    -------
+    peak, rms : ndarray
+        ``x``'s shape without ``axis``, in ``x``'s units.
+    """
     x = np.asarray(x, dtype=float)
     return np.abs(x).max(axis=axis), np.sqrt((x**2).mean(axis=axis))
 
@@ -86,7 +101,7 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     stack = lambda key: np.stack([getattr(r, key) for r in runs])   # noqa: E731
     figs = [result.error_figures(c) for c in names]
     fig = lambda key: np.array([f[key] for f in figs])              # noqa: E731
-    tau_pk, tau_rm = zip(*(_peak_rms(r.tau) for r in runs))
+    tau_pk, tau_rm = zip(*(peak_rms(r.tau) for r in runs))
     CTJ, CJ = (V.CONTROLLER, V.TIME, V.JOINT), (V.CONTROLLER, V.JOINT)
     prismatic = np.asarray(robot.prismatic, bool)
     U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
@@ -135,8 +150,8 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     }
     diff = result.tau_difference
     if diff is not None:
-        pk, rm = _peak_rms(diff)
-        ps, rs = _peak_rms(diff[result.is_setpoint])
+        pk, rm = peak_rms(diff)
+        ps, rs = peak_rms(diff[result.is_setpoint])
         data_vars.update({
             V.TAU_DIFFERENCE: var((V.TIME, V.JOINT), diff, U["tau"],
                                 "tau of the simplified-model controller minus tau of the "
