@@ -28,6 +28,7 @@ from ..store.datasets import region_fields
 from ..store.names import SweepAttr as SA
 from ..store.names import SweepVar as SV
 from ..store.schema import strings
+from ..store.sweep_view import merged_error_variables
 from .control import model_cost, model_facts
 
 if TYPE_CHECKING:                       # for the type hints only
@@ -200,18 +201,8 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
             "its bound is proved; 0 if not (not covered)")
         put(SV.MERGED_COVERAGE, (SV.TRAJECTORY,), np.array(per["coverage"], dtype=str), "1",
             "why the trajectory lies in the merged model's region or not")
-    for key, name, units, desc in (
-            ("peak_abs_error", SV.MERGED_ERROR_PEAK, torque,
-             "merged model: peak |tau_merged - tau| over all trajectories"),
-            ("rms_error", SV.MERGED_ERROR_RMS, torque, "merged model: RMS of |tau_merged - tau| "
-                                                     "over all set points of all trajectories"),
-            ("peak_tau", SV.MERGED_ERROR_TAU_PEAK, torque, "peak |tau| over all trajectories"),
-            ("relative_peak_error", SV.MERGED_ERROR_RELATIVE_PEAK, "1",
-             "merged model: peak error / peak |tau|, over all trajectories"),
-            ("relative_rms_error", SV.MERGED_ERROR_RELATIVE_RMS, "1",
-             "merged model: RMS error / peak |tau|, over all trajectories")):
-        put(name, (SV.JOINT,), np.array([np.nan if x is None else x for x in v[key]], float),
-            units, desc)
+    for name, (dims, data, attrs) in merged_error_variables(v, torque).items():
+        ds[name] = (dims, data, attrs)
     held = v.get("held_out") or {}
     if held:                            # measured off the sweep, not guaranteed
         put(SV.HELD_OUT_ERROR_PEAK, (SV.JOINT,), np.array(held["peak_abs_error"], float), torque,

@@ -72,7 +72,7 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks", "inputs_attributes", "sweep_dataset",
            "payload_dataset", "sweep_payloads_dataset", "embed_payload", "payload_part",
-           "beyond_the_floor", "embed_pair_peaks"]
+           "beyond_the_floor", "embed_pair_peaks", "merged_error_variables"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -157,6 +157,45 @@ def element_arm_scales(scale: ArrayLike, labels: Sequence[str],
     units = [element_units(*parse_element_label(str(lab), n), prismatic)  # type: ignore[call-arg]  # (kind, i, j), prismatic
              for lab in labels]
     return np.array([arm_scales(row, units) for row in np.atleast_2d(scale)])
+
+
+#: The merged model's error over all the swept trajectories: its key in a torque error
+#: (:func:`gd_analyze.simplify.simplified.torque_error`), its variable, whether in torque units
+#: (else 1) and its long_name.
+_MERGED_ERRORS = (
+    ("peak_abs_error", SV.MERGED_ERROR_PEAK, True,
+     "merged model: peak |tau_merged - tau| over all trajectories"),
+    ("rms_error", SV.MERGED_ERROR_RMS, True,
+     "merged model: RMS of |tau_merged - tau| over all set points of all trajectories"),
+    ("peak_tau", SV.MERGED_ERROR_TAU_PEAK, True, "peak |tau| over all trajectories"),
+    ("relative_peak_error", SV.MERGED_ERROR_RELATIVE_PEAK, False,
+     "merged model: peak error / peak |tau|, over all trajectories"),
+    ("relative_rms_error", SV.MERGED_ERROR_RELATIVE_RMS, False,
+     "merged model: RMS error / peak |tau|, over all trajectories"))
+
+
+def merged_error_variables(error: Mapping[str, Any], torque: str) -> dict[str, Any]:
+    """The merged model's error over all the swept trajectories as ``sweep.h5`` stores it.
+
+    Parameters
+    ----------
+    error : Mapping
+        Per joint ``peak_abs_error``, ``rms_error``, ``peak_tau`` [N m or N],
+        ``relative_peak_error`` and ``relative_rms_error`` [1], as
+        :func:`gd_analyze.simplify.simplified.torque_error` gives them (None: NaN).
+    torque : str
+        The ``units`` attribute of a joint torque.
+
+    Returns
+    -------
+    dict
+        ``merged_error_peak``, ``merged_error_rms``, ``merged_error_tau_peak``,
+        ``merged_error_relative_peak``, ``merged_error_relative_rms`` (dim joint), as
+        :func:`gd_analyze.store.schema.var`.
+    """
+    return {name: var((SV.JOINT,), np.array([np.nan if x is None else x for x in error[key]],
+                                            float), torque if torqued else "1", long_name)
+            for key, name, torqued, long_name in _MERGED_ERRORS}
 
 
 def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
@@ -279,19 +318,9 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         SV.MERGED_CHOICE: var((SV.ELEMENT,), np.array([merged[lab] for lab in labels], dtype=str),
                               "1", "part kept by the merged model of the chapter rule: a "
                                    "part is dropped only where every trajectory drops it"),
-        SV.MERGED_ERROR_PEAK: var((SV.JOINT,), all_peak, torque,
-                                  "merged model: peak |tau_merged - tau| over all trajectories"),
-        SV.MERGED_ERROR_RMS: var((SV.JOINT,), all_rms, torque,
-                                 "merged model: RMS of |tau_merged - tau| over all set points "
-                                 "of all trajectories"),
-        SV.MERGED_ERROR_TAU_PEAK: var((SV.JOINT,), all_tau, torque,
-                                      "peak |tau| over all trajectories"),
-        SV.MERGED_ERROR_RELATIVE_PEAK: var((SV.JOINT,), all_rel_peak, "1",
-                                           "merged model: peak error / peak |tau|, over all "
-                                           "trajectories"),
-        SV.MERGED_ERROR_RELATIVE_RMS: var((SV.JOINT,), all_rel_rms, "1",
-                                          "merged model: RMS error / peak |tau|, over all "
-                                          "trajectories"),
+        **merged_error_variables({"peak_abs_error": all_peak, "rms_error": all_rms,
+                                  "peak_tau": all_tau, "relative_peak_error": all_rel_peak,
+                                  "relative_rms_error": all_rel_rms}, torque),
     }
     data_vars["joint_type"] = joint_type_var(robot)
     coords = element_coords(n, robot.prismatic, robot.joint_names())
