@@ -139,25 +139,30 @@ def _number(text, integer=False):
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def _checked(parse, ok, message):
+    """An argument type: ``parse`` the text, then refuse a value ``v`` for which ``ok(v)``
+    fails, with ``message`` formatted with ``v`` and ``text``."""
+    def checked(text):
+        v = parse(text)
+        if not ok(v):
+            raise argparse.ArgumentTypeError(message.format(v=v, text=text))
+        return v
+    return checked
+
+
+def _integer(text):
+    return _number(text, integer=True)
+
+
 def _whole(name, lo=0):
     """A whole number of at least lo, by the CSV's rules (no ``1_0``, no other digits)."""
-    def parse(text):
-        v = _number(text, integer=True)
-        if v < lo:
-            raise argparse.ArgumentTypeError(f"{name} must be at least {lo}, got {v}")
-        return v
-    return parse
+    return _checked(_integer, lambda v: v >= lo, f"{name} must be at least {lo}, got {{v}}")
 
 
 def _fraction(lo, hi, name, lo_open=True):
-    def parse(text):
-        v = _number(text)
-        ok = (lo < v if lo_open else lo <= v) and v <= hi and math.isfinite(v)
-        if not ok:
-            bracket = "(" if lo_open else "["
-            raise argparse.ArgumentTypeError(f"{name} must be in {bracket}{lo}, {hi}], got {v}")
-        return v
-    return parse
+    return _checked(_number, lambda v: (lo < v if lo_open else lo <= v) and v <= hi
+                    and math.isfinite(v),
+                    f"{name} must be in {'(' if lo_open else '['}{lo}, {hi}], got {{v}}")
 
 
 def _nonnegative(name):
@@ -176,12 +181,7 @@ def _angles(text):
 def _numbers(check, message):
     """Comma-separated numbers (:func:`_angles`) for which ``check`` holds; else the error
     ``message`` followed by ``got TEXT``."""
-    def parse(text):
-        vals = _angles(text)
-        if not check(vals):
-            raise argparse.ArgumentTypeError(f"{message}, got {text!r}")
-        return vals
-    return parse
+    return _checked(_angles, check, message + ", got {text!r}")
 
 
 def _verdict_tolerance(text):
@@ -641,11 +641,7 @@ def sweep_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _seed(text):
-    v = _number(text, integer=True)
-    if not 0 <= v < 2**63:
-        raise argparse.ArgumentTypeError(f"--seed must be in [0, 2^63), got {text}")
-    return v
+_seed = _checked(_integer, lambda v: 0 <= v < 2**63, "--seed must be in [0, 2^63), got {text}")
 
 
 def _cutoff(text):
