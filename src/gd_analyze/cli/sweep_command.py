@@ -44,9 +44,8 @@ __all__ = []
 
 
 def _held_out(robot, args):
-    """The held-out trajectories of the budget rule's merged model (``--held-out``)."""
-    if args.held_out < 0:
-        raise InputError("--held-out must be >= 0")
+    """The held-out trajectories of the budget rule's merged model (``--held-out``, at least 0
+    by its parser)."""
     return random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
         if args.held_out else []
 
@@ -183,8 +182,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
             raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
                              column="--scheduler")
-    if args.workers is not None and args.workers < 1:
-        raise InputError("--workers must be >= 1")
     if args.rule == "chapter" and (args.form == "recursive" or args.explicit == "never"):
         option = "--form recursive" if args.form == "recursive" else "--explicit never"
         raise InputError(f"{option} does not apply to --rule chapter, whose merge keeps parts "
