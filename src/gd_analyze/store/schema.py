@@ -10,6 +10,7 @@ it: :mod:`gd_analyze.store.datasets` (``results.h5``), :mod:`gd_analyze.store.sw
 from __future__ import annotations
 
 import datetime
+import functools
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
@@ -358,6 +359,9 @@ class Record:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self._values!r})"
+
+    def __reduce__(self) -> tuple[Any, ...]:        # pickled and copied as the values read
+        return functools.partial(type(self), {}, **self._values), ()
 
 
 def stored_name(name: str) -> str:
