@@ -570,7 +570,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
                          f"velocity limits ({qdd_source}) are too small to plan with",
                          column=None if args.duration is not None or qdd_arg is None
                          else "--qdd-max")
-    side = _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
+    return _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
         "setpoints": plan.n_setpoints, "duration_s": float(T),
@@ -582,16 +582,11 @@ def cmd_plan(args: argparse.Namespace) -> int:
                         "limit",
         "qdd_max_source": qdd_source,
         "trajectory": plan.source,
-    })
-    if side is None:                            # standard output: no provenance, no summary
-        return EXIT_OK
-    print(f"wrote {args.output}: {plan.n_setpoints} set points over {T:.4f} s "
-          f"({plan.source}); acceleration limits: {qdd_source}; provenance in {side}",
-          file=sys.stderr)
-    return EXIT_OK
+    }, f"{plan.n_setpoints} set points over {T:.4f} s ({plan.source}); acceleration limits: "
+       f"{qdd_source}")
 
 
-def _write_plan(args, robot, pieces, advice, record):
+def _write_plan(args, robot, pieces, advice, record, summary):
     """Write a planned trajectory piece by piece to ``args.output``, every piece's values
     checked against the CSV reader's limits before it is written, then its provenance beside
     it: the tool, the command, the robot and its chain and mounting, then ``record``.
@@ -602,8 +597,9 @@ def _write_plan(args, robot, pieces, advice, record):
     cannot take back what it was given: every piece is checked first, then written.
 
     ``pieces`` is a callable returning the trajectory's pieces in order (called twice for
-    standard output). Returns the provenance file written, or None when the trajectory went
-    to standard output (no provenance then)."""
+    standard output). Then, for a file, one line on stderr: ``wrote FILE: <summary>;
+    provenance in <its provenance file>`` (standard output: no provenance, no line). Returns
+    0."""
 
     def checked(pieces):
         for piece in pieces:
@@ -625,15 +621,17 @@ def _write_plan(args, robot, pieces, advice, record):
     except OSError as exc:
         raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
     if output == "-":
-        return None
+        return EXIT_OK
     try:
-        return write_provenance(output, {
+        side = write_provenance(output, {
             "tool": "gd-analyze", "version": __version__, "command": command_line(args),
             "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
             **chain_settings(args), **mounting_settings(args, robot), **record})
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          output) from None
+    print(f"wrote {output}: {summary}; provenance in {side}", file=sys.stderr)
+    return EXIT_OK
 
 
 def _check_plan_options(args, positive=False):
@@ -725,7 +723,7 @@ def _plan_excitation(args, robot, qdd_arg):
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")
     series, limits = ex.series, ex.limits
-    side = _write_plan(args, robot, lambda: [traj], "", {
+    return _write_plan(args, robot, lambda: [traj], "", {
         "trajectory": traj.source,
         "excitation": {
             "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
@@ -751,16 +749,10 @@ def _plan_excitation(args, robot, qdd_arg):
         **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
         "qdd_max_source": limits["qdd_source"],
-    })
-    if side is None:                            # standard output: no provenance, no summary
-        return EXIT_OK
-    best_start = float(np.min(ex.start_conditions))
-    print(f"wrote {args.output}: {traj.n_setpoints} set points over {traj.t[-1]:.4f} s "
-          f"({traj.source}); scaled condition number {ex.condition:.4g} of "
-          f"{ex.columns.count} columns (random starts: {best_start:.4g} at best), "
-          f"{ex.seconds:.1f} s; acceleration limits: {limits['qdd_source']}; provenance in "
-          f"{side}", file=sys.stderr)
-    return EXIT_OK
+    }, f"{traj.n_setpoints} set points over {traj.t[-1]:.4f} s ({traj.source}); scaled "
+       f"condition number {ex.condition:.4g} of {ex.columns.count} columns (random starts: "
+       f"{float(np.min(ex.start_conditions)):.4g} at best), {ex.seconds:.1f} s; acceleration "
+       f"limits: {limits['qdd_source']}")
 
 
 def _load_model(args):
