@@ -67,23 +67,12 @@ SHOWN_ELSEWHERE = frozenset({
     Attr.INPUT_FILE, Attr.INPUT_PATH, Attr.INPUT_SHA256, Attr.DERIVATIVES, Attr.SETPOINTS,
     Attr.DOMINANCE_THRESHOLD, Attr.NEGLIGIBLE_THRESHOLD, Attr.TITLE, Attr.SOURCE,
     Attr.GD_ANALYZE_VERSION, Attr.HISTORY, Attr.COMMAND, Attr.CONVENTIONS, Attr.REFERENCES,
-    # the simplified model's results (Sec. 5)
-    Attr.SIMPLIFIED_TERMS_KEPT, Attr.SIMPLIFIED_PAIRS_DROPPED, Attr.SIMPLIFIED_PAIRS,
-    Attr.SIMPLIFIED_DROPPED_PAIRS, Attr.SIMPLIFIED_MULTIPLICATIONS, Attr.SIMPLIFIED_ADDITIONS,
-    Attr.SIMPLIFIED_SIN, Attr.SIMPLIFIED_COS, Attr.OTHER_RULE_MULTIPLICATIONS,
-    Attr.OTHER_RULE_ADDITIONS, Attr.SIMPLIFIED_LADDER_SKIPPED, Attr.SIMPLIFIED_LADDER_FORM,
-    Attr.SIMPLIFIED_FORM_NOTE, Attr.SIMPLIFIED_REGION_SCREEN,
-    Attr.SIMPLIFIED_REGION_SCREEN_PROVED, Attr.SIMPLIFIED_FILES,
-    Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING, Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD,
-    Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMONICS,
-    Attr.OTHER_RULE_COEFFICIENTS, Attr.SIMPLIFIED_GUARANTEE_KIND, Attr.C_PREFIX,
-    Attr.SIMPLIFIED_GUARANTEE_STATEMENT, Attr.SIMPLIFIED_GUARANTEE_TOLERANCE,
-    # the formulations compared, the payload and the mounting
-    Attr.FORMULATIONS_N, Attr.FORMULATIONS_SETPOINTS, Attr.FORMULATIONS_JOINT_TYPES,
-    Attr.PAYLOAD_MASS, Attr.PAYLOAD_COM, Attr.PAYLOAD_INERTIA, Attr.MOUNTING_BASE_RPY_DEG,
-    Attr.MOUNTING_GRAVITY_BASE, Attr.MOUNTING_GRAVITY_WORLD,
-}) | {name for name in ATTRIBUTES      # D_s's check, the region, the chapter's conclusions
-      if name.startswith(("simplified_inertia_check_", "region_", "chapter_"))}
+    Attr.C_PREFIX,
+}) | {name for name in ATTRIBUTES      # the simplified model's results (Sec. 5) and D_s's
+      # check, the formulations compared, the payload, the mounting, the region, the chapter's
+      # conclusions: every such attribute the package writes
+      if name.startswith(("simplified_", "other_rule_", "full_", "formulations_", "payload_",
+                          "mounting_", "region_", "chapter_"))}
 
 #: The prefix of what the model records it was built with, beside the setting asked for.
 _BUILT = "simplified_"
@@ -414,26 +403,6 @@ class RankingRow:
         return value.item() if isinstance(value, np.generic) else value
 
 
-class _Rows:
-    """A table of frozen rows: one field of every row as an array."""
-
-    rows: tuple
-
-    def column(self, name: str) -> np.ndarray:
-        """One field of every row as an array.
-
-        Parameters
-        ----------
-        name : str
-            A field of the rows.
-
-        Returns
-        -------
-        ndarray, shape (len(rows),)
-        """
-        return np.array([getattr(r, name) for r in self.rows])
-
-
 @dataclass(frozen=True, eq=False)
 class RankingTable:
     """The dominance ranking, column by column: the one object both renderers read.
@@ -571,7 +540,7 @@ def torque_table_header(units: list[str]) -> tuple[str, list[str]]:
 
 
 @dataclass(frozen=True)
-class TorqueErrorTable(_Rows):
+class TorqueErrorTable:
     """The torque error per joint: the one object both renderers read.
 
     Attributes
@@ -580,6 +549,20 @@ class TorqueErrorTable(_Rows):
     """
 
     rows: tuple[TorqueErrorRow, ...]
+
+    def column(self, name: str) -> np.ndarray:
+        """One field of every row as an array.
+
+        Parameters
+        ----------
+        name : str
+            A field of the rows.
+
+        Returns
+        -------
+        ndarray, shape (len(rows),)
+        """
+        return np.array([getattr(r, name) for r in self.rows])
 
     def text(self) -> list[str]:
         """The table as the command line prints it.
