@@ -39,7 +39,7 @@ from ..simplify.form_choice import deploy
 from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simplified_torque
 from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
 from ..store.derivations import DERIVATIONS
-from ..store.schema import append_dataset
+from ..store.schema import append_dataset, var
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
 from .simplified_dataset import deployment_dataset
@@ -522,24 +522,21 @@ def _with_chapter(ds, error):
                                                 tuple(sorted(set(S_VALUES) | {s})))
     blocks = block_leads(labels, share, negligible, len(ds["joint"]))
 
-    def var(dims, data, long_name):
-        return dims, data, {"units": "1", "long_name": long_name}
-
     out = ds.assign_coords(chapter_threshold=var(
-        ("chapter_threshold",), grid, "dominance threshold s at which the chapter's classes "
-                                      "are compared"))
+        ("chapter_threshold",), grid, "1", "dominance threshold s at which the chapter's "
+                                           "classes are compared"))
     out = out.assign({
-        "chapter_agreement": var(("chapter_threshold",), agree.astype(np.int32),
+        "chapter_agreement": var(("chapter_threshold",), agree.astype(np.int32), "1",
                                  "elements whose class at s equals the chapter's"),
         "chapter_model_choice": var(("element",), np.array(
-            [CHAPTER_CHOICES.get(k, "") for k in labels], dtype=str),
+            [CHAPTER_CHOICES.get(k, "") for k in labels], dtype=str), "1",
             "the part the chapter's own simplified model keeps (its classes of Figs. "
             "3.10-3.11)"),
         "chapter_model_error_relative_peak": var(
-            ("joint",), np.array(error["relative_peak_error"], float),
+            ("joint",), np.array(error["relative_peak_error"], float), "1",
             "peak |tau_s - tau| / peak |tau| of the chapter's own simplified model"),
         "chapter_model_error_round_off": var(
-            ("joint",), np.array(error["round_off"], np.int8),
+            ("joint",), np.array(error["round_off"], np.int8), "1",
             "1 where that error is floating-point round-off"),
     })
     out.attrs.update({

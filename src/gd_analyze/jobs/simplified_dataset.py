@@ -16,6 +16,7 @@ from ..dynamics.opcount import book_counts, operation_counts
 from ..simplify.simplified import SOURCE_STEM
 from ..store.datasets import guarantee_fields, joint_units, units_attribute
 from ..store.names import Attr
+from ..store.schema import var
 from ..symbolic.emit_model import artefact_names
 from ..symbolic.explicit import merge_parts
 from ..symbolic.recursive_model import PART_NAMES
@@ -228,9 +229,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     torque = ("N m" if robot is None else
               units_attribute(joint_units(robot.prismatic, "tau"), "tau_units"))
 
-    def var(dims, data, units, desc):
-        return xr.Variable(dims, data, {"units": units, "long_name": desc})
-
     by_kind = selection.bound_by_kind
     dv = {name: var(("joint",), data, torque, what) for name, data, what in (
         ("simplified_scale", selection.scale, "scale_i = max(peak |tau_i|, torque floor)"),
@@ -243,7 +241,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
         ("simplified_element_bound", selection.element_bound,
          "bound of the whole-part (element) choices"))}
     scope_vars, scope_attrs = guarantee_fields(model, torque)
-    dv.update({k: xr.Variable(*v) for k, v in scope_vars.items()})
+    dv.update(scope_vars)
     if "whole" in by_kind:
         dv["simplified_bound_whole"] = var(("joint",), by_kind["whole"], torque,
                                            "share of the bound from base parameters dropped "
