@@ -17,6 +17,7 @@ The robot and trajectory (:class:`StoredRobot`, :class:`StoredTrajectory`), the 
 from __future__ import annotations
 
 import types
+from collections import namedtuple
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -78,7 +79,13 @@ SHOWN_ELSEWHERE = frozenset({
 _BUILT = "simplified_"
 
 
-class Provenance(Record):
+class Provenance(Record, namedtuple("Provenance", """
+        gd_analyze_version command history conventions references rule tolerance torque_floor
+        form explicit other_rule guarantee simplified_rule simplified_tolerance
+        simplified_torque_floor simplified_form payload_mass payload_com payload_inertia
+        mounting_base_rpy_deg mounting_gravity_world formulations_setpoints formulations_n
+        formulations_joint_types simplified_files simplified_guarantee_kind
+        simplified_guarantee_statement verification_engine others""")):
     """How the results were made: the provenance and settings attributes, as stored.
 
     Each field but ``others`` is the attribute of :class:`gd_analyze.store.names.Attr` of the
@@ -111,32 +118,30 @@ class Provenance(Record):
         ``simplified_<x>``'s ``<x>``, or None).
     """
 
-    names = tuple("""gd_analyze_version command history conventions references rule tolerance
-                     torque_floor form explicit other_rule guarantee simplified_rule
-                     simplified_tolerance simplified_torque_floor simplified_form payload_mass
-                     payload_com payload_inertia mounting_base_rpy_deg mounting_gravity_world
-                     formulations_setpoints formulations_n formulations_joint_types
-                     simplified_files simplified_guarantee_kind simplified_guarantee_statement
-                     verification_engine""".split())
 
     @classmethod
-    def from_attrs(cls, attrs: Mapping[str, Any]) -> Provenance:
+    def from_attrs(cls, attrs: Mapping[str, Any], prefix: str = "", /,
+                   **given: Any) -> Provenance:
         """The provenance of a results dataset's global attributes.
 
         Parameters
         ----------
         attrs : Mapping
             The dataset's global attributes.
+        prefix : str, optional
+            The attributes' common prefix ("" in a results file).
+        **given
+            Fields given, not read (``others``: by default every other attribute).
 
         Returns
         -------
         Provenance
         """
-        typed = SHOWN_ELSEWHERE | {stored_name(n) for n in cls.names}
-        others = tuple(
+        typed = SHOWN_ELSEWHERE | {stored_name(n) for n in cls._fields if n != "others"}
+        given.setdefault("others", tuple(
             (k, attrs[k], attrs.get(k[len(_BUILT):]) if k.startswith(_BUILT) else None)
-            for k in sorted(attrs) if k not in typed and not k.startswith(VERIFICATION_PREFIX))
-        return cls(attrs, others=others)
+            for k in sorted(attrs) if k not in typed and not k.startswith(VERIFICATION_PREFIX)))
+        return super().from_attrs(attrs, prefix, **given)
 
 #: The robot's variables every results file holds.
 ROBOT_VARIABLES = (Var.LINK_MASS, Var.LINK_COM, Var.LINK_INERTIA, Var.DH_D, Var.DH_A,

@@ -10,8 +10,8 @@ it: :mod:`gd_analyze.store.datasets` (``results.h5``), :mod:`gd_analyze.store.sw
 from __future__ import annotations
 
 import datetime
-import functools
 import os
+from collections import namedtuple
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
@@ -307,61 +307,37 @@ _R = TypeVar("_R", bound="Record")
 
 
 class Record:
-    """Global attributes of a dataset as stored, read by name: one class for every record of a
+    """Global attributes of a dataset as stored, read by name: the base of every record of a
     file's settings and provenance (:class:`RunRecord`, the control and sweep settings, the
-    results' provenance), each naming its attributes once in :attr:`names`.
+    results' provenance), each a named tuple that names its attributes once.
 
-    Each name is an attribute of the record: the global attribute ``prefix + name`` (spelt as
-    its constant of :class:`gd_analyze.store.names.Attr` where that differs in case,
-    ``conventions`` is ``Conventions``), None where the dataset has none; a field given is
-    as given. Read-only.
-
-    Parameters
-    ----------
-    attrs : Mapping
-        The global attributes.
-    prefix : str, optional
-        The attributes' common prefix (``"model_"``).
-    **given
-        Fields given, not read (e.g. ``others``).
+    Each field is the global attribute ``prefix + field`` (spelt as its constant of
+    :class:`gd_analyze.store.names.Attr` where that differs in case, ``conventions`` is
+    ``Conventions``), None where the dataset has none; a field given is as given.
     """
 
-    #: The record's attributes.
-    names: ClassVar[tuple[str, ...]] = ()
-    __slots__ = ("_values",)
-
-    def __init__(self, attrs: Mapping[str, Any], prefix: str = "", /, **given: Any) -> None:
-        values = {n: attrs.get(stored_name(prefix + n)) for n in self.names}
-        object.__setattr__(self, "_values", {**values, **given})
+    __slots__ = ()
 
     @classmethod
-    def from_attrs(cls: type[_R], attrs: Mapping[str, Any]) -> _R:
+    def from_attrs(cls: type[_R], attrs: Mapping[str, Any], prefix: str = "", /,
+                   **given: Any) -> _R:
         """The record of a dataset's global attributes.
 
         Parameters
         ----------
         attrs : Mapping
+            The global attributes.
+        prefix : str, optional
+            The attributes' common prefix (``"model_"``).
+        **given
+            Fields given, not read (e.g. ``others``).
 
         Returns
         -------
         The record.
         """
-        return cls(attrs)
-
-    def __getattr__(self, name: str) -> Any:
-        try:
-            return object.__getattribute__(self, "_values")[name]
-        except KeyError:
-            raise AttributeError(f"{type(self).__name__} has no {name!r}") from None
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise AttributeError(f"{type(self).__name__} is read-only")
-
-    def __repr__(self) -> str:
-        return f"{type(self).__name__}({self._values!r})"
-
-    def __reduce__(self) -> tuple[Any, ...]:        # pickled and copied as the values read
-        return functools.partial(type(self), {}, **self._values), ()
+        return cls(**{f: given[f] if f in given else attrs.get(stored_name(prefix + f))
+                      for f in cls._fields})  # type: ignore[attr-defined]
 
 
 def stored_name(name: str) -> str:
@@ -404,7 +380,7 @@ def from_attrs(cls: type[_R], attrs: Mapping[str, Any], prefix: str = "", /,
     -------
     An instance of ``cls``.
     """
-    return cls(attrs, prefix, **given)
+    return cls.from_attrs(attrs, prefix, **given)
 
 _V = TypeVar("_V", bound="View")
 #: The default of a :func:`stored` field that the dataset must hold.
@@ -557,7 +533,9 @@ class View:
         return ds if isinstance(ds, cls) else cls.from_dataset(ds, *args)  # type: ignore[return-value, call-arg, arg-type]
 
 
-class RunRecord(Record):
+class RunRecord(Record, namedtuple("RunRecord", """
+        gd_analyze_version history gravity mounting_gravity_base mounting_gravity_world
+        mounting_base_rpy_deg""")):
     """When and by what a stored run was computed, and the arm's gravity and mounting: the
     attributes every dataset (results, sweep, control) stores alike, as stored (None where
     missing).
@@ -571,9 +549,6 @@ class RunRecord(Record):
     mounting_base_rpy_deg : object
         How the base is turned: roll, pitch, yaw [deg].
     """
-
-    names = ("gd_analyze_version", "history", "gravity", "mounting_gravity_base",
-             "mounting_gravity_world", "mounting_base_rpy_deg")
 
 
 @dataclass(frozen=True, eq=False)

@@ -13,6 +13,7 @@ none), the reader decides how to write them.
 from __future__ import annotations
 
 import types
+from collections import namedtuple
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -46,7 +47,12 @@ REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOIN
 _TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
 
 
-class ControlSettings(Record):
+class ControlSettings(Record, namedtuple("ControlSettings", """
+        robot robot_sha256 trajectory_file trajectory_sha256 trajectory_path
+        trajectory_derivatives model_file model_sha256 model_path model_trajectory_sha256
+        trajectory_is_models plant interpolation integrator rtol atol noise_rtol noise_atol
+        noise_nfev noise_factor noise_unmeasured samples setpoints grid_points wn zeta
+        verdict_tolerance_revolute verdict_tolerance_prismatic command references""")):
     """The run's files, settings and provenance, as stored (None where missing).
 
     Each field is the global attribute of the same name.
@@ -78,15 +84,12 @@ class ControlSettings(Record):
         The command line, the method's references.
     """
 
-    names = tuple("""robot robot_sha256 trajectory_file trajectory_sha256 trajectory_path
-                     trajectory_derivatives model_file model_sha256 model_path
-                     model_trajectory_sha256 trajectory_is_models plant interpolation integrator
-                     rtol atol noise_rtol noise_atol noise_nfev noise_factor noise_unmeasured
-                     samples setpoints grid_points wn zeta verdict_tolerance_revolute
-                     verdict_tolerance_prismatic command references""".split())
 
 
-class ModelFacts(Record):
+class ModelFacts(Record, namedtuple("ModelFacts", """
+        rule tolerance form base_parameters pairs pairs_dropped pairs_known dropped_pairs
+        gravity_dropped c_terms c_terms_kept scope guarantee_kind guarantee_covered
+        guarantee_coverage""")):
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
     them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
     missing.
@@ -107,9 +110,6 @@ class ModelFacts(Record):
         The model's scope, its guarantee's kind, whether it covers the tracked motion and why.
     """
 
-    names = tuple("""rule tolerance form base_parameters pairs pairs_dropped pairs_known
-                     dropped_pairs gravity_dropped c_terms c_terms_kept scope guarantee_kind
-                     guarantee_covered guarantee_coverage""".split())
 
 
 def _by_controller(name):
@@ -205,8 +205,8 @@ class StoredControl(View):
     elements: tuple[str, ...] = stored(V.ELEMENT, texts, ())
     choice: tuple[str, ...] = stored(V.CHOICE, texts)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
-    settings: ControlSettings = derived(lambda ds: ControlSettings(ds.attrs))
-    model: ModelFacts = derived(lambda ds: ModelFacts(ds.attrs, "model_"))
+    settings: ControlSettings = derived(lambda ds: ControlSettings.from_attrs(ds.attrs))
+    model: ModelFacts = derived(lambda ds: ModelFacts.from_attrs(ds.attrs, "model_"))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
     @property

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import re
+from collections import namedtuple
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -731,7 +732,11 @@ class MergedModel(View):
         return self.guarantee_kind == "region"
 
 
-class SweepSettings(Record):
+class SweepSettings(Record, namedtuple("SweepSettings", """
+        robot robot_description robot_reference robot_source robot_sha256 input_kind seed
+        input_files inputs_sha256 setpoints_total dominance_threshold negligible_threshold
+        merged_rule payload_mass random_qdd_max_source command cluster n_workers
+        scheduler_address batch_size n_tasks elapsed_s compute_s others""")):
     """The sweep's inputs, settings and run, as stored (None where missing).
 
     Each field but ``others`` is the global attribute of the same name.
@@ -753,11 +758,6 @@ class SweepSettings(Record):
         Every other attribute (not in :data:`SAID`), sorted by name.
     """
 
-    names = tuple("""robot robot_description robot_reference robot_source robot_sha256 input_kind
-                     seed input_files inputs_sha256 setpoints_total dominance_threshold
-                     negligible_threshold merged_rule payload_mass random_qdd_max_source command
-                     cluster n_workers scheduler_address batch_size n_tasks elapsed_s
-                     compute_s""".split())
 
 
 @dataclass(frozen=True, eq=False)
@@ -832,7 +832,7 @@ class StoredSweep(View):
     merged_error_relative_peak: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_PEAK)
     merged_error_relative_rms: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_RMS)
     merged: MergedModel = derived(MergedModel.read)
-    settings: SweepSettings = derived(lambda ds: SweepSettings(ds.attrs, others=tuple(
+    settings: SweepSettings = derived(lambda ds: SweepSettings.from_attrs(ds.attrs, others=tuple(
         (k, ds.attrs[k]) for k in sorted(set(ds.attrs) - SAID))))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
