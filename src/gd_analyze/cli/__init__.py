@@ -108,15 +108,10 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"{PROG}: {kind}: {message}", file=sys.stderr)
 
 
-def _looks_like_trajectory(word):
-    """Whether an argument is a trajectory file: an existing file or a name ending in .csv."""
-    return word.lower().endswith(".csv") or os.path.isfile(word)
-
-
 def _mistyped_command(argv):
     """A 'did you mean' error for a first word that is neither a built-in robot nor a file: an
-    unknown robot when the second argument looks like a trajectory file (``gd-analyze pand
-    traj.csv``), else a mistyped command when one is close; None otherwise."""
+    unknown robot when the second argument looks like a trajectory file (a file, or a name
+    ending in .csv: ``gd-analyze pand traj.csv``), else a mistyped command when one is close; None otherwise."""
     import difflib
 
 
@@ -124,7 +119,7 @@ def _mistyped_command(argv):
     if (word.startswith("-") or word in builtin_robots() or os.path.exists(word)
             or is_urdf_text(word)):
         return None
-    if len(argv) > 1 and _looks_like_trajectory(argv[1]):
+    if len(argv) > 1 and (argv[1].lower().endswith(".csv") or os.path.isfile(argv[1])):
         return unknown_robot(word)
     close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
     if not close:

@@ -35,7 +35,7 @@ from ..model.limits import LIMITS, acceleration_limits, exact_text, first_beyond
 from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
 from ..model.robots import load_robot
-from ..ranking.labels import joint_motion_units, joint_torque_units, joint_units_text
+from ..ranking.labels import joint_torque_units, joint_units_text
 from ..report.control import dataset_verdict, write_control_report
 from ..report.main import write_report
 from ..report.main_context import effort_rows
@@ -43,6 +43,7 @@ from ..report.numbers import count
 from ..simplify.deploy import robot_region
 from ..simplify.simplified import json_safe
 from ..store import control_dataset as control_file
+from ..store.datasets import joint_units
 from ..store.model_file import load_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
 from ..store.staging import check_output_file, safe_name, staged_output, writing
@@ -229,15 +230,6 @@ def _cost_lines(costs):
         lines.append("  it does not beat Newton-Euler for this arm: for speed, use N-E (the "
                      "model still gives the error bound and the dominance)")
     return lines
-
-
-def _joint_units(robot, which):
-    """``"rad"``, ``"N m"``, or each unit with its joints for a mixed arm
-    (:func:`gd_analyze.ranking.labels.joint_units_text`)."""
-
-    units = [joint_torque_units(bool(p)) if which == "tau" else joint_motion_units(bool(p))[0]
-             for p in robot.prismatic]
-    return joint_units_text(units)
 
 
 def _effort_lines(results):
@@ -925,15 +917,14 @@ def cmd_control(args: argparse.Namespace) -> int:
         q_floor = judged["floors"][0]           # the report's rule: noise is not data
         print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
                                                for j in range(model_robot.n)))
+        units = {w: joint_units_text(joint_units(model_robot.prismatic, w)) for w in ("q", "tau")}
         for name, fig in summary["tracking"].items():
-            print(_peak_row(name, fig["peak_grid"], q_floor,
-                            f"peak |e| [{_joint_units(model_robot, 'q')}]"))
+            print(_peak_row(name, fig["peak_grid"], q_floor, f"peak |e| [{units['q']}]"))
         if summary["tau_difference"]:
             floor = result.tau_noise_floor
             assert floor is not None      # None without a measured integrator noise
             print(_peak_row("tau diff", summary["tau_difference"]["peak"], floor,
-                            "peak |tau_simplified - tau_full| "
-                            f"[{_joint_units(model_robot, 'tau')}]"))
+                            f"peak |tau_simplified - tau_full| [{units['tau']}]"))
             how = "measured" if result.tau_noise is not None else "not measured: rtol x peak |tau|"
             print(f"{'noise floor':<12}" + "".join(f"{v:>11.3e}" for v in floor)
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")
