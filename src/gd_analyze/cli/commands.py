@@ -197,12 +197,6 @@ def _load(args, csv_arg):
     return robot, read_trajectory(csv_arg, n_joints=robot.n)
 
 
-def _warn_limits(robot, trajectory, quiet):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", JointLimitWarning)
-        messages = check_joint_limits(robot, trajectory)
-    for msg in messages:
-        print(f"{PROG}: warning: {msg}", file=sys.stderr)
 
 
 
@@ -432,7 +426,11 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     robot, trajectory = _load(args, args.trajectory)
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
-    _warn_limits(robot, trajectory, args.quiet)
+    with warnings.catch_warnings():     # beyond the joint limits: one warning line each
+        warnings.simplefilter("ignore", JointLimitWarning)
+        messages = check_joint_limits(robot, trajectory)
+    for msg in messages:
+        print(f"{PROG}: warning: {msg}", file=sys.stderr)
     report = None
     if not args.no_report:
         def report(results, folder, progress):

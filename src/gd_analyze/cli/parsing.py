@@ -408,7 +408,7 @@ def analyze_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but warnings and errors (no summary, no progress bar)")
     _add_verbose_argument(p)
-    p.add_argument("--version", action="version", version=f"%(prog)s {tool_version()}")
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_sweep_argument(_add_payload_arguments(p))
@@ -422,17 +422,6 @@ def _prefix(text):
         return check_prefix(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def tool_version() -> str:
-    """The package's version, for ``--version`` and the provenance.
-
-    Returns
-    -------
-    str
-    """
-
-    return __version__
 
 
 def plan_parser() -> argparse.ArgumentParser:

@@ -11,6 +11,7 @@ import contextlib
 import sys
 from pathlib import Path
 
+from .._version import VERSION as __version__
 from ..errors import InputError
 from ..jobs.payload import sweep_payloads
 from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
@@ -38,7 +39,7 @@ from .commands import (
     warn_if,
     wrote_line,
 )
-from .parsing import EXIT_OK, tool_version
+from .parsing import EXIT_OK
 
 __all__ = []
 
@@ -54,7 +55,7 @@ def _model_settings(args, settings, limits):
     """The keyword arguments of the budget rule's merged model
     (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`)."""
     return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
-            "provenance": {"gd_analyze_version": tool_version(), **settings},
+            "provenance": {"gd_analyze_version": __version__, **settings},
             "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
             "region": limits}
 

@@ -10,7 +10,7 @@ are described in :mod:`gd_analyze.jobs.control`.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -234,8 +234,7 @@ class Gains:
         dict
             ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
         """
-        return {k: [float(v) for v in getattr(self, k)]
-                for k in ("wn", "zeta", "Kp", "Kv", "inertia_scale", "Kp_pd", "Kv_pd")}
+        return {f.name: [float(v) for v in getattr(self, f.name)] for f in fields(self)}
 
 
 def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAULT_WN,
