@@ -439,16 +439,12 @@ def recordings_json(result: IdentificationResult) -> dict[str, Any]:
     """
     recs = []
     for fit in result.recordings:
-        _, rel, total = fit.errors("predicted")
-        _, prel, ptotal = fit.errors("prior")
-        item = {"file": fit.file, "role": fit.role, "relative_error": _finite(rel),
-                "total_relative_error": _finite(total)[0],
-                "prior_relative_error": _finite(prel),
-                "prior_total_relative_error": _finite(ptotal)[0]}
-        if fit.tau_simplified is not None:
-            _, srel, stotal = fit.errors("simplified")
-            item.update(simplified_relative_error=_finite(srel),
-                        simplified_total_relative_error=_finite(stotal)[0])
+        item = {"file": fit.file, "role": fit.role}
+        for which, key in (("predicted", ""), ("prior", "prior_"), ("simplified", "simplified_")):
+            if which != "simplified" or fit.tau_simplified is not None:
+                _, rel, total = fit.errors(which)
+                item.update({f"{key}relative_error": _finite(rel),
+                             f"{key}total_relative_error": _finite(total)[0]})
         recs.append(item)
     return {"recordings": recs, "condition_number": float(result.condition_number),
             "rank": int(result.rank), "unidentifiable": result.parameters.unidentifiable}
