@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import fields
 from pathlib import Path
 
 from ..errors import InputError
@@ -38,9 +39,7 @@ def _options(args):
     if args.drive_gains is not None and not args.current:
         raise InputError("--drive-gains applies to currents: give --current",
                          column="--drive-gains")
-    return IdentifyOptions(cutoff=args.cutoff, decimate=args.decimate, drives=args.drives,
-                           current=args.current, drive_gains=args.drive_gains,
-                           consistent=args.consistent, simplify=args.simplify)
+    return IdentifyOptions(**{f.name: getattr(args, f.name) for f in fields(IdentifyOptions)})
 
 
 def _comments(result, args):

@@ -640,11 +640,8 @@ def _cutoff(text):
         return "auto"
     if word == "none":
         return None
-    value = _number(text)
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"a cutoff must be > 0 Hz (or 'auto', 'none'), got "
-                                         f"{text!r}")
-    return value
+    return _checked(_number, lambda v: v > 0,
+                    "a cutoff must be > 0 Hz (or 'auto', 'none'), got {text!r}")(text)
 
 
 def _drive_list(text):
@@ -661,12 +658,9 @@ def _drive_list(text):
     return kinds
 
 
-def _gains(text):
-    """``--drive-gains``: comma-separated nonzero numbers [N m/A]."""
-    values = [_number(v) for v in text.split(",")]
-    if any(v == 0 for v in values):
-        raise argparse.ArgumentTypeError("a drive gain of 0 turns no current into torque")
-    return tuple(values)
+#: ``--drive-gains``: comma-separated nonzero numbers [N m/A].
+_gains = _checked(lambda text: tuple(_number(v) for v in text.split(",")), lambda v: 0 not in v,
+                  "a drive gain of 0 turns no current into torque")
 
 
 def identify_parser() -> argparse.ArgumentParser:

@@ -117,12 +117,8 @@ def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
     seeds = {m.group(1) for m in map(_RANDOM_SOURCE.match, sources) if m}
     n_random = sum(bool(_RANDOM_SOURCE.match(s)) for s in sources)
     files = [(s, h) for s, h in zip(sources, shas) if h]
-    if n_random == len(sources):
-        attrs[SA.INPUT_KIND] = "random"
-    elif len(files) == len(sources):
-        attrs[SA.INPUT_KIND] = "files"
-    else:
-        attrs[SA.INPUT_KIND] = "mixed"
+    attrs[SA.INPUT_KIND] = ("random" if n_random == len(sources) else
+                            "files" if len(files) == len(sources) else "mixed")
     if n_random and len(seeds) == 1:
         attrs[SA.SEED] = int(next(iter(seeds)))
     if files:
