@@ -237,3 +237,20 @@ def test_a_prismatic_joints_torque_is_in_newtons():
     for key, word in (("torque_0", "\u03c4"), ("residual_0", "\u03c4 residual")):
         labels = [ax.get_ylabel() for ax in figs[key].axes if ax.get_visible()]
         assert labels[:2] == [f"{word} [N]", f"{word} [N m]"], labels
+
+
+def test_the_preprocessing_notes_are_sentences_with_s_i_typeset():
+    """The job's notes are stored as clauses ("low-pass cutoff 2 Hz", "simplified model ...:
+    within 1 % of s_i ..."); the report sets each as a sentence, capital first and a full
+    stop last, with s_i as s with subscript i, not the letters "s_i"."""
+    from gd_analyze.report.markup import sub
+
+    rng = np.random.default_rng(6)
+    joints = ("a", "b")
+    root = _root(rng, joints)
+    root.attrs["preprocessing"] = json.dumps(
+        ["low-pass cutoff 2 Hz", "simplified model of the identified robot: within 1 % of s_i"])
+    groups = {"run": _recording(rng, 0.0, 300, "train", "run", joints)}
+    said = identify_context(root, groups)["preprocessing"]
+    assert said == ["Low-pass cutoff 2 Hz.",
+                    "Simplified model of the identified robot: within 1 % of s" + sub("i") + "."]

@@ -37,7 +37,7 @@ from ..store.stored_identification import (
 from .common import BASE_RC, table, utc_now
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_lines, markevery
-from .markup import clean
+from .markup import clean, scope
 from .numbers import fmt, pct
 from .sections import Outline
 from .typeset import check_paper
@@ -495,7 +495,9 @@ def identify_context(root: StoredIdentification | xr.Dataset,
                            "(Gautier 1990)."),
         "links": _links_table(stored),
         "noise": _noise_table(stored),
-        "preprocessing": _sentences(_json(stored.preprocessing, [])),
+        # the tool's own notes: each a sentence, s_i and tau_s typeset
+        "preprocessing": [scope(text[:1].upper() + text[1:])
+                          for text in _sentences(_json(stored.preprocessing, []))],
         "notes": {name: _sentences(notes) if isinstance(notes := _json(rec.notes, None), list)
                   else [] for name, rec in recordings.items()},
         "provenance": _provenance(stored, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
