@@ -8,8 +8,9 @@ bounding box of its trajectories' positions (kind ``"trajectory"``).
 Where the proof fails for a model of the recursive form, the parameters whose inertial part
 was dropped are restored, whole and largest inertial contribution first, until it holds (or,
 for an arm whose D has no floor to prove D_s on, until D_s is positive definite at the sampled
-positions, which is said and not called proved), and those not needed are then dropped again: restoring a parameter whole removes whole units from
-the dropped set, so a bound computed again for the pairs still dropped holds. The caller
+positions, which is said and not called proved), and those not needed are then dropped again:
+restoring a parameter whole removes whole units from the dropped set, so a bound computed
+again for the pairs still dropped holds. The caller
 builds the restored model (``rebuild``) so that its bound and sampled error are those of the
 model deployed. An explicit model that drops terms is checked at sampled positions only, and
 says so. Samples never prove.
