@@ -45,6 +45,17 @@ def _model(robot, rec):
                            tolerance=0.01, recursive=rec)
 
 
+def _without_the_wrist(robot):
+    """60 random positions, the exact recursive model of ``robot`` (a PUMA 560 layout), the
+    indices of its base parameters of links 5 and 6, and the model dropping those whole."""
+    q, qd, qdd = random_states(robot, 60, 2)
+    rec = recursive_model(robot, q, qd, qdd, 0.0)
+    dropped = np.zeros_like(rec.dropped)
+    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
+    dropped[last] = True
+    return q, rec, last, _model(robot, dataclasses.replace(rec, dropped=dropped))
+
+
 _DEFAULT = {}
 
 
@@ -103,12 +114,7 @@ def test_a_model_that_drops_the_wrists_inertia_is_not_proved_and_is_restored():
     """Dropping every base parameter of links 5 and 6 whole makes D_s singular: the proof
     fails ("not proved"), and the restore keeps those parameters until it holds."""
     robot = load_robot("puma560")
-    q, qd, qdd = random_states(robot, 60, 2)
-    rec = recursive_model(robot, q, qd, qdd, 0.0)
-    dropped = np.zeros_like(rec.dropped)
-    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
-    dropped[last] = True
-    broken = _model(robot, dataclasses.replace(rec, dropped=dropped))
+    q, rec, last, broken = _without_the_wrist(robot)
     D = broken.functions().numpy()["inertia"](q)
     assert np.linalg.eigvalsh(D)[:, 0].min() <= 1e-12 * np.abs(D).max()
     proof = prove_inertia(robot, rec.base(robot), broken.left_out(), q.min(0), q.max(0))
@@ -141,12 +147,7 @@ def test_with_no_floor_under_d_a_d_s_singular_at_samples_is_restored_until_posit
     robot = load_robot(path)
     assert not (inertia_floor(robot) > 0).all()
     assert np.linalg.eigvalsh(crba(robot, random_states(robot, 200, 3)[0]))[:, 0].min() > 0
-    q, qd, qdd = random_states(robot, 60, 2)
-    rec = recursive_model(robot, q, qd, qdd, 0.0)
-    dropped = np.zeros_like(rec.dropped)
-    last = [k for k, name in enumerate(rec.names) if name[-1] in "56"]
-    dropped[last] = True
-    broken = _model(robot, dataclasses.replace(rec, dropped=dropped))
+    q, rec, last, broken = _without_the_wrist(robot)
     fixed = with_inertia_check(broken, q)
     check = fixed.inertia_check
     assert not check["proved"] and "no floor under D" in check["why"]
