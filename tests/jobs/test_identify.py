@@ -255,6 +255,42 @@ def test_a_recording_in_which_no_joint_moves_is_refused(tmp_path):
         identify(robot, [still])
 
 
+def test_recordings_without_torque_are_refused():
+    """Every torque of the training recordings 0 (a torque column not recorded): one line,
+    exit 2. Before, the fit's noise weights overflowed and the error spoke of a singular
+    matrix."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 10, seed=2)
+    silent = recording_from_arrays(train.t, train.q, 0 * train.tau, source="silent")
+    with pytest.raises(InputError, match="every torque in the training recordings is 0"):
+        identify(robot, [silent])
+    identify(robot, [train, silent])        # one recording with torque is enough
+
+
+def test_unix_time_stamps_identify_the_recording_as_stamps_from_zero(tmp_path):
+    """The same recording stamped 1.7e9 s later (Unix time, as a ROS log writes it) is read
+    (it was refused as beyond the supported magnitude of t) and identifies the same model:
+    its torque on a held-out recording equals the first's to 1e-3 of the torque's peak. Not to
+    round-off: the stamps, 2.4e-7 s apart at 1.7e9 s, are rounded, which moves the resampled
+    clock, and rows near rest enter or leave the fit (Coulomb friction's sign)."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 20, seed=2, noise=0.01)
+    held, (_, _, _, _, tau_true) = _record(truth, robot.n, 10, seed=5)
+    scale = np.abs(tau_true).max()
+    late = tmp_path / "late.csv"                    # read from a file, as the command does
+    n = robot.n
+    header = ["t"] + [f"{k}{j + 1}" for k in ("q", "tau", "qd", "qdd") for j in range(n)]
+    np.savetxt(late, np.column_stack([train.t + 1.7e9, train.q, train.tau, train.qd, train.qdd]),
+               fmt="%.17g", delimiter=",", header=",".join(header), comments="")
+    a, b = (identify(robot, [rec], validate=[held]) for rec in (train, late))
+    assert a.parameters.identifiable.all() and b.parameters.identifiable.all()
+    gap = np.abs(b.recordings[1].tau_predicted - a.recordings[1].tau_predicted).max() / scale
+    total = a.recordings[1].errors()[2]             # the fit itself is good: a model to compare
+    assert gap <= 1e-3 and total <= 0.02, (gap, total)
+
+
 def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cause():
     """Training time stamps in ms (1000 x the seconds): the cutoff chosen from them is far
     below what the validation recording, in seconds, can be filtered with. The one-line error

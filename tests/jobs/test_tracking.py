@@ -102,3 +102,25 @@ def test_a_run_stopped_on_a_dense_trajectory_says_how_many_set_points(puma, monk
         if dense:
             spacing = (traj.t[-1] - traj.t[0]) / (n_setpoints - 1)
             assert f"({spacing:.3g} s apart)" in said
+
+
+def test_a_run_on_unix_time_stamps_is_the_run_from_zero(puma, shipped):
+    """The closed loop is time-invariant: the same trajectory stamped 1.7e9 s later (Unix time,
+    as a ROS log writes it) gives the same run. The stamps are 2.4e-7 s apart there, so a run
+    integrated on them took steps at that resolution and stopped at the evaluation bound."""
+    from gd_analyze.jobs.tracking import track
+
+    late = Trajectory(t=shipped.t + 1.7e9, q=shipped.q, qd=shipped.qd, qdd=shipped.qdd,
+                      source="late")
+    gains = control_gains(puma, shipped.q[0])
+    for controller in ("full", "pd_gravity"):
+        runs = [track(puma, controller, gains, desired_motion(traj), traj.t, q0_offset=0.01)
+                for traj in (shipped, late)]
+        assert all(r.success for r in runs)
+        np.testing.assert_array_equal(runs[1].t, late.t)
+        # the stamps' own rounding at 1.7e9 s (up to 1.2e-7 s) moves the set points' times
+        np.testing.assert_allclose(runs[1].q, runs[0].q, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(runs[1].tau, runs[0].tau, rtol=0,
+                                   atol=1e-5 * np.abs(runs[0].tau).max())
+        # the stamps, rounded, join the pieces a little less smoothly: a few more steps
+        assert runs[1].nfev <= 1.5 * runs[0].nfev, (controller, runs[0].nfev, runs[1].nfev)

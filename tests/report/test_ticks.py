@@ -206,3 +206,40 @@ def test_decades_in_superscripts():
     fmt = decade_formatter()
     assert [fmt(v) for v in (1e-6, 1.0, 1e3, 300.0)] == ["10\u207b\u2076", "10\u2070",
                                                         "10\u00b3", ""]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-2e9, 2e9), st.floats(1e-3, 1e5))
+def test_a_time_axis_counts_from_its_first_stamp_only_where_ticks_would_be_long(t0, span):
+    """The origin a time axis counts from (time_origin): 0 unless the first stamp lies beyond
+    10^4 spans from 0; else a time at most 10^4 spans before the first stamp, which the axis
+    label gives back exactly."""
+    from gd_analyze.report.ticks import time_origin
+
+    t = np.array([t0, t0 + span])
+    origin, label = time_origin(t)
+    if abs(t[0]) <= 1e4 * (t[1] - t[0]):
+        assert (origin, label) == (0.0, "t [s]")
+        return
+    assert 0.0 <= t[0] - origin <= 1e4 * (t[1] - t[0])
+    m = re.fullmatch(r"t ([\u2212+]) ([0-9.]+) \[s\]", label)
+    assert m and float(m[2]) * (1 if m[1] == MINUS else -1) == origin, label
+
+
+def test_the_trajectory_figure_on_unix_time_stamps_has_short_time_ticks():
+    """Fig. 1 of the main report on a trajectory stamped in Unix time: ticks of ten digits
+    ran into each other; the axis now counts from a whole second and says so."""
+    from gd_analyze.report.main_figures import fig_joints
+    from gd_analyze.report.plot_data import PlotData
+
+    M = 31
+    x = 1.7e9 + 0.25 + np.linspace(0.0, 4.2, M)
+    q = np.sin(np.outer(x - x[0], [1.0, 2.0]))
+    fig = fig_joints(PlotData(x=x, enveloped=False, N=M,
+                              series={"q": q, "qd": q, "qdd": q}))
+    for ax in fig.axes:
+        assert ax.get_xlabel() == "t \u2212 1700000000 [s]"
+        texts = [label.get_text() for _, label in tick_texts(ax, "x")]
+        assert texts and all(len(t) <= 4 for t in texts), texts
+        lo, hi = ax.get_xlim()
+        assert -0.2 < lo < 0.25 < 4.45 < hi < 4.7

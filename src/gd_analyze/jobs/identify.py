@@ -232,6 +232,10 @@ def identify(robot: Robot | str | Path,
         raise InputError("no recording to identify from")
     train = [_recording(r, n, options, "train") for r in recordings]
     valid = [_recording(r, n, options, "validate") for r in validate]
+    if not any(np.any(r.tau) for r in train):
+        what = "current" if options.current else "torque"
+        raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
+                         f"identify from (is the {what} column recorded?)")
     names = group_names([Path(r.source).stem for r in train + valid])
     notes = []
     cutoff = options.cutoff

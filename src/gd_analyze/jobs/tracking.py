@@ -460,6 +460,7 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
     ``t_eval`` are computed afterwards, for all samples at once, by ``choices.torque``.
     """
     from scipy.integrate import solve_ivp
+    from scipy.interpolate import PPoly
 
     n = robot.n
     t_eval = np.asarray(t_eval, dtype=float)
@@ -468,7 +469,12 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
     if controller == "simplified" and not hasattr(choices, "torque"):
         raise ValueError("the simplified controller needs the simplified model")
     d1, d2 = desired.derivative(1), desired.derivative(2)
+    # integrated in the time since t_eval[0]: the same polynomials on shifted breakpoints (the
+    # differences of nearby floats are exact), so that the steps keep their resolution where
+    # the stamps are far from 0 (Unix time stamps: 2.4e-7 s apart at 1.7e9 s)
+    t0 = t_eval[0]
     motion = _stacked(desired, d1, d2)             # q_d, qd_d, qdd_d: one evaluation a call
+    motion = PPoly.construct_fast(motion.c, motion.x - t0, motion.extrapolate)
     state_terms = one_state_terms(robot)
     calls = [0]
     at = getattr(choices, "torque_at", None) if controller == "simplified" else None
@@ -487,12 +493,11 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
                                 model_torque=one_state)
         return np.concatenate([y[n:], qdd_from_terms(terms, tau)[0]])
 
-    t0 = t_eval[0]
     y0 = np.concatenate([desired(t0) + np.broadcast_to(np.asarray(q0_offset, float), (n,)),
                          d1(t0)])
     try:
-        sol = solve_ivp(rhs, (t0, t_eval[-1]), y0, method=method, t_eval=t_eval, rtol=rtol,
-                        atol=atol)
+        sol = solve_ivp(rhs, (0.0, t_eval[-1] - t0), y0, method=method, t_eval=t_eval - t0,
+                        rtol=rtol, atol=atol)
     except _TooManyEvals:
         cause = ("the plant's Coulomb friction switches sign wherever qd crosses 0 (a "
                  "discontinuous plant)" if np.any(robot.coulomb) else

@@ -28,7 +28,7 @@ __all__ = ["LIMITS", "check_finite", "first_beyond", "exact_text", "real_values"
 
 #: Largest accepted magnitude of each input quantity, in SI units.
 LIMITS = {
-    "t": 1e9,           # |time| [s]
+    "t": 1e10,          # |time| [s]: Unix time stamps (1.8e9 s in 2027) as ROS logs write them
     "q": 1e4,           # |joint position| [rad]
     "qd": 1e4,          # |joint velocity| [rad/s]
     "qdd": 1e8,         # |joint acceleration| [rad/s^2]

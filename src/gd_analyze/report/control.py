@@ -61,7 +61,7 @@ from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
 from .sections import Outline
-from .ticks import decade_formatter, label_axes, set_ticks
+from .ticks import decade_formatter, label_axes, set_ticks, time_origin
 from .typeset import check_paper
 
 if TYPE_CHECKING:
@@ -290,7 +290,8 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     from matplotlib.lines import Line2D
     from matplotlib.ticker import LogLocator, NullFormatter
 
-    t = np.asarray(s.time, dtype=float)
+    origin, t_label = time_origin(s.time, "time t")
+    t = np.asarray(s.time, dtype=float) - origin
     is_set = s.is_setpoint
     n = s.n
     units = joint_units_of(s, which)
@@ -301,7 +302,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
     height = (1.35 if column else _ROW_HEIGHT[cols]) * rows + bottom - 0.35 + top
     fig, axes = joint_axes(n, cols, (width, height), top, bottom,
-                           0.3 if column else _WSPACE[cols], 0.35, "time t [s]")
+                           0.3 if column else _WSPACE[cols], 0.35, t_label)
     # every k-th sample and every set point drawn
     keep = is_set | (np.arange(t.size) % markevery(t.size, _MAX_LINE_POINTS) == 0)
     every = marker_stride(s, len(values))

@@ -450,13 +450,14 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
     import numpy as np
     from matplotlib.lines import Line2D
 
-    from .ticks import label_axes, set_ticks
+    from .ticks import label_axes, set_ticks, time_origin
 
     n = len(titles)
     rows, cols = grid_shape(n, cols)
+    origin, t_label = time_origin(t)
     fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
-                           "t [s]")
-    t = np.asarray(t, float)
+                           t_label)
+    t = np.asarray(t, float) - origin
     handles: dict[str, Line2D] = {}
     for j, ax in enumerate(axes):
         for (colour, ls, lw, label), y in curves:

@@ -63,6 +63,7 @@ from .markup import scope as _scope
 from .numbers import pct
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
+from .ticks import time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -566,7 +567,7 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
         ("set points N", count(N)),
         ("duration [s]",
-         f"{_fmt(t[-1] - t[0], 6)}  (t = {_fmt(t[0], 6)} \u2026 {_fmt(t[-1], 6)})"),
+         f"{_fmt(t[-1] - t[0], 6)}  (t = {_stamp(t[0], t)} \u2026 {_stamp(t[-1], t)})"),
         ("derivatives", f"{derivatives}: {_DERIVATIVES.get(derivatives, 'as recorded')}"
          if derivatives else "\u2014"),
     ])
@@ -911,6 +912,17 @@ def ranking_table(results: Results) -> dict[str, Any]:
                          for r in reports],
                   widths=[r.width for r in reports],
                   colour_cols=[k for k, r in enumerate(reports) if r.kind == "class"])
+
+
+def _stamp(v, t):
+    """A time stamp of the series t [s] in 6 significant digits, or, where the series' first
+    stamp is far from 0 against its span (:func:`gd_analyze.report.ticks.time_origin`: Unix
+    time stamps), in as many decimals as give its span 6 significant digits."""
+    origin, _ = time_origin(t)
+    if not origin:
+        return _fmt(v, 6)
+    span = float(t[-1] - t[0])
+    return f"{float(v):.{max(0, 5 - math.floor(math.log10(span)))}f}"
 
 
 def _report_context_base(results):

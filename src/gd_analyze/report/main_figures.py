@@ -41,7 +41,7 @@ from .plot_data import (
     PlotData,
     plot_data,
 )
-from .ticks import label_axes, set_ticks
+from .ticks import label_axes, set_ticks, time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -266,6 +266,8 @@ def _element_figure(x, panels, enveloped, width, key, kind):
     import textwrap
 
     cols, w, h = panel_grid(len(panels), width)
+    origin, t_label = time_origin(x)
+    x = np.asarray(x, dtype=float) - origin
     rows = max(1, math.ceil(len(panels) / cols))
     chars = max(30, int((width - 0.2) / (7.0 * 0.5 / 72)))
     note = textwrap.fill(key, chars)
@@ -285,7 +287,7 @@ def _element_figure(x, panels, enveloped, width, key, kind):
         ax.set_ylabel(f"[{units_text(units)}]", fontsize=7, labelpad=1.0)
         _time_axis(ax, x, labels=True, nbins=2 if w < 0.7 else 3)
         if k + cols >= len(panels):         # the lowest panel of its column
-            ax.set_xlabel("t [s]", labelpad=1.0)
+            ax.set_xlabel(t_label, labelpad=1.0)
     label_axes(ys)
     y = panels_h
     if first is not None:
@@ -466,6 +468,8 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
     left, gap = 0.6, 0.55
     w = (W - left - 0.1 - (per_row - 1) * gap) / per_row
     symbols = ("q", "q\u0307", "q\u0308")
+    origin, t_label = time_origin(data.x)
+    x = np.asarray(data.x, dtype=float) - origin
     first: dict[Any, Any] = {}
     boxes = grid_boxes(fig, len(panels), per_row, (left, top), (w, row_h), (gap, gap_h))
     for (kind, k), box in zip(panels, boxes):
@@ -479,11 +483,11 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
             style = joint_style(int(jn), 1 if data.enveloped else y.shape[0], len(joints))
             if data.enveloped:
                 style = {k2: v for k2, v in style.items() if not k2.startswith("marker")}
-            ax.plot(data.x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
+            ax.plot(x, y[:, col], linewidth=0.9, label=f"joint {jn + 1}", **style)
         first.setdefault(kind, ax)
         _y_axis(ax, 4 if row_h > 1.2 else 3, y)
-        _time_axis(ax, data.x, True)
-        ax.set_xlabel("t [s]", labelpad=1.0)
+        _time_axis(ax, x, True)
+        ax.set_xlabel(t_label, labelpad=1.0)
         ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
     label_axes([ax.yaxis for ax in fig.axes])
     handles: list[Any] = []

@@ -31,7 +31,7 @@ from .markup import element as _el
 from .markup import powers, sub
 from .markup import scope as scope_markup
 from .plot_data import PlotData
-from .ticks import joint_ticks, label_axes, set_ticks, tick_label_width
+from .ticks import joint_ticks, label_axes, set_ticks, tick_label_width, time_origin
 from .typeset import MIN_PRINTED_PT, printed_scale
 
 if TYPE_CHECKING:
@@ -115,10 +115,11 @@ def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.N
     return out
 
 
-def _time_panel(ax, i, t, y, nbins, **xlabel):
+def _time_panel(ax, i, t, y, nbins, t_label="t [s]", **xlabel):
     """Joint i's panel against time: t from t[0] to t[1] (a second long where they meet), y
     from y[0] to y[1] with 8 % of their span added each side, round ticks (the y ones labelled
-    by the figure: :func:`gd_analyze.report.ticks.label_axes`), its title and t label."""
+    by the figure: :func:`gd_analyze.report.ticks.label_axes`), its title and t label
+    (:func:`gd_analyze.report.ticks.time_origin`)."""
     (lo, hi), (t0, t1) = y, t
     pad = 0.08 * (hi - lo)
     ax.set_ylim(lo - pad, hi + pad)
@@ -127,7 +128,7 @@ def _time_panel(ax, i, t, y, nbins, **xlabel):
     ax.set_xlim(t0, t1)
     set_ticks(ax.xaxis, t0, t1, 4)
     ax.set_title(f"joint {i + 1}", fontsize=8)
-    ax.set_xlabel("t [s]", labelpad=1.0, **xlabel)
+    ax.set_xlabel(t_label, labelpad=1.0, **xlabel)
 
 
 def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool = False,
@@ -156,7 +157,8 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     series = contribution_series(data, drives)
     keys = [c[0] for c in CONTRIBUTIONS] + ["tau_simplified"] + (["drives"] if drives else [])
     style = {c[0]: c for c in CONTRIBUTIONS + (_SIMPLIFIED, _DRIVES)}
-    x = data.x
+    origin, t_label = time_origin(data.x)
+    x = np.asarray(data.x, dtype=float) - origin
     n = series["c"].shape[1]
     column = width < _PAGE
     cols = min(n, 2 if column else 3)
@@ -187,7 +189,7 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
         lo, hi = (float(vals.min()), float(vals.max())) if vals.size else (-1.0, 1.0)
         if hi - lo <= 1e-300:
             lo, hi = lo - 1.0, hi + 1.0
-        _time_panel(ax, i, (float(x[0]), float(x[-1])), (lo, hi), 4)
+        _time_panel(ax, i, (float(x[0]), float(x[-1])), (lo, hi), 4, t_label)
         ax.set_ylabel(f"[{units[i]}]", labelpad=1.0)
         ys.append(ax.yaxis)
     label_axes(ys)
@@ -1143,6 +1145,8 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         t0, t1 = s.time_span()
     else:
         t0, t1 = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
+    origin, t_label = time_origin([t0, t1])
+    t, t0, t1 = np.asarray(t, float) - origin, t0 - origin, t1 - origin
     handles = None
     ys = []
     for i, box in zip(shown, grid_boxes(fig, len(shown), cols, (left, top), (w, h),
@@ -1167,7 +1171,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         lo, hi = min(span), max(span)
         if hi - lo <= 1e-300:
             lo, hi = -1.0, 1.0
-        _time_panel(ax, i, (t0, t1), (lo, hi), 4 if h > 1.2 else 3, fontsize=8)
+        _time_panel(ax, i, (t0, t1), (lo, hi), 4 if h > 1.2 else 3, t_label, fontsize=8)
         ys.append(ax.yaxis)
     label_axes(ys)
     if handles:                     # above the panels: no curve or bound runs through it

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from matplotlib.ticker import Formatter, ScalarFormatter
 
 __all__ = ["nice_ticks", "set_ticks", "label_axes", "tick_label_width", "with_power",
-           "scaled_formatter", "decade_formatter", "joint_ticks"]
+           "scaled_formatter", "decade_formatter", "joint_ticks", "time_origin"]
 
 #: :func:`label_axes` writes ticks as they are while the largest |tick| is in this range,
 #: in units of a power of ten outside (no 0.0015, no 20000 on a small panel).
@@ -192,6 +192,49 @@ def with_power(label: str, k: int) -> str:
     if at >= 0 and label.endswith("]"):
         return f"{label[:at + 1]}{power} {label[at + 1:]}"
     return f"{label} [\u00d7{power}]" if label else f"\u00d7{power}"
+
+
+def time_origin(t: npt.ArrayLike, name: str = "t") -> tuple[float, str]:
+    """The time a figure's time axis counts from, and that axis' label.
+
+    A time axis whose first stamp lies farther from 0 than 10⁴ times its span (Unix time
+    stamps, as a ROS log writes them: 1.7e9 s for a few seconds of motion) would need ticks
+    of ten digits, which run into each other: it counts from its first stamp instead, and
+    its label says from which.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        The time stamps [s], in order (the first and the last are read).
+    name : str, optional
+        The axis label's name of time.
+
+    Returns
+    -------
+    origin : float
+        0, or the first stamp [s], or the whole second before it where that is as near:
+        subtract it from the times drawn.
+    label : str
+        ``"t [s]"``, or ``"t − 1700000000 [s]"`` (the origin written exactly).
+
+    Examples
+    --------
+    >>> time_origin([0.0, 4.2])
+    (0.0, 't [s]')
+    >>> time_origin([1.7e9 + 0.77, 1.7e9 + 4.2])
+    (1700000000.0, 't − 1700000000 [s]')
+    """
+    t = np.asarray(t, dtype=float).reshape(-1)
+    if t.size == 0 or not np.isfinite(t[[0, -1]]).all():
+        return 0.0, f"{name} [s]"
+    t0, span = float(t[0]), abs(float(t[-1]) - float(t[0]))
+    if span == 0.0 or abs(t0) <= 1e4 * span:
+        return 0.0, f"{name} [s]"
+    if t0 - math.floor(t0) <= 1e4 * span:      # from a whole second where that is near
+        t0 = float(math.floor(t0))
+    text = np.format_float_positional(abs(t0), trim="-")
+    sign = "\u2212" if t0 > 0 else "+"
+    return t0, f"{name} {sign} {text} [s]"
 
 
 def decade_formatter() -> Formatter:
