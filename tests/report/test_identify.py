@@ -72,7 +72,7 @@ def _root(rng, joints, robot="arm"):
         {"value": (("parameter",), value), "std": (("parameter",), np.abs(value) * 0.03),
          "prior": (("parameter",), value * 1.1), "identifiable": (("parameter",), identifiable),
          "kind": (("parameter",), np.array(KINDS)),
-         "noise_std": (("joint",), np.array([0.05, 0.05])),
+         "noise_std": (("joint",), np.full(len(joints), 0.05)),
          "link_consistent": (("link",), np.array([True, False])),
          "pseudo_inertia_min_eigenvalue": (("link",), np.array([0.01, -0.2]))},
         coords={"parameter": list(NAMES), "joint": list(joints), "link": [1, 2]},
@@ -254,3 +254,22 @@ def test_the_preprocessing_notes_are_sentences_with_s_i_typeset():
     said = identify_context(root, groups)["preprocessing"]
     assert said == ["Low-pass cutoff 2 Hz.",
                     "Simplified model of the identified robot: within 1 % of s" + sub("i") + "."]
+
+
+def test_six_joints_are_drawn_three_a_row_at_page_width():
+    """Two a row, six joints' panels made each figure 6 in tall, so that it left half a page
+    empty before it and after it (5 pages, measured on a PUMA 560 run; 4 now): from five
+    joints on, three a row at page width; two a row in a column, and for fewer joints."""
+    from gd_analyze.report.identify import PAGE_WIDTH
+
+    rng = np.random.default_rng(6)
+    for n, width, cols in ((6, PAGE_WIDTH, 3), (5, PAGE_WIDTH, 3), (4, PAGE_WIDTH, 2),
+                           (6, 3.4, 2)):
+        joints = tuple(f"j{k}" for k in range(n))
+        groups = {"run": _recording(rng, 0.0, 200, "train", "run", joints)}
+        figs = identify_figures(_root(rng, joints), groups, width=width)
+        for fig in figs.values():
+            panels = [ax for ax in fig.axes if ax.get_title(loc="left")]
+            lefts = {round(ax.get_position().x0, 3) for ax in panels}
+            assert len(panels) == n and len(lefts) == cols, (n, width, sorted(lefts))
+            assert fig.get_size_inches()[1] <= 1.6 * math.ceil(n / cols) + 1.2

@@ -162,13 +162,16 @@ def stride(m: int) -> int:
 
 
 def _panels(t, curves, joints, ylabel, width, prismatic=None):
-    """One panel per joint, two a row, the curves (name -> (N, n)) over t, a key below; each
+    """One panel per joint, three a row at page width from five joints on (two a row
+    otherwise, and in a column), the curves (name -> (N, n)) over t, a key below; each
     panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
     panel whose unit differs from it (:func:`gd_analyze.report.figure_style.joint_lines`)."""
     units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(len(joints))]
     return joint_lines(t, [(MODEL_STYLES.get(name, RESIDUAL_STYLE), y) for name, y in curves.items()],
                        [f"joint {j + 1}: {short(name)}" for j, name in enumerate(joints)],
-                       [f"{ylabel} [{u}]" for u in units], width, step=stride(len(t)))
+                       [f"{ylabel} [{u}]" for u in units], width,
+                       cols=3 if len(joints) >= 5 and width >= PAGE_WIDTH else 2,
+                       step=stride(len(t)))
 
 
 def identify_figures(root: StoredIdentification | xr.Dataset,
