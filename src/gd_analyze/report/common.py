@@ -11,6 +11,8 @@ the reports' output is the interface, not these functions.
 from __future__ import annotations
 
 import datetime
+import functools
+import re
 from collections.abc import Callable, Mapping, Sequence
 from importlib import resources
 from typing import TYPE_CHECKING, Any
@@ -48,7 +50,7 @@ __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
            "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr_text", "check", "table",
            "grid_shape", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
            "panel_markevery",
-           "gridspec", "render_template", "check_formats",
+           "gridspec", "render_template", "say", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
            "units_text", "units_said_once", "cost_table", "or_default", "joints_text"]
 
@@ -288,6 +290,52 @@ def render_template(name: str, context: Mapping[str, Any],
                              trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
     env.globals.update(env_globals or {})
     return env.get_template(name).render(**context)
+
+
+def say(name: str, /, **values: Any) -> str:
+    """A passage of the reports' fixed wording, its values filled in.
+
+    The passages are the Jinja2 macros of ``templates/wording.j2``: the prose lives there, the
+    code computes the values. The text is returned as it is, not escaped: it is escaped where
+    a report writes it (the HTML template's autoescape, the PDF's typesetter), as any other
+    text of a report, so a value read from a file (a robot's name) stays inert.
+
+    Parameters
+    ----------
+    name : str
+        The macro's name.
+    **values
+        Its arguments, by name.
+
+    Returns
+    -------
+    str
+        The passage, which may hold the marks of :mod:`gd_analyze.report.markup`.
+
+    Examples
+    --------
+    >>> say("plural", k=1, one="trajectory", many="trajectories")
+    'trajectory'
+    """
+    return str(getattr(_wording(), name)(**values))
+
+
+@functools.cache
+def _wording():
+    """The macros of ``templates/wording.j2``: a line break reads as one space, and as nothing
+    after a ``{% tag %}`` or a ``{# comment #}`` or before a line starting with one; ``~`` is a
+    no-break space (as in TeX)."""
+    import jinja2
+
+    text = resources.files("gd_analyze.report").joinpath("templates/wording.j2") \
+        .read_text(encoding="utf-8")
+    text = re.sub(r"(?<=%}|#})\n|[ \t]*\n(?={[%#])", "", text)
+    text = re.sub(r"[ \t]*\n", " ", text).replace("~", "\u00a0")
+    env = jinja2.Environment(undefined=jinja2.StrictUndefined, autoescape=False)
+    env.globals.update(sub=markup.sub, sup=markup.sup, code=markup.code,
+                       element=markup.element, tau=markup.tau)
+    env.filters.update(count=count)
+    return env.from_string(text).module
 
 
 def check_formats(formats: str | Sequence[str], allowed: tuple[str, ...]) -> list[str]:

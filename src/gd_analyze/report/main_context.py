@@ -33,6 +33,7 @@ from .common import (
     given,
     joints_text,
     prismatic_joints,
+    say,
     torque_units,
     units_said_once,
     units_text,
@@ -135,29 +136,18 @@ def _names(labels: list[str]) -> str:
 
 def _leads(arm: list[str], arm_t: list[str], wrist: list[str], wrist_r: list[str],
            n: int) -> str:
-    block = "elements " + element("D", "ij") + " and " + element("h", "i") + " of joints 1 to 3"
-    facts = (f"translation carries more than half of {len(arm_t)} of the {len(arm)} ranked "
-             f"{block}, rotation more than half of {len(wrist_r)} of the {len(wrist)} ranked "
-             f"elements of joints 4 to {n}")
     missed = [k for k in arm if k not in arm_t] + [k for k in wrist if k not in wrist_r]
-    if arm and wrist and not missed:
-        return ("The chapter concludes that translation dominates the arm block and rotation "
-                f"the wrist; this run agrees: {facts}.")
-    return ("The chapter concludes that translation dominates the arm block and rotation the "
-            f"wrist; this run agrees only in part: {facts}"
-            + (f" (the others: {_names(missed)})." if missed else "."))
+    return say("chapter_leads", arm=len(arm), arm_t=len(arm_t), wrist=len(wrist),
+               wrist_r=len(wrist_r), n=n, missed=_names(missed))
 
 
 def _agreement(grid: ArrayLike, agree: ArrayLike, compared: int, s: float) -> str:
     grid = np.asarray(grid, dtype=float)
     agree = np.asarray(agree, dtype=int)
     best = int(agree.max(initial=0))
-    at = [f"{v:g}" for v, a in zip(grid, agree) if a == best]
-    parts = [f"{a} at s = {v:g}" + (" (this report's)" if v == float(s) else "")
-             for v, a in zip(grid, agree)]
-    return (f"The chapter's classes come from reading plots by eye, so its threshold s is not "
-            f"known. Agreement with them out of {compared} elements, against s: "
-            + "; ".join(parts) + f". The most, {best}, at s = " + " and ".join(at) + ".")
+    return say("chapter_agreement", compared=compared, best=best,
+               at=[f"{v:g}" for v, a in zip(grid, agree) if a == best],
+               parts=[(a, f"{v:g}", v == float(s)) for v, a in zip(grid, agree)])
 
 
 def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: ArrayLike,
@@ -166,16 +156,11 @@ def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: Ar
     off = np.asarray(off, dtype=bool)
     shown = np.where(off | ~np.isfinite(err), 0.0, err)
     worst = int(np.argmax(shown))
-    per_joint = "joint " + ", ".join(f"{k + 1}: " + ("\u2261 0" if off[k] else pct(err[k]))
-                                     for k in range(err.size))
+    per_joint = ", ".join(f"{k + 1}: " + ("\u2261 0" if off[k] else pct(err[k]))
+                          for k in range(err.size))
     mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built, dtype=float))
-    return ("The chapter's own simplified model (each element of D and h reduced to the part "
-            "the chapter reads as dominant, gravity c unchanged), measured on "
-            f"{where}: its peak torque error is up to {pct(shown[worst])} of peak "
-            f"|{tau(str(worst + 1))}| at joint {worst + 1} ({per_joint}), against "
-            f"{pct(float(mine.max(initial=0.0)))} for the model this run built (Sec. 5). The "
-            "chapter's model carries no error bound: its error is what dropping the parts it "
-            "reads as dominated costs on this motion.")
+    return say("chapter_model", where=where, worst=pct(shown[worst]), joint=worst + 1,
+               per_joint=per_joint, mine=pct(float(mine.max(initial=0.0))))
 
 
 def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: ArrayLike,
@@ -301,15 +286,6 @@ def base_parameter_table(results: Results) -> dict[str, Any]:
                   widths=[1.0, 1.0, 0.7, 0.8, 0.8, 0.8])
 
 
-_BASE_NOTE = (
-    "Base parameters (Khalil & Kleinfinger 1987; Gautier 1990), per link j in its joint frame j "
-    "(origin on joint j's axis, z along it; the frame joint j moves, not the link frame of "
-    "Table 1.3): XXj, XYj, XZj, YZj, ZZj [kg m\u00b2] are entries of the link's inertia "
-    "tensor about that origin, MXj, MYj [kg m] its first moment m r, each with the parameters "
-    "that do not act on their own regrouped into it (for a revolute joint the link's YY, MZ "
-    "and m go to the links before it, XXj stands for XX \u2212 YY).")
-
-
 def base_note(results: Results) -> str:
     """The note defining the base parameters' names and frame, with an example of a first
     moment that is 0 in the joint frame while Table 1.3's centre of mass has that coordinate.
@@ -330,14 +306,13 @@ def base_note(results: Results) -> str:
     values = dict(zip(bp.names, bp.value))
     com = results.robot_record.link_com
     if not np.isfinite(results.robot_record.dh[1]).all():   # a URDF arm: its link frame is the body's
-        return _BASE_NOTE
+        return say("base_note")
     for j in range(com.shape[0]):
         for axis, c in (("X", 0), ("Y", 1)):
             if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
-                return (_BASE_NOTE + f" So M{axis}{j + 1} = 0 beside a centre of mass "
-                        f"{axis.lower()} of {_fmt(com[j, c])} m of link {j + 1} in Table 1.3, for "
-                        "the two frames differ.")
-    return _BASE_NOTE
+                return say("base_note", moment=f"M{axis}{j + 1}", axis=axis.lower(),
+                           com=_fmt(com[j, c]), link=j + 1)
+    return say("base_note")
 
 
 def zero_parameters(results: Results) -> str:
@@ -356,35 +331,10 @@ def zero_parameters(results: Results) -> str:
     bp = results.base_parameters
     if bp is None or bp.value is None:
         return ""
-    zero = [n for n, v in zip(bp.names, bp.value) if v == 0]
-    if not zero:
-        return ""
-    return (f" Of the {len(bp.names)} base parameters, {len(zero)} are 0 for this "
-            f"robot and are not listed: {', '.join(zero)}.")
+    return say("zero_parameters", all=len(bp.names),
+               zero=[n for n, v in zip(bp.names, bp.value) if v == 0])
 
 
-
-
-_D_TEXT = ("One panel per element " + _el("D", "ij") + " with i \u2264 j, in reading order "
-           "(" + _el("D", "11") + ", " + _el("D", "12") + ", \u2026), but for an element "
-           "zero in every part, which the note below the panels names: "
-           "translational part " + _el("D", "ij", "tran") + " ({tran}), rotational part "
-           + _el("D", "ij", "rot") + " ({rot}){armature} and " + _el("D", "ij")
-           + " = " + _el("D", "ij", "tran") + " + " + _el("D", "ij", "rot") + "{plus_arm}"
-           + " ({total}) "
-           "against time [{units}]. The title gives the element and its dominance class "
-           "(s = {s}, e = {e}).")
-#: How Fig. 2 draws each part (main_figures): marker and colour, or, for a long trajectory
-#: drawn as its envelope without markers, line style and colour.
-_D_PARTS = {False: {"tran": "\u25cb, blue", "rot": "\u00d7, orange", "total": "\u25b3, black",
-                    "arm": "\u25a1, dash-dot, pink"},
-            True: {"tran": "solid, blue", "rot": "dashed, orange", "total": "dotted, black",
-                   "arm": "dash-dot, pink"}}
-#: What the combined curve of a diagonal panel adds for an arm with drives (Table 1.4).
-_D_ARMATURE = {"armature": ", on a diagonal panel the drives' armature " + _el("D", "ii", "arm")
-                           + " ({arm}, drawn above the combined curve; a constant; " + _el("D", "ij", "arm")
-                           + " = 0 off the diagonal)",
-               "plus_arm": " + " + _el("D", "ij", "arm")}
 
 
 def armature_columns(results: Results, labels: Sequence[str],
@@ -458,12 +408,8 @@ def d_text(results: Results, s: float, e: float, enveloped: bool) -> str:
     str
         Marked up (:mod:`gd_analyze.report.markup`).
     """
-    parts = _D_PARTS[enveloped]
-    arm = ({"armature": _D_ARMATURE["armature"].replace("{arm}", parts["arm"]),
-            "plus_arm": _D_ARMATURE["plus_arm"]} if has_armature(results)
-           else {"armature": "", "plus_arm": ""})
-    return _D_TEXT.format(s=f"{s:g}", e=f"{e:g}", units=units_said_once(results, "D"),
-                          **{k: v for k, v in parts.items() if k != "arm"}, **arm)
+    return say("d_text", enveloped=enveloped, armature=has_armature(results), s=f"{s:g}",
+               e=f"{e:g}", units=units_said_once(results, "D"))
 
 
 
@@ -686,12 +632,7 @@ def _drives_context(results: Results | xr.Dataset, labels):
          for k, row in enumerate(_rows(range(1, n + 1), arm, fv, fc, *extra, peak_f))],
         align=["left"] + ["right"] * (5 + has_offset) + ["left"],
         widths=[0.5, 0.9, 0.9, 0.9, *([0.9] if has_offset else []), 0.9, 1, 2])
-    note = ("Drives: the armature (rotor inertia × gear ratio²) adds diag(armature) "
-            f"to D, a third part {element('D', '', 'arm')} beside {element('D', '', 'tran')} "
-            f"and {element('D', '', 'rot')}, counted on the rotational side of the "
-            f"translational share (Sec. 4); friction {tau('f')} = viscous "
-            "· q̇ + Coulomb · sign(q̇)" + (" + offset" if has_offset else "")
-            + " adds to τ. The simplified model keeps both whole.")
+    note = say("drives_note", offset=has_offset)
     return {"table": table, "note": note}
 
 
@@ -700,12 +641,7 @@ def _effort_text(rows):
     if not rows:
         return ""
     over = [str(r[0]) for r in rows if r.exceeded]
-    verdict = (f"{joints_text(over)} exceed"
-               f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} limit "
-               "along this trajectory" if over else "every joint stays within its limit")
-    return ("Peak |\u03c4| of the full model against the effort limits the robot gives "
-            "(the effort attribute of a URDF joint's limit, or the maximum joint torques and "
-            f"forces of a robot file): {verdict}.")
+    return say("effort_text", over=over, joints=joints_text(over))
 
 
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
@@ -989,27 +925,9 @@ def _report_context_base(results):
                      disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
                     if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
                     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
-    if applicable:
-        note = ("The chapter reads these classes by eye off Figs. 3.10 and 3.11 for its own "
-                "PUMA 560 trajectory of 31 set points; it notes that the simplification depends "
-                "on the trajectory, so disagreements are expected for another trajectory. The "
-                "chapter has no 'negligible' class: an element classed negligible here counts "
-                "as a disagreement.")
-    elif n == 6:
-        note = (f"The chapter reports dominance only for its PUMA 560 (Sec. 3.4.1); this robot "
-                f"({robot_name}) is another arm, so its classes are not compared with the "
-                "chapter's.")
-    else:
-        note = (f"The chapter reports dominance only for the 6-joint PUMA 560 (Sec. 3.4.1); "
-                f"this robot has {n} joint{'s' if n != 1 else ''}, so a comparison is not "
-                "meaningful and none is made.")
+    n_rigid = None
     if applicable and results.rigid_dominance is not None:
-        rigid = results.rigid_dominance
-        n_rigid = sum(r == c for r, c in zip(rigid, chapter) if c)
-        note += (f" With its drives (armature counted on the rotational side, friction in "
-                 f"τ) {n_agree} of {n_compared} classes agree with the chapter's; its "
-                 f"rigid links alone (drives left out, the chapter's model) {n_rigid} of "
-                 f"{n_compared}.")
+        n_rigid = sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
     conclusions = []
     ch = results.chapter
     if applicable and ch is not None:
@@ -1020,8 +938,8 @@ def _report_context_base(results):
             where=f"this trajectory ({count(N)} set points)")
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
-    if said_once:
-        note += f" Causes shared by several rows of Table 6.1, said once: {said_once}"
+    note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
+               n_compared=n_compared, n_rigid=n_rigid, shared=said_once)
     compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
                       "cause"],
                      compare_rows, align=["left"] * 4 + ["right", "left"],
@@ -1050,7 +968,7 @@ def _report_context_base(results):
     enveloped = N > ENVELOPE_THRESHOLD
     return {
         "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
-        "facts": facts, "intro": _INTRO.format(created=now.isoformat(), version=__version__),
+        "facts": facts, "intro": say("main_intro", created=now.isoformat(), version=__version__),
         "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
                              alike=alike_joints(results)),
         "D_text": d_text(results, s, e, enveloped), "armature": has_armature(results),
@@ -1067,23 +985,13 @@ def _report_context_base(results):
                     "n_agree": n_agree, "n_compared": n_compared},
         "provenance": _kv(prov),
         "formulations": formulations, "payload": payload,
-        "envelope_note": (f"The trajectory has {count(N)} set points: curves are drawn as their "
-                          f"min/max envelope over {count(ENVELOPE_COLUMNS)} equal time columns per panel, "
-                          "without markers (the report reads the stored series in chunks)."
+        "envelope_note": (say("envelope_note", N=N, columns=ENVELOPE_COLUMNS)
                           if enveloped else ""),
         "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
                      f"input {_text(results.trajectory.input_file)} sha256 {sha_in or '-'}; "
                      f"robot sha256 {_text(results.robot_record.sha256)}; s={s:g}; e={e:g}; "
                      f"verification {verified}"),
     }
-
-
-_INTRO = ("Generalized d'Alembert (G-D) equations of motion split the inertia matrix D and the "
-          "Coriolis and centrifugal vector h of \u03c4 = D(q) q\u0308 + h(q, q\u0307) + c(q) into "
-          "a translational and a rotational part (Fu, Gonzalez & Lee 1987, Robotics, Sec. 3.4, "
-          "Eqs. 3.4-24 to 3.4-28). This report ranks which part dominates each element along "
-          "the trajectory (Sec. 3.4.1, Figs. 3.10 and 3.11). Report created {created} by "
-          "gd-analyze {version} from the stored results; nothing was recomputed.")
 
 
 #: The verification's absolute floor (gd_analyze.dynamics.pinocchio.FLOOR_EPS machine
@@ -1134,11 +1042,9 @@ def _payload_context(results):
             for j, lab in enumerate(labels) if len(set(dom[:, j])) > 1]
     table = _table(["element"] + [f"{m:g} kg" for m in masses], rows,
                    colour_cols=list(range(1, len(masses) + 1)))
-    note = (f"The ranking was repeated with a rigid load of {masses[0]:g} to {masses[-1]:g} kg "
-            f"fixed to the last link (centre of mass {_text(results.provenance.payload_com)} m in link "
-            f"frame n). {len(rows)} of {len(labels)} elements change class with the load; "
-            "they are listed below. The load is merged into link n, so its parallel-axis "
-            "terms about the combined centre of mass count as rotational.")
+    note = say("payload_note", lightest=f"{masses[0]:g}", heaviest=f"{masses[-1]:g}",
+               com=_text(results.provenance.payload_com), changed=len(rows),
+               elements=len(labels))
     return {"applicable": True, "table": table, "note": note}
 
 
@@ -1172,16 +1078,7 @@ def _formulations_context(f):
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")
-    note = (f"Lagrange-Euler (Sec. 3.2), recursive Newton-Euler (Sec. 3.3; D, h and c by "
-            f"probing), the G-D equations (Sec. 3.4) and Pinocchio (crba, rnea) were run on "
-            f"{'?' if f.setpoints is None else f.setpoints} set points of the trajectory; the "
-            f"largest relative disagreement of any pair is {worst:.1e}. Operation counts are "
-            f"per set point, counted on the code as implemented (the G-D equations by the "
-            f"compiled and by the array engine), beside the formulas of Table 3.5, for "
-            f"n = {n}; pairs: L-E Lagrange-Euler, N-E Newton-Euler, G-D the G-D equations."
-            + prismatic_count_note(f.joint_types))
-    if not rows:                        # the counts stop short of this arm's n
-        note += (f" The counts are tabulated for n = {int(min(dof))} to {int(max(dof))} "
-                 f"only (the figure), not for this arm's n = {n}, so no table of them is "
-                 "given." if len(dof) else " No counts are stored.")
+    note = say("formulations_note", setpoints="?" if f.setpoints is None else f.setpoints,
+               worst=f"{worst:.1e}", n=n, prismatic=prismatic_count_note(f.joint_types),
+               counted=bool(rows), dof=[int(d) for d in dof])
     return {"applicable": True, "note": note, "agreement": agreement, "costs": costs}

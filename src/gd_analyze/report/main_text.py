@@ -12,15 +12,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..ranking.ranking import element_label, parse_element_label
+from .common import say
 from .figure_style import element_markevery
-from .markup import element, sub
+from .markup import element
 from .numbers import share as _share
 from .plot_data import ENVELOPE_COLUMNS
 
 if TYPE_CHECKING:
     import numpy.typing as npt
 
-__all__ = ["conclusion", "PLACEHOLDER_INERTIA", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
            "element_scale", "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -58,12 +59,6 @@ def element_scale(labels: Sequence[str], peak_total: npt.NDArray[np.float64],
     return out
 
 
-#: The simplified model's torque tau_s and the subscript s of its D, h and c, set as
-#: subscripts (8 pt at least in the PDF), not as Unicode's small letters.
-_S = sub("s")
-_TAU_S = "\u03c4" + _S
-
-
 def _math(label):
     """An element's label as mathematics, its index a subscript: "D12" -> D with 12 marked."""
 
@@ -78,11 +73,6 @@ def _names(labels):
     return ", ".join(map(_math, labels[:5])) + f" and {len(labels) - 5} more"
 
 
-def _are(k):
-    """The verb after "k of m elements": "1 of 6 elements is", "4 of 21 elements are"."""
-    return "is" if k == 1 else "are"
-
-
 def _qty(value, unit):
     """A number and its unit joined by no-break spaces ("4.9\u00a0N\u00a0m"): a line never
     ends between them (the Stanford summary broke "4.9 N" / "m")."""
@@ -92,13 +82,6 @@ def _qty(value, unit):
 def _qty_text(text, unit):
     """A number already formatted and its unit, joined as :func:`_qty` joins them."""
     return f"{text}\u00a0" + str(unit).replace(" ", "\u00a0")
-
-
-#: Said after "rotational effects lead" (or "both") for a robot whose inertia tensors are
-#: placeholders: the rotational parts are made of them.
-PLACEHOLDER_INERTIA = (" (on this robot's placeholder inertia tensors, stand-ins in its URDF, "
-                       "not measured values: the rotational parts are made of them, so this "
-                       "is not a finding about the real arm)")
 
 
 def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArray[np.bool_],
@@ -126,7 +109,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         instead of naming a largest error.
     placeholder_inertia : bool, optional
         The robot's inertia tensors are placeholders (``robot_placeholder_inertia``): where
-        rotational effects lead, the sentence says so (:data:`PLACEHOLDER_INERTIA`).
+        rotational effects lead, the sentence says so (the placeholder note of ``templates/wording.j2``).
     shown : dict of str to list of str, optional
         Those numbers as the error table prints them (``rel``, ``abs``, ``tau``), quoted so
         that the text and the table agree digit for digit; else 3 digits.
@@ -169,28 +152,22 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
     >>> text[text.index("; its code"):]
     "; its code costs 608 operations per set point (348 multiplications, 260 additions) against Newton-Euler's 1,212."
     """
-    parts = []
+    groups = []
     for name in ("D", "h"):
         ks = [k for k, lab in enumerate(labels) if lab.startswith(name)]
         by = {c: [labels[k] for k in ks if dominance[k] == c and not zero[k]] for c in _CLASSES}
         z = [labels[k] for k in ks if zero[k]]
-        lead = max(("translational", "rotational", "both"), key=lambda c: len(by[c]))
-        k_tran, k_both, k_negl = (len(by["translational"]), len(by["both"]),
-                                  len(by["negligible"]) + len(z))
-        text = (f"in {name}, {k_tran} of {len(ks)} elements {_are(k_tran)} dominated by "
-                f"the translational part ({_names(by['translational'])}), "
-                f"{len(by['rotational'])} by the rotational part ({_names(by['rotational'])}) "
-                f"and {k_both} need{'s' if k_both == 1 else ''} both")
-        if k_negl:
-            # "≡ 0" is kept with its last element on one line (no-break spaces)
-            text += (f"; {k_negl} {_are(k_negl)} negligible ("
-                     + "; ".join(filter(None, [", ".join(map(_math, by["negligible"])),
-                                               ", ".join(map(_math, z)) + "\u00a0\u2261\u00a00"
-                                               if z else ""]))
-                     + ")")
-        parts.append(text + f" \u2014 {lead} effects lead" + (
-            PLACEHOLDER_INERTIA if placeholder_inertia and lead != "translational" else ""))
-    first = "Dominance: " + "; ".join(parts) + "."
+        # "≡ 0" is kept with its last element on one line (no-break spaces)
+        negl = [", ".join(map(_math, by["negligible"])),
+                ", ".join(map(_math, z)) + "\u00a0\u2261\u00a00" if z else ""]
+        groups.append({"name": name, "m": len(ks), "k_tran": len(by["translational"]),
+                       "tran": _names(by["translational"]), "k_rot": len(by["rotational"]),
+                       "rot": _names(by["rotational"]), "k_both": len(by["both"]),
+                       "k_negl": len(by["negligible"]) + len(z),
+                       "negl": "; ".join(filter(None, negl)),
+                       "lead": max(("translational", "rotational", "both"),
+                                   key=lambda c: len(by[c]))})
+    first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
                             trajectory=where)
     rel = np.asarray(rel_peak, float)
@@ -208,44 +185,26 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
 
     noise = (np.zeros(rel.size, bool) if round_off is None
              else np.asarray(round_off, bool).reshape(rel.size))
-    if noise.all():
-        third = (f"Its open-loop torque error ({_TAU_S} \u2212 \u03c4 along the trajectory) "
-                 f"is \u2261\u00a00 at every joint (round-off only)")
-    else:
-        third = (f"Its largest open-loop torque error ({_TAU_S} \u2212 \u03c4 along the "
-                 f"trajectory) is {cell('rel', worst, 100 * rel[worst], '%')} of peak |\u03c4| "
-                 f"at joint {worst + 1} ({cell('abs', worst, abs_peak[worst], unit[worst])} of "
-                 f"{cell('tau', worst, tau_peak[worst], unit[worst])})")
     big = float(np.nanmax(tau_peak))
-    if tau_peak[worst] < 0.01 * big and not noise.all():
-        at = int(np.nanargmax(tau_peak))
-        third += (f": that joint's own torque is under 1\u00a0% of the largest joint's "
-                  f"({_qty(big, unit[at])}), so a tiny absolute error is a large share of it")
-    if others.size and np.any(np.isfinite(others)) and not noise.all():
+    within = None
+    if others.size and np.any(np.isfinite(others)):
         second_worst = int(np.nanargmax(np.where(np.arange(rel.size) == worst, -np.inf,
                                                  np.nan_to_num(rel, nan=-np.inf))))
-        third += ("; every other joint's is \u2261\u00a00"
-                  if np.delete(noise, worst).all() else
-                  f"; every other joint is within "
-                  f"{cell('rel', second_worst, 100 * rel[second_worst], '%')}")
+        within = cell('rel', second_worst, 100 * rel[second_worst], '%')
+    third = say("torque_error", round_off=noise.all(), joint=worst + 1,
+                rel=cell('rel', worst, 100 * rel[worst], '%'),
+                abs=cell('abs', worst, abs_peak[worst], unit[worst]),
+                peak=cell('tau', worst, tau_peak[worst], unit[worst]),
+                small=(_qty(big, unit[int(np.nanargmax(tau_peak))])
+                       if tau_peak[worst] < 0.01 * big else None),
+                others_zero=within is not None and np.delete(noise, worst).all(),
+                within=within)
     if cost is not None:
         mult, add, ne = cost[:3]
         exact, full = (tuple(cost[3:5]) + (None, None))[:2]
-        third += (f"; its code costs {mult + add:,} operations per set point ({mult:,} "
-                  f"multiplications, {add:,} additions)")
-        counts = [f"the {name} model's {v:,}" for name, v in (("exact", exact),
-                                                               ("full explicit", full)) if v]
-        if counts and ne:
-            third += (f" against {', '.join(counts)} and Newton-Euler's {ne:,}" if mult + add < ne
-                      else f" against {' and '.join(counts)}, more than Newton-Euler's "
-                      f"{ne:,}: for speed, use Newton-Euler")
-        elif ne:
-            third += (f" against Newton-Euler's {ne:,}" if mult + add < ne else
-                      f", more than Newton-Euler's {ne:,}: for speed, use Newton-Euler")
-        elif counts:
-            third += f" against {' and '.join(counts)}"
-        if len(cost) > 4 and not full:
-            third += " (the full explicit model was not derived, so it has no count)"
+        third += say("code_cost", mult=mult, add=add, ne=ne,
+                     models=[(name, v) for name, v in (("exact", exact), ("full explicit", full))
+                             if v], underived=len(cost) > 4 and not full)
     return first + " " + second + " " + third + "." + said
 
 
@@ -283,20 +242,11 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     """
     if recursive is not None:
         b, dropped, pairs = recursive
-        return (f"The simplified model is the recursive Newton-Euler model on {b} base "
-                f"parameters; of the {pairs} inertial, velocity and gravity parts of their "
-                f"contributions that act on {trajectory}, it drops "
-                + ("none: it is exact." if dropped == 0 else f"{dropped}"
-                   + (f", and {gravity}" if gravity else "") + "."))
+        return say("recursive_model", b=b, dropped=dropped, pairs=pairs, gravity=gravity,
+                   trajectory=trajectory)
     choice = list(choice or [])
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
-    terms = kept["tran"] + kept["rot"] + 2 * kept["both"]
-    return (f"The simplified model keeps only the translational part of {kept['tran']} "
-            f"element{'' if kept['tran'] == 1 else 's'}, only the rotational part of "
-            f"{kept['rot']}, both parts of "
-            f"{kept['both']} and drops {kept['none']}: it evaluates {terms} of the "
-            f"{2 * len(choice)} parts of D and h, and "
-            + (f"{gravity}." if gravity else "its rule's terms of c."))
+    return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity)
 
 
 def simplified_intro(form: str, gravity: str | None = None) -> str:
@@ -320,19 +270,7 @@ def simplified_intro(form: str, gravity: str | None = None) -> str:
     >>> plain(simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1])
     'it keeps c whole: τs = Ds q̈ + hs + c.'
     """
-    if form == "recursive":
-        return ("The simplified model is the customized recursive Newton-Euler model on the "
-                "base inertial parameters, with parts of the parameters' contributions left "
-                "out by the error budget (Sec. 5.3); it keeps the elements of D and h as sums "
-                "over the parameters, not element by element.")
-    head = ("The simplified model is the explicit G-D model (Eq. (3.4-24)) with parts of the "
-            "elements of D (mirrored to the lower triangle)")
-    if gravity and gravity.startswith("keeps c whole"):
-        return (head + " and h left out by its rule (Sec. 5.3); it keeps c whole: "
-                f"{_TAU_S} = D{_S} q\u0308 + h{_S} + c.")
-    what = ", h and terms of c" if gravity else ", h and c"
-    return (head + what + " left out by its rule (Sec. 5.3): "
-            f"{_TAU_S} = D{_S} q\u0308 + h{_S} + c{_S}.")
+    return say("simplified_intro", form=form, gravity=gravity)
 
 
 def gravity_clause(rule: str, gravity_dropped: Sequence[str] | None = None,
@@ -367,30 +305,15 @@ def gravity_clause(rule: str, gravity_dropped: Sequence[str] | None = None,
     >>> gravity_clause("chapter", c_bound=np.full(2, np.nan))
     'keeps c whole (the chapter rule drops parts of D and h only)'
     """
-    if gravity_dropped is not None:
-        names = list(gravity_dropped)
-        if not names:
-            return "keeps c whole (no gravity part is dropped)"
-        return (f"drops the gravity part of {len(names)} base parameter"
-                f"{'s' if len(names) > 1 else ''} from c ({', '.join(names)})")
-    if rule == "chapter":
-        return "keeps c whole (the chapter rule drops parts of D and h only)"
-    if c_bound is not None:
-        bound = np.asarray(c_bound, float)
-        if not np.all(np.isfinite(bound)):
+    bound = None
+    if c_bound is not None and gravity_dropped is None and rule != "chapter":
+        b = np.asarray(c_bound, float)
+        if not np.all(np.isfinite(b)):
             return None
-        if not np.any(bound > 0):
-            return "keeps c whole (no term of c is dropped)"
-        units = list(units) if units is not None else ["N m"] * bound.size
-        return ("drops terms of c, worth at most "
-                + ", ".join(f"{b:.3g} {units[i]} at joint {i + 1}" for i, b in enumerate(bound)
-                            if b > 0))
-    if c_terms is not None:
-        kept, full = c_terms
-        if kept >= full:
-            return "keeps c whole (no term of c is dropped)"
-        return f"drops {full - kept} of the {full} terms of c"
-    return None
+        units = list(units) if units is not None else ["N m"] * b.size
+        bound = [f"{v:.3g} {units[i]} at joint {i + 1}" for i, v in enumerate(b) if v > 0]
+    return say("gravity_clause", rule=rule, bound=bound, c_terms=c_terms,
+               dropped=None if gravity_dropped is None else list(gravity_dropped)) or None
 
 
 def disagreement_cause(label: str, ours: str, theirs: str, share: float, zero: bool, s: float,
@@ -420,32 +343,16 @@ def disagreement_cause(label: str, ours: str, theirs: str, share: float, zero: b
     """
     if ours == theirs:
         return ""
-    if zero:
-        return ("\u2261 0 for this arm in every part; the chapter reads a class off its plot "
-                "by eye")
-    if ours == "negligible":
-        return ("peak below e times its scale, so no part is ranked; the chapter has no "
-                "negligible class")
-    rot = 1.0 - share
-    if ours == "both":
-        if theirs == "translational":          # shares as fractions, as in Sec. 4
-            cause = f"rotational share {_share(rot)} > 1 \u2212 s = {1 - s:g}"
-        else:
-            cause = f"translational share {_share(share)} > 1 \u2212 s = {1 - s:g}"
-    elif ours == "translational":
-        cause = f"translational share {_share(share)} \u2265 s = {s:g}"
-    else:
-        cause = f"translational share {_share(share)} \u2264 1 \u2212 s = {1 - s:g}"
+    why = ""
     if label.startswith("h"):
-        cause += ("; h depends on q\u0307 and the chapter's trajectory is not given, so it is "
-                  "compared on another motion")
+        why = "h"
     elif robot_name.lower().replace(" ", "").replace("-", "") == "puma560":
-        cause += ("; these PUMA 560 parameters (Armstrong, Khatib & Burdick) and this "
-                  "trajectory are not the chapter's, which it does not give")
+        why = "puma560"
     elif robot_name == "puma560-drives" and label[1] == label[2] and \
             ours in ("rotational", "both") and theirs == "translational":
-        cause += "; the drive's armature counts on the rotational side"
-    return cause
+        why = "drives"
+    return say("disagreement_cause", ours=ours, theirs=theirs, zero=zero, tran=_share(share),
+               rot=_share(1.0 - share), s=f"{s:g}", rest=f"{1 - s:g}", why=why)
 
 
 def shared_causes(causes: Sequence[str]) -> tuple[list[str], str]:
@@ -517,47 +424,11 @@ def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] |
         :func:`gd_analyze.report.main_context.report_context` does.
     """
 
-    if enveloped:
-        how = (f"The {N:,} set points are drawn as their min/max envelope over "
-               f"{ENVELOPE_COLUMNS:,} equal time columns, without markers; lines: translational solid, rotational dashed, "
-               "combined dotted")
-    else:
-        k = element_markevery(N, 3)
-        where = (f"Markers at each of the {N:,} set points" if k == 1 else
-                 f"Lines through all {N:,} set points, a marker at one set point in {k} "
-                 f"(at most {-(-N // k)} per line, staggered)")
-        how = (f"{where}: translational \u25cb (solid line), rotational \u00d7 (dashed), "
-               "combined \u25b3 (dotted, thin, drawn first)")
+    k = element_markevery(N, 3)
     u = {"joints": "deg, deg/s, deg/s\u00b2", "D": "kg m\u00b2", "tau": "N m", **(units or {})}
-    # what Fig. 1 draws (main_figures.joints_figure): markers only when not enveloped
-    joint_lines = ("each joint in its own colour and line style, without markers: the min/max "
-                   f"envelope of its {N:,} set points over {ENVELOPE_COLUMNS:,} equal time columns"
-                   if enveloped else "each joint in its own colour, line style and marker")
-    return {
-        "joints": "Joint positions q, velocities q\u0307 and accelerations q\u0308 against time "
-                  f"[{u['joints']}], {joint_lines}; the dataset stores SI units (rad or m)."
-                  + alike_sentence(alike),
-        "D": f"Elements {element('D', 'ij')} (i \u2264 j) of the inertia matrix against time "
-             f"[{u['D']}], "
-             f"split into their translational and rotational parts (analogue of Fig. 3.10). "
-             f"{how}. Panel title: element, written D(i,j) for {element('D', 'ij')}, and its "
-             f"class (s = {s}, e = {e}), in the class's "
-             "colour (key below the panels); an element that is zero in every part (\u2261 0), "
-             "whose share is not defined, has no panel: the note below names it.",
-        "h": f"Coriolis and centrifugal elements {element('h', 'i')} against time "
-             f"[{u['tau']}] (analogue of "
-             "Fig. 3.11), "
-             f"on panels of the size of those of D, titled h(i). {how}.",
-        "torque": "Joint torques of the full model \u03c4 (black, solid) and the simplified "
-                  f"model {_TAU_S} (green, dashed) against time [{u['tau']}] (joint i's axis: "
-                  "\u03c4(i)); the title gives the "
-                  "peak error in % of the joint's peak |\u03c4|.",
-        "payload": "Translational share and class of each element against the load mass "
-                   "(top), and peak joint torques (bottom).",
-        "formulations": "Multiplications and additions per set point against the number of "
-                        "joints n (logarithmic vertical axis): counted on the code as implemented (solid) and "
-                        "the formulas of Table 3.5 (dashed).",
-    }
+    return {key: say("main_caption", key=key, enveloped=enveloped, N=N, k=k, most=-(-N // k),
+                     columns=ENVELOPE_COLUMNS, s=s, e=e, u=u, alike=alike)
+            for key in ("joints", "D", "h", "torque", "payload", "formulations")}
 
 
 def alike_sentence(groups: Sequence[Sequence[int]]) -> str:
@@ -580,12 +451,7 @@ def alike_sentence(groups: Sequence[Sequence[int]]) -> str:
     >>> alike_sentence([[1, 3, 6]])
     ' Joints 1, 3 and 6 move alike: their curves coincide.'
     """
-    out = ""
-    for group in groups:
-        names = [str(j) for j in group]
-        out += (f" Joints {', '.join(names[:-1])} and {names[-1]} move alike: their curves "
-                "coincide.")
-    return out
+    return say("alike_sentence", groups=groups)
 
 
 def prismatic_count_note(types: str) -> str:
@@ -610,11 +476,4 @@ def prismatic_count_note(types: str) -> str:
     >>> prismatic_count_note("RRPRRR")[:40]
     " The counts are this arm's: joint 3 is p"
     """
-    pris = [str(i + 1) for i, t in enumerate(types) if t == "P"]
-    if not pris:
-        return ""
-    which = (f"joint {pris[0]} is" if len(pris) == 1
-             else f"joints {', '.join(pris[:-1])} and {pris[-1]} are")
-    return (f" The counts are this arm's: {which} prismatic, while Table 3.5 assumes n "
-            "revolute joints (a prismatic joint has a constant rotation and no joint rate in "
-            "its angular velocity, so its N-E step is cheaper).")
+    return say("prismatic_count_note", joints=[i + 1 for i, t in enumerate(types) if t == "P"])
