@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from ..ranking.ranking import ROUND_OFF_CLAUSE
 from ..store.schema import EvaluatorCosts, strings
 from . import markup
 from .figure_style import (
@@ -333,7 +334,7 @@ def _wording():
     text = re.sub(r"[ \t]*\n", " ", text).replace("~", "\u00a0")
     env = jinja2.Environment(undefined=jinja2.StrictUndefined, autoescape=False)
     env.globals.update(sub=markup.sub, sup=markup.sup, code=markup.code,
-                       element=markup.element, tau=markup.tau)
+                       element=markup.element, tau=markup.tau, round_off=ROUND_OFF_CLAUSE)
     env.filters.update(count=count)
     return env.from_string(text).module
 

@@ -17,10 +17,8 @@ import numpy as np
 from ..store.schema import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
-from .common import joints_text
+from .common import joints_text, say
 from .markup import scope as scope_markup
-from .markup import sub as _sub
-from .simplified_section import REGION_SCALE
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -31,13 +29,8 @@ if TYPE_CHECKING:
 def _no_floor(results):
     """The torque floor 0, said with what each joint's scale s_i then is: its peak on the
     trajectory, or over the region (the rigid links' alone where the robot has drives)."""
-    if results.guarantee_kind != "region":
-        return "none: each joint's scale s" + _sub("i") + " is its own peak |\u03c4" + \
-            _sub("i") + "| on this trajectory"
-    return ("none: each joint's scale "
-            + REGION_SCALE[results.robot_record.has_drives].replace(" = ", " is ", 1)
-            + " (positions, velocities and accelerations within the model's limits), not its "
-            "peak on this trajectory")
+    return say("no_floor", region=results.guarantee_kind == "region",
+               drives=results.robot_record.has_drives)
 
 __all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row"]
 

@@ -19,15 +19,13 @@ import numpy as np
 
 from ..ranking.ranking import (
     ROUND_OFF,
-    ROUND_OFF_CLAUSE,
     arm_scales,
     is_round_off,
     joint_units_text,
 )
 from ..store.stored_simplified import InertiaCheck, StoredSimplified
-from .common import count, fmt, pct, pct_column, table, torque_units
+from .common import count, fmt, pct, pct_column, say, table, torque_units
 from .figure_style import grid_boxes, markevery, new_figure
-from .markup import element as _el
 from .markup import powers, sub
 from .markup import scope as scope_markup
 from .plot_data import PlotData
@@ -44,11 +42,11 @@ if TYPE_CHECKING:
     from ..store.results_view import Results
     from .plot_data import PlotData
 
-__all__ = ["BUDGET_CAPTIONS", "REGION_BUDGET_CAPTION", "JOINT_SUM_CLAUSE", "budget_caption",
+__all__ = ["BUDGET_CAPTIONS", "budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
            "fig_cost_ladder", "budget_makers", "contribution_series", "simplified_context",
-           "error_figure", "SIMPLIFIED_CAPTION", "ROUND_OFF", "simplified_caption",
-           "region_pruning", "guarantee_kind", "BOUND_WHERE", "has_drives", "REGION_SCALE"]
+           "error_figure", "ROUND_OFF", "simplified_caption",
+           "region_pruning", "guarantee_kind", "has_drives"]
 
 #: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
 #: style, marker (told apart in greyscale by line style and marker).
@@ -69,25 +67,10 @@ COLUMN = 3.5
 #: (8 pt at least in the PDF). The figures write no subscript (Unicode's small letters print
 #: under 8 pt): s for s_i and delta tau for tau_s - tau, which the captions define.
 _TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
-_WRITTEN = f" The figure writes s for {_S_I} and \u0394\u03c4 for {_TAU_S} \u2212 \u03c4."
 
 #: Captions of the figures of this module, by figure key.
-BUDGET_CAPTIONS = {
-    "contributions": "What the error budget acts on: the contributions of the G-D equations "
-                     "to each joint's torque against time, Dᵗʳᵃⁿ q̈, "
-                     "Dʳᵒᵗ q̈, hᵗʳᵃⁿ, hʳᵒᵗ "
-                     "and c, whose sum is τ (Eq. (3.4-24)), with the simplified model's "
-                     f"torque {_TAU_S}.",
-    "budget": "The error budget per joint: the peaks of the dropped terms on this trajectory, "
-              f"stacked by where they sit (their sum bounds |{_TAU_S} − τ| there), against the "
-              f"budget ε {_S_I}, and the measured peak error, each relative to the joint's scale "
-              f"{_S_I}." + _WRITTEN,
-    "cost_ladder": "Cost against accuracy: operations per set point of each model against its "
-                   f"worst peak error relative to {_S_I}, the deployed model's scale, for every "
-                   "point (filled: measured on this trajectory or exact; open: a bound, "
-                   f"turned to {_S_I} where its model has another scale, or a published figure, "
-                   "which is on its authors' own scale)." + _WRITTEN,
-}
+BUDGET_CAPTIONS = {key: say("budget_caption", key=key)
+                   for key in ("contributions", "budget", "cost_ladder")}
 
 
 def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.NDArray[np.float64]]:
@@ -242,15 +225,6 @@ def budget_parts(ds: StoredSimplified | xr.Dataset) -> dict[str, npt.NDArray[np.
     return {k: np.nan_to_num(v) / safe for k, v in _stored_parts(s).items()}
 
 
-#: The error-budget figure's caption where the model's bounds are proved over the region.
-REGION_BUDGET_CAPTION = (
-    "The error budget per joint: the bounds of the dropped terms proved over the region "
-    "(interval arithmetic rounded outward), stacked by where they sit (their sum bounds "
-    f"|{_TAU_S} − τ| at every state of the region), against the budget ε {_S_I}, and the "
-    f"peak error measured on this trajectory, each relative to the joint's scale {_S_I}."
-    + _WRITTEN)
-
-
 def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
     """The error-budget figure's caption, from the kind of the model's guarantee.
 
@@ -262,22 +236,15 @@ def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
     Returns
     -------
     str
-        :data:`REGION_BUDGET_CAPTION` for a bound proved over the region (the bars are proved
-        bounds), else ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
+        For a bound proved over the region (the bars are proved bounds, and a triangle marks
+        a joint's bound proved on the dropped terms' sum: :func:`joint_sum_lower`), else
+        ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
     """
     s = StoredSimplified.of(ds)
     if s.guarantee_kind != "region":
         return BUDGET_CAPTIONS["budget"]
-    if joint_sum_lower(s).any():
-        return REGION_BUDGET_CAPTION[:-1] + JOINT_SUM_CLAUSE
-    return REGION_BUDGET_CAPTION
-
-
-#: What the error-budget figure's caption adds where a joint's bound was proved on the
-#: dropped terms' sum at the same state, below the sum of their own bounds.
-JOINT_SUM_CLAUSE = ("; a triangle (\u25bc) marks a joint whose bound, proved on the dropped "
-                    "terms' sum at the same state (their enclosures added on boxes of the "
-                    "region), is below the bars' sum: that bound is the model's.")
+    return say("budget_caption", key="budget", region=True,
+               joint_sum=bool(joint_sum_lower(s).any()))
 
 
 def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
@@ -386,16 +353,9 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
                    key=lambda p: (not p[1].startswith("bound"), not p[1].startswith("budget")))
     fig.legend(*zip(*pairs), loc="upper center", ncol=2 if width >= _PAGE else 1, frameon=False, fontsize=7,
                handlelength=2.0, columnspacing=1.2, bbox_to_anchor=(0.5, 1 - 0.04 / H))
-    units = sorted(set(s.tau_units))
-    what = ("bounds proved over the region" if s.guarantee_kind == "region"
-            else "peaks on this trajectory")
-    note = (f"s: each joint's scale ({', '.join(units)}); the bound on |\u0394\u03c4| "
-            f"is the sum of the dropped terms' {what}"
-            + (", or, where lower (\u25bc), the bound proved on their sum at the same state."
-               if lower.any() else "."))
-    none = [str(i + 1) for i in range(n) if bottom[i] == 0]
-    if listed and none:
-        note += f" Nothing dropped at joint{'s' * (len(none) > 1)} {', '.join(none)}."
+    note = say("budget_note", units=sorted(set(s.tau_units)), lower=lower.any(),
+               region=s.guarantee_kind == "region",
+               quiet=[i + 1 for i in range(n) if bottom[i] == 0] if listed else [])
     note = textwrap.fill(note, int((width - 0.2) / 0.058))
     fig.text(0.1 / width, 0.04 / H, note, fontsize=7, va="bottom", color="0.25")
     # the panel raised above the note, its tick labels and axis label at their printed size
@@ -639,14 +599,6 @@ def budget_makers(results: Results, data: PlotData) -> dict[str, Callable[..., F
     return makers
 
 
-#: Caption of the torque-error figure; ``{units}`` as :func:`simplified_caption` fills it.
-SIMPLIFIED_CAPTION = ("Torque error of the simplified model, \u0394\u03c4 = \u03c4" + sub("s")
-                      + " \u2212 \u03c4 [{units}], "
-                      "per joint against time, with the bound \u00b1 (dotted), {where}, "
-                      + ROUND_OFF_CLAUSE + ". The joints whose model "
-                      "drops nothing (bound 0) get no panel: the note below names them; their "
-                      "difference is floating-point round-off.")
-
 def simplified_caption(ds: StoredSimplified | xr.Dataset) -> str:
     """The caption of :func:`error_figure`, with the units of each joint's torque.
 
@@ -659,25 +611,12 @@ def simplified_caption(ds: StoredSimplified | xr.Dataset) -> str:
     Returns
     -------
     str
-        :data:`SIMPLIFIED_CAPTION` in N m, or N m and N for an arm with a prismatic joint,
-        saying where the bound holds from the stored guarantee's kind (:data:`BOUND_WHERE`).
+        In N m, or N m and N for an arm with a prismatic joint, saying where the bound holds
+        from the stored guarantee's kind.
     """
     s = StoredSimplified.of(ds)
-    where = BOUND_WHERE["region" if s.guarantee_kind == "region" else "trajectory"]
-    return SIMPLIFIED_CAPTION.format(units=joint_units_text(s.tau_units), where=where)
-
-
-#: Where the figure's bound holds, by the kind of the model's guarantee.
-BOUND_WHERE = {"region": "proved at every state of the region (positions, velocities and "
-                         "accelerations within the model's limits), so on this trajectory "
-                         "wherever it lies in the region",
-               "trajectory": "guaranteed on this trajectory only"}
-
-
-_EPS_S = "\u03b5\u00b7" + _S_I
-_TAU_I, _TAU_J = "\u03c4" + sub("i"), "\u03c4" + sub("j")
-_D_IJ = _el("D", "ij")
-_QDD_I, _QDD_J = "q\u0308" + sub("i"), "q\u0308" + sub("j")
+    return say("simplified_caption", units=joint_units_text(s.tau_units),
+               region=s.guarantee_kind == "region")
 
 
 def _int(v):
@@ -714,25 +653,11 @@ def inertia_check_text(check: InertiaCheck | Mapping[str, Any] | None) -> str:
         check = InertiaCheck.from_attrs(check)
     if check is None:
         return ""
-    d_s = "D" + sub("s")
-    where = ("over the joint-limit region" if check.where == "region" else
-             "over the trajectory's bounding box of joint positions")
-    if check.proved:
-        text = (f" The inertia matrix of the model, {d_s}, is proved positive definite {where} "
-                f"(interval arithmetic rounded outward): its smallest eigenvalue is at least "
-                f"{fmt(check.lower_bound, 3)}, "
-                f"{fmt(check.ratio, 3)} of the least smallest eigenvalue of D "
-                "over the same positions.")
-        if check.restored:
-            text += (f" To prove it, these base parameters were kept with all parts: "
-                     f"{check.restored}.")
-        return text
-    sampled = check.sampled_min_eigenvalue
-    return (f" The inertia matrix of the model, {d_s}, is not proved positive definite: "
-            f"{scope_markup(check.statement)}. Its smallest eigenvalue at the "
-            f"{count(check.samples)} sampled positions is {fmt(sampled, 3)}"
-            + (" (sampled, not proved between the samples)." if sampled > 0 else
-               ": forward dynamics with it is not safe there."))
+    return say("inertia_check", proved=check.proved, region=check.where == "region",
+               lower=fmt(check.lower_bound, 3), ratio=fmt(check.ratio, 3),
+               restored=check.restored, statement=scope_markup(check.statement),
+               samples=check.samples, sampled=fmt(check.sampled_min_eigenvalue, 3),
+               positive=check.sampled_min_eigenvalue > 0)
 
 
 def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
@@ -762,38 +687,19 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
     form = s.form
     if form == "recursive":
         text = _recursive_text(s, eps, floor)
-    elif rule == "budget":
-        text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
-                + (f", torque floor {floor:g} N m" if floor else "")
-                + ". Every part of an element and every term of the explicit model contributes "
-                f"to the joint torques ({_D_IJ} {_QDD_J} to {_TAU_I} and {_D_IJ} "
-                f"{_QDD_I} to {_TAU_J}, {_el('h', 'i')} to {_TAU_I}, {_el('c', 'i')} to "
-                f"{_TAU_I}); terms are dropped in order of increasing peak contribution while, "
-                f"for every joint, the dropped peaks sum to at most {_EPS_S} ({_S_I} = peak "
-                f"|{_TAU_I}|, raised to the floor). By the triangle "
-                "inequality the error on this trajectory is within that sum: "
-                + _scope(s))
     else:
-        text = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
-                "dominant part, no term is pruned; there is no error bound.")
-    if form != "recursive":
-        text += (f" Kept: {count(s.terms_kept)} terms of the explicit "
-                 f"model; {dropped} of {2 * len(choice)} element parts dropped as whole parts.")
-    text += (f" The emitted code costs {count(s.multiplications)} "
-             f"multiplications and {count(s.additions)} additions per set "
-             f"point ({count(s.sin)} sin, {count(s.cos)} "
-             "cos).")
+        text = say("explicit_rule", rule=rule, eps=f"{eps:g}", floor=f"{floor:g}" if floor else "",
+                   scope=_scope(s))
+        text += say("model_kept", terms=s.terms_kept, dropped=dropped, parts=2 * len(choice))
+    text += say("emitted_cost", mult=s.multiplications, add=s.additions, sin=s.sin, cos=s.cos)
     text += inertia_check_text(s.inertia_check)
     other = s.other_rule
     if other and s.other_rule_error_relative_peak is not None:
         rel = np.asarray(s.other_rule_error_relative_peak, float)
         rel = rel[np.isfinite(rel)]     # a joint without torque has no relative error
-        worst = (f"worst error {pct(rel.max())} of peak |\u03c4|" if rel.size else
-                 "no relative error (no joint has torque on this trajectory)")
-        text += (f" Side by side, the {other} rule's model costs "
-                 f"{count(s.other_rule_multiplications)} multiplications and "
-                 f"{count(s.other_rule_additions)} additions, {worst}."
-                 + _dearer_than_full(s, other))
+        text += say("other_rule", rule=other, mult=s.other_rule_multiplications,
+                    add=s.other_rule_additions, worst=pct(rel.max()) if rel.size else None) \
+            + _dearer_than_full(s, other)
     measured = np.asarray(s.tau_error_peak, float)
     parts = ("from D", "from h", "from c") if form != "recursive" else (
         "inertial (D)", "velocity (h)", "gravity (c)", "whole parameters")
@@ -913,47 +819,18 @@ def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | No
                  "qdd max"], rows, align=["left", "left", "left", "right", "right", "left"])
     lines = r["lines"]
     note = lines[-1].partition(" (")[2].partition(")")[0] if "(assumed" in lines[-1] else ""
-    text = (f"The region: {s.region_source}"
-            + (f"; acceleration limits {note}, not given by the robot" if note else "")
-            + (f"; clipped to the robot's limits: {s.region_notes}"
-               if s.region_notes else "") + ".")
-    if r["covered"] is True:
-        text += " Every set point of this trajectory lies in the region."
-    elif r["covered"] is False:
-        text += (f" This trajectory leaves the region: {r['coverage']}. "
-                 + ("The region's guarantee holds in the region, not on this trajectory: "
-                    "it does not cover it." if s.guarantee_kind == "region" else ""))
+    text = say("region_text", source=s.region_source, assumed=note, notes=s.region_notes,
+               covered=r["covered"], coverage=r["coverage"], region=s.guarantee_kind == "region")
     return tab, powers(text)               # s^-1, deg/s^2 as superscripts
 
 
 def _recursive_text(s, eps, floor):
     """The rule of a model of the recursive form, what it keeps and its guarantee."""
-    b = s.base_parameters
-    dropped = s.pairs_dropped
-    pairs = s.pairs
-    text = (f"Form: the customized recursive Newton-Euler model (Algorithm 3.1) on the arm's "
-            f"{b} base inertial parameters (Khalil & Kleinfinger 1987; Gautier 1990), with the "
-            "numeric parameters as constants, 0 and \u00b11 folded and common subexpressions "
-            "shared. The torque is linear in the base parameters, \u03c4 = Y" + sub("b")
-            + " \u03b2; each parameter's contribution splits into an inertial part (in "
-            "D q\u0308), a velocity part (in h) and a gravity part (in c). ")
-    if dropped == 0:
-        return text + (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: of the {pairs} (parameter, "
-                       "part) pairs that contribute, none is dropped; the model is exact (its "
-                       "difference from the full torque is round-off)."
-                       + _scope(s, exact=True))
-    rule = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}"
-            + (f", torque floor {floor:g} N m" if floor else ""))
-    if s.guarantee_kind == "region":
-        return text + rule + ". " + region_pruning(pairs, dropped, drives=s.has_drives) \
-            + _scope(s, exact=True)
-    return text + (rule + f". Of the {pairs} (parameter, part) pairs that contribute on this "
-                   f"trajectory, {dropped} are dropped (alone or with their whole parameter), "
-                   "in order of "
-                   "increasing peak contribution, while for every joint the dropped peaks sum "
-                   f"to at most {_EPS_S} ({_S_I} = peak |{_TAU_I}|, raised to the "
-                   "floor); by the triangle inequality the error on this trajectory is within "
-                   "that sum: " + _scope(s))
+    exact = s.pairs_dropped == 0 or s.guarantee_kind == "region"
+    return say("recursive_rule", b=s.base_parameters, eps=f"{eps:g}",
+               floor=f"{floor:g}" if floor else "", pairs=s.pairs, dropped=s.pairs_dropped,
+               region=s.guarantee_kind == "region", drives=s.has_drives,
+               scope=_scope(s, exact=exact))
 
 
 def has_drives(ds: StoredSimplified | xr.Dataset) -> bool:
@@ -974,14 +851,6 @@ def has_drives(ds: StoredSimplified | xr.Dataset) -> bool:
     return StoredSimplified.of(ds).has_drives
 
 
-#: What s_i is over the region, by whether the robot has drives: the region's scale is the
-#: rigid links' torque (the base regressor's; armature and friction are not in it).
-REGION_SCALE = {False: f"{_S_I} = the largest |{_TAU_I}| found over the region",
-                True: f"{_S_I} = the largest |{_TAU_I}| of the rigid links alone found over "
-                      "the region, the drives' armature and friction left out (the model keeps "
-                      f"them whole; {_TAU_I} in the tables and figures includes them)"}
-
-
 def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False) -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
@@ -1000,13 +869,7 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
     str
         One sentence.
     """
-    return (f"Of the {pairs} (parameter, part) pairs that contribute over the joint-limit "
-            f"region, {dropped} are dropped (alone or with their whole parameter), in order of "
-            "increasing proved bound, while for every joint a bound of the change they make "
-            f"together, proved over the region, stays within {_EPS_S} ({REGION_SCALE[drives]}, "
-            "raised to the floor): the sum of their own bounds (triangle inequality) or, where "
-            "lower, that of their sum at the same state (enclosures added on boxes, branch and "
-            f"bound). The error at every state of the region is within that bound, {bound}.")
+    return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives)
 
 
 def guarantee_kind(ds: StoredSimplified | xr.Dataset) -> str:
@@ -1030,12 +893,8 @@ def _scope(s, exact=False):
     guarantee as stored from the model built (:func:`gd_analyze.store.datasets.stored_guarantee`);
     an older dataset's sentence where none is stored."""
     g = s.guarantee
-    if g is None:
-        return "" if exact else (f"the bound below is guaranteed {ROUND_OFF_CLAUSE}, on this "
-                                 "trajectory only.")
-    said = f"The model's guarantee: {scope_markup(g['statement'])}."
-    return " " + said if exact else (f"the bound below is guaranteed on this trajectory, "
-                                     f"{ROUND_OFF_CLAUSE}. {said}")
+    return say("bound_scope", statement=None if g is None else scope_markup(g["statement"]),
+               exact=exact)
 
 
 def _dearer_than_full(s, other):
@@ -1049,14 +908,8 @@ def _dearer_than_full(s, other):
     if full is None or mine <= full:
         return ""
     fh, fc, oh, oc = s.structure
-    return (f" It costs more than the full explicit model ({mine:,} against {int(full):,} "
-            f"operations) although it keeps {oh:,} of the full model's {fh:,} harmonic terms: "
-            "where an element keeps one part, its coefficients are that part's, not the sum "
-            f"of both; the full model's {fc:,} distinct coefficient magnitudes become {oc:,}, so "
-            "the code generator's factoring (a x + a y = a (x + y), and a cos(A + B) + b "
-            "cos(A \u2212 B) in one product where a = \u00b1b) finds less to share."
-            + (" The budget rule falls back to the full model in that case; the chapter rule "
-               "has no such fallback." if other == "chapter" else ""))
+    return say("dearer_than_full", mine=mine, full=int(full), fh=fh, fc=fc, oh=oh, oc=oc,
+               chapter=other == "chapter")
 
 
 def _round_off(diff, bound, scale, arm_scale=None):
@@ -1124,18 +977,12 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     h = 1.0 if column else 1.6
     note = ""
     if quiet:                       # wrapped for 8.5 pt (the least printed size's text)
-        import textwrap
-
         peaks = "; ".join(
             f"{i + 1}: "
             + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", "\u2212") + f" {units[i]}"
             for i in quiet)
-        what = ("joint " if len(quiet) == 1 else "joints ") + ", ".join(
-            str(i + 1) for i in quiet)
-        note = textwrap.fill(
-            f"Nothing dropped for {what} (bound 0): \u0394\u03c4 = 0 up to round-off, "
-            f"not drawn (peak |\u0394\u03c4|, joint {peaks}).",
-            int((W - 0.3) / 0.075))
+        note = textwrap.fill(say("nothing_dropped", joints=[i + 1 for i in quiet], peaks=peaks),
+                             int((W - 0.3) / 0.075))
     note_h = 0.12 + 0.16 * (note.count("\n") + 1) if quiet else 0.0
     H = (top + rows * h + (rows - 1) * hgap + bottom if shown else 0.1) + note_h
     w = (W - left - right - (cols - 1) * gap) / cols
