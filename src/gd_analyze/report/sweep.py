@@ -39,7 +39,6 @@ from .._version import VERSION as __version__
 from ..ranking.ranking import (
     CLASSES,
     ROUND_OFF,
-    ROUND_OFF_CLAUSE,
     arm_scales,
     element_label,
     is_round_off,
@@ -58,6 +57,7 @@ from .common import (
     fmt_column,
     joints_text,
     pct_column,
+    say,
     torque_units,
     units_said_once,
     utc_now,
@@ -73,8 +73,6 @@ from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
 from .main_provenance import gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
-from .markup import ROT as _ROT
-from .markup import TRAN as _TRAN
 from .markup import element as _el
 from .markup import label as _math
 from .markup import scope as scope_markup
@@ -249,19 +247,8 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
 
 def _key_text(w, K):
     s, e = _thresholds(w)
-    return (
-        f"Box: translational share \u03a3|{_TRAN}| / (\u03a3|{_TRAN}| + \u03a3|{_ROT}|) of the "
-        f"element X over the {K} trajectories (box: quartiles; whiskers: min and max; coloured bar: median). "
-        f"Dashed lines: s = {s:g} and 1 \u2212 s; blue band: translational, orange band: "
-        f"rotational. Title: element and the part the merged model keeps (keeps tran, "
-        f"keeps rot, keeps both, or dropped"
-        + ("; pruned: changed by dropped base-parameter parts" if "pruned" in
-           w.merged.choice else "") + "). Bottom: fraction of "
-        f"trajectories per class (T translational, R rotational, B both, N negligible, "
-        f"e = {e:g}). \u2261 0: round-off ({ROUND_OFF_WORDS}) in every part on every "
-        f"trajectory, no share drawn; on the trajectories where an element is round-off its "
-        f"share is left out of the box. Grey dots: the share on each trajectory, one dot per "
-        f"trajectory (up to 60).")
+    return say("sweep_key", K=K, s=f"{s:g}", e=f"{e:g}", pruned="pruned" in w.merged.choice,
+               round_off=ROUND_OFF_WORDS)
 
 
 #: Most joints whose D figure keeps the upper-triangle layout of Fig. 3.10 across a page
@@ -675,24 +662,15 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
     """
     m = MergedModel.of(ds)
     if m.region:
-        said = m.guarantee
-        return (f"is guaranteed {scope_markup(said['statement'])} ({_SI} = the largest "  # type: ignore[index]  # a merged model's
-                f"|{_TAU_I}| found over the region"
-                f"{f', at least {_floor(m)}' if m.torque_floor > 0 else ''}); "
-                f"{_bound_clause(m)}{coverage(m)}")
-    claim = (f"is guaranteed within \u03b5\u00b7{_SI} (\u03b5 = {_eps(m)}), {ROUND_OFF_CLAUSE}, "
-             "on every swept "
-             f"trajectory ({_SI} = max(that trajectory's peak |{_TAU_I}|, "
-             f"{_floor(m)})); {_bound_clause(m)}its largest "
-             f"measured peak error is "
-             f"{_pct(m.worst_scaled_error)} of {_SI}")
+        return say("merged_claim", region=True,
+                   floor=_floor(m) if m.torque_floor > 0 else "", bound=_bound_clause(m),
+                   statement=scope_markup(m.guarantee["statement"]),  # type: ignore[index]  # a merged model's
+                   coverage=coverage(m))
     beyond = m.beyond_floor
-    if beyond is not None:
-        rel, j, over = beyond
-        claim += (f". Relative to peak |\u03c4{_sub('i')}| itself, below the torque floor, "
-                  f"nothing is guaranteed: the error reaches {_pct(rel)} (joint {j}; above "
-                  f"\u03b5 on {joints_text(over)})")
-    return claim
+    return say("merged_claim", region=False, floor=_floor(m), bound=_bound_clause(m),
+               eps=_eps(m), worst=_pct(m.worst_scaled_error),
+               beyond=None if beyond is None else (_pct(beyond[0]), beyond[1],
+                                                   joints_text(beyond[2])))
 
 
 def coverage(ds: MergedModel | xr.Dataset) -> str:
@@ -712,21 +690,10 @@ def coverage(ds: MergedModel | xr.Dataset) -> str:
         measured peak error is 0.02 % of s_i".
     """
     said = MergedModel.of(ds).guarantee
-    K, outside = len(said["covered"]), said["outside"]  # type: ignore[index]  # a merged model's
-    inside = K - len(outside)
-    worst = f"its largest measured peak error is {_pct(said['worst'])} of {_SI}"  # type: ignore[index]  # a merged model's
-    if not outside:
-        return (f"every one of the {count(K)} swept trajector{'y' if K == 1 else 'ies'} lies "
-                f"in the region, where {worst}")
-    named = "; ".join(f"{src}: {why}" for src, why, _ in outside[:5]) + (
-        "" if len(outside) <= 5 else f"; and {count(len(outside) - 5)} more (merged_covered in "
-                                     "sweep.h5)")
-    there = (f"{count(inside)} of the {count(K)} swept trajectories lie in the region, where "
-             f"{worst}" if inside else f"none of the {count(K)} swept trajectories lies in the "
-                                       "region")
-    return (f"{there}; {count(len(outside))} lie{'s' if len(outside) == 1 else ''} outside it "
-            f"and {'is' if len(outside) == 1 else 'are'} not covered by the proof ({named}), "
-            f"where its error reaches {_pct(max(w for _, _, w in outside))} of {_SI}")
+    outside = said["outside"]  # type: ignore[index]  # a merged model's
+    return say("coverage", K=len(said["covered"]), peak=_pct(said["worst"]),  # type: ignore[index]  # a merged model's
+               outside=[(src, why) for src, why, _ in outside],
+               reach=_pct(max(w for _, _, w in outside)) if outside else "")
 
 
 def _acts_on(m):
@@ -738,22 +705,11 @@ def _region_rule(m):
     """How a region model was built and what it guarantees, for Sec. 5: the main report's
     words on pruning over the region (:func:`gd_analyze.report.simplified_section.region_pruning`),
     the guarantee's statement and the swept trajectories it covers."""
-    statement = scope_markup(str(m.guarantee_statement))
-    head = (f"One model for the whole sweep, by the budget rule (\u03b5 = {_eps(m)}) over the "
-            "robot's joint-limit region (its position, velocity and acceleration limits), as "
-            "the main job builds it: the region does not depend on the trajectories. ")
-    if m.form != "recursive":
-        how = ("It is the exact explicit G-D model (nothing dropped, bound 0), which holds at "
-               "every state of the region. ")
-    elif int(0 if m.pairs_dropped is None else m.pairs_dropped):
-        how = ("It is the customized recursive Newton-Euler model on the base inertial "
-               "parameters. " + region_pruning(int(m.pairs), int(m.pairs_dropped),
-                                               bound=f"at most {_worst_bound(m)}") + " ")
-    else:
-        how = ("It is the exact customized recursive Newton-Euler model on the base inertial "
-               "parameters: no pair fits the budget by its proved bound, nothing is dropped. ")
-    return (head + how + f"The model's guarantee: {statement}. On the sweep, "
-            + coverage(m) + ".")
+    dropped = int(0 if m.pairs_dropped is None else m.pairs_dropped)
+    return say("region_rule", eps=_eps(m), form=m.form, coverage=coverage(m),
+               statement=scope_markup(str(m.guarantee_statement)),
+               pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}")
+               if m.form == "recursive" and dropped else "")
 
 
 def _merged_rule(m):
@@ -764,28 +720,12 @@ def _merged_rule(m):
         said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m)
     elif rule == "budget":
         said = f"budget rule, \u03b5 = {_eps(m)}"
-        what = ("One customized recursive Newton-Euler model on the base inertial parameters "
-                "for the whole sweep, by the budget rule: the peak contribution of every (base "
-                "parameter, part) pair (inertial, velocity, gravity), computed per trajectory "
-                "by the dask workers," if recursive else
-                "One explicit model for the whole sweep, by the budget rule: every term's peak "
-                "contribution")
-        text = (f"{what} on each trajectory is divided by that trajectory's {_SI} = "
-                f"max(peak |{_TAU_I}|, torque floor), and {'pairs' if recursive else 'terms'} "
-                f"are dropped while these ratios sum to at most \u03b5 = {_eps(m)} for every "
-                f"joint. By the triangle inequality its torque error is guaranteed within "
-                f"\u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept trajectory (not on others)"
-                + ("; the bound on each trajectory, "
-                   + ("the sum of the dropped pairs' peaks there" if recursive else
-                      f"the sum of the dropped terms' largest ratios times its {_SI}")
-                   + f", is stored per trajectory and joint in sweep.h5 and is at most "
-                   f"{_worst_bound(m)}." if m.bound is not None else "."))
+        text = say("merged_budget", recursive=recursive, eps=_eps(m),
+                   stored=m.bound is not None, bound=_worst_bound(m))
         after = "" if recursive else (" The budget weighs single terms too, so a part it keeps "
                                       "may lose some of its terms.")
     else:
-        said, text = "chapter rule, no error bound", (
-            _MERGED_TEXT + " This rule has no error bound: the errors below are measured, not "
-                           "guaranteed.")
+        said, text = "chapter rule, no error bound", say("merged_chapter")
     return rule, f"5. Merged model ({said}) and its torque error", (
         f"{text} {_keeps(m)}{after} {_cost_sentence(m, table=True)}")
 
@@ -804,13 +744,8 @@ def _keeps(m):
         text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
                               trajectory=_acts_on(m))
         pruned = [lab for lab, c in zip(m.elements, m.choice) if c == "pruned"]
-        return text.replace("The simplified model", "The merged model", 1) + (
-            " It computes every element of D and h as a sum over the base parameters; "
-            + (f"the dropped parts change {len(pruned)} of them on the swept trajectories "
-               f"({', '.join(pruned)}: choice \u201cpruned\u201d in the tables), the others "
-               "are exact (\u201cboth\u201d)." if pruned else
-               "the dropped parts change none of them on the swept trajectories beyond "
-               "round-off (choice \u201cboth\u201d in the tables)."))
+        return text.replace("The simplified model", "The merged model", 1) + say(
+            "merged_keeps", pruned=pruned)
     kept, full = m.c_terms_kept, m.c_terms
     gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=list(m.choice), gravity=gravity)
@@ -833,11 +768,7 @@ def _recursive_clause(m):
     base parameters and drops 5 of the 80 (parameter, part) pairs that act on the swept
     trajectories" (on the joint-limit region, for a region model)."""
     b, dropped, pairs = _pairs(m)
-    head = f"is the customized recursive Newton-Euler model on {b} base parameters"
-    if dropped == 0:
-        return head + ", exact: it drops nothing"
-    return (f"{head} and drops {dropped} of the {pairs} (parameter, part) pairs that act on "
-            f"{_acts_on(m)}")
+    return say("recursive_clause", b=b, dropped=dropped, pairs=pairs, where=_acts_on(m))
 
 
 def _worst_bound(m):
@@ -883,18 +814,9 @@ def _held_out(m):
                       np.maximum(tau, floor))
     rel = np.where(torque_error_round_off(m, peak, tau) | ~np.isfinite(rel), 0.0, rel)
     j = int(np.argmax(rel))
-    k = m.held_out_trajectories
-    scale = (f"peak |{_TAU_I}| over them" if floor == 0 else
-             f"max(peak |{_TAU_I}| over them, {_floor(m)})")
-    head = f"On {count(k)} held-out random trajector{'y' if k == 1 else 'ies'} (another seed, " \
-        "not swept) the merged model's error is measured"
-    if region:
-        inside = m.held_out_inside_region
-        return (f"{head}: at most {_pct(rel[j])} of {_SI} (joint {j + 1}); {count(inside)} of "
-                f"them lie{'s' if inside == 1 else ''} in the region, where its bound is "
-                "proved. ")
-    return (f"{head}, not guaranteed: at most "
-            f"{_pct(rel[j])} of {scale} (joint {j + 1}). ")
+    return say("held_out", k=m.held_out_trajectories, region=region, worst=_pct(rel[j]),
+               joint=j + 1, inside=m.held_out_inside_region,
+               floor=_floor(m) if floor != 0 else "") + " "
 
 
 def _cost_sentence(m, table=False):
@@ -908,23 +830,13 @@ def _cost_sentence(m, table=False):
     ops = dict(zip(names, (m.costs.multiplications + m.costs.additions).tolist()))
     mine = ops[names[0]]
     mul, add = int(m.costs.multiplications[0]), int(m.costs.additions[0])
-    others = [(n, ops[n]) for n in names[1:]]
-    text = (f"It costs {count(mine)} operations per set point ({count(mul)} multiplications, "
-            f"{count(add)} additions); " + ", ".join(f"{n}: {count(o)}" for n, o in others)
-            + (" (Table 5.2, counted, not timed)." if table else "."))
     recursive, full = ops.get("exact recursive model"), ops.get("full explicit model")
-    if (recursive is not None and mine > recursive and names[0].endswith("(explicit form)")
-            and m.rule == "chapter"):
-        text += (" It costs more than the exact recursive model: the chapter rule's merge "
-                 "keeps parts of the explicit model's elements, so it is of the explicit form "
-                 "only.")
-    if full is not None and mine > full:
-        text += (" It costs more than the full explicit model: where an element keeps one "
-                 "part, its coefficients are that part's, not the sum of both, so the code "
-                 "generator's factoring finds less to share"
-                 + ("; the chapter rule has no fallback to the full model."
-                    if m.rule == "chapter" else "."))
-    return text + " "
+    return say("merged_cost", mine=mine, mul=mul, add=add, table=table,
+               others=[(n, ops[n]) for n in names[1:]], chapter=m.rule == "chapter",
+               recursive_cheaper=(recursive is not None and mine > recursive
+                                  and names[0].endswith("(explicit form)")
+                                  and m.rule == "chapter"),
+               dearer=full is not None and mine > full) + " "
 
 
 def _floor(m):
@@ -937,29 +849,13 @@ def _floor(m):
 def _models(m):
     """What the own and the merged models are, and which carries a guarantee, in words
     generated from the dataset's rules: (own, merged)."""
-    own_rule, rule = m.own_rule, m.rule
-    bound = {"chapter": "share-based classes of Sec. 3.4.1, no error bound",
-             "budget": "guaranteed within \u03b5\u00b7" + _SI + f", {ROUND_OFF_CLAUSE}, on its "
-                       "own trajectory"}
-    own = f"each trajectory's own simplified model ({own_rule} rule: {bound[own_rule]})"
-    if rule == "budget":
-        said = (scope_markup(str(m.guarantee_statement)) if m.region else
-                f"guaranteed within \u03b5\u00b7{_SI}, {ROUND_OFF_CLAUSE}, on every swept "
-                "trajectory")
-        merged = f"the merged model (budget rule, \u03b5 = {_eps(m)}: {said})"
-    else:
-        merged = "the merged model (chapter rule: no error bound)"
-    return own, merged
+    said = {"own_rule": m.own_rule, "rule": m.rule,
+            "eps": _eps(m) if m.rule == "budget" else "",
+            "statement": scope_markup(str(m.guarantee_statement)) if m.region else ""}
+    return say("sweep_model", which="own", **said), say("sweep_model", which="merged", **said)
 
 
-_MERGED_TEXT = ("Each trajectory has its own simplified model (keep the dominant part of each "
-                "element, both if neither dominates, nothing if negligible). The merged model is "
-                "one model for the whole sweep: a part of an element is dropped only where every "
-                "trajectory's model drops it. The chapter rule drops parts of D and h only, "
-                "never a term of gravity: \u03c4" + _sub("s") + " = D" + _sub("s")
-                + " q\u0308 + h" + _sub("s") + " + c.")
 _SI = "s" + _sub("i")
-_TAU_I = "\u03c4" + _sub("i")
 
 
 #: The merged model's choices per element, in the words of Table 4.1 and the counts line.
@@ -1060,7 +956,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "summary": summary, "settings": _table(["item", "value"], settings),
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
-           "intro": _INTRO.format(K=K, created=utc_now().isoformat(), version=__version__),
+           "intro": say("sweep_intro", K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err, "cost": cost_table(m.costs),
            "error_text": _error_text(m),
            "captions": _captions(m),
@@ -1225,41 +1121,6 @@ def _element(label):
     return _el(label[0], label[1:])
 
 
-_INTRO = ("The generalized d'Alembert (G-D) equations of motion split the inertia matrix D and "
-          "the Coriolis and centrifugal vector h into a translational and a rotational part (Fu, "
-          "Gonzalez & Lee 1987, Robotics, Sec. 3.4). Sec. 3.4.1 ranks which part dominates each "
-          "element along one trajectory and notes that the simplification depends on the "
-          "trajectory; this report repeats the ranking over {K} trajectories. Report created "
-          "{created} by gd-analyze {version} from the stored sweep; nothing was recomputed.")
-
-
-#: Captions of the sweep report's figures (the same in the HTML and the PDF).
-SWEEP_CAPTIONS = {
-    "D": "Distribution of the translational share of the elements of D over the sweep (layout of Fig. 3.10): "
-         "box of the quartiles, whiskers at the minimum and maximum, coloured bar at the median, "
-         "thresholds s and 1 \u2212 s dashed. Panel title: element (D(i,j) for "
-         + _el("D", "ij") + ", in row i and column j) and the merged model's "
-         "choice; bottom line: fraction of trajectories per class.",
-    "h": "Distribution of the translational share of the Coriolis and centrifugal elements "
-         + _el("h", "i") + " over the "
-         "sweep (layout of Fig. 3.11); same conventions as for D.",
-    "classes": "Fraction of the trajectories in each class, per element; the merged model's "
-               "choice on the right.",
-    "error": "Relative peak torque error per joint: of each trajectory's own simplified model "
-             "(green) and of the merged model (black), per trajectory; diamond: merged model over "
-             "all trajectories.",
-    "payload": "Translational share of every element against the payload mass on the last link, with "
-               "the class of each cell (T, R, B, N); below, peak |\u03c4| per joint.",
-}
-
-SHARE_TEXT = ("For each trajectory and element X, the translational share is \u03a3|"
-              + _el("X", "", "tran") + "| / (\u03a3|" + _el("X", "", "tran") + "| + \u03a3|"
-              + _el("X", "", "rot") + "|) over its set points. A share above s = {s} is "
-              "translational, below 1 \u2212 s rotational, in between both, unless the element "
-              "is negligible (peak below e = {e} times its scale). The figures draw the share "
-              "over the trajectories as a box per element (their captions and keys say how).")
-
-
 def _own_sentence(w):
     """The own models' worst relative peak error, named with their rule (they carry no
     bound under the chapter rule)."""
@@ -1270,50 +1131,25 @@ def _own_sentence(w):
         return ""
     k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
     own, _ = _models(m)
-    return (f"For comparison, {own} errs by up to {_pct(rel[k, j])} of peak |{_TAU_I}| "
-            f"(joint {j + 1}); it is not the model written.")
+    return say("own_sentence", own=own, worst=_pct(rel[k, j]), joint=j + 1)
 
 
 def _error_text(m):
     """Sec. 5.1's note: the table's columns, each model named with its rule."""
     own, merged = _models(m)
-    return ("Per joint, over all set points of all swept trajectories: peak and RMS of the "
-            "open-loop torque error |\u03c4" + _sub("s") + " \u2212 \u03c4| (the simplified "
-            "and the full model's torques along the same desired motion, no controller) "
-            f"[{units_said_once(m, 'tau')}] of {merged}, and both relative to the peak |\u03c4| "
-            f"over all trajectories. Column \u201cown models, {m.own_rule} rule "
-            f"(worst)\u201d: the largest relative peak error of {own} along that "
-            "trajectory, shown for comparison; it is not the merged model"
-            + (" and has no bound." if m.own_rule == "chapter" else ".")
-            + (" " + _held_out(m).strip() if _held_out(m) else ""))
+    return say("sweep_error_text", units=units_said_once(m, 'tau'), own=own, merged=merged,
+               own_rule=m.own_rule, held_out=_held_out(m).strip())
 
 
 def _captions(m):
     """The figure captions, with the models and the merged choice "none" said from the
     dataset's rules."""
     own, merged = _models(m)
-    region = m.region
-    dots = (" Grey dots beside each box: the share on each trajectory, one dot per "
-            "trajectory (spread sideways to stay apart; not drawn beyond 60 trajectories).")
-    none = ("The merged model's choice \u201cnone\u201d: it keeps neither part of the "
-            "element (" + ("both parts dropped within the budget \u03b5, or \u2261 0"
-                           if m.rule == "budget" else
-                           "negligible, or \u2261 0, on every trajectory") + ").")
-    return {
-        **SWEEP_CAPTIONS,
-        "D": f"{SWEEP_CAPTIONS['D']}{dots}",
-        "h": f"{SWEEP_CAPTIONS['h']}{dots}",
-        "classes": f"{SWEEP_CAPTIONS['classes']} {none}", "none": none,
-        "error": (f"Relative peak open-loop torque error per joint, per trajectory: of {own} "
-                  "(green) "
-                  f"and of {merged} (black); diamond: the merged model over all trajectories"
-                  + (f"; every mark relative to one scale, the merged model's {_SI} over the "
-                     "region" if region else "; each relative to the peak |\u03c4| of its "
-                     "trajectory (the diamond: over all of them)")
-                  + f". Round-off ({TORQUE_ROUND_OFF_WORDS} peak |\u03c4|) is not drawn. "
-                  f"The figure writes \u0394\u03c4 for \u03c4{_sub('s')} \u2212 \u03c4"
-                  + (f" and s for {_SI}" if region else "") + "."),
-    }
+    said = {"own": own, "merged": merged, "region": m.region, "rule": m.rule,
+            "round_off": TORQUE_ROUND_OFF_WORDS}
+    said["choice_none"] = say("sweep_caption", key="none", **said)
+    return {key: say("sweep_caption", key=key, **said)
+            for key in ("D", "h", "classes", "error", "payload", "none")}
 
 
 # --------------------------------------------------------------------------------------------
@@ -1422,9 +1258,7 @@ def _error_sentence(w):
 def _payload_text(masses):
     """What the payload figure shows: the share and class of every element against the
     payload mass, and the peak torques; a predicate."""
-    return (f"shows the translational share and the class of every element at each of the "
-            f"{len(masses)} payload masses ({', '.join(f'{m:g}' for m in masses)} kg), and "
-            "the peak |\u03c4| per joint below.")
+    return say("payload_shows", masses=[f"{m:g}" for m in masses])
 
 
 def _figure_text(w, zero, counts):
@@ -1477,44 +1311,34 @@ def _outline(ctx, figures):
     o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
             size=7)
     o.section("2", "Translational share of the elements of D (layout of Fig. 3.10)", "D")
-    o.paragraph(SHARE_TEXT.format(s=ctx["s"], e=ctx["e"]) + " " + _cites(o, ctx, "D"), "note")
+    o.paragraph(say("share_text", s=ctx["s"], e=ctx["e"]) + " " + _cites(o, ctx, "D"), "note")
     _figure_parts(o, "D", ctx["captions"]["D"])
     o.section("3", "Translational share of the elements of h (layout of Fig. 3.11)", "h",
               flush="D_2" in figures)
     o.paragraph(_cites(o, ctx, "h"), "note")
     _figure_parts(o, "h", ctx["captions"]["h"])
     o.section("4", "Envelope per element", "envelope", flush="h_2" in figures)
-    o.paragraph("Fraction of the trajectories in which each class holds, and the smallest, "
-                "median and largest translational share over the trajectories (Table 4.1). "
-                + ctx["captions"]["none"] + " " + _cites(o, ctx, "classes"), "note")
+    o.paragraph(say("sweep_outline", key="envelope") + " " + ctx["captions"]["none"] + " "
+                + _cites(o, ctx, "classes"), "note")
     _figure_parts(o, "classes", ctx["captions"]["classes"])
-    o.table(ctx["envelope"], "Fraction of the trajectories per class, the range of the "
-                             "translational share, and the merged model's choice. A share is "
-                             "0 or 1 where one part is round-off (at most "
-                             f"{_TINY} of the element's scale or 64 \u03b5 of the arm's); "
-                             "\u2261 0: the element is round-off on every trajectory, it has no "
-                             "share.")
+    o.table(ctx["envelope"], say("sweep_outline", key="envelope_table", tiny=_TINY))
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged", flush="classes_2" in figures)
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
     o.section("5.1", "Open-loop torque error over all trajectories")
     o.paragraph(ctx["error_text"] + " " + _cites(o, ctx, "error"), "note")
-    o.table(ctx["error"], "Open-loop torque error of the merged model per joint, over all set points "
-                          "of all trajectories; \u2261 0: round-off (at most "
-                          f"{_TINY} of the joint's peak |\u03c4| or of the arm's), not data.")
+    o.table(ctx["error"], say("sweep_outline", key="error_table", tiny=_TINY))
     o.figure("error", ctx["captions"]["error"])
     if ctx["cost"] is not None:
         o.section("5.2", "Evaluation cost of the merged model")
-        o.table(ctx["cost"], "Operations per set point of the merged model, the exact "
-                             "recursive model, the full explicit model and the project's "
-                             "Newton-Euler, counted on their code (not timed).")
+        o.table(ctx["cost"], say("sweep_outline", key="cost_table"))
     if ctx["payload"] is not None:
         o.section("6", "Payload sweep", "payload")
         o.table(ctx["payload"]["settings"], "Settings of the payload sweep.", kv=True)
         o.paragraph("Elements whose class changes with the payload: "
                     f"{ctx['payload']['changed']}. " + _cites(o, ctx, "payload"), "strong")
-        o.figure("payload", SWEEP_CAPTIONS["payload"])
+        o.figure("payload", ctx["captions"]["payload"])
         o.table(ctx["payload"]["table"], "Class of each element per payload mass.")
     return o
 
