@@ -936,22 +936,20 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
               + (("pruned",) if "pruned" in merged else ())}
     worst = _worst_cases(w, labels)
     rule, heading, merged_text = _merged_rule(m)
+    claim: str | tuple[str, int]
     if rule == "budget":
         claim = merged_claim(m)
-        name = f"The merged model (budget rule, \u03b5 = {_eps(m)})"
-    else:
-        claim = ("has no error bound: its largest peak torque error over all trajectories is "
-                 f"{_pct(np.nanmax(w.merged_error_relative_peak))} of that joint's "
-                 f"peak |\u03c4| over all of them (joint "
-                 f"{int(np.nanargmax(w.merged_error_relative_peak)) + 1})")
-        name = "The merged model of the chapter rule"
-    summary = (f"{robot}: translational share of the {len(labels)} ranked elements of D and h over "
-               f"{inputs}, s = {s:g}, e = {e:g}. {name} "
-               + (_recursive_clause(m) if m.form == "recursive" else
-                  f"keeps both parts of {counts['both']} elements, one part of "
-                  f"{counts['tran'] + counts['rot']}, and drops {counts['none']}")
-               + f"; it {claim}. {_held_out(m)}{_gravity(m)}"
-               f"{_cost_sentence(m)}{_own_sentence(w)}").strip()
+    else:                               # the worst error, at that joint
+        rel = w.merged_error_relative_peak
+        claim = (_pct(np.nanmax(rel)), int(np.nanargmax(rel)) + 1)
+    summary = say("sweep_summary", robot=robot, M=len(labels), inputs=inputs, s=f"{s:g}",
+                  e=f"{e:g}", eps=_eps(m) if rule == "budget" else "",
+                  kept=_recursive_clause(m) if m.form == "recursive" else say(
+                      "explicit_kept", both=counts['both'], one=counts['tran'] + counts['rot'],
+                      dropped=counts['none']),
+                  claim=claim,
+                  rest=f"{_held_out(m)}{_gravity(m)}{_cost_sentence(m)}{_own_sentence(w)}"
+                  ).strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
            "summary": summary, "settings": _table(["item", "value"], settings),
            "merged_heading": heading, "merged_text": merged_text,
@@ -1037,22 +1035,10 @@ def _settings(w, inputs, version):
                      {"robot": "the robot's acceleration limits"}.get(
                          str(st.random_qdd_max_source),
                          _text(st.random_qdd_max_source))))
-    in_batches = f"the {K} trajectories in {batches} batch{'es' if batches != 1 else ''}"
-    if not int(_or(st.n_workers, 1)):
-        where = (f"{_text(st.cluster)} ({in_batches}: ranked, and the merged model built and "
-                 "checked on every trajectory, in the process of the command)")
-    else:
-        where = (f"dask, {_text(st.cluster)} ({_text(st.n_workers)} "
-                 f"worker{'s' if str(st.n_workers) != '1' else ''} joined; scheduler at "
-                 f"{_text(st.scheduler_address)}); {tasks} tasks ({in_batches} of at most "
-                 f"{batch}, "
-                 + ("each batch once to rank and once to check the merged model"
-                    + (f"; {tasks - 2 * batches} more to check it on the held-out "
-                       "trajectories" if tasks > 2 * batches else "") + ")"
-                    if tasks > batches else
-                    "each batch once to rank and to find the peaks of the recursive "
-                    "model's contributions; the merged model was built and checked on "
-                    "the client)"))
+    workers = int(_or(st.n_workers, 1))
+    where = say("computed_on", cluster=_text(st.cluster), K=K, batches=batches, tasks=tasks,
+                workers=_text(st.n_workers) if workers else "", many=str(st.n_workers) != "1",
+                scheduler=_text(st.scheduler_address), batch=batch)
     return rows + [("computed on", where),
                    ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
                    *((key.replace("_", " "), _text(value)) for key, value in st.others)]
@@ -1107,12 +1093,7 @@ def _worst_cases(w, labels):
            if np.isfinite(spread[k])]
     elems = [f"{_element(labels[k])} ({_share_text(w.share_min[k])}\u2013"
              f"{_share_text(w.share_max[k])})" for k in top]
-    text = "Worst cases: "
-    text += ("the merged model's largest torque errors are on " + "; ".join(parts) + ". "
-             if parts else "no torque error is defined. ")
-    text += ("The classes vary most for " + ", ".join(elems) + " (range of the translational "
-             "share over the trajectories)." if elems else "")
-    return text
+    return say("worst_cases", cases=parts, elements=elems)
 
 
 def _element(label):
@@ -1188,33 +1169,18 @@ def _share_sentence(w, symbol, zero):
     rest = [k for k in mine if not zero[k]]
     steady = {c: [k for k in rest if _steady(frac[k]) == c] for c in CLASSES}
     varying = [k for k in rest if _steady(frac[k]) is None]
-    every = "the trajectory" if K == 1 else "every trajectory"
-    text = (f"shows the translational share of each of the {len(mine)} elements of {symbol} "
-            + ("along the one trajectory: " if K == 1 else f"over the {K} trajectories: "))
-    held = [f"{count(len(ks))} {c}" for c, ks in steady.items() if ks]
-    n_held = sum(len(ks) for ks in steady.values())
-    parts = []
-    if n_held:
-        parts.append(f"{count(n_held)} {'is' if n_held == 1 else 'are'} of one class on "
-                     f"{every} ({', '.join(held)})")
-    if K > 1:
-        parts.append((f"{count(len(varying))} change{'s' if len(varying) == 1 else ''} class "
-                      f"from one trajectory to another ({_names([labels[k] for k in varying])})")
-                     if varying else "none changes class from one trajectory to another")
-    if off:
-        parts.append(f"{count(len(off))} {'is' if len(off) == 1 else 'are'} round-off on "
-                     f"{every} (\u2261 0, no share drawn: {_names([labels[k] for k in off])})")
-    text += "; ".join(parts) + "."
     spread = np.asarray(w.share_max, float) - np.asarray(w.share_min, float)
     ranged = [k for k in rest if np.isfinite(spread[k])]
+    box = None                  # the widest box: (element, from, to), () if none is wider
     if K > 1 and ranged:
         k = max(ranged, key=lambda k: spread[k])
-        text += (f" The widest box is that of {_element(labels[k])}, from "
-                 f"{_share_text(w.share_min[k])} to {_share_text(w.share_max[k])}"
-                 if spread[k] > 0 else
-                 " Every element has the same share on every trajectory")
-        text += "."
-    return text
+        box = ((_element(labels[k]), _share_text(w.share_min[k]), _share_text(w.share_max[k]))
+               if spread[k] > 0 else ())
+    return say("share_shows", symbol=symbol, m=len(mine), K=K,
+               held=[f"{count(len(ks))} {c}" for c, ks in steady.items() if ks],
+               n_held=sum(len(ks) for ks in steady.values()), n_varying=len(varying),
+               varying=varying and _names([labels[k] for k in varying]), n_off=len(off),
+               off=off and _names([labels[k] for k in off]), box=box)
 
 
 def _classes_sentence(w, zero, counts):
@@ -1224,10 +1190,7 @@ def _classes_sentence(w, zero, counts):
     M, K = len(w.elements), w.trajectories
     one = sum(_steady(frac[k]) is not None for k in range(M))
     choices = ", ".join(f"{c} {count(k)}" for c, k in counts.items() if k)
-    return (f"shows the fraction of the {K} trajector{'y' if K == 1 else 'ies'} in each class "
-            f"for all {M} elements, with the merged model's choice beside each bar ({choices})"
-            + (f"; {count(one)} of the {M} bars are of one colour: the element is of one class "
-               "on every trajectory" if K > 1 else "") + ".")
+    return say("classes_shows", K=K, M=M, choices=choices, one=one)
 
 
 def _error_sentence(w):
@@ -1247,12 +1210,8 @@ def _error_sentence(w):
 
     quiet = [j + 1 for j in range(w.joints)
              if not (np.isfinite(merged[:, j]) & (merged[:, j] > ERROR_FLOOR)).any()]
-    text = (f"shows the relative peak errors per trajectory and joint: the merged model's is "
-            f"{largest(merged)}, each trajectory's own model's {largest(own)}")
-    if quiet and len(quiet) < w.joints:
-        text += (f"; on {joints_text(quiet)} the merged model's error is round-off on every "
-                 "trajectory and not drawn")
-    return text + "."
+    return say("error_shows", merged=largest(merged), own=largest(own),
+               quiet=joints_text(quiet) if quiet and len(quiet) < w.joints else "")
 
 
 def _payload_text(masses):
