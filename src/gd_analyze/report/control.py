@@ -31,7 +31,6 @@ from .._version import VERSION as __version__
 from ..config import defaults
 from ..ranking.ranking import (
     ROUND_OFF,
-    ROUND_OFF_CLAUSE,
     element_label,
     is_round_off,
     joint_motion_units,
@@ -50,6 +49,7 @@ from .common import (
     grid_shape,
     joints_text,
     panel_markevery,
+    say,
     utc_now,
 )
 from .common import or_default as _or
@@ -189,35 +189,16 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     holds = all(s <= b for (_, s, _), b in zip(groups["simplified"], bounds))
     beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
                                       zip(groups["simplified"], groups["pd_gravity"]))
-    tail = ""
-    if tau_difference is not None:
-        tail = ("; its closed-loop torque differs from the full-model controller's (two "
-                "closed-loop runs) by at most "
-                + (NOISE if quiet.get("tau_difference") else
-                   by_type_text(tau_difference, prismatic, 'tau')))
-        if noise_rule:
-            tail += (f" (a joint's value counts as integrator noise, \u2261 0, where it is "
-                     f"{noise_rule})")
-    pd_text = f", PD + gravity {said('pd_gravity', pd)}" if pd is not None else ""
-    if holds:
-        head = ("Verdict: the simplified model is good enough for computed-torque control "
-                "along this trajectory")
-    elif beats_pd:
-        head = ("Verdict: the simplified model degrades tracking beyond the tolerance, though "
-                "it still beats PD + gravity")
-    else:
-        head = "Verdict: the simplified model is NOT good enough for computed-torque control"
-    units, mixed = [u for u, _, _ in groups["full"]], len(kinds) > 1   # each type apart
-    tolerance_text = (" and ".join(
-        f"{fmt_number(b)} {u}" + (f" ({'prismatic' if kind else 'revolute'})" if mixed else "")
-        for b, u, kind in zip(bounds, units, kinds))
-        + (", each" if mixed else ",") + " the larger of "
-        + " or ".join(f"{tol[kind]:g} {u}" for u, kind in zip(units, kinds))
-        + " and twice the full model's")
-    return (f"{head}: {_joint_types(prismatic)}"
-            f"peak tracking error {said('simplified', simp)} against "
-            f"{said('full', full)} with the full model{pd_text} (tolerance: "
-            f"{tolerance_text}){tail}.")
+    units = [u for u, _, _ in groups["full"]]      # each joint type apart
+    verdict = "holds" if holds else "beats_pd" if beats_pd else "fails"
+    return say("control_verdict", verdict=verdict, types=_joint_types(prismatic),
+               simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd) if pd is not None else "",
+               bounds=[(fmt_number(b), u, "prismatic" if kind else "revolute")
+                       for b, u, kind in zip(bounds, units, kinds)],
+               tols=[f"{tol[kind]:g} {u}" for u, kind in zip(units, kinds)],
+               difference="" if tau_difference is None else (
+                   NOISE if quiet.get("tau_difference") else
+                   by_type_text(tau_difference, prismatic, 'tau')), noise_rule=noise_rule)
 
 
 #: Figure widths [in]: the text of a page, one column.
@@ -410,22 +391,14 @@ def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False
     """
     s = StoredControl.of(ds)
     tol = noise_scales(s)[0]
-    if which == "tau":
-        if s.tau_difference_floor is None:
-            return f"at most {tol:g} of the full-model controller's peak |\u03c4|"
-        settings = s.settings
-        factor = float(_or(settings.noise_factor, np.nan))
-        tighten = float(settings.rtol) / float(_or(settings.noise_rtol, np.nan))
+    stored = which == "tau" and s.tau_difference_floor is not None
+    times = tighten = ""
+    if stored:                          # a measured floor: its factor and tighter tolerances
+        factor = float(_or(s.settings.noise_factor, np.nan))
         times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
-        if figure:                      # short: the note is one line at page width
-            return (f"at most {times}its change with rtol and atol / {tighten:g}, or {tol:g} "
-                    "of peak |\u03c4|")
-        return (f"at most {times}the largest change the difference shows when both runs are "
-                f"integrated again with rtol and atol / {tighten:g}, or {tol:g} of the "
-                "full-model controller's peak |\u03c4| where that is larger")
-    if figure:                          # short: the note is one line at page width
-        return f"at most {tol:g} of the joint's scale"
-    return f"at most {tol:g} of the joint's scale, max(range, peak |q{sub('d')}|)"
+        tighten = f"{float(s.settings.rtol) / float(_or(s.settings.noise_rtol, np.nan)):g}"
+    return say("noise_words", which=which, figure=figure, tol=f"{tol:g}", stored=stored,
+               times=times, tighten=tighten)
 
 
 def marker_stride(ds: StoredControl | xr.Dataset, lines: int) -> int:
@@ -497,16 +470,10 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) ->
     names = None if isinstance(lines, int) else [str(c) for c in lines]
     count = len(names) if names is not None else int(lines)  # type: ignore[arg-type]  # an int
     k = marker_stride(ds, count)
-    if k == 1:
-        return "markers: every set point"
-    if count <= 1:
-        return f"markers: every {_ordinal(k)} set point, the first included"
     starts = [str(s + 1) for s in marker_starts(k, count)]
     if names is not None:
         starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)]
-    return (f"markers: every {_ordinal(k)} set point, staggered so that no two controllers "
-            f"mark the same one; the first at set point {', '.join(starts[:-1])} and "
-            f"{starts[-1]}")
+    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts)
 
 
 def _ordinal(k):
@@ -662,14 +629,9 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         off = is_round_off(diff, tau_floor, 1.0)
         quiet["tau_difference"] = bool(off.all())
         diff = np.where(off, 0.0, diff)
-        summary += (" Largest closed-loop torque difference, simplified-model controller "
-                    "minus full-model controller (two closed-loop runs, each along its own "
-                    "motion): " + (NOISE if quiet["tau_difference"] else
-                                   by_type_text(diff, prismatic, 'tau')) + " (a joint's "
-                    "value counts as integrator noise, \u2261 0, where it is "
-                    f"{rule['tau']}); not the "
-                    "open-loop error \u03c4" + sub("s") + " \u2212 \u03c4 of the main "
-                    "report (one model against the other along the desired trajectory).")
+        summary += say("control_difference", rule=rule["tau"],
+                       difference=NOISE if quiet["tau_difference"] else
+                       by_type_text(diff, prismatic, 'tau'))
     tolerance = tuple(float(d if v is None else v) for v, d in
                       zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
                           VERDICT_TOLERANCE))
@@ -718,12 +680,10 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         ["integrator", f"{stored_text(st.integrator)}, rtol = {float(st.rtol):g}, "
                        f"atol = {float(st.atol):g}"],
         *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
-            f"measured: both computed-torque runs again with rtol = "
-            f"{float(st.noise_rtol):g}, atol = {float(st.noise_atol):g} "
-            f"({int(_or(st.noise_nfev, 0)):,} evaluations); noise floor "
-            f"{float(_or(st.noise_factor, np.nan)):g} \u00d7 the largest change, at "
-            f"least {float(st.rtol):g} \u00d7 the full-model controller's peak "
-            "|\u03c4| (Table 3.1)"]] if st.noise_rtol is not None else []),
+            say("noise_measured", rtol=f"{float(st.noise_rtol):g}",
+                atol=f"{float(st.noise_atol):g}", nfev=int(_or(st.noise_nfev, 0)),
+                factor=f"{float(_or(st.noise_factor, np.nan)):g}", floor=f"{float(st.rtol):g}")]]
+          if st.noise_rtol is not None else []),
         *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
             "not measured (" + str(st.noise_unmeasured) + "): the floor is rtol "
             "\u00d7 the full-model controller's peak |\u03c4|"]]
@@ -772,38 +732,21 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
     prov = _table(["item", "value"], _provenance(s, __version__), align=["left", "left"])
-    captions = {
-        "error": (f"Tracking error |e| = |q{_D} \u2212 q| per joint along the run, log scale "
-                  f"({markers_words(s, names)}). Integrator noise, {rule['q']}, is not "
-                  "drawn: the axis starts there, and a controller whose error is all noise is "
-                  "named above the panels."),
-        "tau_difference": (f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 "
-                           f"\u03c4{sub('f')}: torque of the simplified-model "
-                           "controller minus torque of the full-model controller, each along "
-                           f"its own closed-loop run, per joint ({markers_words(s, 1)}). "
-                           f"Integrator noise, {rule['tau']}, is not drawn: "
-                           "the curve breaks off inside the grey band of \u00b1 the noise "
-                           "floor (the noise-floor row of the torque-difference table), and a joint whose difference is "
-                           "all noise reads so instead of a curve."),
-        "tau": (f"Torques applied by the three controllers, per joint "
-                f"({markers_words(s, names)})."),
-    }
+    created = utc_now().isoformat()
+    markers = {"error": markers_words(s, names), "tau_difference": markers_words(s, 1),
+               "tau": markers_words(s, names)}
+    captions = {key: say("control_caption", key=key, markers=markers[key],
+                         rule=rule.get("q" if key == "error" else "tau"))
+                for key in markers}
     return {
         "version": __version__,
-        "created": utc_now().isoformat(),
+        "created": created,
         "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
         "summary": summary, "verdict": verdict,
-        "intro": ("The arm, simulated with its full generalized d'Alembert dynamics (Fu, Gonzalez "
-                  "& Lee 1987, Eq. 3.4-24), tracks the trajectory under computed-torque control "
-                  f"(Ch. 5) with the full model, with the simplified model ({_rule_words(s.model)}), "
-                  "and under PD control with gravity compensation."),
-        "setup": setup, "gains": gains,
-        "gains_note": (f"Computed torque: v = q\u0308{_D} + {_KV} (q\u0307{_D} \u2212 q\u0307) + "
-                       f"{_KP} (q{_D} \u2212 q), {_KP} = {_WN}\u00b2, {_KV} = 2\u03b6{_WN}, so "
-                       f"the full-model closed loop is \u00eb + {_KV} \u0117 + {_KP} e = 0 "
-                       f"(e = q{_D} \u2212 q, q{_D} the desired motion). PD + gravity: \u03c4 = "
-                       f"{_KP} e + {_KV} \u0117 + c with the PD gains, scaled by the diagonal "
-                       f"of D at the start of the motion (D{sub('ii')} at the start)."),
+        "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
+                     eps=f"{float(_or(s.model.tolerance, np.nan)):g}", created=created,
+                     version=__version__),
+        "setup": setup, "gains": gains, "gains_note": say("gains_note"),
         "errors": errors, "noise_rule": rule, "captions": captions, "tau_diff": tau_diff,
         "tau_table": tau_table, "cost": cost_table(s.costs),
         "choices": choices, "model_note": model_note, "provenance": prov,
@@ -846,18 +789,6 @@ def _per_joint(stored, unit=""):
     return ", ".join(f"{v:g}" for v in values) + unit
 
 
-def _rule_words(model):
-    """The simplified model's rule as the intro names it, from the stored rule: the error
-    budget (with its epsilon) or the chapter's share-based classes of Sec. 3.4.1."""
-    rule = str(_or(model.rule, ""))
-    if rule == "budget":
-        eps = float(_or(model.tolerance, np.nan))
-        return f"error-budget rule, \u03b5\u00a0=\u00a0{eps:g}"
-    if rule == "chapter":
-        return "the chapter's share-based classes, Sec. 3.4.1"
-    return "its rule is not recorded"
-
-
 def _model_note(s):
     """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
     the model's facts stored by the control run (:func:`gd_analyze.jobs.control.model_facts`)
@@ -891,18 +822,10 @@ def _model_note(s):
     if m.scope is not None:             # the scope stored from the model itself
         return text + " " + scope_sentences(m, eps), recursive
     if rule == "budget":                # an older control.h5
-        text += (f" Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}: the open-loop error "
-                 f"{_TAU_S} \u2212 \u03c4 is guaranteed within \u03b5\u00b7{_S_I}, "
-                 f"{ROUND_OFF_CLAUSE}, on the trajectory the model was built on"
-                 + (" (this one)." if own else ", not on this one."))
+        text += " " + say("budget_rule_said", eps=f"{eps:g}", own=own)
     elif rule == "chapter":
-        text += f" {_CHAPTER_RULE}; there is no error bound."
+        text += " " + say("chapter_rule")
     return text, recursive
-
-
-#: The chapter's rule, as the model's note states it.
-_CHAPTER_RULE = ("Rule: the chapter's share-based classes (Sec. 3.4.1): each element keeps its "
-                 "dominant part")
 
 
 def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
@@ -932,22 +855,10 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     'trajectory. The open-loop error along this motion is not guaranteed.'
     """
     m = attrs if isinstance(attrs, ModelFacts) else from_attrs(ModelFacts, attrs, "model_")
-    rule, kind = str(_or(m.rule, "")), str(_or(m.guarantee_kind, ""))
-    scope = scope_markup(str(_or(m.scope, "")))
-    if kind not in ("region", "trajectory"):
-        if rule == "chapter":
-            return f"{_CHAPTER_RULE}; there is no error bound (the model's scope: {scope})."
-        return f"The model's guarantee: {scope}."
-    where = " (stated for the trajectory it was built on)" if kind == "trajectory" else ""
-    text = (f"Rule: error budget, \u03b5\u00a0=\u00a0{eps:g}. The model's guarantee{where}: "
-            f"{scope}.")
-    reason = str(_or(m.guarantee_coverage, ""))
-    if str(m.guarantee_covered) == "1":
-        return (text + f" It covers this motion: {reason}. The open-loop error "
-                f"{_TAU_S} \u2212 \u03c4 along the desired motion is guaranteed within "
-                f"\u03b5\u00b7{_S_I}, {ROUND_OFF_CLAUSE}.")
-    return (text + f" It does not cover this motion: {reason}. The open-loop error along this "
-            "motion is not guaranteed.")
+    return say("scope_sentences", rule=str(_or(m.rule, "")), kind=str(_or(m.guarantee_kind, "")),
+               scope=scope_markup(str(_or(m.scope, ""))), eps=f"{eps:g}",
+               covered=str(m.guarantee_covered) == "1",
+               reason=str(_or(m.guarantee_coverage, "")))
 
 
 #: Stored units of the gains (:func:`gd_analyze.ranking.labels.joint_gain_units`) and
@@ -992,11 +903,6 @@ def _plant(settings):
 
 #: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
 _SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
-
-_D, _KP, _KV, _WN = sub("d"), "K" + sub("p"), "K" + sub("v"), "\u03c9" + sub("n")
-#: tau_s (the simplified model's torque) and s_i, their subscripts set as such (8 pt in the
-#: PDF), not as Unicode's small subscript letters
-_TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains
 #: and the control laws are in Sec. 1, the robot, trajectory and model files in Table 1.1).
@@ -1069,9 +975,7 @@ def _outline(ctx, figures):
     o = Outline(ctx["title"], figures)
     o.paragraph(ctx["verdict"], "lead")
     o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["intro"] + f" Report created {ctx['created']} by gd-analyze "
-                f"{ctx['version']} from the stored control dataset; nothing was recomputed.",
-                "note")
+    o.paragraph(ctx["intro"], "note")
     o.section("1", "Set-up and gains", "setup")
     o.table(ctx["setup"], "The closed-loop run.", kv=True)
     o.paragraph(ctx["gains_note"], "note")
@@ -1079,37 +983,25 @@ def _outline(ctx, figures):
     # each figure right under the sentence citing it, its table after it: a figure that does
     # not fit there goes to the next page's top, and the table fills this page
     o.section("2", "Tracking error", "tracking")
-    o.paragraph(f"Tracking error e = q{_D} \u2212 q per joint: along the run in "
-                f"{_next_figure(o)}, its peak |e| and RMS at the set points of the trajectory "
-                "and on the fine grid (set points included) in Table 2.1.", "note")
+    o.paragraph(say("control_outline", key="tracking", figure=_next_figure(o)), "note")
     o.figure("error", ctx["captions"]["error"])
-    o.table(ctx["errors"], "Tracking error per controller and joint; \u2261 0: integrator "
-                           f"noise ({ctx['noise_rule']['q']}), not data.", size=7)
+    o.table(ctx["errors"], say("control_outline", key="errors", rule=ctx["noise_rule"]["q"]),
+            size=7)
     o.section("3", "Torques", "torque")
     drawn = "tau_difference" in o.available
-    o.paragraph(f"Closed-loop torque difference \u0394\u03c4 = {_TAU_S} \u2212 \u03c4"
-                f"{sub('f')}: torque of the simplified-model computed-torque controller minus "
-                "that of the full-model one, each along its own closed-loop run, at the same "
-                f"times ({_next_figure(o) + ', ' if drawn else ''}Table 3.1). It is not the "
-                f"open-loop error of the main report ({_TAU_S} \u2212 \u03c4 of the two models "
-                "along the desired trajectory).", "note")
+    o.paragraph(say("control_outline", key="difference",
+                    figure=_next_figure(o) if drawn else ""), "note")
     if drawn:
         o.figure("tau_difference", ctx["captions"]["tau_difference"])
     else:
         o.paragraph("No torque difference stored.", "body")
-    o.table(ctx["tau_diff"], "Closed-loop torque difference per joint, simplified-model "
-                             "controller minus full-model controller; \u2261 0: integrator "
-                             f"noise ({ctx['noise_rule']['tau']}), not data.")
-    o.paragraph(f"Applied torques: the torque each controller applies along its own "
-                f"closed-loop run in {_next_figure(o)}, its peak |\u03c4| and RMS per joint "
-                "in Table 3.2.", "note")
+    o.table(ctx["tau_diff"], say("control_outline", key="difference_table",
+                                 rule=ctx["noise_rule"]["tau"]))
+    o.paragraph(say("control_outline", key="applied", figure=_next_figure(o)), "note")
     o.figure("tau", ctx["captions"]["tau"])
     o.table(ctx["tau_table"], "Applied torques per controller and joint.", size=7)
     o.section("4", "Evaluation cost of the model", "cost")
-    o.paragraph("Operations per set point, counted (not timed): the emitted models on their "
-                "expressions (constants and structural 0/\u00b11 free, a square one "
-                "multiplication), the project's Newton-Euler with every multiplication and "
-                "addition of one run counted.", "note")
+    o.paragraph(say("control_outline", key="cost"), "note")
     if ctx["cost"]:
         o.table(ctx["cost"], "Operations per set point of each evaluator.")
     else:
