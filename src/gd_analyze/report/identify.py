@@ -34,7 +34,7 @@ from ..store.stored_identification import (
     StoredIdentification,
     StoredRecording,
 )
-from .common import BASE_RC, table, utc_now
+from .common import BASE_RC, say, table, utc_now
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_lines, markevery
 from .markup import clean, scope
@@ -448,54 +448,36 @@ def identify_context(root: StoredIdentification | xr.Dataset,
     validate = [k for k, rec in recordings.items() if role_of(rec) == "validate"]
     shown = shown_recordings(recordings)
     parameters, n_unident, names = _parameter_table(stored)
-    lead = []
-    for name in validate:
-        rec = recordings[name]
-        text = (f"On {_file_of(rec)}, not used for fitting, the identified model's total "
-                f"relative torque error ||E||_F / ||T||_F is "
-                f"{pct(rec.total_relative_error)}")
-        prior = rec.prior_total_relative_error
-        if math.isfinite(prior):
-            text += f"; the robot file's as shipped, {pct(prior)}"
-        simple = rec.simplified_total_relative_error
-        if math.isfinite(simple):
-            text += f"; the simplified model's, {pct(simple)}"
-        lead.append(text + ".")
-    if not validate:
-        lead.append("No recording was held out for validation: every error below is on the "
-                    "recordings the model was fitted to, not a prediction.")
+
+    def said(error):                    # an error as a percentage; "" where there is none
+        return pct(error) if math.isfinite(error) else ""
+
+    lead = say("identify_lead", validated=[
+        (_file_of(rec), pct(rec.total_relative_error), said(rec.prior_total_relative_error),
+         said(rec.simplified_total_relative_error))
+        for rec in recordings.values() if role_of(rec) == "validate"])
     unident = _json(stored.unidentifiable, [])
     which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
              and unident else "")
-    summary = (f"{len(names)} parameters ("
-               + (f"{n_unident} not identifiable on the data{which}; they keep the robot "
-                  "file's value" if n_unident else "all identifiable on the data")
-               + "), identified from "
-               f"{sum(role_of(rec) == 'train' for rec in recordings.values())} recording(s); the "
-               f"condition number of the column-scaled regressor is {fmt(cond, 4)}.")
+    summary = say("identify_summary", parameters=len(names), unidentifiable=n_unident,
+                  which=which, condition=fmt(cond, 4),
+                  recordings=sum(role_of(rec) == 'train' for rec in recordings.values()))
     strides = {name: stride(int(recordings[name].t.size)) for name in shown}
     drawn = "; ".join(f"{_file_of(recordings[name])}: one sample in {k}"
                       for name, k in strides.items() if k > 1)
     return {
         "title": f"Identification of {robot}",
-        "lead": " ".join(lead),
+        "lead": lead,
         "summary": summary,
         "recordings": _recordings_table(recordings),
         "joint_tables": {name: _joint_table(stored, rec) for name, rec in recordings.items()},
         "files": {name: _file_of(rec) for name, rec in recordings.items()},
         "roles": {name: role_of(rec) for name, rec in recordings.items()},
         "shown": shown,
-        "shown_note": ("The figures show the validation recordings." if validate else
-                       "No recording was held out: the figures show the training "
-                       "recordings.") + (f" At most {MAX_POINTS:,} points a line are drawn "
-                                         f"({drawn})." if drawn else ""),
+        "shown_note": say("identify_outline", key="shown", validated=bool(validate),
+                          most=MAX_POINTS, drawn=drawn),
         "parameters": parameters,
-        "parameter_note": ("Values of the weighted least-squares fit with their standard "
-                           "deviations (std [%]: relative to |value|; \u2014 where the value "
-                           "is 0 or the column is not identifiable on the data). Units are "
-                           "those of a revolute joint; a prismatic joint's drive parameters "
-                           "are in kg, N s/m and N. Base parameters regroup standard ones "
-                           "(Gautier 1990)."),
+        "parameter_note": say("identify_outline", key="parameters"),
         "links": _links_table(stored),
         "noise": _noise_table(stored),
         # the tool's own notes: each a sentence, s_i and tau_s typeset
@@ -531,33 +513,24 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     o = Outline(ctx["title"], figures)
     o.paragraph(ctx["lead"], "lead")
     o.paragraph(ctx["summary"], "summary")
-    o.paragraph(f"Report created by gd-analyze {ctx['version']} from the stored "
-                "identification; no model was recomputed.", "note")
+    o.paragraph(say("identify_outline", key="created", version=ctx["version"]), "note")
     o.section("1", "Torque errors", "errors")
-    o.table(ctx["recordings"], "Total relative torque error ||E||_F / ||T||_F per recording: "
-                               "the identified model beside the robot file as shipped.")
+    o.table(ctx["recordings"], say("identify_outline", key="recordings"))
     for name, joint_table in ctx["joint_tables"].items():
-        o.table(joint_table, f"Errors per joint on {ctx['files'][name]} ({ctx['roles'][name]}): "
-                       "RMS of tau_measured - tau_predicted and ||tau_meas,i - tau_i|| / "
-                       "||tau_meas,i||.", size=7)
+        o.table(joint_table, say("identify_outline", key="joints", file=ctx["files"][name],
+                                 role=ctx["roles"][name]), size=7)
     o.section("2", "Measured and predicted torque", "torque")
     o.paragraph(ctx["shown_note"], "note")
     for k, name in enumerate(ctx["shown"]):
-        o.figure(figure_key("torque", k), f"Measured and predicted torque per joint on "
-                                          f"{ctx['files'][name]} ({ctx['roles'][name]}).")
-        o.figure(figure_key("residual", k), f"Residual, measured minus identified model, per "
-                                            f"joint on {ctx['files'][name]}.")
+        for kind in ("torque", "residual"):
+            o.figure(figure_key(kind, k), say("identify_outline", key=kind,
+                                              file=ctx["files"][name], role=ctx["roles"][name]))
     o.section("3", "Parameters", "parameters")
     o.paragraph(ctx["parameter_note"], "note")
-    o.table(ctx["parameters"], "Identified parameters, standard deviations and "
-                               "identifiability.", size=7)
-    if ctx["links"] is not None:
-        o.table(ctx["links"], "Physical consistency of each link's standard parameters: its "
-                              "pseudo-inertia (Wensing, Kim & Slotine 2017) is positive "
-                              "semidefinite.")
-    if ctx["noise"] is not None:
-        o.table(ctx["noise"], "Residual standard deviation per joint of the ordinary fit: "
-                              "the weights of the weighted fit.")
+    o.table(ctx["parameters"], say("identify_outline", key="parameter_table"), size=7)
+    for key in ("links", "noise"):
+        if ctx[key] is not None:
+            o.table(ctx[key], say("identify_outline", key=key))
     o.section("4", "Preprocessing", "preprocessing")
     for sentence in ctx["preprocessing"] or ["The run states no preprocessing."]:
         o.paragraph(sentence, "body")
