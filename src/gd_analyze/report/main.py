@@ -38,7 +38,7 @@ from ..ranking.ranking import ROUND_OFF
 from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import check_formats, prismatic_joints
+from .common import check_formats, prismatic_joints, say
 from .drawing import draw_each, write_report_files
 from .figures import payload_figure
 from .main_context import report_context, zero_mask
@@ -93,29 +93,6 @@ _ARMATURE_TERMS = {"arm": " + " + element(_X, "", "arm"),
                    + element("D", "ii") + " only) counted on the rotational side; the armature "
                    "share \u03a3|" + element(_X, "", "arm") + "| over the same sum is its own "
                    "column"}
-_DH_CAPTION = "Denavit-Hartenberg parameters (standard form); q is joint i's variable, {what}."
-_DH_VARIABLE = {False: "the angle \u03b8 (revolute joints)",
-                True: "the angle \u03b8 of a revolute joint, the offset d of a prismatic one, "
-                      "whose \u03b8 is fixed"}
-_PLACEMENT_CAPTION = (
-    "Joint placements, as the model holds them: frame i in body frame i \u2212 1, translation "
-    "x, y, z [m] and rotation as roll, pitch, yaw [deg] (R = Rz(yaw) Ry(pitch) Rx(roll), as in "
-    "URDF); joint i turns about, or slides along, the z axis of frame i, whose direction in "
-    "frame i \u2212 1 is the last column. The robot has no Denavit-Hartenberg parameters.")
-_LINK_CAPTION = ("Link inertial parameters: mass, centre of mass (com) in link frame i, and "
-                 "the diagonal of the inertia tensor about the centre of mass.")
-def _files_text(prefix):
-    """What the emitted source files hold, with the C prefix the run used (stored setting
-    ``c_prefix``; an older file without it: the placeholder PREFIX), code set as code."""
-    p = prefix or "PREFIX"
-    return (" (a C header and C99 source with " + code(f"{p}tau") + ", "
-            + code(f"{p}inertia") + ", " + code(f"{p}velocity_terms") + ", "
-            + code(f"{p}gravity") + " and " + code(f"{p}regressor") + "; numpy "
-            + code("tau") + ", " + code("inertia") + ", " + code("velocity_terms") + ", "
-            + code("gravity") + " and " + code("regressor") + " over arrays of shape (N, n); "
-            "CasADi " + code("functions()") + " of the same).")
-
-
 def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     """The main report's sections.
 
@@ -149,10 +126,10 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.table(ctx["robot_kv"], "The robot.", kv=True)
     if ctx["dh"] is not None:
         prismatic = any(row[1].startswith("q") for row in ctx["dh"]["rows"])
-        o.table(ctx["dh"], _DH_CAPTION.format(what=_DH_VARIABLE[prismatic]))
+        o.table(ctx["dh"], say("main_outline", key="dh", prismatic=prismatic))
     if ctx.get("placements") is not None:
-        o.table(ctx["placements"], _PLACEMENT_CAPTION)
-    o.table(ctx["link"], _LINK_CAPTION)
+        o.table(ctx["placements"], say("main_outline", key="placements"))
+    o.table(ctx["link"], say("main_outline", key="link"))
     if ctx.get("drives"):
         o.paragraph(ctx["drives"]["note"], "note")
         o.table(ctx["drives"]["table"], "The drives: armature and friction per joint.")
@@ -161,8 +138,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.table(ctx["joints"], "Range of motion per joint.")
     if ctx.get("effort"):
         o.paragraph(ctx["effort_text"], "note")
-        o.table(ctx["effort"], "Peak |\u03c4| of the full model against each joint's effort "
-                               "limit.")
+        o.table(ctx["effort"], say("main_outline", key="effort"))
     o.paragraph(ctx["envelope_note"], "note")
     o.figure("joints", caps["joints"])
 
@@ -178,34 +154,28 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.paragraph(RANKING_TEXT.format(s=ctx["s"], e=ctx["e"], **(
         _ARMATURE_TERMS if ctx.get("armature") else dict.fromkeys(_ARMATURE_TERMS, ""))), "note")
     o.counts(ctx["counts"])
-    o.table(ctx["ranking"], "Dominance of each element: translational share, class and the "
-                            "peaks of its parts along the trajectory.")
+    o.table(ctx["ranking"], say("main_outline", key="ranking"))
 
     o.section("5", "Simplified model and torque error", "simplified")
     o.paragraph(ctx["simplified_intro"], "note")
     o.figure("contributions", BUDGET_CAPTIONS["contributions"])
     o.section("5.1", "Torque error along the trajectory")
-    o.table(ctx["error"], "Open-loop torque error of the simplified model per joint, "
-                          "\u03c4" + sub("s") + " \u2212 \u03c4 along the trajectory.")
+    o.table(ctx["error"], say("main_outline", key="error"))
     o.figure("torque", caps["torque"])
     o.section(*ctx["choices_heading"].split(" ", 1))
     o.paragraph(ctx.get("choices_note", ""), "note")
-    o.table(ctx["choices"], "Base parameters and the parts of their contributions the model "
-                            "keeps." if ctx["choices"]["header"][0] == "base parameter" else
-            "The part of each element the simplified model keeps.")
+    o.table(ctx["choices"], say("main_outline", key="base_parameters" if ctx["choices"][
+        "header"][0] == "base parameter" else "choices"))
     sm = ctx.get("simplified_model")
     if sm:
         o.section(*ctx["model_heading"].split(" ", 1))
         o.paragraph(sm["text"], "note")
         if sm.get("screen_note"):
             o.paragraph(sm["screen_note"], "note")
-        o.table(sm["bound"], "Bound on the torque error per joint, split by where the dropped "
-                             "terms sit, beside the measured peak error.")
+        o.table(sm["bound"], say("main_outline", key="bound"))
         if sm.get("region"):
             o.paragraph(sm["region_text"], "note")
-            o.table(sm["region"], "The region of the model's guarantee per joint: position "
-                                  "range, velocity and acceleration limits, and whether the "
-                                  "acceleration limit is assumed.")
+            o.table(sm["region"], say("main_outline", key="region"))
         o.figure("budget", caps.get("budget", BUDGET_CAPTIONS["budget"]))
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
@@ -216,12 +186,11 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
         if sm["ladder"] or sm["ladder_note"]:
             o.section(*sm["ladder_heading"].split(" ", 1))
             if sm["ladder"]:
-                o.table(sm["ladder"], "Cost and worst error of the model built at each "
-                                      "tolerance \u03b5.")
+                o.table(sm["ladder"], say("main_outline", key="ladder"))
             else:
                 o.paragraph(sm["ladder_note"], "note")
         o.paragraph("Emitted source files: " + ", ".join(code(f) for f in sm["files"])
-                    + _files_text(sm["prefix"]), "note")
+                    + say("main_outline", key="files", prefix=sm["prefix"]), "note")
 
     compare = ctx["compare"]
     top = 6                                  # the chapter comparison only for its PUMA 560
@@ -230,10 +199,9 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
         for sentence in compare["conclusions"]:
             o.paragraph(sentence)
         o.paragraph(compare["note"], "note")
-        o.paragraph(f"Agreement: {compare['n_agree']} of {compare['n_compared']} elements.",
-                    "strong")
-        o.table(compare["table"], "Our class of each element against the class the chapter "
-                                  "reads off Figs. 3.10 and 3.11.")
+        o.paragraph(say("main_outline", key="agreement", n_agree=compare["n_agree"],
+                        n_compared=compare["n_compared"]), "strong")
+        o.table(compare["table"], say("main_outline", key="chapter"))
     payload = ctx["payload"]
     if payload["applicable"]:
         o.section(f"{top}.1" if compare["applicable"] else str(top),
@@ -249,17 +217,14 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.paragraph(forms["note"], "note")
     if forms["applicable"]:
         o.section(f"{top}.1", "Largest relative disagreement per pair")
-        o.table(forms["agreement"], "Largest relative disagreement of each pair of "
-                                    "formulations over the checked set points.")
+        o.table(forms["agreement"], say("main_outline", key="disagreement"))
         o.section(f"{top}.2", "Operations per set point")
         if forms["costs"]["rows"]:       # none where the counts stop short of the arm's n
-            o.table(forms["costs"], "Operations per set point: as implemented, and by the "
-                                    "formulas of Table 3.5.")
+            o.table(forms["costs"], say("main_outline", key="operations"))
         o.figure("formulations", caps["formulations"])
 
     o.section(str(top + 1), "Provenance", "provenance")
-    o.table(ctx["provenance"], "Provenance: each setting of the analysis and the report once.",
-            kv=True, size=7)
+    o.table(ctx["provenance"], say("main_outline", key="provenance"), kv=True, size=7)
     return o
 
 
