@@ -994,11 +994,6 @@ def _report_context_base(results):
     }
 
 
-#: The verification's absolute floor (gd_analyze.dynamics.pinocchio.FLOOR_EPS machine
-#: epsilons of the overall scale), as the text names it; a report imports no formulation.
-_ROUND_OFF_FLOOR = "64 eps"
-
-
 def _quantity(name):
     """A verified quantity's name as mathematics: "D_tran" -> D^tran, "h" -> h."""
     symbol, _, part = name.partition("_")
@@ -1016,18 +1011,13 @@ def _verification(check, N):
                "set points" + ("" if checked == N else " (evenly spread)"))
     measured = {_quantity(term): error for term, error, _ in check.terms}
     past = {_quantity(term): excess for term, _, excess in check.terms}
-    floor = _ROUND_OFF_FLOOR
-    largest = ("largest relative difference: "
-               + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in measured.items()))
-    if past and all(v == 0 for v in past.values()):
-        errors = f"{largest}; each within the round-off floor ({floor} of its scale)"
-    elif past and all(np.isnan(v) for v in past.values()):       # a file of before the excess
-        errors = largest
-    else:
-        errors = (f"{largest}; past the round-off floor ({floor} of its scale): "
-                  + ", ".join(f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in past.items()))
-    row = (f"{verdict}; tolerance {_text(check.tolerance)} of each element's "
-           f"scale on {', '.join(measured) or 'D, h and c'}; {errors}")
+    def said(values):
+        return [f"{k} {_fmt(v, 2, (1e-3, 1e3))}" for k, v in values.items()]
+
+    state = ("within" if past and all(v == 0 for v in past.values()) else
+             "" if past and all(np.isnan(v) for v in past.values()) else "past")
+    row = say("verification", verdict=verdict, tolerance=_text(check.tolerance),
+              quantities=list(measured), largest=said(measured), past=said(past), state=state)
     return verdict, row
 
 

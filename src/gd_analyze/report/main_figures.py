@@ -33,7 +33,7 @@ from ..ranking.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import joint_style, units_text
+from .common import joint_style, say, units_text
 from .figure_style import element_markevery, grid_boxes, joint_lines, new_figure
 from .markup import label as _math
 from .numbers import decade_label
@@ -61,6 +61,8 @@ COLUMN_WIDTH = 3.5
 #: An element is identically zero if all its parts stay below this fraction of its scale
 #: (:data:`gd_analyze.ranking.ranking.ROUND_OFF`).
 ZERO_TOL = ROUND_OFF
+#: The round-off threshold as the figures' keys write it (10⁻¹², not 1e-12).
+_TINY = decade_label(ROUND_OFF)
 
 #: matplotlib settings: 7 pt ticks, 8 pt titles and labels at print size.
 RC = {
@@ -301,15 +303,6 @@ def _element_figure(x, panels, enveloped, width, key, kind):
     return fig
 
 
-def _zero_note(kind, zero_labels):
-    """The sentence naming the elements that are ≡ 0 in every part (not drawn)."""
-    if not zero_labels:
-        return ""
-    names = ", ".join(_math(z) for z in zero_labels)
-    return (f" \u2261\u00a00 (zero in every part, below {decade_label(ROUND_OFF)} of its "
-            f"scale), not drawn: {names}.")
-
-
 def d_panels(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
              prismatic: npt.NDArray[np.bool_] | None = None,
              armature: npt.NDArray[np.float64] | None = None) -> tuple[list[tuple[str, dict[str, Any], str, str]], list[str]]:
@@ -386,12 +379,8 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
     chunks = element_parts([p[0] for p in panels], width)
     drawn = [p for p in panels if p[0] in set(chunks[part])]
     arm = any("arm" in p[1] for p in panels)
-    key = (f"{_math('D_ij')} against time t [s], i \u2264 j, in reading order; each y axis "
-           "in the panel's units, times the power of ten it shows. Classes with "
-           f"s\u00a0=\u00a0{s:g}, e\u00a0=\u00a0{e:g}."
-           + (" The combined curve includes the armature." if arm else "")
-           + _zero_note("D", zeros)
-           + (f" Part {part + 1} of {len(chunks)}." if len(chunks) > 1 else ""))
+    key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm, tiny=_TINY,
+              zeros=", ".join(map(_math, zeros)), part=part + 1, parts=len(chunks))
     return _element_figure(data.x, drawn, data.enveloped, width, key, "D")
 
 
@@ -425,8 +414,7 @@ def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
             continue
         panels.append((label, {"tran": ht[:, i], "rot": hr[:, i], "total": hh[:, i]},
                        dominance.get(label, ""), element_units("h", i, None, prismatic)))
-    key = (f"{_math('h_i')} against time t [s]; each y axis in the panel's units, times the "
-           "power of ten it shows." + _zero_note("h", zeros))
+    key = say("element_key", symbol="h", tiny=_TINY, zeros=", ".join(map(_math, zeros)))
     return _element_figure(data.x, panels, data.enveloped, width, key, "h")
 
 
