@@ -58,7 +58,7 @@ from .markup import code, element, sub
 from .numbers import decade_label
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import Outline
-from .simplified_section import BUDGET_CAPTIONS, budget_makers, error_figure
+from .simplified_section import budget_makers, error_figure
 from .ticks import decade_formatter, scaled_formatter
 from .typeset import check_paper
 
@@ -158,7 +158,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
 
     o.section("5", "Simplified model and torque error", "simplified")
     o.paragraph(ctx["simplified_intro"], "note")
-    o.figure("contributions", BUDGET_CAPTIONS["contributions"])
+    o.figure("contributions", say("budget_caption", key="contributions"))
     o.section("5.1", "Torque error along the trajectory")
     o.table(ctx["error"], say("main_outline", key="error"))
     o.figure("torque", caps["torque"])
@@ -176,13 +176,13 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
         if sm.get("region"):
             o.paragraph(sm["region_text"], "note")
             o.table(sm["region"], say("main_outline", key="region"))
-        o.figure("budget", caps.get("budget", BUDGET_CAPTIONS["budget"]))
+        o.figure("budget", caps.get("budget", say("budget_caption", key="budget")))
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")
             if sm["form_note"]:
                 o.paragraph(sm["form_note"], "note")
-            o.figure("cost_ladder", BUDGET_CAPTIONS["cost_ladder"])
+            o.figure("cost_ladder", say("budget_caption", key="cost_ladder"))
         if sm["ladder"] or sm["ladder_note"]:
             o.section(*sm["ladder_heading"].split(" ", 1))
             if sm["ladder"]:

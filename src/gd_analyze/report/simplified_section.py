@@ -42,7 +42,7 @@ if TYPE_CHECKING:
     from ..store.results_view import Results
     from .plot_data import PlotData
 
-__all__ = ["BUDGET_CAPTIONS", "budget_caption",
+__all__ = ["budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
            "fig_cost_ladder", "budget_makers", "contribution_series", "simplified_context",
            "error_figure", "ROUND_OFF", "simplified_caption",
@@ -67,11 +67,6 @@ COLUMN = 3.5
 #: (8 pt at least in the PDF). The figures write no subscript (Unicode's small letters print
 #: under 8 pt): s for s_i and delta tau for tau_s - tau, which the captions define.
 _TAU_S, _S_I = "\u03c4" + sub("s"), "s" + sub("i")
-
-#: Captions of the figures of this module, by figure key.
-BUDGET_CAPTIONS = {key: say("budget_caption", key=key)
-                   for key in ("contributions", "budget", "cost_ladder")}
-
 
 def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.NDArray[np.float64]]:
     """The series of :func:`fig_torque_contributions`, by key.
@@ -237,14 +232,13 @@ def budget_caption(ds: StoredSimplified | xr.Dataset) -> str:
     -------
     str
         For a bound proved over the region (the bars are proved bounds, and a triangle marks
-        a joint's bound proved on the dropped terms' sum: :func:`joint_sum_lower`), else
-        ``BUDGET_CAPTIONS["budget"]`` (the bars are peaks on the trajectory).
+        a joint's bound proved on the dropped terms' sum: :func:`joint_sum_lower`), else for
+        peaks on the trajectory.
     """
     s = StoredSimplified.of(ds)
-    if s.guarantee_kind != "region":
-        return BUDGET_CAPTIONS["budget"]
-    return say("budget_caption", key="budget", region=True,
-               joint_sum=bool(joint_sum_lower(s).any()))
+    region = s.guarantee_kind == "region"
+    return say("budget_caption", key="budget", region=region,
+               joint_sum=region and bool(joint_sum_lower(s).any()))
 
 
 def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
