@@ -156,3 +156,23 @@ def test_the_core_s_statements_reach_the_report_as_mathematics():
          "sampled_min_eigenvalue": -0.5, "statement": "D_s has eigenvalue -0.5 at a sampled "
                                                        "position"}))
     assert "D_s" not in bad and "D" + sub("s") + " has eigenvalue -0.5" in bad
+
+
+def test_s_i_is_said_raised_to_a_floor_only_where_there_is_one():
+    """With no torque floor (0, the default) the rules said "s_i = ..., raised to the floor",
+    of a floor that does not exist: said now only with one."""
+    from gd_analyze.report.common import say
+    from gd_analyze.report.simplified_section import region_pruning
+
+    raised = "raised to the floor"
+    assert raised not in region_pruning(40, 6)
+    assert raised in region_pruning(40, 6, floor="2 N m")
+    for floor in ("", "2"):
+        explicit = say("explicit_rule", rule="budget", eps="0.01", floor=floor, scope="")
+        recursive = say("recursive_rule", b=36, eps="0.01", floor=floor, pairs=40, dropped=6,
+                        region=False, drives=False, scope="")
+        region = say("recursive_rule", b=36, eps="0.01", floor=floor, pairs=40, dropped=6,
+                     region=True, drives=False, scope="")
+        for text in (explicit, recursive, region):
+            assert (raised in text) == bool(floor), (floor, text)
+            assert (f"torque floor {floor} N m" in text) == bool(floor), text

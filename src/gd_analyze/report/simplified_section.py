@@ -845,7 +845,8 @@ def has_drives(ds: StoredSimplified | xr.Dataset) -> bool:
     return StoredSimplified.of(ds).has_drives
 
 
-def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False) -> str:
+def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False,
+                   floor: str = "") -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
 
@@ -857,13 +858,17 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
         The bound, named where the sentence ends.
     drives : bool, optional
         The robot has drives (:func:`has_drives`): s_i is said to leave them out.
+    floor : str, optional
+        The torque floor with its units; empty for none (s_i is then not said to be raised
+        to it).
 
     Returns
     -------
     str
         One sentence.
     """
-    return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives)
+    return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives,
+               floor=floor)
 
 
 def guarantee_kind(ds: StoredSimplified | xr.Dataset) -> str:

@@ -708,7 +708,8 @@ def _region_rule(m):
     dropped = int(0 if m.pairs_dropped is None else m.pairs_dropped)
     return say("region_rule", eps=_eps(m), form=m.form, coverage=coverage(m),
                statement=scope_markup(str(m.guarantee_statement)),
-               pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}")
+               pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}",
+                                      floor=_floor(m) if m.torque_floor > 0 else "")
                if m.form == "recursive" and dropped else "")
 
 
