@@ -10,6 +10,7 @@ a planned file was made.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from collections.abc import Iterator, Mapping
 from pathlib import Path
@@ -327,14 +328,11 @@ def quintic_plan(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
     if T <= 0:
         raise ValueError("start and goal coincide: give a positive duration")
     pris = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
-    if pris.any():          # degrees for revolute joints, metres for prismatic ones
-        def show(x):
-            return np.where(pris, x, np.degrees(x)).round(6).tolist()
-        units = "deg or m"
-    else:
-        def show(x):
-            return np.degrees(x).round(6).tolist()
-        units = "deg"
+
+    def show(x):            # degrees for revolute joints, metres for prismatic ones
+        return np.where(pris, x, np.degrees(x)).round(6).tolist()
+
+    units = "deg or m" if pris.any() else "deg"
     return QuinticPlan(q_start=q_start, q_goal=q_goal, duration=T, n_setpoints=int(n_setpoints),
                        source=f"quintic {show(q_start)} -> {show(q_goal)} {units}, "
                               f"T = {T:.6g} s")
@@ -485,8 +483,6 @@ def read_provenance(csv_path: str | os.PathLike[str]) -> dict[str, Any] | None:
         ``/dev/zero`` fill its memory) or it is not a JSON object (a provenance is advice,
         never a reason to refuse a trajectory).
     """
-    import json
-
     side = provenance_path(csv_path)
     try:
         record = json.loads(read_regular(side, PROVENANCE_LIMIT).decode("utf-8"))
@@ -542,8 +538,6 @@ def write_provenance(csv_path: str | os.PathLike[str], record: Mapping[str, Any]
     pathlib.Path
         The file written (:func:`provenance_path`).
     """
-    import json
-
     out = provenance_path(csv_path)
     doc = {**record, "output": Path(csv_path).name, "output_sha256": file_sha256(csv_path)}
     with atomic_path(out) as tmp:

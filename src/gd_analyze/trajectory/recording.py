@@ -14,9 +14,7 @@ is refused with the file, the row (header = row 1) and the column.
 
 from __future__ import annotations
 
-import csv
 import hashlib
-import io
 import os
 import re
 from dataclasses import dataclass
@@ -27,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import _cell_values, _read_csv, _text
+from .trajectory import _cell_values, _numbered_rows, _read_csv
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -130,14 +128,7 @@ def _columns(header, path, n_joints, current):
 
 def _parse(raw, path, n_joints, current):
     """Cell by cell, naming the row and column of the first fault."""
-    text = _text(raw, path)
-    try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as exc:
-        raise InputError(f"not a CSV file: {exc}", path) from None
-    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
-    if not numbered:
-        raise InputError("empty file", path)
+    numbered = _numbered_rows(raw, path)
     names, cols, n = _columns(numbered[0][1], path, n_joints, current)
     data = numbered[1:]
     values = _cell_values(data, names, path)

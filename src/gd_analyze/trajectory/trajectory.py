@@ -203,11 +203,6 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
                       sha256=sha256)
 
 
-def _sha256(data):
-    """SHA-256 of bytes, as 64 hexadecimal digits."""
-    return hashlib.sha256(data).hexdigest()
-
-
 def _spline(t, q, path, row_of):
     """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS."""
     from scipy.interpolate import CubicSpline
@@ -339,8 +334,6 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
     >>> as_trajectory({"t": [0, 1], "q": [[0], [1]], "qd": [[1], [1]], "qdd": [[0], [0]]}).n_setpoints
     2
     """
-    from collections.abc import Mapping
-
     if isinstance(value, Trajectory):
         if n_joints is not None and value.q.shape[1] != n_joints:
             raise InputError(f"the trajectory has {value.q.shape[1]} joints, the robot has "
@@ -374,24 +367,28 @@ _PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 MAX_CELL = 1000
 
 
-def _without_bom(raw, path):
-    """The file's bytes without a UTF-8 byte-order mark, with an InputNote where one was."""
-    if not raw.startswith(_BOM):
-        return raw
-    warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
-                  InputNote, stacklevel=3)
-    return raw[len(_BOM):]
-
-
-def _text(raw, path):
-    """The file's bytes as text: UTF-8 without a NUL byte, else an InputError."""
+def _numbered_rows(raw, path, long_cell=False):
+    """The rows of a CSV file's bytes that are not blank, (row number, cells) each; an
+    InputError for bytes that are not UTF-8 text without a NUL byte, not CSV, or no row
+    (``long_cell``: a cell beyond the csv module's field limit is named as such)."""
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:
         raise InputError("not a UTF-8 text file", path) from None
     if "\x00" in text:
         raise InputError("not a text file (holds a NUL byte)", path)
-    return text
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        if long_cell and "field larger than field limit" in str(exc):
+            raise InputError(f"a cell longer than {csv.field_size_limit()} characters: not a "
+                             f"trajectory CSV file", path) from None
+        raise InputError(f"not a CSV file: {exc}", path) from None
+    # Blank lines (including a trailing one) are not set points.
+    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
+    if not numbered:
+        raise InputError("empty file", path)
+    return numbered
 
 
 def _open(path):
@@ -423,11 +420,6 @@ def _size(fh):
     end = fh.seek(0, os.SEEK_END)
     fh.seek(at)
     return end - at
-
-
-def _read_bytes(path):
-    with _open(path) as fh:
-        return _read(fh, path)
 
 
 def _check_magnitudes(values, names, path, row_of):
@@ -471,7 +463,7 @@ def _read_csv(path, header, cells):
             return values, names, np.arange(2, values.shape[0] + 2), sha256
         fh.seek(0)
         raw = _read(fh, path)
-    return (*cells(raw.removeprefix(_BOM)), _sha256(raw))          # the bytes, BOM included
+    return (*cells(raw.removeprefix(_BOM)), hashlib.sha256(raw).hexdigest())  # of the BOM too
 
 
 def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[str] | None]
@@ -693,18 +685,7 @@ def _byte_count(raw, byte, block=COUNT_BLOCK):
 def _validated_values(raw, path, n_joints):
     """Parse cell by cell: (values, names, row numbers); an InputError naming the row and
     column of the first fault."""
-    text = _text(raw, path)
-    try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
-    except csv.Error as exc:
-        if "field larger than field limit" in str(exc):
-            raise InputError(f"a cell longer than {csv.field_size_limit()} characters: not a "
-                             f"trajectory CSV file", path) from None
-        raise InputError(f"not a CSV file: {exc}", path) from None
-    # Blank lines (including a trailing one) are not set points.
-    numbered = [(k + 1, r) for k, r in enumerate(rows) if any(c.strip() for c in r)]
-    if not numbered:
-        raise InputError("empty file", path)
+    numbered = _numbered_rows(raw, path, long_cell=True)
     header_row, header = numbered[0]
     if all(_FLOAT.fullmatch(c.strip(" \t")) for c in header):
         raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path,
