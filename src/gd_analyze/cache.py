@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import stat
 import warnings
@@ -158,9 +159,7 @@ def _load_stored(fh, names, max_bytes):
                 header = (npy.read_array_header_1_0 if version == (1, 0)
                           else npy.read_array_header_2_0)
                 shape, fortran, dtype = header(member, max_header_size=4096)
-                count = 1
-                for d in shape:
-                    count *= int(d)
+                count = math.prod(int(d) for d in shape)
                 if dtype.hasobject or count * dtype.itemsize > info.file_size:
                     raise _Refused(f"holds an array {name} larger than its file")
                 data = member.read(count * dtype.itemsize)

@@ -59,6 +59,8 @@ def test_verification_attributes_are_constants(shipped_dataset):
     for term in names.VERIFIED_TERMS:
         assert names.verification_attribute(term) in ds.attrs
         assert names.verification_attribute(term, excess=True) in ds.attrs
+        assert names.verification_attribute(term) in ATTRIBUTES
+        assert names.verification_attribute(term, excess=True) in ATTRIBUTES
 
 
 def test_the_ranking_columns_are_stored_and_read_as_declared(shipped_dataset):

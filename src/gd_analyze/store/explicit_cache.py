@@ -37,7 +37,6 @@ from .certification_cache import robot_inputs
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
-    from ..symbolic.explicit import Term
 
 __all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
            "SELF_CHECK_TOLERANCE"]

@@ -149,13 +149,12 @@ def _read_manifest(folder, name):
         data = json.loads(read_regular(os.path.join(folder, name), MANIFEST_LIMIT, follow=False))
     except (OSError, ValueError, RecursionError):     # RecursionError: nested 100,000 deep
         return None
-    files = data.get("files") if isinstance(data, dict) else None
-    command = data.get("command") if isinstance(data, dict) else None
-    if (data.get("tool") if isinstance(data, dict) else None) != "gd-analyze" \
-            or not isinstance(files, dict) or name != _manifest_name_or_none(command):
+    if not isinstance(data, dict) or data.get("tool") != "gd-analyze" \
+            or not isinstance(data.get("files"), dict) \
+            or name != _manifest_name_or_none(data.get("command")):
         return None
     good = {}
-    for path, entry in files.items():
+    for path, entry in data["files"].items():
         parts = str(path).split("/")
         if (_valid(entry) and path and not path.startswith("/")
                 and all(p not in ("", ".", "..") for p in parts)
@@ -163,7 +162,7 @@ def _read_manifest(folder, name):
             also = entry.get("also")
             good[path] = {**entry, "also": [e for e in also if _valid(e)]
                           if isinstance(also, list) else []}
-    return command, good
+    return data["command"], good
 
 
 def _manifest_name_or_none(command):

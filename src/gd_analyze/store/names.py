@@ -283,20 +283,6 @@ class Attr(_Provenance):
     TOLERANCE: Final = "tolerance"
     TORQUE_FLOOR: Final = "torque_floor"
     VERIFICATION_ENGINE: Final = "verification_engine"
-    VERIFICATION_MAX_REL_ERROR_D: Final = "verification_max_rel_error_D"
-    VERIFICATION_MAX_REL_ERROR_D_ROT: Final = "verification_max_rel_error_D_rot"
-    VERIFICATION_MAX_REL_ERROR_D_TRAN: Final = "verification_max_rel_error_D_tran"
-    VERIFICATION_MAX_REL_ERROR_C: Final = "verification_max_rel_error_c"
-    VERIFICATION_MAX_REL_ERROR_H: Final = "verification_max_rel_error_h"
-    VERIFICATION_MAX_REL_ERROR_H_ROT: Final = "verification_max_rel_error_h_rot"
-    VERIFICATION_MAX_REL_ERROR_H_TRAN: Final = "verification_max_rel_error_h_tran"
-    VERIFICATION_MAX_REL_EXCESS_D: Final = "verification_max_rel_excess_D"
-    VERIFICATION_MAX_REL_EXCESS_D_ROT: Final = "verification_max_rel_excess_D_rot"
-    VERIFICATION_MAX_REL_EXCESS_D_TRAN: Final = "verification_max_rel_excess_D_tran"
-    VERIFICATION_MAX_REL_EXCESS_C: Final = "verification_max_rel_excess_c"
-    VERIFICATION_MAX_REL_EXCESS_H: Final = "verification_max_rel_excess_h"
-    VERIFICATION_MAX_REL_EXCESS_H_ROT: Final = "verification_max_rel_excess_h_rot"
-    VERIFICATION_MAX_REL_EXCESS_H_TRAN: Final = "verification_max_rel_excess_h_tran"
     VERIFICATION_PASSED: Final = "verification_passed"
     VERIFICATION_SETPOINTS: Final = "verification_setpoints"
     VERIFICATION_TOLERANCE: Final = "verification_tolerance"
@@ -453,8 +439,6 @@ def _values(namespace: type) -> frozenset:
 
 #: Every variable name of :class:`Var`.
 VARIABLES: Final = _values(Var)
-#: Every attribute name of :class:`Attr`.
-ATTRIBUTES: Final = _values(Attr)
 #: Every variable name of :class:`ControlVar`.
 CONTROL_VARIABLES: Final = _values(ControlVar)
 #: Every variable name of :class:`SweepVar`.
@@ -481,16 +465,21 @@ def verification_attribute(term: str, excess: bool = False) -> str:
     -------
     str
         ``"verification_max_rel_error_<term>"`` or ``"verification_max_rel_excess_<term>"``,
-        a constant of :class:`Attr`.
+        the one spelling of these attributes (each is in :data:`ATTRIBUTES`).
 
     Examples
     --------
-    >>> verification_attribute("D_tran") == Attr.VERIFICATION_MAX_REL_ERROR_D_TRAN
-    True
-    >>> verification_attribute("c", excess=True) == Attr.VERIFICATION_MAX_REL_EXCESS_C
-    True
+    >>> verification_attribute("D_tran")
+    'verification_max_rel_error_D_tran'
+    >>> verification_attribute("c", excess=True)
+    'verification_max_rel_excess_c'
     """
     return f"{VERIFICATION_PREFIX}max_rel_{'excess' if excess else 'error'}_{term}"
+
+
+#: Every attribute name of :class:`Attr`, and those of :func:`verification_attribute`.
+ATTRIBUTES: Final = _values(Attr) | {verification_attribute(term, excess)
+                                     for term in VERIFIED_TERMS for excess in (False, True)}
 
 
 #: The units rule of a ranking column whose values are in its element's own units

@@ -371,9 +371,13 @@ class ChapterComparison(View):
 #: Printed instead of a number that is round-off (zero to rounding).
 ZERO_MARK = "\u2261 0"
 
+#: Each number of a :class:`TorqueErrorRow` and the variable (dim joint) it is read from.
+_TORQUE_ERROR_FIELDS = (("peak", Var.TAU_ERROR_PEAK), ("rms", Var.TAU_ERROR_RMS),
+                        ("peak_tau", Var.TAU_PEAK), ("relative_peak", Var.TAU_ERROR_RELATIVE_PEAK),
+                        ("relative_rms", Var.TAU_ERROR_RELATIVE_RMS))
 #: The variables a results file must hold for the view.
-REQUIRED = (*(c.name for c in RANKING_COLUMNS if c.required), Var.TAU_ERROR_PEAK,
-            Var.TAU_ERROR_RMS, Var.TAU_PEAK, Var.TAU_ERROR_RELATIVE_PEAK, Var.TAU_ERROR_RELATIVE_RMS, Var.JOINT, *ROBOT_VARIABLES)
+REQUIRED = (*(c.name for c in RANKING_COLUMNS if c.required),
+            *(name for _, name in _TORQUE_ERROR_FIELDS), Var.JOINT, *ROBOT_VARIABLES)
 #: The global attributes a results file must hold for the view.
 REQUIRED_ATTRS = (Attr.ROBOT, Attr.INPUT_FILE, Attr.SETPOINTS, Attr.DOMINANCE_THRESHOLD,
                   Attr.NEGLIGIBLE_THRESHOLD)
@@ -809,14 +813,9 @@ def _ranking(ds):
     """The ranking table, as :data:`gd_analyze.store.names.RANKING_COLUMNS` declares it: stored
     round-off marks; for a file written before they were stored, the same rule once here."""
     M = int(ds.sizes[Var.ELEMENT])
-    columns = {}
-    for c in RANKING_COLUMNS:
-        if c.source == "armature":
-            continue
-        if c.name in ds.variables:
-            values = ds[c.name].values
-            columns[c.field] = (np.array(strings(values)) if c.text
-                                else np.asarray(values, float))
+    columns = {c.field: (np.array(strings(ds[c.name].values)) if c.text
+                         else np.asarray(ds[c.name].values, float))
+               for c in RANKING_COLUMNS if c.source != "armature" and c.name in ds.variables}
     columns.setdefault("scale", np.full(M, np.nan))     # a file written before it was stored
     scale, units = columns["scale"], list(columns["units"])
     zero = _flags(ds, Var.ELEMENT_ROUND_OFF)
@@ -839,20 +838,15 @@ def _ranking(ds):
 def _torque_error(ds, units):
     """The torque-error table: the round-off marks stored at analysis; for a file written
     before they were stored, the same rule once here."""
-    v = {name: np.asarray(ds[name].values, float)
-         for name in (Var.TAU_ERROR_PEAK, Var.TAU_ERROR_RMS, Var.TAU_PEAK,
-                      Var.TAU_ERROR_RELATIVE_PEAK, Var.TAU_ERROR_RELATIVE_RMS)}
+    v = {field: np.asarray(ds[name].values, float) for field, name in _TORQUE_ERROR_FIELDS}
     off = _flags(ds, Var.TAU_ERROR_ROUND_OFF)
     if off is None:
-        tau = v[Var.TAU_PEAK]
-        off = np.asarray(is_round_off(v[Var.TAU_ERROR_PEAK], tau,
-                                      arm_scale=arm_scales(tau, list(units))), bool)
+        tau = v["peak_tau"]
+        off = np.asarray(is_round_off(v["peak"], tau, arm_scale=arm_scales(tau, list(units))),
+                         bool)
     return TorqueErrorTable(rows=tuple(
-        TorqueErrorRow(joint=j + 1, peak=float(v[Var.TAU_ERROR_PEAK][j]),
-                       rms=float(v[Var.TAU_ERROR_RMS][j]), peak_tau=float(v[Var.TAU_PEAK][j]),
-                       relative_peak=float(v[Var.TAU_ERROR_RELATIVE_PEAK][j]),
-                       relative_rms=float(v[Var.TAU_ERROR_RELATIVE_RMS][j]), units=units[j],
-                       round_off=bool(off[j]))
+        TorqueErrorRow(joint=j + 1, **{field: float(x[j]) for field, x in v.items()},
+                       units=units[j], round_off=bool(off[j]))
         for j in range(len(units))))
 
 

@@ -45,6 +45,7 @@
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import errno
 import functools
 import os
@@ -245,8 +246,6 @@ RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
 def _libc_renameat2():
     if not sys.platform.startswith("linux"):
         return None
-    import ctypes
-
     try:
         fn = ctypes.CDLL(None, use_errno=True).renameat2
     except (OSError, AttributeError):
@@ -258,8 +257,6 @@ def _libc_renameat2():
 
 def _renameat2(src, dst, flags):
     """``renameat2(src, dst, flags)``; False where the system or file system lacks it."""
-    import ctypes
-
     fn = _libc_renameat2()
     if fn is None:
         return False
@@ -465,11 +462,9 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
         raise InputError("exists and is not a folder", target)
     parent, name = real.parent, real.name
     missing = [a for a in [parent, *parent.parents] if not a.exists()]
-    for a in [parent, *parent.parents]:
-        if a.exists():
-            if not a.is_dir():
-                raise InputError(f"{a} is a file, not a folder", target)
-            break
+    first = next((a for a in [parent, *parent.parents] if a.exists()), None)
+    if first is not None and not first.is_dir():
+        raise InputError(f"{first} is a file, not a folder", target)
     try:
         parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

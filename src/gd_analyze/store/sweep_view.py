@@ -256,16 +256,10 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         merged_stats = [{"peak": nan, "peak_tau": nan, "sum_sq": nan, "count": 0}] * K
     m_peak = np.array([s["peak"] for s in merged_stats])
     m_tau = np.array([s["peak_tau"] for s in merged_stats])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        m_rel = np.where(m_tau > 0, m_peak / np.where(m_tau > 0, m_tau, 1.0), np.nan)
     all_peak = m_peak.max(axis=0)
     all_tau = m_tau.max(axis=0)
     all_rms = np.sqrt(np.sum([s["sum_sq"] for s in merged_stats], axis=0)
                       / max(1, sum(s["count"] for s in merged_stats)))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        safe = np.where(all_tau > 0, all_tau, 1.0)
-        all_rel_peak = np.where(all_tau > 0, all_peak / safe, np.nan)
-        all_rel_rms = np.where(all_tau > 0, all_rms / safe, np.nan)
     classes = ranking[SV.DOMINANCE][1]
     fraction = np.stack([(classes == c).mean(axis=0) for c in CLASSES], axis=1)
     import warnings
@@ -300,7 +294,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         SV.MERGED_TAU_ERROR_PEAK: var(TJ, m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
-        SV.MERGED_TAU_ERROR_RELATIVE_PEAK: var(TJ, m_rel, "1",
+        SV.MERGED_TAU_ERROR_RELATIVE_PEAK: var(TJ, _relative(m_peak, m_tau), "1",
                                                "merged model: peak |tau_merged - tau| / peak "
                                                "|tau| along the trajectory"),
         SV.CLASS_FRACTION: var((SV.ELEMENT, SV.CLASS), fraction, "1",
@@ -316,8 +310,9 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
                               "1", "part kept by the merged model of the chapter rule: a "
                                    "part is dropped only where every trajectory drops it"),
         **merged_error_variables({"peak_abs_error": all_peak, "rms_error": all_rms,
-                                  "peak_tau": all_tau, "relative_peak_error": all_rel_peak,
-                                  "relative_rms_error": all_rel_rms}, torque),
+                                  "peak_tau": all_tau,
+                                  "relative_peak_error": _relative(all_peak, all_tau),
+                                  "relative_rms_error": _relative(all_rms, all_tau)}, torque),
     }
     data_vars["joint_type"] = joint_type_var(robot)
     coords = element_coords(n, robot.prismatic, robot.joint_names())
@@ -337,6 +332,12 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     # each trajectory's own simplified model (tau_error_*): the chapter's share-based classes
     attrs[SA.OWN_MODEL_RULE] = "chapter"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _relative(error, tau):
+    """``error / tau`` where ``tau`` > 0, else NaN (a joint at rest has no relative error)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(tau > 0, error / np.where(tau > 0, tau, 1.0), np.nan)
 
 
 def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, com: ArrayLike,

@@ -126,15 +126,6 @@ def _columns(header, path, n_joints, current):
     return names, out, n
 
 
-def _parse(raw, path, n_joints, current):
-    """Cell by cell, naming the row and column of the first fault."""
-    numbered = _numbered_rows(raw, path)
-    names, cols, n = _columns(numbered[0][1], path, n_joints, current)
-    data = numbered[1:]
-    values = _cell_values(data, names, path)
-    return values, names, cols, n, np.array([r for r, _ in data], int)
-
-
 def _check_magnitudes(values, names, cols, row_no, path):
     """An InputError for the first value beyond its kind's supported magnitude."""
     limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
@@ -211,14 +202,16 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
 
     def header(fields):
         try:
-            names, found["cols"], found["n"] = _columns(fields, path, n_joints, current)
+            names, found["cols"], _ = _columns(fields, path, n_joints, current)
         except InputError:
             return None
         return names
 
     def cells(raw):
-        values, names, found["cols"], found["n"], rows = _parse(raw, path, n_joints, current)
-        return values, names, rows
+        """Cell by cell, naming the row and column of the first fault."""
+        (_, header_cells), *data = _numbered_rows(raw, path)
+        names, found["cols"], _ = _columns(header_cells, path, n_joints, current)
+        return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
 
     values, names, rows, sha256 = _read_csv(path, header, cells)
     cols = found["cols"]

@@ -190,8 +190,7 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         k = int(bad[0]) + 1
         raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
                          row=int(rows[k]), column="t")
-    _check_magnitudes(values, names, path, lambda k: int(rows[k]))
-    t = values[:, 0]
+    _check_magnitudes(values, names, n, path, lambda k: int(rows[k]))
     q = values[:, 1:n + 1]
     if len(names) == 3 * n + 1:
         qd, qdd = values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]
@@ -422,10 +421,9 @@ def _size(fh):
     return end - at
 
 
-def _check_magnitudes(values, names, path, row_of):
-    """Raise for the first value beyond LIMITS (column kind from its name)."""
-    n = (len(names) - 1) // 3 if len(names) > 2 and (len(names) - 1) % 3 == 0 and \
-        names[-1].startswith("qdd") else len(names) - 1
+def _check_magnitudes(values, names, n, path, row_of):
+    """Raise for the first value beyond LIMITS (the columns ``names`` of n joints, a header
+    :func:`_parse_header` accepts)."""
     groups = [("t", slice(0, 1)), ("q", slice(1, n + 1))]
     if len(names) > n + 1:
         groups += [("qd", slice(n + 1, 2 * n + 1)), ("qdd", slice(2 * n + 1, 3 * n + 1))]
