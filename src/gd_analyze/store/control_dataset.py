@@ -18,7 +18,7 @@ from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
 from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
 from .names import ControlVar as V
-from .schema import flag, global_attributes, joint_coordinate, joint_type_var, var, write_dataset
+from .schema import flag, global_attributes, joint_type_var, text_coordinate, var, write_dataset
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -180,28 +180,22 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
                                       "peak |tau|; a difference at or below it is integrator "
                                       "noise, not data")})
     coords = {
-        V.CONTROLLER: (V.CONTROLLER, np.array(names, dtype=str),
-                       {"long_name": "controller", "units": "1"}),
-        V.CONTROLLER_DESCRIPTION: (V.CONTROLLER,
-                                   np.array([result.descriptions[c] for c in names],
-                                            dtype=str),
-                                   {"long_name": "control law", "units": "1"}),
+        V.CONTROLLER: text_coordinate(V.CONTROLLER, names, "controller"),
+        V.CONTROLLER_DESCRIPTION: text_coordinate(
+            V.CONTROLLER, [result.descriptions[c] for c in names], "control law"),
         V.TIME: (V.TIME, result.t, {"long_name": "time", "units": "s",
                                     "standard_name": "time"}),
-        V.JOINT: joint_coordinate(robot.joint_names()),
-        **{name: (V.JOINT, np.array(joint_units(prismatic, which), dtype=str),
-                  {"long_name": long_name, "units": "1"})
+        V.JOINT: text_coordinate(V.JOINT, robot.joint_names(), "joint"),
+        **{name: text_coordinate(V.JOINT, joint_units(prismatic, which), long_name)
            for name, (which, long_name) in JOINT_UNIT_COORDS.items()},
-        **{f"{k}_units": (V.JOINT, np.array(v, dtype=str),
-                          {"long_name": f"units of {k} of the joint", "units": "1"})
+        **{f"{k}_units": text_coordinate(V.JOINT, v, f"units of {k} of the joint")
            for k, v in per_joint.items()},
-        V.ELEMENT: (V.ELEMENT, np.array(element_labels(n), dtype=str),
-                    {"long_name": "element of D (i <= j) or h", "units": "1"}),
+        V.ELEMENT: text_coordinate(V.ELEMENT, element_labels(n), "element of D (i <= j) or h"),
     }
     cost = result.cost
     if cost:
-        coords[V.EVALUATOR] = (V.EVALUATOR, np.array(cost["evaluators"], dtype=str),
-                               {"long_name": "evaluator of tau at one set point", "units": "1"})
+        coords[V.EVALUATOR] = text_coordinate(V.EVALUATOR, cost["evaluators"],
+                                              "evaluator of tau at one set point")
         data_vars.update({
             V.MULTIPLICATIONS: var((V.EVALUATOR,), np.array(cost["multiplications"], np.int64),
                                  "1", "multiplications per set point (counted, gd_analyze.dynamics.opcount "

@@ -46,6 +46,7 @@ from .schema import (
     global_attributes,
     joint_coordinate,
     joint_type_var,
+    text_coordinate,
     var,
 )
 
@@ -443,9 +444,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     coords = element_coords(n, prismatic)
     coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
-        units = joint_units(prismatic, which)
-        coords[name] = ("joint", np.array(units, dtype=str), {"long_name": long_name,
-                                                              "units": "1"})
+        coords[name] = text_coordinate("joint", joint_units(prismatic, which), long_name)
     coords[Var.XYZ] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
     coords[Var.XYZ_K] = ("xyz_k", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
     attrs = global_attributes(

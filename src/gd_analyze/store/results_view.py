@@ -27,8 +27,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..ranking.ranking import arm_scales, identically_zero, is_round_off
+from .datasets import JOINT_UNIT_COORDS, stored_guarantee, stored_region
 from .datasets import joint_units as _units_of
-from .datasets import stored_guarantee, stored_region
 from .names import (
     ATTRIBUTES,
     RANKING_COLUMNS,
@@ -801,8 +801,7 @@ def _joint_units(ds):
     prismatic = stored_prismatic(ds)
     return types.MappingProxyType(
         {q: texts(ds[name].values) if name in ds.variables else tuple(_units_of(prismatic, q))
-         for q, name in (("q", Var.Q_UNITS), ("qd", Var.QD_UNITS), ("qdd", Var.QDD_UNITS),
-                         ("tau", Var.TAU_UNITS))})
+         for name, (q, _) in JOINT_UNIT_COORDS.items()})
 
 
 def _flags(ds, name):

@@ -34,7 +34,8 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
-           "element_coords", "joint_coordinate", "joint_type_var", "strings", "stored_prismatic",
+           "element_coords", "joint_coordinate", "text_coordinate", "joint_type_var", "strings",
+           "stored_prismatic",
            "Record", "stored_name", "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
@@ -192,7 +193,32 @@ def joint_coordinate(names: Sequence[str], dim: str = "joint",
     >>> joint_coordinate(["joint1", "joint2"])[1].tolist()
     ['joint1', 'joint2']
     """
-    return (dim, np.array([str(v) for v in names], dtype=str),
+    return text_coordinate(dim, names, long_name)
+
+
+def text_coordinate(dim: str, values: Sequence[object], long_name: str) -> tuple[Any, ...]:
+    """A coordinate of names (the joints', the elements', the controllers', the classes').
+
+    Parameters
+    ----------
+    dim : str
+        Its dimension.
+    values : sequence
+        Its values, each written as str (stored as netCDF4 strings).
+    long_name : str
+        Its ``long_name``.
+
+    Returns
+    -------
+    tuple
+        ``(dim, values, attrs)`` as xarray takes it, with ``units`` ``"1"``.
+
+    Examples
+    --------
+    >>> text_coordinate("class", ["both", "none"], "dominance class")[1].tolist()
+    ['both', 'none']
+    """
+    return (dim, np.array([str(v) for v in values], dtype=str),
             {"long_name": long_name, "units": "1"})
 
 
@@ -222,11 +248,8 @@ def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
     labels = element_labels(n)
     units = [element_units(kind, i, j, prismatic) for kind, i, j in element_index(n)]
     return {
-        Var.ELEMENT: ("element", np.array(labels, dtype=str),
-                    {"long_name": "ranked element of D (i <= j) or h", "units": "1"}),
-        Var.ELEMENT_UNITS: ("element",
-                          np.array(units, dtype=str),
-                          {"long_name": "units of the element", "units": "1"}),
+        Var.ELEMENT: text_coordinate("element", labels, "ranked element of D (i <= j) or h"),
+        Var.ELEMENT_UNITS: text_coordinate("element", units, "units of the element"),
         Var.JOINT: joint_coordinate(joints if joints is not None else
                                   [f"joint{i}" for i in range(1, n + 1)]),
     }

@@ -58,6 +58,7 @@ from .schema import (
     stored,
     stored_prismatic,
     strings,
+    text_coordinate,
     texts,
     var,
 )
@@ -318,8 +319,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     coords = element_coords(n, robot.prismatic, robot.joint_names())
     coords[SV.TRAJECTORY] = (SV.TRAJECTORY, np.arange(K),
                             {"long_name": "trajectory index", "units": "1"})
-    coords[SV.CLASS] = (SV.CLASS, np.array(CLASSES, dtype=str),
-                       {"long_name": "dominance class", "units": "1"})
+    coords[SV.CLASS] = text_coordinate(SV.CLASS, CLASSES, "dominance class")
     attrs = global_attributes(robot, f"G-D dominance sweep of {robot.name} over {K} trajectories",
                               references=_REFERENCES, dominance_threshold=float(dominance),
                               negligible_threshold=float(negligible))
