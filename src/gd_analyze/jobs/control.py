@@ -304,20 +304,18 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
         terms, _ = explicit_cache.explicit_terms(robot)
         counted.append(("full explicit model", full_program(robot, terms).cost()))
     counted.append(("Newton-Euler (as implemented)", operation_counts(robot)["newton-euler"]))
-    names = [name for name, _ in counted]
-    mults = [int(c["multiplications"]) for _, c in counted]
-    adds = [int(c["additions"]) for _, c in counted]
+    counts = {"evaluators": [name for name, _ in counted],
+              "multiplications": [int(c["multiplications"]) for _, c in counted],
+              "additions": [int(c["additions"]) for _, c in counted]}
     facts = model_facts(model)
     if model.recursive is not None:
-        return {"evaluators": names, "multiplications": mults, "additions": adds,
-                "dropped": facts["pairs_dropped"], "parts": facts["pairs"],
+        return {**counts, "dropped": facts["pairs_dropped"], "parts": facts["pairs"],
                 "what": "(base parameter, part) pairs of the recursive model",
                 "dropped_pairs": facts["dropped_pairs"]}
     Mt, Mr, mt, mr = choice_masks(model.choices, robot.n)
     parts = 2 * (robot.n * (robot.n + 1) // 2 + robot.n)
     kept = int(np.triu(Mt).sum() + np.triu(Mr).sum() + mt.sum() + mr.sum())
-    return {"evaluators": names, "multiplications": mults, "additions": adds,
-            "dropped": parts - kept, "parts": parts,
+    return {**counts, "dropped": parts - kept, "parts": parts,
             "what": "translational/rotational parts of D and h", "dropped_pairs": ""}
 
 
@@ -491,10 +489,9 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
                 f"fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} integrator "
                 f"steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
-    runs = {}
-    for name in (c for c in CONTROLLERS if c in controllers):
-        runs[name] = track(robot, name, gains, desired, t, q0_offset=offset,
-                           choices=model, rtol=rtol, atol=atol, method=method)
+    runs = {name: track(robot, name, gains, desired, t, q0_offset=offset, choices=model,
+                        rtol=rtol, atol=atol, method=method)
+            for name in CONTROLLERS if name in controllers}
     noise, unmeasured = None, ""
     if "full" in runs and "simplified" in runs:
         try:

@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
-           "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "stiffness_steps", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
+           "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
            "controller_torque", "TrackingRun", "track"]
 
 
@@ -66,8 +66,8 @@ DEFAULT_ATOL = 1e-10
 DEFAULT_METHOD = "DOP853"
 
 
-#: Most integrator steps the gains may demand (see :func:`stiffness_steps`); stiffer gains are
-#: refused before integrating.
+#: Most integrator steps the gains may demand (see :func:`closed_loop_rates`); stiffer gains
+#: are refused before integrating.
 MAX_STIFFNESS_STEPS = 20_000
 
 
@@ -83,35 +83,6 @@ DENSE_SETPOINTS = 10_000
 #: Right-hand-side evaluations per step of DOP853 (12 stages; Hairer, Norsett & Wanner,
 #: *Solving ODEs I*, Sec. II.10): with :data:`MAX_RHS_EVALS`, the most steps a run can take.
 RHS_PER_STEP = 12
-
-
-def stiffness_steps(wn: float | ArrayLike, zeta: float | ArrayLike, duration: float) -> float:
-    """Integrator steps the error dynamics demand of an explicit method.
-
-    Parameters
-    ----------
-    wn : float or array_like
-        Undamped natural frequency [rad/s].
-    zeta : float or array_like
-        Damping ratio.
-    duration : float
-        Length of the run [s].
-
-    Returns
-    -------
-    float
-        duration * |s_max| / 3, with s_max = wn (zeta + sqrt(max(zeta^2 - 1, 0))) the fastest
-        root of s^2 + 2 zeta wn s + wn^2: an explicit Runge-Kutta method is stable for step
-        sizes up to about 3 / |s_max|.
-
-    Examples
-    --------
-    >>> round(stiffness_steps(20.0, 1.0, 1.5))
-    10
-    """
-    wn, zeta = np.asarray(wn, float), np.asarray(zeta, float)
-    fastest = wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))
-    return float(np.max(fastest)) * float(duration) / 3.0
 
 
 def singular_inertia(robot: Robot, D: np.ndarray, rtol: float = 1e-12) -> str | None:
@@ -464,10 +435,6 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
 
     n = robot.n
     t_eval = np.asarray(t_eval, dtype=float)
-    if controller not in CONTROLLERS:
-        raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
-    if controller == "simplified" and not hasattr(choices, "torque"):
-        raise ValueError("the simplified controller needs the simplified model")
     d1, d2 = desired.derivative(1), desired.derivative(2)
     # integrated in the time since t_eval[0]: the same polynomials on shifted breakpoints (the
     # differences of nearby floats are exact), so that the steps keep their resolution where
