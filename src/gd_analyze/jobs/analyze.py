@@ -308,14 +308,14 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
     chunk = stream_chunk(robot.n) if chunk is None else chunk
+    options = AnalysisOptions() if options is None else options
     args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
-    simplify = (AnalysisOptions() if options is None else options).simplify
-    if simplify is None:
+    if options.simplify is None:
         return _analysis_pass(*args, background=None)
     # the simplification's compiled peak passes need only the trajectory: they run in threads
     # (the kernels release the GIL) beside the pass over the G-D terms, always
     with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
-        background = start_peaks(pool, robot, trajectory, simplify, DERIVATIONS)
+        background = start_peaks(pool, robot, trajectory, options.simplify, DERIVATIONS)
         try:
             return _analysis_pass(*args, background=background)
         finally:
@@ -332,7 +332,6 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                    background):
     """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
 
-    options = AnalysisOptions() if options is None else options
     check, formulations, simplify = options.verify, options.formulations, options.simplify
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     N, n = q.shape
@@ -457,18 +456,17 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             deployed, trajectory, None if other_errors is None else other_errors.result())
     sample = _concat(samples)
     at = {i: k for k, i in enumerate(sample_idx)}
-    verification = {}
-    if check:
-        verification = _verify_sample(robot, q[idx_verify], qd[idx_verify],
-                                      sample.rows([at[i] for i in idx_verify]),
-                                      qdd[idx_verify])
-    costs = None
-    if formulations:
-        costs = formulations_dataset(robot, q[idx_form], qd[idx_form], qdd[idx_form],
-                                     gd=sample.rows([at[i] for i in idx_form]))
+
+    def sampled(idx):               # the terms kept from pass 1 at these set points
+        return sample.rows([at[i] for i in idx])
+
+    verification = {} if not check else _verify_sample(
+        robot, q[idx_verify], qd[idx_verify], sampled(idx_verify), qdd[idx_verify])
+    costs = None if not formulations else formulations_dataset(
+        robot, q[idx_form], qd[idx_form], qdd[idx_form], gd=sampled(idx_form))
     if model is not None and model.recursive is not None:
-        choices = recursive_choices(model, q[idx_choice], qd[idx_choice],
-                                    sample.rows([at[i] for i in idx_choice]), ranking)
+        choices = recursive_choices(model, q[idx_choice], qd[idx_choice], sampled(idx_choice),
+                                    ranking)
     return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
                  verification=verification, costs=costs,
                  terms=_concat(held) if hold else None,
@@ -549,18 +547,37 @@ def _with_chapter(ds, error):
     return out
 
 
+def _summary(robot, trajectory, result, settings, extra=None):
+    """The summary dataset of a pass (:func:`gd_analyze.store.datasets.summary_dataset`) with
+    the formulations' costs, ``extra``'s variables, the simplified model's variables and the
+    chapter's conclusions."""
+    ds = _with(summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
+                               result.verification, settings), result.costs)
+    if extra is not None:
+        ds = ds.assign(extra.data_vars)
+    return _with_chapter(_with(ds, result.simplified), result.chapter_error)
+
+
+def _analysis(robot, trajectory, result, options, settings, ds):
+    """The :class:`Analysis` of a pass with the summary dataset ``ds``, and the per-set-point
+    variables too when the pass held them (one chunk: the result in memory is whole)."""
+    if result.terms is not None:
+        ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,
+                            result.tau_simplified)
+    return Analysis(dataset=ds, model=_model(robot, trajectory, result, options, settings),
+                    verification=result.verification)
+
+
 def _model(robot, trajectory, result, options, settings):
     if result.model is not None:                 # the explicit simplified model
-        if result.model.recursive is not None:   # its choices as results.h5 stores them
-            return dataclasses.replace(result.model, validation=result.error,
-                                       choices=dict(result.choices))
-        return dataclasses.replace(result.model, validation=result.error)
-    provenance = _provenance(trajectory, settings)
+        # a recursive model with its choices as results.h5 stores them
+        own = {} if result.model.recursive is None else {"choices": dict(result.choices)}
+        return dataclasses.replace(result.model, validation=result.error, **own)
     return SimplifiedModel(robot=robot, choices=result.choices,
                            dominance_threshold=float(options.dominance),
                            negligible_threshold=float(options.negligible),
                            trajectory_sha256=trajectory.sha256, validation=result.error,
-                           provenance=provenance)
+                           provenance=_provenance(trajectory, settings))
 
 
 def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
@@ -600,13 +617,8 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     N = trajectory.q.shape[0]
     result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
                            chunk=max(N, 1))
-    ds = with_setpoints(summary_dataset(robot, trajectory, result.ranking, result.choices,
-                                        result.error, result.verification, settings),
-                        robot, trajectory, result.terms, result.tau, result.tau_simplified)
-    ds = _with_chapter(_with(ds, result.simplified), result.chapter_error)
-    return Analysis(dataset=_with(ds, result.costs),
-                    model=_model(robot, trajectory, result, options, settings),
-                    verification=result.verification)
+    return _analysis(robot, trajectory, result, options, settings,
+                     _summary(robot, trajectory, result, settings))
 
 
 def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLike[str],
@@ -655,8 +667,6 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
     OSError
         If the file cannot be written.
     """
-    import contextlib
-
     options = AnalysisOptions() if options is None else options
     N, n = trajectory.q.shape
     chunk = stream_chunk(n) if chunk is None else chunk
@@ -673,16 +683,6 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
             result = analysis_pass(robot, trajectory, options,
                                    _provenance(trajectory, settings), chunk, writer=out,
                                    progress=progress)
-        ds = summary_dataset(robot, trajectory, result.ranking, result.choices, result.error,
-                             result.verification, settings)
-        ds = _with(ds, result.costs)
-        if extra is not None:
-            ds = ds.assign(extra.data_vars)
-        ds = _with_chapter(_with(ds, result.simplified), result.chapter_error)
+        ds = _summary(robot, trajectory, result, settings, extra)
         append_dataset(ds, tmp)          # not to_netcdf: it would import dask
-    if result.terms is not None:        # one chunk, held: the result in memory is whole
-        ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,
-                            result.tau_simplified)
-    return Analysis(dataset=ds,
-                    model=_model(robot, trajectory, result, options, settings),
-                    verification=result.verification)
+    return _analysis(robot, trajectory, result, options, settings, ds)
