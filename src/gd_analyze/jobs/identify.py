@@ -153,25 +153,22 @@ def _drive_torque(robot, qd, qdd):
     return tau if fr is None else tau + fr
 
 
-def _recording(item, n, options, role):
-    if isinstance(item, Recording):
-        rec = item
-    else:
-        rec = read_recording(item, n_joints=n, current=options.current)
+def _recording(item, n, options):
+    rec = (item if isinstance(item, Recording)
+           else read_recording(item, n_joints=n, current=options.current))
     if rec.n != n:
         raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
-    if options.current:
-        gains = options.drive_gains
-        if len(gains) != n:
-            raise InputError(f"{len(gains)} drive gains for {n} joints", column="--drive-gains")
+    if options.current and len(options.drive_gains) != n:
+        raise InputError(f"{len(options.drive_gains)} drive gains for {n} joints",
+                         column="--drive-gains")
     return rec
 
 
 def _prepared(rec, cutoff, options, label, prismatic):
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     try:
-        pre = preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
-                         decimate=int(options.decimate), label=label, prismatic=prismatic)
+        return preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
+                          decimate=int(options.decimate), label=label, prismatic=prismatic)
     except ValueError as exc:
         if options.cutoff == "auto" and cutoff is not None:     # chosen, not given
             raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
@@ -180,7 +177,6 @@ def _prepared(rec, cutoff, options, label, prismatic):
                              f"seconds? Else give --cutoff)", rec.source) from None
         raise InputError(str(exc), rec.source,
                          column="--cutoff" if "cutoff" in str(exc) else None) from None
-    return pre
 
 
 def identify(robot: Robot | str | Path,
@@ -230,8 +226,8 @@ def identify(robot: Robot | str | Path,
     n = prior.n
     if not recordings:
         raise InputError("no recording to identify from")
-    train = [_recording(r, n, options, "train") for r in recordings]
-    valid = [_recording(r, n, options, "validate") for r in validate]
+    train = [_recording(r, n, options) for r in recordings]
+    valid = [_recording(r, n, options) for r in validate]
     if not any(np.any(r.tau) for r in train):
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
@@ -276,9 +272,8 @@ def identify(robot: Robot | str | Path,
         products = rows.times(np.column_stack([theta, rigid]))
         pred = products[..., 0]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
-        tau_s = None
-        if simplified is not None:
-            tau_s = p.filtered(simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
+        tau_s = None if simplified is None else p.filtered(
+            simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
         used_r = fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
             name=name, file=rec.source, sha256=rec.sha256,

@@ -104,13 +104,9 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
             rows.setdefault(label, row(c))
 
     counts = operation_counts(n) if formulation_counts is None else formulation_counts
-    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
-        mu, ad = counts[method]["multiplications"], counts[method]["additions"]
-        rows[f"project {label} as implemented"] = (float(mu), float(ad), float(mu + ad))
-    book = book_counts(n)
-    for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
-        mu, ad = book[method]["multiplications"], book[method]["additions"]
-        rows[f"Table 3.5 {label}"] = (float(mu), float(ad), float(mu + ad))
+    for table, name in ((counts, "project {} as implemented"), (book_counts(n), "Table 3.5 {}")):
+        for method, label in (("gd", "G-D"), ("newton-euler", "N-E"), ("lagrange-euler", "L-E")):
+            rows[name.format(label)] = row(table[method])
     if getattr(model.robot, "name", "") == "puma560" and n == 6:     # AKB's arm only
         rows.update({k: tuple(float(x) for x in v) for k, v in AKB_COSTS.items()})
     return rows
@@ -333,11 +329,9 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
         **inertia_check_attrs(model.inertia_check),
     })
     if full_terms is not None and other is not None and other.terms is not None:
-        (ds.attrs["full_harmonics"], ds.attrs["full_coefficients"]) = coefficient_structure(
-            full_terms)
-        (ds.attrs["other_rule_harmonics"],
-         ds.attrs["other_rule_coefficients"]) = coefficient_structure(
-            other.terms)
+        for key, terms in (("full", full_terms), ("other_rule", other.terms)):
+            ds.attrs[f"{key}_harmonics"], ds.attrs[f"{key}_coefficients"] = \
+                coefficient_structure(terms)
     return ds
 
 

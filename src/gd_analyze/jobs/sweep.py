@@ -122,14 +122,13 @@ def check_trajectory(robot: Robot, trajectory: Trajectory) -> None:
     ValueError
         If a shape does not match, or there are fewer than 2 set points.
     """
-    q = np.asarray(trajectory.q)
     N = np.asarray(trajectory.t).shape[0]
     for name in ("q", "qd", "qdd"):
         shape = np.shape(getattr(trajectory, name))
         if shape != (N, robot.n):
             raise ValueError(f"{trajectory.source or 'trajectory'}: {name} has shape {shape}, "
                              f"expected ({N}, {robot.n}) for {robot.name}")
-    if q.shape[0] < 2:
+    if N < 2:                            # q has shape (N, n) here
         raise ValueError(f"{trajectory.source or 'trajectory'}: fewer than 2 set points")
 
 

@@ -201,8 +201,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
             "its bound is proved; 0 if not (not covered)")
         put(SV.MERGED_COVERAGE, (SV.TRAJECTORY,), np.array(per["coverage"], dtype=str), "1",
             "why the trajectory lies in the merged model's region or not")
-    for name, (dims, data, attrs) in merged_error_variables(v, torque).items():
-        ds[name] = (dims, data, attrs)
+    ds.update(merged_error_variables(v, torque))
     held = v.get("held_out") or {}
     if held:                            # measured off the sweep, not guaranteed
         put(SV.HELD_OUT_ERROR_PEAK, (SV.JOINT,), np.array(held["peak_abs_error"], float), torque,
@@ -223,8 +222,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         ds.attrs.update({SA.MERGED_GUARANTEE_KIND: model.guarantee.kind,
                          SA.MERGED_GUARANTEE_STATEMENT: model.guarantee.statement()})
         region_vars, region_attrs = region_fields(model.guarantee.region)
-        for name, (dims, data, attrs) in region_vars.items():
-            ds[name] = (dims, data, attrs)
+        ds.update(region_vars)
         ds.attrs.update(region_attrs)
     return with_model_cost(ds, model)
 
