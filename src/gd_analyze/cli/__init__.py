@@ -212,10 +212,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _main(argv):
-    argv = list(sys.argv[1:] if argv is None else argv)
-    given = list(argv)
-    debug = "--debug" in argv
-    argv = [a for a in argv if a != "--debug"]
+    given = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in given
+    argv = [a for a in given if a != "--debug"]
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]

@@ -192,9 +192,9 @@ def wrote_line(files: Sequence[Path], folder: Path, verbose: bool) -> str:
     return f"wrote {len(files)} file{'s' if len(files) != 1 else ''} to {folder}"
 
 
-def _load(args, csv_arg):
+def _load(args):
     robot = load_robot_arg(args)
-    return robot, read_trajectory(csv_arg, n_joints=robot.n)
+    return robot, read_trajectory(args.trajectory, n_joints=robot.n)
 
 
 
@@ -204,9 +204,7 @@ def _load(args, csv_arg):
 def _cost_lines(costs):
     """The simplified model's counted operations beside Newton-Euler's, from the stored table
     (:class:`gd_analyze.store.stored_simplified.CostTable`, or None)."""
-    if costs is None:
-        return []
-    names = list(costs.models)
+    names = [] if costs is None else list(costs.models)
     mine = [k for k, name in enumerate(names) if name.endswith("(this model)")]
     ne = [k for k, name in enumerate(names) if name == "project N-E as implemented"]
     if not mine or not ne:
@@ -423,7 +421,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     """
 
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
-    robot, trajectory = _load(args, args.trajectory)
+    robot, trajectory = _load(args)
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
     with warnings.catch_warnings():     # beyond the joint limits: one warning line each
@@ -853,7 +851,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-    robot, traj = _load(args, args.trajectory)
+    robot, traj = _load(args)
     report = compare_report(robot, traj.q, traj.qd, traj.qdd)
     if args.json:
         print(json.dumps({**report, **mounting_settings(args, robot)}))

@@ -333,12 +333,20 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                             "whatever --explicit says)")
 
 
-def _add_verbose_argument(p, quiet=False):
-    """-v (with ``quiet``: -q before it)."""
+def _add_threshold_arguments(p, dominance="default {}", negligible="default {}"):
+    """--dominance and --negligible, each help text a template of its default."""
+    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
+                   default=defaults["dominance"], help=dominance.format(defaults["dominance"]))
+    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
+                   default=defaults["negligible"], help=negligible.format(defaults["negligible"]))
+
+
+def _add_verbose_argument(p, quiet=False, default=" (default: how many, and the folder)"):
+    """-v, its help ending in ``default`` (with ``quiet``: -q before it)."""
     if quiet:
         p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     p.add_argument("-v", "--verbose", action="store_true",
-                   help="list every file written (default: how many, and the folder)")
+                   help="list every file written" + default)
 
 
 def _add_print_arguments(p, skip=None):
@@ -380,14 +388,8 @@ def analyze_parser() -> argparse.ArgumentParser:
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-<csv stem>/)")
-    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
-                   default=defaults["dominance"],
-                   help=f"share at which one part dominates, in (0.5, 1] (default "
-                        f"{defaults['dominance']})")
-    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
-                   default=defaults["negligible"],
-                   help=f"an element below E times its scale is negligible (default "
-                        f"{defaults['negligible']})")
+    _add_threshold_arguments(p, "share at which one part dominates, in (0.5, 1] (default {})",
+                             "an element below E times its scale is negligible (default {})")
     _add_budget_arguments(p)
     _add_region_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
@@ -606,11 +608,7 @@ def sweep_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
                    help="workers of the LocalCluster, started even for a small sweep "
                         "(default: one per core)")
-    p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
-                   default=defaults["dominance"], help=f"default {defaults['dominance']}")
-    p.add_argument("--negligible", metavar="E",
-                   type=_fraction(0.0, 1.0, "--negligible", False),
-                   default=defaults["negligible"], help=f"default {defaults['negligible']}")
+    _add_threshold_arguments(p)
     _add_budget_arguments(p, where="over the joint-limit region (see --guarantee) or on every "
                                    "swept trajectory (scale_i = max(that trajectory's peak "
                                    "|tau_i|, TAU)); the merged model merged_model.json and its emitted "
@@ -709,6 +707,5 @@ def identify_parser() -> argparse.ArgumentParser:
                         "error on the validation recordings")
     _add_print_arguments(p, "report.html and report.pdf")
     _add_chain_arguments(p)
-    p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    p.add_argument("-v", "--verbose", action="store_true", help="list every file written")
+    _add_verbose_argument(p, quiet=True, default="")
     return p

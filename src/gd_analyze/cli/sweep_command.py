@@ -44,13 +44,6 @@ from .parsing import EXIT_OK
 __all__ = []
 
 
-def _held_out(robot, args):
-    """The held-out trajectories of the budget rule's merged model (``--held-out``, at least 0
-    by its parser)."""
-    return random_trajectories(robot, args.held_out, seed=args.seed + 1_000_003) \
-        if args.held_out else []
-
-
 def _model_settings(args, settings, limits):
     """The keyword arguments of the budget rule's merged model
     (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`)."""
@@ -210,7 +203,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # over the region the merge needs no per-trajectory peaks of the recursive model
     proved = guarantee_region(loaded, args.guarantee, limits)[2]
     budget = args.rule == "budget"
-    held = _held_out(loaded, args) if budget else []
+    # the held-out trajectories of the budget rule's merged model (--held-out, at least 0)
+    held = random_trajectories(loaded, args.held_out, seed=args.seed + 1_000_003) \
+        if budget and args.held_out else []
     prepared = {}
 
     def region_model():
