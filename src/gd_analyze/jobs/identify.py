@@ -264,9 +264,8 @@ def identify(robot: Robot | str | Path,
     pending = dict(enumerate(regressors))       # each freed once its recording is predicted
     rigid = np.zeros(theta.size)
     rigid[:b] = base.beta                       # the robot file's rigid links, without drives
-    for k, (p, name) in enumerate(zip(pres, names)):
+    for k, (p, name, rec) in enumerate(zip(pres, names, train + valid)):
         is_train = k < len(train)
-        rec = (train + valid)[k]
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
         products = rows.times(np.column_stack([theta, rigid]))

@@ -191,16 +191,14 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
     extra = None
+    shape = Payload() if payload is None else payload
     if payload_masses is not None:                      # computed before any output
-
-        shape = Payload() if payload is None else payload
         extra = embed_payload(payload_sweep(
             robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
             dominance=options.dominance, negligible=options.negligible))
     if payload is not None:
         robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
-    settings = _settings(options, settings, Payload() if payload is None else payload, robot,
-                         prefix)
+    settings = _settings(options, settings, shape, robot, prefix)
     prefix = settings["c_prefix"]
     with staged_output(outdir, command="analyze") as stage, writing(outdir, stage):
         check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")

@@ -229,12 +229,8 @@ def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
         q = np.concatenate([np.asarray(tr.q, float) for tr in group])
         qd = np.concatenate([np.asarray(tr.qd, float) for tr in group])
         terms = gd_terms(robot, q, qd)
-        out, a = [], 0
-        for tr in group:
-            b = a + tr.q.shape[0]
-            out.append((tr, terms.rows(slice(a, b))))
-            a = b
-        return out
+        ends = np.cumsum([0] + [tr.q.shape[0] for tr in group]).tolist()
+        return [(tr, terms.rows(slice(a, b))) for tr, a, b in zip(group, ends, ends[1:])]
 
     for tr in trajectories:
         N = np.shape(tr.q)[0]
@@ -521,8 +517,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         SA.N_TASKS: tasks, SA.CLUSTER: how,
         SA.COMPUTE_S: round(compute_s, 4), SA.STARTED: started.isoformat(),
     })
-    for key, value in (settings or {}).items():
-        ds.attrs[key] = attribute_value(value)
+    ds.attrs.update({key: attribute_value(v) for key, v in (settings or {}).items()})
     ds.attrs[SA.ELAPSED_S] = round(time.perf_counter() - t0, 4)
     return ds
 

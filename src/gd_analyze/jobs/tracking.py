@@ -477,13 +477,10 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
                       "set point) takes fewer")
         raise ValueError(f"the {controller} controller's run did not finish within "
                          f"{MAX_RHS_EVALS} evaluations of the dynamics: {cause}") from None
-    if sol.success:
-        q, qd = sol.y[:n].T.copy(), sol.y[n:].T.copy()
-    else:                                   # keep the shapes; NaN after the failure
-        q = np.full((t_eval.size, n), np.nan)
-        qd = np.full((t_eval.size, n), np.nan)
-        m = sol.y.shape[1]
-        q[:m], qd[:m] = sol.y[:n].T, sol.y[n:].T
+    # the samples reached (all of them unless the run failed), NaN after them: the shapes kept
+    q, qd = np.full((t_eval.size, n), np.nan), np.full((t_eval.size, n), np.nan)
+    m = sol.y.shape[1]
+    q[:m], qd[:m] = sol.y[:n].T, sol.y[n:].T
     q_d, qd_d, qdd_d = desired(t_eval), d1(t_eval), d2(t_eval)
     ok = np.isfinite(q).all(axis=1)
     tau = np.full_like(q, np.nan)
