@@ -351,14 +351,13 @@ def region_limits(args: argparse.Namespace, robot: Robot) -> RegionLimits | None
         If an option has neither one nor n values, or a range lies wholly outside the robot's
         limits: one line naming the option.
     """
-    given = {k: getattr(args, k, None) for k in ("q_limits", "qd_max", "qdd_max")}
-    if all(v is None for v in given.values()):
+    given = {k: v for k in ("q_limits", "qd_max", "qdd_max")
+             if (v := getattr(args, k, None)) is not None}
+    if not given:
         return None
     pris = np.asarray(robot.prismatic, bool)
     out = {}
     for key, vals in given.items():
-        if vals is None:
-            continue
         option = f"--{key.replace('_', '-')}"
         if len(vals) not in (1, robot.n):
             raise InputError(f"{len(vals)} values for {robot.n} joints (give one for all or one "

@@ -129,6 +129,5 @@ def cmd_identify(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(recordings_json(result)))
     elif not args.quiet:
-        for line in _summary(result, outdir, written, args):
-            print(line)
+        print("\n".join(_summary(result, outdir, written, args)))
     return EXIT_OK

@@ -69,8 +69,7 @@ def _sweep_model(robot, model, args, outdir, ds):
         (outdir / name).write_text(text, encoding="utf-8")
         written.append(outdir / name)
     if not args.quiet:
-        for line in _model_lines(model, ds, args):
-            print(line)
+        print("\n".join(_model_lines(model, ds, args)))
     return written, ds
 
 
