@@ -95,12 +95,9 @@ class _Escaping:
 @contextlib.contextmanager
 def _escaped_output():
     """sys.stdout and sys.stderr written through :class:`_Escaping` inside the block."""
-    out, err = sys.stdout, sys.stderr
-    sys.stdout, sys.stderr = _Escaping(out), _Escaping(err)
-    try:
+    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
+            contextlib.redirect_stderr(_Escaping(sys.stderr)):
         yield
-    finally:
-        sys.stdout, sys.stderr = out, err
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
