@@ -200,12 +200,10 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
 def _settings(robot, trajectories, provenance, explicit, form, guarantee, region):
     """The checked settings of :func:`budget_sweep_model`: (provenance, digest of the
     trajectories, whether the explicit model is derived, :func:`guarantee_region`'s triple)."""
-    if explicit not in EXPLICIT:
-        raise ValueError(f"explicit must be one of {EXPLICIT}, got {explicit!r}")
-    if form not in FORMS:
-        raise ValueError(f"form must be one of {FORMS}, got {form!r}")
-    if guarantee not in GUARANTEES:
-        raise ValueError(f"guarantee must be one of {GUARANTEES}, got {guarantee!r}")
+    for name, value, allowed in (("explicit", explicit, EXPLICIT), ("form", form, FORMS),
+                                 ("guarantee", guarantee, GUARANTEES)):
+        if value not in allowed:
+            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
     derive = form == "explicit" or explicit == "always" or (
         explicit == "auto" and not is_expensive(robot))

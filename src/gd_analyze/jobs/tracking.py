@@ -30,7 +30,8 @@ if TYPE_CHECKING:
 
 __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
-           "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates", "singular_inertia", "Gains", "control_gains", "desired_motion",
+           "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates",
+           "singular_inertia", "Gains", "control_gains", "desired_motion",
            "controller_torque", "TrackingRun", "track"]
 
 
