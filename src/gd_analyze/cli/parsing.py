@@ -196,7 +196,8 @@ def _vector3(name):
     return _numbers(lambda v: len(v) == 3, f"{name} needs 3 comma-separated numbers")
 
 
-def _add_payload_arguments(p):
+def _add_payload_arguments(p, sweep=False):
+    """--payload, --payload-com, --payload-inertia (with ``sweep``: --payload-sweep after them)."""
     g = p.add_argument_group("payload (a rigid load fixed to the last link)")
     g.add_argument("--payload", metavar="MASS", type=_nonnegative("--payload"),
                    help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
@@ -205,7 +206,11 @@ def _add_payload_arguments(p):
     g.add_argument("--payload-inertia", metavar="IXX,IYY,IZZ",
                    type=_vector3("--payload-inertia"), default=[0.0, 0.0, 0.0],
                    help="load principal moments about its centre of mass [kg m^2]")
-    return g
+    if sweep:
+        g.add_argument("--payload-sweep", metavar="START:STOP:STEP",
+                       help="also rank the elements for each load mass in this range [kg], "
+                            "stop included, e.g. 0:2.5:0.5; uses --payload-com and "
+                            "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
 def _add_mounting_arguments(p, what="the arm"):
@@ -217,7 +222,6 @@ def _add_mounting_arguments(p, what="the arm"):
                    help=f"roll, pitch, yaw of {what}'s base in the world [deg] (URDF "
                         "convention R = Rz(Y) Ry(P) Rx(R); gravity in the base frame is R^T g): "
                         "e.g. 0,90,0 on a wall, 0,180,0 on a ceiling (default 0,0,0)")
-    return g
 
 
 def _add_chain_arguments(p):
@@ -228,19 +232,11 @@ def _add_chain_arguments(p):
     g.add_argument("--tip", metavar="LINK",
                    help="the chain's tip link (default: the end of the only chain); moving "
                         "joints off the chain are locked at q = 0 and carried by their link")
-    return g
 
 
 def _robot_help():
     return (f"built-in robot ({robots_text()}), a TOML robot file or a URDF file (*.urdf, see "
             "--base and --tip)")
-
-
-def _add_payload_sweep_argument(group):
-    group.add_argument("--payload-sweep", metavar="START:STOP:STEP",
-                       help="also rank the elements for each load mass in this range [kg], "
-                            "stop included, e.g. 0:2.5:0.5; uses --payload-com and "
-                            "--payload-inertia for the load's shape (stored with dim 'payload')")
 
 
 def _q_ranges(text):
@@ -290,7 +286,6 @@ def _add_region_arguments(p, what="the region over which the bound is proved (--
                    help=_REGION_HELP["qd"])
     g.add_argument("--qdd-max", metavar="A[,...]", type=_positive_list("--qdd-max"),
                    help=_REGION_HELP["qdd"].format(DEFAULT_QDD_PER_QD))
-    return g
 
 
 def _add_budget_arguments(p, rule=True, where=None, form=True,
@@ -413,7 +408,7 @@ def analyze_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
-    _add_payload_sweep_argument(_add_payload_arguments(p))
+    _add_payload_arguments(p, sweep=True)
     return p
 
 
@@ -624,7 +619,7 @@ def sweep_parser() -> argparse.ArgumentParser:
     _add_verbose_argument(p, quiet=True)
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
-    _add_payload_sweep_argument(_add_payload_arguments(p))
+    _add_payload_arguments(p, sweep=True)
     return p
 
 
