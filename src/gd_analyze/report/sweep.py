@@ -562,21 +562,14 @@ def _fig_error(w, width=_PAGE_WIDTH):
     ax.set_xlim(0.4, n + 0.6)
     ax.set_ylabel("peak |\u0394\u03c4| / peak |\u03c4| [1]" if not region else
                   "peak |\u0394\u03c4| / s [1]")    # one scale for all
-    own_rule, rule = m.own_rule, m.rule
-    no_bound = {"chapter": ", no bound"}
-    merged_rule = (f"budget rule, \u03b5 = {_eps(m)}"
-                   + ("; / s over the region" if region else "")
-                   if rule == "budget" else f"{rule} rule{no_bound.get(rule, '')}")
-    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=f"own models ({own_rule} rule"
-                              f"{no_bound.get(own_rule, '')}"
-                              + ("; / s over the region" if region else "")
-                              + "), per trajectory"),
-                       Line2D([], [], color=_MERGED_COLOUR,
-                              label=f"merged model ({merged_rule}), per trajectory"),
+    said = {"eps": _eps(m) if m.rule == "budget" else "", "region": region}
+    ax.legend(handles=[Line2D([], [], color=_OWN_COLOUR, label=say(
+                           "sweep_error_key", which="own models", rule=m.own_rule, **said)),
+                       Line2D([], [], color=_MERGED_COLOUR, label=say(
+                           "sweep_error_key", which="merged model", rule=m.rule, **said)),
                        Line2D([], [], color="#CC79A7", marker="D", ls="none",
                               label="merged model, over all trajectories")]
-              + ([Line2D([], [], ls="none", label=f"round-off only at joint"
-                         f"{'s' * (len(only) > 1)} {', '.join(only)}")]
+              + ([Line2D([], [], ls="none", label=f"round-off only at {joints_text(only)}")]
                  if listed and only else []),
               loc="upper center",       # below the tick labels, and the axis label if any
               bbox_to_anchor=(0.5, -0.2 if column else -0.3 if short else -0.12),
