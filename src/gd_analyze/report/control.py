@@ -74,7 +74,7 @@ if TYPE_CHECKING:
 __all__ = ["VERDICT_TOLERANCE", "control_verdict", "control_figures", "noise_scales",
            "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns", "CONTROLLER_LABELS",
            "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words",
-           "control_context", "dataset_verdict", "CONTROL_REPORT_FILES", "REQUIRED_VARIABLES",
+           "control_context", "dataset_verdict", "REQUIRED_VARIABLES",
            "make_control_figures", "write_control_report"]
 
 # Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
@@ -740,7 +740,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                 for key in markers}
     return {
         "version": __version__,
-        "created": created,
         "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
         "summary": summary, "verdict": verdict,
         "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
@@ -946,10 +945,6 @@ def _provenance(s, version):
              + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
         rows.append(["verdict tolerance", ", ".join(said)])
     return rows
-
-
-#: Names of the files written into the output folder.
-CONTROL_REPORT_FILES = ("control_report.html", "control_report.pdf")
 
 
 #: The report's figures (:func:`gd_analyze.report.control.control_figures`).

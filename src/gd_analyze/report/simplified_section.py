@@ -46,7 +46,7 @@ __all__ = ["budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
            "fig_cost_ladder", "budget_makers", "contribution_series", "simplified_context",
            "error_figure", "ROUND_OFF", "simplified_caption",
-           "region_pruning", "guarantee_kind", "has_drives"]
+           "region_pruning"]
 
 #: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
 #: style, marker (told apart in greyscale by line style and marker).
@@ -827,24 +827,6 @@ def _recursive_text(s, eps, floor):
                scope=_scope(s, exact=exact))
 
 
-def has_drives(ds: StoredSimplified | xr.Dataset) -> bool:
-    """Whether the dataset's robot has drives (armature or friction), which the region's
-    scale s_i leaves out.
-
-    Parameters
-    ----------
-    ds : StoredSimplified or xarray.Dataset
-        The simplified model's record, or a results dataset holding it; its drives are the
-        variables ``D_arm``, ``viscous``, ``coulomb`` and ``torque_offset``.
-
-    Returns
-    -------
-    bool
-        True where any of them is nonzero.
-    """
-    return StoredSimplified.of(ds).has_drives
-
-
 def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False,
                    floor: str = "") -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
@@ -857,7 +839,7 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
     bound : str, optional
         The bound, named where the sentence ends.
     drives : bool, optional
-        The robot has drives (:func:`has_drives`): s_i is said to leave them out.
+        The robot has drives (armature or friction): s_i is said to leave them out.
     floor : str, optional
         The torque floor with its units; empty for none (s_i is then not said to be raised
         to it).
@@ -869,22 +851,6 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
     """
     return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives,
                floor=floor)
-
-
-def guarantee_kind(ds: StoredSimplified | xr.Dataset) -> str:
-    """The stored guarantee's kind.
-
-    Parameters
-    ----------
-    ds : StoredSimplified or xarray.Dataset
-        The simplified model's record, or a results dataset holding it.
-
-    Returns
-    -------
-    str
-        ``"region"``, ``"trajectory"``, or ``"none"`` where the dataset stores none.
-    """
-    return StoredSimplified.of(ds).guarantee_kind
 
 
 def _scope(s, exact=False):

@@ -954,8 +954,6 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "captions": _captions(m),
            "figure_text": _figure_text(w, zero, counts),
            "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
-           "K": K,
-           "created": utc_now().isoformat(),
            "payload": None}
     if payload is not None:
         part = PayloadSweep.of(payload)
