@@ -341,12 +341,9 @@ def grid_boxes(fig: Figure, n: int, cols: int, at: tuple[float, float],
     """
     W, H = fig.get_size_inches()
     (x0, y0), (w, h), (gx, gy) = at, size, gaps
-    boxes = []
-    for k in range(n):
-        r, c = divmod(k, cols)
-        x, y = x0 + c * (w + gx), y0 + r * (h + gy)
-        boxes.append((x / W, 1 - (y + h) / H, w / W, h / H))
-    return boxes
+    cells = [divmod(k, cols) for k in range(n)]          # (row, column) of each panel
+    return [((x0 + c * (w + gx)) / W, 1 - (y0 + r * (h + gy) + h) / H, w / W, h / H)
+            for r, c in cells]
 
 
 def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom: float,

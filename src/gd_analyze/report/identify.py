@@ -306,16 +306,11 @@ def _recordings_table(groups):
     has_simple = any(rec.has_simplified_total for rec in groups.values())
     header = ["recording", "role", "samples", "duration [s]", "identified model"]
     header += ["robot file as shipped"] * has_prior + ["simplified model"] * has_simple
-    rows = []
-    for rec in groups.values():
-        t = rec.t
-        row = [_file_of(rec), role_of(rec), f"{t.size:,}",
-               fmt(t[-1] - t[0], 4) if t.size else "n/a", pct(rec.total_relative_error)]
-        if has_prior:
-            row.append(pct(rec.prior_total_relative_error))
-        if has_simple:
-            row.append(pct(rec.simplified_total_relative_error))
-        rows.append(row)
+    rows = [[_file_of(rec), role_of(rec), f"{rec.t.size:,}",
+             fmt(rec.t[-1] - rec.t[0], 4) if rec.t.size else "n/a", pct(rec.total_relative_error),
+             *[pct(rec.prior_total_relative_error)] * has_prior,
+             *[pct(rec.simplified_total_relative_error)] * has_simple]
+            for rec in groups.values()]
     return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 2))
 
 
@@ -410,12 +405,8 @@ def _provenance(stored, created):
 def _sentences(values):
     """Stored statements as sentences: cleaned, each ending with a full stop."""
     values = values if isinstance(values, list) else [values] if values else []
-    out = []
-    for v in values:
-        text = clean(str(v)).strip()
-        if text:
-            out.append(text + ("" if text.endswith((".", "!", "?")) else "."))
-    return out
+    texts = [clean(str(v)).strip() for v in values]
+    return [text + ("" if text.endswith((".", "!", "?")) else ".") for text in texts if text]
 
 
 def identify_context(root: StoredIdentification | xr.Dataset,

@@ -119,15 +119,10 @@ def effort_rows(results: Results) -> list[EffortRow]:
     peak = results.torque_error.column("peak_tau").astype(float)
     limit = np.asarray(results.robot_record.effort_limit, float)
     units = [joint_torque_units(p) for p in results.prismatic]
-    rows = []
-    for j in range(peak.size):
-        if not (math.isfinite(limit[j]) and limit[j] > 0):
-            continue
-        ratio = peak[j] / limit[j]
-        rows.append(EffortRow((j + 1, float(peak[j]), float(limit[j]), float(ratio),
-                               EXCEEDED if ratio > 1.0 else WITHIN,
-                               units[j])))
-    return rows
+    kept = [j for j in range(peak.size) if math.isfinite(limit[j]) and limit[j] > 0]
+    return [EffortRow((j + 1, float(peak[j]), float(limit[j]), float(peak[j] / limit[j]),
+                       EXCEEDED if peak[j] / limit[j] > 1.0 else WITHIN, units[j]))
+            for j in kept]
 
 
 def _names(labels: list[str]) -> str:

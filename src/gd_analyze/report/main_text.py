@@ -6,6 +6,7 @@ Every sentence is built from the stored ranking and torque errors; nothing is re
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
@@ -379,10 +380,7 @@ def shared_causes(causes: Sequence[str]) -> tuple[list[str], str]:
     (['x 1 (a)', '(a)', 'y 2; other', ''], '(a) no class; by eye.')
     """
     split = [[c for c in cause.split("; ") if c] for cause in causes]
-    seen: dict[str, int] = {}
-    for clauses in split:
-        for c in clauses:
-            seen[c] = seen.get(c, 0) + 1
+    seen = Counter(c for clauses in split for c in clauses)
     marks: dict[str, str] = {}
     rows: list[str] = []
     for clauses in split:          # a row's shared clauses, together, are one note

@@ -300,11 +300,8 @@ def _share_parts(w, key, widths):
     ``widths`` (a column twin for each part), 1 for D in the layout of Fig. 3.10."""
     if key == "D" and w.joints <= TRIANGLE_JOINTS:
         return 1
-    counts = []
-    for x in widths:
-        labels, cols = _share_layout(w, key, x)
-        counts.append(len(_grid_parts(labels, x, cols)))
-    return max(counts)
+    layouts = {x: _share_layout(w, key, x) for x in widths}
+    return max(len(_grid_parts(labels, x, cols)) for x, (labels, cols) in layouts.items())
 
 
 def _share_figures(w, key, width, parts=1):
@@ -962,7 +959,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         dom = part.dominance.reshape(part.share_tran.shape)
         rows = [[lab, *(dom[p, k] for p in range(len(masses)))] for k, lab in enumerate(plabels)]
         changed = [lab for k, lab in enumerate(plabels) if len(set(dom[:, k])) > 1]
-        ctx["figure_text"]["payload"] = _payload_text(masses)
+        ctx["figure_text"]["payload"] = say("payload_shows", masses=[f"{m:g}" for m in masses])
         ctx["payload"] = {
             "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
                             colour_cols=list(range(1, len(masses) + 1))),
@@ -1204,12 +1201,6 @@ def _error_sentence(w):
              if not (np.isfinite(merged[:, j]) & (merged[:, j] > ERROR_FLOOR)).any()]
     return say("error_shows", merged=largest(merged), own=largest(own),
                quiet=joints_text(quiet) if quiet and len(quiet) < w.joints else "")
-
-
-def _payload_text(masses):
-    """What the payload figure shows: the share and class of every element against the
-    payload mass, and the peak torques; a predicate."""
-    return say("payload_shows", masses=[f"{m:g}" for m in masses])
 
 
 def _figure_text(w, zero, counts):
