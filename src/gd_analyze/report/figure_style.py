@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "joint_axes", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
+           "gridspec", "joint_axes", "joint_key", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
 
 #: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
@@ -295,6 +295,26 @@ def markevery(m: int, most: int = MAX_MARKERS) -> int:
     (3, 1, 1)
     """
     return max(1, -(-int(m) // max(1, int(most))))
+
+
+def joint_key(axes: Sequence[Axes]) -> tuple[list[Artist], list[str]]:
+    """The key entries of the joints' lines drawn on ``axes``, in the order of the joints.
+
+    Parameters
+    ----------
+    axes : sequence of matplotlib.axes.Axes
+        Axes whose lines are labelled "joint <number>" (1-based), each joint on one of them.
+
+    Returns
+    -------
+    handles : list of matplotlib.artist.Artist
+        The lines, joint 1 first.
+    labels : list of str
+        Their labels, in the same order.
+    """
+    pairs = sorted(((h, lab) for ax in axes for h, lab in zip(*ax.get_legend_handles_labels())),
+                   key=lambda pair: int(pair[1].split()[1]))
+    return [h for h, _ in pairs], [lab for _, lab in pairs]
 
 
 def new_figure(width: float, height: float) -> Figure:

@@ -7,7 +7,7 @@ report both show it. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
 from __future__ import annotations
 
 import textwrap
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,6 +15,7 @@ from ..ranking.ranking import joint_torque_units
 from ..store.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from ..store.sweep_view import PayloadSweep
 from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style
+from .figure_style import joint_key
 from .markup import label
 
 if TYPE_CHECKING:
@@ -95,9 +96,8 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
                  "T/R/B/N = translational/rotational/both/negligible; framed: class "
                  "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
                  "share drawn")
-        if column:                      # bold 8 pt: about 44 characters a line
+        if column:          # bold 8 pt: about 44 characters a line; elements down, 7 pt a row
             title = textwrap.fill(title.replace("\n", "; "), 44)
-        if column:                      # elements down: one 7-pt row each
             heat_h, top, left = 0.15 * M, 0.22 + 0.15 * (title.count("\n") + 1), 0.5
             tau_h, legend_h = 1.5, 0.2 + 0.16 * -(-n // 3)
             H = top + heat_h + 0.5 + tau_h + 0.42 + legend_h
@@ -148,24 +148,19 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
         kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
         gap = 0.3
         each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)
-        handles: list[Any] = []
-        names: list[str] = []
         for k, unit in enumerate(kinds):
             y0 = bottom + (len(kinds) - 1 - k) * (each + gap)
             bx = fig.add_axes((left / W, y0 / H, (heat_w if column else W - 2.0) / W, each / H))
             for j in (j for j in range(n) if units[j] == unit):    # style and marker differ
-                line, = bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
-                                **joint_style(j, len(masses), sum(u == unit for u in units)))
-                handles.append(line)
-                names.append(str(line.get_label()))
+                bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
+                        **joint_style(j, len(masses), sum(u == unit for u in units)))
             if k == len(kinds) - 1:
                 bx.set_xlabel("payload [kg]", labelpad=1.0)
             else:
                 bx.tick_params(labelbottom=False)
             bx.set_ylabel(f"peak |\u03c4| [{unit}]")
             bx.tick_params(labelsize=7)
-        order = np.argsort([int(name.split()[1]) for name in names])
-        handles, names = [handles[o] for o in order], [names[o] for o in order]
+        handles, names = joint_key(fig.axes[2:])      # the heat map and its colour bar first
         if column:
             fig.legend(handles, names, loc="upper center", ncol=3, frameon=False, fontsize=7,
                        handlelength=2.6, bbox_to_anchor=(0.5, legend_h / H))

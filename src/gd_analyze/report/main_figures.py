@@ -34,7 +34,7 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from .common import joint_style, say, units_text
-from .figure_style import element_markevery, grid_boxes, joint_lines, new_figure
+from .figure_style import element_markevery, grid_boxes, joint_key, joint_lines, new_figure
 from .markup import label as _math
 from .numbers import decade_label
 from .plot_data import (
@@ -478,13 +478,7 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
         ax.set_xlabel(t_label, labelpad=1.0)
         ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
     label_axes([ax.yaxis for ax in fig.axes])
-    handles: list[Any] = []
-    labels: list[str] = []
-    for ax in first.values():
-        hs, ls = ax.get_legend_handles_labels()
-        handles, labels = handles + hs, labels + ls
-    order = np.argsort([int(lab.split()[1]) for lab in labels])
-    fig.legend([handles[o] for o in order], [labels[o] for o in order], loc="upper center",
+    fig.legend(*joint_key(list(first.values())), loc="upper center",
                ncol=min(n, 3 if column else 7), frameon=False, handlelength=3.0,
                columnspacing=1.2, bbox_to_anchor=(0.5, 1.0), fontsize=7 if column else 8)
     return fig
