@@ -8,6 +8,7 @@ the dynamics.
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -58,10 +59,6 @@ def _read(var, a, b):
     return np.asarray(var[a:b].values, dtype=float)
 
 
-def _difference(a, b):
-    return a - b
-
-
 def _times_qdd(D, qdd):
     return np.einsum("tij,tj->ti", D, qdd)
 
@@ -69,7 +66,7 @@ def _times_qdd(D, qdd):
 #: Series computed from stored ones as they are read, per chunk: name -> (stored variables,
 #: function of their chunks). ``tau_error`` = tau_s - tau; ``D_tran_qdd`` and ``D_rot_qdd``
 #: = D^tran qdd and D^rot qdd (N, n), the inertial contributions to tau (Eq. (3.4-25)).
-DERIVED = {"tau_error": (("tau_simplified", "tau"), _difference),
+DERIVED = {"tau_error": (("tau_simplified", "tau"), operator.sub),
            "D_tran_qdd": (("D_tran", "qdd"), _times_qdd),
            "D_rot_qdd": (("D_rot", "qdd"), _times_qdd)}
 #: Series read only if the dataset holds what they need (the torque contributions' figure).
@@ -152,8 +149,6 @@ def plot_data(ds: xr.Dataset,
     edges = np.linspace(t0, t1, columns + 1) if t1 > t0 else np.arange(columns + 1.0)
     mid = 0.5 * (edges[used] + edges[used + 1])
     x = np.repeat(mid, 2)
-    series = {}
-    for v in names:
-        pair = np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...)
-        series[v] = pair.reshape((2 * used.size,) + pair.shape[2:])
+    series = {v: np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...): lo, hi
+              .reshape((2 * used.size,) + lo[v].shape[1:]) for v in names}
     return PlotData(x=x, enveloped=True, series=series, N=N)

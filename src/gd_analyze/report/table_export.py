@@ -39,6 +39,8 @@ _LATEX = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"
           "^": r"\textasciicircum{}", "<": r"\textless{}", ">": r"\textgreater{}",
           "|": r"\textbar{}", "\n": " ", "\r": " "}
 _ALIGN = {"left": "l", "right": "r", "center": "c"}
+#: The LaTeX command of each kind of marked span (:func:`gd_analyze.report.markup.spans`).
+_COMMAND = {"sub": r"\textsubscript", "sup": r"\textsuperscript", "code": r"\texttt"}
 
 
 def csv_cell(text: str) -> str:
@@ -78,17 +80,9 @@ def latex_text(text: str) -> str:
     str
         Balanced braces; no character a LaTeX engine would read as a command.
     """
-    out = []
-    for piece, kind in markup.spans(str(text)):
-        t = "".join(_LATEX.get(c, c) for c in piece)
-        if kind == "sub":
-            t = r"\textsubscript{" + t + "}"
-        elif kind == "sup":
-            t = r"\textsuperscript{" + t + "}"
-        elif kind == "code":
-            t = r"\texttt{" + t + "}"
-        out.append(t)
-    return "".join(out)
+    pieces = [("".join(_LATEX.get(c, c) for c in piece), kind)
+              for piece, kind in markup.spans(str(text))]
+    return "".join(_COMMAND[kind] + "{" + t + "}" if kind else t for t, kind in pieces)
 
 
 def table_csv(table: dict) -> str:

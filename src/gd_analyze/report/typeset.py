@@ -244,12 +244,9 @@ def document_data(outline: Outline, sizes: Mapping[str, tuple[float, float]], pa
     """
     check_paper(paper)
     metadata = dict(metadata or {})
-    sections = []
-    for s in outline.sections:
-        level = 0 if s.level == 0 else 1 + s.number.count(".")
-        sections.append({"number": s.number, "level": level, "title": _runs(s.title),
-                         "blocks": [_block(b, paper, sizes) for b in s.blocks],
-                         "flush": bool(s.flush)})
+    sections = [{"number": s.number, "level": 0 if s.level == 0 else 1 + s.number.count("."),
+                 "title": _runs(s.title), "blocks": [_block(b, paper, sizes) for b in s.blocks],
+                 "flush": bool(s.flush)} for s in outline.sections]
     return {"paper": _TYPST_PAPER[paper], "margins": list(MARGINS),
             "title": _runs(outline.title), "plain_title": markup.plain(outline.title),
             "author": markup.plain(metadata.get("Author", "")),
