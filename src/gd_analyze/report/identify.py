@@ -336,16 +336,13 @@ def _parameter_table(stored):
     prior = np.asarray(stored.prior, float) if stored.prior is not None else None
     ident = np.asarray(stored.identifiable, bool) if stored.identifiable is not None \
         else np.ones(len(names), bool)
-    rows = []
-    for k, name in enumerate(names):
-        rel = abs(std[k] / value[k]) if value[k] != 0 and ident[k] else math.nan
-        row = [name, parameter_units(name, kinds[k]), fmt(value[k], 4, (1e-3, 1e4)),
-               fmt(std[k], 3, (1e-3, 1e4)) if ident[k] else "\u2014",
-               pct(rel) if math.isfinite(rel) else "\u2014"]
-        if prior is not None:
-            row.append(fmt(prior[k], 4, (1e-3, 1e4)))
-        row.append("yes" if ident[k] else "no")
-        rows.append(row)
+    with np.errstate(divide="ignore", invalid="ignore"):    # NaN: not identifiable, or 0
+        rel = np.where((value != 0) & ident, np.abs(std / value), math.nan)
+    rows = [[name, parameter_units(name, kinds[k]), fmt(value[k], 4, (1e-3, 1e4)),
+             fmt(std[k], 3, (1e-3, 1e4)) if ident[k] else "\u2014",
+             pct(rel[k]) if math.isfinite(rel[k]) else "\u2014",
+             *([] if prior is None else [fmt(prior[k], 4, (1e-3, 1e4))]),
+             "yes" if ident[k] else "no"] for k, name in enumerate(names)]
     header = ["parameter", "units", "value", "std", "std [%]"] + \
         ["robot file"] * (prior is not None) + ["identifiable"]
     return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 3)

@@ -890,11 +890,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     merged = list(m.choice)
     s, e = _thresholds(w)
     robot = _text(st.robot)
-    kind = str("" if st.input_kind is None else st.input_kind)
-    if kind == "random" and st.seed is not None:
-        inputs = f"{K} random quintic trajectories (seed {_text(st.seed)})"
-    else:
-        inputs = f"{K} trajectories ({kind or 'given'})"
+    inputs = say("sweep_inputs", K=K, kind=str(_or(st.input_kind, "")),
+                 seed=None if st.seed is None else _text(st.seed))
     settings = _settings(w, inputs, __version__)
     zero = np.asarray(w.round_off.all(axis=0) if w.round_off_stored
                       else np.zeros(len(labels), bool), bool)
