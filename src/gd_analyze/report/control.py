@@ -111,14 +111,10 @@ def _by_type(values, prismatic, which):
     return out
 
 
-def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str,
-                 limits: Sequence[float] | None = None) -> str:
+def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str) -> str:
     """``"2.63e-04 rad"``, or per joint type ``"2.63e-04 rad, 6.20e-05 m"`` (revolute, then
     prismatic joints): a maximum is never taken across units."""
-    groups = _by_type(values, prismatic, which)
-    if limits is not None:
-        groups = [(u, lim, js) for (u, _, js), lim in zip(groups, limits)]
-    return ", ".join(_value(v, u) for u, v, _ in groups)
+    return ", ".join(_value(v, u) for u, v, _ in _by_type(values, prismatic, which))
 
 
 def _joint_types(prismatic):

@@ -261,7 +261,7 @@ def _title_key(fig, y, W, H):
                title_fontsize=7, bbox_to_anchor=(0.5, 1 - y / H))
 
 
-def _element_figure(x, panels, enveloped, width, key, kind):
+def _element_figure(x, panels, enveloped, width, key):
     """Panels in reading order, the parts' legend, the title colours' key and a note below.
 
     ``panels``: (label, parts dict, class, units) per panel drawn; ``key``: the note."""
@@ -381,7 +381,7 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
     arm = any("arm" in p[1] for p in panels)
     key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm, tiny=_TINY,
               zeros=", ".join(map(_math, zeros)), part=part + 1, parts=len(chunks))
-    return _element_figure(data.x, drawn, data.enveloped, width, key, "D")
+    return _element_figure(data.x, drawn, data.enveloped, width, key)
 
 
 def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
@@ -415,7 +415,7 @@ def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
         panels.append((label, {"tran": ht[:, i], "rot": hr[:, i], "total": hh[:, i]},
                        dominance.get(label, ""), element_units("h", i, None, prismatic)))
     key = say("element_key", symbol="h", tiny=_TINY, zeros=", ".join(map(_math, zeros)))
-    return _element_figure(data.x, panels, data.enveloped, width, key, "h")
+    return _element_figure(data.x, panels, data.enveloped, width, key)
 
 
 def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,

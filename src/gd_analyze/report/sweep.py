@@ -1169,7 +1169,7 @@ def _share_sentence(w, symbol, zero):
                off=off and _names([labels[k] for k in off]), box=box)
 
 
-def _classes_sentence(w, zero, counts):
+def _classes_sentence(w, counts):
     """What the class-fraction figure shows of this sweep: how many bars are of one colour,
     and the merged model's choices beside them; a predicate."""
     frac = np.asarray(w.class_fraction, float)
@@ -1204,7 +1204,7 @@ def _figure_text(w, zero, counts):
     """Each figure's sentence, by key, without its subject ("shows ..."): the report writes
     "Fig. 2 " before it, with the number the outline gives the figure."""
     return {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
-            "classes": _classes_sentence(w, zero, counts), "error": _error_sentence(w)}
+            "classes": _classes_sentence(w, counts), "error": _error_sentence(w)}
 
 
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
