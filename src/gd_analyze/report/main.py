@@ -397,8 +397,7 @@ def _fig_formulations(counted, width=PAGE_WIDTH):
                (0.65 + k * 3.55, 0.75, 2.85, H - 1.0))        # x, y from the bottom, w, h [in]
         ax = fig.add_axes((box[0] / W, box[1] / H, box[2] / W, box[3] / H))
         ax.set_yscale("log")
-        ops = {"multiplications": (counted.multiplications, counted.multiplications_table_3_5),
-               "additions": (counted.additions, counted.additions_table_3_5)}[op]
+        ops = (getattr(counted, op), getattr(counted, f"{op}_table_3_5"))   # counted, the book's
         for name, (short, colour, marker, ls) in _FORMULATION_STYLE.items():
             if name not in names:
                 continue

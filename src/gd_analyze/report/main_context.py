@@ -1036,8 +1036,7 @@ def _payload_context(results):
 def _formulations_context(f):
     """Agreement and cost tables of L-E, N-E, G-D and Pinocchio, if the dataset has them."""
     if f is None:
-        return {"applicable": False, "note": "The dataset holds no comparison of the "
-                "formulations (made by `gd-analyze ROBOT TRAJECTORY.csv`).",
+        return {"applicable": False, "note": say("formulations_note", applicable=False),
                 "agreement": None, "costs": None}
     quantities, pairs, dis = f.quantities, f.pairs, f.disagreement
 
