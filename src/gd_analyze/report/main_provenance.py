@@ -157,12 +157,8 @@ def provenance_rows(results: Results, created: str, version: str,
             value = (_no_floor(results) if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if any(results.prismatic) else ""))
-        if value is not None and k == 4:                    # the explicit model
-            value = _EXPLICIT.get(value, value)
-        if value is not None and k == 5:                    # the guarantee asked for
-            value = _GUARANTEE.get(value, value)
-        if value is not None:
-            rows.append((label, value))
+        if value is not None:               # the explicit model, the guarantee asked for: words
+            rows.append((label, {4: _EXPLICIT, 5: _GUARANTEE}.get(k, {}).get(value, value)))
     mounting = _mounting(p)
     if mounting is not None:
         rows.append(("mounting", mounting))

@@ -1068,12 +1068,11 @@ def _worst_cases(w, labels):
     sources = w.sources
     per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
     order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
-    parts = []
-    for k in order:
-        j = int(np.nanargmax(rel[k]))
-        scale = (f"{_SI} over the region" if m.region
-                 else f"its own {_SI}" if m.scale is not None else "its own peak |τ|")
-        parts.append(f"{sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})")
+    scale = (f"{_SI} over the region" if m.region
+             else f"its own {_SI}" if m.scale is not None else "its own peak |τ|")
+    worst = {k: int(np.nanargmax(rel[k])) for k in order}          # trajectory: its joint
+    parts = [f"{sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})"
+             for k, j in worst.items()]
     spread = w.share_max - w.share_min
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k])]
