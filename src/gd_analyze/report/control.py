@@ -338,14 +338,13 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
         fig.legend(list(handles.values()), list(handles), loc="lower center",
                    ncols=1 if column else min(3, len(handles)), frameon=False,
                    bbox_to_anchor=(0.5, 0.0))
-    note = ""
-    if floor is not None:
-        notes = [f"Integrator noise ({noise_words(s, which, figure=True)}) is not drawn"]
-        for name, where in quiet.items():            # said as noise: its digits are not data
-            joints = "every joint" if len(where) == n else joints_text([j + 1 for j, _ in where])
-            notes.append(f"{CONTROL_LABELS.get(name, name)}: \u2261 0 on {joints} (integrator noise)")
-        # wrapped by the width drawn (at the size it prints at, 8 pt)
-        note = textwrap.fill("; ".join(notes) + ".", 70 if column else _NOTE_CHARS)
+    # the curves said as noise (their digits are not data), wrapped by the width drawn (at the
+    # size it prints at, 8 pt)
+    quiet_said = [(CONTROL_LABELS.get(name, name), "every joint" if len(where) == n else
+                   joints_text([j + 1 for j, _ in where])) for name, where in quiet.items()]
+    note = "" if floor is None else textwrap.fill(say(
+        "control_noise_note", rule=noise_words(s, which, figure=True), quiet=quiet_said),
+        70 if column else _NOTE_CHARS)
     extra = 0.0 if column else _NOTE_LINE * note.count("\n")
     if extra:                           # a page-width note of more lines: room above the panels
         height += extra

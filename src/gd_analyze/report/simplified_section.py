@@ -766,11 +766,7 @@ def _screen_note(said, proved=False):
     """The screen that chose the exact recursive model, as a sentence, or "": the sampled
     pre-screen that skipped the region's certification, or (``proved``) the screen of the
     pairs searched under the proved bounds, whose pruned model was not built."""
-    if not said:
-        return ""
-    said = scope_markup(said)
-    return f"Pruned region model not built: {said}." if proved else \
-        f"Region certification skipped: {said}."
+    return say("screen_note", said=scope_markup(said), proved=proved) if said else ""
 
 
 def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | None, str]:
