@@ -376,19 +376,16 @@ def _provenance(stored, created):
     version = stored.gd_analyze_version
     rows = [["report created", created],
             ["gd-analyze version", clean(str("\u2014" if version is None else version))]]
-    for value, label in ((stored.robot, "robot"), (stored.robot_source, "robot file"),
-                         (stored.robot_sha256, "robot file SHA-256"),
-                         (stored.standard_method, "standard parameters"),
-                         (stored.coulomb_model, "Coulomb friction model")):
-        if value is not None:
-            rows.append([label, clean(str(value))])
+    rows += [[label, clean(str(value))] for value, label in (
+        (stored.robot, "robot"), (stored.robot_source, "robot file"),
+        (stored.robot_sha256, "robot file SHA-256"),
+        (stored.standard_method, "standard parameters"),
+        (stored.coulomb_model, "Coulomb friction model")) if value is not None]
     inputs = _json(stored.inputs, {})
     if isinstance(inputs, dict):
         rows += [[f"input {clean(str(k))}", clean(str(v))] for k, v in inputs.items()]
-    for rec in stored.recordings.values():
-        if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file
-                                           in inputs):
-            rows.append([f"input {_file_of(rec)}", clean(str(rec.sha256))])
+    rows += [[f"input {_file_of(rec)}", clean(str(rec.sha256))] for rec in stored.recordings.values()
+             if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file in inputs)]
     settings = _json(stored.settings, {})
     if isinstance(settings, dict):
         rows += [[f"setting {clean(str(k))}",

@@ -736,11 +736,8 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
         region = s.guarantee_kind == "region"
         has_bound = lad.worst_bound is not None
         ladder = table(["\u03b5", "operations", "sin + cos",
-                        f"worst measured peak |{_TAU_S}\u00a0\u2212\u00a0\u03c4| / {_S_I} on "
-                        "this trajectory" + ("" if has_bound else " (guaranteed \u2264 \u03b5)")]
-                       + ([f"largest bound / {_S_I}, "
-                           + ("proved over the joint-limit region" if region else
-                              "on this trajectory") + " (\u2264 \u03b5)"] if has_bound else []),
+                        say("ladder_column", which="worst", has_bound=has_bound)]
+                       + ([say("ladder_column", which="bound", region=region)] if has_bound else []),
                        [[f"{e:g}", _int(o), _int(tr), w, *b] for e, o, tr, w, *b in
                         zip(lad.tolerance, lad.operations, lad.trig,
                             pct_column(lad.worst_error,   # relative: own scale 1
