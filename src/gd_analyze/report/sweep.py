@@ -996,15 +996,11 @@ def _settings(w, inputs, version):
         rows.append(("input files", _text(st.input_files)))
     rows += [
         ("SHA-256 of all inputs", _text(st.inputs_sha256)),
-        ("set points", f"{count(_or(st.setpoints_total, '-'))} in all"
-                       + ((f" ({count(setpoints.min())} per trajectory)"
-                           if setpoints.min() == setpoints.max() else
-                           f" ({count(setpoints.min())}\u2013{count(setpoints.max())} per "
-                           "trajectory)") if setpoints.size else "")),
-        ("duration [s]", (f"{_fmt(np.min(durations))} (every trajectory)"
-                          if _fmt(np.min(durations)) == _fmt(np.max(durations)) else
-                          f"{_fmt(np.min(durations))} \u2013 {_fmt(np.max(durations))} "
-                          f"(median {_fmt(np.median(durations))})")),
+        ("set points", say("sweep_setpoints", total=count(_or(st.setpoints_total, '-')),
+                           least=count(setpoints.min()) if setpoints.size else "",
+                           most=count(setpoints.max()) if setpoints.size else "")),
+        ("duration [s]", say("sweep_duration", least=_fmt(np.min(durations)),
+                             most=_fmt(np.max(durations)), median=_fmt(np.median(durations)))),
         ("merge rule", f"{_or(st.merged_rule, 'chapter')} rule (Sec. 5)"
                        + (f", \u03b5 = {_text(m.tolerance)}, torque floor "
                           f"{_floor(m)}"
