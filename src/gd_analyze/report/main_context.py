@@ -266,10 +266,8 @@ def base_parameter_table(results: Results) -> dict[str, Any]:
     names, parts, dropped, units = bp.names, bp.parts, bp.dropped, bp.units
     rel = bp.relative_peak if bp.relative_peak is not None else np.ones(dropped.shape)
 
-    def cell(k, p):
-        if rel[k, p] < ROUND_OFF:
-            return "\u2261 0"            # contributes nothing on this trajectory
-        return "dropped" if dropped[k, p] else "kept"
+    def cell(k, p):                     # "\u2261 0": contributes nothing on this trajectory
+        return "\u2261 0" if rel[k, p] < ROUND_OFF else "dropped" if dropped[k, p] else "kept"
 
     value = bp.value
     listed = [k for k in range(len(names)) if value[k] != 0]
