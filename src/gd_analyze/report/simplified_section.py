@@ -141,9 +141,8 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     column = width < _PAGE
     cols = min(n, 2 if column else 3)
     rows = math.ceil(n / cols)
-    left, right, gap, top, hgap, h = 0.55, 0.08, 0.55, 0.62 + 0.32 * column, 0.55, 1.35
-    if column:
-        h = 1.1
+    left, right, gap, top, hgap = 0.55, 0.08, 0.55, 0.62 + 0.32 * column, 0.55
+    h = 1.1 if column else 1.35
     w = (width - left - right - (cols - 1) * gap) / cols
     H = top + rows * h + (rows - 1) * hgap + 0.4
     fig = new_figure(width, H)
@@ -918,8 +917,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     if data is not None and "tau_error" in data.series:
         t, diff = data.x, data.series["tau_error"]
     else:
-        t = s.t
-        diff = s.torque_difference()
+        t, diff = s.t, s.torque_difference()
     bound = s.bound
     scale = np.asarray(s.scale if s.scale is not None else s.tau_peak, float)
     arm = arm_scales(scale, units)
@@ -929,10 +927,8 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     column = W < 5.0
     cols = 2 if len(shown) > 1 and not column else 1
     rows = -(-len(shown) // cols)
-    left, right, gap, top, bottom, hgap = 0.62, 0.1, 0.75, 0.5, 0.42, 0.62
-    if column:
-        top, hgap = 0.45, 0.5
-    h = 1.0 if column else 1.6
+    left, right, gap, bottom = 0.62, 0.1, 0.75, 0.42
+    top, hgap, h = (0.45, 0.5, 1.0) if column else (0.5, 0.62, 1.6)
     note = ""
     if quiet:                       # wrapped for 8.5 pt (the least printed size's text)
         peaks = "; ".join(
