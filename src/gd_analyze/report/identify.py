@@ -304,12 +304,13 @@ def _file_of(rec):
 def _recordings_table(groups):
     has_prior = any(rec.has_prior_total for rec in groups.values())
     has_simple = any(rec.has_simplified_total for rec in groups.values())
-    header = ["recording", "role", "samples", "duration [s]", "identified model"]
-    header += ["robot file as shipped"] * has_prior + ["simplified model"] * has_simple
+    header = ["recording", "role", "samples", "duration [s]", "identified model",
+              *(["robot file as shipped"] if has_prior else []),
+              *(["simplified model"] if has_simple else [])]
     rows = [[_file_of(rec), role_of(rec), f"{rec.t.size:,}",
              fmt(rec.t[-1] - rec.t[0], 4) if rec.t.size else "n/a", pct(rec.total_relative_error),
-             *[pct(rec.prior_total_relative_error)] * has_prior,
-             *[pct(rec.simplified_total_relative_error)] * has_simple]
+             *([pct(rec.prior_total_relative_error)] if has_prior else []),
+             *([pct(rec.simplified_total_relative_error)] if has_simple else [])]
             for rec in groups.values()]
     return plain_table(header, rows, align=["left", "left"] + ["right"] * (len(header) - 2))
 
@@ -384,7 +385,8 @@ def _provenance(stored, created):
     inputs = _json(stored.inputs, {})
     if isinstance(inputs, dict):
         rows += [[f"input {clean(str(k))}", clean(str(v))] for k, v in inputs.items()]
-    rows += [[f"input {_file_of(rec)}", clean(str(rec.sha256))] for rec in stored.recordings.values()
+    rows += [[f"input {_file_of(rec)}", clean(str(rec.sha256))]
+             for rec in stored.recordings.values()
              if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file in inputs)]
     settings = _json(stored.settings, {})
     if isinstance(settings, dict):
