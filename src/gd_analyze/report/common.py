@@ -13,7 +13,7 @@ from __future__ import annotations
 import datetime
 import functools
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from importlib import resources
 from typing import TYPE_CHECKING, Any
 
@@ -53,7 +53,8 @@ __all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
            "panel_markevery",
            "gridspec", "render_template", "say", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
-           "units_text", "units_said_once", "cost_table", "or_default", "joints_text"]
+           "units_text", "units_said_once", "cost_table", "settings_table", "other_rows",
+           "or_default", "joints_text"]
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
@@ -216,6 +217,49 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
 
+
+
+def settings_table(rows: Iterable[Sequence[Any]], *, widths: Sequence[float] | None = None,
+                   cells: Callable[[str], str] = marked) -> dict[str, Any]:
+    """A report's table of settings or provenance: one row (item, value) a setting, the rows
+    a file does not record left out (the main, control, identification and sweep reports).
+
+    Parameters
+    ----------
+    rows : iterable of (str, object)
+        Each setting's item and its value as shown; a value None leaves its row out.
+    widths : sequence of float, optional
+        Relative column widths (:func:`table`); default both 1.
+    cells : callable, optional
+        Each cell's text as shown (:func:`table`).
+
+    Returns
+    -------
+    dict
+        :func:`table` of the columns "item" and "value", both left-aligned.
+    """
+    return table(["item", "value"], [row for row in rows if row[1] is not None],
+                 widths=widths, cells=cells)
+
+
+def other_rows(others: Iterable[Sequence[Any]]) -> list[tuple[str, str]]:
+    """The rows of the attributes a file stores that a report names nowhere else, each once.
+
+    Parameters
+    ----------
+    others : iterable of (str, object) or (str, object, object)
+        Each attribute's name and stored value, and optionally the setting asked for that
+        it records (None where none is).
+
+    Returns
+    -------
+    list of (str, str)
+        (name with spaces for underscores, value as text: :func:`attr_text`); an attribute
+        that records a setting asked for with the same value is left out (the setting's row
+        says it).
+    """
+    return [(key.replace("_", " "), attr_text(value)) for key, value, *asked in others
+            if not asked or asked[0] is None or attr_text(asked[0]) != attr_text(value)]
 
 
 def cost_table(ds: EvaluatorCosts | xr.Dataset | None) -> dict[str, Any] | None:

@@ -50,6 +50,7 @@ from .common import (
     joints_text,
     panel_markevery,
     say,
+    settings_table,
     utc_now,
 )
 from .common import or_default as _or
@@ -664,7 +665,8 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     files = {"robot": (st.robot, st.robot_sha256),         # the inputs, each with its SHA-256
              "trajectory": (st.trajectory_file, st.trajectory_sha256),
              "model": (st.model_file, st.model_sha256)}
-    setup = _table(["item", "value"], [
+    noise = "integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f")
+    setup = settings_table([
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
@@ -674,21 +676,19 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
         ["integrator", f"{stored_text(st.integrator)}, rtol = {float(st.rtol):g}, "
                        f"atol = {float(st.atol):g}"],
-        *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
-            say("noise_measured", rtol=f"{float(st.noise_rtol):g}",
-                atol=f"{float(st.noise_atol):g}", nfev=int(_or(st.noise_nfev, 0)),
-                factor=f"{float(_or(st.noise_factor, np.nan)):g}", floor=f"{float(st.rtol):g}")]]
-          if st.noise_rtol is not None else []),
-        *([["integrator noise of \u03c4" + sub("s") + " \u2212 \u03c4" + sub("f"),
-            "not measured (" + str(st.noise_unmeasured) + "): the floor is rtol "
-            "\u00d7 the full-model controller's peak |\u03c4|"]]
-          if st.noise_unmeasured is not None else []),
+        [noise, None if st.noise_rtol is None else say(
+            "noise_measured", rtol=f"{float(st.noise_rtol):g}", atol=f"{float(st.noise_atol):g}",
+            nfev=int(_or(st.noise_nfev, 0)), factor=f"{float(_or(st.noise_factor, np.nan)):g}",
+            floor=f"{float(st.rtol):g}")],
+        [noise, None if st.noise_unmeasured is None else "not measured ("
+         + str(st.noise_unmeasured) + "): the floor is rtol \u00d7 the full-model controller's "
+         "peak |\u03c4|"],
         ["samples", f"{stored_text(st.samples)} ({stored_text(st.setpoints)} set points + fine grid "
                     f"of {stored_text(st.grid_points)})"],
         ["initial offset q(0) \u2212 q" + sub("d") + "(0)",
          ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))
          if s.q0_offset is not None else "0"],
-    ], align=["left", "left"])
+    ])
     gains = _gains_table(s, joints)
     # each row: its leading cells, its numbers per joint, and which are integrator noise (at
     # or below the joint's noise floor: not data)
@@ -726,7 +726,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     choices = None if recursive else _table(["element"] + [f"column {j + 1}"
                                                           for j in range(n)], rows,
                                            align=["left"] * (n + 1))
-    prov = _table(["item", "value"], _provenance(s, __version__), align=["left", "left"])
+    prov = settings_table(_provenance(s, __version__))
     created = utc_now().isoformat()
     markers = {"error": markers_words(s, names), "tau_difference": markers_words(s, 1),
                "tau": markers_words(s, names)}
@@ -915,30 +915,28 @@ def _provenance(s, version):
     none), the run as the main report says them (:mod:`gd_analyze.report.main_provenance`),
     gravity, the files, the verdict's tolerance."""
     st = s.settings
-    rows = [list(software_row(s.run, version))]
-    if st.command is not None:          # an older control.h5 has none
-        rows.append(["command", stored_text(st.command)])
-    rows += [list(run_row(s.run, "run")), list(gravity_row(s.run))]
+    rows = [software_row(s.run, version),
+            ("command", None if st.command is None else stored_text(st.command)),   # older: none
+            run_row(s.run, "run"), gravity_row(s.run)]
     own = str(st.trajectory_is_models) == "1"
     for label, k in _PROVENANCE:
-        if k == "model_trajectory_sha256" and own:
-            continue                    # the trajectory's own SHA-256, said in Table 1.1
         stored = (s.model.guarantee_covered if k == "model_guarantee_covered" else
                   getattr(st, k))
-        if stored is not None:
-            value = stored_text(stored)
-            if k in ("trajectory_is_models", "model_guarantee_covered"):
-                value = {"1": "yes", "0": "no"}.get(value, value)
-            if k == "trajectory_derivatives" and value in DERIVATIVES:
-                value = f"{value}: {DERIVATIVES[value]}"
-            rows.append([label, value])
+        if stored is None or (k == "model_trajectory_sha256" and own):
+            continue                    # the trajectory's own SHA-256, said in Table 1.1
+        value = stored_text(stored)
+        if k in ("trajectory_is_models", "model_guarantee_covered"):
+            value = {"1": "yes", "0": "no"}.get(value, value)
+        if k == "trajectory_derivatives" and value in DERIVATIVES:
+            value = f"{value}: {DERIVATIVES[value]}"
+        rows.append((label, value))
     if st.verdict_tolerance_revolute is not None:
         kinds = set(s.prismatic)
         said = [f"{stored_text(st.verdict_tolerance_revolute)} rad"
                 + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
             [f"{stored_text(st.verdict_tolerance_prismatic)} m"
              + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
-        rows.append(["verdict tolerance", ", ".join(said)])
+        rows.append(("verdict tolerance", ", ".join(said)))
     return rows
 
 

@@ -34,7 +34,7 @@ from ..store.stored_identification import (
     StoredIdentification,
     StoredRecording,
 )
-from .common import BASE_RC, say, table, utc_now
+from .common import BASE_RC, say, settings_table, table, utc_now
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_lines, markevery
 from .markup import clean, scope
@@ -375,27 +375,23 @@ def _noise_table(stored):
 
 def _provenance(stored, created):
     version = stored.gd_analyze_version
-    rows = [["report created", created],
-            ["gd-analyze version", clean(str("\u2014" if version is None else version))]]
-    rows += [[label, clean(str(value))] for value, label in (
-        (stored.robot, "robot"), (stored.robot_source, "robot file"),
-        (stored.robot_sha256, "robot file SHA-256"),
-        (stored.standard_method, "standard parameters"),
-        (stored.coulomb_model, "Coulomb friction model")) if value is not None]
-    inputs = _json(stored.inputs, {})
+    inputs, settings = _json(stored.inputs, {}), _json(stored.settings, {})
+    rows = [("report created", created),
+            ("gd-analyze version", "\u2014" if version is None else version),
+            ("robot", stored.robot), ("robot file", stored.robot_source),
+            ("robot file SHA-256", stored.robot_sha256),
+            ("standard parameters", stored.standard_method),
+            ("Coulomb friction model", stored.coulomb_model)]
     if isinstance(inputs, dict):
-        rows += [[f"input {clean(str(k))}", clean(str(v))] for k, v in inputs.items()]
-    rows += [[f"input {_file_of(rec)}", clean(str(rec.sha256))]
-             for rec in stored.recordings.values()
-             if rec.sha256 is not None and not (isinstance(inputs, dict) and rec.file in inputs)]
-    settings = _json(stored.settings, {})
+        rows += [(f"input {k}", str(v)) for k, v in inputs.items()]
+    rows += [(f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()
+             if not (isinstance(inputs, dict) and rec.file in inputs)]
     if isinstance(settings, dict):
-        rows += [[f"setting {clean(str(k))}",
-                  clean(v if isinstance(v, str) else json.dumps(v, default=str))]
+        rows += [(f"setting {k}", v if isinstance(v, str) else json.dumps(v, default=str))
                  for k, v in sorted(settings.items())]
     elif settings:
-        rows.append(["settings", clean(str(settings))])
-    return plain_table(["item", "value"], rows, align=["left", "left"])
+        rows.append(("settings", settings))
+    return settings_table(rows, cells=clean)   # names from the files left as text
 
 
 def _sentences(values):

@@ -34,6 +34,7 @@ from .common import (
     joints_text,
     prismatic_joints,
     say,
+    settings_table,
     torque_units,
     units_said_once,
     units_text,
@@ -458,7 +459,7 @@ def alike_joints(results: Results) -> list[list[int]]:
 
 
 def _kv(rows):
-    return _table(["item", "value"], rows, widths=[1.2, 3.4])
+    return settings_table(rows, widths=[1.2, 3.4])
 
 
 def robot_section(results: Results, robot_name: str) -> dict[str, Any]:

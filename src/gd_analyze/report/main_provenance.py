@@ -17,7 +17,7 @@ import numpy as np
 from ..store.schema import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
-from .common import joints_text, say
+from .common import joints_text, other_rows, say
 from .markup import scope as scope_markup
 
 if TYPE_CHECKING:
@@ -32,7 +32,8 @@ def _no_floor(results):
     return say("no_floor", region=results.guarantee_kind == "region",
                drives=results.robot_record.has_drives)
 
-__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row"]
+__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row",
+           "guarantee_row"]
 
 #: How a trajectory's velocities and accelerations were obtained, in words (the stored
 #: ``derivatives`` setting).
@@ -118,8 +119,9 @@ def _prismatic_joints(p):
 
 
 def provenance_rows(results: Results, created: str, version: str,
-                    verification: str) -> list[tuple[str, str]]:
-    """The rows (item, value) of the main report's provenance table, each setting once.
+                    verification: str) -> list[tuple[str, str | None]]:
+    """The rows (item, value) of the main report's provenance table, each setting once
+    (:func:`gd_analyze.report.common.settings_table`).
 
     Parameters
     ----------
@@ -135,7 +137,8 @@ def provenance_rows(results: Results, created: str, version: str,
 
     Returns
     -------
-    list of (str, str)
+    list of (str, str or None)
+        A value None where the results do not record the setting: no row.
     """
     p, robot, traj = results.provenance, results.robot_record, results.trajectory
     analysis = _text(p.gd_analyze_version)
@@ -157,34 +160,23 @@ def provenance_rows(results: Results, created: str, version: str,
             value = (_no_floor(results) if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if any(results.prismatic) else ""))
-        if value is not None:               # the explicit model, the guarantee asked for: words
-            rows.append((label, {4: _EXPLICIT, 5: _GUARANTEE}.get(k, {}).get(value, value)))
-    mounting = _mounting(p)
-    if mounting is not None:
-        rows.append(("mounting", mounting))
-    rows.append(("payload on the last link", _payload(p)))
-    if p.formulations_setpoints is not None:
-        rows.append(("formulations compared on",
-                     f"{_text(p.formulations_setpoints)} set points, for "
-                     f"n = {_text(p.formulations_n)}" + _prismatic_joints(p)))
-    if p.simplified_files is not None:
-        rows.append(("emitted source files", _text(p.simplified_files)))
-    if p.simplified_guarantee_statement is not None:        # the model's scope
-        rows.append(("guarantee of the model built",
-                     f"{_text(p.simplified_guarantee_kind)} kind: "
-                     + scope_markup(_text(p.simplified_guarantee_statement))))
+        # the explicit model, the guarantee asked for: in words
+        rows.append((label, {4: _EXPLICIT, 5: _GUARANTEE}.get(k, {}).get(value, value)))
     engine = _text(p.verification_engine, "Pinocchio")
-    rows.append(("verification against " + engine.replace("pinocchio", "Pinocchio"),
-                 verification))
-    for key, stored, setting in p.others:
-        value = _text(stored)
-        if setting is not None and _text(setting) == value:
-            continue                                        # each setting once
-        rows.append((key.replace("_", " "), value))
-    rows += [("file format", "results.h5: HDF5 (netCDF-4) with metadata after the CF "
-              f"conventions, version {_text(p.conventions).replace('CF-', '')}"),
-             ("method", _text(p.references))]
-    return rows
+    return rows + [
+        ("mounting", _mounting(p)), ("payload on the last link", _payload(p)),
+        ("formulations compared on", None if p.formulations_setpoints is None else
+         f"{_text(p.formulations_setpoints)} set points, for n = {_text(p.formulations_n)}"
+         + _prismatic_joints(p)),
+        ("emitted source files", None if p.simplified_files is None else
+         _text(p.simplified_files)),
+        guarantee_row("guarantee of the model built", p.simplified_guarantee_kind,
+                      p.simplified_guarantee_statement),
+        ("verification against " + engine.replace("pinocchio", "Pinocchio"), verification),
+        *other_rows(p.others),                              # each setting once
+        ("file format", "results.h5: HDF5 (netCDF-4) with metadata after the CF "
+         f"conventions, version {_text(p.conventions).replace('CF-', '')}"),
+        ("method", _text(p.references))]
 
 
 # Rows shared with the sweep and control reports' provenance (each setting once, in words).
@@ -257,6 +249,25 @@ def gravity_row(ds: RunRecord | xr.Dataset) -> tuple[str, str]:
     elif r.mounting_base_rpy_deg is not None:
         text += "; base as in the robot file"
     return ("gravity and mounting", text)
+
+
+def guarantee_row(label: str, kind: object, statement: object) -> tuple[str, str | None]:
+    """(label, "<kind> kind: <statement>"): a model's guarantee as it states it.
+
+    Parameters
+    ----------
+    label : str
+        The row's item.
+    kind, statement : object
+        The guarantee's kind and statement as stored; None where missing.
+
+    Returns
+    -------
+    tuple of (str, str or None)
+        The value None where no statement is stored.
+    """
+    return (label, None if statement is None else
+            f"{_text(kind)} kind: " + scope_markup(_text(statement)))
 
 
 def _record(ds):

@@ -56,8 +56,10 @@ from .common import (
     count,
     fmt_column,
     joints_text,
+    other_rows,
     pct_column,
     say,
+    settings_table,
     torque_units,
     units_said_once,
     utc_now,
@@ -71,7 +73,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from .main_provenance import gravity_row, run_row, software_row
+from .main_provenance import gravity_row, guarantee_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import label as _math
@@ -309,98 +311,81 @@ def _share_figures(w, key, width, parts=1):
     ``key``, ``key_2``, ..."""
     labels, cols = _share_layout(w, key, width)
     if key == "D" and w.joints <= TRIANGLE_JOINTS:
-        return {"D": _fig_D(w) if width >= _PAGE_WIDTH else _share_grid(w, labels, width, 3)}
+        return {"D": _share_grid(w, labels, width, 3, triangle=width >= _PAGE_WIDTH)}
     split = _grid_parts(labels, width, cols, parts)
     return {key if k == 0 else f"{key}_{k + 1}": _share_grid(w, part, width, cols,
                                                               (k + 1, len(split)))
             for k, part in enumerate(split)}
 
 
-def _fig_D(w):
+def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
+    """The share boxes of ``labels`` (of D or of h), the key below them or, in the
+    upper-triangle layout of Fig. 3.10 (``triangle``: D_ij in row i, column j), in its empty
+    lower left: D's panels with titles of two lines and y tick labels on a row's first panel
+    only, h's each with its axis label; in reading order, ``cols`` a row, otherwise.
+    ``part``: (this part, of how many), said in the title where more than one."""
     from matplotlib.figure import Figure
 
-    n, k = w.joints, w.joints // 2
-    W, left, right, top, wgap = _PAGE_WIDTH, 0.5, 0.08, 0.68, 0.28
-    pitch = (W - left - right + wgap) / n                  # a panel and its gap [in]
-    # the class fractions at their printed size, on more lines where one would reach the
-    # next panel's, or the panel's own tick labels on the diagonal (the rows further apart)
-    rooms = {element_label("D", i, j): pitch - wgap if i == j else pitch - _FRACTION_GAP
-             for i in range(n) for j in range(i, n)}
-    H, hgap = 0.98 + n * 0.56 + (n - 1) * 0.46, 0.46      # titles of two lines
-    more = _more_lines(w, rooms, max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((W, H))))
-    H, hgap, bottom = (H + n * more * _SECOND_LINE, hgap + more * _SECOND_LINE,
-                       0.3 + more * _SECOND_LINE)
-    size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((W, H)))
-    # the key in the empty lower left, its top at row k's, clear of the diagonal's tick
-    # labels on its right
-    key = _wrapped(_key_text(w, w.trajectories).split(), k * pitch - 0.3,
-                   max(7.5, MIN_PRINTED_PT / printed_scale((W, H))))
-    fig = Figure(figsize=(W, H))
-    gs = _gridspec(fig, n, n, left=left, right=right, top=top, bottom=bottom, wgap=wgap,
-                   hgap=hgap)
-    for i in range(n):
-        for j in range(i, n):
-            ax = fig.add_subplot(gs[i, j])
-            label = element_label("D", i, j)
-            _share_panel(ax, w, label, two_lines=True, room=rooms[label], size=size)
-            ax.tick_params(labelleft=(i == j))
-    if n > 1:
-        box = gs[k:, :k].get_position(fig)
-        fig.text(box.x0, box.y0 + box.height, key, va="top", ha="left", fontsize=7.5,
-                 linespacing=1.35)
-    fig.supylabel("translational share [1]", x=0.05 / W, ha="left")
-    fig.suptitle("Translational share of the elements of D over the sweep "
-                 "(layout of Fig. 3.10)", y=1 - 0.15 / H, va="top")
-    return fig
-
-
-def _share_grid(w, labels, width, cols, part=(1, 1)):
-    """The share boxes of ``labels`` (of D or of h) in reading order, ``cols`` a row, the
-    key below: D's panels with titles of two lines and y tick labels on a row's first panel
-    only, h's each with its axis label; ``part``: (this part, of how many), said in the
-    title where more than one."""
-    from matplotlib.figure import Figure
-
-    d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
-    rows = -(-len(labels) // cols)
-    H = _grid_height(d, column, rows)
-    left, right, wgap = (0.55, 0.08, 0.3) if d else (0.65, 0.1, 0.6)
+    d, column, n = labels[0].startswith("D"), width < _PAGE_WIDTH, w.joints
+    if triangle:
+        cells = [(i, j) for i in range(n) for j in range(i, n)]
+        cols, left, right, wgap = n, 0.5, 0.08, 0.28
+    else:
+        cells = [divmod(m, cols) for m in range(len(labels))]
+        left, right, wgap = (0.55, 0.08, 0.3) if d else (0.65, 0.1, 0.6)
+    rows = cells[-1][0] + 1
+    first = [c == (r if triangle else 0) for r, c in cells]   # a row's first panel
+    H = 0.98 + n * 0.56 + (n - 1) * 0.46 if triangle else _grid_height(d, column, rows)
     pitch = (width - left - right + wgap) / cols            # a panel and its gap [in]
-    # the key below the panels, under the last row's class fractions (raised to the printed
-    # size, it is wrapped again and drawn lower: the drawing is made taller, figure_svg)
-    spacing, x0 = 1.25 if column or d else 1.3, 0.3 if not (column or d) else 0.1
-    key = _wrapped(_key_text(w, w.trajectories).split(), width - x0 - 0.1, 7.0)
     # the class fractions at their printed size on more lines where one would reach the
     # next panel's, the panel's own tick labels (D: on a row's first; h: on each) or the
-    # figure's right edge: the rows further apart, the panels shorter (the figure keeps its
-    # height, and so its printed scale)
+    # figure's right edge: the rows further apart (a triangle's figure taller; a grid's panels
+    # shorter: the figure keeps its height, and so its printed scale)
     rooms = {}
-    for m, label in enumerate(labels):
-        room = pitch - wgap if m % cols == 0 or not d else pitch - _FRACTION_GAP
-        if m % cols == cols - 1 or m == len(labels) - 1:
+    for label, (r, c), own in zip(labels, cells, first):
+        room = pitch - wgap if own or not d else pitch - _FRACTION_GAP
+        if not triangle and (c == cols - 1 or label == labels[-1]):
             room = min(room, pitch - wgap + 2 * right - 0.02)
         rooms[label] = room
     size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((width, H)))
-    more = _more_lines(w, rooms, size) * _SECOND_LINE
+    more = _more_lines(w, rooms, size)
+    if triangle:
+        H, hgap, bottom, top = (H + n * more * _SECOND_LINE, 0.46 + more * _SECOND_LINE,
+                                0.3 + more * _SECOND_LINE, 0.68)
+        size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((width, H)))
+    else:
+        more *= _SECOND_LINE
+        hgap, bottom, top = ((0.55 if d else 0.5) + more, 1.75 + more,
+                             0.74 if d else 0.55 if column else 0.5)
     fig = Figure(figsize=(width, H))
-    gs = _gridspec(fig, rows, cols, left=left, right=right,
-                   top=0.74 if d else 0.55 if column else 0.5, bottom=1.75 + more, wgap=wgap,
-                   hgap=(0.55 if d else 0.5) + more)
-    for m, label in enumerate(labels):
-        ax = fig.add_subplot(gs[m // cols, m % cols])
+    gs = _gridspec(fig, rows, cols, left=left, right=right, top=top, bottom=bottom, wgap=wgap,
+                   hgap=hgap)
+    for label, (r, c), own in zip(labels, cells, first):
+        ax = fig.add_subplot(gs[r, c])
         _share_panel(ax, w, label, two_lines=d, room=rooms[label], size=size)
         if d:
-            ax.tick_params(labelleft=(m % cols == 0))
+            ax.tick_params(labelleft=own)
         else:
             ax.set_ylabel("translational share [1]")
-    fig.text(x0 / width, 1.5 / H, key, va="top", ha="left", fontsize=7, linespacing=spacing)
+    key = _key_text(w, w.trajectories).split()
+    if triangle and n > 1:      # its top at row n // 2's, clear of the diagonal's tick labels
+        box = gs[n // 2:, :n // 2].get_position(fig)
+        fig.text(box.x0, box.y0 + box.height,
+                 _wrapped(key, n // 2 * pitch - 0.3,
+                          max(7.5, MIN_PRINTED_PT / printed_scale((width, H)))),
+                 va="top", ha="left", fontsize=7.5, linespacing=1.35)
+    elif not triangle:          # under the last row's class fractions (raised to the printed
+        # size, it is wrapped again and drawn lower: the drawing is made taller, figure_svg)
+        x0 = 0.3 if not (column or d) else 0.1
+        fig.text(x0 / width, 1.5 / H, _wrapped(key, width - x0 - 0.1, 7.0), va="top",
+                 ha="left", fontsize=7, linespacing=1.25 if column or d else 1.3)
     if d:
         fig.supylabel("translational share [1]", x=0.05 / width, ha="left")
     of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
     fig.suptitle(f"Translational share of the elements of {labels[0][0]}"
                  f"{chr(10) if column else ' '}over the sweep (layout of Fig. "
                  f"{'3.10' if d else '3.11'}{of})", y=1 - (0.08 if column else 0.15) / H,
-                 va="top", fontsize=9 if column else None)
+                 va="top", **({} if triangle else {"fontsize": 9 if column else None}))
     return fig
 
 
@@ -939,7 +924,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
                   rest=f"{_held_out(m)}{_gravity(m)}{_cost_sentence(m)}{_own_sentence(w)}"
                   ).strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
-           "summary": summary, "settings": _table(["item", "value"], settings),
+           "summary": summary, "settings": settings_table(settings),
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
            "intro": say("sweep_intro", K=K, created=utc_now().isoformat(), version=__version__),
@@ -960,7 +945,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         ctx["payload"] = {
             "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
                             colour_cols=list(range(1, len(masses) + 1))),
-            "settings": _table(["item", "value"], [
+            "settings": settings_table([
                 ("trajectory", _text(part.input_file)),
                 ("trajectory SHA-256", _text(part.input_sha256)),
                 ("payload masses [kg]", ", ".join(f"{m:g}" for m in masses)),
@@ -981,7 +966,8 @@ def _settings(w, inputs, version):
     s, e = _thresholds(w)
     batch, tasks = int(_or(st.batch_size, 0)), int(_or(st.n_tasks, 0))
     batches = -(-K // batch) if batch else 0
-    rows = [
+    workers = int(_or(st.n_workers, 1))
+    return [
         software_row(w.run, version),
         ("command", _text(st.command)),
         run_row(w.run),
@@ -991,10 +977,7 @@ def _settings(w, inputs, version):
         gravity_row(w.run),
         ("dominance threshold s, negligibility threshold e", f"{s:g}, {e:g}"),
         ("inputs", inputs),
-    ]
-    if st.input_files is not None:
-        rows.append(("input files", _text(st.input_files)))
-    rows += [
+        ("input files", None if st.input_files is None else _text(st.input_files)),
         ("SHA-256 of all inputs", _text(st.inputs_sha256)),
         ("set points", say("sweep_setpoints", total=count(_or(st.setpoints_total, '-')),
                            least=count(setpoints.min()) if setpoints.size else "",
@@ -1007,23 +990,17 @@ def _settings(w, inputs, version):
                           if m.tolerance is not None else "")),
         ("payload on the last link", f"{_text(st.payload_mass, '0')} kg"
          if float(_or(st.payload_mass, 0.0) or 0.0) else "none"),
-    ]
-    if m.guarantee_statement is not None:        # the merged model's scope
-        rows.append(("guarantee of the merged model",
-                     f"{_text(m.guarantee_kind)} kind: "
-                     + scope_markup(_text(m.guarantee_statement))))
-    if st.random_qdd_max_source is not None:
-        rows.append(("random accelerations limited by",
-                     {"robot": "the robot's acceleration limits"}.get(
-                         str(st.random_qdd_max_source),
-                         _text(st.random_qdd_max_source))))
-    workers = int(_or(st.n_workers, 1))
-    where = say("computed_on", cluster=_text(st.cluster), K=K, batches=batches, tasks=tasks,
-                workers=_text(st.n_workers) if workers else "", many=str(st.n_workers) != "1",
-                scheduler=_text(st.scheduler_address), batch=batch)
-    return rows + [("computed on", where),
-                   ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
-                   *((key.replace("_", " "), _text(value)) for key, value in st.others)]
+        guarantee_row("guarantee of the merged model", m.guarantee_kind,
+                      m.guarantee_statement),   # the merged model's scope
+        ("random accelerations limited by", None if st.random_qdd_max_source is None else
+         {"robot": "the robot's acceleration limits"}.get(str(st.random_qdd_max_source),
+                                                          _text(st.random_qdd_max_source))),
+        ("computed on", say("computed_on", cluster=_text(st.cluster), K=K, batches=batches,
+                            tasks=tasks, workers=_text(st.n_workers) if workers else "",
+                            many=str(st.n_workers) != "1",
+                            scheduler=_text(st.scheduler_address), batch=batch)),
+        ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
+        *other_rows(st.others)]
 
 
 def _gravity(m):
