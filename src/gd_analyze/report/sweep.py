@@ -29,6 +29,7 @@ Typst from the same section list (:mod:`gd_analyze.report.typeset`). Both are wr
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -152,27 +153,64 @@ def _thresholds(w):
                  for v in (st.dominance_threshold, st.negligible_threshold))
 
 
+#: The most a line's width can differ from the sum of its pieces' widths, each measured
+#: alone, per join [em]: kerning across the join and the rounding of hinted advances. Agg
+#: lays out DejaVu Sans by advances, and a piece that starts with a space joins with none (0
+#: on every pair of the 108 characters the sweep report writes, at 7, 7.5 and 8 pt).
+_JOIN_EM = 0.5
+#: The font settings a text's measured width depends on, beside its size.
+_FONT_RC = ("font.family", "font.sans-serif", "font.serif", "font.monospace", "font.cursive",
+            "font.fantasy", "font.style", "font.variant", "font.weight", "font.stretch",
+            "font.enable_last_resort", "text.hinting", "text.hinting_factor",
+            "text.kerning_factor", "text.language", "figure.dpi")
+
+
 def _width(text, size):
     """The width [in] of one line of text at ``size`` [pt], in the current font, as Agg lays
-    it out at the figures' resolution (its hinting makes it resolution-dependent)."""
+    it out at the figures' resolution (its hinting makes it resolution-dependent); each text
+    measured once per font setting (:func:`_measured`)."""
     import matplotlib
+
+    rc = matplotlib.rcParams
+    return _measured(text, float(size), tuple(
+        tuple(v) if isinstance(v := rc.get(k), list) else v for k in _FONT_RC))
+
+
+@functools.lru_cache(maxsize=4096)
+def _measured(text, size, setting):
+    """:func:`_width` of ``text`` under ``setting`` (the values of :data:`_FONT_RC`, which
+    the current settings are)."""
     from matplotlib.backends.backend_agg import RendererAgg
     from matplotlib.font_manager import FontProperties
 
-    dpi = float(matplotlib.rcParams["figure.dpi"])
+    dpi = float(setting[-1])
     width, _, _ = RendererAgg(1, 1, dpi).get_text_width_height_descent(
         text, FontProperties(size=size), ismath=False)
     return width / dpi
 
 
 def _wrapped(parts, room, size, sep=" "):
-    """``parts`` joined by ``sep`` into lines no wider than ``room`` [in] at ``size`` [pt]."""
+    """``parts`` joined by ``sep`` into lines no wider than ``room`` [in] at ``size`` [pt].
+
+    A line's width is taken as its first part's plus each further ``sep + part``'s, each
+    measured once (:func:`_width`); only where that sum is within :data:`_JOIN_EM` a join
+    of ``room`` is the line measured whole. So every line breaks where measuring it whole
+    at each part would break it, with a few short measurements instead of one of the whole
+    line so far per part.
+    """
     lines: list[str] = []
+    last = slack = 0.0                # the last line's width and how far it may be off [in]
     for part in parts:
-        if lines and _width(lines[-1] + sep + part, size) <= room:
-            lines[-1] += sep + part
-        else:
-            lines.append(part)
+        if lines:
+            width, error = last + _width(sep + part, size), slack + _JOIN_EM * size / 72
+            if abs(width - room) <= error:          # too near to tell: measured whole
+                width, error = _width(lines[-1] + sep + part, size), 0.0
+            if width <= room:
+                lines[-1] += sep + part
+                last, slack = width, error
+                continue
+        lines.append(part)
+        last, slack = _width(part, size), 0.0
     return "\n".join(lines)
 
 
