@@ -6,6 +6,7 @@ Private to the reports (:mod:`gd_analyze.report.common` re-exports these names).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import textwrap
 from collections.abc import Iterator, Sequence
@@ -96,7 +97,7 @@ def raise_small_text(fig: Figure, least: float) -> int:
         if box.x1 <= right + 0.5:
             small = [t for t in small if owner.get(id(t)) is not leg]
         else:
-            leg.draw(renderer)
+            _laid_out(leg, renderer)
     for _ in range(4):              # again after a text is wrapped anew: its legend moves
         wrapped = False
         for t in small:
@@ -110,10 +111,26 @@ def raise_small_text(fig: Figure, least: float) -> int:
             t.set_text(textwrap.fill(" ".join(lines), chars))
             wrapped = True
             if id(t) in owner:
-                owner[id(t)].draw(renderer)
+                _laid_out(owner[id(t)], renderer)
         if not wrapped:
             break
     return raised
+
+
+def _laid_out(artist: Artist, renderer: RendererBase) -> None:
+    """Lay an artist out (place its texts) on a measuring renderer, painting nothing.
+
+    Parameters
+    ----------
+    artist : matplotlib.artist.Artist
+        E.g. a legend: drawn, the renderer's drawing calls made no-ops by matplotlib's
+        private ``_draw_disabled`` (as :meth:`matplotlib.figure.Figure.draw_without_rendering`
+        does); painted as before on a renderer without it.
+    renderer : matplotlib.backend_bases.RendererBase
+        The renderer, of the figure's size and resolution.
+    """
+    with getattr(renderer, "_draw_disabled", contextlib.nullcontext)():
+        artist.draw(renderer)
 
 
 def _texts(fig: Figure) -> Iterator[Text]:
