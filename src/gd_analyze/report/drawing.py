@@ -71,9 +71,9 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
                 fig.savefig(buf, format="svg", metadata=meta)
             finally:
                 fig.canvas.mpl_disconnect(cid)
-        if extent[0].height > fig.bbox_inches.height:   # text sticks out: drawn again, taller
-            buf = io.BytesIO()
-            fig.savefig(buf, format="svg", bbox_inches=extent[0], metadata=meta)
+            if extent[0].height > fig.bbox_inches.height:   # text sticks out: drawn again,
+                buf = io.BytesIO()                           # taller, with the same ticks
+                fig.savefig(buf, format="svg", bbox_inches=extent[0], metadata=meta)
     text = buf.getvalue().decode("utf-8")
     start = text.find("<svg")
     return text[start:] if start >= 0 else text
@@ -84,10 +84,12 @@ class TicksOfTheDraw:
     and, once :attr:`replay` is set, hands those back instead of working them out again.
 
     Measuring a figure just drawn (:meth:`matplotlib.figure.Figure.get_tightbbox`, as
-    :func:`gd_analyze.report.figure_style.text_extent` does in :func:`figure_svg`) asks every
-    axis for its ticks again: locator, formatter and a position and label per tick, the same
-    ticks, as nothing changed since the draw. With :attr:`replay` set they are the draw's. On
-    leaving the block the axes work out their ticks as before.
+    :func:`gd_analyze.report.figure_style.text_extent` does in :func:`figure_svg`), and
+    drawing it again taller where its text sticks out, asks every axis for its ticks again:
+    locator, formatter and a position and label per tick, the same ticks, as nothing changed
+    since the draw (the taller drawing moves the axes, it does not resize them). With
+    :attr:`replay` set they are the draw's. On leaving the block the axes work out their
+    ticks as before.
 
     Parameters
     ----------
