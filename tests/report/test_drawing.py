@@ -49,20 +49,45 @@ def _counted(monkeypatch):
     return calls
 
 
-def test_the_measure_of_a_drawn_figure_works_no_tick_out_again(monkeypatch):
-    """figure_svg measures the text it has just drawn: the axes work their ticks out as often
-    as a plain SVG draw of the same figure does, not again for the measure."""
+def test_each_axis_works_its_ticks_out_once_a_drawing(monkeypatch):
+    """figure_svg draws, measures and (where its text sticks out) draws again a figure with
+    each axis's ticks worked out once; a plain SVG draw works them out more often (the labels
+    placed clear of the shared axes' tick labels)."""
     import io
 
     calls = _counted(monkeypatch)
     plain = _figure()
     with matplotlib.rc_context(BASE_RC):
         plain.savefig(io.BytesIO(), format="svg")
-    drawn_alone = len(calls)
-    assert drawn_alone >= 4                  # two axes of two panels, each at least once
-    calls.clear()
-    figure_svg(_figure(), BASE_RC)
-    assert len(calls) == drawn_alone
+    assert len(calls) > 4
+    for sticking_out in (False, True):
+        calls.clear()
+        figure_svg(_figure(sticking_out), BASE_RC)
+        assert len(calls) == 4                  # two panels' x and y axes, once each
+
+
+def test_the_drawing_is_the_one_of_ticks_worked_out_whenever_asked():
+    """The SVG is the one matplotlib draws with no tick kept: drawn, measured on that
+    drawing's renderer and, where text sticks out, drawn again as tall as its text."""
+    import io
+
+    from gd_analyze.report.figure_style import text_extent
+
+    meta = {"Date": None, "Creator": None, "Format": None, "Type": None}
+    for sticking_out in (False, True):
+        fig, extent = _figure(sticking_out), []
+        with matplotlib.rc_context(RC):
+            buf = io.BytesIO()
+            cid = fig.canvas.mpl_connect("draw_event",
+                                         lambda e: extent.append(text_extent(fig, e.renderer)))
+            fig.savefig(buf, format="svg", metadata=meta)
+            fig.canvas.mpl_disconnect(cid)
+            if sticking_out:
+                assert extent[0].height > fig.bbox_inches.height
+                buf = io.BytesIO()
+                fig.savefig(buf, format="svg", bbox_inches=extent[0], metadata=meta)
+        text = buf.getvalue().decode()
+        assert figure_svg(_figure(sticking_out), RC) == text[text.index("<svg"):]
 
 
 def test_a_figure_whose_text_sticks_out_is_drawn_as_tall_as_its_text():

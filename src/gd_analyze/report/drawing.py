@@ -62,8 +62,8 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
         with TicksOfTheDraw(fig) as ticks:
+            ticks.replay = True     # each axis's ticks worked out once, the first time asked
             def measure(event: Any) -> None:    # a DrawEvent (a bare Event to some versions)
-                ticks.replay = True              # the ticks just drawn, not worked out again
                 extent.append(text_extent(fig, event.renderer))
 
             cid = fig.canvas.mpl_connect("draw_event", measure)
@@ -80,16 +80,19 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
 
 
 class TicksOfTheDraw:
-    """Within a ``with`` block: each axis of a figure keeps the ticks its last draw worked out,
+    """Within a ``with`` block: each axis of a figure keeps the ticks it last worked out,
     and, once :attr:`replay` is set, hands those back instead of working them out again.
 
-    Measuring a figure just drawn (:meth:`matplotlib.figure.Figure.get_tightbbox`, as
+    A drawing asks an axis for its ticks several times: to draw them, and to place its own
+    and each shared axis's label clear of their tick labels; measuring the figure just drawn
+    (:meth:`matplotlib.figure.Figure.get_tightbbox`, as
     :func:`gd_analyze.report.figure_style.text_extent` does in :func:`figure_svg`), and
-    drawing it again taller where its text sticks out, asks every axis for its ticks again:
-    locator, formatter and a position and label per tick, the same ticks, as nothing changed
-    since the draw (the taller drawing moves the axes, it does not resize them). With
-    :attr:`replay` set they are the draw's. On leaving the block the axes work out their
-    ticks as before.
+    drawing it again taller where its text sticks out, asks again. Each time matplotlib works
+    out locator, formatter and a position and label per tick: the same ticks, as nothing
+    changes them once the drawing has started (the axes' aspect is applied before, and the
+    taller drawing moves the axes, it does not resize them). With :attr:`replay` set each
+    axis works them out once, the first time asked. On leaving the block the axes work out
+    their ticks as before.
 
     Parameters
     ----------
@@ -99,8 +102,8 @@ class TicksOfTheDraw:
     Attributes
     ----------
     replay : bool
-        False while drawing (every axis works its ticks out, the last result kept); True to
-        hand back the kept ticks (an axis with none kept works them out).
+        False: every axis works its ticks out whenever asked, the last result kept; True:
+        the kept ticks handed back (an axis with none kept works them out and keeps them).
     calls : int
         How many times an axis worked its ticks out within the block.
 
