@@ -11,8 +11,9 @@ goes first alternates between rounds). Each child imports the report writer, cal
 ``gc.freeze()`` as the console script does after its imports, and writes the report twice
 into new folders: the first as a command does (once per process), the second as a test
 session does (caches of the first kept). It times each by the process' CPU time (all
-threads: Typst's too; wall time is unsteady on a shared machine), and the part of it inside
-``report.drawing.figure_svg`` (drawing the figures to SVG, their text measured and raised).
+threads: Typst's too; wall time is unsteady on a shared machine), and the main thread's CPU
+time inside ``report.drawing.figure_svg`` (drawing the figures to SVG, their text measured
+and raised; the main report's figure PDFs are typeset on a worker thread meanwhile).
 
 Prints one JSON line: per report, per side (``this``, ``baseline``) and per call (``first``,
 ``again``) the median and [min, max] of the total and of the drawing [s], and the median of
@@ -44,11 +45,11 @@ import gd_analyze.report.drawing as drawing
 drawn = [0.0]
 svg = drawing.figure_svg
 def timed(*args, **kwargs):
-    t = time.process_time()
+    t = time.thread_time()
     try:
         return svg(*args, **kwargs)
     finally:
-        drawn[0] += time.process_time() - t
+        drawn[0] += time.thread_time() - t
 drawing.figure_svg = timed
 gc.freeze()
 out = []
