@@ -363,3 +363,37 @@ def test_honest_trees_do_not_save_a_lowered_bound(models, monkeypatch):
             gd_analyze.load_model(_write(folder, f"trees_lowered_{share}", forged))
         if calls_expected is not None:
             assert calls == calls_expected
+
+
+def test_a_panda_model_bounded_by_the_decomposition_is_accepted_and_a_lower_bound_refused(
+        monkeypatch):
+    """The Panda's region model at EPS 0.01 (its bound from the decomposition: the branch
+    and bound on the first links' pairs plus the final boxes' bound of the rest, of no one
+    stored tree) is accepted from its file by the re-derivation; its bound lowered to a
+    half on the joint where the decomposition binds is refused."""
+    import dataclasses
+
+    from gd_analyze import load_robot
+    from gd_analyze.certify.region import joint_region
+    from gd_analyze.model.limits import acceleration_limits
+    from gd_analyze.simplify.deploy import build_recursive
+    from gd_analyze.simplify.simplified import SimplifiedModel
+    from gd_analyze.store.model_trust import check_guarantee
+
+    robot = load_robot("panda")
+    region = joint_region(robot, acceleration_limits(robot)[0])
+    q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (20, robot.n))
+    built, _ = build_recursive(robot, q, 0 * q, 0 * q, tolerance=0.01, region=region)
+    g = built.guarantee
+    assert g.kind == "region" and built.recursive.dropped.any()
+    calls = _spied(monkeypatch)
+    model = SimplifiedModel.from_dict(json.loads(json.dumps(built.to_dict())), robot)
+    check_guarantee(model)
+    assert calls == [1] or model.guarantee.tilings   # re-derived where no tree gives it
+    j = int(np.argmax(np.asarray(g.bound) / np.asarray(g.scale)))
+    low = np.array(g.bound, float)
+    low[j] *= 0.5
+    forged = dataclasses.replace(model, guarantee=dataclasses.replace(model.guarantee,
+                                                                      bound=low))
+    with pytest.raises(InputError, match="guarantee.bound"):
+        check_guarantee(forged)

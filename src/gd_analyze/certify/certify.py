@@ -42,7 +42,8 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "pair_magnitudes_at", "METHOD", "prove_dropped", "JointSums", "joint_sums",
            "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
            "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
-           "proved_zero", "region_trees", "tilings_bound"]
+           "proved_zero", "region_trees", "tilings_bound", "decomposed_bound",
+           "decomposed_pairs", "decomposed_search"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -1115,6 +1116,131 @@ def split_joints(robot: Robot, base: BaseParameters, dropped: np.ndarray,
     return _relevant(robot) & (np.arange(robot.n) <= last)
 
 
+def decomposed_pairs(robot: Robot, base: BaseParameters, dropped: np.ndarray,
+                     zero: np.ndarray | None = None) -> np.ndarray | None:
+    """The part of a dropped set that :func:`decomposed_bound` bounds by branch and bound.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out.
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3), or None
+        The dropped pairs (but those in ``zero``) of the links 1..L, for the largest L whose
+        pairs depend on at most :data:`JOINT_DIMS` joints (:func:`split_joints`); None when
+        the whole set does (its own branch and bound is run instead), when no such pair is
+        dropped, or when every dropped pair is (nothing is left to add).
+    """
+    live = np.asarray(dropped, bool)
+    if zero is not None:
+        live = live & ~np.asarray(zero, bool)
+    if split_joints(robot, base, live).sum() <= JOINT_DIMS:
+        return None
+    link = np.flatnonzero(base.independent.reshape(-1)) // 10       # per base parameter
+    best = None
+    for last in range(robot.n):
+        first = live & (link <= last)[:, None]
+        if split_joints(robot, base, first).sum() > JOINT_DIMS:
+            break
+        best = first
+    if best is None or not best.any():
+        return None
+    return best
+
+
+def decomposed_search(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                      dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None,
+                      resume: dict | None = None
+                      ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """:func:`decomposed_bound`, the tree of its branch and bound and the pairs it ran on.
+
+    Parameters
+    ----------
+    robot, base, region, pb, dropped, limit, sums
+        As :func:`decomposed_bound`.
+    resume : dict, optional
+        As :func:`dropped_search`'s, for the branch and bound on the first links' pairs
+        with the limit ``max(limit - leaf_bound(rest), 0)``.
+
+    Returns
+    -------
+    bound : ndarray, shape (n,)
+        :func:`decomposed_bound` [N m or N].
+    tree : ndarray of int, shape (N,) or None
+        The bisection tree of the branch and bound on ``first`` (:func:`dropped_search`);
+        None where it did not run.
+    first : ndarray of bool, shape (b, 3) or None
+        :func:`decomposed_pairs`; None where the bound is inf (no split).
+    """
+    n = robot.n
+    first = decomposed_pairs(robot, base, dropped, pb.zero)
+    if first is None:
+        return np.full(n, np.inf), None, None
+    rest = np.asarray(dropped, bool) & ~np.asarray(pb.zero, bool) & ~first
+    other = leaf_bound(pb, sums, rest)
+    head, tree = dropped_search(robot, base, region, first,
+                                np.maximum(np.asarray(limit, float) - other, 0.0), JOINT_BOXES,
+                                pb.zero, resume)
+    # the sum rounded up: each term bounds its part, so their exact sum bounds the whole
+    return np.nextafter(head + other, np.inf), tree, first
+
+
+def decomposed_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
+                     dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
+                     ) -> np.ndarray:
+    """A bound of a dropped set over the region as the sum of two: the branch and bound on
+    the joint sum of its first links' pairs, and the certification's final boxes' bound of
+    the rest.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    base : BaseParameters
+        Its base parameters (b of them).
+    region : Region
+    pb : PairBounds
+        The region's certification.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    limit : ndarray, shape (n,)
+        The budget EPS s_i [N m or N]: the branch and bound on the first links' pairs seeks
+        ``max(limit - leaf_bound(rest), 0)``.
+    sums : JointSums, optional
+        On the final boxes of ``pb`` (:func:`joint_sums`), holding the rest's pairs; None:
+        the rest pair by pair.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``dropped_bound(first) + leaf_bound(rest)`` rounded up, where ``first`` is
+        :func:`decomposed_pairs` (the dropped pairs of the links 1..L that depend on at most
+        :data:`JOINT_DIMS` joints) and ``rest`` the other dropped pairs not proved zero; inf
+        where there is no such split [N m or N].
+
+    Notes
+    -----
+    tau = Y_b beta is linear in the base parameters, so the dropped set changes tau_i by the
+    sum of the two parts' changes at the same state, and by the triangle inequality
+    |tau_s - tau| <= |change by first| + |change by rest| <= the sum of their bounds, each
+    of which holds at every state of the region: the first by branch and bound on its joint
+    sum (:func:`dropped_bound`; Moore, Kearfott & Cloud 2009, Ch. 6), the rest on the
+    certification's final boxes (:func:`leaf_bound`). It is tighter than :func:`leaf_bound`
+    of the whole set where the set depends on more than :data:`JOINT_DIMS` joints (too many to
+    halve) but most of its error comes from pairs of the first links, whose joint sum the
+    branch and bound tightens.
+    """
+    return decomposed_search(robot, base, region, pb, dropped, limit, sums)[0]
+
+
 def region_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
                  dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None
                  ) -> np.ndarray:
@@ -1142,15 +1268,18 @@ def region_bound(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
     ndarray, shape (n,)
         The least of :func:`leaf_bound` and, where the dropped pairs (but those proved zero)
         depend on at most :data:`JOINT_DIMS` joints (:func:`split_joints`),
-        :func:`dropped_bound` with ``limit`` and :data:`JOINT_BOXES` boxes; each bounds
-        |tau_s - tau| over the region, so their least does [N m or N].
+        :func:`dropped_bound` with ``limit`` and :data:`JOINT_BOXES` boxes, else
+        :func:`decomposed_bound` (that branch and bound on the pairs of the first links, the
+        final boxes' bound of the rest); each bounds |tau_s - tau| over the region, so their
+        least does [N m or N].
     """
     return region_trees(robot, base, region, pb, dropped, limit, sums)[0]
 
 
 def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
                  dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None,
-                 resume: dict | None = None) -> tuple[np.ndarray, tuple]:
+                 resume: dict | None = None, decompose: bool = True
+                 ) -> tuple[np.ndarray, tuple]:
     """:func:`region_bound`, and the trees of boxes whose final boxes give it.
 
     Parameters
@@ -1161,8 +1290,11 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
         sums on the certification's final boxes.
     resume : dict, optional
         ``resume`` of an earlier :func:`dropped_search` of the same set with the same
-        ``limit`` and ``pb.zero`` and fewer boxes: the branch and bound goes on from it
-        (the same result, fewer boxes evaluated again).
+        ``limit`` and ``pb.zero`` and fewer boxes (where the set depends on more than
+        :data:`JOINT_DIMS` joints: of :func:`decomposed_search`'s, with the same ``sums``):
+        the branch and bound goes on from it (the same result, fewer boxes evaluated again).
+    decompose : bool, optional
+        False: without :func:`decomposed_bound` (a larger bound, never a smaller one).
 
     Returns
     -------
@@ -1171,7 +1303,8 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
     trees : tuple of (ndarray of int, ndarray)
         The bisection trees (``split_joint`` of :func:`tiling`) and their bounds (n,): the
         certification's, with :func:`leaf_bound`, and, where it ran, the branch and bound's
-        on the joint sum (:func:`dropped_search`). ``bound`` is the least of their bounds;
+        on the joint sum (:func:`dropped_search`). ``bound`` is the least of their bounds
+        and of :func:`decomposed_bound` (a sum of two bounds, of no one tree);
         :func:`tree_bound` of each tree is at most its bound (up to round-off), so a reader
         re-checks ``bound`` on the trees without a search.
     """
@@ -1186,6 +1319,9 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
         if tree is not None:
             trees += ((tree, searched),)
         out = np.minimum(out, searched)
+    elif decompose:
+        out = np.minimum(out, decomposed_search(robot, base, region, pb, dropped, limit, sums,
+                                                resume)[0])
     return out, trees
 
 

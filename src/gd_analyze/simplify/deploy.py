@@ -23,6 +23,7 @@ from ..cache import CacheWarning
 from ..certify.certify import (
     JOINT_DIMS,
     METHOD,
+    decomposed_pairs,
     dropped_search,
     joint_sums,
     leaf_bound,
@@ -43,8 +44,8 @@ from ..errors import one_line
 from ..model.limits import DEFAULT_QDD_PER_QD, acceleration_limits
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE, element_labels
 from ..symbolic.drive_regressor import with_drives
-from ..symbolic.pruning import prune_bounds, settle_restored, zero_parts
-from ..symbolic.recursive import recursive_program
+from ..symbolic.pruning import part_values, prune_bounds, settle_restored, zero_parts
+from ..symbolic.recursive import parts_count, recursive_program
 from ..symbolic.recursive_model import RecursiveModel, recursive_model
 from .budget import DEFAULT_TOLERANCE, Selection
 from .guarantee import Guarantee
@@ -71,7 +72,7 @@ __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "re
            "region_search", "RegionSearch", "RegionSearches", "region_searches",
            "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
-           "SCOUT_RATIO", "screened_exact", "RESTORED_MIN_SAVING", "release"]
+           "SCOUT_RATIO", "DECOMPOSE", "screened_exact", "RESTORED_MIN_SAVING", "release"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -90,6 +91,10 @@ RESTORED_MIN_SAVING = 0.015
 #: are chosen (:class:`_JointBound`), and the share of the budget above which its bound
 #: rejects the set without the full one.
 SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
+#: Whether the region search also searches with the decomposed bound
+#: (:func:`gd_analyze.certify.certify.decomposed_bound`, :func:`_region_pruning`); False:
+#: the search before it alone.
+DECOMPOSE = True
 
 
 def robot_region(robot: Robot, limits: RegionLimits | None = None
@@ -211,12 +216,45 @@ def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: 
 def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
     """:func:`~gd_analyze.symbolic.pruning.prune_bounds` on a region's certification
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
-    and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`)."""
+    and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`).
+
+    The pairs are searched twice where the arm has more than :data:`JOINT_DIMS` joints that
+    coefficients depend on: without the decomposition
+    (:func:`~gd_analyze.certify.certify.decomposed_bound`) and with it; the search with it
+    is kept only where its pairs cost fewer operations (quick counts): the greedy search is
+    not monotone, and a bound that admits a pair early can shut out cheaper ones later.
+    ``chosen`` pairs are checked without it first, then with it."""
 
     joint = _JointBound(robot, base, region, pb, tolerance)
-    pr = prune_bounds(robot, base, pb.scale, pb.bound, pb.leaves.sum(axis=1).max(axis=1),
-                      tolerance, pieces=pb.leaves, chosen=chosen, zero=pb.zero, joint=joint)
+
+    def search(decompose):
+        joint.decompose = decompose
+        return prune_bounds(robot, base, pb.scale, pb.bound,
+                            pb.leaves.sum(axis=1).max(axis=1), tolerance, pieces=pb.leaves,
+                            chosen=chosen, zero=pb.zero, joint=joint)
+
+    if not DECOMPOSE or split_joints(robot, base,
+                                     np.ones(pb.zero.shape, bool)).sum() <= JOINT_DIMS:
+        pr = search(False)              # no set has a decomposition
+    elif chosen is not None:
+        try:
+            pr = search(False)
+        except ValueError:              # found with the decomposition: checked with it
+            pr = search(True)
+    else:
+        pr = search(False)
+        other = search(True)
+        if _quick_count(robot, base, other) < _quick_count(robot, base, pr):
+            pr = other
+        else:
+            joint.decompose = False
     return pr, joint.tilings(pr.dropped, pr.bound)
+
+
+def _quick_count(robot, base, pr):
+    """Multiplications + additions of a pruning's program, quick (no common subexpressions,
+    one form: :func:`~gd_analyze.symbolic.recursive.parts_count`)."""
+    return parts_count(robot, part_values(base, pr.dropped))
 
 
 class _JointBound:
@@ -234,13 +272,20 @@ class _JointBound:
     can then fit), or when a branch and bound of :data:`SCOUT_BOXES` boxes ends above
     :data:`SCOUT_RATIO` times ``enough``; where it does not, the full branch and bound
     (:func:`gd_analyze.certify.certify.region_trees`) goes on from that one's last level
-    instead of evaluating its boxes again (the same bound and tree). Results, and the trees
-    of boxes each bound was found on (:meth:`tilings`), are kept per dropped set; ``quick``
-    is the cheap answer for the search.
+    instead of evaluating its boxes again (the same bound and tree). A set on more than
+    :data:`JOINT_DIMS` joints is bounded, where ``decompose`` is True, by the decomposition
+    (:func:`gd_analyze.certify.certify.decomposed_bound`) after the same rejections, cheapest
+    first: the final boxes' bound of the pairs outside its first links already above
+    ``enough`` where the final boxes' bound of the whole set is (its branch and bound only
+    adds), the error found at the sampled states, that bound plus the first links' error
+    found there, then the scout on the first links' pairs with the limit the full one has.
+    Results, and the trees of boxes each bound was found on (:meth:`tilings`), are kept per
+    dropped set and ``decompose``; ``quick`` is the cheap answer for the search.
     """
 
-    def __init__(self, robot, base, region, pb, tolerance):
+    def __init__(self, robot, base, region, pb, tolerance, decompose=True):
         self.robot, self.base, self.region, self.pb = robot, base, region, pb
+        self.decompose = decompose
         self.budget = tolerance * np.asarray(pb.scale, float)
         alone = np.all(pb.bound <= self.budget[None, None, :], axis=2) & ~pb.zero
         self.sums = joint_sums(robot, base, region, pb.split_joint, pb.split_at, alone,
@@ -249,41 +294,67 @@ class _JointBound:
         self.memo = {}
 
     def _leaf(self, dropped, enough):
-        """The final boxes' bound (:func:`~gd_analyze.certify.certify.leaf_bound`)
-        and whether it is the answer: it fits, or the set depends on more than
-        :data:`JOINT_DIMS` joints."""
+        """The final boxes' bound (:func:`~gd_analyze.certify.certify.leaf_bound`), whether
+        it is the answer, and the pairs of the decomposition with the final boxes' bound of
+        the rest (or None): it is the answer where it fits, or where the set depends on more
+        than :data:`JOINT_DIMS` joints and either has no decomposition
+        (:func:`~gd_analyze.certify.certify.decomposed_pairs`) or its rest's bound alone
+        exceeds ``enough`` on a joint where the final boxes' bound does (no bound found can
+        then fit)."""
         first = leaf_bound(self.pb, self.sums, dropped)
-        return first, bool(np.all(first <= enough) or split_joints(
-            self.robot, self.base, dropped, self.pb.zero).sum() > JOINT_DIMS)
+        if np.all(first <= enough) or split_joints(
+                self.robot, self.base, dropped, self.pb.zero).sum() <= JOINT_DIMS:
+            return first, bool(np.all(first <= enough)), None
+        if not self.decompose:
+            return first, True, None
+        head = decomposed_pairs(self.robot, self.base, dropped, self.pb.zero)
+        if head is None:
+            return first, True, None
+        other = leaf_bound(self.pb, self.sums, dropped & ~self.pb.zero & ~head)
+        return first, bool(np.any((first > enough) & (other > enough))), (head, other)
+
+    def _found(self, dropped):
+        """(n,): the dropped set's largest error found at the certification's sampled
+        states (a lower bound of its largest over the region) [N m or N]."""
+        return worst_states(self.pb.values, self.beta * dropped.T, self.region.qd_max,
+                            self.region.qdd_max)[0].max(axis=0)
 
     def quick(self, dropped, enough):
         """The bound ``self(dropped, enough)`` returns when it is the final boxes' own, else
         None (:meth:`_leaf`)."""
-        first, decided = self._leaf(dropped, enough)
+        first, decided, _ = self._leaf(dropped, enough)
         return first if decided else None
 
     def __call__(self, dropped, enough=None):
         robot, base, region, pb = self.robot, self.base, self.region, self.pb
-        key = np.asarray(dropped, bool).tobytes()
+        key = (self.decompose, np.asarray(dropped, bool).tobytes())
         if key in self.memo:
             return self.memo[key][0]
         resume = None
         if enough is not None:
-            first, decided = self._leaf(dropped, enough)
+            first, decided, parts = self._leaf(dropped, enough)
             if decided:
                 return first
-            found = worst_states(pb.values, self.beta * dropped.T, region.qd_max,
-                                 region.qdd_max)[0].max(axis=0)
+            found = self._found(dropped)
             if np.any(found > enough):
                 return first
+            if parts is not None and np.any(
+                    (first > enough) & (parts[1] + self._found(parts[0]) > enough)):
+                return first        # the first links' error found already needs more
             kept = {}
-            scout = dropped_search(robot, base, region, dropped, self.budget, SCOUT_BOXES,
-                                   pb.zero, kept)[0]
+            if parts is None:
+                scout = dropped_search(robot, base, region, dropped, self.budget, SCOUT_BOXES,
+                                       pb.zero, kept)[0]
+            else:               # the decomposition's branch and bound, as region_trees runs it
+                head, other = parts
+                scout = np.minimum(first, np.nextafter(other + dropped_search(
+                    robot, base, region, head, np.maximum(self.budget - other, 0.0),
+                    SCOUT_BOXES, pb.zero, kept)[0], np.inf))
             if np.any(scout > SCOUT_RATIO * enough):
                 return np.minimum(first, scout)
             resume = kept           # the full branch and bound goes on from the scout's
         self.memo[key] = region_trees(robot, base, region, pb, dropped, self.budget,
-                                      self.sums, resume)
+                                      self.sums, resume, self.decompose)
         return self.memo[key][0]
 
     def tilings(self, dropped, bound):
@@ -295,7 +366,7 @@ class _JointBound:
         dropped = np.asarray(dropped, bool)
         if not (dropped & ~self.pb.zero).any():
             return ()
-        key = dropped.tobytes()
+        key = (self.decompose, dropped.tobytes())
         if key not in self.memo:
             self(dropped)
         reach = np.asarray(bound, float) + TILING_RTOL * np.abs(np.asarray(self.pb.scale))
@@ -770,7 +841,8 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     the same torques). A bad entry is ignored with a warning.
 
     A search is made once per process for the same arm, base parameters, region (with its
-    source and notes), EPS, TAU, flags and store, and the same stored entry (its content,
+    source and notes), EPS, TAU, flags (and :data:`DECOMPOSE`) and store, and the same
+    stored entry (its content,
     read again each time): a second analysis of the arm in one session (the Python API, a
     test run) takes the first one's result. One made after a bad entry's warning is not kept,
     so that the warning is given again while the entry stays.
@@ -781,7 +853,7 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
         region_key(robot, region, torque_floor), json.dumps(region.to_dict(), sort_keys=True),
         np.asarray(base.beta, float).tobytes(),
         np.asarray(base.independent, bool).tobytes(), float(tolerance), bool(sampled),
-        bool(screen), derive, _entry_key(found))
+        bool(screen), derive, _entry_key(found), DECOMPOSE)
     if key in _SEARCHED:
         return _SEARCHED[key]
     result, kept = _region_search(robot, base, region, tolerance, torque_floor, sampled,

@@ -285,8 +285,10 @@ def certification(robot, base, region, torque_floor=0.0, samples=1000, seed=0, v
     return pb
 
 
-#: Layout of a search entry.
-_SEARCH_FORMAT = 1
+#: Layout of a search entry, and of the search that made it: 2 searches the pairs with the
+#: decomposed bound too (:func:`gd_analyze.certify.certify.decomposed_bound`), so that an
+#: entry of the search before (1) is not read as this one's.
+_SEARCH_FORMAT = 2
 #: Largest search entry read [bytes] (the PUMA 560's is under 2 kB).
 _SEARCH_MAX_BYTES = 2**20
 
