@@ -702,3 +702,19 @@ def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_fina
     assert np.all(err <= guarantee.bound + round_off), (err, guarantee.bound)
     j = int(np.argmax(np.where(over, old / budget, 0.0)))
     assert err[j] > 0.1 * split[j]                      # not vacuous
+
+
+def test_the_decomposed_limit_is_the_budget_left_rounded_down_on_a_grid():
+    """The branch and bound on the first links' pairs seeks the budget left by the rest,
+    rounded down on a grid of 1e-6 of the budget: never above it, never below 0, and the same
+    for a rest that differs in its last bits (joint sums of other parameters)."""
+    from gd_analyze.certify.certify import DECOMPOSED_GRID, decomposed_limit
+
+    limit = np.array([2.0, 1.0, 0.0, 3.0, 1.0])
+    rest = np.array([0.5123456789, 1.5, 0.0, 1.2345678901, np.inf])
+    got = decomposed_limit(limit, rest)
+    left = np.maximum(limit - rest, 0.0)
+    assert np.all(got >= 0) and np.all(got <= left)
+    assert np.all(got >= left - DECOMPOSED_GRID * limit)
+    assert got[1] == 0 and got[2] == 0 and got[4] == 0
+    np.testing.assert_array_equal(got, decomposed_limit(limit, rest * (1 + 4e-16)))

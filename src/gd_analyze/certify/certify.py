@@ -43,7 +43,7 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
            "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
            "proved_zero", "region_trees", "tilings_bound", "decomposed_bound",
-           "decomposed_pairs", "decomposed_search"]
+           "decomposed_pairs", "decomposed_search", "decomposed_limit", "DECOMPOSED_GRID"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -1156,6 +1156,36 @@ def decomposed_pairs(robot: Robot, base: BaseParameters, dropped: np.ndarray,
     return best
 
 
+#: The grid, relative to the budget, that :func:`decomposed_limit` rounds down to.
+DECOMPOSED_GRID = 1e-6
+
+
+def decomposed_limit(limit: np.ndarray, rest: np.ndarray) -> np.ndarray:
+    """The bound :func:`decomposed_bound`'s branch and bound seeks on the first links' pairs.
+
+    Parameters
+    ----------
+    limit : ndarray, shape (n,)
+        The budget EPS s_i [N m or N].
+    rest : ndarray, shape (n,)
+        :func:`leaf_bound` of the other dropped pairs [N m or N].
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        ``limit - rest`` rounded down to a multiple of :data:`DECOMPOSED_GRID` times
+        ``limit``, at least 0 [N m or N]: the branch and bound's tree does not move with the
+        last bits of ``rest`` (joint sums holding other parameters round off differently),
+        so a bound derived again with other joint sums finds the same tree.
+    """
+    limit = np.asarray(limit, float)
+    step = DECOMPOSED_GRID * np.abs(limit)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        grid = np.where(step > 0, np.floor((limit - rest) / np.where(step > 0, step, 1.0))
+                        * step, 0.0)
+    return np.maximum(np.nan_to_num(grid, nan=0.0, posinf=0.0, neginf=0.0), 0.0)
+
+
 def decomposed_search(robot: Robot, base: BaseParameters, region: Region, pb: PairBounds,
                       dropped: np.ndarray, limit: np.ndarray, sums: JointSums | None = None,
                       resume: dict | None = None
@@ -1168,7 +1198,7 @@ def decomposed_search(robot: Robot, base: BaseParameters, region: Region, pb: Pa
         As :func:`decomposed_bound`.
     resume : dict, optional
         As :func:`dropped_search`'s, for the branch and bound on the first links' pairs
-        with the limit ``max(limit - leaf_bound(rest), 0)``.
+        with the limit :func:`decomposed_limit`.
 
     Returns
     -------
@@ -1186,9 +1216,8 @@ def decomposed_search(robot: Robot, base: BaseParameters, region: Region, pb: Pa
         return np.full(n, np.inf), None, None
     rest = np.asarray(dropped, bool) & ~np.asarray(pb.zero, bool) & ~first
     other = leaf_bound(pb, sums, rest)
-    head, tree = dropped_search(robot, base, region, first,
-                                np.maximum(np.asarray(limit, float) - other, 0.0), JOINT_BOXES,
-                                pb.zero, resume)
+    head, tree = dropped_search(robot, base, region, first, decomposed_limit(limit, other),
+                                JOINT_BOXES, pb.zero, resume)
     # the sum rounded up: each term bounds its part, so their exact sum bounds the whole
     return np.nextafter(head + other, np.inf), tree, first
 
@@ -1213,7 +1242,7 @@ def decomposed_bound(robot: Robot, base: BaseParameters, region: Region, pb: Pai
         The pairs left out.
     limit : ndarray, shape (n,)
         The budget EPS s_i [N m or N]: the branch and bound on the first links' pairs seeks
-        ``max(limit - leaf_bound(rest), 0)``.
+        :func:`decomposed_limit` (about ``limit - leaf_bound(rest)``).
     sums : JointSums, optional
         On the final boxes of ``pb`` (:func:`joint_sums`), holding the rest's pairs; None:
         the rest pair by pair.

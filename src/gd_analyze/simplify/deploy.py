@@ -23,6 +23,7 @@ from ..cache import CacheWarning
 from ..certify.certify import (
     JOINT_DIMS,
     METHOD,
+    decomposed_limit,
     decomposed_pairs,
     dropped_search,
     joint_sums,
@@ -348,7 +349,7 @@ class _JointBound:
             else:               # the decomposition's branch and bound, as region_trees runs it
                 head, other = parts
                 scout = np.minimum(first, np.nextafter(other + dropped_search(
-                    robot, base, region, head, np.maximum(self.budget - other, 0.0),
+                    robot, base, region, head, decomposed_limit(self.budget, other),
                     SCOUT_BOXES, pb.zero, kept)[0], np.inf))
             if np.any(scout > SCOUT_RATIO * enough):
                 return np.minimum(first, scout)
