@@ -73,7 +73,7 @@ __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "re
            "region_search", "RegionSearch", "RegionSearches", "region_searches",
            "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
-           "SCOUT_RATIO", "DECOMPOSE", "screened_exact", "RESTORED_MIN_SAVING", "release"]
+           "SCOUT_RATIO", "DECOMPOSE", "DECOMPOSED_SCOUT_BOXES", "screened_exact", "RESTORED_MIN_SAVING", "release"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -92,6 +92,9 @@ RESTORED_MIN_SAVING = 0.015
 #: are chosen (:class:`_JointBound`), and the share of the budget above which its bound
 #: rejects the set without the full one.
 SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
+#: Boxes of the scout on the first links' pairs of a set bounded by the decomposition
+#: (:class:`_JointBound`), which rejects the set above :data:`SCOUT_RATIO` times ``enough``.
+DECOMPOSED_SCOUT_BOXES = 2048
 #: Whether the region search also searches with the decomposed bound
 #: (:func:`gd_analyze.certify.certify.decomposed_bound`, :func:`_region_pruning`); False:
 #: the search before it alone.
@@ -278,10 +281,12 @@ class _JointBound:
     (:func:`gd_analyze.certify.certify.decomposed_bound`) after the same rejections, cheapest
     first: the final boxes' bound of the pairs outside its first links already above
     ``enough`` where the final boxes' bound of the whole set is (its branch and bound only
-    adds), the error found at the sampled states, that bound plus the first links' error
-    found there, then the scout on the first links' pairs with the limit the full one has.
+    adds), the error found at the sampled states, then the scout of
+    :data:`DECOMPOSED_SCOUT_BOXES` boxes on the first links' pairs with the limit the full one
+    has.
     Results, and the trees of boxes each bound was found on (:meth:`tilings`), are kept per
-    dropped set and ``decompose``; ``quick`` is the cheap answer for the search.
+    dropped set (but its pairs proved zero) and ``decompose``; ``quick`` is the cheap answer
+    for the search.
     """
 
     def __init__(self, robot, base, region, pb, tolerance, decompose=True):
@@ -314,6 +319,12 @@ class _JointBound:
         other = leaf_bound(self.pb, self.sums, dropped & ~self.pb.zero & ~head)
         return first, bool(np.any((first > enough) & (other > enough))), (head, other)
 
+    def _key(self, dropped):
+        """The memo's key of a dropped set: ``decompose`` and the pairs not proved zero
+        (those give the same bound and trees whatever pairs proved zero are dropped with
+        them: their final boxes' bounds are 0, and every sum and search leaves them out)."""
+        return self.decompose, (np.asarray(dropped, bool) & ~self.pb.zero).tobytes()
+
     def _found(self, dropped):
         """(n,): the dropped set's largest error found at the certification's sampled
         states (a lower bound of its largest over the region) [N m or N]."""
@@ -328,7 +339,7 @@ class _JointBound:
 
     def __call__(self, dropped, enough=None):
         robot, base, region, pb = self.robot, self.base, self.region, self.pb
-        key = (self.decompose, np.asarray(dropped, bool).tobytes())
+        key = self._key(dropped)
         if key in self.memo:
             return self.memo[key][0]
         resume = None
@@ -339,9 +350,6 @@ class _JointBound:
             found = self._found(dropped)
             if np.any(found > enough):
                 return first
-            if parts is not None and np.any(
-                    (first > enough) & (parts[1] + self._found(parts[0]) > enough)):
-                return first        # the first links' error found already needs more
             kept = {}
             if parts is None:
                 scout = dropped_search(robot, base, region, dropped, self.budget, SCOUT_BOXES,
@@ -350,7 +358,7 @@ class _JointBound:
                 head, other = parts
                 scout = np.minimum(first, np.nextafter(other + dropped_search(
                     robot, base, region, head, decomposed_limit(self.budget, other),
-                    SCOUT_BOXES, pb.zero, kept)[0], np.inf))
+                    DECOMPOSED_SCOUT_BOXES, pb.zero, kept)[0], np.inf))
             if np.any(scout > SCOUT_RATIO * enough):
                 return np.minimum(first, scout)
             resume = kept           # the full branch and bound goes on from the scout's
@@ -367,7 +375,7 @@ class _JointBound:
         dropped = np.asarray(dropped, bool)
         if not (dropped & ~self.pb.zero).any():
             return ()
-        key = (self.decompose, dropped.tobytes())
+        key = self._key(dropped)
         if key not in self.memo:
             self(dropped)
         reach = np.asarray(bound, float) + TILING_RTOL * np.abs(np.asarray(self.pb.scale))
