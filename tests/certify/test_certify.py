@@ -661,14 +661,18 @@ def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_fina
     its bound on a joint is the decomposition's (the branch and bound on the first links'
     pairs plus the final boxes' bound of the rest), below the final boxes' bound of the whole
     set, never above it, and never below the error Pinocchio's rnea shows at 100,000 sampled
-    states."""
+    states; the pair of trees kept with the model gives it again without search, and a tree
+    of the pair cut short, with an extra box or a joint the arm does not have proves
+    nothing."""
     from gd_analyze.certify.certify import (
         JOINT_DIMS,
         decomposed_bound,
         decomposed_pairs,
+        decomposed_tree_bound,
         joint_sums,
         leaf_bound,
         split_joints,
+        tilings_bound,
     )
 
     robot = load_robot("panda")
@@ -702,6 +706,24 @@ def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_fina
     assert np.all(err <= guarantee.bound + round_off), (err, guarantee.bound)
     j = int(np.argmax(np.where(over, old / budget, 0.0)))
     assert err[j] > 0.1 * split[j]                      # not vacuous
+    # the pair of trees kept with the model gives the bound again without search, and holds
+    assert guarantee.decomposed, "no pair of trees kept: the reader would search again"
+    again = tilings_bound(robot, base, region, dropped, guarantee.tilings,
+                          guarantee.decomposed)
+    assert np.all(again <= guarantee.bound + 1e-9 * pb.scale), (again, guarantee.bound)
+    assert np.all(err <= again + round_off), (err, again)
+    # a tree of the pair cut short, with an extra box, or a cut along a joint the arm does
+    # not have: not a tiling, no bound from the pair
+    first_tree, rest_tree = guarantee.decomposed[0]
+    for forged in (first_tree[:-1], np.concatenate([first_tree, [-1]]),
+                   np.where(first_tree >= 0, robot.n, first_tree)):
+        for pair in ((forged, rest_tree), (rest_tree, forged)):
+            assert np.all(tilings_bound(robot, base, region, dropped, (), (pair,)) == np.inf)
+            with pytest.raises(ValueError):
+                decomposed_tree_bound(robot, base, region, dropped, *pair)
+    # the region as one box for the first links' pairs: a tiling, a sound bound far above
+    whole = decomposed_tree_bound(robot, base, region, dropped, np.full(1, -1), rest_tree)
+    assert np.all(whole >= again - 1e-9 * pb.scale) and np.any(whole > guarantee.bound)
 
 
 def test_the_decomposed_limit_is_the_budget_left_rounded_down_on_a_grid():

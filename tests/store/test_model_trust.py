@@ -365,20 +365,15 @@ def test_honest_trees_do_not_save_a_lowered_bound(models, monkeypatch):
             assert calls == calls_expected
 
 
-def test_a_panda_model_bounded_by_the_decomposition_is_accepted_and_a_lower_bound_refused(
-        monkeypatch):
-    """The Panda's region model at EPS 0.01 (its bound from the decomposition: the branch
-    and bound on the first links' pairs plus the final boxes' bound of the rest, of no one
-    stored tree) is accepted from its file by the re-derivation; its bound lowered to a
-    half on the joint where the decomposition binds is refused."""
-    import dataclasses
-
+@pytest.fixture(scope="module")
+def panda_doc():
+    """The Panda's region model at EPS 0.01 (its bound from the decomposition: the branch and
+    bound on the first links' pairs plus the final boxes' bound of the rest), as its file's
+    dict, with its robot."""
     from gd_analyze import load_robot
     from gd_analyze.certify.region import joint_region
     from gd_analyze.model.limits import acceleration_limits
     from gd_analyze.simplify.deploy import build_recursive
-    from gd_analyze.simplify.simplified import SimplifiedModel
-    from gd_analyze.store.model_trust import check_guarantee
 
     robot = load_robot("panda")
     region = joint_region(robot, acceleration_limits(robot)[0])
@@ -386,14 +381,86 @@ def test_a_panda_model_bounded_by_the_decomposition_is_accepted_and_a_lower_boun
     built, _ = build_recursive(robot, q, 0 * q, 0 * q, tolerance=0.01, region=region)
     g = built.guarantee
     assert g.kind == "region" and built.recursive.dropped.any()
-    calls = _spied(monkeypatch)
-    model = SimplifiedModel.from_dict(json.loads(json.dumps(built.to_dict())), robot)
+    return json.loads(json.dumps(built.to_dict())), robot
+
+
+def _panda_model(doc, robot):
+    from gd_analyze.simplify.simplified import SimplifiedModel
+
+    return SimplifiedModel.from_dict(_copy(doc), robot)
+
+
+def test_a_panda_model_bounded_by_the_decomposition_is_proved_on_its_stored_trees(
+        panda_doc, monkeypatch):
+    """The Panda's region model is read on the pair of trees stored with it
+    (``guarantee.decomposed_tilings``: the first links' branch-and-bound tree and the
+    certification's): neither the quick proof nor the re-derivation runs; its bound lowered
+    to a half on the joint where the decomposition binds is refused."""
+    import dataclasses
+
+    from gd_analyze.store import model_trust
+    from gd_analyze.store.model_trust import check_guarantee
+
+    doc, robot = panda_doc
+    assert doc["guarantee"]["decomposed_tilings"]
+    _spied(monkeypatch)
+
+    def searched(*args, **kwargs):
+        raise AssertionError("searched again")
+    monkeypatch.setattr(model_trust, "prove_dropped", searched)
+    monkeypatch.setattr(model_trust, "reproved_bound", searched)
+    model = _panda_model(doc, robot)
+    assert len(model.guarantee.decomposed) == len(doc["guarantee"]["decomposed_tilings"])
     check_guarantee(model)
-    assert calls == [1] or model.guarantee.tilings   # re-derived where no tree gives it
+    monkeypatch.undo()
+    _spied(monkeypatch)
+    g = model.guarantee
     j = int(np.argmax(np.asarray(g.bound) / np.asarray(g.scale)))
     low = np.array(g.bound, float)
     low[j] *= 0.5
-    forged = dataclasses.replace(model, guarantee=dataclasses.replace(model.guarantee,
-                                                                      bound=low))
+    forged = dataclasses.replace(model, guarantee=dataclasses.replace(g, bound=low))
     with pytest.raises(InputError, match="guarantee.bound"):
         check_guarantee(forged)
+
+
+@pytest.mark.parametrize("forge", [
+    "first_missing_leaf", "rest_extra_leaf", "first_joint_not_the_arms", "first_whole_region",
+    "swapped", "none_stored"])
+def test_a_forged_or_missing_pair_of_trees_is_never_believed(panda_doc, monkeypatch, forge):
+    """A tree of the pair that does not tile the region (a final box missing, one more, a cut
+    along a joint the arm does not have), a tiling on which the bound is not reached (the
+    region as one box for the first links' pairs, the two trees swapped), or no pair at all
+    (a file written before them): the bound is derived again (the honest bound then holds,
+    so the model is read)."""
+    from gd_analyze.store.model_trust import check_guarantee
+
+    doc, robot = panda_doc
+    forged = _copy(doc)
+    g = forged["guarantee"]
+    first, rest = g["decomposed_tilings"][0]
+    if forge == "first_missing_leaf":
+        g["decomposed_tilings"] = [[first[:-1], rest]]
+    elif forge == "rest_extra_leaf":
+        g["decomposed_tilings"] = [[first, rest + "."]]
+    elif forge == "first_joint_not_the_arms":
+        g["decomposed_tilings"] = [[first.replace("1", "9").replace("2", "9"), rest]]
+    elif forge == "first_whole_region":
+        g["decomposed_tilings"] = [[".", rest]]
+    elif forge == "swapped":
+        g["decomposed_tilings"] = [[rest, first]]
+    else:
+        del g["decomposed_tilings"]
+    g.pop("tilings", None)
+    calls = _spied(monkeypatch)
+    model = _panda_model(forged, robot)
+    check_guarantee(model)
+    assert calls == [1], "the bound was believed without being derived again"
+
+
+def test_a_pair_of_trees_of_another_form_is_refused_by_the_schema(models):
+    folder, region_doc, _ = models
+    for bad in ([["1.0X", "."]], [["1.."]], ["1.."], [["1..", ".", "."]]):
+        forged = _copy(region_doc)
+        forged["guarantee"]["decomposed_tilings"] = bad
+        with pytest.raises(InputError, match="guarantee.decomposed_tilings"):
+            gd_analyze.load_model(_write(folder, "pair_bad_text", forged))

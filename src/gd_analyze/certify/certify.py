@@ -43,7 +43,8 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "JOINT_SUM_ELEMENTS", "leaf_bound", "dropped_bound", "region_bound",
            "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
            "proved_zero", "region_trees", "tilings_bound", "decomposed_bound",
-           "decomposed_pairs", "decomposed_search", "decomposed_limit", "DECOMPOSED_GRID"]
+           "decomposed_pairs", "decomposed_search", "decomposed_limit", "DECOMPOSED_GRID",
+           "decomposed_tree_bound", "summed_tree_bound"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -1329,13 +1330,15 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
     -------
     bound : ndarray, shape (n,)
         :func:`region_bound` [N m or N].
-    trees : tuple of (ndarray of int, ndarray)
+    trees : tuple of (ndarray of int or tuple of two, ndarray)
         The bisection trees (``split_joint`` of :func:`tiling`) and their bounds (n,): the
         certification's, with :func:`leaf_bound`, and, where it ran, the branch and bound's
-        on the joint sum (:func:`dropped_search`). ``bound`` is the least of their bounds
-        and of :func:`decomposed_bound` (a sum of two bounds, of no one tree);
-        :func:`tree_bound` of each tree is at most its bound (up to round-off), so a reader
-        re-checks ``bound`` on the trees without a search.
+        on the joint sum (:func:`dropped_search`); where the decomposition ran
+        (:func:`decomposed_search`), the pair (its branch and bound's tree on the first
+        links' pairs, the certification's tree) with :func:`decomposed_bound`. ``bound`` is
+        the least of their bounds; :func:`tree_bound` of each tree, and
+        :func:`decomposed_tree_bound` of each pair, is at most its bound (up to round-off),
+        so a reader re-checks ``bound`` on the trees without a search.
     """
     dropped = np.asarray(dropped, bool)
     if sums is None:
@@ -1349,8 +1352,11 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
             trees += ((tree, searched),)
         out = np.minimum(out, searched)
     elif decompose:
-        out = np.minimum(out, decomposed_search(robot, base, region, pb, dropped, limit, sums,
-                                                resume)[0])
+        split, tree, _ = decomposed_search(robot, base, region, pb, dropped, limit, sums,
+                                           resume)
+        if tree is not None:
+            trees += (((tree, trees[0][0]), split),)
+        out = np.minimum(out, split)
     return out, trees
 
 
@@ -1464,6 +1470,63 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     return out
 
 
+def summed_tree_bound(robot: Robot, base: BaseParameters, region: Region,
+                      split_joint: np.ndarray, dropped: np.ndarray,
+                      zero: np.ndarray | None = None) -> np.ndarray:
+    """The bound of a dropped set over the region on the final boxes of a given bisection
+    tree by the joint sum on the summed channels alone, as :func:`dropped_search` evaluates
+    its boxes, without search.
+
+    Parameters
+    ----------
+    robot, base, region, split_joint, dropped, zero
+        As :func:`tree_bound`: the arm (n joints), its b base parameters, the region, the
+        tree (N,) (checked to tile the region by :func:`tiling`), the pairs left out (b, 3)
+        and the pairs proved identically zero (b, 3; default :func:`proved_zero`).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The largest over the final boxes of the joint sum's bound there (the summed channel
+        enclosures of :func:`dropped_search`, each box's intersected with its ancestors')
+        [N m or N]: at least :func:`tree_bound` (one of its three bounds), and on the tree of
+        :func:`dropped_search` its own bound, with a fraction of :func:`tree_bound`'s work.
+        0 where no pair but those proved zero is dropped; inf where the pairs are too many
+        to hold.
+
+    Raises
+    ------
+    ValueError
+        If ``split_joint`` is not a bisection tree of the region's box (:func:`tiling`).
+
+    Notes
+    -----
+    The joint sum on a box bounds the dropped pairs' change of tau_i there (Moore, Kearfott
+    & Cloud 2009, Ch. 6), and the final boxes cover the region: |tau_s - tau| is at most the
+    result at every state of the region whatever the tree.
+    """
+    levels = tiling(region, np.asarray(split_joint))
+    n = robot.n
+    dropped = np.asarray(dropped, bool)
+    free = proved_zero(robot, base, region, dropped) if zero is None else \
+        np.asarray(zero, bool)
+    live = dropped & ~free
+    used = np.flatnonzero(live.any(axis=1))
+    if used.size == 0:
+        return np.zeros(n)
+    if _held(n, _CHUNK, live, free).size < used.size:
+        return np.full(n, np.inf)
+    cols = np.flatnonzero(base.independent.reshape(-1))[used]
+    out, parent = np.zeros(n), None
+    for lo, hi, split in levels:
+        s_lo, s_hi = _summed(robot, base, region, lo, hi, cols, used, live, free, parent)
+        total = combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
+                               region.qdd_max)
+        out = np.maximum(out, total[~split].max(axis=0, initial=0.0))
+        parent = tuple(np.concatenate([x[split], x[split]]) for x in (s_lo, s_hi))
+    return out
+
+
 def _tree_chunk(held, lo, hi, channels, parent):
     """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds (B, n),
     and what the sub-boxes intersect with (the pairs' bounds, the summed channels, and each
@@ -1492,8 +1555,62 @@ def _tree_chunk(held, lo, hi, channels, parent):
     return each, (U, s_lo, s_hi, c_lo, c_hi)
 
 
+def decomposed_tree_bound(robot: Robot, base: BaseParameters, region: Region,
+                          dropped: np.ndarray, first_tree: np.ndarray, rest_tree: np.ndarray,
+                          zero: np.ndarray | None = None) -> np.ndarray:
+    """:func:`decomposed_bound` derived again without search, on two given bisection trees.
+
+    Parameters
+    ----------
+    robot, base, region, dropped
+        As :func:`dropped_bound`: the arm (n joints), its b base parameters, the region and
+        the pairs left out (b, 3).
+    first_tree : ndarray of int, shape (N,)
+        A bisection tree (``split_joint`` of :func:`tiling`, cut at the middle) for the
+        first links' pairs (:func:`decomposed_pairs` of ``dropped``), e.g. the tree of
+        :func:`decomposed_search`'s branch and bound; checked to tile the region.
+    rest_tree : ndarray of int, shape (M,)
+        One for the other dropped pairs, e.g. the certification's; checked to tile the
+        region.
+    zero : ndarray of bool, shape (b, 3), optional
+        Pairs proved identically zero, left out; default :func:`proved_zero`.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        :func:`summed_tree_bound` of the first links' pairs on ``first_tree`` (the joint
+        sum the branch and bound evaluated) plus :func:`tree_bound` of the rest on
+        ``rest_tree``, rounded up [N m or N]: at most :func:`decomposed_bound` where the
+        trees are its own (up to round-off); inf where the set has no decomposition
+        (:func:`decomposed_pairs` None).
+
+    Raises
+    ------
+    ValueError
+        If either tree is not a bisection tree of the region's box (:func:`tiling`).
+
+    Notes
+    -----
+    Any split of the dropped pairs into two sets bounds |tau_s - tau| by the sum of the two
+    sets' bounds (tau = Y_b beta is linear in the base parameters; triangle inequality), and
+    each :func:`tree_bound` holds at every state of the region whatever its tree: the sum
+    does. The split is derived here from ``dropped`` alone, not read.
+    """
+    dropped = np.asarray(dropped, bool)
+    free = proved_zero(robot, base, region, dropped) if zero is None else \
+        np.asarray(zero, bool)
+    first = decomposed_pairs(robot, base, dropped, free)
+    if first is None:
+        return np.full(robot.n, np.inf)
+    rest = dropped & ~free & ~first
+    head = summed_tree_bound(robot, base, region, first_tree, first, free)
+    other = tree_bound(robot, base, region, rest_tree, rest, free)
+    return np.nextafter(head + other, np.inf)
+
+
 def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
-                  trees: Sequence[np.ndarray]) -> np.ndarray:
+                  trees: Sequence[np.ndarray],
+                  decomposed: Sequence[tuple[np.ndarray, np.ndarray]] = ()) -> np.ndarray:
     """The bound of a dropped set over the region on given bisection trees, without search.
 
     Parameters
@@ -1504,14 +1621,19 @@ def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
     trees : sequence of ndarray of int, shape (N,) each
         Bisection trees (``split_joint`` of :func:`tiling`, cut at the middle), e.g. those
         of :func:`region_trees`; each is checked to tile the region.
+    decomposed : sequence of (ndarray of int, ndarray of int), optional
+        Pairs of such trees for the decomposition (:func:`decomposed_tree_bound`: the first
+        links' pairs on the first, the rest on the second), e.g. those of
+        :func:`region_trees`; each tree is checked to tile the region.
 
     Returns
     -------
     ndarray, shape (n,)
-        Per joint, the least over the trees that tile the region of :func:`tree_bound` (the
-        pairs proved zero by :func:`proved_zero` left out) [N m or N]: |tau_s - tau| is at
-        most it at every state of the region. 0 where no pair but those proved zero is
-        dropped; inf where no tree tiles the region.
+        Per joint, the least over the trees that tile the region of :func:`tree_bound`, and
+        over the pairs whose two trees do of :func:`decomposed_tree_bound` (the pairs proved
+        zero by :func:`proved_zero` left out) [N m or N]: |tau_s - tau| is at most it at
+        every state of the region. 0 where no pair but those proved zero is dropped; inf
+        where no tree (or pair) tiles the region.
     """
     dropped = np.asarray(dropped, bool)
     zero = proved_zero(robot, base, region, dropped)
@@ -1522,6 +1644,12 @@ def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
         try:
             out = np.minimum(out, tree_bound(robot, base, region, tree, dropped, zero))
         except ValueError:              # not a tiling of the region: it proves nothing
+            continue
+    for first_tree, rest_tree in decomposed:
+        try:
+            out = np.minimum(out, decomposed_tree_bound(robot, base, region, dropped,
+                                                        first_tree, rest_tree, zero))
+        except ValueError:              # a tree not a tiling of the region: nothing proved
             continue
     return out
 

@@ -368,10 +368,12 @@ class _JointBound:
 
     def tilings(self, dropped, bound):
         """The trees whose final boxes give a dropped set's ``bound`` (n,) again, within
-        :data:`TILING_RTOL` of s_i on every joint: the joint sum's branch and bound's first
-        (:func:`gd_analyze.certify.certify.region_trees`), the certification's where
-        the first does not reach it; () when nothing but pairs proved zero is dropped, or
-        when they do not reach it."""
+        :data:`TILING_RTOL` of s_i on every joint: the joint sum's branch and bound's, or the
+        decomposition's pair of trees (its branch and bound's on the first links' pairs, the
+        certification's for the rest), first (:func:`gd_analyze.certify.certify.region_trees`),
+        the certification's where the first does not reach it; () when nothing but pairs
+        proved zero is dropped, or when they do not reach it. A pair is a tuple of two
+        arrays, a tree an array."""
         dropped = np.asarray(dropped, bool)
         if not (dropped & ~self.pb.zero).any():
             return ()
@@ -391,7 +393,9 @@ def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
     """:func:`region_model`'s model and guarantee from the certification and the pruning
     with its trees of boxes (:func:`_region_pruning`; ``sampled=False``: the model only, the
     guarantee None, its error not sampled)."""
-    pr, tilings = pruned
+    pr, trees = pruned
+    tilings = tuple(t for t in trees if not isinstance(t, tuple))
+    decomposed = tuple(t for t in trees if isinstance(t, tuple))
 
     single = pr.dropped & ~pr.whole[:, None]
     by_part = np.stack([np.einsum("bln,b->ln", pb.leaves[:, p], single[:, p]).max(axis=0)
@@ -411,6 +415,7 @@ def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=pb.scale_state, sampled_error=err, region=region, tilings=tilings,
+        decomposed=decomposed,
         method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
                + _unrefined(robot))
     return rec, guarantee

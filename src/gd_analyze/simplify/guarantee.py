@@ -160,6 +160,12 @@ class Guarantee:
         bound is derived again without search
         (:func:`gd_analyze.certify.certify.tree_bound`); () when none is kept. Not
         trusted: a reader checks that each tiles the region and re-evaluates it.
+    decomposed : tuple of (ndarray of int, ndarray of int)
+        Region kind: pairs of such trees on which the decomposed bound
+        (:func:`gd_analyze.certify.certify.decomposed_bound`) is derived again without
+        search (:func:`gd_analyze.certify.certify.decomposed_tree_bound`): the first bounds
+        the dropped pairs of the first links (its branch and bound's tree), the second the
+        rest (the certification's tree); () when none is kept. Not trusted, as ``tilings``.
 
     Notes
     -----
@@ -186,6 +192,7 @@ class Guarantee:
     region_missing: str = ""
     region: Region | None = None
     tilings: tuple = ()
+    decomposed: tuple = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -341,6 +348,10 @@ class Guarantee:
         codes = [encode_tree(t) for t in self.tilings] if self.kind == "region" else []
         if codes and all(codes):
             out["tilings"] = codes
+        pairs = [[encode_tree(t) for t in pair] for pair in self.decomposed] \
+            if self.kind == "region" else []
+        if pairs and all(all(pair) for pair in pairs):
+            out["decomposed_tilings"] = pairs
         return out
 
     @classmethod
@@ -409,7 +420,9 @@ class Guarantee:
                                  "qdd_max", path, column="guarantee.region")
             return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
                        sampled_error=arr("sampled_error", required=False),
-                       tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()))
+                       tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()),
+                       decomposed=tuple((decode_tree(a), decode_tree(b)) for a, b in
+                                        spec.get("decomposed_tilings") or ()))
         return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
                    trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),
                    region_sampled_error=arr("region_sampled_error", required=False),

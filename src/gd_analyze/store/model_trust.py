@@ -17,7 +17,9 @@ claim fails, with one line naming the key:
   (:data:`~gd_analyze.simplify.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
   the torque floor and |tau_i| is not above it;
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
-  part) pairs: first on the trees of boxes stored with it (``guarantee.tilings``), each
+  part) pairs: first on the trees of boxes stored with it (``guarantee.tilings``, and the
+  pairs of trees of the decomposition, ``guarantee.decomposed_tilings``: the first links'
+  pairs bounded on the first, the rest on the second, the two bounds added), each
   checked to tile the region (a bisection tree cut at the middles: the final boxes cover it
   without overlap) and every box's enclosures evaluated afresh, without search
   (:func:`gd_analyze.certify.certify.tilings_bound`; a tree that is not such a
@@ -165,15 +167,16 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
 
 
 def _tiled(model, region, limit):
-    """Whether the guarantee's stored trees of boxes (``guarantee.tilings``), each checked to
-    tile the region and evaluated afresh, give a bound within ``limit`` (n,) on every joint
+    """Whether the guarantee's stored trees of boxes (``guarantee.tilings`` and the pairs
+    ``guarantee.decomposed_tilings``), each checked to tile the region and evaluated afresh,
+    give a bound within ``limit`` (n,) on every joint
     (:func:`gd_analyze.certify.certify.tilings_bound`); False without trees."""
     g = model.guarantee
-    if not g.tilings:
+    if not g.tilings and not g.decomposed:
         return False
     robot = model.robot
     found = tilings_bound(robot, base_parameters(robot), region,
-                          np.asarray(model.recursive.dropped, bool), g.tilings)
+                          np.asarray(model.recursive.dropped, bool), g.tilings, g.decomposed)
     return bool(np.all(found <= limit))     # NaN never passes
 
 
