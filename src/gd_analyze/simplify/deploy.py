@@ -285,8 +285,11 @@ class _JointBound:
     :data:`DECOMPOSED_SCOUT_BOXES` boxes on the first links' pairs with the limit the full one
     has.
     Results, and the trees of boxes each bound was found on (:meth:`tilings`), are kept per
-    dropped set (but its pairs proved zero) and ``decompose``; ``quick`` is the cheap answer
-    for the search.
+    dropped set (but its pairs proved zero) and ``decompose`` where the set has a
+    decomposition (a set on at most :data:`JOINT_DIMS` joints has the same bound either
+    way); the final boxes' bounds, the sampled errors and the scouts' rejections are kept per
+    set as well, so that the searches without and with the decomposition, :meth:`quick` and
+    the full call evaluate each once. ``quick`` is the cheap answer for the search.
     """
 
     def __init__(self, robot, base, region, pb, tolerance, decompose=True):
@@ -298,6 +301,18 @@ class _JointBound:
                                pb.zero)
         self.beta = np.asarray(base.beta, float)[None, :]
         self.memo = {}
+        self.leaves, self.errors, self.rejected = {}, {}, {}
+
+    def _leaf_bound(self, dropped):
+        """:func:`~gd_analyze.certify.certify.leaf_bound` of a dropped set on the final boxes,
+        kept per set (its very pairs: the same array each time it is asked, by either search
+        and by :meth:`quick` and the full call alike)."""
+        dropped = np.asarray(dropped, bool)
+        key = dropped.tobytes()
+        if key not in self.leaves:
+            self.leaves[key] = leaf_bound(self.pb, self.sums, dropped)
+            self.leaves[key].setflags(write=False)
+        return self.leaves[key]
 
     def _leaf(self, dropped, enough):
         """The final boxes' bound (:func:`~gd_analyze.certify.certify.leaf_bound`), whether
@@ -307,7 +322,7 @@ class _JointBound:
         (:func:`~gd_analyze.certify.certify.decomposed_pairs`) or its rest's bound alone
         exceeds ``enough`` on a joint where the final boxes' bound does (no bound found can
         then fit)."""
-        first = leaf_bound(self.pb, self.sums, dropped)
+        first = self._leaf_bound(dropped)
         if np.all(first <= enough) or split_joints(
                 self.robot, self.base, dropped, self.pb.zero).sum() <= JOINT_DIMS:
             return first, bool(np.all(first <= enough)), None
@@ -316,20 +331,29 @@ class _JointBound:
         head = decomposed_pairs(self.robot, self.base, dropped, self.pb.zero)
         if head is None:
             return first, True, None
-        other = leaf_bound(self.pb, self.sums, dropped & ~self.pb.zero & ~head)
+        other = self._leaf_bound(dropped & ~self.pb.zero & ~head)
         return first, bool(np.any((first > enough) & (other > enough))), (head, other)
 
     def _key(self, dropped):
         """The memo's key of a dropped set: ``decompose`` and the pairs not proved zero
         (those give the same bound and trees whatever pairs proved zero are dropped with
         them: their final boxes' bounds are 0, and every sum and search leaves them out)."""
-        return self.decompose, (np.asarray(dropped, bool) & ~self.pb.zero).tobytes()
+        live = np.asarray(dropped, bool) & ~self.pb.zero
+        # a set on at most JOINT_DIMS joints has no decomposition: the same bound either way
+        return self.decompose and split_joints(self.robot, self.base, live).sum() > \
+            JOINT_DIMS, live.tobytes()
 
     def _found(self, dropped):
         """(n,): the dropped set's largest error found at the certification's sampled
-        states (a lower bound of its largest over the region) [N m or N]."""
-        return worst_states(self.pb.values, self.beta * dropped.T, self.region.qd_max,
-                            self.region.qdd_max)[0].max(axis=0)
+        states (a lower bound of its largest over the region) [N m or N]; kept per set (its
+        very pairs)."""
+        key = np.asarray(dropped, bool).tobytes()
+        if key not in self.errors:
+            self.errors[key] = worst_states(self.pb.values, self.beta * dropped.T,
+                                            self.region.qd_max, self.region.qdd_max
+                                            )[0].max(axis=0)
+            self.errors[key].setflags(write=False)
+        return self.errors[key]
 
     def quick(self, dropped, enough):
         """The bound ``self(dropped, enough)`` returns when it is the final boxes' own, else
@@ -350,6 +374,10 @@ class _JointBound:
             found = self._found(dropped)
             if np.any(found > enough):
                 return first
+            seen = key + (np.asarray(dropped, bool).tobytes(),
+                          np.asarray(enough, float).tobytes())
+            if seen in self.rejected:   # its scout ran already (the other search's)
+                return self.rejected[seen]
             kept = {}
             if parts is None:
                 scout = dropped_search(robot, base, region, dropped, self.budget, SCOUT_BOXES,
@@ -360,7 +388,9 @@ class _JointBound:
                     robot, base, region, head, decomposed_limit(self.budget, other),
                     DECOMPOSED_SCOUT_BOXES, pb.zero, kept)[0], np.inf))
             if np.any(scout > SCOUT_RATIO * enough):
-                return np.minimum(first, scout)
+                self.rejected[seen] = np.minimum(first, scout)
+                self.rejected[seen].setflags(write=False)
+                return self.rejected[seen]
             resume = kept           # the full branch and bound goes on from the scout's
         self.memo[key] = region_trees(robot, base, region, pb, dropped, self.budget,
                                       self.sums, resume, self.decompose)
