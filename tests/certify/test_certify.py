@@ -740,3 +740,31 @@ def test_the_decomposed_limit_is_the_budget_left_rounded_down_on_a_grid():
     assert np.all(got >= left - DECOMPOSED_GRID * limit)
     assert got[1] == 0 and got[2] == 0 and got[4] == 0
     np.testing.assert_array_equal(got, decomposed_limit(limit, rest * (1 + 4e-16)))
+
+
+def test_the_compiled_joint_sum_is_the_scaled_enclosures_added():
+    """summed_kernel (the branch and bound's joint sum in one pass) gives the sums of the
+    array code (certify._scaled, then JointSums.sums' weighted sum over the columns) on
+    random enclosures, weights of 0 and 1 and signed betas, to a few roundings; an infinite
+    enclosure of a column weighted 0 is left out."""
+    from gd_analyze.certify.ball_kernels import summed_kernel
+    from gd_analyze.certify.certify import _scaled, _slack
+
+    rng = np.random.default_rng(5)
+    B, C, n, k = 9, 13, 3, 6
+    a, b = rng.normal(size=(2, B, C, n, k))
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    beta = rng.normal(size=k)
+    weight = (rng.random((C, n, k)) < 0.6).astype(float)
+    slack = _slack(n, k)
+    mid, rad = summed_kernel(lo, hi, beta, weight, slack)
+    m_ref, r_ref = _scaled([lo.copy(), hi.copy()], beta, slack)
+    np.testing.assert_allclose(mid, np.einsum("lcik,cik->lci", m_ref, weight),
+                               rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(rad, np.einsum("lcik,cik->lci", r_ref, weight),
+                               rtol=1e-13, atol=1e-15)
+    assert np.all(rad >= 0)
+    off = np.argwhere(weight == 0)[0]
+    hi[:, off[0], off[1], off[2]] = np.inf
+    again = summed_kernel(lo, hi, beta, weight, slack)
+    assert np.all(np.isfinite(again[1])) and np.array_equal(again[0], mid)

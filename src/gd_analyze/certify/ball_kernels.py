@@ -23,7 +23,7 @@ from numba import njit
 
 from .balls import ARC_LIMIT, ROUNDING
 
-__all__ = ["backward_kernel", "forward_kernel", "inertia_kernel"]
+__all__ = ["backward_kernel", "forward_kernel", "inertia_kernel", "summed_kernel"]
 
 _SLACK = 32 * ROUNDING
 _ROT_SLACK = 4 * _SLACK + 1e-15
@@ -459,3 +459,53 @@ def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
             _copy(WD[k, b], wd)
             _copy(VD[k, b], vd)
     return W, WD, VD
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def summed_kernel(c_lo, c_hi, beta, weight, slack):
+    """Channel enclosures of k columns added per box, channel and joint, in midpoint-radius
+    form: :func:`gd_analyze.certify.certify._scaled` and
+    :meth:`gd_analyze.certify.certify.JointSums.sums` in one pass.
+
+    Parameters
+    ----------
+    c_lo, c_hi : ndarray, shape (B, C, n, k)
+        The columns' channel enclosures [lo, hi] on B boxes (unscaled).
+    beta : ndarray, shape (k,)
+        The columns' base parameter values.
+    weight : ndarray, shape (C, n, k)
+        1 where the column's pair of the channel's part is summed at the joint, else 0.
+    slack : float
+        The relative round-off allowance of each scaled enclosure (``_slack(n, k)``).
+
+    Returns
+    -------
+    mid, rad : ndarray, shape (B, C, n)
+        Per box, channel and joint: the sum over the weighted columns of beta times the
+        enclosure's centre, and of |beta| times its radius widened by ``slack`` (and by
+        ``slack`` times the centre's magnitude), not yet widened by the sum's own round-off
+        (the caller's, as ``JointSums.sums``) [N m or N].
+
+    Notes
+    -----
+    Each term is the very expression of ``_scaled`` (the same operations in the same
+    order); the terms are added in column order.
+    """
+    B, C, n, k = c_lo.shape
+    mid = np.zeros((B, C, n))
+    rad = np.zeros((B, C, n))
+    for b in range(B):
+        for c in range(C):
+            for i in range(n):
+                m = 0.0
+                r = 0.0
+                for j in range(k):
+                    if weight[c, i, j] != 0.0:
+                        centre = (c_lo[b, c, i, j] + c_hi[b, c, i, j]) * 0.5
+                        radius = (c_hi[b, c, i, j] - c_lo[b, c, i, j]) * 0.5
+                        radius = radius * (1 + slack) + abs(centre) * slack
+                        m += centre * beta[j] * weight[c, i, j]
+                        r += radius * abs(beta[j]) * weight[c, i, j]
+                mid[b, c, i] = m
+                rad[b, c, i] = r
+    return mid, rad

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..symbolic.pruning import zero_parts
 from . import intervals as iv
+from .ball_kernels import summed_kernel
 from .region import ChannelValues, qd_vertices, region_samples, velocity_channels
 from .regressor_bounds import (
     channel_count,
@@ -1067,14 +1068,19 @@ def dropped_search(robot: Robot, base: BaseParameters, region: Region, dropped: 
 def _summed(robot, base, region, lo, hi, cols, used, live, free, parent):
     """The live pairs' channel enclosures added on boxes (B, n), in chunks of :data:`_CHUNK`
     boxes, as intervals (lo, hi) (B, C, n), intersected with the parents' sums (each holds
-    on the sub-boxes; an empty intersection, by round-off, gives the hull)."""
-    def chunks():
-        for a in range(0, lo.shape[0], _CHUNK):
-            ch = _channels(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols)
-            mid, rad = _joint_sums(robot, base, region, used, live, free, *ch).sums(live)
-            del ch
-            yield mid - rad, mid + rad
-    s_lo, s_hi = _joined(chunks(), lo.shape[0])
+    on the sub-boxes; an empty intersection, by round-off, gives the hull): the sums of
+    :meth:`JointSums.sums` on :func:`_joint_sums`' scaled enclosures, in one compiled pass
+    (:func:`_summed_chunk`)."""
+    n = robot.n
+    live = live & ~free
+    # per channel, joint and column: 1 where the column's pair of the channel's part is live
+    w = live[used].T[:, None, :] & ~zero_parts(robot, cols).transpose(1, 2, 0)  # (3, n, k)
+    weight = w[np.r_[2, np.zeros(n, int), np.ones(n * n, int)]].astype(float)  # (C, n, k)
+    beta = np.asarray(base.beta, float)[used]
+    slack, widen = _slack(n, used.size), 1 + 4 * (used.size + 2) * iv.ROUNDING
+    s_lo, s_hi = _joined((_summed_chunk(robot, lo[a:a + _CHUNK], hi[a:a + _CHUNK], cols, beta,
+                                        weight, slack, widen)
+                          for a in range(0, lo.shape[0], _CHUNK)), lo.shape[0])
     if parent is not None:
         s_lo, s_hi = _intersect(s_lo, s_hi, parent[0], parent[1], in_place=True)
     return s_lo, s_hi
@@ -1525,6 +1531,17 @@ def summed_tree_bound(robot: Robot, base: BaseParameters, region: Region,
         out = np.maximum(out, total[~split].max(axis=0, initial=0.0))
         parent = tuple(np.concatenate([x[split], x[split]]) for x in (s_lo, s_hi))
     return out
+
+
+def _summed_chunk(robot, lo, hi, cols, beta, weight, slack, widen):
+    """The columns' channel enclosures on boxes (B, n) scaled and added per channel and joint
+    (:func:`~gd_analyze.certify.ball_kernels.summed_kernel`: the terms of
+    :func:`_scaled`, the sum of :meth:`JointSums.sums` with its round-off ``widen``), as
+    intervals (lo, hi) (B, C, n)."""
+    c_lo, c_hi = channel_enclosures(robot, lo, hi, cols)
+    mid, rad = summed_kernel(c_lo, c_hi, beta, weight, slack)
+    rad *= widen
+    return mid - rad, mid + rad
 
 
 def _tree_chunk(held, lo, hi, channels, parent):
