@@ -1,15 +1,16 @@
 """Reading a region model back: CPU time of ``load_model`` with and without its stored trees.
 
 A region model's bound is checked again whenever its file is read
-(``store/model_trust.py``): on the trees of boxes stored with it (``guarantee.tilings``, each
-checked to tile the region and evaluated afresh), else by the quick branch and bound on the
-dropped pairs and, where that does not reach the stored bound, the full re-derivation (the
-region's certification read back from the derivation cache, the joint sums and their branch
-and bound). For each arm this script runs the main job once (``--no-report``, into a
-temporary folder, the derivation cache as configured), writes the same model without its
-``tilings`` key (a file written before them), and times in rounds, each load in a fresh
-process after one untimed warm-up load of each file (so the derivation cache holds what the
-re-derivation reads):
+(``store/model_trust.py``): on the trees of boxes stored with it (``guarantee.tilings``, and
+the decomposition's pairs ``guarantee.decomposed_tilings``, each checked to tile the region
+and evaluated afresh), else by the quick branch and bound on the dropped pairs and, where
+that does not reach the stored bound, the full re-derivation (the region's certification
+read back from the derivation cache, the joint sums and their branch and bound). For each
+arm this script runs the main job once (``--no-report``, into a temporary folder, the
+derivation cache as configured), writes the same model without its ``tilings`` and
+``decomposed_tilings`` keys (a file written before them), and times in rounds, each load in
+a fresh process after one untimed warm-up load of each file (so the derivation cache holds
+what the re-derivation reads):
 
 - ``trees``: the model as written;
 - ``no trees``: the model without its trees (the quick proof, then the re-derivation);
@@ -108,13 +109,15 @@ def main(argv=None):
             assert cli([arm, str(traj), "-o", str(out), "--no-report", "-q"]) == 0
             doc = json.loads((out / "simplified_model.json").read_text())
             trees = len(doc["guarantee"].get("tilings", []))
+            pairs = len(doc["guarantee"].get("decomposed_tilings", []))
             doc["guarantee"].pop("tilings", None)
+            doc["guarantee"].pop("decomposed_tilings", None)
             bare = out / "without_trees.json"
             bare.write_text(json.dumps(doc))
             files[arm] = {"trees": out / "simplified_model.json", "no trees": bare,
                           "baseline": bare}
-            print(f"{arm}: {trees} trees stored, {len(doc['guarantee'].get('bound', []))} "
-                  "joints", flush=True)
+            print(f"{arm}: {trees} trees and {pairs} pairs of trees stored, "
+                  f"{len(doc['guarantee'].get('bound', []))} joints", flush=True)
             for v in variants:          # warm-up: the derivation cache of each code
                 _load(files[arm][v], args.baseline if v == "baseline" else None)
         for r in range(args.rounds):
