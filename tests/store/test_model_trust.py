@@ -464,3 +464,28 @@ def test_a_pair_of_trees_of_another_form_is_refused_by_the_schema(models):
         forged["guarantee"]["decomposed_tilings"] = bad
         with pytest.raises(InputError, match="guarantee.decomposed_tilings"):
             gd_analyze.load_model(_write(folder, "pair_bad_text", forged))
+
+
+def test_a_forged_pair_of_trees_does_not_save_a_lowered_bound(panda_doc, monkeypatch):
+    """The Panda's bound lowered to just above the error sampling finds on the joint where
+    the decomposition binds, with its first tree cut to the last level's first half (not a
+    tiling: a bound on fewer boxes would be lower) or the honest pair: the pair does not
+    prove it, the re-derivation runs and refuses it."""
+    from gd_analyze.store.model_trust import check_guarantee
+
+    doc, robot = panda_doc
+    g = doc["guarantee"]
+    first, rest = g["decomposed_tilings"][0]
+    bound, scale = np.asarray(g["bound"], float), np.asarray(g["scale"], float)
+    j = int(np.argmax(bound / scale))
+    for pair in ([first[: len(first) - (len(first) - first.rfind("1")) // 2], rest],
+                 [first, rest]):
+        forged = _copy(doc)
+        low = float(g["sampled_error"][j]) * 1.001
+        forged["guarantee"]["bound"][j] = forged["recursive"]["bound"][j] = low
+        forged["bound"][j] = low
+        forged["guarantee"]["decomposed_tilings"] = [pair]
+        calls = _spied(monkeypatch)
+        with pytest.raises(InputError, match="guarantee.bound"):
+            check_guarantee(_panda_model(forged, robot))
+        assert calls == [1]
