@@ -339,3 +339,31 @@ def test_a_search_is_made_once_per_process_for_the_same_inputs_and_entry(puma):
                                          derive=store)
         assert any(issubclass(w.category, CacheWarning) for w in caught)
         np.testing.assert_array_equal(found.rec.dropped, fresh.rec.dropped)
+
+
+def test_arms_above_the_decomposition_s_joint_limit_are_searched_without_it():
+    """The region search of an arm with more joints than ``DECOMPOSED_MAX_JOINTS`` never runs
+    the decomposed bound's branch and bound: the Panda (7 joints, whose search runs it at the
+    shipped limit) under a limit of 6 searches without it, and finds the model the search
+    without the decomposition finds (``DECOMPOSE`` False)."""
+    from unittest import mock
+
+    import gd_analyze.certify.certify as certify
+    import gd_analyze.simplify.deploy as deploy
+
+    robot = load_robot("panda")
+    base = base_parameters(robot)
+    region = deploy.robot_region(robot)[0]
+    assert robot.n > 6 and deploy.DECOMPOSED_MAX_JOINTS >= robot.n
+
+    def refused(*args, **kwargs):
+        raise AssertionError("the decomposed bound was searched")
+
+    with mock.patch.object(certify, "decomposed_search", refused), \
+            mock.patch.object(deploy, "DECOMPOSED_MAX_JOINTS", 6):
+        rec, guarantee = deploy.region_model(robot, base, region, 0.01)
+    with mock.patch.object(deploy, "DECOMPOSE", False):
+        plain, plain_guarantee = deploy.region_model(robot, base, region, 0.01)
+    assert np.array_equal(rec.dropped, plain.dropped)
+    assert np.array_equal(guarantee.bound, plain_guarantee.bound)
+    assert not guarantee.decomposed

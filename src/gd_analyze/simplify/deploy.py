@@ -73,7 +73,8 @@ __all__ = ["build_recursive", "recursive_simplified", "recursive_selection", "re
            "region_search", "RegionSearch", "RegionSearches", "region_searches",
            "trajectory_guarantee", "certified", "robot_region",
            "guarantee_region", "REGION_SAMPLES", "restored_rebuild", "rebuilt", "SCOUT_BOXES",
-           "SCOUT_RATIO", "DECOMPOSE", "DECOMPOSED_SCOUT_BOXES", "screened_exact", "RESTORED_MIN_SAVING", "release"]
+           "SCOUT_RATIO", "DECOMPOSE", "DECOMPOSED_MAX_JOINTS",
+           "DECOMPOSED_SCOUT_BOXES", "screened_exact", "RESTORED_MIN_SAVING", "release"]
 
 #: A tree of boxes is kept with a region model (:attr:`Guarantee.tilings`) for the joints
 #: where its bound is within this share of s_i of the model's (a thousandth of what the
@@ -99,6 +100,13 @@ DECOMPOSED_SCOUT_BOXES = 2048
 #: (:func:`gd_analyze.certify.certify.decomposed_bound`, :func:`_region_pruning`); False:
 #: the search before it alone.
 DECOMPOSE = True
+#: The most joints an arm may have for the region search to search with the decomposed bound
+#: as well. It pays on the Panda (7 joints: 545 -> 535 operations at EPS 0.01); on random
+#: chains of 12 and 15 joints one search with it took longer than the whole main job without
+#: it (a 12-joint chain's job 23 s -> 43 s of CPU, a 15-joint chain's 38 s -> 81 s and its
+#: peak 1.5 -> 2.2 GiB, analysis/main_job_scaling.py), for models the screens then replaced
+#: by the exact one.
+DECOMPOSED_MAX_JOINTS = 8
 
 
 def robot_region(robot: Robot, limits: RegionLimits | None = None
@@ -217,16 +225,20 @@ def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: 
                                                                             region, tolerance))
 
 
-def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
+def _region_pruning(base, pb, robot, region, tolerance, chosen=None, worth=None):
     """:func:`~gd_analyze.symbolic.pruning.prune_bounds` on a region's certification
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
     and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`).
 
     The pairs are searched twice where the arm has more than :data:`JOINT_DIMS` joints that
-    coefficients depend on: without the decomposition
+    coefficients depend on, and at most :data:`DECOMPOSED_MAX_JOINTS` joints: without the decomposition
     (:func:`~gd_analyze.certify.certify.decomposed_bound`) and with it; the search with it
     is kept only where its pairs cost fewer operations (quick counts): the greedy search is
     not monotone, and a bound that admits a pair early can shut out cheaper ones later.
+    ``worth(pruning)``, where given, says whether the search without the decomposition found
+    a region model worth building; where it did not (the exact model is deployed), the
+    search with it is not run (on random chains of 12 and 15 joints, whose region models
+    save too little either way, it took 2.4 and 3.9 times the main job's time).
     ``chosen`` pairs are checked without it first, then with it."""
 
     joint = _JointBound(robot, base, region, pb, tolerance)
@@ -237,8 +249,8 @@ def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
                             pb.leaves.sum(axis=1).max(axis=1), tolerance, pieces=pb.leaves,
                             chosen=chosen, zero=pb.zero, joint=joint)
 
-    if not DECOMPOSE or split_joints(robot, base,
-                                     np.ones(pb.zero.shape, bool)).sum() <= JOINT_DIMS:
+    if not DECOMPOSE or robot.n > DECOMPOSED_MAX_JOINTS or split_joints(
+            robot, base, np.ones(pb.zero.shape, bool)).sum() <= JOINT_DIMS:
         pr = search(False)              # no set has a decomposition
     elif chosen is not None:
         try:
@@ -247,6 +259,8 @@ def _region_pruning(base, pb, robot, region, tolerance, chosen=None):
             pr = search(True)
     else:
         pr = search(False)
+        if worth is not None and not worth(pr):
+            return pr, joint.tilings(pr.dropped, pr.bound)
         other = search(True)
         if _quick_count(robot, base, other) < _quick_count(robot, base, pr):
             pr = other
@@ -946,14 +960,21 @@ def _region_search(robot, base, region, tolerance, torque_floor, sampled, screen
         warnings.warn(one_line(f"{where}: derivation cache entry {found}: "
                                "ignored, the model is searched again"), CacheWarning,
                       stacklevel=2)
-    pruned = _region_pruning(base, pb, robot, region, tolerance)
+    screened = {}
+
+    def worth(plain):
+        screened[id(plain)] = _proved_exact(robot, base, region, tolerance, pb, plain.dropped,
+                                            sampled)
+        return screened[id(plain)] is None
+    pruned = _region_pruning(base, pb, robot, region, tolerance, worth=worth if screen else None)
     pr = pruned[0]
 
     def store(exact_forms, pruned_forms):
         derive.write_search(robot, region, tolerance, torque_floor, REGION_SAMPLES, pr.dropped,
                             pr.whole, exact_forms, pruned_forms)
     if screen:
-        proved = _proved_exact(robot, base, region, tolerance, pb, pr.dropped, sampled)
+        proved = screened[id(pr)] if id(pr) in screened else _proved_exact(
+            robot, base, region, tolerance, pb, pr.dropped, sampled)
         if proved is not None:
             return RegionSearch(proved[0], proved[1], store=store, screen=proved[2]), kept
     rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
