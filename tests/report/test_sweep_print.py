@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from html_checks import html_text
-from pdf_checks import CITATION, figure_pages, last_page_fill, page_lines, page_texts, text
+from pdf_checks import CITATION, figure_pages, last_page_fill, page_lines, text
 
 from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY
 
@@ -267,8 +267,11 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
     html = (tmp_path / "out" / "sweep_report.html").read_text(encoding="utf-8")
     assert "Part 1 of 8." in html and "Part 8 of 8." in html and "Part 4 of 4." in html
     # in the PDF each section starts after the last part of the figure before it (Sec. 3
-    # was set on page 2, its figures on pages 10-11, D's parts floating past it)
-    pages = [re.sub(r"\s+", " ", t) for t in page_texts(tmp_path / "out" / "sweep_report.pdf")]
+    # was set on page 2, its figures on pages 10-11, D's parts floating past it); the pages'
+    # text as poppler's pdftotext gives it (a form feed after each page): pypdf's extraction
+    # of this report's 19 pages took longer than the rest of the checks
+    pages = [re.sub(r"\s+", " ", t)
+             for t in text(tmp_path / "out" / "sweep_report.pdf").split("\f")]
 
     def first(said):
         return min(k for k, t in enumerate(pages) if said in t)
