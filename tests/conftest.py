@@ -216,25 +216,19 @@ def shared_reports():
 
 
 @pytest.fixture(scope="session")
-def shared_puma(shared_main):
+def shared_puma(shared_main, shared_control):
     """The PUMA 560's main job on its shipped trajectory and the control command on its model,
     each with its report, all defaults: built once a session (:func:`built_once`) for the
     tests that only read them (tests/report/test_report_review.py, test_report_text.py,
-    tests/jobs/test_recursive_ladder.py). Shared: tests must not modify them.
+    tests/jobs/test_recursive_ladder.py). The control run is :func:`shared_control`'s of the
+    PUMA 560 (the same command on the same model), not a second one. Shared: tests must not
+    modify them.
 
     ``{"puma": (folder, "report"), "control": (folder, "control_report")}``.
     """
-    from gd_analyze.cli import main
-
-    csv = str(SHIPPED)
-
-    puma = shared_main("puma560", csv)       # the default run (:func:`shared_main`)
-
-    def build(tmp):
-        assert main(["control", str(puma / "simplified_model.json"), csv, "-o",
-                     str(tmp / "control"), "-q"]) == 0
-    tmp = built_once("shared_puma", build)
-    return {"puma": (puma, "report"), "control": (tmp / "control", "control_report")}
+    puma = shared_main("puma560", str(SHIPPED))     # the default run (:func:`shared_main`)
+    folder, _ = shared_control("puma560")           # its model, linked as folder / "main"
+    return {"puma": (puma, "report"), "control": (folder / "control", "control_report")}
 
 
 @pytest.fixture(scope="session")
