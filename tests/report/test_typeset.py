@@ -19,6 +19,7 @@ import pytest
 from pdf_checks import font_types, info, text, words
 
 from gd_analyze.report import markup
+from gd_analyze.report.main_provenance import command_row
 from gd_analyze.report.sections import Outline
 from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY, document_data, write_pdf
 
@@ -396,3 +397,23 @@ def test_no_last_page_of_a_few_lines(tmp_path, tail):
     lowest = max(y1 for *_, y1 in ws if y1 < h - 72 * MARGINS[2])
     assert pages == 4
     assert lowest - 72 * MARGINS[1] > NEAR_EMPTY * (h - 72 * (MARGINS[1] + MARGINS[2]))
+
+
+def test_the_command_row_keeps_its_options_whole_wherever_its_line_breaks(tmp_path):
+    # plain text breaks a line after the "-" of "-o", and a PDF reader then joins the lines as
+    # a hyphenated word ("... -" / "o /out" is read "... o /out"); the provenance row sets the
+    # command as code, which breaks at spaces and slashes only
+    for n in range(24):
+        command = (f"gd-analyze control /tmp/{'m' * n}/simplified_model.json "
+                   "data/puma560_trajectory.csv -o /tmp/out/control --latex -q")
+        label, value = command_row(command)
+        o = Outline("Report")
+        o.table({"header": ["item", "value"], "rows": [["software", "x"], [label, value]],
+                 "align": ["left", "left"], "widths": [1, 3], "colour_cols": []},
+                "provenance", kv=True, size=7)
+        path = tmp_path / "doc.pdf"
+        write_pdf(o, {}, path, metadata={}, footer="f")
+        flat = re.sub(r"\s+", " ", text(path))
+        for option in (" -o /tmp/out/control ", " --latex -q"):
+            assert option in flat, (n, flat)
+    assert command_row(None) == ("command", None)

@@ -57,7 +57,7 @@ from .common import or_default as _or
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_axes, markevery
-from .main_provenance import DERIVATIVES, gravity_row, run_row, software_row
+from .main_provenance import DERIVATIVES, command_row, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
@@ -916,7 +916,7 @@ def _provenance(s, version):
     gravity, the files, the verdict's tolerance."""
     st = s.settings
     rows = [software_row(s.run, version),
-            ("command", None if st.command is None else stored_text(st.command)),   # older: none
+            command_row(st.command),
             run_row(s.run, "run"), gravity_row(s.run)]
     own = str(st.trajectory_is_models) == "1"
     for label, k in _PROVENANCE:

@@ -18,6 +18,7 @@ from ..store.schema import RunRecord
 from .common import attr_text as _text
 from .common import fmt as _fmt
 from .common import joints_text, other_rows, say
+from .markup import code
 from .markup import scope as scope_markup
 
 if TYPE_CHECKING:
@@ -32,8 +33,8 @@ def _no_floor(results):
     return say("no_floor", region=results.guarantee_kind == "region",
                drives=results.robot_record.has_drives)
 
-__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "run_row", "gravity_row",
-           "guarantee_row"]
+__all__ = ["DERIVATIVES", "provenance_rows", "software_row", "command_row", "run_row",
+           "gravity_row", "guarantee_row"]
 
 #: How a trajectory's velocities and accelerations were obtained, in words (the stored
 #: ``derivatives`` setting).
@@ -147,7 +148,7 @@ def provenance_rows(results: Results, created: str, version: str,
     rows = [
         ("software", f"gd-analyze {version}" if analysis == version else
          f"analysis by gd-analyze {analysis}, report by gd-analyze {version}"),
-        ("command", _text(p.command)),
+        command_row(p.command),
         ("analysis run, report created", created if ran == created else f"{ran}, {created}"),
         ("trajectory file", f"{_text(traj.input_path)} (SHA-256 {sha_in})"),
         ("robot file", f"{_text(robot.source)} (SHA-256 {_text(robot.sha256)})"),
@@ -200,6 +201,23 @@ def software_row(ds: RunRecord | xr.Dataset, version: str) -> tuple[str, str]:
     computed = _text(_record(ds).gd_analyze_version)
     return ("software", f"gd-analyze {version}" if computed == version else
             f"computed by gd-analyze {computed}, report by gd-analyze {version}")
+
+
+def command_row(command: object) -> tuple[str, str | None]:
+    """("command", ...): the command line as the command line stored it, set as code (in the
+    PDF an option such as ``-o`` is not broken across lines).
+
+    Parameters
+    ----------
+    command : object
+        The stored ``command`` attribute, or None where the file has none (an older file).
+
+    Returns
+    -------
+    tuple of (str, str or None)
+        None as the value where there is no command: no row.
+    """
+    return ("command", None if command is None else code(_text(command)))
 
 
 def run_row(ds: RunRecord | xr.Dataset, label: str = "computed") -> tuple[str, str]:

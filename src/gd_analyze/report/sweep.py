@@ -74,7 +74,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figures import CLASS_LETTER as _LETTER
 from .figures import payload_figure
-from .main_provenance import gravity_row, guarantee_row, run_row, software_row
+from .main_provenance import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import label as _math
@@ -1007,7 +1007,7 @@ def _settings(w, inputs, version):
     workers = int(_or(st.n_workers, 1))
     return [
         software_row(w.run, version),
-        ("command", _text(st.command)),
+        command_row(st.command),
         run_row(w.run),
         ("robot", f"{_text(st.robot)}: {_text(st.robot_description)} "
                   f"({_text(st.robot_reference)})"),
