@@ -530,9 +530,10 @@ def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
               **{name: getattr(terms, name) for name in (Var.D_TRAN, Var.D_ROT, Var.D, Var.H_TRAN,
                                                         Var.H_ROT, Var.H, Var.C, Var.TAU_F)}}
     prismatic = np.asarray(robot.prismatic, bool)
-    ds = ds.copy()
-    for name, (dims, _, long_name) in _setpoint_variables(terms.tau_f is not None).items():
-        ds[name] = var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
+    made = _setpoint_variables(terms.tau_f is not None).items()
+    # one merge for all of them (a merge per variable took most of the function's time)
+    ds = ds.assign({name: var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
+                    for name, (dims, _, long_name) in made})
     return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
                                                      "joint (column of D)"))
 
