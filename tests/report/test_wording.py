@@ -108,3 +108,26 @@ def test_every_macro_of_the_wording_is_said():
             todo.extend(macros[name])
     dead = sorted(set(macros) - reached)
     assert not dead, f"macros of wording.j2 that nothing says: {dead}"
+
+
+def test_each_passage_is_compiled_as_the_whole_file_reads_it():
+    """``say`` compiles each macro on its own, not the whole file: each macro cut out is the
+    same macro (its parsed tree) as in the whole file read as Jinja reads it, and is handed
+    every macro it calls (found by Jinja's parser, not by words), compiled on its own too."""
+    import re
+
+    from gd_analyze.report.common import _passage, _passages
+
+    text = re.sub(r"(?<=%}|#})\n|[ \t]*\n(?={[%#])", "", WORDING)
+    text = re.sub(r"[ \t]*\n", " ", text).replace("~", "\u00a0")
+    whole = {node.name: node for node in jinja2.Environment().parse(text).body
+             if isinstance(node, nodes.Macro)}
+    passages = _passages()
+    assert list(passages) == list(whole)
+    calls = _macros()
+    for name, source in passages.items():
+        alone = [node for node in jinja2.Environment().parse(source).body
+                 if isinstance(node, nodes.Macro)]
+        assert alone == [whole[name]], name
+        handed = _passage(name)._environment.globals
+        assert all(handed[m] is _passage(m) for m in calls[name]), name

@@ -315,11 +315,6 @@ def render_template(name: str, context: Mapping[str, Any],
     import jinja2
     from markupsafe import Markup
 
-
-    def source(template):
-        return resources.files("gd_analyze.report").joinpath(f"templates/{template}") \
-            .read_text(encoding="utf-8")
-
     def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
         if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
                                                                 markup.CODE)):
@@ -330,7 +325,7 @@ def render_template(name: str, context: Mapping[str, Any],
                 Markup(shown) if isinstance(value, Markup) else shown)
         return value
 
-    env = jinja2.Environment(loader=jinja2.FunctionLoader(source), autoescape=True,
+    env = jinja2.Environment(loader=jinja2.PackageLoader("gd_analyze.report"), autoescape=True,
                              undefined=jinja2.StrictUndefined, finalize=finalize,
                              trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
     env.globals.update(env_globals or {})
@@ -362,25 +357,39 @@ def say(name: str, /, **values: Any) -> str:
     >>> say("plural", k=1, one="trajectory", many="trajectories")
     'trajectory'
     """
-    return str(getattr(_wording(), name)(**values))
+    return str(_passage(name)(**values))
 
 
 @functools.cache
-def _wording():
-    """The macros of ``templates/wording.j2``: a line break reads as one space, and as nothing
-    after a ``{% tag %}`` or a ``{# comment #}`` or before a line starting with one; ``~`` is a
-    no-break space (as in TeX)."""
-    import jinja2
-
+def _passages() -> dict[str, str]:
+    """The macros of ``templates/wording.j2`` by name, in the file's order, each one's source
+    as Jinja2 reads the file: a line break reads as one space, and as nothing after a
+    ``{% tag %}`` or a ``{# comment #}`` or before a line starting with one; ``~`` is a
+    no-break space (as in TeX). Outside its macros the file holds comments only, and no macro
+    holds another."""
     text = resources.files("gd_analyze.report").joinpath("templates/wording.j2") \
         .read_text(encoding="utf-8")
     text = re.sub(r"(?<=%}|#})\n|[ \t]*\n(?={[%#])", "", text)
     text = re.sub(r"[ \t]*\n", " ", text).replace("~", "\u00a0")
+    return {m.group(1): m.group(0)
+            for m in re.finditer(r"{% macro (\w+)\(.*?{% endmacro %}", text, re.S)}
+
+
+@functools.cache
+def _passage(name: str) -> Callable[..., Any]:
+    """One macro of ``templates/wording.j2``, compiled once a process, on its own: each other
+    macro whose name it holds as a word (a superset of those it calls) is handed to it
+    compiled in the same way. A report compiles the wording it says, not the whole file."""
+    import jinja2
+
+    source, passages = _passages()[name], _passages()
     env = jinja2.Environment(undefined=jinja2.StrictUndefined, autoescape=False)
     env.globals.update(sub=markup.sub, sup=markup.sup, code=markup.code,
                        element=markup.element, tau=markup.tau, round_off=ROUND_OFF_CLAUSE)
+    env.globals.update({m: _passage(m) for m in set(re.findall(r"\w+", source)) & passages.keys()
+                        if m != name})
     env.filters.update(count=count)
-    return env.from_string(text).module
+    return getattr(env.from_string(source).module, name)  # type: ignore[no-any-return]
 
 
 def check_formats(formats: str | Sequence[str], allowed: tuple[str, ...]) -> list[str]:
