@@ -3,6 +3,7 @@ typeset on a worker thread, and a report's PDF typeset while its other files are
 
 from __future__ import annotations
 
+import io
 import threading
 
 import matplotlib.axis
@@ -12,7 +13,13 @@ from matplotlib.figure import Figure
 from pdf_checks import info
 
 from gd_analyze.report import drawing
-from gd_analyze.report.drawing import TicksOfTheDraw, draw_each, draw_figures, figure_svg, svg_size
+from gd_analyze.report.drawing import (
+    draw_each,
+    draw_figures,
+    figure_svg,
+    kept_in_the_draw,
+    svg_size,
+)
 from gd_analyze.report.figure_style import BASE_RC
 from gd_analyze.report.sections import Outline
 
@@ -109,16 +116,44 @@ def test_a_figure_whose_text_sticks_out_is_drawn_as_tall_as_its_text():
 def test_ticks_of_the_draw_are_worked_out_again_once_the_block_is_left(monkeypatch):
     calls = _counted(monkeypatch)
     fig = _figure()
-    with TicksOfTheDraw(fig) as ticks:
+    with kept_in_the_draw(fig) as (ticks, _):
         FigureCanvasAgg(fig).draw()
-        n = ticks.calls
-        assert n == len(calls) and n >= 4
-        ticks.replay = True
+        n = len(calls)
+        assert n == len(ticks) == 4                         # two panels' x and y axes
         fig.get_tightbbox(fig.canvas.get_renderer())
-        assert ticks.calls == n == len(calls)               # handed back, none worked out
+        assert len(calls) == n                              # handed back, none worked out
     fig.get_tightbbox(fig.canvas.get_renderer())
     assert len(calls) > n                                   # the class's own method again
     assert all("_update_ticks" not in vars(a) for ax in fig.axes for a in (ax.xaxis, ax.yaxis))
+
+
+def test_layouts_of_the_draw_are_those_matplotlib_works_out():
+    """Texts of one string in different settings (size, font weight, rotation, alignments,
+    line spacing, two lines), each laid out on an Agg and an SVG renderer: within the block
+    every layout is the one matplotlib's own method works out for that text, however often
+    asked; one is worked out per setting and renderer; on leaving, the class's own method."""
+    from matplotlib.backends.backend_svg import RendererSVG
+    from matplotlib.text import Text
+
+    fig = Figure(figsize=(4.0, 3.0))
+    settings = [{}, {"fontsize": 12}, {"fontweight": "bold"}, {"rotation": 90},
+                {"rotation": 30, "rotation_mode": "anchor"}, {"ha": "right"}, {"va": "top"},
+                {"linespacing": 2.0}, {"text": "0.5\n10"}, {"text": "0.5\n10", "ma": "right"}]
+    texts = [fig.text(0.1, 0.05 * k, **{"s": s.pop("text", "0.5"), **s})
+             for k, s in enumerate(settings)]
+    texts.append(fig.text(0.5, 0.5, "0.5"))                 # the first one's setting again
+    renderers = [FigureCanvasAgg(fig).get_renderer(), RendererSVG(4.0 * 72, 3.0 * 72, io.StringIO())]
+    own = Text._get_layout
+
+    def laid_out(layout):
+        return [(box.bounds, lines, corner) for box, lines, corner in layout]
+
+    expected = laid_out(own(t, r) for r in renderers for t in texts)
+    with kept_in_the_draw(fig) as (_, kept):
+        for _ in range(2):
+            assert laid_out(Text._get_layout(t, r) for r in renderers for t in texts) == expected
+        assert len(kept) == 2 * len(settings)
+    assert Text._get_layout is own
 
 
 def test_draw_each_gives_what_draw_figures_gives_and_typesets_off_the_main_thread(monkeypatch):

@@ -16,7 +16,7 @@ import functools
 import io
 import os
 import re
-from collections.abc import Callable, Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 
     from .sections import Outline
 
-__all__ = ["figure_svg", "TicksOfTheDraw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
+__all__ = ["figure_svg", "kept_in_the_draw", "svg_size", "draw_figures", "draw_each", "write_figure_files", "prefix_ids", "html_document",
            "write_documents", "write_report_files"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
@@ -61,12 +61,9 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
-        with TicksOfTheDraw(fig) as ticks:
-            ticks.replay = True     # each axis's ticks worked out once, the first time asked
-            def measure(event: Any) -> None:    # a DrawEvent (a bare Event to some versions)
-                extent.append(text_extent(fig, event.renderer))
-
-            cid = fig.canvas.mpl_connect("draw_event", measure)
+        with kept_in_the_draw(fig):     # ticks and text layouts worked out once a drawing
+            cid = fig.canvas.mpl_connect(       # a DrawEvent (a bare Event to some versions)
+                "draw_event", lambda event: extent.append(text_extent(fig, event.renderer)))
             try:
                 fig.savefig(buf, format="svg", metadata=meta)
             finally:
@@ -79,9 +76,10 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     return text[start:] if start >= 0 else text
 
 
-class TicksOfTheDraw:
-    """Within a ``with`` block: each axis of a figure keeps the ticks it last worked out,
-    and, once :attr:`replay` is set, hands those back instead of working them out again.
+@contextlib.contextmanager
+def kept_in_the_draw(fig: Figure) -> Iterator[tuple[dict[int, Any], dict[tuple[Any, ...], Any]]]:
+    """Within a ``with`` block, what drawing a figure works out again and again worked out
+    once: each axis's ticks, and each text's layout per renderer and setting.
 
     A drawing asks an axis for its ticks several times: to draw them, and to place its own
     and each shared axis's label clear of their tick labels; measuring the figure just drawn
@@ -90,57 +88,72 @@ class TicksOfTheDraw:
     drawing it again taller where its text sticks out, asks again. Each time matplotlib works
     out locator, formatter and a position and label per tick: the same ticks, as nothing
     changes them once the drawing has started (the axes' aspect is applied before, and the
-    taller drawing moves the axes, it does not resize them). With :attr:`replay` set each
-    axis works them out once, the first time asked. On leaving the block the axes work out
-    their ticks as before.
+    taller drawing moves the axes, it does not resize them). Within the block each axis
+    works them out once, the first time asked; on leaving it, as before.
+
+    Each tick label is laid out four to five times a drawing (the labels placed, the tick
+    drawn, the figure measured), and many tick labels read the same ("0", "0.5").
+    Matplotlib's layout of a text (its lines' sizes, its box rotated and aligned, relative
+    to its anchor) depends on the renderer, the figure's resolution, the string and these
+    properties of the text: font, line spacing, multi-line alignment, rotation, alignments
+    and rotation mode. Within the block a layout is kept under all of them (the font by the
+    values of all its properties) and handed back (its box a copy); a text that wraps (its
+    lines depend on where it stands) or is set by TeX is laid out as before.
 
     Parameters
     ----------
     fig : matplotlib.figure.Figure
-        The figure; its axes' x, y (and z) axes are the ones kept.
+        The figure; its axes' x, y (and z) axes keep their ticks.
 
-    Attributes
-    ----------
-    replay : bool
-        False: every axis works its ticks out whenever asked, the last result kept; True:
-        the kept ticks handed back (an axis with none kept works them out and keeps them).
-    calls : int
-        How many times an axis worked its ticks out within the block.
+    Yields
+    ------
+    ticks : dict
+        The ticks worked out, by the axis's ``id`` (their number: how many times an axis
+        worked its ticks out).
+    layouts : dict
+        The layouts worked out, by renderer and setting.
 
     Notes
     -----
-    Uses matplotlib's private ``Axis._update_ticks`` (3.10 to 3.11; the ticks to draw, after
-    setting their positions and labels): without it, nothing is kept and every axis works
-    its ticks out as before.
+    Replaces matplotlib's private ``Axis._update_ticks`` (the ticks to draw, after setting
+    their positions and labels) on each axis and ``Text._get_layout`` on the class (3.10 to
+    3.11) for the block: the drawing thread is the only one drawing. An axis without
+    ``_update_ticks`` works its ticks out as before.
     """
+    from matplotlib.text import Text
 
-    def __init__(self, fig: Figure) -> None:
-        self.replay = False
-        self.calls = 0
-        self._axes = [axis for ax in fig.axes
-                      for axis in (getattr(ax, f"{a}axis", None) for a in "xyz")
-                      if axis is not None and hasattr(type(axis), "_update_ticks")]
-        self._kept: dict[int, Any] = {}
+    axes = [axis for ax in fig.axes for axis in (getattr(ax, f"{a}axis", None) for a in "xyz")
+            if axis is not None and hasattr(type(axis), "_update_ticks")]
+    ticks: dict[int, Any] = {}
+    layouts: dict[tuple[Any, ...], Any] = {}
+    work_out = Text._get_layout  # type: ignore[attr-defined]  # private (see Notes)
 
-    def __enter__(self) -> TicksOfTheDraw:
-        for axis in self._axes:
-            axis._update_ticks = self._ticks(axis)  # type: ignore[method-assign]  # one axis's
-        return self
+    def kept_ticks(axis: Any) -> Callable[[], Any]:
+        ticks_of = type(axis)._update_ticks
+        return lambda: ticks[id(axis)] if id(axis) in ticks else ticks.setdefault(
+            id(axis), ticks_of(axis))
 
-    def __exit__(self, *exc: object) -> None:
-        for axis in self._axes:
-            del axis._update_ticks                  # the class's method again
+    def layout(text: Any, renderer: Any) -> Any:
+        if text.get_wrap() or text.get_usetex():
+            return work_out(text, renderer)
+        key = (renderer, text.figure.dpi, text.get_text(), text.get_parse_math(),
+               tuple(vars(text.get_fontproperties()).items()), text._linespacing,
+               text._get_multialignment(), text.get_rotation(), text.get_horizontalalignment(),
+               text.get_verticalalignment(), text.get_rotation_mode())
+        if key not in layouts:
+            layouts[key] = work_out(text, renderer)
+        box, lines, corner = layouts[key]
+        return box.frozen(), list(lines), corner
 
-    def _ticks(self, axis: Any) -> Callable[[], Any]:
-        work_out = type(axis)._update_ticks
-
-        def ticks() -> Any:
-            if self.replay and id(axis) in self._kept:
-                return self._kept[id(axis)]
-            self.calls += 1
-            self._kept[id(axis)] = work_out(axis)
-            return self._kept[id(axis)]
-        return ticks
+    for axis in axes:
+        axis._update_ticks = kept_ticks(axis)
+    Text._get_layout = layout  # type: ignore[attr-defined]  # for the block
+    try:
+        yield ticks, layouts
+    finally:
+        Text._get_layout = work_out  # type: ignore[attr-defined]  # the class's own
+        for axis in axes:
+            del axis._update_ticks
 
 
 def svg_size(svg: str) -> tuple[float, float]:
@@ -238,9 +251,8 @@ def draw_each(makers: Mapping[str, Callable[[], Figure]], rc: Mapping[str, Any],
     return {k: (svg, pdfs[k], size) for k, (svg, size) in drawn.items()}
 
 
-def write_figure_files(stack: contextlib.ExitStack,
-                       drawn: Mapping[str, tuple[str, bytes | None, tuple[float, float]]],
-                       folder: Path, names: Mapping[str, str]) -> list[Path]:
+def write_figure_files(stack: contextlib.ExitStack, drawn: Mapping[str, Drawn], folder: Path,
+                       names: Mapping[str, str]) -> list[Path]:
     """Write every drawn figure as ``folder/<name>.pdf`` and ``.svg``, staged.
 
     Parameters
