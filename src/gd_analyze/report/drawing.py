@@ -137,7 +137,7 @@ def kept_in_the_draw(fig: Figure) -> Iterator[tuple[dict[int, Any], dict[tuple[A
         if text.get_wrap() or text.get_usetex():
             return work_out(text, renderer)
         key = (renderer, text.figure.dpi, text.get_text(), text.get_parse_math(),
-               tuple(vars(text.get_fontproperties()).items()), text._linespacing,
+               _font_key(text.get_fontproperties()), text._linespacing,
                text._get_multialignment(), text.get_rotation(), text.get_horizontalalignment(),
                text.get_verticalalignment(), text.get_rotation_mode())
         if key not in layouts:
@@ -154,6 +154,12 @@ def kept_in_the_draw(fig: Figure) -> Iterator[tuple[dict[int, Any], dict[tuple[A
         Text._get_layout = work_out  # type: ignore[attr-defined]  # the class's own
         for axis in axes:
             del axis._update_ticks
+
+
+def _font_key(font: Any) -> tuple[Any, ...]:
+    """A font's properties as a key: all of them, a list (matplotlib 3.10 keeps the families
+    as one) as a tuple."""
+    return tuple((k, tuple(v) if isinstance(v, list) else v) for k, v in vars(font).items())
 
 
 def svg_size(svg: str) -> tuple[float, float]:
