@@ -63,3 +63,38 @@ def test_the_exact_model_is_proved_by_the_floor(key):
     assert proof.lower < f.min()
     assert np.linalg.eigvalsh(crba(robot, proof.witness[None]))[0, 0] <= proof.d_upper
     assert 0 < proof.ratio <= 1 and proof.sampled_min >= proof.lower
+
+
+def test_a_proof_is_made_once_per_process(monkeypatch):
+    """The same arm, box, settings and dropped inertial parts give the proof made before (the
+    region search's trials and the deployed model's check ask for the same ones), its context
+    read-only; other dropped parts, or the memo emptied, prove again, to the same outcome."""
+    import gd_analyze.certify.inertia_proof as ip
+
+    monkeypatch.setattr(ip, "_CONTEXTS", [])
+    monkeypatch.setattr(ip, "_PROOFS", {})
+    robot = load_robot("puma560")
+    region, _, _ = guarantee_region(robot)
+    base = base_parameters(robot)
+    dropped = np.zeros((len(base.beta), 3), bool)
+    names = list(base.names())
+    dropped[names.index("YZ2"), 0] = True       # proved on some hundred boxes
+    first = prove_inertia(robot, base, dropped, region.q_min, region.q_max, samples=300)
+    assert first.proved and first.boxes > 1
+    context = ip.inertia_context(robot, base, region.q_min, region.q_max, 300)
+    assert prove_inertia(robot, base, dropped, region.q_min, region.q_max,
+                         samples=300, context=context) is first
+    with pytest.raises(ValueError):
+        context["D"][0, 0, 0] = 1.0
+    other = dropped.copy()
+    other[names.index("XY3"), 0] = True
+    assert prove_inertia(robot, base, other, region.q_min, region.q_max,
+                         samples=300) is not first
+    assert prove_inertia(robot, base, dropped, region.q_min, region.q_max, max_boxes=64,
+                         samples=300) is not first
+    monkeypatch.setattr(ip, "_CONTEXTS", [])
+    monkeypatch.setattr(ip, "_PROOFS", {})
+    again = prove_inertia(robot, base, dropped, region.q_min, region.q_max, samples=300)
+    assert again is not first
+    assert (again.proved, again.lower, again.boxes, again.sampled_min) == (
+        first.proved, first.lower, first.boxes, first.sampled_min)

@@ -382,20 +382,45 @@ def inertia_context(robot: Robot, base: BaseParameters, q_min: ArrayLike, q_max:
         mean: each holds, so the proof takes the best on each box), ``d_upper`` and
         ``witness`` (the Rayleigh bound of
         min lambda_min(D) and where), ``q`` (the sampled positions, with the box's corners
-        q_min, q_max and its centre) and ``D`` (D at them, shape (M, n, n)).
+        q_min, q_max and its centre) and ``D`` (D at them, shape (M, n, n)); its arrays
+        read-only. Made once per process for the same arm (the same object), parameter
+        values, box, ``samples`` and ``seed`` (the last two of :data:`_CONTEXTS_MAX` kept).
     """
     n = robot.n
     q_min, q_max = np.asarray(q_min, float), np.asarray(q_max, float)
     full = part_values(base, np.zeros((len(base.beta), 3), bool))[0]
+    key = b"".join(np.ascontiguousarray(a, float).tobytes() for a in (
+        full, q_min, q_max, np.array([samples, seed], float)))
+    for kept_robot, kept_key, context in _CONTEXTS:
+        if kept_robot is robot and kept_key == key:
+            return context
     rng = np.random.default_rng(seed)
     qs = np.vstack([rng.uniform(q_min, q_max, (samples, n)), q_min, q_max,
                     0.5 * (q_min + q_max)])
     d_upper, witness = _d_upper(robot, full, qs)
     lo, hi = inertia_enclosure(robot, qs, qs, full)
     chain, pairs = inertia_floor(robot), inertia_floor(robot, "pairs")
-    return {"floor": chain, "floors": np.stack([chain, pairs, 0.5 * (chain + pairs)]),
-            "d_upper": d_upper, "witness": witness, "q": qs,
-            "D": 0.5 * (lo + hi)}
+    context = {"floor": chain, "floors": np.stack([chain, pairs, 0.5 * (chain + pairs)]),
+               "d_upper": d_upper, "witness": witness, "q": qs, "D": 0.5 * (lo + hi)}
+    for value in context.values():
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)     # one object for every caller
+    _CONTEXTS[:] = [(robot, key, context)] + _CONTEXTS[:_CONTEXTS_MAX - 1]
+    return context
+
+
+#: The contexts :func:`inertia_context` made in this process, newest first: the arm (by
+#: identity), the key of its parameters' values, the box, ``samples`` and ``seed``, and the
+#: context. A main job asks for the same one twice (the region search's
+#: :func:`gd_analyze.certify.positive_definite.inertia_restored` and the deployed model's
+#: :func:`gd_analyze.certify.positive_definite.with_inertia_check`).
+_CONTEXTS: list[tuple[Robot, bytes, dict]] = []
+_CONTEXTS_MAX = 2
+#: The proofs :func:`prove_inertia` made in this process on a context of :data:`_CONTEXTS`:
+#: by the context's identity, the dropped inertial values, the box and the settings, each
+#: with its context (so that the identity stays its own while the entry is kept).
+_PROOFS: dict[tuple, tuple[dict, Robot, InertiaProof]] = {}
+_PROOFS_MAX = 64
 
 
 def prove_inertia(robot: Robot, base: BaseParameters, left_out: np.ndarray, q_min: ArrayLike,
@@ -437,13 +462,34 @@ def prove_inertia(robot: Robot, base: BaseParameters, left_out: np.ndarray, q_mi
     Delta D enclosed by :func:`gd_analyze.certify.regressor_bounds.inertia_enclosure`;
     the smallest eigenvalue of diag(f) - Delta D is bounded by :func:`gershgorin_lower`
     with weights sqrt(f). The bound is the least over the final boxes, which tile the box.
+
+    A proof is made once per process for the same arm, context of :func:`inertia_context`
+    (which makes each context once), dropped inertial values, box and settings: the main
+    job's region search decides what its model restores by the very proofs the deployed
+    model's check then makes (:mod:`gd_analyze.certify.positive_definite`).
     """
     t0 = time.perf_counter()
-    n = robot.n
     q_min, q_max = np.asarray(q_min, float), np.asarray(q_max, float)
     drop = dropped_inertia_values(base, left_out)
     ctx = context if context is not None else inertia_context(robot, base, q_min, q_max,
                                                                samples, seed)
+    key = (id(ctx), id(robot), drop.tobytes(), q_min.tobytes(), q_max.tobytes(),
+           int(max_boxes), int(samples), int(seed), float(rtol))
+    kept = _PROOFS.get(key)
+    if kept is not None and kept[0] is ctx and kept[1] is robot:
+        return kept[2]
+    proof = _prove(robot, drop, q_min, q_max, max_boxes, rtol, ctx, t0)
+    if any(r is robot and c is ctx for r, _, c in _CONTEXTS):   # this process's: kept
+        while len(_PROOFS) >= _PROOFS_MAX:
+            _PROOFS.pop(next(iter(_PROOFS)))
+        _PROOFS[key] = (ctx, robot, proof)
+    return proof
+
+
+def _prove(robot, drop, q_min, q_max, max_boxes, rtol, ctx, t0):
+    """:func:`prove_inertia`'s proof of the dropped inertial values ``drop`` (n, 10) on the
+    context ``ctx`` (:func:`inertia_context`)."""
+    n = robot.n
     floor, d_upper, witness, qs = ctx["floor"], ctx["d_upper"], ctx["witness"], ctx["q"]
     floors = ctx["floors"]
     Ds = ctx["D"]
