@@ -30,6 +30,7 @@ def test_only_the_derivations_given_keep_anything(tmp_path, monkeypatch):
     monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(folder))
     for memo in ("_CERTIFIED", "_SAMPLED", "_MAGNITUDES"):       # nothing from other tests
         monkeypatch.setattr(region_memo, memo, {})
+    monkeypatch.setattr(deploy, "_SEARCHED", {})     # (a search of the arm an earlier test made)
     unkept = _build(robot, region)
     assert not folder.exists() or not any(folder.iterdir())
 
