@@ -14,11 +14,12 @@ import pytest
 from cache_checks import forge
 
 from gd_analyze import load_robot
-from gd_analyze.cache import CacheWarning
+from gd_analyze.cache import CacheWarning, entry_path
 from gd_analyze.certify.region import joint_region
 from gd_analyze.dynamics.base_parameters import random_states
 from gd_analyze.files import package_sha256
-from gd_analyze.simplify.deploy import REGION_SAMPLES, build_recursive
+from gd_analyze.simplify import deploy as deploy_module
+from gd_analyze.simplify.deploy import REGION_SAMPLES, build_recursive, guarantee_region
 from gd_analyze.store.certification_cache import SEARCH_FIELDS, search_key
 from gd_analyze.store.derivations import DERIVATIONS
 from gd_analyze.symbolic import recursive as recursive_module
@@ -157,3 +158,74 @@ def test_the_key_names_the_tolerance_and_the_searching_code(arm):
     assert a != search_key(robot, region, EPS, 1.0, REGION_SAMPLES)
     assert a["kind"] == "search"
     assert a["code"]["sha256"] == package_sha256()
+
+
+@pytest.fixture(scope="module")
+def puma():
+    """The PUMA 560 over its joint-limit region: at EPS 0 the sampled pre-screen chooses the
+    exact model (the pairs proved identically zero left out), with no certification."""
+    robot = load_robot("puma560")
+    return robot, guarantee_region(robot)[0]
+
+
+def _screened(puma, monkeypatch):
+    """The model at EPS 0, this process's searches forgotten (so the entry is read) and the
+    programs built with common subexpressions counted (the forms' search builds them)."""
+    monkeypatch.setattr(deploy_module, "_SEARCHED", {})
+    recursive_module.PROGRAMS.clear()
+    built = []
+    finish = recursive_module._finish
+
+    def counted(rec, tau, cse):
+        built.append(cse)
+        return finish(rec, tau, cse)
+    monkeypatch.setattr(recursive_module, "_finish", counted)
+    robot, region = puma
+    z = np.zeros((2, robot.n))
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        model, _ = build_recursive(robot, z, z, z, tolerance=0.0, region=region,
+                                   derive=DERIVATIONS)
+    return model, [str(w.message) for w in seen if issubclass(w.category, CacheWarning)], \
+        sum(built)
+
+
+def _same_model(model, other):
+    np.testing.assert_array_equal(model.recursive.dropped, other.recursive.dropped)
+    assert model.cost == other.cost and model.costs == other.costs
+    assert model.choice_cache[0].forms == other.choice_cache[0].forms
+    assert model.choice_cache[2].forms == other.choice_cache[2].forms
+    assert [str(e) for e in model.program().outputs] == \
+        [str(e) for e in other.program().outputs]
+    assert model.provenance["region_screen"] == other.provenance["region_screen"]
+
+
+def test_the_pre_screen_s_exact_model_keeps_its_programs_forms(puma, cache, monkeypatch):
+    """The exact model the sampled pre-screen chose is no search, but its two programs' forms
+    are searched (1 + 2n programs each): they are kept in an entry of its own, from which the
+    next run builds the same two programs without searching; the model stays the
+    pre-screen's (the entry is not a search's)."""
+    robot, region = puma
+    first, seen, searched = _screened(puma, monkeypatch)
+    assert not seen and not first.provenance["region_screen"]["proved"]
+    assert searched >= 2 * (1 + 2 * robot.n) - 1       # the pruned and the exact program's
+    path = _entry(cache)
+    key = search_key(robot, region, 0.0, 0.0, REGION_SAMPLES, screened=True)
+    assert key != search_key(robot, region, 0.0, 0.0, REGION_SAMPLES)
+    assert str(path) == str(entry_path(key))
+    second, seen, searched = _screened(puma, monkeypatch)
+    assert not seen and searched == 2
+    _same_model(second, first)
+
+
+def test_a_screened_entry_of_other_pairs_is_refused(puma, cache, monkeypatch):
+    first, _, _ = _screened(puma, monkeypatch)
+    path = _entry(cache)
+    with np.load(path) as z:
+        dropped = ~z["dropped"]
+    _forge(path, dropped=dropped)
+    model, seen, searched = _screened(puma, monkeypatch)
+    assert len(seen) == 1 and "proved identically zero" in seen[0] and str(path) in seen[0]
+    assert searched > 2
+    _same_model(model, first)
+    assert _screened(puma, monkeypatch)[1:] == ([], 2)      # rewritten: used again

@@ -837,7 +837,8 @@ class RegionSearch:
     forms : (exact forms, pruned forms) or None
         The programs' forms read from the derivation cache.
     store : callable or None
-        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache.
+        ``store(exact_forms, pruned_forms)`` keeps a new search's outcome in the cache (or
+        the forms of the exact model the sampled pre-screen chose).
     screen : RegionScreen or None
         The screen where it chose the exact model: the sampled pre-screen (the region not
         certified), or the screen of the pairs searched under the proved bounds
@@ -919,7 +920,9 @@ def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance:
     A search kept by ``derive`` was made by a run whose screen chose to search: the
     screen only chooses between two sound paths, so it is not run again (the entry itself is
     checked: its pairs must pass the budget, its forms only choose among programs that compute
-    the same torques). A bad entry is ignored with a warning.
+    the same torques). A bad entry is ignored with a warning. Where the sampled pre-screen
+    chooses the exact model, its programs' forms are kept by ``derive`` apart
+    (``screened``), used where that entry drops the very pairs proved identically zero.
 
     A search is made once per process for the same arm, base parameters, region (with its
     source and notes), EPS, TAU, flags (and :data:`DECOMPOSE`) and store, and the same
@@ -962,7 +965,7 @@ def _region_search(robot, base, region, tolerance, torque_floor, sampled, screen
     exact = None if isinstance(found, dict) or not screen else screened_exact(
         robot, base, region, tolerance, torque_floor)
     if exact is not None:
-        return RegionSearch(exact[0], exact[1], screen=exact[2]), True
+        return _screened_search(robot, base, region, tolerance, torque_floor, derive, exact)
     pb = certified(robot, base, region, torque_floor, derive)
     if isinstance(found, dict):
         try:
@@ -1002,6 +1005,33 @@ def _region_search(robot, base, region, tolerance, torque_floor, sampled, screen
             return RegionSearch(proved[0], proved[1], store=store, screen=proved[2]), kept
     rec, guarantee = _region_model(robot, base, region, tolerance, pb, pruned, sampled)
     return RegionSearch(rec, guarantee, store=store), kept
+
+
+def _screened_search(robot, base, region, tolerance, torque_floor, derive, exact):
+    """The exact model the sampled pre-screen chose (``exact``: :func:`screened_exact`'s) as
+    a :class:`RegionSearch`, with its programs' forms from ``derive``'s entry of it where one
+    holds its very pairs (forms only choose among programs of the same torques), else with a
+    ``store`` that keeps them once built; and whether it may be kept for the process (no bad
+    entry was warned of)."""
+    rec, guarantee, screen = exact
+    found, where = derive.read_search(robot, region, tolerance, torque_floor, REGION_SAMPLES,
+                                      robot.n, base.rank, screened=True)
+    if isinstance(found, dict) and not (np.array_equal(found["dropped"], rec.dropped)
+                                        and not found["whole"].any()):
+        found = "holds other pairs than those proved identically zero"
+    if isinstance(found, dict):
+        return RegionSearch(rec, guarantee, (found["exact_forms"], found["pruned_forms"]),
+                            screen=screen), True
+    if isinstance(found, str):
+        warnings.warn(one_line(f"{where}: derivation cache entry {found}: ignored, the "
+                               "model's programs are searched again"), CacheWarning,
+                      stacklevel=3)
+
+    def store(exact_forms, pruned_forms):
+        derive.write_search(robot, region, tolerance, torque_floor, REGION_SAMPLES,
+                            rec.dropped, np.zeros(rec.dropped.shape[0], bool), exact_forms,
+                            pruned_forms, screened=True)
+    return RegionSearch(rec, guarantee, store=store, screen=screen), found is None
 
 
 def _proved_exact(robot, base, region, tolerance, pb, dropped, restore=True):

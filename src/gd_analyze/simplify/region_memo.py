@@ -148,13 +148,15 @@ def fresh_certification(robot: Robot, base: BaseParameters, region: Region,
                    values=values)
 
 
-def _no_search(*args: Any) -> tuple[None, str]:
+def _no_search(*args: Any, **kwargs: Any) -> tuple[None, str]:
     """No search kept.
 
     Parameters
     ----------
     *args
         As :class:`Derivations`' ``read_search`` takes them; unused.
+    **kwargs
+        Its ``screened``; unused.
 
     Returns
     -------
@@ -164,13 +166,15 @@ def _no_search(*args: Any) -> tuple[None, str]:
     return None, ""
 
 
-def _no_keeping(*args: Any) -> None:
+def _no_keeping(*args: Any, **kwargs: Any) -> None:
     """Nothing kept.
 
     Parameters
     ----------
     *args
         As :class:`Derivations`' ``write_search``, ``made`` or ``claimed`` takes them; unused.
+    **kwargs
+        ``write_search``'s ``screened``; unused.
     """
     return None
 
@@ -190,13 +194,17 @@ class Derivations:
         PairBounds: :func:`fresh_certification`'s result, from a store where an entry passes
         its checks.
     read_search : callable
-        ``read_search(robot, region, tolerance, torque_floor, samples, n, b)`` -> ``(found,
-        where)``: a search's stored outcome (a dict of ``dropped`` (b, 3), ``whole`` (b,),
-        ``exact_forms`` and ``pruned_forms``), a reason (str) where an entry exists but is
-        not used, or None; ``where`` names the entry for a warning.
+        ``read_search(robot, region, tolerance, torque_floor, samples, n, b,
+        screened=False)`` -> ``(found, where)``: a search's stored outcome (a dict of
+        ``dropped`` (b, 3), ``whole`` (b,), ``exact_forms`` and ``pruned_forms``), a reason
+        (str) where an entry exists but is not used, or None; ``where`` names the entry for a
+        warning. With ``screened``: the entry of the exact model the sampled pre-screen
+        chose at that EPS (its pairs proved zero and its programs' forms), apart from the
+        searches'.
     write_search : callable
         ``write_search(robot, region, tolerance, torque_floor, samples, dropped, whole,
-        exact_forms, pruned_forms)``: keep a search's outcome.
+        exact_forms, pruned_forms, screened=False)``: keep a search's outcome (with
+        ``screened``, the pre-screen's exact model's).
     made : callable
         ``made(robot, region, torque_floor, samples, pb)``: told of each certification made
         or read in this process.

@@ -62,6 +62,13 @@ are then built from those choices, so they compute the same torques whatever the
 a forged entry can make the model cost more, never err more than its stated bound. An entry
 that fails gives one :class:`gd_analyze.cache.CacheWarning` line; the searches run again and the
 entry is rewritten.
+
+Where the sampled pre-screen chooses the exact model instead
+(:func:`gd_analyze.simplify.deploy.screened_exact`: the pairs proved identically zero left
+out, no search), its two programs' forms are still searched; they are kept in an entry of the
+same layout under a key of their own (``screened`` in :func:`search_key`), used only where its
+dropped pairs are those very pairs and none is dropped whole, so that the model stays the
+pre-screen's.
 """
 
 from __future__ import annotations
@@ -300,7 +307,7 @@ SEARCH_FIELDS = ("dropped", "whole", "exact_forms", "pruned_forms")
 
 
 def search_key(robot: Robot, region: Region, tolerance: float, torque_floor: float,
-               samples: int) -> dict[str, Any]:
+               samples: int, screened: bool = False) -> dict[str, Any]:
     """What an entry must store to be used.
 
     Parameters
@@ -313,17 +320,23 @@ def search_key(robot: Robot, region: Region, tolerance: float, torque_floor: flo
         [N m or N].
     samples : int
         The certification's sampled positions.
+    screened : bool, optional
+        The entry of the exact model the sampled pre-screen chose at this EPS
+        (:func:`gd_analyze.simplify.deploy.screened_exact`: no search, only its programs'
+        forms to keep), apart from the searches' entry.
 
     Returns
     -------
     dict
         The certification's key (:func:`.certification_cache.certification_key`) of kind
-        ``search``, with the tolerance and this format.
+        ``search``, with the tolerance and this format (and ``screened`` where True).
     """
     return certification_key(robot, region, {"torque_floor": float(torque_floor),
                                              "samples": int(samples), "seed": 0,
                                              "tolerance": float(tolerance),
-                                             "search_format": _SEARCH_FORMAT}, "search")
+                                             "search_format": _SEARCH_FORMAT,
+                                             **({"screened": True} if screened else {})},
+                             "search")
 
 
 def read_search(key: Mapping[str, Any], n: int, b: int) -> dict[str, Any] | str | None:

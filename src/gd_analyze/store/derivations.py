@@ -29,16 +29,16 @@ __all__ = ["DERIVATIONS"]
 
 
 def _read(robot: Robot, region: Region, tolerance: float, torque_floor: float, samples: int,
-          n: int, b: int) -> tuple[Any, str]:
-    key = search_key(robot, region, tolerance, torque_floor, samples)
+          n: int, b: int, screened: bool = False) -> tuple[Any, str]:
+    key = search_key(robot, region, tolerance, torque_floor, samples, screened)
     return read_search(key, n, b), str(entry_path(key))
 
 
 def _write(robot: Robot, region: Region, tolerance: float, torque_floor: float, samples: int,
            dropped: np.ndarray, whole: np.ndarray, exact_forms: Sequence[str],
-           pruned_forms: Sequence[str] | None) -> None:
-    write_search(search_key(robot, region, tolerance, torque_floor, samples), dropped, whole,
-                 exact_forms, pruned_forms)
+           pruned_forms: Sequence[str] | None, screened: bool = False) -> None:
+    write_search(search_key(robot, region, tolerance, torque_floor, samples, screened),
+                 dropped, whole, exact_forms, pruned_forms)
 
 
 #: The derivation cache (:mod:`gd_analyze.cache`; off with ``GD_ANALYZE_NO_CACHE``).
