@@ -480,8 +480,8 @@ def prove_inertia(robot: Robot, base: BaseParameters, left_out: np.ndarray, q_mi
         return kept[2]
     proof = _prove(robot, drop, q_min, q_max, max_boxes, rtol, ctx, t0)
     if any(r is robot and c is ctx for r, _, c in _CONTEXTS):   # this process's: kept
-        while len(_PROOFS) >= _PROOFS_MAX:
-            _PROOFS.pop(next(iter(_PROOFS)))
+        for old in list(_PROOFS)[:max(len(_PROOFS) - _PROOFS_MAX + 1, 0)]:
+            _PROOFS.pop(old, None)          # the oldest (a snapshot: another thread may add)
         _PROOFS[key] = (ctx, robot, proof)
     return proof
 
