@@ -260,6 +260,18 @@ def shared_control(shared_main):
     return get
 
 
+def random_boxes(robot, count, width, seed):
+    """Random boxes of joint positions (lo, hi), each (count, n): centres uniform within the
+    robot's limits (+-pi where it has none), half-widths ``width`` times the limits' range
+    times a factor uniform in [0.1, 1]."""
+    rng = np.random.default_rng(seed)
+    lo_q = np.where(np.isfinite(robot.q_min), robot.q_min, -np.pi)
+    hi_q = np.where(np.isfinite(robot.q_max), robot.q_max, np.pi)
+    centre = rng.uniform(lo_q, hi_q, (count, robot.n))
+    half = width * (hi_q - lo_q) * rng.uniform(0.1, 1.0, (count, robot.n))
+    return centre - half, centre + half
+
+
 def random_states(robot, count, seed):
     """Random (q, qd, qdd), shape (count, n): q within [-pi, pi], qd, qdd within +-3."""
     rng = np.random.default_rng(seed)

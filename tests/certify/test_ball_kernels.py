@@ -2,6 +2,7 @@
 import numpy as np
 import pinocchio as pin
 import pytest
+from conftest import random_boxes as _boxes
 
 from gd_analyze import load_robot
 from gd_analyze.certify import regressor_bounds as rb
@@ -16,15 +17,6 @@ def _crba(robot, q):
     data = pm.createData()
     D = np.array([pin.crba(pm, data, x) for x in q])
     return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
-
-
-def _boxes(robot, count, width, seed):
-    rng = np.random.default_rng(seed)
-    lo_q = np.where(np.isfinite(robot.q_min), robot.q_min, -np.pi)
-    hi_q = np.where(np.isfinite(robot.q_max), robot.q_max, np.pi)
-    centre = rng.uniform(lo_q, hi_q, (count, robot.n))
-    half = width * (hi_q - lo_q) * rng.uniform(0.1, 1.0, (count, robot.n))
-    return centre - half, centre + half
 
 
 def _array_code(robot, lo, hi, cols):
@@ -52,7 +44,7 @@ def test_the_kernels_give_the_array_codes_enclosures(name):
     cols = np.flatnonzero(base_parameters(robot).independent.reshape(-1))
     for width, seed in ((0.02, 0), (0.3, 1), (0.9, 2)):
         lo, hi = _boxes(robot, 9, width, seed)
-        got = rb.channel_enclosures(robot, lo, hi, cols)
+        got = rb.channel_enclosures(robot, lo, hi, cols, arithmetic="ball")
         want = _array_code(robot, lo, hi, cols)
         scale = max(np.abs(want[0]).max(), np.abs(want[1]).max())
         for g, w in zip(got, want):
@@ -70,7 +62,7 @@ def test_the_enclosures_hold_the_regressor_at_points_of_each_box(name):
     robot = ARMS[name]()
     cols = np.flatnonzero(base_parameters(robot).independent.reshape(-1))
     lo, hi = _boxes(robot, 6, 0.1, 5)
-    e_lo, e_hi = rb.channel_enclosures(robot, lo, hi, cols)
+    e_lo, e_hi = rb.channel_enclosures(robot, lo, hi, cols, arithmetic="ball")
     rng = np.random.default_rng(6)
     for _ in range(20):
         q = rng.uniform(lo, hi)

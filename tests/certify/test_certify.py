@@ -425,13 +425,13 @@ def test_the_velocity_support_sees_a_value_past_the_first_position():
     assert want[3, 0] and want[4, 1] and not want[1, 2]
 
 
-@pytest.mark.parametrize("share", [2.0, 0.3])
+@pytest.mark.parametrize("share", [1.0, 0.3])
 def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypatch, share):
     """The branch and bound on a dropped set's joint sum, first with 256 boxes and then
     resumed up to 2,048 (as the pruning's search runs its scout and then the full one), gives
     the bound and tree of one fresh search of 2,048 boxes, bit for bit, and evaluates only
     the boxes beyond the first call's. With the PUMA 560's region model at EPS 0.01, its
-    budget 0.01 s_i twice (share 2: the search ends with every box within it) and 0.3 of it (no
+    budget 0.01 s_i (share 1: the search ends with every box within it) and 0.3 of it (no
     tiling reaches it: the search runs out of boxes)."""
     import gd_analyze.certify.certify as certify_module
     from gd_analyze.certify.certify import dropped_search
@@ -462,7 +462,7 @@ def test_a_resumed_branch_and_bound_gives_the_fresh_ones_bound_and_tree(monkeypa
     np.testing.assert_array_equal(again[0], fresh[0])
     np.testing.assert_array_equal(again[1], fresh[1])
     assert np.all(first[0] >= fresh[0])
-    assert np.all(fresh[0] <= limit) == (share == 2.0) == (boxes < 2048 - 256)
+    assert np.all(fresh[0] <= limit) == (share == 1.0) == (boxes < 2048 - 256)
 
 
 def test_the_trees_bound_reads_each_enclosure_as_it_was_evaluated(monkeypatch):

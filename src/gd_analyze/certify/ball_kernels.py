@@ -133,6 +133,21 @@ def _sym(a, i, j):
             a[j] if i == 2 else (a[i] if j == 2 else 0.0), a[3])
 
 
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _own(k, top):
+    """Link k's channels (gravity, the accelerations of joints 0..k, the velocity pairs of
+    joints 0..k) as indices into the forward recursion's layout of ``top`` links, (Ck,)."""
+    kk = k + 1
+    own = np.empty(1 + kk + kk * kk, np.int64)
+    own[0] = 0
+    for j in range(kk):
+        own[1 + j] = 1 + j
+    for j in range(kk):
+        for l in range(kk):
+            own[1 + kk + j * kk + l] = 1 + top + j * top + l
+    return own
+
+
 @njit(cache=True, fastmath=False, nogil=True)
 def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
     """The backward recursion of link k's columns, every box: their torques' enclosures.
@@ -186,13 +201,7 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
     g = types.shape[0]
     lo = np.zeros((B, kk, g, Ck))
     hi = np.zeros((B, kk, g, Ck))
-    own = np.empty(Ck, np.int64)
-    own[0] = 0
-    for j in range(kk):
-        own[1 + j] = 1 + j
-    for j in range(kk):
-        for l in range(kk):
-            own[1 + kk + j * kk + l] = 1 + top + j * top + l
+    own = _own(k, top)
     pairs = np.array([[0, 0], [0, 1], [0, 2], [1, 1], [1, 2], [2, 2]])
     zero = (0.0, 0.0, 0.0, 0.0)
     for b in range(B):
@@ -249,18 +258,19 @@ def backward_kernel(k, types, W, WD, VD, mid, half, P, norms, t, pris, top):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _copy(dst, src):
-    """dst[:] = src for two (m, 4) arrays of balls, element by element (a slice assignment
-    would compile numba's shape-mismatch message formatting into the kernel)."""
+    """dst[:] = src for two (m, w) arrays (balls, or :mod:`.box_kernels`' boxes), element by
+    element (a slice assignment would compile numba's shape-mismatch message formatting into
+    the kernel)."""
     for i in range(src.shape[0]):
-        for c in range(4):
+        for c in range(src.shape[1]):
             dst[i, c] = src[i, c]
 
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _zero(dst):
-    """dst[:] = 0 for an (m, 4) array of balls, element by element."""
+    """dst[:] = 0 for an (m, w) array, element by element."""
     for i in range(dst.shape[0]):
-        for c in range(4):
+        for c in range(dst.shape[1]):
             dst[i, c] = 0.0
 
 
@@ -365,6 +375,37 @@ def inertia_kernel(mid, half, P, norms, norms_t, t, pris, values, inertia, inert
     return lo, hi
 
 
+@njit(cache=True, fastmath=False, nogil=True, inline="always")
+def _forward_arrays(B, n, width):
+    """The forward recursion's arrays, zero, for B boxes, n links and vectors of ``width``
+    numbers: its results W (n, B, n, width), WD and VD (n, B, C, width), and its working
+    rows w, wp (n, width), wd, vd, a (C, width), C = 1 + n + n^2."""
+    C = 1 + n + n * n
+    return (np.zeros((n, B, n, width)), np.zeros((n, B, C, width)),
+            np.zeros((n, B, C, width)), np.zeros((n, width)), np.zeros((n, width)),
+            np.zeros((C, width)), np.zeros((C, width)), np.zeros((C, width)))
+
+
+@njit(cache=True, fastmath=False, nogil=True)
+def _active(n):
+    """Per link k of n, the channels of joints 0..k in the forward recursion's layout
+    (gravity, the accelerations of joints 0..k, the velocity pairs of joints 0..k): the
+    array (n, 1 + n + n^2) of their indices and their counts (n,)."""
+    active = np.zeros((n, 1 + n + n * n), np.int64)
+    count = np.zeros(n, np.int64)
+    for k in range(n):
+        x = 1
+        for j in range(k + 1):
+            active[k, x] = 1 + j
+            x += 1
+        for j in range(k + 1):
+            for l in range(k + 1):
+                active[k, x] = 1 + n + j * n + l
+                x += 1
+        count[k] = x
+    return active, count
+
+
 @njit(cache=True, fastmath=False, nogil=True)
 def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
     """The forward recursion of the regressor's channels, every box: the links' angular
@@ -408,48 +449,46 @@ def forward_kernel(mid, half, P, norms_t, t, pris, gravity, top):
     Table 3.3) per channel, as the regressor of Khalil & Kleinfinger (1987), in the ball
     arithmetic of :mod:`.balls`.
     """
-    B = mid.shape[0]
-    n = top
-    C = 1 + n + n * n
-    W = np.zeros((n, B, n, 4))
-    WD = np.zeros((n, B, C, 4))
-    VD = np.zeros((n, B, C, 4))
-    w = np.zeros((n, 4))
-    wp = np.zeros((n, 4))
-    wd = np.zeros((C, 4))
-    vd = np.zeros((C, 4))
-    a = np.zeros((C, 4))
+    B, n = mid.shape[0], top
+    W, WD, VD, w, wp, wd, vd, a = _forward_arrays(B, n, 4)
     ez = (0.0, 0.0, 1.0, 0.0)
+    active, count = _active(n)
     for b in range(B):
         m, h = mid[b], half[b]
         trig = _trig(m, h)
         _zero(w)
+        _zero(wp)
         _zero(wd)
         _zero(vd)
         vd[0, 0], vd[0, 1], vd[0, 2] = -gravity[0], -gravity[1], -gravity[2]
         for k in range(n):
             p = _position(k, m, h, t, P, pris)
-            for c in range(C):
+            # only the channels of joints 0..k: the others are the zero ball up to link k,
+            # and every operation below keeps a zero ball zero (its radius slack is relative)
+            for x in range(count[k]):
+                c = active[k, x]
                 _set(a, c, _add(_get(vd, c), _cross(_get(wd, c), p)))
-            for idx in range(n * n):
-                c = 1 + n + idx
-                j, l = idx // n, idx % n
-                _set(a, c, _add(_get(a, c), _cross(_get(w, j), _cross(_get(w, l), p))))
-            for c in range(C):
+            for j in range(k + 1):
+                for l in range(k + 1):
+                    c = 1 + n + j * n + l
+                    _set(a, c, _add(_get(a, c), _cross(_get(w, j), _cross(_get(w, l), p))))
+            for x in range(count[k]):
+                c = active[k, x]
                 _set(vd, c, _rot_t(k, _get(a, c), trig, P, norms_t, pris))
-            for j in range(n):
+            for j in range(k + 1):
                 _set(wp, j, _rot_t(k, _get(w, j), trig, P, norms_t, pris))
-            for c in range(C):
+            for x in range(count[k]):
+                c = active[k, x]
                 _set(wd, c, _rot_t(k, _get(wd, c), trig, P, norms_t, pris))
             if pris[k]:
                 vd[1 + k, 2] += 1.0
-                for j in range(n):
+                for j in range(k + 1):
                     c = 1 + n + j * n + k
                     zk = _cross(_get(wp, j), ez)
                     _set(vd, c, _add(_get(vd, c), _scale(zk, 2.0)))
             else:
                 wd[1 + k, 2] += 1.0
-                for j in range(n):
+                for j in range(k + 1):
                     c = 1 + n + j * n + k
                     zk = _cross(_get(wp, j), ez)
                     _set(wd, c, _add(_get(wd, c), zk))

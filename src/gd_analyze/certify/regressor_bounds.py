@@ -23,13 +23,15 @@ from numpy.typing import ArrayLike
 from . import balls
 from . import intervals as iv
 from .ball_kernels import backward_kernel, forward_kernel, inertia_kernel
+from .box_kernels import both_backward_kernel, box_forward_kernel
 from .vertex_kernel import vertex_extremes
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
-           "inertia_form_enclosure", "channel_enclosures", "channel_magnitudes", "combined_bound"]
+           "inertia_form_enclosure", "channel_enclosures", "channel_magnitudes", "combined_bound",
+           "BOX_MAX_JOINTS"]
 
 
 def channel_count(n: int) -> int:
@@ -394,6 +396,22 @@ def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
             mom = A.add(chain.rot(i, mom), A.cross(chain.p(i), f))
 
 
+def _forward_balls(robot, q_lo, q_hi, columns, gravity):
+    """What the backward kernels take of the ball forward recursion: (top, the balls
+    (:class:`_Ball`), P, t, pris, the norms of P, gravity, and
+    :func:`.ball_kernels.forward_kernel`'s (W, WD, VD) on the first ``top`` links, those the
+    columns need), or None where there are no columns."""
+    columns = np.asarray(columns, int)
+    top = int(columns.max()) // 10 + 1 if columns.size else 0
+    if top == 0:
+        return None
+    A = _Ball(q_lo, q_hi)
+    P, t, pris = _geometry(robot)
+    g = np.array(robot.gravity if gravity is None else gravity, float)
+    W = forward_kernel(A.mid, A.half, P, _norms(P.transpose(0, 2, 1)), t, pris, g, top)
+    return top, A, P, t, pris, _norms(P), g, W
+
+
 def _ball_links(robot, q_lo, q_hi, columns, gravity):
     """Per link k that has columns: (k, the positions in ``columns`` of its g columns, its
     channels' indices in :func:`channel_values`' layout (Ck), and the enclosures (lo, hi) of
@@ -403,17 +421,12 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
     accelerations of joints 0..k, the velocity pairs of joints 0..k), which are the only ones
     not exactly zero at link k. The forward recursion is :func:`_forward`'s, compiled
     (:func:`.ball_kernels.forward_kernel`)."""
-    n = robot.n
-    columns = np.asarray(columns, int)
-    top = int(columns.max()) // 10 + 1 if columns.size else 0
-    if top == 0:
+    forward = _forward_balls(robot, q_lo, q_hi, columns, gravity)
+    if forward is None:
         return
-    A = _Ball(q_lo, q_hi)
-    P, t, pris = _geometry(robot)
-    norms = _norms(P)
-    g = np.array(robot.gravity if gravity is None else gravity, float)
-    W, WD, VD = forward_kernel(A.mid, A.half, P, _norms(P.transpose(0, 2, 1)), t, pris, g, top)
-    for k, ms, _, _, ch in _links(columns, top, n):
+    top, A, P, t, pris, norms, _, (W, WD, VD) = forward
+    columns = np.asarray(columns, int)
+    for k, ms, _, _, ch in _links(columns, top, robot.n):
         lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W[k], WD[k], VD[k],
                                  A.mid, A.half, P, norms, t, pris, top)
         yield k, ms, ch, lo, hi
@@ -644,8 +657,15 @@ def channel_magnitudes(lo: np.ndarray, hi: np.ndarray, qd_max: ArrayLike,
         1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 
+#: Arms of at most this many joints have their channels enclosed in both arithmetics,
+#: intersected (:func:`channel_enclosures`); longer chains in balls alone (the boxes wrap far
+#: down a chain, and their recursion's cost grows as the balls' does).
+BOX_MAX_JOINTS = 8
+
+
 def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
-                       gravity: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
+                       gravity: ArrayLike | None = None, arithmetic: str | None = None
+                       ) -> tuple[np.ndarray, np.ndarray]:
     """Signed enclosures of every channel of each column over boxes of q.
 
     Parameters
@@ -654,6 +674,9 @@ def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns
         As :func:`pair_magnitudes`: the arm (n joints), the boxes (B, n) [rad or m], the m
         flat standard-parameter indices 10 k + c, and gravity (3,) [m/s^2], default the
         robot's.
+    arithmetic : {"ball", "box", "both"}, optional
+        Midpoint-radius balls, interval boxes, or both intersected; default both on arms of at
+        most :data:`BOX_MAX_JOINTS` joints, else balls.
 
     Returns
     -------
@@ -661,29 +684,61 @@ def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns
         lo <= channel <= hi for every q in each box (channels as :func:`channel_values`, C =
         :func:`channel_count`) [N m or N per unit parameter], by midpoint-radius evaluation of
         the recursion (:func:`pair_magnitudes`'s, without its final rounding margin), compiled
-        (:mod:`.ball_kernels`).
+        (:mod:`.ball_kernels`), and by its interval evaluation, compiled
+        (:mod:`.box_kernels`).
 
     Raises
     ------
     ValueError
-        If the boxes do not have n columns or lo > hi somewhere.
+        If the boxes do not have n columns, lo > hi somewhere, or the arithmetic is unknown.
 
     Notes
     -----
     These are what :func:`pair_magnitudes` takes the magnitudes of; kept signed, the
     enclosures of several columns can be added before the velocity and acceleration limits
     are applied (:func:`combined_bound`), so that contributions of opposite signs cancel.
+    Each arithmetic encloses every channel, so their intersection does (Moore, Kearfott &
+    Cloud 2009, Ch. 6); the balls are the tighter on gravity and far down a chain, the boxes
+    on the inertial and velocity channels near the column's own joint (a ball gives a
+    vector's three components one radius).
     """
     q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
+    if arithmetic is None:
+        arithmetic = "both" if n <= BOX_MAX_JOINTS else "ball"
+    if arithmetic not in ("ball", "box", "both"):
+        raise ValueError(f"arithmetic must be 'ball', 'box' or 'both', got {arithmetic!r}")
     columns = np.asarray(columns, int)
     shape = (q_lo.shape[0], channel_count(n), n, columns.size)
     lo, hi = np.zeros(shape), np.zeros(shape)
+    if arithmetic != "ball":
+        _boxes_and_balls(robot, q_lo, q_hi, columns, gravity, arithmetic == "box", lo, hi)
+        return lo, hi
     for k, ms, ch, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
         for i in range(k + 1):
             lo[:, ch[:, None], i, ms[None, :]] = lo_k[:, i].transpose(0, 2, 1)
             hi[:, ch[:, None], i, ms[None, :]] = hi_k[:, i].transpose(0, 2, 1)
     return lo, hi
+
+
+def _boxes_and_balls(robot, q_lo, q_hi, columns, gravity, alone, lo, hi):
+    """:func:`channel_enclosures` in both arithmetics, intersected (or, ``alone``, in boxes
+    alone), written into ``lo`` and ``hi`` (B, C, n, m): the forward recursions compiled
+    apart (the boxes intersected with the balls link by link), the backward ones together,
+    link by link (:func:`.box_kernels.both_backward_kernel`). In boxes alone, the array code
+    of :func:`_column_groups` with :class:`_Box` is the kernels' test oracle."""
+    forward = _forward_balls(robot, q_lo, q_hi, columns, gravity)
+    if forward is None:
+        return
+    top, A, P, t, pris, norms, g, (W, WD, VD) = forward
+    columns = np.asarray(columns, int)
+    q_lo, q_hi = np.ascontiguousarray(q_lo), np.ascontiguousarray(q_hi)
+    X, XD, XV = box_forward_kernel(q_lo, q_hi, P, t, pris, g, top,
+                                   None if alone else (W, WD, VD))
+    for k, ms, _, _, ch in _links(columns, top, robot.n):
+        both_backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), ms, ch,
+                             (W[k], WD[k], VD[k]), (X[k], XD[k], XV[k]), A.mid, A.half, norms,
+                             q_lo, q_hi, P, t, pris, top, alone, lo, hi)
 
 
 def combined_bound(mid: np.ndarray, rad: np.ndarray, qd_max: ArrayLike,
