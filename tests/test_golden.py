@@ -137,8 +137,9 @@ def test_round_off_is_compared_against_its_stated_scale():
     """An error against an exact model is round-off: compared against the torque scale, not
     against its own size, and a real error fails."""
     golden = _golden("ur5", "results.h5.frozen.json")
-    peak = golden["leaves"]["var/tau_error_peak"]["values"]
-    assert max(peak) < 1e-12                           # round-off on the UR5
+    # errors of round-off size, as an exact model's (no shipped arm's main job model is exact)
+    peak = [1e-14 * (1 + i) for i in range(len(golden["leaves"]["var/tau_error_peak"]["values"]))]
+    golden["leaves"]["var/tau_error_peak"]["values"] = peak
     noise = copy.deepcopy(golden)
     noise["leaves"]["var/tau_error_peak"]["values"] = [3 * v for v in peak]
     assert compare_frozen(golden, noise) == []

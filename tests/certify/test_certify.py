@@ -82,7 +82,8 @@ def _rnea(robot, q, qd, qdd):
 
 
 @pytest.mark.parametrize("name,eps", [("puma560", 0.05), ("puma560", 0.01), ("panda", 0.02),
-                                      ("ur5", 0.05), ("mixed", 0.05), ("prismatic-first", 0.05)])
+                                      ("ur5", 0.05), ("ur5", 0.01), ("mixed", 0.05),
+                                      ("prismatic-first", 0.05)])
 def test_the_region_bound_holds_at_every_sampled_state(name, eps):
     robot = _robot(name)
     region = joint_region(robot, acceleration_limits(robot)[0])
