@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from conftest import SHIPPED
 
+from gd_analyze.certify import regressor_bounds
 from gd_analyze.certify.screen import MIN_SAVING
 from gd_analyze.cli import main
 from gd_analyze.simplify.deploy import robot_region
@@ -173,6 +174,9 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     from gd_analyze.symbolic.recursive import parts_program
 
     monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
+    # the joint sums in balls alone, as on chains of more than BOX_MAX_JOINTS joints: with the
+    # balls intersected with interval boxes the search on this chain saves 2.2 %
+    monkeypatch.setattr(regressor_bounds, "BOX_MAX_JOINTS", 0)
     robot = _random_chain(5)
     base = base_parameters(robot)
     region, _ = robot_region(robot)
