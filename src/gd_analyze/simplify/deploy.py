@@ -95,7 +95,7 @@ RESTORED_MIN_SAVING = 0.015
 SCOUT_BOXES, SCOUT_RATIO = 2048, 1.5
 #: Boxes of the scout on the first links' pairs of a set bounded by the decomposition
 #: (:class:`_JointBound`), which rejects the set above :data:`SCOUT_RATIO` times ``enough``.
-DECOMPOSED_SCOUT_BOXES = 2048
+DECOMPOSED_SCOUT_BOXES = 4096
 #: Whether the region search also searches with the decomposed bound
 #: (:func:`gd_analyze.certify.certify.decomposed_bound`, :func:`_region_pruning`); False:
 #: the search before it alone.
