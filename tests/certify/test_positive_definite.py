@@ -17,6 +17,7 @@ import pytest
 from robot_files import crba, inertia_arm
 
 from gd_analyze import SimplifiedModel, load_robot
+from gd_analyze.certify import regressor_bounds
 from gd_analyze.certify.positive_definite import (
     check_inertia,
     inertia_floor,
@@ -81,13 +82,15 @@ def test_check_inertia_on_known_matrices():
 
 def _default(key):
     """The robot's default region model (EPS = 1 %), before and after the proof, searched
-    without the decomposed bound (``deploy.DECOMPOSE`` False): the models of the issue's
-    planes (with it, the Kinova's default model drops other pairs and needs no restore)."""
+    without the decomposed bound (``deploy.DECOMPOSE`` False) and with the joint sums in balls
+    alone (``regressor_bounds.BOX_MAX_JOINTS`` 0): the models of the issue's planes (with
+    either, the Kinova's default model drops other pairs and needs no restore)."""
     if key not in _DEFAULT:
         robot = inertia_arm(key)
         region, _, _ = guarantee_region(robot)
         q, qd, qdd = random_states(robot, 40, 1)
-        with mock.patch.object(deploy, "DECOMPOSE", False):
+        with mock.patch.object(deploy, "DECOMPOSE", False), \
+                mock.patch.object(regressor_bounds, "BOX_MAX_JOINTS", 0):
             model, _ = build_recursive(robot, q, qd, qdd, 0.01, region=region,
                                        sample_region=region)
             proved = with_inertia_check(model, q, rebuild=restored_rebuild(
