@@ -62,8 +62,10 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
         with kept_in_the_draw(fig):     # ticks and text layouts worked out once a drawing
-            cid = fig.canvas.mpl_connect(       # a DrawEvent (a bare Event to some versions)
-                "draw_event", lambda event: extent.append(text_extent(fig, event.renderer)))
+            def measure(event: Any) -> None:    # a DrawEvent (a bare Event to some versions)
+                extent.append(text_extent(fig, event.renderer))
+
+            cid = fig.canvas.mpl_connect("draw_event", measure)
             try:
                 fig.savefig(buf, format="svg", metadata=meta)
             finally:
