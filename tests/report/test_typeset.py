@@ -400,12 +400,13 @@ def test_no_last_page_of_a_few_lines(tmp_path, tail):
 
 
 def test_the_command_row_keeps_its_options_whole_wherever_its_line_breaks(tmp_path):
-    # plain text breaks a line after the "-" of "-o", and a PDF reader then joins the lines as
-    # a hyphenated word ("... -" / "o /out" is read "... o /out"); the provenance row sets the
-    # command as code, which breaks at spaces and slashes only
+    # plain text breaks a line after the "-" of "-o", code after the "--" of "--payload-sweep",
+    # and a PDF reader then joins the two lines as one hyphenated word, a hyphen short ("... o
+    # /out", "... -payload-sweep"); the provenance row sets the command as code, and the
+    # template keeps a short word that begins with a hyphen whole
     for n in range(24):
-        command = (f"gd-analyze control /tmp/{'m' * n}/simplified_model.json "
-                   "data/puma560_trajectory.csv -o /tmp/out/control --latex -q")
+        command = (f"gd-analyze puma560 data/{'m' * n}/trajectory.csv -o /tmp/out/control "
+                   "--payload-sweep 0:2.5:1.25 --paper letter --latex -q")
         label, value = command_row(command)
         o = Outline("Report")
         o.table({"header": ["item", "value"], "rows": [["software", "x"], [label, value]],
@@ -413,7 +414,8 @@ def test_the_command_row_keeps_its_options_whole_wherever_its_line_breaks(tmp_pa
                 "provenance", kv=True, size=7)
         path = tmp_path / "doc.pdf"
         write_pdf(o, {}, path, metadata={}, footer="f")
-        flat = re.sub(r"\s+", " ", text(path))
-        for option in (" -o /tmp/out/control ", " --latex -q"):
+        flat = re.sub(r"/ ", "/", re.sub(r"\s+", " ", text(path)))    # a path breaks at "/"
+        for option in (" -o /tmp/out/control ", " --payload-sweep 0:2.5:1.25 --paper letter ",
+                       " --latex -q"):
             assert option in flat, (n, flat)
     assert command_row(None) == ("command", None)
