@@ -5,8 +5,8 @@
 
 Times :func:`gd_analyze.ranking.kernels.ranking_kernel` of this checkout ("after") against
 the same kernel of git revision REV ("before": its ``src/gd_analyze/ranking/kernels.py``,
-imported from a temporary copy; it must take the running sums and peaks as arrays of their
-own, as before the statistics array). Both are fed the same G-D terms and torques of N random
+imported from a temporary copy; any of the kernel's three layouts: the running sums and peaks
+as arrays of their own, one statistics array, or the statistics of a chunk's segments). Both are fed the same G-D terms and torques of N random
 set points of the robot (made ahead, chunk by chunk), in the main job's chunks of
 ``STREAM_CHUNK`` rows, each kernel compiled (or loaded from numba's cache) before the rounds.
 The rounds are interleaved (before, after, after, before, ...); prints one JSON line: each
@@ -44,7 +44,9 @@ def load_before(rev, folder):
                           capture_output=True, text=True).stdout
     path = Path(folder) / "ranking_kernels_before.py"
     path.write_text(text)
-    spec = importlib.util.spec_from_file_location("ranking_kernels_before", path)
+    # named inside the package: its relative imports (the statistics' rows) resolve there
+    spec = importlib.util.spec_from_file_location("gd_analyze.ranking.ranking_kernels_before",
+                                                  path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -72,25 +74,35 @@ def inputs(robot, N, chunk, seed=0):
     return chunks, armature
 
 
-def runner(kernels, n, armature, before):
-    """call(chunks) -> None: a fresh accumulator's arrays fed every chunk by ``kernels``."""
+def runner(kernels, n, armature):
+    """call(chunks) -> None: a fresh accumulator's arrays fed every chunk by ``kernels``, in
+    the layout its ``ranking_kernel`` takes (told by its number of arguments): five running
+    sums and peaks of their own (14), one statistics array (10), or the statistics of the
+    chunk's segments, here one segment per chunk (11)."""
+    from gd_analyze.ranking.statistics import ROWS
+
     m = n * (n + 1) // 2 + n
     iu = np.triu_indices(n)
     arm = np.zeros(m)
     arm[:iu[0].size] = np.where(iu[0] == iu[1], armature[iu[0]], 0.0)
+    arguments = kernels.ranking_kernel.py_func.__code__.co_argcount
 
     def call(chunks):
         scale_D, peak_tau = np.zeros(iu[0].size), np.zeros(n)
-        if before:
+        if arguments == 14:
             sums_peaks = [np.zeros(m) for _ in range(5)]
             for ch in chunks:
                 kernels.ranking_kernel(*ch, arm, armature, *sums_peaks, scale_D, peak_tau)
-        else:
-            from gd_analyze.ranking.statistics import ROWS
-
+        elif arguments == 10:
             stats = np.zeros((len(ROWS), m))
             for ch in chunks:
                 kernels.ranking_kernel(*ch, arm, armature, stats, scale_D, peak_tau)
+        else:
+            stats = np.zeros((1, len(ROWS), m))
+            for ch in chunks:
+                bounds = np.array([0, ch[2].shape[0]], np.int64)
+                kernels.ranking_kernel(*ch, arm, armature, bounds, stats, scale_D[None],
+                                       peak_tau[None])
     return call
 
 
@@ -111,8 +123,8 @@ def main(argv=None):
     chunks, armature = inputs(robot, args.setpoints, STREAM_CHUNK)
     with tempfile.TemporaryDirectory() as folder:
         before = load_before(args.before, folder)
-        calls = {"before": runner(before, robot.n, armature, True),
-                 "after": runner(after, robot.n, armature, False)}
+        calls = {"before": runner(before, robot.n, armature),
+                 "after": runner(after, robot.n, armature)}
         for call in calls.values():             # compile or load, outside the rounds
             call(chunks[:1])
         load = [os.getloadavg()[0]]

@@ -16,9 +16,10 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -28,11 +29,10 @@ from ..dynamics import pinocchio as reference
 from ..dynamics.compare import FORMULATIONS_MAX_SETPOINTS, formulations_dataset
 from ..dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..files import atomic_path
-from ..model.drives import has_drives
 from ..model.limits import check_finite
 from ..ranking.chapter_comparison import CHAPTER_CHOICES, S_VALUES, agreement_against_s, block_leads
 from ..ranking.labels import joint_torque_units
-from ..ranking.ranking import RankingAccumulator, arm_scales, is_chapter_puma, is_round_off
+from ..ranking.ranking import TermsRanking, arm_scales, is_chapter_puma, is_round_off
 from ..simplify.budget import PartPeaks
 from ..simplify.choices import recursive_choices
 from ..simplify.form_choice import deploy
@@ -54,7 +54,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
     from ..trajectory.trajectory import Trajectory
 
-__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analyze", "analyze_to_file", "verify",
+__all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analysis_passes", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
            "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "CHUNK_JOINTS", "stream_chunk",
            "progress_bar"]
@@ -224,9 +224,9 @@ class AnalysisPass:
     error: dict
     verification: dict
     costs: object
-    terms: object
-    tau: object
-    tau_simplified: object
+    terms: object = None
+    tau: object = None
+    tau_simplified: object = None
     model: object = None
     simplified: object = None
     chapter_error: object = None
@@ -309,18 +309,68 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     """
     chunk = stream_chunk(robot.n) if chunk is None else chunk
     options = AnalysisOptions() if options is None else options
-    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms)
+    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms, None)
     if options.simplify is None:
-        return _analysis_pass(*args, background=None)
+        return _analysis_pass(*args, background=None)[0]
     # the simplification's compiled peak passes need only the trajectory: they run in threads
     # (the kernels release the GIL) beside the pass over the G-D terms, always
     with ThreadPoolExecutor(max_workers=2, thread_name_prefix="gd-peaks") as pool:
         background = start_peaks(pool, robot, trajectory, options.simplify, DERIVATIONS)
         try:
-            return _analysis_pass(*args, background=background)
+            return _analysis_pass(*args, background=background)[0]
         finally:
             for job in background.values():
                 job.cancel()
+
+
+def analysis_passes(robot: Robot, trajectories: Sequence[Trajectory], options: AnalysisOptions,
+                    progress: bool | tqdm = False) -> list[AnalysisPass]:
+    """:func:`analysis_pass` of K trajectories in one pass: a sweep's many short ones.
+
+    The trajectories' set points are taken one after another as one chunk, their G-D terms
+    computed in one call of :func:`gd_analyze.dynamics.dalembert.gd_terms`; the ranking, the
+    simplified model's torque and its error are accumulated per trajectory over its own
+    segment of the chunk (:class:`gd_analyze.ranking.ranking.RankingAccumulator` with
+    ``trajectories``), so each result is, bit for bit, the trajectory's own
+    :func:`analysis_pass` in one chunk, at the cost of one pass instead of K.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints.
+    trajectories : sequence of Trajectory
+        K >= 1 trajectories, each q, qd, qdd of shape (N_k, n), N_k >= 1
+        [rad, rad/s, rad/s^2].
+    options : AnalysisOptions
+        s and e of the ranking; nothing verified, compared or built (``verify`` and
+        ``formulations`` False, ``simplify`` None: each trajectory's model is its ranking's
+        choices, masked), as a sweep's.
+    progress : bool or tqdm.tqdm, optional
+        As for :func:`analysis_pass`.
+
+    Returns
+    -------
+    list of AnalysisPass
+        K of them, in order: ``ranking``, ``choices``, ``error``, and ``terms``, ``tau`` and
+        ``tau_simplified`` (views of the trajectory's rows); ``verification`` empty.
+
+    Raises
+    ------
+    ValueError
+        If there are no trajectories, one has no set points, the options ask for a check, a
+        comparison or a model, or the thresholds are out of range.
+
+    Notes
+    -----
+    Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
+    """
+    if options.verify or options.formulations or options.simplify is not None:
+        raise ValueError("analysis_passes ranks only: no verify, formulations or simplify")
+    # the trajectories one after another: what the pass reads of a trajectory
+    stacked = SimpleNamespace(**{k: np.concatenate([getattr(tr, k) for tr in trajectories],
+                                                   dtype=float) for k in ("q", "qd", "qdd")})
+    return _analysis_pass(robot, stacked, options, None, len(stacked.q), None, progress, None,
+                          np.cumsum([len(tr.q) for tr in trajectories]), background=None)
 
 
 def _other_update(other, errors, q, qd, qdd, tau):
@@ -329,14 +379,18 @@ def _other_update(other, errors, q, qd, qdd, tau):
 
 
 def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
-                   background):
-    """:func:`analysis_pass` with the simplification's peak passes started (``background``)."""
+                   ends, background):
+    """:func:`analysis_pass` with the simplification's peak passes started (``background``);
+    with ``ends`` (the ends of K trajectories' segments of the set points, as
+    :func:`analysis_passes` stacks them) the analysis of each: a list of K passes (one
+    without)."""
 
     check, formulations, simplify = options.verify, options.formulations, options.simplify
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
     N, n = q.shape
     chunk = max(1, int(chunk))
     ranges = [(a, min(a + chunk, N)) for a in range(0, N, chunk)]
+    ends = np.array([N] if ends is None else ends, np.int64)
     hold = writer is None or len(ranges) == 1
     idx_verify = _subsample(N, VERIFY_MAX_SETPOINTS) if check else np.zeros(0, int)
     idx_form = _subsample(N, FORMULATIONS_MAX_SETPOINTS) if formulations else np.zeros(0, int)
@@ -345,10 +399,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     idx_choice = _subsample(N, _CHOICE_SETPOINTS) if simplify is not None else np.zeros(0, int)
     sample_idx = np.union1d(np.union1d(idx_verify, idx_form), idx_choice).astype(int)
     samples, held, held_tau = [], [], []
-    ranker = RankingAccumulator(n)
-    # an arm with drives is also ranked as its rigid links alone (the chapter's model), in
-    # the same pass
-    rigid = RankingAccumulator(n) if has_drives(robot) else None
+    ranker = TermsRanking(robot, ends)
     parts = PartPeaks(n) if simplify is not None else None
     # the chapter's own simplified model (its classes of Figs. 3.10-3.11), measured in the
     # same pass on its PUMA 560 when a model is built (the main job; not a sweep's ranking)
@@ -367,13 +418,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
         D, h = terms.D, terms.h                 # formed once: for tau and the file
         tau = terms.tau(qdd[a:b], D=D, h=h)
         _check_finite(terms, tau)
-        ranker.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau,
-                      armature=terms.armature)
-        if rigid is not None:
-            tau_rigid = tau - robot.armature * qdd[a:b]
-            if terms.tau_f is not None:
-                tau_rigid -= terms.tau_f
-            rigid.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, tau_rigid)
+        ranker.update(terms, tau, qdd[a:b], at=a)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)
         if chapter is not None:
@@ -390,11 +435,10 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             held.append(terms)
             held_tau.append(tau)
         bar.update(b - a)
-    ranking = ranker.result(dominance=options.dominance, negligible=options.negligible)
-    if rigid is not None:
-        ranking = dataclasses.replace(ranking, rigid_dominance=rigid.result(
-            dominance=options.dominance, negligible=options.negligible).dominance)
-    choices = ranking.choices()
+    rankings = ranker.results(dominance=options.dominance, negligible=options.negligible)
+    ranking = rankings[0]
+    each_choices = [r.choices() for r in rankings]
+    choices = each_choices[0]
     model = simplified = other = None
     if simplify is not None:
         deployed = deploy(robot, trajectory, ranking, parts, simplify, provenance or {},
@@ -404,7 +448,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
         choices = model.choices
     bar.reset(total=N)
     bar.set_description("simplified model")
-    errors = TorqueErrorAccumulator(n)
+    errors = TorqueErrorAccumulator(n, trajectories=len(ends))
     # the model of the other rule, compared side by side: its error in the same pass
     other_errors = None if other is None else TorqueErrorAccumulator(n)
     tau_s_all = []
@@ -434,9 +478,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                     pending.result()
                 pending = side.submit(_other_update, other, other_errors, q[a:b], qd[a:b],
                                       qdd[a:b], tau)
-            tau_s = simplified_torque(terms, choices, qdd[a:b]) if model is None else \
-                model.torque(q[a:b], qd[a:b], qdd[a:b])
-            errors.update(tau_s, tau)
+            tau_s = simplified_torque(terms, each_choices, qdd[a:b], ends, at=a) \
+                if model is None else model.torque(q[a:b], qd[a:b], qdd[a:b])
+            errors.update(tau_s, tau, ends, at=a)
             if rungs is not None:
                 if measuring is not None:
                     measuring.result()
@@ -467,13 +511,16 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     if model is not None and model.recursive is not None:
         choices = recursive_choices(model, q[idx_choice], qd[idx_choice], sampled(idx_choice),
                                     ranking)
-    return AnalysisPass(ranking=ranking, choices=choices, error=_marked(errors.result(), robot),
-                 verification=verification, costs=costs,
-                 terms=_concat(held) if hold else None,
-                 tau=np.concatenate(held_tau) if hold else None,
-                 tau_simplified=np.concatenate(tau_s_all) if hold else None,
-                 model=model, simplified=simplified,
-                 chapter_error=None if chapter is None else _marked(chapter.result(), robot))
+    # each trajectory's rows of what was held (views)
+    whole = hold and (_concat(held), np.concatenate(held_tau), np.concatenate(tau_s_all))
+    return [AnalysisPass(
+        ranking=ranking, choices=choices if len(ends) == 1 else own, error=error,
+        verification=verification, costs=costs, model=model, simplified=simplified,
+        **({} if not whole else {"terms": whole[0].rows(slice(a, b)), "tau": whole[1][a:b],
+                                     "tau_simplified": whole[2][a:b]}),
+        chapter_error=None if chapter is None else _marked([chapter.result()], robot)[0])
+        for ranking, own, error, a, b in zip(rankings, each_choices, _marked(
+            errors.results(), robot), [0, *ends[:-1].tolist()], ends.tolist())]
 
 
 #: Set points (evenly spread) on which a recursive model's D_s and h_s are compared with D
@@ -481,16 +528,17 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
 _CHOICE_SETPOINTS = 64
 
 
-def _marked(error, robot):
-    """The torque error with ``round_off`` per joint: True where its peak is floating-point
-    round-off by the reports' one rule (:func:`gd_analyze.ranking.ranking.is_round_off`
-    of peak |tau_i| and of the arm's), so the stored numbers are never read as data."""
+def _marked(errors, robot):
+    """The torque errors (of one trajectory each) with ``round_off`` per joint: True where its
+    peak is floating-point round-off by the reports' one rule
+    (:func:`gd_analyze.ranking.ranking.is_round_off` of peak |tau_i| and of the arm's), so
+    the stored numbers are never read as data."""
 
     units = [joint_torque_units(bool(p)) for p in robot.prismatic]
-    tau = np.asarray(error["peak_tau"], float)
-    off = is_round_off(np.asarray(error["peak_abs_error"], float), tau,
-                       arm_scale=arm_scales(tau, units))
-    return {**error, "round_off": [bool(v) for v in np.atleast_1d(off)]}
+    tau = np.array([error["peak_tau"] for error in errors], float).reshape(len(errors), -1)
+    peak = np.array([error["peak_abs_error"] for error in errors], float).reshape(tau.shape)
+    off = is_round_off(peak, tau, arm_scale=arm_scales(tau, units)).tolist()
+    return [{**error, "round_off": each} for error, each in zip(errors, off)]
 
 
 def _provenance(trajectory, settings):

@@ -51,7 +51,7 @@ from ..store.names import SweepAttr as SA
 from ..store.schema import attribute_value
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
-from .analyze import analysis_pass
+from .analyze import analysis_pass, analysis_passes
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
 
@@ -205,41 +205,24 @@ def _summary(trajectory, result):
     }
 
 
-def _error_stats(trajectory, terms, choices):
-    """Accumulated torque error of a simplified model along one trajectory."""
-    acc = TorqueErrorAccumulator(terms.c.shape[1])
-    acc.update(simplified_torque(terms, choices, trajectory.qdd), terms.tau(trajectory.qdd))
-    return {"peak": acc.peak.copy(), "sum_sq": acc.sum_sq.copy(), "count": acc.count,
-            "peak_tau": acc.peak_tau.copy()}
+def _groups(trajectories, max_setpoints=_GROUP_SETPOINTS):
+    """Yield consecutive groups of the trajectories, in order, each of at most max_setpoints
+    set points (a longer trajectory alone).
 
-
-def _batch_terms(robot, trajectories, max_setpoints=_GROUP_SETPOINTS):
-    """Yield (trajectory, GDTerms) for each trajectory, in order.
-
-    The terms of consecutive trajectories are computed in one call of :func:`gd_terms` (at
-    most max_setpoints set points at a time, a longer trajectory alone): for 31-set-point
+    The G-D terms of a group are computed in one call of :func:`gd_terms`: for 31-set-point
     trajectories the per-call overhead dominates. The kernel computes every set point on its
     own, so the terms, to the last bit, and the shares of round-off-level elements are those
     of :func:`analyze_one`."""
     group, size = [], 0
-
-    def flush():
-        if not group:
-            return []
-        q = np.concatenate([np.asarray(tr.q, float) for tr in group])
-        qd = np.concatenate([np.asarray(tr.qd, float) for tr in group])
-        terms = gd_terms(robot, q, qd)
-        ends = np.cumsum([0] + [tr.q.shape[0] for tr in group]).tolist()
-        return [(tr, terms.rows(slice(a, b))) for tr, a, b in zip(group, ends, ends[1:])]
-
     for tr in trajectories:
         N = np.shape(tr.q)[0]
         if group and size + N > max_setpoints:
-            yield from flush()
+            yield group
             group, size = [], 0
         group.append(tr)
         size += N
-    yield from flush()
+    if group:
+        yield group
 
 
 def _ranking_only(dominance, negligible):
@@ -250,11 +233,11 @@ def _ranking_only(dominance, negligible):
 
 def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     options = _ranking_only(dominance, negligible)
-    silent = tqdm(disable=True)     # one per task: a disabled bar per trajectory costs more
-    #                                 than ranking a short trajectory's set points
-    out = [_summary(tr, analysis_pass(robot, tr, options, chunk=tr.q.shape[0], terms=terms,
-                                      progress=silent))
-           for tr, terms in _batch_terms(robot, trajectories)]
+    silent = tqdm(disable=True)     # one per task: a disabled bar per group costs more than
+    #                                 ranking a short trajectory's set points
+    # each group in one pass (analysis_passes): every trajectory's analysis_pass at once
+    out = [_summary(tr, result) for group in _groups(trajectories)
+           for tr, result in zip(group, analysis_passes(robot, group, options, silent))]
     if base is not None:        # the recursive model's peaks, per trajectory
 
         stack = [np.concatenate([np.asarray(getattr(tr, k), float) for tr in trajectories])
@@ -266,7 +249,19 @@ def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
 
 
 def _error_batch(robot, trajectories, choices):
-    return [_error_stats(tr, terms, choices) for tr, terms in _batch_terms(robot, trajectories)]
+    """The accumulated torque error of one simplified model (``choices``) along each
+    trajectory, a group of them at a time: ``peak``, ``sum_sq``, ``count``, ``peak_tau``."""
+    out = []
+    for group in _groups(trajectories):
+        q, qd, qdd = (np.concatenate([getattr(tr, k) for tr in group], dtype=float)
+                      for k in ("q", "qd", "qdd"))
+        terms = gd_terms(robot, q, qd)
+        acc = TorqueErrorAccumulator(terms.c.shape[1], trajectories=len(group))
+        acc.update(simplified_torque(terms, choices, qdd), terms.tau(qdd),
+                   ends=np.cumsum([np.shape(tr.q)[0] for tr in group]))
+        out += [{"peak": p, "sum_sq": s, "count": c, "peak_tau": t} for p, s, c, t in zip(
+            acc.peak, acc.sum_sq, acc.count.tolist(), acc.peak_tau)]
+    return out
 
 
 def _errors_task(packed, trajectories):

@@ -69,9 +69,10 @@ def _element(c, e, t, r, a):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath=False, nogil=True)
-def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, stats, scale_D,
+def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, bounds, stats, scale_D,
                    peak_tau):  # pragma: no cover - compiled
-    """Add a chunk of set points to the ranking's running statistics, in place.
+    """Add a chunk of set points to the ranking's running statistics, in place, each of its
+    segments (consecutive set points of one trajectory) to its own trajectory's.
 
     Parameters
     ----------
@@ -85,50 +86,59 @@ def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, stats, scale_D
         The armature on each element (Ia_i on D_ii, 0 elsewhere) [kg m^2].
     arm_d : ndarray, shape (n,)
         The armature Ia [kg m^2] (zeros without drives).
-    stats : ndarray, shape (len(ROWS), M)
-        The running statistics of each element's series, row r being entry r of
-        :data:`gd_analyze.ranking.statistics.ROWS`: sums of |x| and peaks of |x| in the
-        element's units ([kg m^2] for D, [N m] for h), sums of x^2 in their squares; updated.
-    scale_D : ndarray, shape (n (n + 1) / 2,)
+    bounds : ndarray of int, shape (S + 1,)
+        The segments' bounds in the chunk: segment s is rows bounds[s] .. bounds[s + 1] - 1
+        (bounds[0] = 0, bounds[S] = N; one segment for a chunk of one trajectory).
+    stats : ndarray, shape (S, len(ROWS), M)
+        The running statistics of each segment's trajectory, per element and series, row r
+        being entry r of :data:`gd_analyze.ranking.statistics.ROWS`: sums of |x| and peaks of
+        |x| in the element's units ([kg m^2] for D, [N m] for h), sums of x^2 in their
+        squares; updated.
+    scale_D : ndarray, shape (S, n (n + 1) / 2)
         The running peak sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) [kg m^2],
         updated.
-    peak_tau : ndarray, shape (n,)
+    peak_tau : ndarray, shape (S, n)
         The running peak |tau_i| [N m], updated.
 
     Notes
     -----
     The M = n (n + 1) / 2 + n elements are the upper triangle of D row by row, then h
     (:func:`gd_analyze.ranking.ranking.element_series`); the series and statistics are those
-    of :mod:`gd_analyze.ranking.statistics`. The chunk's statistics are formed apart, element
+    of :mod:`gd_analyze.ranking.statistics`. A segment's statistics are formed apart, element
     by element in one block (faster than updating the running peaks in place): a sum is the
-    chunk's values added in row order to 0, then added to the running sum (module docstring);
-    a peak is the chunk's from 0 (|x| >= 0), then the larger of it and the running one, NaN
-    propagating as it would row by row.
+    segment's values added in row order to 0, then added to the running sum (module
+    docstring); a peak is the segment's from 0 (|x| >= 0), then the larger of it and the
+    running one, NaN propagating as it would row by row. A segment's statistics are thus
+    those of a chunk holding it alone.
     """
-    N, n = h_tran.shape
+    n = h_tran.shape[1]
     T = n * (n + 1) // 2
     M = T + n
-    c = np.zeros((M, N_ROWS))           # the chunk's statistics, element by element
+    c = np.empty((M, N_ROWS))           # a segment's statistics, element by element
     diag = np.empty(n)
-    for k in range(N):
-        for i in range(n):
-            v = (D_tran[k, i, i] + D_rot[k, i, i]) + arm_d[i]
-            diag[i] = v if (v >= 0.0 or v != v) else 0.0
-        e = 0
-        for i in range(n):
-            for j in range(i, n):
-                _element(c, e, D_tran[k, i, j], D_rot[k, i, j], arm[e])
-                scale_D[e] = _peak(scale_D[e], np.sqrt(diag[i] * diag[j]))
+    for s in range(bounds.shape[0] - 1):
+        c[:, :] = 0.0
+        scale = scale_D[s]              # the segment's trajectory's running peaks
+        peak = peak_tau[s]
+        for k in range(bounds[s], bounds[s + 1]):
+            for i in range(n):
+                v = (D_tran[k, i, i] + D_rot[k, i, i]) + arm_d[i]
+                diag[i] = v if (v >= 0.0 or v != v) else 0.0
+            e = 0
+            for i in range(n):
+                for j in range(i, n):
+                    _element(c, e, D_tran[k, i, j], D_rot[k, i, j], arm[e])
+                    scale[e] = _peak(scale[e], np.sqrt(diag[i] * diag[j]))
+                    e += 1
+            for i in range(n):
+                _element(c, e, h_tran[k, i], h_rot[k, i], arm[e])
+                peak[i] = _peak(peak[i], abs(tau[k, i]))
                 e += 1
-        for i in range(n):
-            _element(c, e, h_tran[k, i], h_rot[k, i], arm[e])
-            peak_tau[i] = _peak(peak_tau[i], abs(tau[k, i]))
-            e += 1
-    for e in range(M):
-        for r in range(SUMS):
-            stats[r, e] += c[e, r]
-        for r in range(SUMS, N_ROWS):
-            stats[r, e] = _peak(stats[r, e], c[e, r])
+        for e in range(M):
+            for r in range(SUMS):
+                stats[s, r, e] += c[e, r]
+            for r in range(SUMS, N_ROWS):
+                stats[s, r, e] = _peak(stats[s, r, e], c[e, r])
 
 
 @njit(cache=True, fastmath=False, nogil=True)

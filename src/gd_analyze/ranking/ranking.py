@@ -36,11 +36,14 @@ joint), whatever the element's class.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..config import ROUND_OFF, ROUND_OFF_EPS, defaults
+from ..model.drives import has_drives
 from .labels import (
     element_index,
     element_label,
@@ -51,7 +54,14 @@ from .labels import (
     joint_units_text,
     parse_element_label,
 )
+from .segments import chunk_segments
 from .statistics import ROWS, row
+
+if TYPE_CHECKING:                       # for the type hints only
+    from numpy.typing import NDArray
+
+    from ..dynamics.dalembert import GDTerms
+    from ..model.robot import Robot
 
 __all__ = [
     "CLASSES", "DEFAULT_DOMINANCE", "DEFAULT_NEGLIGIBLE", "Ranking", "element_labels",
@@ -71,17 +81,18 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
 
     Parameters
     ----------
-    peak_tran, peak_rot, peak_total : ndarray, shape (M,)
-        Peak |part| of each element over the set points; M = n (n + 1) / 2 + n (D's upper
-        triangle, then h) or any M (each element on its own scale only).
-    scale : ndarray, shape (M,)
+    peak_tran, peak_rot, peak_total : ndarray, shape (M,) or (K, M)
+        Peak |part| of each element over the set points (of each of K trajectories, each
+        judged on its own); M = n (n + 1) / 2 + n (D's upper triangle, then h) or any M
+        (each element on its own scale only).
+    scale : ndarray, shape (M,) or (K, M)
         Each element's own scale (peak sqrt(D_ii D_jj) [kg m^2] or peak |tau_i| [N m]).
     tol : float, optional
         The fraction of the scale below which a part counts as zero.
 
     Returns
     -------
-    ndarray of bool, shape (M,)
+    ndarray of bool, shape (M,) or (K, M)
         True where all three peaks are <= tol * scale, or at most :data:`ROUND_OFF_EPS`
         machine epsilons of the largest scale of its kind, D or h (the arm's floor of
         :func:`is_round_off`: the rounding of sums over the whole chain). Where the scale is
@@ -109,13 +120,13 @@ def identically_zero(peak_tran, peak_rot, peak_total, scale, tol=ZERO_TOL):
     scale = np.abs(np.asarray(scale, dtype=float))
     ref = scale.copy()
     floor = np.zeros_like(scale)
-    m = scale.size
+    m = scale.shape[-1] if scale.ndim else 0
     n = int(round((-3 + np.sqrt(9 + 8 * m)) / 2)) if m else 0
     if n * (n + 3) // 2 == m and m:
         for part in (slice(0, m - n), slice(m - n, m)):
-            big = np.max(scale[part], initial=0.0)
-            ref[part] = np.where(scale[part] <= tol * big, big, scale[part])
-            floor[part] = ROUND_OFF_EPS * np.finfo(float).eps * big
+            big = np.max(scale[..., part], axis=-1, initial=0.0, keepdims=True)
+            ref[..., part] = np.where(scale[..., part] <= tol * big, big, scale[..., part])
+            floor[..., part] = ROUND_OFF_EPS * np.finfo(float).eps * big
     peak = np.fmax(np.fmax(np.abs(peak_tran), np.abs(peak_rot)), np.abs(peak_total))
     return np.asarray(peak <= np.maximum(tol * ref, floor)) & np.isfinite(peak)
 
@@ -136,16 +147,16 @@ def arm_scales(scale, units):
 
     Parameters
     ----------
-    scale : array_like, shape (M,)
+    scale : array_like, shape (M,) or (K, M)
         Each quantity's own scale (peak |tau_i| [N m or N] per joint, or peak sqrt(D_ii D_jj)
-        per element of D).
+        per element of D), of one trajectory or of each of K (each row on its own).
     units : sequence of str, shape (M,)
         Each quantity's units: the quantities of one kind and units share one arm scale (the
         joints of one type, D_ij of the same units).
 
     Returns
     -------
-    ndarray, shape (M,)
+    ndarray, shape (M,) or (K, M)
         NaN where no quantity of those units has a finite scale.
 
     Examples
@@ -158,9 +169,9 @@ def arm_scales(scale, units):
     out = np.full(scale.shape, np.nan)
     for u in dict.fromkeys(units.tolist()):
         same = units == u
-        finite = scale[same][np.isfinite(scale[same])]
-        if finite.size:
-            out[same] = finite.max()
+        finite = np.isfinite(scale[..., same])
+        top = np.max(np.where(finite, scale[..., same], -np.inf), axis=-1, keepdims=True)
+        out[..., same] = np.where(finite.any(axis=-1, keepdims=True), top, np.nan)
     return out
 
 
@@ -355,29 +366,41 @@ class RankingAccumulator:
     """Accumulate the ranking's sums and peaks chunk by chunk, then classify.
 
     Feeding a trajectory in chunks gives exactly the ranking of the whole: the share uses sums
-    of |tran| and |rot|, the classes use peaks, both of which combine across chunks.
+    of |tran| and |rot|, the classes use peaks, both of which combine across chunks. With
+    ``trajectories`` it ranks K trajectories at once, each chunk cut into segments of
+    consecutive set points of one trajectory (a sweep's many short trajectories in one pass):
+    each trajectory's ranking is the one it has alone, bit for bit.
 
     Parameters
     ----------
     n : int
         Number of joints.
+    trajectories : int, optional
+        K >= 1: the trajectories ranked at once. Without it one trajectory, and the arrays
+        below have no leading trajectory axis.
 
     Attributes
     ----------
-    stats : ndarray, shape (len(ROWS), M)
+    stats : ndarray, shape (len(ROWS), M) or (K, len(ROWS), M)
         The running statistics of each element's series (tran, rot + arm, tran + rot + arm:
         sum |x|, sum x^2, peak |x|; and peak |rot|), row r being entry r of
         :data:`gd_analyze.ranking.statistics.ROWS`; read one with :meth:`statistic`.
         [kg m^2] for D and [N m] for h, squared for a sum of squares.
-    sum_arm, arm : ndarray, shape (M,)
-        The sum over the set points of the armature on each element, and the armature
-        itself (Ia_i on D_ii, 0 elsewhere) [kg m^2].
-    scale_D : ndarray, shape (n (n + 1) / 2,)
+    sum_arm : ndarray, shape (M,) or (K, M)
+        The sum over the set points of the armature on each element [kg m^2].
+    arm : ndarray, shape (M,)
+        The armature itself (Ia_i on D_ii, 0 elsewhere) [kg m^2].
+    scale_D : ndarray, shape (n (n + 1) / 2,) or (K, n (n + 1) / 2)
         Peak sqrt(D_ii D_jj) (D_ii with the armature, clipped at 0) [kg m^2].
-    peak_tau : ndarray, shape (n,)
+    peak_tau : ndarray, shape (n,) or (K, n)
         Peak |tau_i| [N m].
-    count : int
+    count : int or ndarray of int, shape (K,)
         The set points accumulated.
+
+    Raises
+    ------
+    ValueError
+        If ``trajectories`` < 1.
 
     Examples
     --------
@@ -397,18 +420,30 @@ class RankingAccumulator:
     True
     >>> acc.result().dominance == whole.dominance
     True
+
+    The first 7 and the last 13 set points as two trajectories in one chunk:
+
+    >>> two = RankingAccumulator(robot.n, trajectories=2)
+    >>> for s in (slice(0, 10), slice(10, 20)):
+    ...     two.update(terms.D_tran[s], terms.D_rot[s], terms.h_tran[s], terms.h_rot[s],
+    ...                tau[s], ends=[7, 20], at=s.start)
+    >>> two.count.tolist()
+    [7, 13]
     """
 
-    def __init__(self, n):
+    def __init__(self, n, trajectories=None):
+        if trajectories is not None and int(trajectories) < 1:
+            raise ValueError(f"trajectories must be >= 1, got {trajectories}")
         m = n * (n + 1) // 2 + n
         self.n = int(n)
-        self.stats = np.zeros((len(ROWS), m))
-        self.sum_arm = np.zeros(m)
+        self.trajectories = None if trajectories is None else int(trajectories)
+        lead = () if trajectories is None else (int(trajectories),)
+        self.stats = np.zeros(lead + (len(ROWS), m))
+        self.sum_arm = np.zeros(lead + (m,))
         self.arm = np.zeros(m)
-        self.peak_diag = np.zeros(n)
-        self.scale_D = np.zeros(n * (n + 1) // 2)
-        self.peak_tau = np.zeros(n)
-        self.count = 0
+        self.scale_D = np.zeros(lead + (n * (n + 1) // 2,))
+        self.peak_tau = np.zeros(lead + (n,))
+        self.count = 0 if trajectories is None else np.zeros(lead, int)
 
     def statistic(self, series, statistic):
         """One running statistic of every element (a view of :attr:`stats`).
@@ -423,17 +458,23 @@ class RankingAccumulator:
 
         Returns
         -------
-        ndarray, shape (M,)
-            Per element: [kg m^2] for D and [N m] for h, squared for ``"sum_sq"``.
+        ndarray, shape (M,) or (K, M)
+            Per element (and trajectory): [kg m^2] for D and [N m] for h, squared for
+            ``"sum_sq"``.
 
         Raises
         ------
         ValueError
             If that statistic of that series is not accumulated.
         """
-        return self.stats[row(series, statistic)]
+        return self.stats[..., row(series, statistic), :]
 
-    def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None):
+    def _each(self, name):
+        """An array with its leading trajectory axis (a view, also for one trajectory)."""
+        value = getattr(self, name)
+        return value if self.trajectories is not None else value[None]
+
+    def update(self, D_tran, D_rot, h_tran, h_rot, tau, armature=None, ends=None, at=0):
         """Add a chunk of set points.
 
         Parameters
@@ -446,18 +487,26 @@ class RankingAccumulator:
             Joint torques of the full model [N m].
         armature : ndarray, shape (n,), optional
             The drives' armature Ia [kg m^2] (the same for every chunk); zero if not given.
+        ends : array_like of int, shape (K,), optional
+            Where each of the K trajectories' set points end, laid one after another
+            (:mod:`gd_analyze.ranking.segments`); default one trajectory.
+        at : int, optional
+            The chunk's first set point among them: each of its segments (set points of one
+            trajectory) is added to its own trajectory's statistics.
 
         Raises
         ------
         ValueError
-            If the shapes disagree with n or with each other.
+            If the shapes disagree with n or with each other, or the chunk does not fit the
+            K trajectories' ends (:func:`gd_analyze.ranking.segments.chunk_segments`).
 
         Notes
         -----
         One compiled pass over the chunk (:func:`gd_analyze.ranking.kernels.ranking_kernel`):
-        the sums of |x| and x^2 (the chunk's in row order, then added) and the peaks of |x| of
-        x = tran, rot + arm and tran + rot + arm, the peaks of |rot|, sqrt(D_ii D_jj)
-        (D_ii + Ia_i clipped at 0) and |tau|, with the elements of :func:`element_series`.
+        per segment, the sums of |x| and x^2 (the segment's in row order, then added) and the
+        peaks of |x| of x = tran, rot + arm and tran + rot + arm, the peaks of |rot|,
+        sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and |tau|, with the elements of
+        :func:`element_series`.
         """
         n = self.n
         D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)
@@ -469,20 +518,48 @@ class RankingAccumulator:
             raise ValueError(f"D parts must be (N, {n}, {n}) and h parts and tau (N, {n})")
         if N == 0:
             return
+        bounds, each = chunk_segments(N, ends, at, self.trajectories)
+        lengths = np.diff(bounds)
         arm_d = np.zeros(n) if armature is None else np.asarray(armature, float)
         if arm_d.any():             # Ia_i on the diagonal elements D_ii only
             iu = np.triu_indices(n)
             self.arm[:iu[0].size] = np.where(iu[0] == iu[1], arm_d[iu[0]], 0.0)
-            self.sum_arm += N * self.arm
+            self._each("sum_arm")[each] += lengths[:, None] * self.arm
         from .kernels import ranking_kernel  # numba: imported by the first chunk only
 
         c = np.ascontiguousarray
         ranking_kernel(c(D_tran), c(D_rot), c(h_tran), c(h_rot), c(tau), self.arm, c(arm_d),
-                       self.stats, self.scale_D, self.peak_tau)
-        self.count += N
+                       bounds, self._each("stats")[each], self._each("scale_D")[each],
+                       self._each("peak_tau")[each])
+        if self.trajectories is None:
+            self.count += N
+        else:
+            self.count[each] += lengths
 
     def result(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
-        """Classify the elements from what was accumulated.
+        """Classify the elements of the one trajectory: :meth:`results`' only ranking.
+
+        Parameters
+        ----------
+        dominance, negligible : float, optional
+            s and e, as :meth:`results` takes them.
+
+        Returns
+        -------
+        Ranking
+            The trajectory's shares, classes, peaks and scales.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`results`, and if K > 1 trajectories are ranked.
+        """
+        if (self.trajectories or 1) != 1:
+            raise ValueError(f"{self.trajectories} trajectories are ranked: use results()")
+        return self.results(dominance, negligible)[0]
+
+    def results(self, dominance=DEFAULT_DOMINANCE, negligible=DEFAULT_NEGLIGIBLE):
+        """Classify the elements of every trajectory from what was accumulated.
 
         Parameters
         ----------
@@ -493,49 +570,137 @@ class RankingAccumulator:
 
         Returns
         -------
-        Ranking
+        list of Ranking
+            K of them (one without ``trajectories``), in order.
 
         Raises
         ------
         ValueError
-            If s or e is out of range, or nothing was accumulated.
+            If s or e is out of range, or nothing was accumulated for some trajectory.
         """
         if not 0.5 < dominance <= 1.0:
             raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
         if not negligible >= 0.0:
             raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
-        if self.count == 0:
+        if np.any(np.asarray(self.count) == 0):
             raise ValueError("no set points were accumulated")
-        stat = self.statistic
+        stats = self._each("stats")
+
+        def stat(series, statistic):
+            return stats[:, row(series, statistic)]
+
         sum_tran = stat("tran", "sum_abs")
         total = sum_tran + stat("rot_arm", "sum_abs")
         peak_tran, peak_rot = stat("tran", "peak_abs"), stat("rot", "peak_abs")
         peak_total = stat("total", "peak_abs")
         with np.errstate(invalid="ignore", divide="ignore"):
             share = np.where(total > 0, sum_tran / np.where(total > 0, total, 1.0), np.nan)
-            share_arm = np.where(total > 0, self.sum_arm / np.where(total > 0, total, 1.0), 0.0)
-        scale = np.concatenate([self.scale_D, self.peak_tau])
+            share_arm = np.where(total > 0, self._each("sum_arm") / np.where(total > 0, total,
+                                                                             1.0), 0.0)
+        scale = np.concatenate([self._each("scale_D"), self._each("peak_tau")], axis=1)
         zero = identically_zero(peak_tran, peak_rot, peak_total, scale)
-        classes = []
-        for k in range(share.size):
-            if (peak_total[k] < negligible * scale[k] or not np.isfinite(share[k])
-                    or zero[k]):
-                classes.append("negligible")
-            elif share[k] >= dominance:
-                classes.append("translational")
-            elif share[k] <= 1.0 - dominance:
-                classes.append("rotational")
-            else:
-                classes.append("both")
-        return Ranking(labels=tuple(element_labels(self.n)), share_tran=share,
-                       dominance=tuple(classes), peak_tran=peak_tran.copy(),
-                       peak_rot=peak_rot.copy(), peak_total=peak_total.copy(),
-                       scale=scale, dominance_threshold=float(dominance),
-                       negligible_threshold=float(negligible), share_arm=share_arm,
-                       peak_arm=self.arm.copy())
+        code = np.select([(peak_total < negligible * scale) | ~np.isfinite(share) | zero,
+                          share >= dominance, share <= 1.0 - dominance], [3, 0, 1], 2)
+        labels = tuple(element_labels(self.n))
+        return [Ranking(labels=labels, share_tran=share[k],
+                        dominance=tuple(CLASSES[c] for c in code[k].tolist()),
+                        peak_tran=peak_tran[k].copy(), peak_rot=peak_rot[k].copy(),
+                        peak_total=peak_total[k].copy(), scale=scale[k],
+                        dominance_threshold=float(dominance),
+                        negligible_threshold=float(negligible), share_arm=share_arm[k],
+                        peak_arm=self.arm.copy())
+                for k in range(share.shape[0])]
+
+
 
 
 __all__.append("RankingAccumulator")
+
+
+class TermsRanking:
+    """Rank an arm's G-D terms chunk by chunk, of one trajectory or of K laid one after
+    another; an arm with drives is also ranked as its rigid links alone (armature and
+    friction left out: the chapter's model), in the same pass.
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm, with n joints (its ``armature`` read where it has drives).
+    ends : array_like of int, shape (K,)
+        Where each trajectory's set points end (:mod:`gd_analyze.ranking.segments`); one
+        trajectory of N set points: ``[N]``.
+
+    Attributes
+    ----------
+    ranker : RankingAccumulator
+        Of the arm as it is (K trajectories).
+    rigid : RankingAccumulator or None
+        Of its rigid links alone, for an arm with drives.
+    """
+
+    def __init__(self, robot: Robot, ends: ArrayLike) -> None:
+        self.robot, self.ends = robot, np.array(ends, np.int64).reshape(-1)
+        self.ranker = RankingAccumulator(robot.n, trajectories=self.ends.size)
+        self.rigid = RankingAccumulator(robot.n, trajectories=self.ends.size) \
+            if has_drives(robot) else None
+
+    def update(self, terms: GDTerms, tau: NDArray[np.float64], qdd: NDArray[np.float64],
+               at: int) -> None:
+        """Add a chunk of set points.
+
+        Parameters
+        ----------
+        terms : GDTerms
+            Its G-D terms, N set points: D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot
+            (N, n) [N m], with the drives' armature and friction torque where the arm has
+            them.
+        tau : ndarray, shape (N, n)
+            Its joint torques [N m].
+        qdd : ndarray, shape (N, n)
+            Its joint accelerations [rad/s^2].
+        at : int
+            Its first set point among the trajectories'.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`RankingAccumulator.update`.
+        """
+        args = (terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot)
+        self.ranker.update(*args, tau, armature=terms.armature, ends=self.ends, at=at)
+        if self.rigid is not None:
+            tau_rigid = tau - self.robot.armature * qdd
+            if terms.tau_f is not None:
+                tau_rigid -= terms.tau_f
+            self.rigid.update(*args, tau_rigid, ends=self.ends, at=at)
+
+    def results(self, dominance: float = DEFAULT_DOMINANCE,
+                negligible: float = DEFAULT_NEGLIGIBLE) -> list[Ranking]:
+        """Each trajectory's ranking, with ``rigid_dominance`` for an arm with drives.
+
+        Parameters
+        ----------
+        dominance, negligible : float, optional
+            s and e, as :meth:`RankingAccumulator.results` takes them.
+
+        Returns
+        -------
+        list of Ranking
+            K of them, in order.
+
+        Raises
+        ------
+        ValueError
+            As :meth:`RankingAccumulator.results`.
+        """
+        rankings = self.ranker.results(dominance, negligible)
+        if self.rigid is None:
+            return rankings
+        return [replace(ranking, rigid_dominance=alone.dominance) for ranking, alone in
+                zip(rankings, self.rigid.results(dominance, negligible))]
+
+
+__all__.append("TermsRanking")
 
 
 def rank_dominance(D_tran, D_rot, h_tran, h_rot, tau, dominance=DEFAULT_DOMINANCE,

@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike
 from ..dynamics.dalembert import assemble_tau, gd_terms
 from ..ranking.labels import element_index, element_labels
 from ..ranking.ranking import arm_scales, is_round_off
+from ..ranking.segments import chunk_segments
 
 if TYPE_CHECKING:
     from numpy.typing import NDArray
@@ -93,60 +94,90 @@ def choice_masks(choices: dict, n: int
     ValueError
         If an element is missing or a choice is not one of the five.
     """
-    Mt, Mr = np.zeros((n, n)), np.zeros((n, n))
-    mt, mr = np.zeros(n), np.zeros(n)
-    for label, (kind, i, j) in zip(element_labels(n), element_index(n)):
-        if label not in choices:
-            raise ValueError(f"no choice for element {label}")
-        ch = choices[label]
-        if ch not in CHOICES + (PRUNED,):
-            raise ValueError(f"element {label}: choice must be one of {CHOICES + (PRUNED,)}, "
-                             f"got {ch!r}")
-        keep_t, keep_r = ch in ("tran", "both", PRUNED), ch in ("rot", "both", PRUNED)
-        if kind == "D":
-            Mt[i, j] = Mt[j, i] = keep_t
-            Mr[i, j] = Mr[j, i] = keep_r
-        else:
-            mt[i], mr[i] = keep_t, keep_r
-    return Mt, Mr, mt, mr
+    Mt, Mr, mt, mr = _masks([choices], n)
+    return Mt[0], Mr[0], mt[0], mr[0]
+
+
+def _masks(choices_list, n):
+    """:func:`choice_masks` of K models at once: arrays with a leading axis K."""
+    labels = element_labels(n)
+    code = {c: k for k, c in enumerate(CHOICES + (PRUNED,))}
+    try:
+        rows = [[choices[label] for label in labels] for choices in choices_list]
+    except KeyError as exc:
+        raise ValueError(f"no choice for element {exc.args[0]}") from None
+    for row in rows:
+        for label, ch in zip(labels, row):
+            if not isinstance(ch, str) or ch not in code:
+                raise ValueError(f"element {label}: choice must be one of "
+                                 f"{CHOICES + (PRUNED,)}, got {ch!r}")
+    codes = np.array([[code[ch] for ch in row] for row in rows], int).reshape(len(rows), -1)
+    keep_t = np.isin(codes, [code[c] for c in ("tran", "both", PRUNED)]).astype(float)
+    keep_r = np.isin(codes, [code[c] for c in ("rot", "both", PRUNED)]).astype(float)
+    K, T = codes.shape[0], n * (n + 1) // 2
+    i, j = (np.array(v, int) for v in zip(*[(i, j) for kind, i, j in element_index(n)
+                                            if kind == "D"]))
+    Mt, Mr = np.zeros((K, n, n)), np.zeros((K, n, n))
+    for M, keep in ((Mt, keep_t), (Mr, keep_r)):
+        M[:, i, j] = keep[:, :T]
+        M[:, j, i] = keep[:, :T]
+    return Mt, Mr, keep_t[:, T:], keep_r[:, T:]
 
 
 #: Set points of :func:`simplified_torque` at once.
 _BLOCK = 2048
 
 
-def simplified_torque(terms: GDTerms, choices: dict, qdd: ArrayLike) -> np.ndarray:
+def simplified_torque(terms: GDTerms, choices: dict | Sequence[dict], qdd: ArrayLike,
+                      ends: ArrayLike | None = None, at: int = 0) -> np.ndarray:
     """Torques of the simplified model from already computed G-D terms.
 
     Parameters
     ----------
     terms : GDTerms
         D_tran, D_rot (N, n, n) [kg m^2]; h_tran, h_rot, c (N, n) [N m].
-    choices : dict
-        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``.
+    choices : dict or sequence of dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"``; with ``ends``, one
+        such dict per trajectory (each trajectory's own model).
     qdd : array_like, shape (N, n)
         Joint accelerations [rad/s^2].
+    ends : array_like of int, shape (K,), optional
+        Where each of the K trajectories' set points end, laid one after another
+        (:mod:`gd_analyze.ranking.segments`): each set point's torque is then that of its
+        trajectory's model. Default: one model for every set point.
+    at : int, optional
+        The first of the N set points among the trajectories'.
 
     Returns
     -------
     ndarray, shape (N, n)
         tau_s = D_s qdd + h_s + c [N m], plus the drives' Ia qdd and tau_f when the terms
-        carry them.
+        carry them; each row as it is computed alone.
 
     Raises
     ------
     ValueError
-        As :func:`choice_masks`.
+        As :func:`choice_masks`; if the set points do not fit the trajectories' ends or
+        their number is not that of the models
+        (:func:`gd_analyze.ranking.segments.chunk_segments`).
     """
     n = terms.c.shape[1]
-    Mt, Mr, mt, mr = choice_masks(choices, n)
     qdd = np.asarray(qdd, dtype=float).reshape(terms.c.shape)
+    models, owner = [choices], None   # the model of each set point (None: the one model)
+    if ends is not None:
+        models = list(choices)  # type: ignore[arg-type]
+        bounds, each = chunk_segments(len(qdd), ends, at, len(models))
+        models = models[each]
+        if len(models) > 1:
+            owner = np.repeat(np.arange(len(models)), np.diff(bounds))
+    Mt, Mr, mt, mr = _masks(models, n)
     tau = np.empty(qdd.shape)
     # block by block: D_s's temporaries stay small (each row is computed alone)
     for a in range(0, len(qdd), _BLOCK):
         rows = slice(a, a + _BLOCK)
-        D_s = Mt * terms.D_tran[rows] + Mr * terms.D_rot[rows]
-        h_s = mt * terms.h_tran[rows] + mr * terms.h_rot[rows]
+        k = 0 if owner is None else owner[rows]
+        D_s = Mt[k] * terms.D_tran[rows] + Mr[k] * terms.D_rot[rows]
+        h_s = mt[k] * terms.h_tran[rows] + mr[k] * terms.h_rot[rows]
         tau[rows] = assemble_tau(D_s, h_s, terms.c[rows], qdd[rows])
     if terms.armature is not None:
         tau += terms.armature * qdd
