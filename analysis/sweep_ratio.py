@@ -27,6 +27,26 @@ Prints one JSON line: per side the median wall and CPU times [s], the per-round 
 of wall and CPU time (median and [min, max]), the sweep's peak RSS per run [MiB], and the
 1-minute load average before and after every run. Then ``within_ratio_limit: true`` or
 ``false`` (the median wall ratio against 8).
+
+    python analysis/sweep_ratio.py --in-process [-k 1000] [--runs R] [--warm-arm stanford]
+                                   [--baseline SRC] [--processes P]
+
+``--in-process`` times the sweep in one warm Python process instead, as a program that calls
+the command line's ``main`` runs it: the derivation cache (a folder of its own) is filled by a
+child's PUMA 560 sweep first; then this process imports the package and runs one untimed sweep
+of another arm (``--warm-arm``, K trajectories), so that the imports and numba's kernels are
+loaded but the PUMA 560's per-process memos are cold; then R rounds, each (a)
+``gd_analyze.cli.main(["sweep", "puma560", "--random", K, "--seed", S, "-o", OUT,
+"--no-report", "-q"])`` with a new seed S per round, as the console script runs it, against
+(b) ``pinocchio_loop`` over that round's states (its K swept and 20 held-out trajectories),
+the order of (a) and (b) alternating by round, wall time (``time.perf_counter``) and CPU time
+(``time.process_time``, all threads) of each. It prints one JSON line: the first PUMA 560
+sweep of the process apart (its ratios a / b), and the later ones as the median and
+[min, max] of their per-round ratios, wall and CPU, with the load. With ``--baseline SRC`` it
+runs P processes of each side (default 2), this checkout's ``src`` and SRC first on
+``PYTHONPATH`` in turn (this script in each, the order rotated per pair), and prints both
+sides' figures (the first sweeps' ratios over the processes, the later ones' over all their
+rounds) and the ratio of the two sides' medians.
 """
 
 from __future__ import annotations
@@ -34,6 +54,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -71,7 +92,17 @@ def main(argv=None):
     p.add_argument("--workers", type=int, default=None, help="LocalCluster workers")
     p.add_argument("--baseline", metavar="SRC", default=None,
                    help="another checkout's src folder, timed in the same rounds")
+    p.add_argument("--in-process", action="store_true",
+                   help="the sweeps in one warm process (module docstring)")
+    p.add_argument("--warm-arm", default="stanford",
+                   help="the arm of the in-process warm-up sweep")
+    p.add_argument("--processes", type=int, default=2,
+                   help="with --in-process --baseline: processes per side")
     args = p.parse_args(argv)
+    if args.in_process:
+        result = alternated(args) if args.baseline else in_process(args)
+        print(json.dumps(result))
+        return 0
     from gd_analyze import load_robot
     from gd_analyze.trajectory.planning import random_trajectories
 
@@ -140,6 +171,108 @@ def main(argv=None):
     print(json.dumps(result))
     print(f"within_ratio_limit: {'true' if np.median(wall) <= RATIO_LIMIT else 'false'}")
     return 0
+
+
+def in_process(args):
+    """The in-process rounds (module docstring): a dict of the figures."""
+    with tempfile.TemporaryDirectory() as tmp:
+        os.environ.pop("GD_ANALYZE_NO_CACHE", None)
+        os.environ["GD_ANALYZE_CACHE_DIR"] = str(Path(tmp) / "cache")
+        sweep = ["sweep", "puma560", "--random", str(args.k), "--no-report", "-q"]
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "gd_analyze.cli", *sweep, "-o",
+                        str(Path(tmp) / "fill")], check=True, capture_output=True)
+        fill = time.perf_counter() - t0
+        import gd_analyze
+        from gd_analyze import load_robot
+        from gd_analyze.cli import main as cli_main
+        from gd_analyze.trajectory.planning import random_trajectories
+
+        loads = [os.getloadavg()[0]]
+        t0 = time.perf_counter()
+        assert cli_main(["sweep", args.warm_arm, "--random", str(args.k), "-o",
+                         str(Path(tmp) / "warm"), "--no-report", "-q"]) == 0
+        warm = time.perf_counter() - t0
+        robot = load_robot("puma560")
+        loads.append(os.getloadavg()[0])
+        rounds = []
+        for r in range(args.runs):
+            seed = 1000 + r
+            states = random_trajectories(robot, args.k, seed=seed) + \
+                random_trajectories(robot, HELD_OUT, seed=seed + HELD_OUT_SEED)
+            q = np.concatenate([t.q for t in states])
+            qd = np.concatenate([t.qd for t in states])
+            if r == 0:
+                pinocchio_loop(robot, q[:10], qd[:10])      # its import, untimed
+            out = str(Path(tmp) / f"round{r}")
+
+            def job(seed=seed, out=out):
+                assert cli_main([*sweep, "--seed", str(seed), "-o", out]) == 0
+
+            timed = {}
+            for side, call in (("sweep", job), ("loop", lambda q=q, qd=qd: pinocchio_loop(
+                    robot, q, qd)))[::1 if r % 2 == 0 else -1]:
+                t0, c0 = time.perf_counter(), time.process_time()
+                call()
+                timed[side] = (time.perf_counter() - t0, time.process_time() - c0)
+                loads.append(os.getloadavg()[0])
+            rounds.append(timed)
+    wall = [t["sweep"][0] / t["loop"][0] for t in rounds]
+    cpu = [t["sweep"][1] / t["loop"][1] for t in rounds]
+    later = slice(1, None)
+    return {
+        "src": str(Path(gd_analyze.__file__).parents[1]), "trajectories": args.k,
+        "held_out": HELD_OUT, "states": int(q.shape[0]), "rounds": args.runs,
+        "warm_arm": args.warm_arm, "warm_up_s": warm, "cache_fill_child_s": fill,
+        "first_sweep": {"wall_s": rounds[0]["sweep"][0], "cpu_s": rounds[0]["sweep"][1],
+                        "over_loop_wall": wall[0], "over_loop_cpu": cpu[0]},
+        "later_sweeps": None if args.runs < 2 else {
+            "wall_s": _range([t["sweep"][0] for t in rounds[later]]),
+            "cpu_s": _range([t["sweep"][1] for t in rounds[later]]),
+            "over_loop_wall": _range(wall[later]), "over_loop_cpu": _range(cpu[later]),
+            "over_loop_wall_each": wall[later], "over_loop_cpu_each": cpu[later]},
+        "pinocchio_loop_wall_s": _range([t["loop"][0] for t in rounds]),
+        "pinocchio_loop_cpu_s": _range([t["loop"][1] for t in rounds]),
+        "load_average_1min": {"min": min(loads), "max": max(loads), "each": loads},
+    }
+
+
+def alternated(args):
+    """``--in-process`` in P processes per side, this checkout's src and the baseline's in
+    turn (the order rotated per process pair): both sides' figures."""
+    here = Path(__file__).resolve()
+    sides = {"this": str(here.parents[1] / "src"), "baseline": str(Path(args.baseline).resolve())}
+    runs = {name: [] for name in sides}
+    for k in range(args.processes):
+        for name in (list(sides) if k % 2 == 0 else list(sides)[::-1]):
+            env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+                [sides[name]] + [v for v in [os.environ.get("PYTHONPATH")] if v])}
+            out = subprocess.run([sys.executable, str(here), "--in-process", "-k", str(args.k),
+                                  "--runs", str(args.runs), "--warm-arm", args.warm_arm],
+                                 check=True, capture_output=True, text=True, env=env).stdout
+            runs[name].append(json.loads(out.strip().splitlines()[-1]))
+
+    def summary(items):
+        later = [x for r in items for x in [r["later_sweeps"]] if x]
+        return {
+            "first_over_loop_wall": _range([r["first_sweep"]["over_loop_wall"] for r in items]),
+            "first_over_loop_cpu": _range([r["first_sweep"]["over_loop_cpu"] for r in items]),
+            "first_wall_s": _range([r["first_sweep"]["wall_s"] for r in items]),
+            "later_over_loop_wall": _range([v for x in later for v in x["over_loop_wall_each"]]),
+            "later_over_loop_cpu": _range([v for x in later for v in x["over_loop_cpu_each"]]),
+            "later_over_loop_wall_process_medians": [x["over_loop_wall"]["median"]
+                                                     for x in later],
+            "later_wall_s_process_medians": [x["wall_s"]["median"] for x in later],
+            "load_1min": [min(r["load_average_1min"]["min"] for r in items),
+                          max(r["load_average_1min"]["max"] for r in items)]}
+
+    out = {"processes_per_side": args.processes, "trajectories": args.k, "rounds": args.runs,
+           **{name: summary(items) for name, items in runs.items()}, "runs": runs,
+           "sides": sides}
+    for key in ("first_over_loop_wall", "later_over_loop_wall"):
+        out[f"this_over_baseline_{key}_median"] = \
+            out["this"][key]["median"] / out["baseline"][key]["median"]
+    return out
 
 
 if __name__ == "__main__":
