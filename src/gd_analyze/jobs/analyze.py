@@ -9,7 +9,9 @@ set point, chunk by chunk, and hands each chunk to the ranking, to the file, and
 that the verification against Pinocchio and the comparison of the formulations read. The
 simplified model's torque error needs the ranking of the whole trajectory first, so it is a
 second pass over the same terms: held in memory when there is one chunk (or no file), read
-back from the file otherwise. Nothing is computed twice.
+back from the file otherwise. Nothing is computed twice. A sweep's many short trajectories go
+through the same path in one pass (:func:`analysis_passes`): laid one after another, each
+chunk's segments added to their own trajectories' ranking and error.
 """
 
 from __future__ import annotations

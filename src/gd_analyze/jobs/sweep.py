@@ -20,8 +20,9 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
   trajectory's own share-based model drops it
   (:func:`gd_analyze.simplify.simplified.merge_choices`), which bounds nothing.
 
-The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, run in
-batches on a dask.distributed cluster (:mod:`gd_analyze.jobs.dask_cluster`) by
+The per-trajectory work (:func:`analyze_one`) is a pure function of small arguments, done for
+a group of trajectories in one pass (:func:`gd_analyze.jobs.analyze.analysis_passes`, each
+trajectory's result that of :func:`analyze_one`, bit for bit) in batches on a dask.distributed cluster (:mod:`gd_analyze.jobs.dask_cluster`) by
 :func:`run_sweep`, or, for a small sweep (``in_process``), in one batch in the caller's process,
 where a cluster's start would cost more than the ranking. The dataset's schema is in :mod:`gd_analyze.store.sweep_view`; the merged
 models read from it are in :mod:`gd_analyze.jobs.sweep_merged`; random trajectories come
@@ -464,7 +465,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     Notes
     -----
     Two passes of tasks over the same batches (each task carries the robot and its batch, so
-    that a task whose worker is lost runs again on another): the first runs :func:`analyze_one` per trajectory; once all choices are known and
+    that a task whose worker is lost runs again on another): the first gives :func:`analyze_one` of every trajectory (a group at a time in one pass); once all choices are known and
     merged (:func:`merge_choices`), the second computes the merged model's torque error along
     every trajectory (or, for another merged model, :class:`WorkerErrors` does, on the same
     cluster). Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
