@@ -382,10 +382,9 @@ def _other_update(other, errors, q, qd, qdd, tau):
 
 def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
                    ends, background):
-    """:func:`analysis_pass` with the simplification's peak passes started (``background``);
-    with ``ends`` (the ends of K trajectories' segments of the set points, as
-    :func:`analysis_passes` stacks them) the analysis of each: a list of K passes (one
-    without)."""
+    """:func:`analysis_pass` with the simplification's peak passes started (``background``):
+    a list of one pass, or with ``ends`` (where each of K trajectories laid one after another
+    ends, as :func:`analysis_passes` lays them out) of K, one per trajectory."""
 
     check, formulations, simplify = options.verify, options.formulations, options.simplify
     q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
