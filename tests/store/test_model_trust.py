@@ -489,3 +489,71 @@ def test_a_forged_pair_of_trees_does_not_save_a_lowered_bound(panda_doc, monkeyp
         with pytest.raises(InputError, match="guarantee.bound"):
             check_guarantee(_panda_model(forged, robot))
         assert calls == [1]
+
+
+@pytest.mark.parametrize("forge", [
+    ("puma", 0, "pairs"), ("puma", 0, "decomposition"), ("puma", 1, "none"),
+    ("puma", 1, "decomposition"), ("panda", 0, "branch and bound"), ("panda", 4, "pairs"),
+    ("panda", 6, "joint sum")])
+def test_a_forged_way_of_a_joints_bound_is_refused(models, panda_doc, monkeypatch, forge):
+    """A joint's way of proving its bound (``guarantee.bound_method``) changed to one that
+    does not give it: the pairs' own bounds where the joint sum's branch and bound or the
+    decomposition gave it, a decomposition the PUMA 560's dropped pairs do not have, a
+    branch and bound the Panda's do not run, "none" where something dropped acts, a joint
+    sum said of a joint with bound 0. The trees do not show it, the re-derivation runs and
+    refuses the file, naming the key."""
+    from gd_analyze.simplify.simplified import SimplifiedModel
+    from gd_analyze.store.model_trust import check_guarantee
+
+    arm, j, way = forge
+    folder, region_doc, _ = models
+    doc = region_doc if arm == "puma" else panda_doc[0]
+    forged = _copy(doc)
+    assert forged["guarantee"]["bound_method"][j] != way
+    forged["guarantee"]["bound_method"][j] = way
+    _spied(monkeypatch)
+    with pytest.raises(InputError, match="guarantee.bound_method"):
+        if arm == "puma":
+            gd_analyze.load_model(_write(folder, f"way_{j}_{way}", forged))
+        else:
+            check_guarantee(SimplifiedModel.from_dict(forged, panda_doc[1]))
+
+
+def test_the_ways_and_their_arithmetic_are_checked(models, monkeypatch):
+    """The honest ways are the PUMA 560's (joint sum's branch and bound on joints 1 and 2,
+    the pairs' own bounds on joint 3, nothing on 4-6) and are read on the stored trees; an
+    arithmetic other than the arm's, a way that is not a name, or one per joint too few, is
+    refused."""
+    folder, region_doc, _ = models
+    g = region_doc["guarantee"]
+    assert g["bound_method"] == ["branch and bound"] * 2 + ["pairs"] + ["none"] * 3
+    calls = _spied(monkeypatch)
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    assert calls == [] and model.guarantee.bound_method == tuple(g["bound_method"])
+    for key, value in (("joint_sum_arithmetic", "ball"), ("joint_sum_arithmetic", "boxes"),
+                       ("bound_method", ["pairs"] * 5),
+                       ("bound_method", ["sum"] + g["bound_method"][1:])):
+        forged = _copy(region_doc)
+        forged["guarantee"][key] = value
+        with pytest.raises(InputError, match=f"guarantee.{key}"):
+            gd_analyze.load_model(_write(folder, f"way_{key}", forged))
+
+
+def test_a_file_without_the_ways_is_read(models, panda_doc, monkeypatch):
+    """A model file written before the ways were stored: read, its bound checked on its trees
+    as before, and no way said."""
+    from gd_analyze.simplify.simplified import SimplifiedModel
+    from gd_analyze.store.model_trust import check_guarantee
+
+    folder, region_doc, _ = models
+    for doc in (region_doc, panda_doc[0]):
+        older = _copy(doc)
+        del older["guarantee"]["bound_method"], older["guarantee"]["joint_sum_arithmetic"]
+        calls = _spied(monkeypatch)
+        if doc is region_doc:
+            model = gd_analyze.load_model(_write(folder, "no_ways", older))
+        else:
+            model = SimplifiedModel.from_dict(older, panda_doc[1])
+            check_guarantee(model)
+        assert calls == [] and model.guarantee.bound_method == ()
+        assert "bound_method" not in model.guarantee.to_dict()

@@ -45,7 +45,8 @@ __all__ = ["PairBounds", "certify", "certify_tree", "tiling", "pair_peaks_at",
            "split_joints", "JOINT_BOXES", "JOINT_DIMS", "dropped_search", "tree_bound",
            "proved_zero", "region_trees", "tilings_bound", "decomposed_bound",
            "decomposed_pairs", "decomposed_search", "decomposed_limit", "DECOMPOSED_GRID",
-           "decomposed_tree_bound", "summed_tree_bound"]
+           "decomposed_tree_bound", "summed_tree_bound", "BOUND_METHODS", "method_bounds",
+           "bound_methods", "tree_method_bounds", "unproved_way"]
 
 #: How the bounds are obtained, in words (stored with every region model).
 METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coefficient over the "
@@ -1366,6 +1367,104 @@ def region_trees(robot: Robot, base: BaseParameters, region: Region, pb: PairBou
     return out, trees
 
 
+#: How a dropped set's bound at a joint is obtained (:func:`bound_methods`): nothing dropped
+#: acts on it (bound 0); the sum of the pairs' own bounds on the certification's final boxes
+#: (triangle inequality); the least there of that and their joint sum (:func:`leaf_bound`);
+#: the branch and bound on their joint sum (:func:`dropped_bound`); the decomposition
+#: (:func:`decomposed_bound`).
+BOUND_METHODS = ("none", "pairs", "joint sum", "branch and bound", "decomposition")
+
+
+def method_bounds(pb: PairBounds, dropped: np.ndarray, trees: tuple) -> dict[str, np.ndarray]:
+    """Each way of :func:`region_trees` to bound a dropped set, with its bound.
+
+    Parameters
+    ----------
+    pb : PairBounds
+        The region's certification.
+    dropped : ndarray of bool, shape (b, 3)
+        The pairs left out.
+    trees : tuple
+        ``trees`` of :func:`region_trees` for ``dropped``: the certification's first.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (n,)
+        By :data:`BOUND_METHODS` name (but ``"none"``): ``"pairs"`` the largest over the
+        final boxes of the sum of the pairs' own bounds, ``"joint sum"`` :func:`leaf_bound`,
+        and ``"branch and bound"`` or ``"decomposition"`` where that ran [N m or N].
+    """
+    out = {"pairs": pb.leaves[np.asarray(dropped, bool)].sum(axis=0).max(axis=0),
+           "joint sum": np.asarray(trees[0][1], float)}
+    for tree, bound in trees[1:]:
+        out["decomposition" if isinstance(tree, tuple) else "branch and bound"] = bound
+    return out
+
+
+def bound_methods(bound: np.ndarray, candidates: dict[str, np.ndarray], scale: np.ndarray,
+                  rtol: float = 1e-12) -> tuple[str, ...]:
+    """Per joint, how a dropped set's bound was obtained.
+
+    Parameters
+    ----------
+    bound : ndarray, shape (n,)
+        The bound stated [N m or N].
+    candidates : dict of str to ndarray, shape (n,)
+        :func:`method_bounds` (or :func:`tree_method_bounds`) [N m or N].
+    scale : ndarray, shape (n,)
+        s_i [N m or N].
+    rtol : float, optional
+        A way gives the bound where its own is within ``rtol`` s_i of it.
+
+    Returns
+    -------
+    tuple of str, length n
+        ``"none"`` where the bound is 0, else the first of :data:`BOUND_METHODS` (the
+        simplest) whose bound gives it; ``""`` where none does.
+    """
+    bound = np.asarray(bound, float)
+    reach = bound + rtol * np.abs(np.asarray(scale, float))
+    return tuple("none" if bound[j] == 0 else next(
+        (m for m in BOUND_METHODS[1:] if m in candidates and candidates[m][j] <= reach[j]), "")
+        for j in range(bound.size))
+
+
+def unproved_way(how: Sequence[str], bound: np.ndarray, found: dict[str, np.ndarray],
+                 limit: np.ndarray) -> int | None:
+    """The first joint whose stated way of bounding does not give its stated bound.
+
+    Parameters
+    ----------
+    how : sequence of str, length n
+        Per joint, a name of :data:`BOUND_METHODS` (as :func:`bound_methods` gave it).
+    bound : ndarray, shape (n,)
+        The bound stated [N m or N].
+    found : dict of str to ndarray, shape (n,)
+        Each way's bound derived again (:func:`method_bounds`, :func:`tree_method_bounds`)
+        [N m or N].
+    limit : ndarray, shape (n,)
+        What a way's bound must be within to give the stated one [N m or N].
+
+    Returns
+    -------
+    int or None
+        The joint (from 0), or None where every joint's way gives it: ``"none"`` where, and
+        only where, the bound is 0; another way where its bound found is within ``limit``
+        (NaN never is).
+
+    Examples
+    --------
+    >>> unproved_way(["none", "pairs"], np.array([0.0, 1.0]), {"pairs": np.array([0, 2.0])},
+    ...              np.array([0.0, 1.5]))
+    1
+    """
+    for j, m in enumerate(how):
+        if (m == "none") != (bound[j] == 0) or not (
+                m == "none" or m in found and found[m][j] <= limit[j]):
+            return j
+    return None
+
+
 def proved_zero(robot: Robot, base: BaseParameters, region: Region,
                 dropped: np.ndarray) -> np.ndarray:
     """The dropped pairs proved identically zero over the region, from the robot alone.
@@ -1406,7 +1505,8 @@ def proved_zero(robot: Robot, base: BaseParameters, region: Region,
 
 
 def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: np.ndarray,
-               dropped: np.ndarray, zero: np.ndarray | None = None) -> np.ndarray:
+               dropped: np.ndarray, zero: np.ndarray | None = None, pairs_only: bool = False
+               ) -> np.ndarray:
     """The bound of a dropped set over the region on the final boxes of a given bisection
     tree, derived without search.
 
@@ -1421,6 +1521,8 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
         The pairs left out.
     zero : ndarray of bool, shape (b, 3), optional
         Pairs proved identically zero, left out; default :func:`proved_zero`.
+    pairs_only : bool, optional
+        The first of the three bounds alone (the sum of the pairs' own bounds).
 
     Returns
     -------
@@ -1458,7 +1560,7 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     if _held(n, _CHUNK, live, free).size < used.size:
         return np.full(n, np.inf)
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
-    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols))
+    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols), pairs_only)
     out, parent = np.zeros(n), None
     for lo, hi, split in levels:
         # each column's channels kept for the sub-boxes where they fit the arrays' size
@@ -1548,7 +1650,7 @@ def _tree_chunk(held, lo, hi, channels, parent):
     """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds (B, n),
     and what the sub-boxes intersect with (the pairs' bounds, the summed channels, and each
     column's channels or None), each box's intersected with its ``parent``'s."""
-    robot, base, region, cols, used, live, free, masked = held
+    robot, base, region, cols, used, live, free, masked, pairs_only = held
     c_lo, c_hi = _channels(robot, lo, hi, cols)
     U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
         np.asarray(base.beta, float)[used])
@@ -1562,9 +1664,11 @@ def _tree_chunk(held, lo, hi, channels, parent):
         s_lo, s_hi = _intersect(s_lo, s_hi, parent[1], parent[2])
         if channels and parent[3] is not None:
             c_lo, c_hi = _intersect(c_lo, c_hi, parent[3], parent[4])
-    each = np.minimum(np.einsum("bpnk,pk->bn", U, live[used].T.astype(float)),
-                      combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo), region.qd_max,
-                                     region.qdd_max))
+    each = np.einsum("bpnk,pk->bn", U, live[used].T.astype(float))
+    if pairs_only:
+        return each, (U, s_lo, s_hi, None, None)
+    each = np.minimum(each, combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo),
+                                           region.qd_max, region.qdd_max))
     if not channels:
         return each, (U, s_lo, s_hi, None, None)
     each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
@@ -1652,22 +1756,52 @@ def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
         every state of the region. 0 where no pair but those proved zero is dropped; inf
         where no tree (or pair) tiles the region.
     """
+    found = tree_method_bounds(robot, base, region, dropped, trees, decomposed)
+    return np.minimum(found["joint sum"], found["decomposition"])
+
+
+def tree_method_bounds(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
+                       trees: Sequence[np.ndarray],
+                       decomposed: Sequence[tuple[np.ndarray, np.ndarray]] = (),
+                       methods: Sequence[str] = ("joint sum", "decomposition")
+                       ) -> dict[str, np.ndarray]:
+    """:func:`method_bounds` derived again on given bisection trees, without search.
+
+    Parameters
+    ----------
+    robot, base, region, dropped, trees, decomposed
+        As :func:`tilings_bound`.
+    methods : sequence of str, optional
+        Names of :data:`BOUND_METHODS` to derive.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (n,)
+        Per name asked, the least over the trees that tile the region (for
+        ``"decomposition"``, over the pairs whose two trees do): ``"pairs"`` of
+        :func:`tree_bound` with ``pairs_only``, ``"joint sum"`` of :func:`tree_bound`,
+        ``"branch and bound"`` of :func:`summed_tree_bound`, ``"decomposition"`` of
+        :func:`decomposed_tree_bound` (the pairs proved zero by :func:`proved_zero` left
+        out) [N m or N]; each bounds |tau_s - tau| at every state of the region. 0 where no
+        pair but those proved zero is dropped; inf where no tree (or pair) tiles the region.
+    """
     dropped = np.asarray(dropped, bool)
     zero = proved_zero(robot, base, region, dropped)
+    out = {m: np.full(robot.n, np.inf) for m in methods if m != "none"}
     if not (dropped & ~zero).any():
-        return np.zeros(robot.n)
-    out = np.full(robot.n, np.inf)
-    for tree in trees:
-        try:
-            out = np.minimum(out, tree_bound(robot, base, region, tree, dropped, zero))
-        except ValueError:              # not a tiling of the region: it proves nothing
-            continue
-    for first_tree, rest_tree in decomposed:
-        try:
-            out = np.minimum(out, decomposed_tree_bound(robot, base, region, dropped,
-                                                        first_tree, rest_tree, zero))
-        except ValueError:              # a tree not a tiling of the region: nothing proved
-            continue
+        return {m: np.zeros(robot.n) for m in out}
+    how = {"pairs": lambda t: tree_bound(robot, base, region, t, dropped, zero, True),
+           "joint sum": lambda t: tree_bound(robot, base, region, t, dropped, zero),
+           "branch and bound": lambda t: summed_tree_bound(robot, base, region, t, dropped,
+                                                           zero),
+           "decomposition": lambda t: decomposed_tree_bound(robot, base, region, dropped,
+                                                            t[0], t[1], zero)}
+    for m in out:
+        for tree in decomposed if m == "decomposition" else trees:
+            try:
+                out[m] = np.minimum(out[m], how[m](tree))
+            except ValueError:          # not a tiling of the region: it proves nothing
+                continue
     return out
 
 

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 
 __all__ = ["channel_count", "channel_values", "pair_magnitudes", "inertia_enclosure",
            "inertia_form_enclosure", "channel_enclosures", "channel_magnitudes", "combined_bound",
-           "BOX_MAX_JOINTS"]
+           "BOX_MAX_JOINTS", "joint_sum_arithmetic"]
 
 
 def channel_count(n: int) -> int:
@@ -663,6 +663,28 @@ def channel_magnitudes(lo: np.ndarray, hi: np.ndarray, qd_max: ArrayLike,
 BOX_MAX_JOINTS = 8
 
 
+def joint_sum_arithmetic(n: int) -> str:
+    """The arithmetic of :func:`channel_enclosures` (the joint sums' enclosures) on n joints.
+
+    Parameters
+    ----------
+    n : int
+        The arm's joints.
+
+    Returns
+    -------
+    str
+        ``"both"`` (balls and interval boxes, intersected) up to :data:`BOX_MAX_JOINTS`
+        joints, else ``"ball"``.
+
+    Examples
+    --------
+    >>> joint_sum_arithmetic(6), joint_sum_arithmetic(12)
+    ('both', 'ball')
+    """
+    return "both" if n <= BOX_MAX_JOINTS else "ball"
+
+
 def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
                        gravity: ArrayLike | None = None, arithmetic: str | None = None
                        ) -> tuple[np.ndarray, np.ndarray]:
@@ -705,7 +727,7 @@ def channel_enclosures(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns
     q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
     if arithmetic is None:
-        arithmetic = "both" if n <= BOX_MAX_JOINTS else "ball"
+        arithmetic = joint_sum_arithmetic(n)
     if arithmetic not in ("ball", "box", "both"):
         raise ValueError(f"arithmetic must be 'ball', 'box' or 'both', got {arithmetic!r}")
     columns = np.asarray(columns, int)

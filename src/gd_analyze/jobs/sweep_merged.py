@@ -221,6 +221,12 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     if model.guarantee is not None:     # its scope, in the model's one sentence
         ds.attrs.update({SA.MERGED_GUARANTEE_KIND: model.guarantee.kind,
                          SA.MERGED_GUARANTEE_STATEMENT: model.guarantee.statement()})
+        if model.guarantee.bound_method:  # how each joint's bound was proved
+            put(SV.MERGED_BOUND_METHOD, (SV.JOINT,), np.array(model.guarantee.bound_method,
+                                                               dtype=str), "1",
+                "how the merged model's bound of each joint was proved over the region "
+                "(certify.BOUND_METHODS)")
+            ds.attrs[SA.MERGED_JOINT_SUM_ARITHMETIC] = model.guarantee.joint_sum_arithmetic
         region_vars, region_attrs = region_fields(model.guarantee.region)
         ds.update(region_vars)
         ds.attrs.update(region_attrs)

@@ -24,7 +24,7 @@ from ..ranking.ranking import (
     joint_units_text,
 )
 from ..store.stored_simplified import InertiaCheck, StoredSimplified
-from .common import count, fmt, pct, pct_column, say, table, torque_units
+from .common import count, fmt, joints_text, pct, pct_column, say, table, torque_units
 from .figure_style import grid_boxes, markevery, new_figure
 from .markup import powers, sub
 from .markup import scope as scope_markup
@@ -46,7 +46,7 @@ __all__ = ["budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
            "fig_cost_ladder", "budget_makers", "contribution_series", "simplified_context",
            "error_figure", "ROUND_OFF", "simplified_caption",
-           "region_pruning"]
+           "region_pruning", "bound_ways"]
 
 #: The five G-D contributions to tau_i: series key of the plot data, label, colour, line
 #: style, marker (told apart in greyscale by line style and marker).
@@ -252,12 +252,20 @@ def joint_sum_lower(ds: StoredSimplified | xr.Dataset) -> npt.NDArray[np.bool_]:
     Returns
     -------
     ndarray of bool, shape (n,)
-        True where ``simplified_bound`` < (1 - 1e-9) x the parts' sum: the bound was proved on
-        the dropped set's joint sum (:func:`gd_analyze.certify.certify.region_bound`).
+        True where the bound was proved on the dropped set's joint sum
+        (:func:`gd_analyze.certify.certify.region_bound`): where the guarantee states how
+        each joint's bound was proved, the joints bounded on their sum at the same state
+        (``guarantee.bound_method``: ``"joint sum"``, ``"branch and bound"``,
+        ``"decomposition"``); in an older file, where ``simplified_bound`` < (1 - 1e-9) x
+        the parts' sum.
     """
     s = ds if isinstance(ds, StoredSimplified) else StoredSimplified.from_dataset(ds)
     if s is None:
         return np.zeros(0, bool)
+    method = (s.guarantee or {}).get("bound_method") or ()
+    if method:
+        return np.array([m in ("joint sum", "branch and bound", "decomposition")
+                         for m in method], bool)
     bound = np.asarray(s.bound, float)
     total = sum((np.nan_to_num(v) for v in _stored_parts(s).values()), np.zeros_like(bound))
     return bound < (1 - 1e-9) * total
@@ -813,14 +821,41 @@ def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | No
 def _recursive_text(s, eps, floor):
     """The rule of a model of the recursive form, what it keeps and its guarantee."""
     exact = s.pairs_dropped == 0 or s.guarantee_kind == "region"
+    g = s.guarantee or {}
     return say("recursive_rule", b=s.base_parameters, eps=f"{eps:g}",
                floor=f"{floor:g}" if floor else "", pairs=s.pairs, dropped=s.pairs_dropped,
                region=s.guarantee_kind == "region", drives=s.has_drives,
-               scope=_scope(s, exact=exact))
+               scope=_scope(s, exact=exact), ways=bound_ways(g.get("bound_method") or ()),
+               arithmetic=g.get("joint_sum_arithmetic", ""))
+
+
+def bound_ways(method: Sequence[str]) -> list[tuple[str, str]]:
+    """Each way a model's joints' bounds were proved, with the joints in words.
+
+    Parameters
+    ----------
+    method : sequence of str, length n
+        Per joint, a name of :data:`gd_analyze.certify.certify.BOUND_METHODS` as the model
+        built stored it (``guarantee.bound_method``); empty where none is stored.
+
+    Returns
+    -------
+    list of (str, str)
+        (the joints, the way), in the order of each way's first joint.
+
+    Examples
+    --------
+    >>> bound_ways(["branch and bound", "branch and bound", "pairs", "none", "none", "none"])
+    [('joints 1, 2', 'branch and bound'), ('joint 3', 'pairs'), ('joints 4, 5, 6', 'none')]
+    """
+    ways: dict[str, list[int]] = {}
+    for j, m in enumerate(method):
+        ways.setdefault(str(m), []).append(j + 1)
+    return [(joints_text(js), m) for m, js in ways.items()]
 
 
 def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False,
-                   floor: str = "") -> str:
+                   floor: str = "", method: Sequence[str] = (), arithmetic: str = "") -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
 
@@ -835,14 +870,19 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
     floor : str, optional
         The torque floor with its units; empty for none (s_i is then not said to be raised
         to it).
+    method : sequence of str, optional
+        Per joint, how its bound was proved (:func:`bound_ways`), as the model stored it;
+        empty (an older file): not said.
+    arithmetic : str, optional
+        The joint sums' enclosures as stored (``"both"``, ``"ball"``).
 
     Returns
     -------
     str
-        One sentence.
+        The sentences.
     """
     return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives,
-               floor=floor)
+               floor=floor, ways=bound_ways(method), arithmetic=arithmetic)
 
 
 def _scope(s, exact=False):

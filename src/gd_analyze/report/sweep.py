@@ -722,7 +722,9 @@ def _region_rule(m):
     return say("region_rule", eps=_eps(m), form=m.form, coverage=coverage(m),
                statement=scope_markup(str(m.guarantee_statement)),
                pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}",
-                                      floor=_floor(m) if m.torque_floor > 0 else "")
+                                      floor=_floor(m) if m.torque_floor > 0 else "",
+                                      method=m.bound_method,
+                                      arithmetic=m.joint_sum_arithmetic)
                if m.form == "recursive" and dropped else "")
 
 

@@ -23,11 +23,13 @@ from ..cache import CacheWarning
 from ..certify.certify import (
     JOINT_DIMS,
     METHOD,
+    bound_methods,
     decomposed_limit,
     decomposed_pairs,
     dropped_search,
     joint_sums,
     leaf_bound,
+    method_bounds,
     region_trees,
     split_joints,
 )
@@ -39,6 +41,7 @@ from ..certify.region import (
     sampled_error,
     worst_states,
 )
+from ..certify.regressor_bounds import joint_sum_arithmetic
 from ..certify.screen import proved_screen, screen_region
 from ..dynamics.base_parameters import base_parameters
 from ..errors import one_line
@@ -228,7 +231,8 @@ def region_model(robot: Robot, base: BaseParameters, region: Region, tolerance: 
 def _region_pruning(base, pb, robot, region, tolerance, chosen=None, worth=None):
     """:func:`~gd_analyze.symbolic.pruning.prune_bounds` on a region's certification
     (``chosen``: an earlier search's pairs, checked against the budget; ValueError if over),
-    and the trees of boxes its bound is derived again on (:meth:`_JointBound.tilings`).
+    the trees of boxes its bound is derived again on and how each joint's bound was obtained
+    (:meth:`_JointBound.tilings`).
 
     The pairs are searched twice where the arm has more than :data:`JOINT_DIMS` joints that
     coefficients depend on, and at most :data:`DECOMPOSED_MAX_JOINTS` joints: without the decomposition
@@ -261,14 +265,14 @@ def _region_pruning(base, pb, robot, region, tolerance, chosen=None, worth=None)
     else:
         pr = search(False)
         if worth is not None and not worth(pr):
-            return pr, joint.tilings(pr.dropped, pr.bound)
+            return pr, *joint.tilings(pr.dropped, pr.bound)
         other = search(True)
         if _restored_count(robot, base, region, pb, other) < \
                 _restored_count(robot, base, region, pb, pr):
             pr = other
         else:
             joint.decompose = False
-    return pr, joint.tilings(pr.dropped, pr.bound)
+    return pr, *joint.tilings(pr.dropped, pr.bound)
 
 
 def _relative_bounds(pb):
@@ -438,29 +442,36 @@ class _JointBound:
         :data:`TILING_RTOL` of s_i on every joint: the joint sum's branch and bound's, or the
         decomposition's pair of trees (its branch and bound's on the first links' pairs, the
         certification's for the rest), first (:func:`gd_analyze.certify.certify.region_trees`),
-        the certification's where the first does not reach it; () when nothing but pairs
+        the certification's where the first does not reach it or where a joint's bound is
+        its final boxes' (so that a reader finds each joint's way again on the trees kept);
+        () when nothing but pairs
         proved zero is dropped, or when they do not reach it. A pair is a tuple of two
-        arrays, a tree an array."""
+        arrays, a tree an array. And per joint how ``bound`` was obtained
+        (:func:`gd_analyze.certify.certify.bound_methods` within :data:`TILING_RTOL`)."""
         dropped = np.asarray(dropped, bool)
         if not (dropped & ~self.pb.zero).any():
-            return ()
+            return (), bound_methods(bound, {}, self.pb.scale)
         key = self._key(dropped)
         if key not in self.memo:
             self(dropped)
+        how = bound_methods(bound, method_bounds(self.pb, dropped, self.memo[key][1]),
+                            self.pb.scale, TILING_RTOL)
         reach = np.asarray(bound, float) + TILING_RTOL * np.abs(np.asarray(self.pb.scale))
         chosen, covered = [], np.zeros(reach.shape, bool)
+        boxes = {"pairs", "joint sum"} & set(how)     # the certification's tree gives them
         for tree, tree_bound in reversed(self.memo[key][1]):
-            if np.any(~covered & (tree_bound <= reach)):
+            if np.any(~covered & (tree_bound <= reach)) or (
+                    boxes and tree is self.memo[key][1][0][0]):
                 chosen.append(tree)
                 covered |= tree_bound <= reach
-        return tuple(chosen) if covered.all() else ()
+        return (tuple(chosen) if covered.all() else ()), how
 
 
 def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
     """:func:`region_model`'s model and guarantee from the certification and the pruning
     with its trees of boxes (:func:`_region_pruning`; ``sampled=False``: the model only, the
     guarantee None, its error not sampled)."""
-    pr, trees = pruned
+    pr, trees, how = pruned
     tilings = tuple(t for t in trees if not isinstance(t, tuple))
     decomposed = tuple(t for t in trees if isinstance(t, tuple))
 
@@ -482,7 +493,8 @@ def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
         "region", float(tolerance), bound=rec.bound, scale=rec.scale, q_min=region.q_min,
         q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=pb.scale_state, sampled_error=err, region=region, tilings=tilings,
-        decomposed=decomposed,
+        decomposed=decomposed, bound_method=how,
+        joint_sum_arithmetic=joint_sum_arithmetic(robot.n),
         method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
                + _unrefined(robot))
     return rec, guarantee

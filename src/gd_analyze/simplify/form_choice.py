@@ -251,6 +251,7 @@ def exact_explicit_model(full: SimplifiedModel, terms: Term, guarantee: Guarante
         choices=full_choices(n), cost=program.cost(), program_cache=program,
         guarantee=dataclasses.replace(
             guarantee, bound=np.zeros(n), sampled_error=np.zeros(n), tilings=(),
+            decomposed=(), bound_method=(), joint_sum_arithmetic="",
             method=f"the exact explicit G-D model (nothing dropped), {why}; scale: "
                    + guarantee.method))
 

@@ -166,6 +166,15 @@ class Guarantee:
         search (:func:`gd_analyze.certify.certify.decomposed_tree_bound`): the first bounds
         the dropped pairs of the first links (its branch and bound's tree), the second the
         rest (the certification's tree); () when none is kept. Not trusted, as ``tilings``.
+    bound_method : tuple of str, length n, or ()
+        Region kind: per joint, how its bound was obtained, a name of
+        :data:`gd_analyze.certify.certify.BOUND_METHODS`
+        (:func:`gd_analyze.certify.certify.bound_methods`); () where not stored (a file
+        written before it was). Not trusted: a reader derives each joint's way again.
+    joint_sum_arithmetic : str
+        Region kind: the enclosures the joint sums were added on,
+        :func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic` (``"both"``: balls
+        and interval boxes intersected; ``"ball"``); "" where not stored.
 
     Notes
     -----
@@ -193,6 +202,8 @@ class Guarantee:
     region: Region | None = None
     tilings: tuple = ()
     decomposed: tuple = ()
+    bound_method: tuple = ()
+    joint_sum_arithmetic: str = ""
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -352,6 +363,9 @@ class Guarantee:
             if self.kind == "region" else []
         if pairs and all(all(pair) for pair in pairs):
             out["decomposed_tilings"] = pairs
+        if self.kind == "region" and self.bound_method:
+            out.update(bound_method=list(self.bound_method),
+                       joint_sum_arithmetic=self.joint_sum_arithmetic)
         return out
 
     @classmethod
@@ -418,7 +432,12 @@ class Guarantee:
                                               for k, v in limits.items()):
                 raise InputError("does not match the guarantee's q_min, q_max, qd_max and "
                                  "qdd_max", path, column="guarantee.region")
+            method = tuple(spec.get("bound_method") or ())
+            if method and len(method) != n:
+                raise InputError(f"expected {n} names", path, column="guarantee.bound_method")
             return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
+                       bound_method=method,
+                       joint_sum_arithmetic=str(spec.get("joint_sum_arithmetic", "")),
                        sampled_error=arr("sampled_error", required=False),
                        tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()),
                        decomposed=tuple((decode_tree(a), decode_tree(b)) for a, b in

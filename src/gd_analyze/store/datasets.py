@@ -119,11 +119,15 @@ def guarantee_fields(model: SimplifiedModel,
     -------
     variables : dict
         ``simplified_guarantee_bound`` and ``simplified_guarantee_scale`` (dim joint) [N m or
-        N]: the guarantee's bound and s_i; empty without a guarantee.
+        N]: the guarantee's bound and s_i; and, where the guarantee states it,
+        ``simplified_guarantee_bound_method`` (dim joint): how each joint's bound was
+        proved (:attr:`~gd_analyze.simplify.guarantee.Guarantee.bound_method`); empty
+        without a guarantee.
     attrs : dict
         ``simplified_guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``),
         ``simplified_guarantee_statement`` (:meth:`gd_analyze.simplify.simplified.SimplifiedModel.scope`, the one sentence
-        every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS);
+        every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS)
+        and, with a way per joint, ``simplified_guarantee_joint_sum_arithmetic``;
         with a region, :func:`region_fields`' ``region_*``.
     """
     g: Any = model.guarantee       # a Guarantee or None
@@ -135,6 +139,11 @@ def guarantee_fields(model: SimplifiedModel,
     where = "over the region" if g.kind == "region" else "on the trajectory"
     region_vars, region_attrs = region_fields(g.region)
     attrs.update(region_attrs)
+    if g.bound_method:
+        region_vars[Var.SIMPLIFIED_GUARANTEE_BOUND_METHOD] = var(
+            ("joint",), np.array(g.bound_method, dtype=str), "1",
+            "how the guarantee's bound of each joint was proved (certify.BOUND_METHODS)")
+        attrs[Attr.SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC] = g.joint_sum_arithmetic
     return {**region_vars, Var.SIMPLIFIED_GUARANTEE_BOUND: var(("joint",), np.asarray(g.bound, float),
                                               torque_units, f"the guarantee's bound on "
                                               f"|tau_s - tau| {where}"),
@@ -237,8 +246,9 @@ def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     -------
     dict or None
         ``kind``, ``statement``, ``tolerance`` (NaN without a guarantee), ``bound`` and
-        ``scale`` (ndarray (n,), or None); None for a dataset written by an older version
-        (without a guarantee).
+        ``scale`` (ndarray (n,), or None), ``bound_method`` (tuple of str, () where not
+        stored) and ``joint_sum_arithmetic`` ("" where not stored); None for a dataset
+        written by an older version (without a guarantee).
     """
     a = ds.attrs
     if Attr.SIMPLIFIED_GUARANTEE_STATEMENT not in a:
@@ -248,7 +258,10 @@ def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
             "tolerance": float(a.get(Attr.SIMPLIFIED_GUARANTEE_TOLERANCE, np.nan)),
             **{k: (np.asarray(ds[name].values, float) if name in ds.variables else None)
                for k, name in (("bound", Var.SIMPLIFIED_GUARANTEE_BOUND),
-                               ("scale", Var.SIMPLIFIED_GUARANTEE_SCALE))}}
+                               ("scale", Var.SIMPLIFIED_GUARANTEE_SCALE))},
+            "bound_method": tuple(str(m) for m in ds[Var.SIMPLIFIED_GUARANTEE_BOUND_METHOD].values)
+            if Var.SIMPLIFIED_GUARANTEE_BOUND_METHOD in ds.variables else (),
+            "joint_sum_arithmetic": str(a.get(Attr.SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC, ""))}
 
 
 def joint_units(prismatic: Sequence[bool] | np.ndarray, which: str) -> list[str]:

@@ -30,7 +30,16 @@ claim fails, with one line naming the key:
   bounds and their joint sum on the region's certification, :func:`.certification_cache.certification`,
   through the derivation cache, whose entries are themselves re-derived, and the branch and
   bound on the joint sum with the budget EPS s_i), and the stored bound is not below it by
-  more than :data:`BOUND_RTOL` of s_i. A model of the explicit form keeps
+  more than :data:`BOUND_RTOL` of s_i;
+- ``guarantee.bound_method`` (where stored): each joint's way of bounding
+  (:data:`gd_analyze.certify.certify.BOUND_METHODS`) gives its stored bound, within
+  :data:`BOUND_RTOL` of s_i, when derived again: on the stored trees
+  (:func:`gd_analyze.certify.certify.tree_method_bounds`), else as the main job derived it
+  (:func:`gd_analyze.certify.certify.method_bounds` of
+  :func:`gd_analyze.certify.certify.region_trees`); "none" only where the bound is 0; and
+  ``guarantee.joint_sum_arithmetic`` is the one the arm's joint sums are enclosed in
+  (:func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic`). A file without them
+  (written before) is read, its bound checked as above. A model of the explicit form keeps
   every term (bound 0) only if its terms are the robot's full explicit model's
   (:func:`.explicit_cache.explicit_terms`).
 """
@@ -43,8 +52,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..certify.certify import prove_dropped, region_bound, tilings_bound
+from ..certify.certify import (
+    method_bounds,
+    prove_dropped,
+    region_trees,
+    tree_method_bounds,
+    unproved_way,
+)
 from ..certify.region import Region
+from ..certify.regressor_bounds import joint_sum_arithmetic
 from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
@@ -150,34 +166,52 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     limit = bound + BOUND_RTOL * np.abs(scale)
-    if model.recursive is not None and np.isfinite(bound).all() and (
-            _tiled(model, region, limit) or prove_dropped(
-                model.robot, base_parameters(model.robot), region, model.recursive.dropped,
-                limit, max_boxes=QUICK_BOXES)):
-        _PROVED_CLAIMS.add(key)
-        return                              # proved on the stored trees or the pairs' own boxes
+    how = tuple(g.bound_method)  # type: ignore[union-attr]  # the guarantee is not None here
+    if how and g.joint_sum_arithmetic != joint_sum_arithmetic(model.robot.n):  # type: ignore[union-attr]
+        raise InputError(f"is not the joint sums' arithmetic on {model.robot.n} joints "
+                         f"({joint_sum_arithmetic(model.robot.n)!r})", path,
+                         column="guarantee.joint_sum_arithmetic")
+    if model.recursive is not None and np.isfinite(bound).all():
+        found = _tiled(model, region, limit)
+        if (found is not None and unproved_way(how, bound, found, limit) is None) or (
+                not how and prove_dropped(model.robot, base_parameters(model.robot), region,
+                                          model.recursive.dropped, limit,
+                                          max_boxes=QUICK_BOXES)):
+            _PROVED_CLAIMS.add(key)
+            return                          # proved on the stored trees or the pairs' own boxes
     reproved = reproved_bound(model, region, path)
     short = ~(bound >= reproved - BOUND_RTOL * np.abs(scale))      # NaN never passes
     if short.any():
         j = int(np.argmax(np.where(short, reproved - bound, -np.inf)))
         raise InputError(f"is below the bound re-proved for its dropped terms (joint {j + 1}: "
                          f"{bound[j]:.4g} < {reproved[j]:.4g})", path, column="guarantee.bound")
+    unmet = unproved_way(how, bound, _reproved(model, region, path)[1] if model.recursive is not None
+                   else {}, limit)
+    if unmet is not None:
+        raise InputError(f"joint {unmet + 1}'s {how[unmet]!r} does not give its bound "
+                         f"{bound[unmet]:.4g} when derived again", path,
+                         column="guarantee.bound_method")
     if key is not None:
         _PROVED_CLAIMS.add(key)
 
 
 def _tiled(model, region, limit):
-    """Whether the guarantee's stored trees of boxes (``guarantee.tilings`` and the pairs
+    """The bounds of each way (:func:`gd_analyze.certify.certify.tree_method_bounds`: the
+    certification's, the decomposition's and those ``guarantee.bound_method`` names) on the
+    guarantee's stored trees of boxes (``guarantee.tilings`` and the pairs
     ``guarantee.decomposed_tilings``), each checked to tile the region and evaluated afresh,
-    give a bound within ``limit`` (n,) on every joint
-    (:func:`gd_analyze.certify.certify.tilings_bound`); False without trees."""
+    where the least gives a bound within ``limit`` (n,) on every joint; else None (and
+    without trees)."""
     g = model.guarantee
     if not g.tilings and not g.decomposed:
-        return False
+        return None
     robot = model.robot
-    found = tilings_bound(robot, base_parameters(robot), region,
-                          np.asarray(model.recursive.dropped, bool), g.tilings, g.decomposed)
-    return bool(np.all(found <= limit))     # NaN never passes
+    found = tree_method_bounds(robot, base_parameters(robot), region,
+                               np.asarray(model.recursive.dropped, bool), g.tilings,
+                               g.decomposed, sorted({"joint sum", "decomposition",
+                                                     *g.bound_method} - {"none"}))
+    least = np.minimum(found["joint sum"], found["decomposition"])
+    return found if bool(np.all(least <= limit)) else None     # NaN never passes
 
 
 def remember_claim(model: SimplifiedModel) -> None:
@@ -259,10 +293,26 @@ def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>"
                              "keeps other terms: its bound cannot be proved", path,
                              column="guarantee.bound")
         return np.zeros(robot.n)
-    pb = _certified(robot, region, float(model.torque_floor))
-    dropped: np.ndarray = np.asarray(model.recursive.dropped, bool)  # type: ignore[type-var]
-    return region_bound(robot, base_parameters(robot), region, pb, dropped,
-                        float(model.tolerance) * np.asarray(pb.scale, float))
+    return _reproved(model, region, path)[0]
+
+
+#: The last re-derivation (:func:`_reproved`): claim key -> (bound, each way's bound).
+_REPROVED: dict = {}
+
+
+def _reproved(model, region, path):
+    """:func:`reproved_bound` of a recursive model and each way's bound
+    (:func:`gd_analyze.certify.certify.method_bounds`), the last kept."""
+    key = _claim_key(model)
+    if key not in _REPROVED:
+        robot = model.robot
+        pb = _certified(robot, region, float(model.torque_floor))
+        dropped = np.asarray(model.recursive.dropped, bool)
+        bound, trees = region_trees(robot, base_parameters(robot), region, pb, dropped,
+                                    float(model.tolerance) * np.asarray(pb.scale, float))
+        _REPROVED.clear()
+        _REPROVED[key] = bound, method_bounds(pb, dropped, trees)
+    return _REPROVED[key]
 
 
 def _proved_key(robot, region, torque_floor, samples=CERTIFICATION_SAMPLES):

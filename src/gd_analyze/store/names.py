@@ -186,6 +186,7 @@ class Var(_Ranked):
     SIMPLIFIED_BOUND_WHOLE: Final = "simplified_bound_whole"
     SIMPLIFIED_ELEMENT_BOUND: Final = "simplified_element_bound"
     SIMPLIFIED_GUARANTEE_BOUND: Final = "simplified_guarantee_bound"
+    SIMPLIFIED_GUARANTEE_BOUND_METHOD: Final = "simplified_guarantee_bound_method"
     SIMPLIFIED_GUARANTEE_SCALE: Final = "simplified_guarantee_scale"
     SIMPLIFIED_SCALE: Final = "simplified_scale"
     T: Final = "t"
@@ -254,6 +255,8 @@ class Attr(_Provenance):
     SIMPLIFIED_FILES: Final = "simplified_files"
     SIMPLIFIED_FORM: Final = "simplified_form"
     SIMPLIFIED_FORM_NOTE: Final = "simplified_form_note"
+    SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC: Final = \
+        "simplified_guarantee_joint_sum_arithmetic"
     SIMPLIFIED_GUARANTEE_KIND: Final = "simplified_guarantee_kind"
     SIMPLIFIED_GUARANTEE_STATEMENT: Final = "simplified_guarantee_statement"
     SIMPLIFIED_GUARANTEE_TOLERANCE: Final = "simplified_guarantee_tolerance"
@@ -375,6 +378,7 @@ class SweepVar(_Ranked):
     CLASS: Final = "class"
     MERGED_SCALE: Final = "merged_scale"
     MERGED_BOUND: Final = "merged_bound"
+    MERGED_BOUND_METHOD: Final = "merged_bound_method"
     MERGED_COVERED: Final = "merged_covered"
     MERGED_COVERAGE: Final = "merged_coverage"
     HELD_OUT_ERROR_PEAK: Final = "held_out_error_peak"
@@ -429,6 +433,7 @@ class SweepAttr(_Provenance):
     MERGED_DROPPED_PAIRS: Final = "merged_dropped_pairs"
     MERGED_GRAVITY_DROPPED: Final = "merged_gravity_dropped"
     MERGED_GUARANTEE_KIND: Final = "merged_guarantee_kind"
+    MERGED_JOINT_SUM_ARITHMETIC: Final = "merged_joint_sum_arithmetic"
     MERGED_GUARANTEE_STATEMENT: Final = "merged_guarantee_statement"
     HELD_OUT_INSIDE_REGION: Final = "held_out_inside_region"
 

@@ -670,6 +670,11 @@ class MergedModel(View):
     guarantee : dict or None
         :func:`gd_analyze.store.sweep_guarantee.merged_guarantee`: the guarantee and the swept
         trajectories it covers.
+    bound_method : tuple of str, length n
+        A region model's way of proving each joint's bound
+        (:attr:`gd_analyze.simplify.guarantee.Guarantee.bound_method`); () where not stored.
+    joint_sum_arithmetic : str
+        The enclosures its joint sums were added on ("" where not stored).
     beyond_floor : tuple or None
         :func:`beyond_the_floor`.
     worst_scaled_error : float
@@ -704,6 +709,8 @@ class MergedModel(View):
     guarantee_kind: str = stored(SA.MERGED_GUARANTEE_KIND, str, "", attr=True)
     guarantee_statement: Any = stored(SA.MERGED_GUARANTEE_STATEMENT, default=None, attr=True)
     guarantee: dict | None = derived(merged_guarantee)
+    bound_method: tuple[str, ...] = stored(SV.MERGED_BOUND_METHOD, texts, ())
+    joint_sum_arithmetic: str = stored(SA.MERGED_JOINT_SUM_ARITHMETIC, str, "", attr=True)
     beyond_floor: tuple[float, int, list[int]] | None = derived(beyond_the_floor)
     worst_scaled_error: float = stored(SA.MERGED_WORST_SCALED_ERROR, float, np.nan, attr=True)
     base_parameters: Any = stored(SA.MERGED_BASE_PARAMETERS, default=None, attr=True)
