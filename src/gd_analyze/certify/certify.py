@@ -15,7 +15,7 @@ about the gravity axis). The sampled peaks are lower bounds of the same maxima, 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -1390,11 +1390,13 @@ def method_bounds(pb: PairBounds, dropped: np.ndarray, trees: tuple) -> dict[str
     Returns
     -------
     dict of str to ndarray, shape (n,)
-        By :data:`BOUND_METHODS` name (but ``"none"``): ``"pairs"`` the largest over the
+        By :data:`BOUND_METHODS` name: ``"none"`` 0 where the pairs' own bounds are, else
+        inf, ``"pairs"`` the largest over the
         final boxes of the sum of the pairs' own bounds, ``"joint sum"`` :func:`leaf_bound`,
         and ``"branch and bound"`` or ``"decomposition"`` where that ran [N m or N].
     """
-    out = {"pairs": pb.leaves[np.asarray(dropped, bool)].sum(axis=0).max(axis=0),
+    pairs = pb.leaves[np.asarray(dropped, bool)].sum(axis=0).max(axis=0)
+    out = {"none": np.where(pairs == 0, 0.0, np.inf), "pairs": pairs,
            "joint sum": np.asarray(trees[0][1], float)}
     for tree, bound in trees[1:]:
         out["decomposition" if isinstance(tree, tuple) else "branch and bound"] = bound
@@ -1448,19 +1450,18 @@ def unproved_way(how: Sequence[str], bound: np.ndarray, found: dict[str, np.ndar
     Returns
     -------
     int or None
-        The joint (from 0), or None where every joint's way gives it: ``"none"`` where, and
-        only where, the bound is 0; another way where its bound found is within ``limit``
-        (NaN never is).
+        The joint (from 0), or None where every joint's way gives it: its bound found is
+        within ``limit`` (NaN never is), and the way is ``"none"`` where, and only where,
+        the bound is 0.
 
     Examples
     --------
-    >>> unproved_way(["none", "pairs"], np.array([0.0, 1.0]), {"pairs": np.array([0, 2.0])},
-    ...              np.array([0.0, 1.5]))
+    >>> found = {"none": np.array([0, np.inf]), "pairs": np.array([0, 2.0])}
+    >>> unproved_way(["none", "pairs"], np.array([0.0, 1.0]), found, np.array([0.0, 1.5]))
     1
     """
     for j, m in enumerate(how):
-        if (m == "none") != (bound[j] == 0) or not (
-                m == "none" or m in found and found[m][j] <= limit[j]):
+        if (m == "none") != (bound[j] == 0) or not (m in found and found[m][j] <= limit[j]):
             return j
     return None
 
@@ -1548,6 +1549,11 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     :func:`dropped_search` at most :func:`dropped_bound`: the same sums of the same
     enclosures, evaluated level by level in the same chunks.
     """
+    return _tree_bounds(robot, base, region, split_joint, dropped, zero)[int(pairs_only)]
+
+
+def _tree_bounds(robot, base, region, split_joint, dropped, zero):
+    """:func:`tree_bound` (n,) and the same with ``pairs_only`` (n,), in one pass."""
     levels = tiling(region, np.asarray(split_joint))
     n = robot.n
     dropped = np.asarray(dropped, bool)
@@ -1556,12 +1562,12 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
     live = dropped & ~free
     used = np.flatnonzero(live.any(axis=1))
     if used.size == 0:
-        return np.zeros(n)
+        return np.zeros((2, n))
     if _held(n, _CHUNK, live, free).size < used.size:
-        return np.full(n, np.inf)
+        return np.full((2, n), np.inf)
     cols = np.flatnonzero(base.independent.reshape(-1))[used]
-    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols), pairs_only)
-    out, parent = np.zeros(n), None
+    held = (robot, base, region, cols, used, live, free, zero_parts(robot, cols))
+    out, parent = np.zeros((2, n)), None
     for lo, hi, split in levels:
         # each column's channels kept for the sub-boxes where they fit the arrays' size
         channels = lo.shape[0] * channel_count(n) * n * used.size <= JOINT_SUM_ELEMENTS
@@ -1569,8 +1575,8 @@ def tree_bound(robot: Robot, base: BaseParameters, region: Region, split_joint: 
                              None if parent is None else
                              tuple(None if x is None else x[a:a + _CHUNK] for x in parent))
                  for a in range(0, lo.shape[0], _CHUNK)]
-        each = np.concatenate([p[0] for p in parts])
-        out = np.maximum(out, each[~split].max(axis=0, initial=0.0))
+        each = np.concatenate([p[0] for p in parts], axis=1)             # (2, B, n)
+        out = np.maximum(out, each[:, ~split].max(axis=1, initial=0.0))
         kept = [None if parts[0][1][e] is None else np.concatenate([p[1][e] for p in parts])
                 for e in range(5)]
         parent = tuple(None if x is None else np.concatenate([x[split], x[split]])
@@ -1647,10 +1653,11 @@ def _summed_chunk(robot, lo, hi, cols, beta, weight, slack, widen):
 
 
 def _tree_chunk(held, lo, hi, channels, parent):
-    """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds (B, n),
-    and what the sub-boxes intersect with (the pairs' bounds, the summed channels, and each
-    column's channels or None), each box's intersected with its ``parent``'s."""
-    robot, base, region, cols, used, live, free, masked, pairs_only = held
+    """:func:`tree_bound` on boxes (B, n) of one level: the least of the three bounds and the
+    first alone (2, B, n), and what the sub-boxes intersect with (the pairs' bounds, the
+    summed channels, and each column's channels or None), each box's intersected with its
+    ``parent``'s."""
+    robot, base, region, cols, used, live, free, masked = held
     c_lo, c_hi = _channels(robot, lo, hi, cols)
     U = channel_magnitudes(c_lo, c_hi, region.qd_max, region.qdd_max) * np.abs(
         np.asarray(base.beta, float)[used])
@@ -1664,16 +1671,14 @@ def _tree_chunk(held, lo, hi, channels, parent):
         s_lo, s_hi = _intersect(s_lo, s_hi, parent[1], parent[2])
         if channels and parent[3] is not None:
             c_lo, c_hi = _intersect(c_lo, c_hi, parent[3], parent[4])
-    each = np.einsum("bpnk,pk->bn", U, live[used].T.astype(float))
-    if pairs_only:
-        return each, (U, s_lo, s_hi, None, None)
-    each = np.minimum(each, combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo),
-                                           region.qd_max, region.qdd_max))
+    pairs = np.einsum("bpnk,pk->bn", U, live[used].T.astype(float))
+    each = np.minimum(pairs, combined_bound(0.5 * (s_lo + s_hi), 0.5 * (s_hi - s_lo),
+                                            region.qd_max, region.qdd_max))
     if not channels:
-        return each, (U, s_lo, s_hi, None, None)
+        return np.stack([each, pairs]), (U, s_lo, s_hi, None, None)
     each = np.minimum(each, _joint_sums(robot, base, region, used, live, free, c_lo,
                                         c_hi.copy()).bound(live))
-    return each, (U, s_lo, s_hi, c_lo, c_hi)
+    return np.stack([each, pairs]), (U, s_lo, s_hi, c_lo, c_hi)
 
 
 def decomposed_tree_bound(robot: Robot, base: BaseParameters, region: Region,
@@ -1763,16 +1768,16 @@ def tilings_bound(robot: Robot, base: BaseParameters, region: Region, dropped: n
 def tree_method_bounds(robot: Robot, base: BaseParameters, region: Region, dropped: np.ndarray,
                        trees: Sequence[np.ndarray],
                        decomposed: Sequence[tuple[np.ndarray, np.ndarray]] = (),
-                       methods: Sequence[str] = ("joint sum", "decomposition")
-                       ) -> dict[str, np.ndarray]:
+                       methods: Mapping[str, int] | None = None) -> dict[str, np.ndarray]:
     """:func:`method_bounds` derived again on given bisection trees, without search.
 
     Parameters
     ----------
     robot, base, region, dropped, trees, decomposed
         As :func:`tilings_bound`.
-    methods : sequence of str, optional
-        Names of :data:`BOUND_METHODS` to derive.
+    methods : mapping of str to int, optional
+        Names of :data:`BOUND_METHODS` to derive, each with the first joint (from 0) it is
+        asked for; default ``"joint sum"`` and ``"decomposition"`` from joint 0.
 
     Returns
     -------
@@ -1782,24 +1787,45 @@ def tree_method_bounds(robot: Robot, base: BaseParameters, region: Region, dropp
         :func:`tree_bound` with ``pairs_only``, ``"joint sum"`` of :func:`tree_bound`,
         ``"branch and bound"`` of :func:`summed_tree_bound`, ``"decomposition"`` of
         :func:`decomposed_tree_bound` (the pairs proved zero by :func:`proved_zero` left
-        out) [N m or N]; each bounds |tau_s - tau| at every state of the region. 0 where no
-        pair but those proved zero is dropped; inf where no tree (or pair) tiles the region.
+        out), ``"none"`` 0 where no dropped pair but those acts (of a link from the joint
+        on), else inf [N m or N]; each bounds |tau_s - tau| at every state of the region
+        from its first joint on, where the first three leave out the pairs of the links
+        before it. 0 where no pair but those proved zero is dropped; inf where no tree (or
+        pair) tiles the region.
+
+    Notes
+    -----
+    tau_i depends on the parameters of the links i..n alone (the Newton-Euler recursion's
+    backward pass, Fu, Gonzalez & Lee 1987, Sec. 3.3), so the pairs of the links before a
+    joint change no tau from it on: leaving them out bounds those joints alike, with
+    fewer columns evaluated.
     """
     dropped = np.asarray(dropped, bool)
+    methods = {"joint sum": 0, "decomposition": 0} if methods is None else dict(methods)
     zero = proved_zero(robot, base, region, dropped)
-    out = {m: np.full(robot.n, np.inf) for m in methods if m != "none"}
-    if not (dropped & ~zero).any():
+    link = np.flatnonzero(base.independent.reshape(-1)) // 10           # per base parameter
+    last = link[(dropped & ~zero).any(axis=1)].max(initial=-1)
+    out = {m: np.full(robot.n, np.inf) for m in methods}
+    if "none" in out:
+        out["none"] = np.where(np.arange(robot.n) > last, 0.0, np.inf)
+    if last < 0:
         return {m: np.zeros(robot.n) for m in out}
-    how = {"pairs": lambda t: tree_bound(robot, base, region, t, dropped, zero, True),
-           "joint sum": lambda t: tree_bound(robot, base, region, t, dropped, zero),
-           "branch and bound": lambda t: summed_tree_bound(robot, base, region, t, dropped,
-                                                           zero),
-           "decomposition": lambda t: decomposed_tree_bound(robot, base, region, dropped,
-                                                            t[0], t[1], zero)}
-    for m in out:
-        for tree in decomposed if m == "decomposition" else trees:
+    both: dict = {}                     # per tree and first joint: the least and the pairs'
+
+    def boxes(t, j, k):
+        if (id(t), j) not in both:
+            both[id(t), j] = _tree_bounds(robot, base, region, t, dropped & (
+                link >= j)[:, None], zero)
+        return both[id(t), j][k]
+    how = {"pairs": lambda t, j: boxes(t, j, 1), "joint sum": lambda t, j: boxes(t, j, 0),
+           "branch and bound": lambda t, j: summed_tree_bound(
+               robot, base, region, t, dropped & (link >= j)[:, None], zero),
+           "decomposition": lambda t, j: decomposed_tree_bound(robot, base, region, dropped,
+                                                               t[0], t[1], zero)}
+    for m, j in methods.items():
+        for tree in () if m == "none" else decomposed if m == "decomposition" else trees:
             try:
-                out[m] = np.minimum(out[m], how[m](tree))
+                out[m] = np.minimum(out[m], how[m](tree, j))
             except ValueError:          # not a tiling of the region: it proves nothing
                 continue
     return out

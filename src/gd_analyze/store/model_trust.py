@@ -171,14 +171,12 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         raise InputError(f"is not the joint sums' arithmetic on {model.robot.n} joints "
                          f"({joint_sum_arithmetic(model.robot.n)!r})", path,
                          column="guarantee.joint_sum_arithmetic")
-    if model.recursive is not None and np.isfinite(bound).all():
-        found = _tiled(model, region, limit)
-        if (found is not None and unproved_way(how, bound, found, limit) is None) or (
-                not how and prove_dropped(model.robot, base_parameters(model.robot), region,
-                                          model.recursive.dropped, limit,
-                                          max_boxes=QUICK_BOXES)):
-            _PROVED_CLAIMS.add(key)
-            return                          # proved on the stored trees or the pairs' own boxes
+    if model.recursive is not None and np.isfinite(bound).all() and (
+            _tiled(model, region, limit) or not how and prove_dropped(
+                model.robot, base_parameters(model.robot), region, model.recursive.dropped,
+                limit, max_boxes=QUICK_BOXES)):
+        _PROVED_CLAIMS.add(key)
+        return                              # proved on the stored trees or the pairs' own boxes
     reproved = reproved_bound(model, region, path)
     short = ~(bound >= reproved - BOUND_RTOL * np.abs(scale))      # NaN never passes
     if short.any():
@@ -196,22 +194,27 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
 
 
 def _tiled(model, region, limit):
-    """The bounds of each way (:func:`gd_analyze.certify.certify.tree_method_bounds`: the
-    certification's, the decomposition's and those ``guarantee.bound_method`` names) on the
-    guarantee's stored trees of boxes (``guarantee.tilings`` and the pairs
+    """Whether the guarantee's stored trees of boxes (``guarantee.tilings`` and the pairs
     ``guarantee.decomposed_tilings``), each checked to tile the region and evaluated afresh,
-    where the least gives a bound within ``limit`` (n,) on every joint; else None (and
-    without trees)."""
+    give the bound within ``limit`` (n,) on every joint: where the guarantee states each
+    joint's way (``guarantee.bound_method``), that way's bound on them from the first joint
+    stating it (:func:`gd_analyze.certify.certify.tree_method_bounds`,
+    :func:`gd_analyze.certify.certify.unproved_way`), else the least of the trees'
+    (:func:`gd_analyze.certify.certify.tilings_bound`); False without trees."""
     g = model.guarantee
     if not g.tilings and not g.decomposed:
-        return None
-    robot = model.robot
+        return False
+    robot, how = model.robot, tuple(g.bound_method)
+    ways: dict = {}
+    for j, m in enumerate(how):
+        ways.setdefault(m, j)
     found = tree_method_bounds(robot, base_parameters(robot), region,
                                np.asarray(model.recursive.dropped, bool), g.tilings,
-                               g.decomposed, sorted({"joint sum", "decomposition",
-                                                     *g.bound_method} - {"none"}))
+                               g.decomposed, ways or None)
+    if how:
+        return unproved_way(how, np.asarray(g.bound, float), found, limit) is None
     least = np.minimum(found["joint sum"], found["decomposition"])
-    return found if bool(np.all(least <= limit)) else None     # NaN never passes
+    return bool(np.all(least <= limit))     # NaN never passes
 
 
 def remember_claim(model: SimplifiedModel) -> None:
