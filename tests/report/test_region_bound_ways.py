@@ -115,3 +115,17 @@ def test_an_older_results_file_says_no_way():
     assert "The bound of" not in text and "balls" not in text
     assert text.endswith("The error at every state of the region is within that bound, the "
                          "bound below.")
+
+
+def test_the_sweep_reports_sentence_names_the_way_certify_used(shared_main):
+    """The sweep report's Sec. 5 says the same of the merged region model, from sweep.h5."""
+    import html as html_lib
+
+    out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1", "--held-out", "0",
+                      "--rule", "budget")
+    found, doc, n = _ways_by_certify(out / "merged_model.json")
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        assert [str(m) for m in ds["merged_bound_method"].values] == found
+    page = html_lib.unescape(re.sub(r"<[^>]+>", "", (out / "sweep_report.html").read_text()))
+    text = " ".join(page.split())
+    assert _sentence_ways(text, n) == found
