@@ -106,15 +106,24 @@ def test_the_sentence_names_the_way_certify_used(arm, shared_main):
         assert found[:4] == ["decomposition"] * 4 and found[-1] == "none"
 
 
-def test_an_older_results_file_says_no_way():
-    """A results file written before the ways were stored: the sentence says none (no joint
-    named with a way), and the rest of it stands."""
-    from gd_analyze.report.simplified_section import region_pruning
+def test_an_older_results_file_says_no_way(shared_main):
+    """A results file written before the ways were stored (the PUMA 560's without the
+    variable and attribute): read, the sentence names no way and no enclosures, the rest of it
+    stands, and Figure 6's triangles fall back to the bound below the parts' sum."""
+    from gd_analyze.report.simplified_section import joint_sum_lower
 
-    text = region_pruning(120, 72, method=())
-    assert "The bound of" not in text and "balls" not in text
-    assert text.endswith("The error at every state of the region is within that bound, the "
-                         "bound below.")
+    with xr.open_dataset(shared_main("puma560", SHIPPED) / "results.h5") as ds:
+        new = ds.load()
+    old = new.drop_vars("simplified_guarantee_bound_method")
+    del old.attrs["simplified_guarantee_joint_sum_arithmetic"]
+    text = simplified_context(old)["text"]
+    assert "The bound of" not in text and "midpoint-radius balls" not in text
+    assert "The error at every state of the region is within that bound, the bound below." \
+        in text
+    assert "The bound of joints 1, 2 is proved by branch and bound" in \
+        simplified_context(new)["text"]
+    assert joint_sum_lower(old).tolist() == joint_sum_lower(new).tolist() == \
+        [True, True, False, False, False, False]
 
 
 def test_the_sweep_reports_sentence_names_the_way_certify_used(shared_main):
