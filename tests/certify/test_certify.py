@@ -657,6 +657,36 @@ def test_joint_sums_on_one_tree_evaluate_each_column_once_and_give_the_same_sums
     assert evaluated == set(cols[first.columns]) and all(a is other for a, _ in asked)
 
 
+def test_leaf_channels_of_a_seven_joint_ladder_are_kept_across_its_budgets(monkeypatch):
+    """The leaf enclosures a 7-joint arm's tolerance ladder asks for on one certification's
+    tree (512 final boxes; 29 columns at EPS 0.01, 20 of them at 0.001, 36 at 0.05, as the
+    TALOS arm's) are kept between the calls: the second evaluates nothing, the third only the
+    columns the first did not hold; each call gives the columns asked, in order, as a
+    fresh evaluation does."""
+    from gd_analyze.certify import certify as cert
+
+    robot, n, leaves = object(), 7, 512         # the arm only keys what is kept
+    asked = []
+
+    def evaluated(arm, levels, count, cols):
+        asked.append(list(np.asarray(cols, int)))
+        value = np.asarray(cols, float)[None, None, None, :]
+        shape = (count, 1 + n + n * n, n, len(cols))
+        return np.broadcast_to(value, shape).copy(), np.broadcast_to(value + 0.5, shape).copy()
+
+    monkeypatch.setattr(cert, "_tree_channels", evaluated)
+    monkeypatch.setattr(cert, "_LEAF_CHANNELS", [])
+    middle, few, more = np.arange(0, 58, 2), np.arange(0, 40, 2), np.arange(0, 72, 2)
+    for cols, want in ((middle, [list(middle)]), (few, []),
+                       (more, [list(np.setdiff1d(more, middle))])):
+        asked.clear()
+        lo, hi = cert._leaf_channels(robot, b"tree", None, leaves, cols)
+        assert asked == want
+        np.testing.assert_array_equal(lo[0, 0, 0], cols)
+        np.testing.assert_array_equal(hi[-1, -1, -1], cols + 0.5)
+        assert lo.shape == (leaves, 1 + n + n * n, n, cols.size) and lo.flags.writeable
+
+
 def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_final_boxes():
     """The Panda's region model at EPS 0.01 drops pairs of links on more than three joints:
     its bound on a joint is the decomposition's (the branch and bound on the first links'

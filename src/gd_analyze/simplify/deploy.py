@@ -33,6 +33,7 @@ from ..certify.certify import (
     region_trees,
     split_joints,
 )
+from ..certify.certify import release as release_sums
 from ..certify.positive_definite import inertia_restored
 from ..certify.region import (
     REFINE_JOINTS,
@@ -873,8 +874,9 @@ _SEARCHED_MAX = 12
 
 
 def release() -> None:
-    """Forget the region searches (:func:`region_search`) and the region derivations
-    (:func:`gd_analyze.simplify.region_memo.release`) kept in this process.
+    """Forget the region searches (:func:`region_search`), the region derivations
+    (:func:`gd_analyze.simplify.region_memo.release`) and the joint sums' enclosures
+    (:func:`gd_analyze.certify.certify.release`) kept in this process.
 
     Their certifications hold the channel values of the region's sampled positions (about
     415 MB for a 15-joint arm); a later model of the same arm derives them again or reads them
@@ -888,6 +890,7 @@ def release() -> None:
     """
     _SEARCHED.clear()
     release_derivations()
+    release_sums()
 
 
 def region_search(robot: Robot, base: BaseParameters, region: Region, tolerance: float,
