@@ -190,11 +190,12 @@ def test_tidying_with_kept_results_equals_tidying_from_scratch():
             for e in [e for _, e in want[0]] + list(want[1]):
                 C._count(e, scratch)
             assert got.cost() == scratch
-    assert T._FACTORED and C._COUNTED       # the results were kept (the test's premise)
+    assert T._FACTORED and T._TWICE and C._COUNTED      # kept (the test's premise)
 
 
 def test_kept_results_are_bounded(monkeypatch):
-    """At most FACTORED_KEPT tidied sums and COUNTED_KEPT counts are kept."""
+    """At most FACTORED_KEPT tidied sums (once and twice) and COUNTED_KEPT counts are
+    kept."""
     import gd_analyze.symbolic.operation_count as C
     import gd_analyze.symbolic.transform as T
 
@@ -202,5 +203,6 @@ def test_kept_results_are_bounded(monkeypatch):
     monkeypatch.setattr(C, "COUNTED_KEPT", 5)
     assignments, outputs = _random_program(np.random.default_rng(3), ["a", "b", "c"])
     finish_program(assignments, outputs, 2).cost()
-    assert len(T._FACTORED) <= 5 and len(T._USES) <= 5
+    finish_program(assignments, outputs, 2, cse=False).cost()
+    assert len(T._FACTORED) <= 5 and len(T._USES) <= 5 and 0 < len(T._TWICE) <= 5
     assert len(C._COUNTED) <= 5

@@ -51,10 +51,12 @@ def finish_program(assignments: list[tuple[se.Symbol, se.Basic]], outputs: list[
     outputs = list(outputs)
     assignments, outputs = _fresh_names(assignments, outputs)
     assignments, outputs = _inline_sums(prune_dead(assignments, outputs), outputs)
-    assignments = [(sym, _factored(e)) for sym, e in assignments]
     if cse:
+        assignments = [(sym, _factored(e)) for sym, e in assignments]
         assignments, outputs = eliminate(assignments, outputs)
-    assignments = [(sym, _factored(e)) for sym, e in assignments]
+        assignments = [(sym, _factored(e)) for sym, e in assignments]
+    else:           # both tidyings of each temporary, kept together
+        assignments = [(sym, _factored_twice(e)) for sym, e in assignments]
     outputs = [_factored(e) for e in outputs]
     return Program(n=n, assignments=assignments, outputs=outputs)
 
@@ -96,17 +98,38 @@ _FACTORED: dict = {}
 _USES: dict = {}
 
 
-def _factored(e):
+def _factored(e, key=None):
     """A sum with its common factors (symbols, equal coefficients) taken out (kept by
-    expression: the programs the form search and the pruning compare differ in a few links)."""
+    expression: the programs the form search and the pruning compare differ in a few links);
+    ``key``: the expression's own (:func:`_order`), where the caller has it."""
     if not e.is_Add:
         return e
-    key = (e, _order(e))
+    key = (e, _order(e)) if key is None else key
     out = _FACTORED.get(key)
     if out is None:
         if len(_FACTORED) >= FACTORED_KEPT:
             _FACTORED.clear()
         out = _FACTORED[key] = factor_sum(_terms(e))
+    return out
+
+
+#: ``_factored(_factored(e))`` by ``e``'s key (:func:`_factored_twice`).
+_TWICE: dict = {}
+
+
+def _factored_twice(e):
+    """``_factored(_factored(e))``, kept by ``e``'s key: a program finished without common
+    subexpressions tidies each temporary twice, and the quick counts of a pruning's candidates
+    (hundreds of programs sharing most of their temporaries) would otherwise work out the
+    key of each first tidying again."""
+    if not e.is_Add:
+        return e
+    key = (e, _order(e))
+    out = _TWICE.get(key)
+    if out is None:
+        if len(_TWICE) >= FACTORED_KEPT:
+            _TWICE.clear()
+        out = _TWICE[key] = _factored(_factored(e, key))
     return out
 
 
