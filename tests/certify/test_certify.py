@@ -662,10 +662,13 @@ def test_leaf_channels_of_a_seven_joint_ladder_are_kept_across_its_budgets(monke
     tree (512 final boxes; 29 columns at EPS 0.01, 20 of them at 0.001, 36 at 0.05, as the
     TALOS arm's) are kept between the calls: the second evaluates nothing, the third only the
     columns the first did not hold; each call gives the columns asked, in order, as a
-    fresh evaluation does."""
+    fresh evaluation does. A 12-joint arm's 4 columns on 300 boxes (2.3 million numbers) are not kept."""
+    import types
+
     from gd_analyze.certify import certify as cert
 
-    robot, n, leaves = object(), 7, 512         # the arm only keys what is kept
+    n, leaves = 7, 512
+    robot = types.SimpleNamespace(n=n)          # the arm keys what is kept, by identity
     asked = []
 
     def evaluated(arm, levels, count, cols):
@@ -685,6 +688,12 @@ def test_leaf_channels_of_a_seven_joint_ladder_are_kept_across_its_budgets(monke
         np.testing.assert_array_equal(lo[0, 0, 0], cols)
         np.testing.assert_array_equal(hi[-1, -1, -1], cols + 0.5)
         assert lo.shape == (leaves, 1 + n + n * n, n, cols.size) and lo.flags.writeable
+    n, leaves = 12, 300                         # 2.3 million numbers: between the caps
+    robot = types.SimpleNamespace(n=n)
+    for _ in range(2):
+        asked.clear()
+        cert._leaf_channels(robot, b"tree", None, leaves, np.arange(4))
+        assert asked == [list(range(4))]
 
 
 def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_final_boxes():

@@ -785,11 +785,15 @@ def joint_sums(robot: Robot, base: BaseParameters, region: Region, split_joint: 
 _JOINT_SUMS: list[tuple[Any, bytes, np.ndarray, np.ndarray, float, JointSums]] = []
 
 
-#: Most numbers per array of the leaf enclosures kept between calls (64 MB each), as many as
-#: the joint sums hold (:data:`JOINT_SUM_ELEMENTS`): a 7-joint arm's ladder asks for 20 to 36
-#: columns on 512 final boxes (4 to 7 million numbers), which the joint sums of each budget
-#: then evaluate once in all instead of once per budget.
-KEPT_CHANNEL_ELEMENTS = JOINT_SUM_ELEMENTS
+#: Most numbers per array of the leaf enclosures kept between calls (16 MB each); for an arm
+#: of at most :data:`KEPT_CHANNEL_JOINTS` joints as many as the joint sums hold
+#: (:data:`JOINT_SUM_ELEMENTS`, 64 MB): a 7-joint arm's ladder asks for 20 to 36 columns on
+#: 512 final boxes (4 to 7 million numbers), which the joint sums of each budget then
+#: evaluate once in all instead of once per budget. Beyond that the joint sums hold only a few
+#: columns, and keeping 8 million numbers raised a 12-joint chain's peak by 161 MB for no time.
+KEPT_CHANNEL_ELEMENTS = 1 << 21
+#: The most joints of an arm whose leaf enclosures are kept up to :data:`JOINT_SUM_ELEMENTS`.
+KEPT_CHANNEL_JOINTS = 8
 #: The last tree's leaf enclosures of the columns asked so far (:func:`_leaf_channels`): the
 #: arm, the tree's key, the columns (increasing) and their (lo, hi).
 _LEAF_CHANNELS: list[tuple[Any, bytes, np.ndarray, np.ndarray, np.ndarray]] = []
@@ -803,7 +807,8 @@ def _leaf_channels(robot, key, levels, leaves, cols):
     A column's enclosures do not depend on the other columns evaluated with it (each is its
     own backward recursion from the same forward one, and the intersections are elementwise),
     so those of the last tree seen are kept (the arm by identity, the tree by ``key``, at most
-    :data:`KEPT_CHANNEL_ELEMENTS` numbers per array) and only columns not kept are evaluated:
+    :data:`KEPT_CHANNEL_ELEMENTS` numbers per array, or :data:`JOINT_SUM_ELEMENTS` for an arm
+    of at most :data:`KEPT_CHANNEL_JOINTS` joints) and only columns not kept are evaluated:
     the joint sums of several budgets on one certification's tree (12 and 8 columns on the
     PUMA 560, one set inside the other) evaluate each column once.
     """
@@ -824,7 +829,8 @@ def _leaf_channels(robot, key, levels, leaves, cols):
             out[..., at_old], out[..., at_new] = old, add
     else:
         every, lo, hi = have, kept[3], kept[4]
-    if lo.size <= KEPT_CHANNEL_ELEMENTS:
+    if lo.size <= (JOINT_SUM_ELEMENTS if robot.n <= KEPT_CHANNEL_JOINTS
+                   else KEPT_CHANNEL_ELEMENTS):
         _LEAF_CHANNELS[:] = [(robot, key, every, lo, hi)]
     else:
         _LEAF_CHANNELS.clear()
