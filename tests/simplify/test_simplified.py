@@ -116,6 +116,14 @@ def test_save_load_and_reuse_on_new_states(tmp_path, puma, shipped, puma_analysi
     old["schema_version"] = 1
     # a schema-1 file has no recursive form, so no "pruned" choice: the kept parts are both
     old["choices"] = {k: "both" if v == "pruned" else v for k, v in old["choices"].items()}
+    # nor the ways its bound was proved, which name a recursive model's dropped pairs: a file
+    # that states them without a recursive form to derive them again on is refused
+    assert old["guarantee"]["bound_method"][0] != "none"
+    path.write_text(json.dumps(old))
+    with pytest.raises(InputError, match="guarantee.bound_method"):
+        load_model(path)
+    old["guarantee"] = {k: v for k, v in old["guarantee"].items()
+                        if k not in ("bound_method", "joint_sum_arithmetic")}
     path.write_text(json.dumps(old))
     np.testing.assert_allclose(load_model(path).torque(q, qd, qdd),
                                simplified_torque(terms, analysis.model.choices, qdd),
