@@ -146,8 +146,10 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     ------
     InputError
         One line naming the key (module docstring): a region outside the robot's limits, a
-        scale not reached at its stored state (:func:`check_region`), or a bound below the
-        one re-proved for the model's dropped pairs (``guarantee.bound``).
+        scale not reached at its stored state (:func:`check_region`), a bound below the
+        one re-proved for the model's dropped pairs (``guarantee.bound``), or ways of proving
+        it that are not the arm's arithmetic, do not give it when derived again, or are stated
+        for a model without a recursive form to derive them on (``guarantee.bound_method``).
 
     Notes
     -----
@@ -167,6 +169,9 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     limit = bound + BOUND_RTOL * np.abs(scale)
     how = tuple(g.bound_method)  # type: ignore[union-attr]  # the guarantee is not None here
+    if how and model.recursive is None:
+        raise InputError("states how a recursive model's dropped pairs were bounded, but the "
+                         "file holds no recursive model", path, column="guarantee.bound_method")
     if how and g.joint_sum_arithmetic != joint_sum_arithmetic(model.robot.n):  # type: ignore[union-attr]
         raise InputError(f"is not the joint sums' arithmetic on {model.robot.n} joints "
                          f"({joint_sum_arithmetic(model.robot.n)!r})", path,
