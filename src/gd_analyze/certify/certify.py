@@ -1833,7 +1833,7 @@ def tree_method_bounds(robot: Robot, base: BaseParameters, region: Region, dropp
     zero = proved_zero(robot, base, region, dropped)
     link = np.flatnonzero(base.independent.reshape(-1)) // 10           # per base parameter
     last = link[(dropped & ~zero).any(axis=1)].max(initial=-1)
-    out = {m: np.full(robot.n, np.inf) for m in methods}
+    out: dict[str, np.ndarray] = {m: np.full(robot.n, np.inf) for m in methods}
     if "none" in out:
         out["none"] = np.where(np.arange(robot.n) > last, 0.0, np.inf)
     if last < 0:

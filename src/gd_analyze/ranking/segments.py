@@ -69,5 +69,5 @@ def chunk_segments(N: int, ends: ArrayLike | None = None, at: int = 0,
                          f"{int(ends[-1])}")
     bounds = np.concatenate([[0], np.minimum(ends[first:last + 1], at + N) - at])
     if np.any(np.diff(bounds) <= 0) or np.any(np.diff(ends) <= 0):
-        raise ValueError(f"trajectory ends must rise strictly, got {ends.tolist()[:8]}")
+        raise ValueError(f"trajectory ends must rise strictly, got {[int(e) for e in ends[:8]]}")
     return bounds.astype(np.int64), slice(first, last + 1)
