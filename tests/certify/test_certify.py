@@ -1,5 +1,6 @@
 """The region guarantee: the stored bound holds at every sampled state of the region,
 against Pinocchio's rnea, on real arms and a mixed chain with prismatic joints."""
+import copy
 import dataclasses
 
 import numpy as np
@@ -13,7 +14,9 @@ from gd_analyze.dynamics.base_parameters import base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.model.robot_spec import robot_from_chain
-from gd_analyze.simplify.deploy import certified, region_model
+from gd_analyze.simplify.deploy import certified
+from gd_analyze.simplify.deploy import region_model as _searched_model
+from gd_analyze.simplify.region_memo import region_key
 from gd_analyze.symbolic.emit import python_function
 from gd_analyze.symbolic.pruning import pruned_program
 
@@ -81,6 +84,33 @@ def _rnea(robot, q, qd, qdd):
     return np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, qd, qdd)])
 
 
+#: :func:`region_model`'s results and :func:`_sampled`'s states and torques, by their inputs.
+_SEARCHED: dict = {}
+_SAMPLED: dict = {}
+
+
+def region_model(robot, base, region, eps):
+    """``gd_analyze.simplify.deploy.region_model`` on an arm, its base parameters, region and
+    EPS, searched once per process for the same inputs (a pure function of them): a copy of
+    the first result each time, which a test may change."""
+    key = (region_key(robot, region, 0.0), eps)
+    if key not in _SEARCHED:
+        _SEARCHED[key] = _searched_model(robot, base, region, eps)
+    return copy.deepcopy(_SEARCHED[key])
+
+
+def _sampled(robot, region, count, seed):
+    """``(q, qd, qdd, tau)``: :func:`_states` and Pinocchio's rnea at them, made once per
+    process for the same arm, region, count and seed; read only."""
+    key = (region_key(robot, region, 0.0), count, seed)
+    if key not in _SAMPLED:
+        q, qd, qdd = _states(region, count, seed)
+        _SAMPLED[key] = (q, qd, qdd, _rnea(robot, q, qd, qdd))
+        for a in _SAMPLED[key]:
+            a.setflags(write=False)
+    return _SAMPLED[key]
+
+
 @pytest.mark.parametrize("name,eps", [("puma560", 0.05), ("puma560", 0.01), ("panda", 0.02),
                                       ("ur5", 0.05), ("ur5", 0.01), ("mixed", 0.05),
                                       ("prismatic-first", 0.05)])
@@ -92,8 +122,7 @@ def test_the_region_bound_holds_at_every_sampled_state(name, eps):
     assert rec.dropped.any(), "nothing dropped: the test would prove nothing"
     assert np.all(guarantee.bound <= eps * guarantee.scale * (1 + 1e-12))
     tau_s = python_function(pruned_program(robot, base, rec.dropped))
-    q, qd, qdd = _states(region, STATES, seed=7)
-    ref = _rnea(robot, q, qd, qdd)
+    q, qd, qdd, ref = _sampled(robot, region, STATES, seed=7)
     err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
     round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
     assert np.all(np.isfinite(err))
@@ -309,8 +338,7 @@ def test_the_stored_trees_give_the_bound_again_and_it_holds_at_every_sampled_sta
                                   rec.dropped & pb.zero)
     # soundness against the oracle
     tau_s = python_function(pruned_program(robot, base, rec.dropped))
-    q, qd, qdd = _states(region, STATES, seed=11)
-    ref = _rnea(robot, q, qd, qdd)
+    q, qd, qdd, ref = _sampled(robot, region, STATES, seed=7)
     err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
     round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
     assert np.all(err <= again + round_off), (err, again)
@@ -737,8 +765,7 @@ def test_the_decomposed_bound_holds_at_every_sampled_state_and_is_below_the_fina
     assert np.all(guarantee.bound <= budget * (1 + 1e-12))
     # soundness against the oracle, of the decomposition alone and of the stored bound
     tau_s = python_function(pruned_program(robot, base, dropped))
-    q, qd, qdd = _states(region, STATES, seed=13)
-    ref = _rnea(robot, q, qd, qdd)
+    q, qd, qdd, ref = _sampled(robot, region, STATES, seed=7)
     err = np.abs(tau_s(q, qd, qdd) - ref).max(axis=0)
     round_off = 64 * np.finfo(float).eps * max(guarantee.scale.max(), np.abs(ref).max())
     assert np.all(np.isfinite(err))
