@@ -289,7 +289,19 @@ def test_sweep_file_round_trip(sweep, tmp_path):
 # --------------------------------------------------------------------------------------------
 
 
-def test_sweep_report(sweep, puma, shipped, tmp_path):
+@pytest.fixture(scope="module")
+def chapter_html(sweep, tmp_path_factory):
+    """The sweep's report as HTML alone, without a payload sweep (the per-trajectory models
+    of the chapter rule), written once for the tests that read it: its text."""
+    from gd_analyze.report.sweep import write_sweep_report
+
+    folder = tmp_path_factory.mktemp("chapter")
+    write_sweep(sweep, folder / "chapter.h5")
+    return write_sweep_report(folder / "chapter.h5", folder / "rc",
+                              formats=["html"])[0].read_text(encoding="utf-8")
+
+
+def test_sweep_report(sweep, puma, shipped, tmp_path, chapter_html):
     from matplotlib.figure import Figure
 
     from gd_analyze.report.figures import payload_figure
@@ -338,8 +350,7 @@ def test_sweep_report(sweep, puma, shipped, tmp_path):
     fig = payload_figure(pay)
     assert isinstance(fig, Figure) and len(fig.axes) >= 2
     # no payload section without a payload sweep; a payload file is not a sweep
-    html2 = write_sweep_report(path, tmp_path / "r2", formats=["html"])[0].read_text()
-    assert "Payload sweep" not in html2
+    assert "Payload sweep" not in chapter_html
     with pytest.raises(InputError):
         write_sweep_report(tmp_path / "payload.h5", tmp_path / "r3")
     with pytest.raises(InputError):
@@ -438,14 +449,13 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
 #: How the sweep report names the per-trajectory models (chapter rule: no bound).
 _OWN = "chapter rule: share-based classes of Sec. 3.4.1, no error bound"
 
-def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_path):
+def test_sweep_report_wording_follows_the_rule(sweep, puma, trajectories, tmp_path,
+                                              chapter_html):
     from gd_analyze.jobs.sweep_merged import with_budget_model
     from gd_analyze.report.sweep import write_sweep_report
     from gd_analyze.simplify.sweep_model import sweep_model
 
-    write_sweep(sweep, tmp_path / "chapter.h5")
-    html = write_sweep_report(tmp_path / "chapter.h5", tmp_path / "rc",
-                              formats=["html"])[0].read_text(encoding="utf-8")
+    html = chapter_html
     assert "chapter rule, no error bound" in html and "guaranteed within" not in html
     assert "onservative" not in html
     model, _ = sweep_model(puma, trajectories, tolerance=0.02)
