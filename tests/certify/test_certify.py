@@ -89,6 +89,15 @@ _SEARCHED: dict = {}
 _SAMPLED: dict = {}
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _memos_of_the_module():
+    """:func:`region_model`'s and :func:`_sampled`'s memos, kept for this module's cases
+    only (the sampled states and torques are some 90 MB)."""
+    yield
+    _SEARCHED.clear()
+    _SAMPLED.clear()
+
+
 def region_model(robot, base, region, eps):
     """``gd_analyze.simplify.deploy.region_model`` on an arm, its base parameters, region and
     EPS, searched once per process for the same inputs (a pure function of them): a copy of
