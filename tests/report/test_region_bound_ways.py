@@ -13,7 +13,7 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import ROOT, SHIPPED
+from conftest import SHIPPED, golden_run
 
 import gd_analyze
 from gd_analyze.certify.certify import (
@@ -88,9 +88,10 @@ def _sentence_ways(text, n):
 
 @pytest.mark.parametrize("arm", ["puma560", "panda"])
 def test_the_sentence_names_the_way_certify_used(arm, shared_main):
-    trajectory = SHIPPED if arm == "puma560" else ROOT / "data" / "panda_trajectory.csv"
-    out = shared_main(arm, trajectory) if arm == "puma560" else \
-        shared_main(arm, trajectory, "--no-report")
+    # the Panda's main job without report on its shipped trajectory is its golden case's
+    # command (tests/golden/freeze.py): that run, shared with tests/test_golden.py, read only
+    out = shared_main(arm, SHIPPED) if arm == "puma560" else \
+        golden_run(arm)[0][0] / arm
     found, doc, n = _ways_by_certify(out / "simplified_model.json")
     assert doc["bound_method"] == found
     with xr.open_dataset(out / "results.h5") as ds:
