@@ -191,3 +191,21 @@ def check_print_ready(figs, rc=None):
         if key.endswith("_column"):
             assert fig.get_size_inches()[0] == pytest.approx(3.5)
             assert smallest_type(fig, rc) >= 7.0, key
+
+
+def sweep_figure(ds, key):
+    """The sweep report's figure ``key`` ("error", or the one-part share figure "D" or "h")
+    of a sweep dataset at the page's width, as ``make_sweep_figures(ds)[key]`` makes it (the
+    same maker, settings and parts), made alone: without the other figures, which a test
+    that reads one does not need (the share figures' box plots take most of the making)."""
+    import matplotlib
+
+    from gd_analyze.report import sweep
+    from gd_analyze.report.common import SUPTITLE_RC
+
+    w = sweep.StoredSweep.of(ds)
+    with matplotlib.rc_context(SUPTITLE_RC):
+        if key == "error":
+            return sweep._fig_error(w)
+        width = sweep._PAGE_WIDTH
+        return sweep._share_figures(w, key, width, sweep._share_parts(w, key, (width,)))[key]

@@ -699,7 +699,7 @@ def test_envelope_text_gives_the_drawn_column_count(tmp_path, two_link):
     with open_results(make_results(two_link, trajectory, tmp_path, check=False)) as ds:
         ds = ds.load()
     ctx = report_context(ds)
-    fig = report.make_figures(ds, report.plot_data(ds))["D"]
+    fig = report.make_figures(ds, report.plot_data(ds), keys=("D",))["D"]
     drawn = {np.unique(line.get_xdata()).size for ax in fig.axes for line in ax.lines
              if len(line.get_xdata()) > 2}
     assert len(drawn) == 1

@@ -15,13 +15,13 @@ import pinocchio as pin
 import pytest
 import xarray as xr
 from conftest import SHIPPED
+from figure_checks import sweep_figure
 from html_checks import html_text
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.model.urdf import builtin_urdf_path
 from gd_analyze.report.simplified_section import budget_caption, cost_points, simplified_caption
-from gd_analyze.report.sweep import make_sweep_figures
 from gd_analyze.store.datasets import stored_guarantee
 from gd_analyze.trajectory.trajectory import read_trajectory
 
@@ -145,7 +145,7 @@ def test_sweep_error_figure_is_on_one_scale(shared_reports):
     assert ds.attrs["merged_guarantee_kind"] == "region"
     s_i = ds["merged_scale"].values
     assert (s_i == s_i[0]).all()                    # one region, one s_i per joint
-    fig = make_sweep_figures(ds)["error"]
+    fig = sweep_figure(ds, "error")
     ax = fig.axes[0]
     assert ax.get_ylabel() == "peak |Δτ| / s [1]"
     diamonds = [ln for ln in ax.lines if ln.get_marker() == "D"]

@@ -14,11 +14,12 @@ from html import unescape
 import numpy as np
 import pytest
 import xarray as xr
+from figure_checks import sweep_figure
 from html_checks import html_table as _table_rows
 from html_checks import html_text as _text
 
 from gd_analyze.cli import main
-from gd_analyze.report.sweep import make_sweep_figures, write_sweep_report
+from gd_analyze.report.sweep import write_sweep_report
 from gd_analyze.store.schema import write_dataset
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
@@ -126,7 +127,7 @@ def test_merged_error_below_the_arms_round_off_is_not_data(stanford, tmp_path):
     row = [r for r in _table_rows(html.read_text(), "Table 5.1") if r[0] == "6"][0]
     assert row[2] == "\u2261 0 (round-off)" and row[4] == "\u2261 0"
     # nor drawn: nothing of the merged model at joint 6 (its box and diamond sit at x = 6.18)
-    ax = make_sweep_figures(ds)["error"].axes[0]
+    ax = sweep_figure(ds, "error").axes[0]
     xs = np.concatenate([np.ravel(line.get_xdata()) for line in ax.get_lines()])
     assert not np.any(np.abs(xs.astype(float) - 6.18) < 0.2)
 
@@ -193,7 +194,7 @@ def test_ur5_urdfs_decimals_do_not_reach_the_merged_model(tmp_path_factory):
             assert row[2] == "\u2261 0 (round-off)" and row[4] == "\u2261 0", row
     for c in (4, 5):                                    # the percent columns: one plain format
         assert not any("e" in r[c] for r in rows[1:]), [r[c] for r in rows]
-    ax = make_sweep_figures(ds)["error"].axes[0]        # the merged model's boxes: x = j + 1.18
+    ax = sweep_figure(ds, "error").axes[0]              # the merged model's boxes: x = j + 1.18
     xs = np.concatenate([np.ravel(line.get_xdata()) for line in ax.get_lines()]).astype(float)
     assert not np.any(np.abs(xs - 5.18) < 0.2) and not np.any(np.abs(xs - 6.18) < 0.2)
     assert ax.get_ylim()[0] > 1e-9                      # no decade spent on round-off
@@ -209,7 +210,7 @@ def test_the_h_figure_s_key_stays_clear_of_the_panels(chapter):
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
 
     with xr.open_dataset(chapter / "sweep.h5", engine="h5netcdf") as ds:
-        fig = make_sweep_figures(ds.load())["h"]
+        fig = sweep_figure(ds.load(), "h")
     raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
     renderer = FigureCanvasAgg(fig).get_renderer()
     key = [t for t in fig.texts if t.get_text().startswith("Box:")]

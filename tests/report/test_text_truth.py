@@ -184,7 +184,7 @@ def test_section_2_names_the_marks_fig_2_draws(tmp_path, setpoints):
     report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
     text = _text((tmp_path / "out" / "report.html").read_text())
     section = text[text.index("One panel per element"):text.index("Figure 2.")]
-    fig = report.make_figures(ds, plot_data(ds))["D"]
+    fig = report.make_figures(ds, plot_data(ds), keys=("D",))["D"]
     marked = {ln.get_label(): ln.get_marker() not in (None, "None", "", " ")
               for ax in fig.axes for ln in ax.lines}
     assert set(marked) >= {"translational", "rotational", "combined"}
