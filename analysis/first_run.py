@@ -1,7 +1,7 @@
 """The main job's first run after installing, against the runs after it: what compiling the
 numba kernels costs a user once.
 
-    python analysis/first_run.py [--rounds 3] [--robot puma560] [--report]
+    python analysis/first_run.py [--rounds 3] [--robot puma560] [--report] [--baseline SRC]
 
 Each round copies this checkout's ``src`` into a new temporary folder, so that numba's cache
 (``__pycache__/*.nbi``, ``*.nbc`` beside the kernels' sources, as an install has it) starts
@@ -18,7 +18,10 @@ empty, and runs ``python -m gd_analyze.cli ROBOT data/ROBOT_trajectory.csv -q --
 The copies' byte-code is written by the first run, as an install's is. Prints one JSON line:
 per kind, the median wall time [s] with its [min, max] over the rounds and the median CPU time
 of the child (user + system, ``os.wait4``) [s]; the compile share, (median kernels_cold - median
-warm) / median first; and the 1-minute load average at the start and the end.
+warm) / median first; and the 1-minute load average at the start and the end. With
+``--baseline SRC`` (another checkout's ``src``) each round runs that code's three jobs too, the
+two sides in turn (which goes first alternates), and the line adds the baseline's figures and
+the per-round ratio of the first run's CPU time, this / baseline, median and range.
 """
 
 from __future__ import annotations
@@ -65,37 +68,59 @@ def _job(src: Path, cache: Path, out: Path, robot: str, report: bool) -> tuple[f
     return wall, usage.ru_utime + usage.ru_stime
 
 
+def _round(source: Path, robot: str, report: bool) -> dict[str, tuple[float, float]]:
+    """One round on a fresh copy of the ``source`` folder (a ``src``): each kind in turn."""
+    out = {}
+    with tempfile.TemporaryDirectory(prefix="gd-first-run-") as tmp:
+        src = Path(tmp) / "src"
+        shutil.copytree(source, src, ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+        cache = Path(tmp) / "cache"
+        for k, kind in enumerate(KINDS):
+            if kind == "kernels_cold":
+                _numba_cache_removed(src)
+            out[kind] = _job(src, cache, Path(tmp) / f"out{k}", robot, report)
+    return out
+
+
+def _summary(rounds: list[dict[str, tuple[float, float]]]) -> dict[str, object]:
+    """Per kind the median wall time, its range and the median CPU time; the compile share."""
+    wall = {k: [r[k][0] for r in rounds] for k in KINDS}
+    out: dict[str, object] = {
+        k: {"median_wall_s": round(statistics.median(wall[k]), 2),
+            "range_wall_s": [round(min(wall[k]), 2), round(max(wall[k]), 2)],
+            "median_cpu_s": round(statistics.median(r[k][1] for r in rounds), 2)}
+        for k in KINDS}
+    med = {k: statistics.median(wall[k]) for k in KINDS}
+    out["compile_share_of_first"] = round((med["kernels_cold"] - med["warm"]) / med["first"], 3)
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--robot", default="puma560")
     parser.add_argument("--report", action="store_true", help="run the jobs with their report")
+    parser.add_argument("--baseline", type=Path, default=None,
+                        help="another checkout's src, run in the same rounds, alternating")
     args = parser.parse_args(argv)
-    times: dict[str, list[tuple[float, float]]] = {k: [] for k in KINDS}
+    sides = {"this": ROOT / "src", **({"baseline": args.baseline} if args.baseline else {})}
+    rounds: dict[str, list[dict[str, tuple[float, float]]]] = {s: [] for s in sides}
     load = [os.getloadavg()[0]]
-    for _ in range(args.rounds):
-        with tempfile.TemporaryDirectory(prefix="gd-first-run-") as tmp:
-            src = Path(tmp) / "src"
-            shutil.copytree(ROOT / "src", src,
-                            ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
-            cache = Path(tmp) / "cache"
-            for k, kind in enumerate(KINDS):
-                if kind == "kernels_cold":
-                    _numba_cache_removed(src)
-                times[kind].append(_job(src, cache, Path(tmp) / f"out{k}", args.robot,
-                                        args.report))
+    for r in range(args.rounds):
+        for side in (list(sides) if r % 2 == 0 else list(sides)[::-1]):
+            rounds[side].append(_round(sides[side], args.robot, args.report))
     load.append(os.getloadavg()[0])
-    wall = {k: [w for w, _ in v] for k, v in times.items()}
-    out = {k: {"median_wall_s": round(statistics.median(wall[k]), 2),
-               "range_wall_s": [round(min(wall[k]), 2), round(max(wall[k]), 2)],
-               "median_cpu_s": round(statistics.median(c for _, c in times[k]), 2)}
-           for k in KINDS}
-    med = {k: statistics.median(wall[k]) for k in KINDS}
-    print(json.dumps({"robot": args.robot, "report": args.report, "rounds": args.rounds,
-                      **out,
-                      "compile_share_of_first": round((med["kernels_cold"] - med["warm"])
-                                                      / med["first"], 3),
-                      "load_average": [round(v, 2) for v in load]}))
+    result: dict[str, object] = {"robot": args.robot, "report": args.report,
+                                 "rounds": args.rounds, **_summary(rounds["this"])}
+    if args.baseline:
+        result["baseline"] = _summary(rounds["baseline"])
+        ratios = sorted(a["first"][1] / b["first"][1]
+                        for a, b in zip(rounds["this"], rounds["baseline"]))
+        result["first_cpu_this_over_baseline"] = {
+            "median": round(statistics.median(ratios), 3),
+            "range": [round(ratios[0], 3), round(ratios[-1], 3)]}
+    result["load_average"] = [round(v, 2) for v in load]
+    print(json.dumps(result))
 
 
 if __name__ == "__main__":

@@ -21,6 +21,14 @@ Kearfott & Cloud 2009, Ch. 2-4). The cosine and sine of a joint's interval are t
 :func:`.intervals.cos_sin` (the same slack and the same test for an extremum inside). The
 array code of ``regressor_bounds._column_groups`` with its box algebra (``_Box``, which rounds
 each operation by one ulp) is the tests' oracle of these kernels.
+
+Compiling: the small helpers (an operation's rounding, a product, a row) are inlined into their
+callers in numba's own code (``inline="always"``); the composite ones (cross products,
+rotations, sums of vectors, a link's position, the clip by the balls) are compiled once each and
+called, because inlining them copies their bodies into every call site of the two kernels,
+which made compiling the kernels, once after an install, about twice as long. The arithmetic
+is the same operations in the same order either way (no ``fastmath``), so the enclosures are
+equal bit for bit.
 """
 
 from __future__ import annotations
@@ -82,7 +90,7 @@ def _madd(alo, ahi, blo, bhi, clo, chi, dlo, dhi):
     return _down(xl + yl, m), _up(xh + yh, m)
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _add(a, b):
     """a + b (:func:`.intervals.add`)."""
     l0, l1, l2 = a[0] + b[0], a[1] + b[1], a[2] + b[2]
@@ -91,7 +99,7 @@ def _add(a, b):
             _up(h0, abs(h0)), _up(h1, abs(h1)), _up(h2, abs(h2)))
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _scale(a, s):
     """s a for a point number s (:func:`.intervals.scale`)."""
     x0, x1, x2 = a[0] * s, a[1] * s, a[2] * s
@@ -102,7 +110,7 @@ def _scale(a, s):
             _up(h0, abs(h0)), _up(h1, abs(h1)), _up(h2, abs(h2)))
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _cross(a, b):
     """a x b (:func:`.intervals.cross`)."""
     l0, h0 = _msub(a[1], a[4], b[2], b[5], a[2], a[5], b[1], b[4])
@@ -141,7 +149,7 @@ def _cross_unit(a, m):
     return (a[1], -a[3], 0.0, a[4], -a[0], 0.0)
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _cross_p(a, p, point):
     """a x p, p a point vector where ``point`` (its ends equal: a revolute joint's p_k)."""
     if point:
@@ -241,7 +249,7 @@ def _slide(t, x, y):
     return _down(t + min(x, y), m), _up(t + max(x, y), m)
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _position(k, q_lo, q_hi, t, P, pris):
     """p_k as a box: t_k, plus q_k P_k z for a prismatic joint (``_Box.slide``)."""
     if not pris[k]:
@@ -252,7 +260,7 @@ def _position(k, q_lo, q_hi, t, P, pris):
     return (l0, l1, l2, h0, h1, h2)
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _rot(k, a, trig, P, pris):
     """R_k a = P_k Rz(q_k) a (revolute) or P_k a (prismatic)."""
     if not pris[k]:
@@ -260,7 +268,7 @@ def _rot(k, a, trig, P, pris):
     return _matvec(P[k], a)
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _rot_t(k, a, trig, P, pris):
     """R_k^T a = Rz(q_k)^T P_k^T a (revolute) or P_k^T a (prismatic)."""
     u = _matvec(P[k].T, a)
@@ -280,7 +288,7 @@ def _sym(a, i, j):
             a[3 + j] if i == 2 else (a[3 + i] if j == 2 else 0.0))
 
 
-@njit(cache=True, fastmath=False, nogil=True, inline="always")
+@njit(cache=True, fastmath=False, nogil=True)
 def _clip(A, balls):
     """Each box A[m] (m, 6) intersected with the bounding box of the ball balls[m] (m, 4)
     (centre c, radius r: c_i - r <= x_i <= c_i + r, rounded outward)."""
