@@ -284,7 +284,8 @@ def _split(V, chans, cols, factor, j_of, l_of, w_off, s, a, step, coef, mask, ma
         fB = np.empty(m)
         cross = np.empty(m)
         last = (NA - 1) & 1
-        started = False
+        started = r0 < 0                        # False, typed bool: a literal False
+                                                # would compile _listed a second time
         for k in range(b):                      # the outer signs from +1 (the mask's start)
             vB[k] = 1.0
         for tb in range(NB):
