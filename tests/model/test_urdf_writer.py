@@ -39,3 +39,17 @@ def test_hostile_names_are_escaped():
     root = ET.fromstring(robot_urdf(robot, ["--> <evil/>"]).split("\n", 1)[1])
     assert root.get("name") == robot.name
     assert root.find(".//evil") is None and root.tag == "robot"
+
+
+@pytest.mark.parametrize("comment", ["rec---a.csv", "a -", "ctl\x01\x1b.csv", "bad\udcff.csv",
+                                     "line\nbreak\rreturn"])
+def test_a_comment_of_any_text_keeps_the_urdf_well_formed(tmp_path, comment):
+    """A recording's file name in the comments (three dashes, a control character, a byte
+    that is not UTF-8): XML 1.0 allows no ``--`` and none of those characters in a comment."""
+    import xml.etree.ElementTree as ET
+
+    robot = load_robot("two-link")
+    path = tmp_path / "r.urdf"
+    path.write_text(robot_urdf(robot, [comment]), encoding="utf-8")
+    ET.parse(path)
+    assert load_robot(str(path)).joint_names() == robot.joint_names()

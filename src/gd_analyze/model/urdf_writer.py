@@ -13,6 +13,7 @@ XML-escaped (:func:`xml.sax.saxutils.quoteattr`); comments cannot close themselv
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
@@ -40,8 +41,15 @@ def _num(values):
     return " ".join(repr(float(v)) for v in np.atleast_1d(values))
 
 
+#: What an XML 1.0 comment cannot hold: characters outside XML's ``Char`` (control characters,
+#: lone surrogates of a file name that is not UTF-8, U+FFFE, U+FFFF).
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
 def _comment(text):
-    return "<!-- " + str(text).replace("--", "- -").replace("\n", " ") + " -->"
+    body = _NOT_XML.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"),
+                        str(text).replace("\n", " "))
+    return "<!-- " + re.sub("-(?=-)", "- ", body) + " -->"
 
 
 def robot_urdf(robot: Robot, comments: Sequence[str] = ()) -> str:
