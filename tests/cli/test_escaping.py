@@ -28,3 +28,22 @@ def test_an_esc_in_a_robot_file_is_escaped_with_q(tmp_path, capsys):
     code = main([str(robot), str(plan), "-o", str(tmp_path / "out"), "-q", "--no-report"])
     out, err = capsys.readouterr()
     assert code == 0 and ESC not in out + err and "evil\\x1b[31m" in err
+
+
+def test_a_file_name_that_is_not_utf8_is_bad_input(tmp_path, capsys):
+    """A byte that is not UTF-8 in a file name (Python keeps it as a lone surrogate, which no
+    UTF-8 provenance can hold): one line naming the argument, exit 2, nothing written."""
+    plan = tmp_path / "plan.csv"
+    assert main(["plan", "two-link", "-o", str(plan)]) == 0
+    odd = tmp_path / "tl\udcff.csv"
+    odd.write_bytes(plan.read_bytes())
+    capsys.readouterr()
+    for argv in (["two-link", str(odd), "-o", str(tmp_path / "out"), "-q", "--no-report"],
+                 ["identify", "two-link", str(odd), "-o", str(tmp_path / "id"), "--no-report"]):
+        code = main(argv)
+        err = capsys.readouterr().err
+        lines = err.strip().splitlines()
+        assert code == 2, err
+        assert len(lines) == 1 and lines[0].startswith("gd-analyze: error: ") and "UTF-8" in err
+        assert "tl\\xff.csv" in err
+    assert not (tmp_path / "out").exists() and not (tmp_path / "id").exists()

@@ -125,6 +125,16 @@ def _mistyped_command(argv):
                       f"{', '.join(COMMANDS)}; or a robot for the main job)")
 
 
+def _check_utf8(argv):
+    """Raise InputError for the first argument holding bytes that are not UTF-8 (a file name in
+    another encoding, kept by Python as lone surrogates): the provenance records the command
+    line in UTF-8 files, which cannot hold it."""
+    bad = next((arg for arg in argv if re.search("[\ud800-\udfff]", arg)), None)
+    if bad is not None:
+        raise InputError(f"argument {os.fsencode(bad)!r} is not UTF-8 text (a file name in "
+                         "another encoding?): the provenance is written in UTF-8; rename the file")
+
+
 def _print_help(rest, parsers):
     """``gd-analyze help [COMMAND]``: the help of the main job or of a command; exit status 0."""
     name = rest[0] if rest else "analyze"
@@ -231,6 +241,7 @@ def _main(argv):
         with warnings.catch_warnings():
             warnings.simplefilter("always", InputWarning)
             warnings.showwarning = _show_warning
+            _check_utf8(argv)
             if command == "analyze" and argv and argv[0] in ("help", "-help"):
                 return _print_help(argv[1:], parsers)
             if command == "analyze" and argv:
