@@ -242,7 +242,7 @@ def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH) -> list[list
     most = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
     labels = list(labels)
     parts = max(1, -(-len(labels) // most))
-    per = cols * -(-len(labels) // (parts * cols))       # balanced, in whole rows
+    per = cols * max(1, -(-len(labels) // (parts * cols)))     # balanced, in whole rows
     return [labels[k:k + per] for k in range(0, len(labels), per)] or [[]]
 
 
