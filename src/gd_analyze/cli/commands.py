@@ -539,8 +539,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
     try:
         qdd_max, qdd_source = acceleration_limits(robot, qdd_arg)
     except ValueError as exc:
-        raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
-            from None
+        if qdd_arg is not None or args.duration is None or not args.ignore_limits:
+            raise InputError(str(exc), column="--qdd-max" if qdd_arg is not None else None) \
+                from None
+        qdd_max, qdd_source = robot.qdd_max, "none (the robot gives none; --ignore-limits)"
     if limits is not None and limits.qd_max is not None and limits.qdd_max is None:
         qdd_source = qdd_source.replace("qd_max", "the --qd-max given")
     planning = dataclasses.replace(robot, qdd_max=qdd_max)      # for planning only
