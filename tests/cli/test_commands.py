@@ -165,20 +165,16 @@ def test_the_output_folder_is_refused_where_a_file_stands(tmp_path):
 
 
 def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, capsys):
-    """A URDF whose joints give no velocity limit (example-robot-data's double pendulums): the
-    refusal says to give --duration with --ignore-limits, and that plan is then written, with
-    rest at both ends and t running to the duration given."""
-    joints = "".join(
-        f'<link name="l{i}"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
-        f'iyy="0.01" iyz="0" izz="0.01"/></inertial></link><joint name="j{i}" '
-        f'type="continuous"><parent link="l{i - 1}"/><child link="l{i}"/>'
-        '<origin xyz="0.2 0 0"/><axis xyz="0 1 0"/></joint>' for i in (1, 2))
-    urdf = tmp_path / "pendulum.urdf"
-    urdf.write_text(f'<robot name="pendulum"><link name="l0"/>{joints}</robot>')
+    """example-robot-data's double pendulum gives no velocity limits: the refusal says to give
+    --duration with --ignore-limits, and that plan is then written, with rest at both ends and
+    t running to the duration given."""
+    from robot_files import erd_path
+
+    urdf = erd_path("double_pendulum_description/urdf/double_pendulum.urdf")
     plan = tmp_path / "plan.csv"
-    assert main(["plan", str(urdf), "-o", str(plan)]) == 2
+    assert main(["plan", urdf, "-o", str(plan)]) == 2
     assert "give --duration with --ignore-limits" in capsys.readouterr().err
-    assert main(["plan", str(urdf), "-o", str(plan), "--duration", "2", "--ignore-limits"]) == 0
+    assert main(["plan", urdf, "-o", str(plan), "--duration", "2", "--ignore-limits"]) == 0
     data = np.loadtxt(plan, delimiter=",", skiprows=1)
     assert data[0, 0] == 0 and data[-1, 0] == 2
     assert np.all(data[[0, -1], 3:] == 0)                      # qd, qdd at rest at both ends
