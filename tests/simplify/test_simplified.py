@@ -169,3 +169,22 @@ def test_merge_rule_errors():
         merge_choices([{"D11": "tran"}, {"D11": "tran", "h1": "rot"}])
     with pytest.raises(ValueError, match="choice must be"):
         merge_choices([{"D11": "tran"}, {"D11": "translational"}])
+
+
+@pytest.mark.parametrize("row, sin", [([-1, 0], False), ([0, -2], True), ([-1, 1], False)])
+def test_explicit_terms_out_of_canonical_form_are_refused(tmp_path, two_link, row, sin):
+    """A term cos or sin(k . q) whose first non-zero harmonic is negative (cos(-q1) is cos(q1),
+    a form the code generator never meets): one line naming the key, not an internal error."""
+    import dataclasses
+
+    model = _model(two_link, "both")
+    model = dataclasses.replace(model, terms=model.explicit_terms())
+    path = tmp_path / "m.json"
+    save_model(model, path)
+    spec = json.loads(path.read_text())
+    assert len(spec["explicit_terms"]["K"]) > 0
+    spec["explicit_terms"]["K"][0], spec["explicit_terms"]["sin"][0] = row, sin
+    path.write_text(json.dumps(spec))
+    with pytest.raises(InputError, match="explicit_terms: .*canonical form") as err:
+        load_model(path)
+    assert "\n" not in str(err.value)

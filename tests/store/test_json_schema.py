@@ -67,6 +67,13 @@ def test_case7_edited_parameters_are_refused(tmp_path, model_doc):
     (lambda d: d["robot"].update(parameters_sha256="A" * 64),
      "key robot.parameters_sha256: malformed value"),
     (lambda d: d["robot"].update(sha256="0" * 64 + "\n"), "key robot.sha256: string longer"),
+    # a bound is a number per joint (null: none stated), a guarantee states its tolerance
+    (lambda d: d.update(bound=["x"] * 6), r"key bound\[0\]: expected a number or null, got a str"),
+    (lambda d: d.update(bound=[[]] * 6), r"key bound\[0\]: expected a number or null, got a list"),
+    (lambda d: d.update(bound=[-1.0] * 6), r"key bound\[\d\]: expected a number in \[0, "),
+    (lambda d: d.update(guarantee={"kind": "trajectory"}), "key tolerance: missing key"),
+    (lambda d: d["validation"].update(peak_tau=["x"] * 6),
+     r"key validation.peak_tau\[0\]: expected a number or null, got a string"),
 ])
 def test_case7_schema_violations_are_one_line(tmp_path, model_doc, edit, match):
     doc = copy.deepcopy(model_doc)

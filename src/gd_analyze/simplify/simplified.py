@@ -541,7 +541,7 @@ class SimplifiedModel:
             raise InputError("choice 'pruned' belongs to a model of the recursive form", path,
                              column="choices")
         try:
-            terms = _terms_from_json(spec.get("explicit_terms"), robot.n)
+            terms = _terms_from_json(spec.get("explicit_terms"), robot.n, robot.prismatic)
         except (ValueError, TypeError) as exc:
             raise InputError(f"invalid explicit terms: {exc}"[:200], path,
                              column="explicit_terms") from None
@@ -608,8 +608,10 @@ def _terms_to_json(terms):
             "K": terms.K.tolist(), "sin": terms.S.tolist(), "coef": terms.C.tolist()}
 
 
-def _terms_from_json(spec, n):
-    """The kept terms from JSON, or None (older layouts)."""
+def _terms_from_json(spec, n, prismatic=None):
+    """The kept terms from JSON, or None (older layouts); K in the canonical form of
+    :mod:`gd_analyze.symbolic.trigpoly` (no negative power of a prismatic joint's q, each row's
+    first non-zero harmonic positive), the only one the code generator forms."""
     if spec is None:
         return None
 
@@ -627,6 +629,13 @@ def _terms_from_json(spec, n):
         raise ValueError("explicit_terms.coef: not finite")
     if size and (out.i.min() < 0 or out.i.max() >= n or out.j.max() >= n or out.k.max() >= n):
         raise ValueError("explicit_terms: joint index out of range")
+    lin = np.zeros(n, bool) if prismatic is None else np.asarray(prismatic, bool)
+    harmonics = K[:, ~lin]
+    first = harmonics[np.arange(size), np.argmax(harmonics != 0, axis=1)] if harmonics.size \
+        else K[:0, 0]
+    if (K[:, lin] < 0).any() or (first < 0).any():
+        raise ValueError("explicit_terms.K: not in canonical form (a negative power, or a row "
+                         "whose first non-zero harmonic is negative)")
     bad = set(out.kind.tolist()) - {"D", "h", "c"}
     if bad:
         raise ValueError(f"explicit_terms.kind: unknown {sorted(bad)[0]!r}")

@@ -74,11 +74,14 @@ def _message(err) -> tuple[str, str]:
     words of the tool."""
     key, value, schema, rule = _key(err.absolute_path), err.instance, err.schema, err.validator
     if rule == "type":
-        if isinstance(value, int) and not isinstance(value, bool) and schema["type"] == "number":
+        types = schema["type"] if isinstance(schema["type"], list) else [schema["type"]]
+        if isinstance(value, int) and not isinstance(value, bool) and "number" in types:
             return key, "number too large for a float"
-        return key, f"expected {_TYPE_NAMES[schema['type']]}, got {_kind(value)}"
-    if rule == "required":
-        missing = next(k for k in err.validator_value if k not in value)
+        return key, f"expected {' or '.join(_TYPE_NAMES[t] for t in types)}, got {_kind(value)}"
+    if rule in ("required", "dependentRequired"):       # a key missing, or missing beside one
+        needed = err.validator_value if rule == "required" else [
+            k for given, keys in err.validator_value.items() if given in value for k in keys]
+        missing = next(k for k in needed if k not in value)
         return _key([*err.absolute_path, missing]), "missing key"
     if rule == "additionalProperties":
         unknown = sorted(set(value) - set(schema.get("properties", {})))[0]
