@@ -1,9 +1,13 @@
 """A full disk or an HDF5 error while writing is one line (exit 2); a bug is not."""
 
 import errno
+import os
+import subprocess
+import sys
 
 import pytest
 
+from gd_analyze.cli import main
 from gd_analyze.errors import InputError
 from gd_analyze.store.staging import writing
 
@@ -52,3 +56,56 @@ def test_an_enospc_under_raise_from_none_is_still_found():
     with pytest.raises(InputError, match="no space left on the device"):
         with writing("out"):
             _close_after_enospc()
+
+
+#: A child that runs the main job in process onto a file size limit (EFBIG: h5py's native driver
+#: meets it as it would a full disk) and leaves without the interpreter's teardown, in which
+#: HDF5 flushes the objects the failed write could not close (a SIGSEGV of its own).
+_LIMITED = """
+import os, resource, signal, sys
+from gd_analyze.cli import main
+signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+resource.setrlimit(resource.RLIMIT_FSIZE, (40_000, resource.RLIM_INFINITY))
+code = main(sys.argv[1:])
+sys.stderr.flush()
+os._exit(code)
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE, SIGXFSZ")
+def test_hdf5_meeting_a_file_size_limit_is_one_line(tmp_path):
+    """results.h5 written by HDF5 itself onto a limit: h5py's finalizers printed a traceback
+    each (Cython prints them before reporting them as ignored), the message was HDF5's report."""
+    csv = tmp_path / "plan.csv"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    out = tmp_path / "out"
+    run = subprocess.run([sys.executable, "-c", _LIMITED, "two-link", str(csv), "-o", str(out),
+                          "-q", "--no-report"], cwd=tmp_path, capture_output=True, text=True,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)),
+                         timeout=300)
+    assert run.returncode == 2, run.stderr[-2000:]
+    assert run.stderr == f"gd-analyze: error: {out}: cannot write the output folder: file too " \
+                         "large\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.csv", "plan.provenance.json"]
+
+
+def test_a_full_disk_at_the_lock_file_is_one_line(tmp_path, monkeypatch, capsys):
+    """The disk fills as the run writes its process id into the lock file, before the run's
+    own writes: exit 2 and one line (it was exit 4, an internal error), nothing left."""
+    csv = tmp_path / "plan.csv"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    write = os.write
+
+    def full(fd, data):
+        if data == f"{os.getpid()}\n".encode():
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return write(fd, data)
+
+    monkeypatch.setattr(os, "write", full)
+    capsys.readouterr()
+    code = main(["two-link", str(csv), "-o", str(tmp_path / "out"), "-q", "--no-report"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err == f"gd-analyze: error: {tmp_path / 'out'}: cannot write the output folder: no " \
+                  "space left on the device\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.csv", "plan.provenance.json"]

@@ -38,6 +38,7 @@
   another error), and an error the HDF5 library raised inside h5py or h5netcdf; before that,
   the h5netcdf files a failed close left half-open are marked closed, so that their
   finalizers do not flush again into a file HDF5 has torn down (a SIGSEGV on a full disk);
+  an error of h5py's finalizers inside it is the write's error, not a traceback each;
 - a single output file (``plan -o``) is written only over a regular file or a new name
   (:func:`check_output_file`).
 """
@@ -199,10 +200,11 @@ def _lock(lock_path, target):
         os.close(fd)
     owner, record = os.getpid(), None
     try:
-        before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
-        os.ftruncate(fd, 0)
-        os.write(fd, f"{owner}\n".encode())
-        record = _Record(fd, before)
+        with writing(target):           # a full disk: one line, as any write of the run
+            before = os.pread(fd, RECORD_LIMIT, 0).decode("utf-8", "replace")
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{owner}\n".encode())
+            record = _Record(fd, before)
         yield record
     finally:
         if os.getpid() == owner and not (record is not None and record.pending):
@@ -597,8 +599,9 @@ def write_error(exc: OSError, path: str | os.PathLike[str]) -> InputError:
     InputError
     """
     reason = exc.strerror or str(exc)
-    if exc.errno == errno.ENOSPC:
-        reason = "no space left on the device"
+    if exc.errno in _FULL:              # h5py's strerror is HDF5's whole report
+        reason = ("no space left on the device" if exc.errno == errno.ENOSPC
+                  else os.strerror(exc.errno or 0).lower())
     return InputError(f"cannot write the output folder: {reason}", path)
 
 
@@ -648,8 +651,21 @@ def writing(target: str | os.PathLike[str],
         such as the one a full disk gives when the file is closed); on any error that a full
         disk (ENOSPC, EDQUOT, EFBIG) caused.
     """
+    failed: list[BaseException] = []
+    hooks = sys.unraisablehook, sys.excepthook
+
+    def caught(value):              # an error of h5py's finalizers after a failed write
+        if value is None or (_disk_full(value) is None and not _from_hdf5(value)):
+            return False
+        failed.append(value)
+        return True
+    # Cython prints such an error through both hooks: one line in the end, not a traceback each
+    sys.unraisablehook = lambda u: caught(u.exc_value) or hooks[0](u)
+    sys.excepthook = lambda kind, value, tb: caught(value) or hooks[1](kind, value, tb)
     try:
         yield
+        if failed:                      # a write failed where only a finalizer saw it
+            raise failed[0]
     except OSError as exc:
         names = [n for n in (exc.filename, exc.filename2) if n is not None]
         if stage is not None and names and not any(is_inside(n, stage) for n in names):
@@ -665,6 +681,8 @@ def writing(target: str | os.PathLike[str],
             raise InputError("cannot write the output folder: HDF5 error: "
                              + " ".join(str(exc).split())[:160], target) from None
         raise
+    finally:
+        sys.unraisablehook, sys.excepthook = hooks
 
 
 def _disarm_hdf5():
@@ -691,8 +709,11 @@ def _disk_full(exc):
     seen = set()
     while exc is not None and id(exc) not in seen:
         seen.add(id(exc))
-        if isinstance(exc, OSError) and (exc.errno in _FULL or "errno = 28" in str(exc)):
-            return exc if exc.errno in _FULL else OSError(errno.ENOSPC, "")
+        said = [e for e in _FULL if f"errno = {e}," in str(exc)]     # in HDF5's words
+        if isinstance(exc, OSError) and exc.errno in _FULL:
+            return exc
+        if isinstance(exc, (OSError, RuntimeError)) and said:
+            return OSError(said[0], os.strerror(said[0]))
         exc = exc.__cause__ or exc.__context__
     return None
 
