@@ -299,3 +299,20 @@ def test_control_figures_label_without_scripts_at_print_size(result):
     assert texts and not any("$" in t for t in texts)
     rows = {round(ax.get_position().y0, 6) for ax in figs["error"].axes if ax.get_visible()}
     assert len(rows) == 2
+
+
+@pytest.mark.parametrize("wn, zeta", [(1e308, 1.0), (20.0, 1e308), (1e160, 1e160)])
+def test_gains_beyond_a_float_are_too_stiff_without_overflow(wn, zeta):
+    """wn or zeta so large that wn^2 or zeta wn overflows: the loop is refused as too stiff
+    (it was "Array must not contain infs or NaNs" after five overflow warnings)."""
+    import warnings
+
+    from gd_analyze.trajectory.planning import default_motion, plan_quintic
+
+    two = load_robot("two-link")
+    trajectory = plan_quintic(two, *default_motion(two))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="too stiff: its fastest mode, .*lower wn or zeta"):
+            run_control(SimplifiedModel(two, full_choices(2), 0.9, 0.01), trajectory, wn=wn,
+                        zeta=zeta, cost=False)

@@ -476,12 +476,13 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     singular = singular_inertia(robot, D)
     if singular:
         raise ValueError(singular)
-    gains = control_gains(robot, desired(t[0]), wn, zeta)
-    rates = closed_loop_rates(robot, gains, D)
+    with np.errstate(over="ignore", invalid="ignore"):     # a huge wn or zeta: too stiff below
+        gains = control_gains(robot, desired(t[0]), wn, zeta)
+        rates = closed_loop_rates(robot, gains, D)
     for name in (c for c in CONTROLLERS if c in controllers):
         # computed torque: the gains' own bound; PD + gravity: what a run can evaluate
         most = MAX_STIFFNESS_STEPS if name != "pd_gravity" else MAX_RHS_EVALS // RHS_PER_STEP
-        steps = rates[name] * (t[-1] - t[0]) / 3.0
+        steps = rates[name] * float(t[-1] - t[0]) / 3.0
         if steps > most:
             raise ValueError(
                 f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "

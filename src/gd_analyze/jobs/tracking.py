@@ -9,6 +9,7 @@ are described in :mod:`gd_analyze.jobs.control`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
@@ -160,8 +161,8 @@ def closed_loop_rates(robot: Robot, gains: Gains, D: np.ndarray) -> dict[str, fl
     n = robot.n
     D = np.asarray(D, dtype=float)
     Kp, Kv = np.diag(gains.Kp_pd), np.diag(gains.Kv_pd)
-    pd = 0.0
-    for Dk in D:
+    pd = 0.0 if np.isfinite(Kp).all() and np.isfinite(Kv).all() else math.inf
+    for Dk in D if pd == 0.0 else ():
         Dinv = np.linalg.inv(Dk)
         A = np.block([[np.zeros((n, n)), np.eye(n)], [-Dinv @ Kp, -Dinv @ Kv]])
         pd = max(pd, float(np.abs(np.linalg.eigvals(A)).max()))
