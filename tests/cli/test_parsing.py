@@ -13,7 +13,10 @@ from gd_analyze.cli import main
      "argument --gravity: --gravity needs 3 comma-separated numbers, got '-9.81,0'"),
     (["--qd-max", "1,0"],
      "argument --qd-max: --qd-max limits must be finite and positive, got '1,0'"),
-    (["--tolerance=-0.5"], "argument --tolerance: --tolerance must be in [0.0, inf], got -0.5"),
+    (["--tolerance=-0.5"], "argument --tolerance: --tolerance must be in [0.0, 1000.0], got -0.5"),
+    # EPS x s_i overflowed to inf in the region search (exit 0 after overflow warnings)
+    (["--tolerance", "1e308"],
+     "argument --tolerance: --tolerance must be in [0.0, 1000.0], got 1e+308"),
     (["--payload", "-1"], "argument --payload: --payload must be in [0.0, inf], got -1.0"),
     (["--qdd-max", "1,x"],
      "argument --qdd-max: expected comma-separated numbers, got '1,x': "),

@@ -297,7 +297,8 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
                  "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
                  "trajectory, TAU)")
-    g.add_argument("--tolerance", metavar="EPS", type=_nonnegative("--tolerance"),
+    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, 1e3, "--tolerance",
+                                                                lo_open=False),
                    default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
                         f"its scale {where} (default {defaults['tolerance']:g})")
