@@ -7,7 +7,7 @@ import pytest
 from urdf_oracle import STATES, TOL, UrdfOracle, random_chain_states, toy, worst_relative  # noqa: F401  (toy, random_chain_states: fixtures)
 
 from gd_analyze import gd_terms
-from gd_analyze.errors import InputError
+from gd_analyze.errors import InputError, InputNote
 from gd_analyze.model.robots import builtin_robots, is_urdf, load_robot
 from gd_analyze.model.urdf import URDF_BUILTIN, builtin_urdf_path
 
@@ -84,3 +84,22 @@ def test_gd_terms_of_toy_against_urdf_model(toy):
     """Continuous, prismatic and unaligned joints; with and without a locked side branch."""
     _terms_vs_urdf(load_robot(toy, tip="tool"), toy, halves=False, seed=8)
     _terms_vs_urdf(load_robot(toy, base="l1", tip="l3"), toy, halves=False, seed=9)
+
+
+def test_a_robot_file_with_a_byte_order_mark_is_read_with_a_note(tmp_path):
+    """A TOML robot file saved with a UTF-8 byte-order mark (as Windows editors write it) is
+    the same robot, with a note; it was refused as invalid TOML at line 1, column 1."""
+    import warnings
+    from importlib import resources
+
+    text = resources.files("gd_analyze").joinpath("data", "two-link.toml").read_text()
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = load_robot(str(path))
+    assert [w.category for w in caught] == [InputNote]
+    plain = load_robot("two-link")
+    np.testing.assert_array_equal(robot.mass, plain.mass)
+    np.testing.assert_array_equal(robot.inertia, plain.inertia)
+    assert robot.name == plain.name

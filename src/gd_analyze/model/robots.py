@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import hashlib
 import os
+import warnings
 from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
+from ..errors import InputError, InputNote
 from .robot_spec import robot_from_dict
 from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, load_urdf_text
 
@@ -198,7 +199,8 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     ------
     InputError
         If the name is not a built-in robot and no such file exists, if the file is not valid
-        TOML, or if it fails validation.
+        TOML, or if it fails validation. A UTF-8 byte-order mark at the start of the file is
+        stripped, with an :class:`~gd_analyze.errors.InputNote`.
 
     Examples
     --------
@@ -222,8 +224,11 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
         except OSError as exc:
             raise InputError(f"cannot read: {exc.strerror}", key) from None
         source = str(path)
+    if raw.startswith(b"\xef\xbb\xbf"):       # as Windows editors write it; TOML allows none
+        warnings.warn(f"{source}: stripped the UTF-8 byte-order mark at the start of the file",
+                      InputNote, stacklevel=2)
     try:
-        spec = tomllib.loads(raw.decode("utf-8"))
+        spec = tomllib.loads(raw.decode("utf-8").removeprefix("\ufeff"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InputError(f"not a valid TOML robot file: {exc}", source) from None
     except RecursionError:
