@@ -43,3 +43,15 @@ def test_the_verdict_tolerance_takes_one_or_two_numbers_in_range(capsys, value, 
     assert code == 2 and err == ("gd-analyze: error: control: argument --verdict-tolerance: "
                                  "--verdict-tolerance needs 1 or 2 numbers in (0, 1e3], got "
                                  f"{value!r}\n")
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--drives", "armature,armature"], "a drive column given twice in 'armature,armature'"),
+    (["--current", "--drive-gains", "1e308,1"], "at most 1e6 N m/A in size"),
+])
+def test_identify_drive_options_out_of_range_are_one_line(capsys, argv, said):
+    """A drive column named twice was an internal error (exit 4); a drive gain near a float's
+    range overflowed the torques (warnings, then "SVD did not converge")."""
+    code = main(["identify", "two-link", "no-such-file.csv", *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and said in err, err

@@ -646,15 +646,19 @@ def _drive_list(text):
         return ()
     kinds = tuple(k.strip() for k in word.split(","))
     bad = [k for k in kinds if k not in DRIVE_KINDS]
-    if bad:
-        raise argparse.ArgumentTypeError(f"unknown drive column {bad[0]!r} (known: "
-                                         f"{', '.join(DRIVE_KINDS)}, or none)")
+    if bad or len(set(kinds)) < len(kinds):
+        raise argparse.ArgumentTypeError(
+            (f"unknown drive column {bad[0]!r}" if bad else f"a drive column given twice in "
+             f"{text!r}") + f" (known: {', '.join(DRIVE_KINDS)}, or none)")
     return kinds
 
 
-#: ``--drive-gains``: comma-separated nonzero numbers [N m/A].
-_gains = _checked(lambda text: tuple(_number(v) for v in text.split(",")), lambda v: 0 not in v,
-                  "a drive gain of 0 turns no current into torque")
+#: ``--drive-gains``: comma-separated nonzero numbers [N m/A], at most 1e6 in size (a current
+#: of the recordings' largest magnitude times it then stays far from a float's range).
+_gains = _checked(lambda text: tuple(_number(v) for v in text.split(",")),
+                  lambda v: 0 not in v and max(map(abs, v)) <= 1e6,
+                  "a drive gain is nonzero and at most 1e6 N m/A in size (0 turns no current "
+                  "into torque), got {text!r}")
 
 
 def identify_parser() -> argparse.ArgumentParser:
