@@ -6,6 +6,7 @@ counted from its own program), and the model file itself (hand edits are refused
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -367,3 +368,21 @@ def test_arms_above_the_decomposition_s_joint_limit_are_searched_without_it():
     assert np.array_equal(rec.dropped, plain.dropped)
     assert np.array_equal(guarantee.bound, plain_guarantee.bound)
     assert not guarantee.decomposed
+
+
+def test_a_second_eps_read_from_the_ladders_entry_writes_a_model_that_loads(tmp_path,
+                                                                            monkeypatch):
+    """A run at EPS 0.01 keeps its ladder's search at EPS 0.05; a run at 0.05 reads it, and
+    where its proved screen then deploys the exact model (a random 6-joint chain of
+    analysis/main_job_scaling.py --fuzz 6:2), the file it writes is the model load_model
+    rebuilds (its cost is the program's, not one built with the entry's pruned forms)."""
+    monkeypatch.setenv("GD_ANALYZE_CACHE_DIR", str(tmp_path / "cache"))
+    urdf = Path(__file__).with_name("random_chain_6.urdf")
+    csv = tmp_path / "plan.csv"
+    assert main(["plan", str(urdf), "-o", str(csv)]) == 0
+    for eps in ("0.01", "0.05"):
+        out = tmp_path / eps
+        assert main([str(urdf), str(csv), "--tolerance", eps, "--no-report", "-q",
+                     "-o", str(out)]) == 0
+        model = load_model(out / "simplified_model.json")      # the stored cost re-checked
+        assert model.tolerance == float(eps)

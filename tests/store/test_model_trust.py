@@ -557,3 +557,15 @@ def test_a_file_without_the_ways_is_read(models, panda_doc, monkeypatch):
             check_guarantee(model)
         assert calls == [] and model.guarantee.bound_method == ()
         assert "bound_method" not in model.guarantee.to_dict()
+
+
+def test_a_full_turn_joints_range_beyond_180_deg_within_its_limits_is_read_back(tmp_path):
+    """The PUMA 560's joint 6 turns over [-266, 266] deg, more than a full turn: the main job
+    proves its bound on --q-limits 150:250 deg there, and the file it writes is read back
+    (the check takes the robot's own limits, not [-180, 180] deg)."""
+    limits = ",".join(["-1e9:1e9"] * 5 + ["150:250"])
+    out = tmp_path / "out"
+    assert main(["puma560", str(SHIPPED), "--q-limits", limits, "--no-report", "-q", "-o",
+                 str(out)]) == 0
+    model = gd_analyze.load_model(out / "simplified_model.json")
+    assert model.guarantee.q_max[5] == pytest.approx(math.radians(250))

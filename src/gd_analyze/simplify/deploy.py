@@ -992,8 +992,9 @@ def _region_search(robot, base, region, tolerance, torque_floor, sampled, screen
             forms = (found["exact_forms"], found["pruned_forms"])
             proved = _proved_exact(robot, base, region, tolerance, pb, pr[0].dropped,
                                    sampled) if screen else None
-            if proved is not None:
-                return RegionSearch(proved[0], proved[1], forms, screen=proved[2]), True
+            if proved is not None:          # the entry's pruned forms are another program's
+                return RegionSearch(proved[0], proved[1], (forms[0], None),
+                                    screen=proved[2]), True
             rec, guarantee = _region_model(robot, base, region, tolerance, pb, pr, sampled)
             return RegionSearch(rec, guarantee, forms), True
     kept = not isinstance(found, str)

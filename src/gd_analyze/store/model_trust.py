@@ -402,8 +402,9 @@ def _region_within_limits(robot, g, path):
     hi = np.asarray(robot.q_max, float)
     with np.errstate(invalid="ignore"):
         turn = rev & (~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
-    lo = np.where(turn, -np.pi, np.where(np.isfinite(lo), lo, -np.inf))
-    hi = np.where(turn, np.pi, np.where(np.isfinite(hi), hi, np.inf))
+    lo = np.where(np.isfinite(lo), lo, -np.inf)     # a full turn: the robot's own limits, or
+    hi = np.where(np.isfinite(hi), hi, np.inf)      # [-pi, pi] (the region of the whole circle)
+    lo, hi = np.where(turn, np.minimum(lo, -np.pi), lo), np.where(turn, np.maximum(hi, np.pi), hi)
     span = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
     for key, value, limit, below in (
             ("q_min", q_min, lo, True), ("q_max", q_max, hi, False)):
