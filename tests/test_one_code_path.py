@@ -43,9 +43,11 @@ def _offences(tree):
                 yield node.lineno, "the figure worker"
 
 
-#: The one allowed ``os._exit``: a signal after the command has returned and flushed its output
-#: ends the process with 128 + its number (no KeyboardInterrupt traceback after
-#: "wrote"); it skips no work, so the code path stays one.
+#: The allowed ``os._exit``, in one module: a signal after the command has returned and flushed
+#: its output ends the process with 128 + its number (no KeyboardInterrupt traceback after
+#: "wrote"); and the status of a command whose HDF5 write failed, once it has returned and
+#: flushed its output, skipping only HDF5's flush at shutdown. Neither skips work, so the code
+#: path stays one.
 #: The one allowed ``gc.freeze()``: the console script's, after the imports, on every run of
 #: every command ("gc.freeze() after the imports is allowed ... documented and
 #: unconditional"); no other collector setting anywhere.

@@ -174,3 +174,22 @@ def test_a_signal_during_a_sweep_ends_it_with_its_status(tmp_path, sig):
     assert "Traceback" not in err and err.strip().splitlines()[-1] in (
         "gd-analyze: interrupted", "gd-analyze: terminated"), err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("torn", [False, True])
+def test_exit_with_skips_the_teardown_only_after_a_torn_write(torn):
+    """exit_with: the status either way; the interpreter's teardown (atexit) only where no
+    write was torn (without_teardown), and the output flushed either way."""
+    code = textwrap.dedent(f"""
+        import atexit, sys
+        from gd_analyze.store import signals
+        atexit.register(lambda: print("teardown"))
+        print("output", end="")
+        if {torn}:
+            signals.without_teardown()
+        signals.exit_with(3)
+    """)
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)), timeout=60)
+    assert run.returncode == 3, run.stderr
+    assert run.stdout == ("output" if torn else "outputteardown\n")

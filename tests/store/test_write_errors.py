@@ -6,6 +6,7 @@ import subprocess
 import sys
 
 import pytest
+from conftest import SHIPPED as SHIPPED_PUMA
 
 from gd_analyze.cli import main
 from gd_analyze.errors import InputError
@@ -63,7 +64,9 @@ def test_an_enospc_under_raise_from_none_is_still_found():
 #: HDF5 flushes the objects the failed write could not close (a SIGSEGV of its own).
 _LIMITED = """
 import os, resource, signal, sys
+import gd_analyze.jobs.run
 from gd_analyze.cli import main
+gd_analyze.jobs.run.check_free_space = lambda *args: None   # past the check of the limit
 signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
 resource.setrlimit(resource.RLIMIT_FSIZE, (40_000, resource.RLIM_INFINITY))
 code = main(sys.argv[1:])
@@ -87,6 +90,27 @@ def test_hdf5_meeting_a_file_size_limit_is_one_line(tmp_path):
     assert run.stderr == f"gd-analyze: error: {out}: cannot write the output folder: file too " \
                          "large\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.csv", "plan.provenance.json"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE, SIGXFSZ")
+@pytest.mark.parametrize("limit", [40_000, 200_000])
+def test_the_console_script_refuses_a_file_size_limit_below_its_results(tmp_path, limit):
+    """Under ``ulimit -f`` below results.h5's estimate and the margin the job stops before
+    writing, one line, exit 2: cut short by the limit, HDF5 can end the process by a SIGSEGV
+    inside h5netcdf's clean-up (at 200 kB) or at its own shutdown (at 40 kB)."""
+    import resource
+
+    out = tmp_path / "out"
+    run = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560",
+                          str(SHIPPED_PUMA), "-o", str(out), "-q", "--no-report"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=300,
+                         env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)),
+                         preexec_fn=lambda: resource.setrlimit(
+                             resource.RLIMIT_FSIZE, (limit, resource.RLIM_INFINITY)))
+    assert run.returncode == 2, run.stderr[-2000:]
+    lines = run.stderr.splitlines()
+    assert len(lines) == 1 and "the file size limit (ulimit -f)" in lines[0], run.stderr
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_a_full_disk_at_the_lock_file_is_one_line(tmp_path, monkeypatch, capsys):

@@ -22,7 +22,7 @@ from typing import NoReturn
 from ..errors import InputError, InputNote, InputWarning
 from ..model.robots import builtin_robots, unknown_robot
 from ..model.urdf import is_urdf_text
-from ..store.signals import after_run, install
+from ..store.signals import after_run, exit_with, install
 from ..store.staging import Terminated
 from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
 from .identify_command import cmd_identify
@@ -177,7 +177,7 @@ def run() -> NoReturn:
     gc.freeze()                 # after the imports: start-up objects leave the collector's passes
     code = main(argv)
     after_run(PROG)             # a signal during the interpreter's shutdown: no traceback
-    sys.exit(code)
+    exit_with(code)
 
 
 def _without(module: str) -> None:

@@ -26,8 +26,10 @@ import os
 import signal
 import sys
 import threading
+from typing import NoReturn
 
-__all__ = ["install", "after_run", "pending", "SIGNALS", "Terminated"]
+__all__ = ["install", "after_run", "without_teardown", "exit_with", "pending", "SIGNALS",
+           "Terminated"]
 
 #: The signals handled: interrupt, terminate, hang-up.
 SIGNALS = tuple(s for s in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None))
@@ -118,6 +120,42 @@ def install() -> None:
     if sys.unraisablehook is not _unraisable:
         _HOOK[0] = sys.unraisablehook
         sys.unraisablehook = _unraisable
+
+
+#: Set by :func:`without_teardown`: the process ends without the interpreter's teardown.
+_TORN = [False]
+
+
+def without_teardown() -> None:
+    """After a write the HDF5 library could not finish (a full disk, a file size limit), end
+    the process without the interpreter's teardown (:func:`exit_with`): HDF5's own shutdown
+    then flushes again into the file it tore down, a SIGSEGV after the run's one error line
+    (the run's staging folder and lock are gone by then; nothing else is pending)."""
+    _TORN[0] = True
+
+
+def exit_with(code: int) -> NoReturn:
+    """End the process with ``code``: ``sys.exit``, or, after :func:`without_teardown`,
+    ``os._exit`` once stdout and stderr are flushed.
+
+    Parameters
+    ----------
+    code : int
+        The exit status.
+
+    Raises
+    ------
+    SystemExit
+        With ``code``, unless the teardown is skipped.
+    """
+    if _TORN[0]:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError, AttributeError):
+                pass
+        os._exit(code)
+    sys.exit(code)
 
 
 def after_run(prog: str) -> None:

@@ -61,7 +61,7 @@ from pathlib import Path
 from .._version import VERSION as __version__
 from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
-from .signals import Terminated
+from .signals import Terminated, without_teardown
 
 __all__ = ["safe_name", "staged_output", "writing", "write_error", "is_inside", "check_free_space", "check_output_file",
            "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
@@ -158,12 +158,24 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
     Raises
     ------
     InputError
-        If the free space is below ``need_bytes`` plus a margin of 16 MiB.
+        If the free space, or the process's file size limit (``ulimit -f``, RLIMIT_FSIZE),
+        is below ``need_bytes`` plus a margin of 16 MiB: HDF5 may crash the process on a
+        write the limit cuts short, before any message.
     """
     free = shutil.disk_usage(folder).free
     if free < need_bytes + SPACE_MARGIN:
         raise InputError(f"not enough free space for {what}: about {need_bytes / 1e6:.0f} MB "
-                         f"needed, {free / 1e6:.0f} MB free", folder)
+                         f"needed and a margin of {SPACE_MARGIN / 2**20:.0f} MiB, "
+                         f"{free / 1e6:.0f} MB free", folder)
+    try:
+        import resource
+    except ImportError:                 # not a Unix system: no such limit
+        return
+    most = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if most != resource.RLIM_INFINITY and most < need_bytes + SPACE_MARGIN:
+        raise InputError(f"the file size limit (ulimit -f) is {most / 1e6:.3g} MB, below "
+                         f"{what}'s about {need_bytes / 1e6:.0f} MB and a margin of "
+                         f"{SPACE_MARGIN / 2**20:.0f} MiB: raise it", folder)
 
 
 @contextlib.contextmanager
@@ -695,6 +707,7 @@ def _disarm_hdf5():
     h5netcdf = sys.modules.get("h5netcdf")
     if h5netcdf is None:
         return
+    without_teardown()
     for obj in gc.get_objects():
         if (isinstance(obj, h5netcdf.File) and not getattr(obj, "_closed", True)
                 and getattr(obj, "_mode", "r") != "r"):
