@@ -126,6 +126,15 @@ def install() -> None:
 _TORN = [False]
 
 
+def _flush_output():
+    """Flush stdout and stderr, whatever state they are in (closed, replaced, a full pipe)."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError, AttributeError):
+            pass
+
+
 def without_teardown() -> None:
     """After a write the HDF5 library could not finish (a full disk, a file size limit), end
     the process without the interpreter's teardown (:func:`exit_with`): HDF5's own shutdown
@@ -149,11 +158,7 @@ def exit_with(code: int) -> NoReturn:
         With ``code``, unless the teardown is skipped.
     """
     if _TORN[0]:
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError, AttributeError):
-                pass
+        _flush_output()
         os._exit(code)
     sys.exit(code)
 
@@ -167,11 +172,7 @@ def after_run(prog: str) -> None:
     prog : str
         The program's name, for the line.
     """
-    for stream in (sys.stdout, sys.stderr):     # the run's output, before any os._exit
-        try:
-            stream.flush()
-        except (OSError, ValueError, AttributeError):
-            pass
+    _flush_output()                             # the run's output, before any os._exit
 
     def after(signum, frame):
         os.write(sys.stderr.fileno(), f"{prog}: interrupted after the run had finished (its "
