@@ -128,3 +128,28 @@ def test_an_error_that_is_round_off_everywhere_is_said_so_not_ranked():
     assert "at joint 2" in plain and "every other joint is within 0.2" in plain
     assert plain == conclusion(labels, dom, zero, choice, np.array([0.001, 0.004, 0.002]), err,
                                tau)
+
+
+def test_the_leading_part_is_named_only_when_it_leads():
+    """Oracle: the counts of the classes given. A class leads when it holds more ranked
+    elements than each other class; on a tie none is named (h below: 1 rotational, 1 both, which
+    read "rotational effects lead"), nor when every element is negligible or ≡ 0 (an arm without
+    inertia read "translational effects lead" with no element translational)."""
+    from gd_analyze.report.markup import plain
+
+    def lead(labels, classes, zero):
+        text = plain(conclusion(labels, classes, np.array(zero), ["none"] * len(labels),
+                                np.array([0.01]), np.array([0.1]), np.array([1.0])))
+        return [part.split(" — ")[1] for part in text.split(".")[0].split(";") if " — " in part]
+
+    assert lead(["D11", "D12", "D22", "h1", "h2"],
+                ["translational", "negligible", "rotational", "rotational", "both"],
+                [False] * 5) == ["no part leads: the classes translational and rotational tie at 1 each",
+                                 "no part leads: the classes rotational and both tie at 1 each"]
+    assert lead(["D11", "h1"], ["negligible", "negligible"], [True, False]) == [
+        "no part leads, for no element is ranked"] * 2
+    assert lead(["D11", "D12", "D22", "h1"], ["both", "both", "rotational", "translational"],
+                [False] * 4) == ["most ranked elements need both parts", "translational effects lead"]
+    assert lead(["D11", "D12", "D22", "h1", "h2"],
+                ["rotational", "translational", "rotational", "rotational", "rotational"],
+                [False] * 5) == ["rotational effects lead", "rotational effects lead"]

@@ -85,6 +85,14 @@ def _qty_text(text, unit):
     return f"{text}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
+def _leaders(by: Mapping[str, Sequence[str]]) -> list[str]:
+    """The classes of most ranked elements, of translational, rotational and both: one if it
+    leads, all that tie, none if no element is ranked (every one negligible or \u2261 0)."""
+    counts = {c: len(by[c]) for c in ("translational", "rotational", "both")}
+    most = max(counts.values())
+    return [c for c, k in counts.items() if k == most] if most else []
+
+
 def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArray[np.bool_],
                choice: Sequence[str], rel_peak: npt.NDArray[np.float64],
                abs_peak: npt.NDArray[np.float64], tau_peak: npt.NDArray[np.float64],
@@ -166,8 +174,8 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                        "rot": _names(by["rotational"]), "k_both": len(by["both"]),
                        "k_negl": len(by["negligible"]) + len(z),
                        "negl": "; ".join(filter(None, negl)),
-                       "lead": max(("translational", "rotational", "both"),
-                                   key=lambda c: len(by[c]))})
+                       "lead": _leaders(by),
+                       "k_most": max(len(by[c]) for c in ("translational", "rotational", "both"))})
     first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
                             trajectory=where)
