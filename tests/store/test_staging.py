@@ -174,6 +174,21 @@ def test_case8_full_disk_is_refused_before_writing(tmp_path, monkeypatch):
     assert os.listdir(tmp_path) == []
 
 
+def test_a_folder_not_yet_created_is_checked_where_it_will_be(tmp_path, monkeypatch):
+    """A command checks before it computes, when its output folder may not exist yet: the
+    nearest existing folder above it is asked (shutil.disk_usage of a missing path raised
+    FileNotFoundError), and nothing is created."""
+    import shutil
+    from collections import namedtuple
+
+    usage, asked = namedtuple("usage", "total used free"), []
+    monkeypatch.setattr(shutil, "disk_usage",
+                        lambda p: asked.append(Path(p)) or usage(10**9, 10**9 - 10**6, 10**6))
+    with pytest.raises(InputError, match="not enough free space for sweep.h5"):
+        check_free_space(tmp_path / "a" / "out", 50 * 10**6, "sweep.h5")
+    assert asked == [tmp_path] and os.listdir(tmp_path) == []
+
+
 def test_case8_write_errors_become_one_line(tmp_path):
     import errno
 

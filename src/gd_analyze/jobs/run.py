@@ -201,7 +201,8 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     settings = _settings(options, settings, shape, robot, prefix)
     prefix = settings["c_prefix"]
     with staged_output(outdir, command="analyze") as stage, writing(outdir, stage):
-        check_free_space(stage, results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        # on the output folder's file system, the staging folder's; the message names it
+        check_free_space(outdir, results_size(trajectory.n_setpoints, robot.n), "results.h5")
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
                                    progress=progress, extra=extra)

@@ -149,7 +149,9 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
     Parameters
     ----------
     folder : str or os.PathLike
-        Where the file goes.
+        Where the file goes; a folder not yet created is checked on the nearest existing
+        folder above it (where it will be created), so a command can refuse before it
+        computes.
     need_bytes : int
         Estimated size of the file [bytes].
     what : str, optional
@@ -162,7 +164,10 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
         is below ``need_bytes`` plus a margin of 16 MiB: HDF5 may crash the process on a
         write the limit cuts short, before any message.
     """
-    free = shutil.disk_usage(folder).free
+    where = Path(folder).absolute()
+    while not os.path.exists(where) and where != where.parent:
+        where = where.parent
+    free = shutil.disk_usage(where).free
     if free < need_bytes + SPACE_MARGIN:
         raise InputError(f"not enough free space for {what}: about {need_bytes / 1e6:.0f} MB "
                          f"needed and a margin of {SPACE_MARGIN / 2**20:.0f} MiB, "
