@@ -1,13 +1,16 @@
 """The main job's region: its options, the summary lines, results.h5 and
-the model JSON read back, and a trajectory outside the region flagged."""
+the model JSON read back, and a trajectory outside the region flagged; ``control`` and ``plan``
+under a file size limit."""
 
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
+from staging_checks import refused_by_the_limit, run_limited
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -178,3 +181,43 @@ def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, 
     data = np.loadtxt(plan, delimiter=",", skiprows=1)
     assert data[0, 0] == 0 and data[-1, 0] == 2
     assert np.all(data[[0, -1], 3:] == 0)                      # qd, qdd at rest at both ends
+
+
+@pytest.fixture(scope="module")
+def two_link_model(tmp_path_factory):
+    """A two-link plan of 20 set points and the main job's model on it (no report)."""
+    folder = tmp_path_factory.mktemp("model")
+    csv = folder / "plan.csv"
+    assert main(["plan", "two-link", "-o", str(csv), "--setpoints", "20"]) == 0
+    assert main(["two-link", str(csv), "-o", str(folder / "main"), "-q", "--no-report"]) == 0
+    return folder / "main" / "simplified_model.json", csv
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
+@pytest.mark.parametrize("limit", [40_000, 200_000])
+def test_control_refuses_a_file_size_limit_below_control_h5(two_link_model, tmp_path, limit):
+    """Under ``ulimit -f`` below control.h5's estimate and the margin: one line naming the
+    limit, exit 2, nothing left, before the closed-loop runs. HDF5 cut short by the limit
+    crashed the process (SIGSEGV, exit 139, its lock and staging folder left) or failed with
+    "file too large"."""
+    model, csv = two_link_model
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    run = run_limited(["control", model, csv, "-o", runs / "out", "-q", "--no-report"],
+                      tmp_path, limit)
+    refused_by_the_limit(run, runs)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
+@pytest.mark.parametrize("limit", [40_000, 200_000])
+def test_plan_meeting_a_file_size_limit_is_one_line(tmp_path, limit):
+    """``plan`` writes text, not HDF5: a CSV the limit cuts short is one line, exit 2, and its
+    temporary file is removed (no estimate needed: a plan that fits is written)."""
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    run = run_limited(["plan", "two-link", "--setpoints", "5000", "-o", runs / "plan.csv"],
+                      tmp_path, limit)
+    assert run.returncode == 2, run.stderr[-2000:]
+    assert run.stderr == f"gd-analyze: error: {runs / 'plan.csv'}: cannot write: File too " \
+                         "large\n"
+    assert list(runs.iterdir()) == []

@@ -1,10 +1,13 @@
-"""``gd-analyze identify``: its files, its JSON, and bad input (one line, exit 2)."""
+"""``gd-analyze identify``: its files, its JSON, bad input and a file size limit below its
+store (one line, exit 2)."""
 
 import json
+import sys
 
 import numpy as np
 import pytest
 from identify_recordings import fourier, irregular_clock, truth_for, write_recording
+from staging_checks import refused_by_the_limit, run_limited
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
@@ -166,3 +169,17 @@ def test_urdf_input_writes_a_urdf_that_reproduces_the_identified_model(tmp_path,
     tau += drives.torque_offset
     pred = held.tau_predicted.values
     assert np.abs(tau - pred).max() <= 1e-9 * np.abs(pred).max()
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
+@pytest.mark.parametrize("limit", [40_000, 200_000])
+def test_a_file_size_limit_below_identification_h5_is_refused(recordings, tmp_path, limit):
+    """Under ``ulimit -f`` below identification.h5's estimate and the margin: one line naming
+    the limit, exit 2, nothing left, before the identification. HDF5 cut short by the limit
+    failed with "file too large" or crashed the process (SIGSEGV, exit 139, its lock and
+    staging folder left)."""
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    run = run_limited(["identify", "two-link", recordings[0], "--validate", recordings[1],
+                       "-o", runs / "out", "-q", "--no-report"], tmp_path, limit)
+    refused_by_the_limit(run, runs)

@@ -1,21 +1,25 @@
 """The ``sweep`` command's merged model: of the recursive form where that is
 the cheaper, its file evaluated by ``gd-analyze evaluate`` and checked against Pinocchio's
-rnea, and every figure it prints and stores counted on the model written."""
+rnea, and every figure it prints and stores counted on the model written; the sweep under a
+file size limit."""
 
 import contextlib
 import io
 import json
 import re
+import sys
 
 import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
 from robot_files import toml_without_limits
+from staging_checks import refused_by_the_limit, run_limited
 
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.store.model_file import load_model
+from gd_analyze.store.sweep_view import sweep_size
 from gd_analyze.symbolic.recursive import recursive_program
 from gd_analyze.trajectory.planning import random_trajectories
 from gd_analyze.trajectory.trajectory import write_trajectory
@@ -297,3 +301,29 @@ def test_a_small_sweep_without_workers_runs_in_the_command_process(tmp_path, cap
                 spec.pop("validation", None)
                 spec.get("provenance", {}).pop("command", None)
         assert a == b, name
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
+@pytest.mark.parametrize("limit", [40_000, 200_000])
+def test_a_file_size_limit_below_sweep_h5_is_refused_before_the_sweep(tmp_path, limit):
+    """Under ``ulimit -f`` below sweep.h5's estimate and the margin: one line naming the limit,
+    exit 2, nothing left, before the sweep. At 40 kB the write failed ("file too large"), or,
+    with numba's cache not yet written, the cache's write did (exit 4, an internal error); at
+    200 kB this sweep's 0.1 MB sweep.h5 fitted, where a larger one meets the limit inside
+    HDF5."""
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    run = run_limited(["sweep", "two-link", "--random", "2", "-o", runs / "out", "-q",
+                       "--no-report"], tmp_path, limit)
+    refused_by_the_limit(run, runs)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
+def test_a_file_size_limit_above_the_estimate_lets_the_sweep_run(tmp_path):
+    """64 MiB holds the estimate and the margin: the sweep runs, and the sweep.h5 it wrote is
+    within the estimate."""
+    run = run_limited(["sweep", "two-link", "--random", "2", "-o", tmp_path / "out", "-q",
+                       "--no-report"], tmp_path, 64 << 20)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stderr == ""
+    assert (tmp_path / "out" / "sweep.h5").stat().st_size <= sweep_size(2, 2)

@@ -1,10 +1,16 @@
-"""Preprocessing: derivatives of a known signal, the data's cutoff, gaps, the same filter."""
+"""Preprocessing: derivatives of a known signal, the data's cutoff, gaps, the same filter, the
+most samples it gives."""
 
 import numpy as np
 import pytest
 from scipy import signal
 
-from gd_analyze.estimation.preprocess import default_cutoff, preprocess, still_joints
+from gd_analyze.estimation.preprocess import (
+    default_cutoff,
+    most_samples,
+    preprocess,
+    still_joints,
+)
 
 
 def _signal(t, f=0.4):
@@ -122,3 +128,21 @@ def test_blocks_are_the_whole_segments_filtered(cutoff, rows):
         np.testing.assert_array_equal(y, whole[a:b, 0, 0])
     with pytest.raises(ValueError, match="rows"):
         next(pre.filtered_blocks(make, 0))
+
+
+@pytest.mark.parametrize("clock", ["irregular", "skewed", "gap", "regular"])
+@pytest.mark.parametrize("cutoff", [None, 5.0])
+def test_most_samples_bounds_the_samples_preprocessing_gives(clock, cutoff):
+    """The bound the output folder's estimate uses: never below the samples preprocess gives
+    (resampled onto the median step, or kept as they are), and within 2x of them."""
+    rng = np.random.default_rng(3)
+    steps = {"irregular": rng.uniform(0.7e-3, 8.8e-3, 3000),
+             "skewed": np.where(rng.random(3000) < 0.8, 1e-3, 1.5e-2),
+             "gap": np.concatenate([np.full(1500, 2e-3), [5.0], np.full(1500, 2e-3)]),
+             "regular": np.full(3000, 2e-3)}[clock]
+    t = np.concatenate([[0.0], np.cumsum(steps)])
+    q = _signal(t)[0]
+    given = {} if cutoff is not None else dict(qd=q, qdd=q)
+    pre = preprocess(t, q, q, cutoff=cutoff, **given)
+    most = most_samples(t, resampled=cutoff is not None)
+    assert pre.t.size <= most <= 2 * pre.t.size

@@ -1,4 +1,5 @@
-"""identification.h5: group names, and a result written and read back."""
+"""identification.h5: group names, and a result written (within its estimated size) and read
+back."""
 
 import json
 
@@ -9,6 +10,7 @@ from gd_analyze import load_robot
 from gd_analyze.jobs.identify import IdentifyOptions, identify
 from gd_analyze.store.stored_identification import (
     group_names,
+    identification_size,
     read_identification,
     recordings_json,
     write_identification,
@@ -30,6 +32,7 @@ def test_written_and_read_back(tmp_path):
                                 source="weird name/r.csv")
     result = identify(robot, [rec], validate=[rec], options=IdentifyOptions(cutoff=None))
     path = write_identification(result, tmp_path / "identification.h5")
+    assert path.stat().st_size <= identification_size([t.size, t.size], robot.n)
     tree = read_identification(path)
     assert list(tree) == ["/", "r", "r_2"]
     root = tree["/"]

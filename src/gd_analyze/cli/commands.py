@@ -27,7 +27,7 @@ from ..dynamics.compare import compare_report, format_compare
 from ..errors import InputError, InputWarning
 from ..files import file_sha256
 from ..jobs.analyze import progress_bar
-from ..jobs.control import CONTROL_FILE, run_control
+from ..jobs.control import CONTROL_FILE, DEFAULT_GRID_POINTS, run_control
 from ..jobs.evaluate import coverage, evaluate, gate
 from ..jobs.options import AnalysisOptions, SimplifyOptions
 from ..jobs.run import Payload, run_analysis
@@ -46,7 +46,13 @@ from ..store import control_dataset as control_file
 from ..store.datasets import joint_units
 from ..store.model_file import load_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
-from ..store.staging import check_output_file, safe_name, staged_output, writing
+from ..store.staging import (
+    check_free_space,
+    check_output_file,
+    safe_name,
+    staged_output,
+    writing,
+)
 from ..trajectory.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..trajectory.planning import (
     DEFAULT_SETPOINTS,
@@ -889,6 +895,8 @@ def cmd_control(args: argparse.Namespace) -> int:
     """
     model, model_robot, traj = _load_model(args)
     outdir = output_folder(args.outdir, model_robot.name, Path(args.trajectory).stem, "control")
+    size = control_file.control_size(traj.n_setpoints + DEFAULT_GRID_POINTS, model_robot.n)
+    check_free_space(outdir, size, CONTROL_FILE)        # before the closed-loop runs
     try:
         result = run_control(model, traj, wn=args.wn, zeta=args.zeta, q0_offset=args.offset,
                              model_path=args.model, model_sha256=file_sha256(args.model),
@@ -897,6 +905,8 @@ def cmd_control(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise InputError(str(exc)) from None
     with staged_output(outdir, command="control") as stage, writing(outdir, stage):
+        # and again before writing: the disk may have filled since
+        check_free_space(outdir, size, CONTROL_FILE)
         path = stage / CONTROL_FILE
         control_file.write_control_dataset(result, path, {"command": command_line(args)})
         written = [path]

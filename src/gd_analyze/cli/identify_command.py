@@ -15,17 +15,20 @@ from dataclasses import fields
 from pathlib import Path
 
 from ..errors import InputError
+from ..estimation.preprocess import most_samples
 from ..jobs.identify import IdentifyOptions, identify
 from ..model.robot_file import robot_toml
 from ..model.robots import is_urdf
 from ..model.urdf_writer import robot_urdf
 from ..report.identify import write_identify_report
-from ..store.staging import staged_output, writing
+from ..store.staging import check_free_space, staged_output, writing
 from ..store.stored_identification import (
+    identification_size,
     identification_tree,
     recordings_json,
     write_identification,
 )
+from ..trajectory.recording import read_recording
 from .commands import command_line, load_robot_arg, output_folder, wrote_line
 from .parsing import EXIT_OK
 
@@ -105,9 +108,15 @@ def cmd_identify(args: argparse.Namespace) -> int:
     robot = load_robot_arg(args)
     options = _options(args)
     outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
-    result = identify(robot, list(args.recordings), validate=list(args.validate),
-                      options=options)
+    train, valid = ([read_recording(path, n_joints=robot.n, current=options.current)
+                     for path in paths] for paths in (args.recordings, args.validate))
+    size = identification_size([most_samples(r.t, resampled=options.cutoff is not None)
+                                for r in train + valid], robot.n)
+    check_free_space(outdir, size, "identification.h5")    # before the identification
+    result = identify(robot, train, validate=valid, options=options)
     with staged_output(outdir, command="identify") as stage, writing(outdir, stage):
+        # and again before writing: the disk may have filled since
+        check_free_space(outdir, size, "identification.h5")
         written = [write_identification(result, stage / "identification.h5")]
         toml = stage / "identified_robot.toml"
         toml.write_text(robot_toml(result.identified, _comments(result, args)),

@@ -21,9 +21,14 @@ from ..report.sweep import write_sweep_report
 from ..simplify.deploy import guarantee_region
 from ..store.model_file import save_model
 from ..store.schema import write_dataset
-from ..store.staging import staged_output, writing
+from ..store.staging import check_free_space, staged_output, writing
 from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import StoredSweep, beyond_the_floor, with_more_tasks
+from ..store.sweep_view import (
+    StoredSweep,
+    beyond_the_floor,
+    sweep_size,
+    with_more_tasks,
+)
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.planning import check_velocity_limits, random_trajectories
 from ..trajectory.trajectory import read_trajectory
@@ -202,6 +207,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # over the region the merge needs no per-trajectory peaks of the recursive model
     proved = guarantee_region(loaded, args.guarantee, limits)[2]
     budget = args.rule == "budget"
+    size = sweep_size(len(trajectories), robot.n, 0 if masses is None else len(masses))
+    check_free_space(outdir, size, "sweep.h5")      # before the sweep, which may take hours
     # the held-out trajectories of the budget rule's merged model (--held-out, at least 0)
     held = random_trajectories(loaded, args.held_out, seed=args.seed + 1_000_003) \
         if budget and args.held_out else []
@@ -247,6 +254,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                 ds = with_more_tasks(ds, errors.tasks)
 
     with staged_output(outdir, command="sweep") as stage, writing(outdir, stage):
+        # and again before writing: the disk may have filled since
+        check_free_space(outdir, size, "sweep.h5")
         written = [stage / "sweep.h5"]
         if model is not None:
             files, ds = _sweep_model(loaded, model, args, stage, ds)

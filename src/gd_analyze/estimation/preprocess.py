@@ -39,7 +39,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["Preprocessed", "preprocess", "default_cutoff", "edge_samples", "still_joints",
+__all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
+           "still_joints",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
            "FILTER_BLOCK"]
 
@@ -208,6 +209,36 @@ def _segments(t):
     cuts = np.flatnonzero(dt > GAP_STEPS * med) + 1
     bounds = np.concatenate([[0], cuts, [t.size]])
     return [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], med
+
+
+def most_samples(t: npt.ArrayLike, resampled: bool = True) -> int:
+    """The most samples :func:`preprocess` can give a recording: its rows, or, resampled onto
+    the median step (with a filter), each segment's span in median steps, plus one.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        The recording's time stamps, increasing [s].
+    resampled : bool, optional
+        A filter is applied (a cutoff is given or chosen), so the segments are resampled.
+
+    Returns
+    -------
+    int
+        An upper bound of the samples kept (before the edges are dropped and the decimation).
+
+    Examples
+    --------
+    >>> most_samples([0.0, 0.1, 0.2, 0.4, 0.5])   # the step of 0.2 s resampled as two
+    6
+    >>> most_samples([0.0, 0.1, 0.2, 0.4, 0.5], resampled=False)
+    5
+    """
+    t = np.asarray(t, float)
+    if t.size < 2 or not resampled:
+        return int(t.size)
+    segs, step = _segments(t)
+    return max(int(t.size), sum(int((t[s][-1] - t[s][0]) / step) + 1 for s in segs))
 
 
 def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> float:

@@ -25,7 +25,38 @@ if TYPE_CHECKING:                       # for the type hints only
 
     import xarray as xr
 
-__all__ = ["control_dataset", "write_control_dataset", "peak_rms"]
+__all__ = ["control_dataset", "write_control_dataset", "control_size", "peak_rms"]
+
+
+def control_size(samples: int, n: int, controllers: int = 3) -> int:
+    """Bytes of the per-sample variables of control.h5 (uncompressed), plus 1 MiB: an
+    over-estimate of the file, checked before the run
+    (:func:`gd_analyze.store.staging.check_free_space`).
+
+    Parameters
+    ----------
+    samples : int
+        Samples of the run, at most the set points plus the fine grid's points
+        (:func:`gd_analyze.jobs.control.run_control`).
+    n : int
+        Joints.
+    controllers : int, optional
+        Controllers run (three by default).
+
+    Returns
+    -------
+    int
+        8 bytes per value: time and ``is_setpoint``, four vectors of n (``q_d``, ``qd_d``,
+        ``qdd_d``, ``tau_difference``) and, per controller, four more (``q``, ``qd``,
+        ``tau``, ``error``) per sample; the per-joint figures, gains and attributes are in the
+        1 MiB [bytes].
+
+    Examples
+    --------
+    >>> control_size(2021, 6) - (1 << 20) == 8 * 2021 * (2 + 4 * 6 + 3 * 4 * 6)
+    True
+    """
+    return 8 * samples * (2 + 4 * n + controllers * 4 * n) + (1 << 20)
 
 
 def peak_rms(x: ArrayLike, axis: int = 0) -> tuple[np.ndarray, np.ndarray]:

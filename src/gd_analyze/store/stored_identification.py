@@ -85,7 +85,7 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["ParameterTable", "RecordingFit", "IdentificationResult", "group_names",
-           "identification_tree", "write_identification", "read_identification",
+           "identification_tree", "identification_size", "write_identification", "read_identification",
            "recordings_json", "REQUIRED_ROOT", "REQUIRED_RECORDING", "StoredRecording",
            "StoredIdentification"]
 
@@ -369,6 +369,35 @@ def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
     for fit in result.recordings:
         out[fit.name] = _recording_dataset(fit, joints)
     return out
+
+
+def identification_size(samples: Sequence[int], n: int) -> int:
+    """Bytes of the per-sample variables of identification.h5 (uncompressed), plus 1 MiB: an
+    over-estimate of the file, checked before the identification
+    (:func:`gd_analyze.store.staging.check_free_space`).
+
+    Parameters
+    ----------
+    samples : sequence of int
+        Per recording, at most the samples stored
+        (:func:`gd_analyze.estimation.preprocess.most_samples`).
+    n : int
+        Joints.
+
+    Returns
+    -------
+    int
+        8 bytes per value: ``t`` and eight vectors of n (``q``, ``qd``, ``qdd``,
+        ``tau_measured``, ``tau_predicted``, ``tau_prior``, the optional ``tau_simplified``
+        and the flags ``used``, counted as 8 bytes) per sample; the parameters, the links'
+        tables and the attributes are in the 1 MiB [bytes].
+
+    Examples
+    --------
+    >>> identification_size([4000, 1500], 2) - (1 << 20) == 8 * 5500 * (1 + 8 * 2)
+    True
+    """
+    return 8 * sum(int(k) for k in samples) * (1 + 8 * n) + (1 << 20)
 
 
 def write_identification(result: IdentificationResult, path: str | os.PathLike[str]) -> Path:

@@ -74,7 +74,7 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks", "inputs_attributes", "sweep_dataset",
            "payload_dataset", "sweep_payloads_dataset", "embed_payload", "payload_part",
-           "beyond_the_floor", "embed_pair_peaks", "merged_error_variables"]
+           "beyond_the_floor", "embed_pair_peaks", "merged_error_variables", "sweep_size"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -85,6 +85,51 @@ _REFERENCES = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4.1; Lee, Lee & Nigam
 #: How the envelope of the shares treats round-off (:func:`is_round_off`).
 _AS_DATA = ("; 0 or 1 on a trajectory where a part is round-off (at most 1e-12 of the element's "
             "scale or 64 eps of the arm's), a trajectory where the element is round-off left out (NaN: on every one)")
+
+
+#: Bytes counted per stored text (a variable-length HDF5 string: its heap entry and its
+#: reference), as 8 values; a file name or a sentence counts as 32 values.
+_TEXT_VALUES, _LONG_TEXT_VALUES = 8, 32
+
+
+def sweep_size(trajectories: int, n: int, masses: int = 0) -> int:
+    """Bytes of the per-trajectory variables of sweep.h5 and of the per-mass ones of
+    payload_sweep.h5 (uncompressed), plus 1 MiB a file: an over-estimate of the files,
+    checked before the sweep (:func:`gd_analyze.store.staging.check_free_space`).
+
+    Parameters
+    ----------
+    trajectories : int
+        K, the trajectories swept.
+    n : int
+        Joints; the elements are M = n (n + 1) / 2 + n.
+    masses : int, optional
+        P, the load masses of a payload sweep (:func:`sweep_payloads_dataset`); 0: none.
+
+    Returns
+    -------
+    int
+        8 bytes per value. Per trajectory: per element two numbers, the flag ``round_off``
+        and two texts (``dominance``, ``choice``); per joint 16 numbers (the start and the
+        goal, the peak torque, the own and merged models' errors and bounds); the texts
+        ``source``, ``input_sha256`` and ``merged_coverage`` and five numbers. The peaks the
+        budget rule prunes on are not stored
+        (:func:`gd_analyze.jobs.sweep_merged.with_budget_model`). Per mass: per element the
+        four class fractions, the share, ``round_off`` and two texts; n peak torques and the
+        mass [bytes].
+
+    Examples
+    --------
+    >>> sweep_size(2, 2) - (1 << 20) == 8 * 2 * (5 * (3 + 2 * 8) + 16 * 2 + 3 * 32 + 5)
+    True
+    >>> sweep_size(2, 2, 3) - sweep_size(2, 2) - (1 << 20) == 8 * 3 * (5 * (6 + 2 * 8) + 3)
+    True
+    """
+    elements = n * (n + 1) // 2 + n
+    per_trajectory = elements * (3 + 2 * _TEXT_VALUES) + 16 * n + 3 * _LONG_TEXT_VALUES + 5
+    per_mass = elements * (6 + 2 * _TEXT_VALUES) + n + 1
+    return (8 * trajectories * per_trajectory + (1 << 20)
+            + (8 * masses * per_mass + (1 << 20) if masses else 0))
 
 
 def _torque_units(robot, which="tau"):
