@@ -498,3 +498,25 @@ def test_control_printout_marks_integrator_noise_as_the_report_does():
         for text, v, f in zip(cells, stored, q_floor):
             assert (text == "\u22610") == bool(v <= f), (c, text, v, f)
     assert rows["full"].count("\u2261 0") == 6
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs Linux's /dev/full")
+def test_a_full_disk_outside_the_output_folder_is_not_a_bug(monkeypatch, capsys):
+    """A write outside the output folder that a full disk stops (numba's cache of compiled
+    kernels beside the package, written while a command computes) is an operational failure:
+    one line, exit 2, not "internal error" and exit 4. The write is real: /dev/full answers
+    every write with ENOSPC; the command wraps it, as numba does, in another error."""
+    import gd_analyze.cli as cli
+
+    def fills_the_disk(args):
+        try:
+            with open("/dev/full", "wb") as cache:
+                cache.write(b"x" * 100_000)
+        except OSError as exc:
+            raise RuntimeError("could not save the compiled kernel") from exc
+        return 0
+
+    monkeypatch.setattr(cli, "cmd_plan", fills_the_disk)
+    assert main(["plan", "two-link", "-o", "unused.csv"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "gd-analyze: error: cannot write: no space left on the device", err

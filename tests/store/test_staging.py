@@ -403,3 +403,25 @@ def test_a_users_gd_names_are_never_deleted(tmp_path, name):
     _run_as(target, "analyze", {"a.txt": "m2"})          # a normal rerun
     assert all((tmp_path / n / "keep.txt").read_text() == "user"
                for n in (".out.gd-prev", ".out.gd-tmp-xyz"))
+
+
+def test_full_disk_error_finds_the_cause_in_the_chain(tmp_path):
+    """Oracle: the errno of each OSError made. A full disk, a quota and the file size limit
+    anywhere in an exception's chain give one line naming the file; any other error, None."""
+    import errno
+
+    from gd_analyze.store.staging import full_disk_error
+
+    cache = str(tmp_path / "kernel.nbc")
+    for code, said in ((errno.ENOSPC, "no space left on the device"),
+                       (errno.EFBIG, os.strerror(errno.EFBIG).lower())):
+        try:
+            try:
+                raise OSError(code, os.strerror(code), cache)
+            except OSError as inner:
+                raise RuntimeError("saving failed") from inner
+        except RuntimeError as outer:
+            error = full_disk_error(outer)
+        assert isinstance(error, InputError) and str(error) == f"{cache}: cannot write: {said}"
+    assert full_disk_error(OSError(errno.EACCES, "Permission denied", cache)) is None
+    assert full_disk_error(ValueError("no")) is None

@@ -23,7 +23,7 @@ from ..errors import InputError, InputNote, InputWarning
 from ..model.robots import builtin_robots, unknown_robot
 from ..model.urdf import is_urdf_text
 from ..store.signals import after_run, exit_with, install
-from ..store.staging import Terminated
+from ..store.staging import Terminated, full_disk_error
 from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
 from .identify_command import cmd_identify
 from .parsing import (
@@ -264,6 +264,10 @@ def _main(argv):
         print(f"{PROG}: {'interrupted' if interrupted else 'terminated'}", file=sys.stderr)
         return 130 if interrupted else 128 + int(exc.args[0]) if exc.args else 143
     except Exception as exc:  # noqa: BLE001 - the last line of defence: exit 4, one line
+        full = full_disk_error(exc)     # a full disk elsewhere (numba's cache): not a bug
+        if full is not None:
+            print(f"{PROG}: error: {full}", file=sys.stderr)
+            return EXIT_INPUT
         if debug:
             import traceback
 

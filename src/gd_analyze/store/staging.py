@@ -63,7 +63,7 @@ from ..errors import InputError
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 from .signals import Terminated, without_teardown
 
-__all__ = ["safe_name", "staged_output", "writing", "write_error", "is_inside", "check_free_space", "check_output_file",
+__all__ = ["safe_name", "staged_output", "writing", "write_error", "full_disk_error", "is_inside", "check_free_space", "check_output_file",
            "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
 
 LOCK_SUFFIX = ".gd-lock"
@@ -615,11 +615,37 @@ def write_error(exc: OSError, path: str | os.PathLike[str]) -> InputError:
     -------
     InputError
     """
-    reason = exc.strerror or str(exc)
+    return InputError(f"cannot write the output folder: {_reason(exc)}", path)
+
+
+def _reason(exc):
     if exc.errno in _FULL:              # h5py's strerror is HDF5's whole report
-        reason = ("no space left on the device" if exc.errno == errno.ENOSPC
-                  else os.strerror(exc.errno or 0).lower())
-    return InputError(f"cannot write the output folder: {reason}", path)
+        return ("no space left on the device" if exc.errno == errno.ENOSPC
+                else os.strerror(exc.errno or 0).lower())
+    return exc.strerror or str(exc)
+
+
+def full_disk_error(exc: BaseException) -> InputError | None:
+    """The one-line error of a write outside the output folder that a full disk, a disk quota or
+    the file size limit (``ulimit -f``) stopped, such as numba's cache of compiled kernels
+    beside the installed package; None if none of those is in the exception's chain.
+
+    Parameters
+    ----------
+    exc : BaseException
+        An exception a command raised; its causes and contexts are searched too.
+
+    Returns
+    -------
+    InputError or None
+        Names the file, where the error gives it: an operational failure (exit status 2),
+        not a bug.
+    """
+    full = _disk_full(exc)
+    if full is None:
+        return None
+    return InputError(f"cannot write: {_reason(full)}",
+                      full.filename if isinstance(full.filename, str) else None)
 
 
 def is_inside(name: str | bytes | os.PathLike[str] | os.PathLike[bytes],
