@@ -138,3 +138,28 @@ def test_a_streamed_job_s_report_runs_without_the_kept_certifications(tmp_path, 
     run_analysis(robot, traj, gd.AnalysisOptions(formulations=False), tmp_path / "out",
                  report=report)
     assert (alive == [0]) if streamed else (alive[0] > 0)
+
+
+def test_no_room_is_refused_before_the_payload_sweep(tmp_path, monkeypatch):
+    """Too little free space for results.h5 is refused before the payload sweep is computed
+    (it ran first, then the run was refused): nothing is computed, nothing is written."""
+    import shutil
+    from collections import namedtuple
+
+    import gd_analyze.jobs.run as run
+    from gd_analyze.errors import InputError
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(1 << 30, 1 << 30, 1 << 20))
+
+    def computed(*args, **kwargs):
+        raise AssertionError("the payload sweep ran before the free-space check")
+
+    monkeypatch.setattr(run, "payload_sweep", computed)
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 2.0, 21)
+    trajectory = trajectory_from_arrays(t, np.column_stack([np.sin(t), np.cos(t)]), n_joints=2)
+    with pytest.raises(InputError, match="not enough free space for results.h5"):
+        run_analysis(robot, trajectory, gd.AnalysisOptions(), tmp_path / "out",
+                     payload_masses=[0.0, 1.0])
+    assert not (tmp_path / "out").exists()

@@ -192,6 +192,8 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         raise InputError("exists and is not a folder", outdir)
     extra = None
     shape = Payload() if payload is None else payload
+    need = results_size(trajectory.n_setpoints, robot.n)
+    check_free_space(outdir, need, "results.h5")        # before the payload sweep
     if payload_masses is not None:                      # computed before any output
         extra = embed_payload(payload_sweep(
             robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
@@ -202,7 +204,7 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     prefix = settings["c_prefix"]
     with staged_output(outdir, command="analyze") as stage, writing(outdir, stage):
         # on the output folder's file system, the staging folder's; the message names it
-        check_free_space(outdir, results_size(trajectory.n_setpoints, robot.n), "results.h5")
+        check_free_space(outdir, need, "results.h5")
         results = stage / "results.h5"
         analysis = analyze_to_file(robot, trajectory, results, options, settings=settings,
                                    progress=progress, extra=extra)
