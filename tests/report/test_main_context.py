@@ -111,3 +111,21 @@ def test_joints_alike_are_found_in_blocks_as_on_the_whole_motion(shipped_dataset
             want.append(group)
     assert want == [[2, 5, 6]]
     assert alike_joints(results) == want
+
+
+def test_the_zero_base_parameters_are_counted_in_number():
+    """Oracle: the values given. One base parameter of 0 is said in the singular (an arm with
+    one centre of mass on its joint's axis read "1 are 0 ... and are not listed")."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.main_context import zero_parameters
+
+    def said(values):
+        bp = SimpleNamespace(names=[f"P{i}" for i in range(len(values))], value=values)
+        return zero_parameters(SimpleNamespace(base_parameters=bp))
+
+    assert said([1.0, 0.0, 2.0]) == (" Of the 3 base parameters, 1 is 0 for this robot and is "
+                                     "not listed: P1.")
+    assert said([0.0, 0.0, 2.0]) == (" Of the 3 base parameters, 2 are 0 for this robot and are "
+                                     "not listed: P0, P1.")
+    assert said([1.0]) == ""
