@@ -153,3 +153,15 @@ def test_the_leading_part_is_named_only_when_it_leads():
     assert lead(["D11", "D12", "D22", "h1", "h2"],
                 ["rotational", "translational", "rotational", "rotational", "rotational"],
                 [False] * 5) == ["rotational effects lead", "rotational effects lead"]
+
+
+def test_operation_counts_agree_in_number_with_their_words():
+    """Oracle: the counts given. A count of one is singular (a one-joint arm's model of
+    2 multiplications and 1 addition read "1 additions"); the plural text is kept."""
+    from gd_analyze.report.markup import plain
+
+    one = plain(conclusion(*ARGS, cost=(1, 1, None)))
+    assert "costs 2 operations per set point (1 multiplication, 1 addition)" in one
+    single = plain(conclusion(*ARGS, cost=(1, 0, None)))
+    assert "costs 1 operation per set point (1 multiplication, 0 additions)" in single
+    assert "(348 multiplications, 260 additions)" in plain(conclusion(*ARGS, cost=(348, 260, 1212)))

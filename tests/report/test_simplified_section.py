@@ -176,3 +176,15 @@ def test_s_i_is_said_raised_to_a_floor_only_where_there_is_one():
         for text in (explicit, recursive, region):
             assert (raised in text) == bool(floor), (floor, text)
             assert (f"torque floor {floor} N m" in text) == bool(floor), text
+
+
+def test_the_costs_said_agree_in_number_with_their_counts():
+    """Oracle: the counts given; a count of one is singular ("1 additions" read before)."""
+    from gd_analyze.report.common import say
+
+    assert say("emitted_cost", mult=1, add=1, sin=0, cos=0).startswith(
+        " The emitted code costs 1 multiplication and 1 addition per set point")
+    assert say("emitted_cost", mult=2, add=0, sin=0, cos=0).startswith(
+        " The emitted code costs 2 multiplications and 0 additions per set point")
+    assert "model costs 1 multiplication and 3 additions," in say(
+        "other_rule", rule="chapter", mult=1, add=3, worst="1 %")

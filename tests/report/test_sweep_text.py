@@ -217,3 +217,15 @@ def test_a_region_scale_names_its_torque_floor_only_where_there_is_one(shared_ma
     write_dataset(stored, tmp_path / "sweep.h5")
     html = write_sweep_report(tmp_path / "sweep.h5", tmp_path / "r", formats=["html"])[0]
     assert "found over the region, at least 2 N m)" in summary(html.read_text())
+
+
+def test_the_merged_cost_agrees_in_number_with_its_counts():
+    """Oracle: the counts given; a count of one is singular."""
+    from gd_analyze.report.common import say
+
+    assert say("merged_cost", mine=1, mul=1, add=0, others=[], table=False, chapter=False,
+               recursive_cheaper=False, dearer=False).startswith(
+        "It costs 1 operation per set point (1 multiplication, 0 additions);")
+    assert say("merged_cost", mine=5, mul=2, add=3, others=[], table=False, chapter=False,
+               recursive_cheaper=False, dearer=False).startswith(
+        "It costs 5 operations per set point (2 multiplications, 3 additions);")
