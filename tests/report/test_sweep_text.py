@@ -229,3 +229,29 @@ def test_the_merged_cost_agrees_in_number_with_its_counts():
     assert say("merged_cost", mine=5, mul=2, add=3, others=[], table=False, chapter=False,
                recursive_cheaper=False, dearer=False).startswith(
         "It costs 5 operations per set point (2 multiplications, 3 additions);")
+
+
+def test_worst_cases_rank_only_errors_above_round_off():
+    """Oracle: the errors given against the round-off rule (1e-12 of the joint's peak |tau|).
+    An exact merged model's round-off (a one-joint arm's 2.5e-14 %) is not ranked as its
+    "largest torque errors"; where one trajectory's error is real, only it is named."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import _worst_cases
+
+    def said(peak):
+        peak = np.array(peak, float)                                  # (K, n) [N m]
+        tau = np.full(peak.shape, 10.0)
+        merged = SimpleNamespace(region=True, scale=tau, variables={},
+                                 sizes={"joint": peak.shape[1]})
+        w = SimpleNamespace(merged=merged, merged_tau_error_peak=peak, tau_peak=tau,
+                            merged_tau_error_relative_peak=peak / tau, sources=["a", "b"],
+                            share_min=np.array([0.5]), share_max=np.array([0.5]))
+        return plain(_worst_cases(w, ["D11"]))
+
+    assert said([[2.5e-15, 0.0], [1e-15, 3e-16]]).startswith(
+        "Worst cases: the merged model's torque error is round-off on every trajectory and "
+        "joint.")
+    real = said([[2.5e-15, 0.0], [0.1, 3e-16]])
+    assert "largest torque errors are on b (1.00 % of" in real and "a (" not in real

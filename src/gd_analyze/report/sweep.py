@@ -1074,10 +1074,12 @@ def _own_worst(w):
 
 
 def _worst_cases(w, labels):
-    """The sweep's worst cases, first: trajectories with the largest merged-model error, and
-    the elements whose share_tran varies most over the trajectories."""
+    """The sweep's worst cases, first: trajectories with the largest merged-model error (its
+    round-off, :func:`torque_error_round_off`, is no error), and the elements whose share_tran
+    varies most over the trajectories."""
     m = w.merged
-    rel = w.merged_tau_error_relative_peak          # (K, n)
+    off = torque_error_round_off(m, w.merged_tau_error_peak, w.tau_peak)
+    rel = np.where(off, np.nan, w.merged_tau_error_relative_peak)          # (K, n)
     sources = w.sources
     per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
     order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
@@ -1091,7 +1093,7 @@ def _worst_cases(w, labels):
            if np.isfinite(spread[k])]
     elems = [f"{_element(labels[k])} ({_share_text(w.share_min[k])}\u2013"
              f"{_share_text(w.share_max[k])})" for k in top]
-    return say("worst_cases", cases=parts, elements=elems)
+    return say("worst_cases", cases=parts, elements=elems, round_off=bool(off.all()))
 
 
 def _element(label):
