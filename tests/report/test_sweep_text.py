@@ -255,3 +255,30 @@ def test_worst_cases_rank_only_errors_above_round_off():
         "joint.")
     real = said([[2.5e-15, 0.0], [0.1, 3e-16]])
     assert "largest torque errors are on b (1.00 % of" in real and "a (" not in real
+
+
+def test_a_share_the_same_to_its_printed_digits_is_not_said_to_vary():
+    """Oracle: the shares given. A one-joint arm's D11 is the same on every trajectory but
+    for rounding (0.6667 and 0.6667 + 1e-16): it read "The widest box is that of D11, from
+    0.6667 to 0.6667" and "The classes vary most for D11 (0.6667–0.6667)"."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import _share_sentence, _worst_cases
+
+    def sweep(low, high):
+        merged = SimpleNamespace(region=True, scale=None, variables={}, sizes={"joint": 1})
+        return SimpleNamespace(
+            elements=["D11", "h1"], trajectories=3, class_fraction=[[0, 0, 1, 0]] * 2,
+            share_min=np.array([low, 1.0]), share_max=np.array([high, 1.0]), merged=merged,
+            merged_tau_error_peak=np.zeros((3, 1)), tau_peak=np.ones((3, 1)),
+            merged_tau_error_relative_peak=np.zeros((3, 1)), sources=["a", "b", "c"])
+
+    same = sweep(2 / 3, 2 / 3 + 1e-16)
+    assert plain(_share_sentence(same, "D", [False, False])).endswith(
+        " Every element has the same share on every trajectory.")
+    assert "vary most" not in plain(_worst_cases(same, ["D11", "h1"]))
+    apart = sweep(0.5, 0.6)
+    assert plain(_share_sentence(apart, "D", [False, False])).endswith(
+        " The widest box is that of D11, from 0.5000 to 0.6000.")
+    assert "vary most for D11 (0.5000–0.6000)" in plain(_worst_cases(apart, ["D11", "h1"]))

@@ -1090,10 +1090,16 @@ def _worst_cases(w, labels):
              for k, j in worst.items()]
     spread = w.share_max - w.share_min
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
-           if np.isfinite(spread[k])]
+           if np.isfinite(spread[k]) and _ranges(w, k)]
     elems = [f"{_element(labels[k])} ({_share_text(w.share_min[k])}\u2013"
              f"{_share_text(w.share_max[k])})" for k in top]
     return say("worst_cases", cases=parts, elements=elems, round_off=bool(off.all()))
+
+
+def _ranges(w, k):
+    """Whether element k's share ranges over the trajectories as printed: its smallest and
+    largest differ in the digits the report gives (a difference below them is rounding)."""
+    return _share_text(w.share_min[k]) != _share_text(w.share_max[k])
 
 
 def _element(label):
@@ -1175,7 +1181,7 @@ def _share_sentence(w, symbol, zero):
     if K > 1 and ranged:
         k = max(ranged, key=lambda k: spread[k])
         box = ((_element(labels[k]), _share_text(w.share_min[k]), _share_text(w.share_max[k]))
-               if spread[k] > 0 else ())
+               if _ranges(w, k) else ())
     return say("share_shows", symbol=symbol, m=len(mine), K=K,
                held=[f"{count(len(ks))} {c}" for c, ks in steady.items() if ks],
                n_held=sum(len(ks) for ks in steady.values()), n_varying=len(varying),
