@@ -282,3 +282,21 @@ def test_a_share_the_same_to_its_printed_digits_is_not_said_to_vary():
     assert plain(_share_sentence(apart, "D", [False, False])).endswith(
         " The widest box is that of D11, from 0.5000 to 0.6000.")
     assert "vary most for D11 (0.5000–0.6000)" in plain(_worst_cases(apart, ["D11", "h1"]))
+
+
+def test_one_element_of_a_matrix_is_said_in_the_singular():
+    """Oracle: the elements given, one of D (a one-joint arm read "each of the 1 elements")."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import _share_sentence
+
+    w = SimpleNamespace(elements=["D11", "h1"], trajectories=3, class_fraction=[[0, 0, 1, 0]] * 2,
+                        share_min=np.array([0.5, 1.0]), share_max=np.array([0.6, 1.0]))
+    assert plain(_share_sentence(w, "D", [False, False])).startswith(
+        "shows the translational share of the 1 element of D over the 3 trajectories:")
+    w.elements = ["D11", "D12", "D22", "h1"]
+    w.class_fraction = [[0, 0, 1, 0]] * 4
+    w.share_min, w.share_max = np.full(4, 0.5), np.full(4, 0.6)
+    assert plain(_share_sentence(w, "D", [False] * 4)).startswith(
+        "shows the translational share of each of the 3 elements of D over the 3 trajectories:")

@@ -955,7 +955,7 @@ def _report_context_base(results):
                              "kind") == "region" else "this trajectory", shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
                          round_off=err_off)
-    facts = (f"{robot_name}, {n} joints, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
+    facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
              + f". Verification against Pinocchio: {verified}.")
