@@ -188,3 +188,20 @@ def test_the_costs_said_agree_in_number_with_their_counts():
         " The emitted code costs 2 multiplications and 0 additions per set point")
     assert "model costs 1 multiplication and 3 additions," in say(
         "other_rule", rule="chapter", mult=1, add=3, worst="1 %")
+
+
+def test_the_other_rules_round_off_is_said_as_round_off(shipped_dataset):
+    """Oracle: the relative errors given against the round-off rule (1e-12 of peak |tau|):
+    the other rule's model, exact on this trajectory, read "worst error 2.4e-13 % of peak
+    |τ|" beside Table 5.1's ≡ 0; an error above the rule is still given as a percentage."""
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.simplified_section import simplified_context
+
+    ds = shipped_dataset("puma560").copy(deep=True)
+    assert ds.attrs["other_rule"]
+    rel = ds["other_rule_error_relative_peak"]
+    ds["other_rule_error_relative_peak"] = rel.copy(data=np.full(rel.shape, 2.4e-15))
+    text = plain(simplified_context(ds)["text"])
+    assert "additions, error ≡\u00a00 at every joint (round-off only)." in text
+    ds["other_rule_error_relative_peak"] = rel.copy(data=np.full(rel.shape, 0.02))
+    assert "additions, worst error 2.00 % of peak |τ|." in plain(simplified_context(ds)["text"])

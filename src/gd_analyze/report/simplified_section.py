@@ -699,7 +699,8 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
         rel = np.asarray(s.other_rule_error_relative_peak, float)
         rel = rel[np.isfinite(rel)]     # a joint without torque has no relative error
         text += say("other_rule", rule=other, mult=s.other_rule_multiplications,
-                    add=s.other_rule_additions, worst=pct(rel.max()) if rel.size else None) \
+                    add=s.other_rule_additions, worst=pct(rel.max()) if rel.size else None,
+                    round_off=bool(rel.size) and bool(is_round_off(rel, 1.0).all())) \
             + _dearer_than_full(s, other)
     measured = np.asarray(s.tau_error_peak, float)
     parts = ("from D", "from h", "from c") if form != "recursive" else (
