@@ -205,3 +205,20 @@ def test_the_other_rules_round_off_is_said_as_round_off(shipped_dataset):
     assert "additions, error ≡\u00a00 at every joint (round-off only)." in text
     ds["other_rule_error_relative_peak"] = rel.copy(data=np.full(rel.shape, 0.02))
     assert "additions, worst error 2.00 % of peak |τ|." in plain(simplified_context(ds)["text"])
+
+
+def test_a_dearer_model_is_explained_by_its_coefficients_only_where_they_grew():
+    """Oracle: the counts given. "the full model's 18 distinct coefficient magnitudes become
+    18, so the code generator's factoring finds less to share" gave a cause the counts deny
+    (an arm whose chapter model costs one addition more with the same terms)."""
+    from gd_analyze.report.common import say
+    from gd_analyze.report.markup import plain
+
+    def said(oc):
+        return plain(say("dearer_than_full", mine=100, full=99, fh=52, fc=18, oh=52, oc=oc,
+                         chapter=False))
+
+    assert said(18) == (" It costs more than the full explicit model (100 against 99 operations)"
+                        " although it keeps 52 of the full model's 52 harmonic terms, with 18"
+                        " distinct coefficient magnitudes against its 18.")
+    assert "magnitudes become 25, so the code generator's factoring" in said(25)
