@@ -228,7 +228,8 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     dict
         ``{quantity: {"<method a> vs <method b>": float}}`` for quantity in D, h, c, tau and the
         six pairs of :data:`METHODS`. Each figure is max|a - b| over all set points and
-        elements divided by the larger of max|a| and max|b| (0 if both are 0), gathered in
+        elements divided by the larger of max|a| and max|b| (0 if both are 0, or for h and c
+        both within 64 machine epsilons of the largest |tau|: round-off), gathered in
         blocks of :data:`COMPARE_BLOCK` set points. tau is each method's own route
         (:func:`inverse_dynamics`). Plain floats and strings: JSON-ready.
 
@@ -269,8 +270,12 @@ def compare(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
                 diff[quantity][a, c] = float(np.maximum(diff[quantity][a, c], np.max(
                     np.abs(np.asarray(values[a], float) - np.asarray(values[c], float)))))
     tiny = np.finfo(float).tiny
-    return {quantity: {f"{a} vs {c}": float(diff[quantity][a, c] / np.maximum(
-        np.maximum(peak[quantity][a], peak[quantity][c]), tiny)) for a, c in pairs}
+    # h and c in both within 64 eps of the largest |tau| are round-off, equal (a one-joint
+    # arm's h: 1e-17 against 0 is no relative disagreement of 1)
+    noise = 64 * np.finfo(float).eps * max(peak["tau"].values())
+    return {quantity: {f"{a} vs {c}": 0.0 if quantity in ("h", "c") and max(
+        peak[quantity][a], peak[quantity][c]) <= noise else float(diff[quantity][a, c] / np.maximum(
+            np.maximum(peak[quantity][a], peak[quantity][c]), tiny)) for a, c in pairs}
         for quantity in _QUANTITIES}
 
 
