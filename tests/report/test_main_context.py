@@ -156,3 +156,26 @@ def test_a_one_joint_arm_is_said_in_the_singular(tmp_path):
     summary = plain(context["summary"])
     assert "in D, 0 of 1 element are dominated" in summary
     assert "in h, 0 of 1 element are dominated" in summary
+
+
+def test_the_payload_note_lists_below_only_the_elements_that_change():
+    """Oracle: the classes given per load mass. None changing read "0 of 2 elements change
+    class with the load; they are listed below" over no table."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.main_context import _payload_context
+    from gd_analyze.report.markup import plain
+
+    def note(dominance):
+        part = SimpleNamespace(masses=[0.0, 1.0], elements=["D11", "h1"],
+                               dominance=np.array(dominance))
+        context = _payload_context(SimpleNamespace(
+            payload=part, provenance=SimpleNamespace(payload_com="[0, 0, 0]")))
+        return len(context["table"]["rows"]), plain(context["note"])
+
+    rows, text = note([["both", "rotational"], ["both", "rotational"]])
+    assert rows == 0 and "0 of 2 elements change class with the load. The load" in text
+    rows, text = note([["both", "rotational"], ["both", "translational"]])
+    assert rows == 1 and "1 of 2 elements changes class with the load; it is listed below." in text
+    rows, text = note([["both", "rotational"], ["rotational", "translational"]])
+    assert rows == 2 and "2 of 2 elements change class with the load; they are listed below." in text
