@@ -300,3 +300,37 @@ def test_one_element_of_a_matrix_is_said_in_the_singular():
     w.share_min, w.share_max = np.full(4, 0.5), np.full(4, 0.6)
     assert plain(_share_sentence(w, "D", [False] * 4)).startswith(
         "shows the translational share of each of the 3 elements of D over the 3 trajectories:")
+
+
+def test_a_sweep_of_one_trajectory_says_it_in_the_singular(tmp_path):
+    """Oracle: the one trajectory given. A sweep of one CSV read "scara, 1 trajectories",
+    "over 1 trajectories (files)", "repeats the ranking over 1 trajectories"."""
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import sweep_context
+    from gd_analyze.store.schema import open_sweep
+
+    csv, out = tmp_path / "one.csv", tmp_path / "out"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    assert main(["sweep", "two-link", str(csv), "-o", str(out), "--no-report", "-q",
+                 "--held-out", "0"]) == 0
+    with open_sweep(out / "sweep.h5") as ds:
+        context = sweep_context(ds.load())
+    assert context["title"] == "G-D dominance sweep: two-link, 1 trajectory"
+    assert "over 1 trajectory (files), s = " in plain(context["summary"])
+    assert plain(context["intro"]).count("repeats the ranking over 1 trajectory. ") == 1
+
+
+def test_the_sweep_passages_agree_in_number_with_their_counts():
+    """Oracle: the counts given (one trajectory; one bar of one colour)."""
+    from gd_analyze.report.common import say
+    from gd_analyze.report.markup import plain
+
+    key = plain(say("sweep_key", K=1, s="0.9", e="0.01", pruned=False, round_off="r"))
+    assert "of the element X over the 1 trajectory (box: quartiles;" in key
+    said = plain(say("computed_on", cluster="here", K=1, batches=1, workers=0, many=False,
+                     scheduler="", tasks=1, batch=1))
+    assert said.startswith("here (the 1 trajectory in 1 batch: ranked")
+    bars = plain(say("classes_shows", K=3, M=5, choices="both 5", one=1))
+    assert "; 1 of the 5 bars is of one colour" in bars
+    assert "; 2 of the 5 bars are of one colour" in plain(
+        say("classes_shows", K=3, M=5, choices="both 5", one=2))

@@ -488,7 +488,7 @@ def _fig_classes(w, width=_PAGE_WIDTH, rows=None, part=(1, 1)):
                bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
     of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
     fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
-                 f"{w.trajectories} trajectories{of}",
+                 f"{w.trajectories} trajector{'y' if w.trajectories == 1 else 'ies'}{of}",
                  y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
@@ -963,7 +963,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
                   claim=claim,
                   rest=f"{_held_out(m)}{_gravity(m)}{_cost_sentence(m)}{_own_sentence(w)}"
                   ).strip()
-    ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} trajectories",
+    ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} "
+                                                f"trajector{'y' if K == 1 else 'ies'}",
            "summary": summary, "settings": settings_table(settings),
            "merged_heading": heading, "merged_text": merged_text,
            "worst": worst,
