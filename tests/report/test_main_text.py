@@ -165,3 +165,19 @@ def test_operation_counts_agree_in_number_with_their_words():
     single = plain(conclusion(*ARGS, cost=(1, 0, None)))
     assert "costs 1 operation per set point (1 multiplication, 0 additions)" in single
     assert "(348 multiplications, 260 additions)" in plain(conclusion(*ARGS, cost=(348, 260, 1212)))
+
+
+def test_a_model_with_no_contribution_is_not_said_to_drop_none_of_zero():
+    """Oracle: the counts given. An arm without inertia has no (parameter, part) pair acting:
+    it read "of the 0 inertial, velocity and gravity parts ..., it drops none"."""
+    from gd_analyze.report.main_text import model_sentence
+    from gd_analyze.report.markup import plain
+
+    assert plain(model_sentence(recursive=(8, 0, 0))) == (
+        "The simplified model is the recursive Newton-Euler model on 8 base parameters; no "
+        "inertial, velocity or gravity part of their contributions acts on this trajectory, so "
+        "it drops none: it is exact.")
+    assert plain(model_sentence(recursive=(8, 0, 4))) == (
+        "The simplified model is the recursive Newton-Euler model on 8 base parameters; of the "
+        "4 inertial, velocity and gravity parts of their contributions that act on this "
+        "trajectory, it drops none: it is exact.")

@@ -222,3 +222,17 @@ def test_a_dearer_model_is_explained_by_its_coefficients_only_where_they_grew():
                         " although it keeps 52 of the full model's 52 harmonic terms, with 18"
                         " distinct coefficient magnitudes against its 18.")
     assert "magnitudes become 25, so the code generator's factoring" in said(25)
+
+
+def test_a_recursive_rule_with_no_contribution_is_not_said_to_drop_none_of_zero():
+    """Oracle: the count given, 0 pairs (an arm without inertia read "of the 0 (parameter,
+    part) pairs that contribute, none is dropped")."""
+    from gd_analyze.report.common import say
+    from gd_analyze.report.markup import plain
+
+    def rule(pairs):
+        return plain(say("recursive_rule", b=8, eps="0.01", floor="", pairs=pairs, dropped=0,
+                         region=False, drives=False, scope=""))
+
+    assert "0.01: no (parameter, part) pair contributes, so none is dropped; the model" in rule(0)
+    assert "0.01: of the 4 (parameter, part) pairs that contribute, none is dropped; the" in rule(4)
