@@ -23,6 +23,20 @@ def two_link():
     return load_robot("two-link")
 
 
+@pytest.fixture
+def one_joint_urdf(tmp_path):
+    """A URDF of one revolute joint about a horizontal axis (2 kg link, centre of mass 0.1 m
+    along it): D11 is constant and h1 = 0 for any motion."""
+    path = tmp_path / "one.urdf"
+    path.write_text("""<robot name="one"><link name="base"/>
+<link name="l1"><inertial><origin xyz="0 0 0.1"/><mass value="2"/>
+<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+<origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="50" velocity="2"/>
+</joint></robot>""")
+    return path
+
+
 @pytest.fixture(scope="session")
 def cluster():
     """A dask LocalCluster of 2 worker processes and its client, for the sweep tests: started

@@ -158,18 +158,11 @@ def test_compare_in_blocks_is_the_whole_arrays_definition(monkeypatch, block):
     assert blocked["D"]["newton-euler vs gd"] > 0.1
 
 
-def test_a_quantity_zero_in_every_formulation_is_no_disagreement(tmp_path):
+def test_a_quantity_zero_in_every_formulation_is_no_disagreement(one_joint_urdf):
     """Oracle: a physical identity. One revolute joint has a constant D11, so h1 = 0 for any
     motion: every pair agrees on h, and the round-off one formulation leaves there (1e-17
     against 0) is no relative disagreement of 1, as it read."""
-    urdf = tmp_path / "one.urdf"
-    urdf.write_text("""<robot name="one"><link name="base"/>
-<link name="l1"><inertial><origin xyz="0 0 0.1"/><mass value="2"/>
-<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
-<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
-<origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="50" velocity="2"/>
-</joint></robot>""")
     q, qd, qdd = _states(1, 40, seed=4)
-    out = compare(load_robot(str(urdf)), q, qd, qdd)
+    out = compare(load_robot(str(one_joint_urdf)), q, qd, qdd)
     assert max(out["h"].values()) == 0.0
     assert max(max(v.values()) for v in out.values()) < 1e-10

@@ -131,22 +131,14 @@ def test_the_zero_base_parameters_are_counted_in_number():
     assert said([1.0]) == ""
 
 
-ONE_JOINT = """<robot name="one"><link name="base"/>
-<link name="l1"><inertial><origin xyz="0 0 0.1"/><mass value="2"/>
-<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
-<joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.3"/>
-<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="50" velocity="2"/></joint></robot>"""
-
-
-def test_a_one_joint_arm_is_said_in_the_singular(tmp_path):
+def test_a_one_joint_arm_is_said_in_the_singular(tmp_path, one_joint_urdf):
     """Oracle: the arm's one joint, hence one element of D and one of h. Its report read
     "one, 1 joints" and "in D, 0 of 1 elements are dominated"."""
     from gd_analyze.cli import main
     from gd_analyze.report.markup import plain
     from gd_analyze.store.schema import open_results
 
-    urdf = tmp_path / "one.urdf"
-    urdf.write_text(ONE_JOINT)
+    urdf = one_joint_urdf
     csv, out = tmp_path / "one.csv", tmp_path / "out"
     assert main(["plan", str(urdf), "-o", str(csv)]) == 0
     assert main([str(urdf), str(csv), "-o", str(out), "--no-report", "-q"]) == 0

@@ -334,3 +334,21 @@ def test_the_sweep_passages_agree_in_number_with_their_counts():
     assert "; 1 of the 5 bars is of one colour" in bars
     assert "; 2 of the 5 bars are of one colour" in plain(
         say("classes_shows", K=3, M=5, choices="both 5", one=2))
+
+
+def test_a_chapter_merged_model_exact_but_for_round_off_is_said_so(tmp_path, one_joint_urdf):
+    """Oracle: a physical identity. One revolute joint has h1 = 0 and the chapter rule keeps
+    D11 whole (both parts: neither dominates), so the merged model is exact: its error is
+    round-off, which the summary gave as "its largest peak torque error ... is 4.3e-14 %"."""
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import sweep_context
+    from gd_analyze.store.schema import open_sweep
+
+    out = tmp_path / "out"
+    assert main(["sweep", str(one_joint_urdf), "--random", "2", "--rule", "chapter", "-o", str(out),
+                 "--no-report", "-q", "--held-out", "0"]) == 0
+    with open_sweep(out / "sweep.h5") as ds:
+        assert list(ds["merged_choice"].values) == ["both", "none"]
+        summary = plain(sweep_context(ds.load())["summary"])
+    assert ("it has no error bound: its torque error is round-off on every trajectory and "
+            "joint.") in summary

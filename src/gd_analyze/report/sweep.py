@@ -949,12 +949,12 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
               + (("pruned",) if "pruned" in merged else ())}
     worst = _worst_cases(w, labels)
     rule, heading, merged_text = _merged_rule(m)
-    claim: str | tuple[str, int]
+    claim: str | tuple[str, int] | tuple[()]
     if rule == "budget":
         claim = merged_claim(m)
-    else:                               # the worst error, at that joint
-        rel = w.merged_error_relative_peak
-        claim = (_pct(np.nanmax(rel)), int(np.nanargmax(rel)) + 1)
+    else:                               # the worst error, at that joint; () if round-off
+        rel = np.where(merged_off, np.nan, w.merged_error_relative_peak)
+        claim = () if merged_off.all() else (_pct(np.nanmax(rel)), int(np.nanargmax(rel)) + 1)
     summary = say("sweep_summary", robot=robot, M=len(labels), inputs=inputs, s=f"{s:g}",
                   e=f"{e:g}", eps=_eps(m) if rule == "budget" else "",
                   kept=_recursive_clause(m) if m.form == "recursive" else say(
