@@ -181,3 +181,19 @@ def test_a_model_with_no_contribution_is_not_said_to_drop_none_of_zero():
         "The simplified model is the recursive Newton-Euler model on 8 base parameters; of the "
         "4 inertial, velocity and gravity parts of their contributions that act on this "
         "trajectory, it drops none: it is exact.")
+
+
+def test_a_small_joint_torque_is_compared_only_with_torques_of_its_units():
+    """Oracle: the peaks and units given. A prismatic joint's 0.5 N read "under 1 % of the
+    largest joint's (100 N m)": a force against a torque; between joints of one unit the
+    clause stays."""
+    from gd_analyze.report.markup import plain
+
+    def text(units):
+        return plain(conclusion(["D11", "D12", "D22", "h1", "h2"], ["both"] * 5,
+                                np.zeros(5, bool), ["both"] * 5, np.array([1e-4, 0.2]),
+                                np.array([1e-2, 0.1]), np.array([100.0, 0.5]), units=units))
+
+    assert "under 1" not in text(["N m", "N"])
+    assert "that joint's own torque is under 1\u00a0% of the largest joint's (100\u00a0N\u00a0m)" \
+        in text(["N m", "N m"])

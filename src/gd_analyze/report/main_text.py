@@ -194,7 +194,9 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
 
     noise = (np.zeros(rel.size, bool) if round_off is None
              else np.asarray(round_off, bool).reshape(rel.size))
-    big = float(np.nanmax(tau_peak))
+    alike = [k for k in range(rel.size) if unit[k] == unit[worst]]     # N m with N m, N with N
+    big_at = alike[int(np.nanargmax(np.asarray(tau_peak, float)[alike]))]
+    big = float(tau_peak[big_at])
     within = None
     if others.size and np.any(np.isfinite(others)):
         second_worst = int(np.nanargmax(np.where(np.arange(rel.size) == worst, -np.inf,
@@ -204,8 +206,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                 rel=cell('rel', worst, 100 * rel[worst], '%'),
                 abs=cell('abs', worst, abs_peak[worst], unit[worst]),
                 peak=cell('tau', worst, tau_peak[worst], unit[worst]),
-                small=(_qty(big, unit[int(np.nanargmax(tau_peak))])
-                       if tau_peak[worst] < 0.01 * big else None),
+                small=_qty(big, unit[big_at]) if tau_peak[worst] < 0.01 * big else None,
                 others_zero=within is not None and np.delete(noise, worst).all(),
                 within=within)
     if cost is not None:
