@@ -352,3 +352,21 @@ def test_a_chapter_merged_model_exact_but_for_round_off_is_said_so(tmp_path, one
         summary = plain(sweep_context(ds.load())["summary"])
     assert ("it has no error bound: its torque error is round-off on every trajectory and "
             "joint.") in summary
+
+
+@pytest.mark.parametrize("guarantee", ["region", "trajectory"])
+def test_an_exact_merged_models_measured_error_is_said_round_off(tmp_path, one_joint_urdf,
+                                                                guarantee):
+    """Oracle: a physical identity. One revolute joint: h1 = 0 and D11 whole, so the budget
+    rule's merged model drops nothing that acts and is exact; its measured error, read
+    "its largest measured peak error is 2.5e-14 % of s_i", is round-off."""
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import merged_claim
+    from gd_analyze.store.schema import open_sweep
+
+    out = tmp_path / "out"
+    assert main(["sweep", str(one_joint_urdf), "--random", "2", "--guarantee", guarantee,
+                 "-o", str(out), "--no-report", "-q", "--held-out", "0"]) == 0
+    with open_sweep(out / "sweep.h5") as ds:
+        claim = plain(merged_claim(ds.load()))
+    assert "its measured error is round-off" in claim and "measured peak error" not in claim

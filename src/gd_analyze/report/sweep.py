@@ -681,7 +681,7 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
                    coverage=coverage(m))
     beyond = m.beyond_floor
     return say("merged_claim", region=False, floor=_floor(m), bound=_bound_clause(m),
-               eps=_eps(m), worst=_pct(m.worst_scaled_error),
+               eps=_eps(m), worst=_measured_error(m.worst_scaled_error),
                beyond=None if beyond is None else (_pct(beyond[0]), beyond[1],
                                                    joints_text(beyond[2])))
 
@@ -704,9 +704,16 @@ def coverage(ds: MergedModel | xr.Dataset) -> str:
     """
     said = MergedModel.of(ds).guarantee
     outside = said["outside"]  # type: ignore[index]  # a merged model's
-    return say("coverage", K=len(said["covered"]), peak=_pct(said["worst"]),  # type: ignore[index]  # a merged model's
+    return say("coverage", K=len(said["covered"]), peak=_measured_error(said["worst"]),  # type: ignore[index]  # a merged model's
                outside=[(src, why) for src, why, _ in outside],
-               reach=_pct(max(w for _, _, w in outside)) if outside else "")
+               reach=_measured_error(max(w for _, _, w in outside)) if outside else "")
+
+
+def _measured_error(scaled):
+    """A merged model's largest measured error relative to s_i, as the text gives it: "" where
+    it is round-off (at most :data:`~gd_analyze.ranking.ranking.ROUND_OFF` of s_i, the first
+    term of :func:`~gd_analyze.ranking.ranking.is_round_off`)."""
+    return "" if is_round_off(scaled, 1.0) else _pct(scaled)
 
 
 def _acts_on(m):
