@@ -370,3 +370,24 @@ def test_an_exact_merged_models_measured_error_is_said_round_off(tmp_path, one_j
     with open_sweep(out / "sweep.h5") as ds:
         claim = plain(merged_claim(ds.load()))
     assert "its measured error is round-off" in claim and "measured peak error" not in claim
+
+
+def test_held_out_round_off_is_not_named_at_a_joint():
+    """Oracle: the errors given against the round-off rule. Held-out errors all round-off
+    read "at most 0.00 % of s_i (joint 1)", naming joint 1 as the worst of equal zeros."""
+    from types import SimpleNamespace
+
+    from gd_analyze.report.markup import plain
+    from gd_analyze.report.sweep import _held_out
+
+    def said(peak):
+        m = SimpleNamespace(held_out_error_peak=np.array(peak), region=True,
+                            held_out_tau_peak=np.array([10.0, 10.0]), torque_floor=0.0,
+                            scale=np.array([[10.0, 10.0]]), held_out_trajectories=2,
+                            held_out_inside_region=2, variables={}, sizes={"joint": 2})
+        return plain(_held_out(m))
+
+    assert said([2e-15, 1e-16]).endswith(
+        "the merged model's error is measured: it is round-off on every one and every joint; "
+        "2 of them lie in the region, where its bound is proved. ")
+    assert "at most 1.00 % of s" in said([2e-15, 0.1])

@@ -837,7 +837,8 @@ def _held_out(m):
                       np.maximum(tau, floor))
     rel = np.where(torque_error_round_off(m, peak, tau) | ~np.isfinite(rel), 0.0, rel)
     j = int(np.argmax(rel))
-    return say("held_out", k=m.held_out_trajectories, region=region, worst=_pct(rel[j]),
+    return say("held_out", k=m.held_out_trajectories, region=region,
+               worst=_pct(rel[j]) if rel[j] > 0 else "",
                joint=j + 1, inside=m.held_out_inside_region,
                floor=_floor(m) if floor != 0 else "") + " "
 
