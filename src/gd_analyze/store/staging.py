@@ -151,7 +151,8 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
     folder : str or os.PathLike
         Where the file goes; a folder not yet created is checked on the nearest existing
         folder above it (where it will be created), so a command can refuse before it
-        computes.
+        computes. A folder that cannot be written, or on a file system without blocks
+        (``/proc``), is not checked: the write refuses it ("cannot write").
     need_bytes : int
         Estimated size of the file [bytes].
     what : str, optional
@@ -167,7 +168,10 @@ def check_free_space(folder: str | os.PathLike[str], need_bytes: int,
     where = Path(folder).absolute()
     while not os.path.exists(where) and where != where.parent:
         where = where.parent
-    free = shutil.disk_usage(where).free
+    usage = shutil.disk_usage(where)
+    if usage.total == 0 or not os.access(where, os.W_OK | os.X_OK):
+        return      # /proc and the like (no blocks), or not writable: the write refuses it
+    free = usage.free
     if free < need_bytes + SPACE_MARGIN:
         raise InputError(f"not enough free space for {what}: about {need_bytes / 1e6:.0f} MB "
                          f"needed and a margin of {SPACE_MARGIN / 2**20:.0f} MiB, "
