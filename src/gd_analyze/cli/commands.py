@@ -46,13 +46,7 @@ from ..store import control_dataset as control_file
 from ..store.datasets import joint_units
 from ..store.model_file import load_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
-from ..store.staging import (
-    check_free_space,
-    check_output_file,
-    safe_name,
-    staged_output,
-    writing,
-)
+from ..store.staging import check_free_space, check_output_file, safe_name, staged_output, writing
 from ..trajectory.excitation import DEFAULT_HARMONICS, plan_excitation
 from ..trajectory.planning import (
     DEFAULT_SETPOINTS,

@@ -23,11 +23,7 @@ from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN
 from ..symbolic.safe_text import check_prefix
 from ..trajectory.excitation import DEFAULT_DURATION, DEFAULT_HARMONICS, DEFAULT_SAMPLE_PERIOD
-from ..trajectory.planning import (
-    DEFAULT_GOAL_DEG,
-    DEFAULT_SETPOINTS,
-    DEFAULT_START_DEG,
-)
+from ..trajectory.planning import DEFAULT_GOAL_DEG, DEFAULT_SETPOINTS, DEFAULT_START_DEG
 from ..trajectory.trajectory import parse_number
 
 __all__ = ["parse_range", "PROG", "COMMANDS", "EXIT_STATUS_HELP", "identify_parser"]

@@ -23,12 +23,7 @@ from ..store.model_file import save_model
 from ..store.schema import write_dataset
 from ..store.staging import check_free_space, staged_output, writing
 from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import (
-    StoredSweep,
-    beyond_the_floor,
-    sweep_size,
-    with_more_tasks,
-)
+from ..store.sweep_view import StoredSweep, beyond_the_floor, sweep_size, with_more_tasks
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.planning import check_velocity_limits, random_trajectories
 from ..trajectory.trajectory import read_trajectory

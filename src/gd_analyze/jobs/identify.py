@@ -25,9 +25,7 @@ import numpy as np
 from .._version import VERSION
 from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError
-from ..estimation.consistent import (
-    SolverFailure,
-)
+from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
 from ..estimation.regressor import DRIVE_KINDS

@@ -24,9 +24,7 @@ from ..config import defaults
 from ..errors import InputError
 from ..simplify.budget import DEFAULT_TOLERANCE
 from ..simplify.choices import sweep_choices
-from ..simplify.deploy import (
-    guarantee_region,
-)
+from ..simplify.deploy import guarantee_region
 from ..simplify.merged_model import region_merged_model, trajectory_merged_model
 from ..simplify.options import EXPLICIT, FORMS, GUARANTEES
 from ..simplify.sweep_model import sweep_validation, trajectories_sha256

@@ -35,13 +35,7 @@ from .figure_style import (
 )
 from .markup import clean, marked, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
-from .units import (
-    keep_units,
-    prismatic_joints,
-    torque_units,
-    units_said_once,
-    units_text,
-)
+from .units import keep_units, prismatic_joints, torque_units, units_said_once, units_text
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -37,10 +37,7 @@ from .common import joint_style, say, units_text
 from .figure_style import element_markevery, grid_boxes, joint_key, joint_lines, new_figure
 from .markup import label as _math
 from .numbers import decade_label
-from .plot_data import (
-    PlotData,
-    plot_data,
-)
+from .plot_data import PlotData, plot_data
 from .ticks import label_axes, set_ticks, time_origin
 
 if TYPE_CHECKING:

@@ -17,12 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..ranking.ranking import (
-    ROUND_OFF,
-    arm_scales,
-    is_round_off,
-    joint_units_text,
-)
+from ..ranking.ranking import ROUND_OFF, arm_scales, is_round_off, joint_units_text
 from ..store.stored_simplified import InertiaCheck, StoredSimplified
 from .common import count, fmt, joints_text, pct, pct_column, say, table, torque_units
 from .figure_style import grid_boxes, markevery, new_figure

@@ -12,10 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..ranking.ranking import (
-    joint_torque_units,
-    joint_units_text,
-)
+from ..ranking.ranking import joint_torque_units, joint_units_text
 from ..store.results_view import Results
 from ..store.schema import strings as _strings
 from ..store.sweep_view import MergedModel

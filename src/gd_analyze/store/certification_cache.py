@@ -80,11 +80,7 @@ import numpy as np
 
 from ..cache import cache_key, entry_path, lookup, read_entry, store
 from ..certify.certify import certify_tree
-from ..certify.region import (
-    channel_values,
-    sample_positions,
-    worst_above,
-)
+from ..certify.region import channel_values, sample_positions, worst_above
 from ..dynamics.regressor_kernels import part_regressor
 from ..simplify.region_memo import fresh_certification
 from ..simplify.simplified import parameters_sha256
