@@ -81,3 +81,19 @@ def test_inputs_at_the_limits_keep_the_terms_finite_and_right():
     ref = reference_terms(robot, q, qd)
     assert relative_error(terms.D, ref.D) < 1e-10
     assert relative_error(terms.h, ref.h) < 1e-10
+
+
+def test_the_default_acceleration_limits_name_their_joints_in_number():
+    """Oracle: the joints left without an acceleration limit (NaN) in the arm given; one joint
+    is "joint 2", more are "joints 1, 3" (a one-joint arm's plan read "for joints 1")."""
+    import dataclasses
+
+    from gd_analyze import load_robot
+    from gd_analyze.model.limits import acceleration_limits
+
+    puma = load_robot("puma560")
+    for missing, said in (([1], "for joint 2 ("), ([0, 2], "for joints 1, 3 (")):
+        qdd = np.ones(puma.n)
+        qdd[missing] = np.nan
+        limits, source = acceleration_limits(dataclasses.replace(puma, qdd_max=qdd))
+        assert said in source and np.isfinite(limits).all(), source

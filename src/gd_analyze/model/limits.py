@@ -237,5 +237,6 @@ def acceleration_limits(robot: Robot, qdd_max: ArrayLike | None = None
                          "finite velocity limit")
     qdd[missing] = DEFAULT_QDD_PER_QD * qd[missing]
     joints = ", ".join(str(j + 1) for j in np.flatnonzero(missing))
-    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for joints {joints} (the robot "
+    joints = f"joint {joints}" if missing.sum() == 1 else f"joints {joints}"
+    return qdd, (f"default {DEFAULT_QDD_PER_QD:g} s^-1 x qd_max for {joints} (the robot "
                  "gives no acceleration limits)")
