@@ -146,8 +146,8 @@ def test_a_one_joint_arm_is_said_in_the_singular(tmp_path, one_joint_urdf):
         context = report_context(ds.load())
     assert context["facts"].startswith("one, 1 joint, 31 set points")
     summary = plain(context["summary"])
-    assert "in D, 0 of 1 element are dominated" in summary
-    assert "in h, 0 of 1 element are dominated" in summary
+    assert "in D, 0 of 1 element is dominated" in summary
+    assert "in h, 0 of 1 element is dominated" in summary
 
 
 def test_the_payload_note_lists_below_only_the_elements_that_change():

@@ -197,3 +197,20 @@ def test_a_small_joint_torque_is_compared_only_with_torques_of_its_units():
     assert "under 1" not in text(["N m", "N"])
     assert "that joint's own torque is under 1\u00a0% of the largest joint's (100\u00a0N\u00a0m)" \
         in text(["N m", "N m"])
+
+
+def test_none_of_the_elements_takes_the_verb_of_their_count():
+    """Oracle: the counts given. "0 of 1 element is dominated", "0 of 3 elements are", "1 of
+    3 elements is" (a one-joint arm read "0 of 1 element are dominated")."""
+    from gd_analyze.report.markup import plain
+
+    def said(labels, classes):
+        return plain(conclusion(labels, classes, np.zeros(len(labels), bool),
+                                ["none"] * len(labels), np.array([0.01]), np.array([0.1]),
+                                np.array([1.0])))
+
+    assert "in D, 0 of 1 element is dominated" in said(["D11", "h1"], ["both", "both"])
+    assert "in h, 0 of 1 element is dominated" in said(["D11", "h1"], ["both", "both"])
+    three = said(["D11", "D12", "D22", "h1"], ["both", "rotational", "both", "translational"])
+    assert "in D, 0 of 3 elements are dominated" in three
+    assert "in h, 1 of 1 element is dominated" in three
