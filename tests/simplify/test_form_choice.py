@@ -140,3 +140,16 @@ def test_the_form_note_gives_the_deployed_model_s_own_cost():
     note = a.dataset.attrs["simplified_form_note"]
     assert f"({total:,} operations, with the parameters restored for the proof that its " \
         "inertia matrix is positive definite," in note, note
+
+
+def test_the_recursive_note_says_why_where_the_recursive_model_is_not_cheaper():
+    """Oracle: the counts given. Fewer operations need no reason; a tie says the recursive
+    model wins it (a one-joint arm read "3 operations against the pruned explicit one's 3"
+    with no reason); a cheaper explicit model is passed over for its proof or --form."""
+    from gd_analyze.simplify.form_choice import recursive_note
+
+    assert recursive_note(290, 498, "cheapest", True).endswith("one's 498).")
+    assert recursive_note(3, 3, "cheapest", True).endswith(
+        "one's 3: a tie, which the recursive one wins).")
+    assert "whose bound holds on this trajectory only" in recursive_note(500, 498, "cheapest", True)
+    assert recursive_note(500, 498, "recursive", False).endswith("498, --form recursive).")

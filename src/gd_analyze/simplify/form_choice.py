@@ -137,7 +137,8 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
     Returns
     -------
     str
-        One sentence with both counts.
+        One sentence with both counts, and why where the recursive model does not count fewer
+        operations (``--form recursive``, a bound proved over the region, a tie).
 
     Examples
     --------
@@ -146,7 +147,8 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
     """
     why = (", --form recursive" if form != "cheapest" else
            ", whose bound holds on this trajectory only, while the recursive one's is proved "
-           "over the joint-limit region" if proved and explicit < recursive else "")
+           "over the joint-limit region" if proved and explicit < recursive else
+           ": a tie, which the recursive one wins" if explicit == recursive else "")
     after = (", with the parameters restored for the proof that its inertia matrix is "
              "positive definite," if restored else "")
     return (f"The deployed model is the pruned recursive one ({recursive:,} operations{after} "
