@@ -444,7 +444,8 @@ def marker_starts(every: int, lines: int) -> list[int]:
     return [i * every // max(1, lines) for i in range(max(1, lines))]
 
 
-def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) -> str:
+def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
+                  drawn: Sequence[str] | None = None) -> str:
     """What a figure's markers are, in words.
 
     Parameters
@@ -454,6 +455,9 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) ->
     lines : int or sequence of str
         Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
         the order they are drawn (:data:`CONTROLLER_LABELS` names them).
+    drawn : sequence of str, optional
+        Of those controllers, the ones drawn on some panel: only they are named (a curve
+        that is integrator noise on every joint is not drawn). Default all.
 
     Returns
     -------
@@ -468,8 +472,11 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str]) ->
     k = marker_stride(ds, count)
     starts = [str(s + 1) for s in marker_starts(k, count)]
     if names is not None:
-        starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)]
-    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts)
+        starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)
+                  if drawn is None or c in drawn]
+        if not starts:
+            return "no curve drawn"
+    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts, lines=count)
 
 
 def _ordinal(k):
@@ -728,7 +735,9 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                            align=["left"] * (n + 1))
     prov = settings_table(_provenance(s, __version__))
     created = utc_now().isoformat()
-    markers = {"error": markers_words(s, names), "tau_difference": markers_words(s, 1),
+    drawn = [c for c in names if not is_round_off(np.nanmax(np.abs(np.asarray(
+        s.error[c], float)), axis=0), q_floor, 1.0).all()]      # as Fig. 1 draws them
+    markers = {"error": markers_words(s, names, drawn), "tau_difference": markers_words(s, 1),
                "tau": markers_words(s, names)}
     captions = {key: say("control_caption", key=key, markers=markers[key],
                          rule=rule.get("q" if key == "error" else "tau"))
