@@ -15,7 +15,8 @@ encloses every coefficient over its box; with degenerate boxes it evaluates them
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -408,6 +409,7 @@ def _forward_balls(robot, q_lo, q_hi, columns, gravity):
     A = _Ball(q_lo, q_hi)
     P, t, pris = _geometry(robot)
     g = np.array(robot.gravity if gravity is None else gravity, float)
+    _before(forward_kernel)
     W = forward_kernel(A.mid, A.half, P, _norms(P.transpose(0, 2, 1)), t, pris, g, top)
     return top, A, P, t, pris, _norms(P), g, W
 
@@ -426,6 +428,7 @@ def _ball_links(robot, q_lo, q_hi, columns, gravity):
         return
     top, A, P, t, pris, norms, _, (W, WD, VD) = forward
     columns = np.asarray(columns, int)
+    _before(backward_kernel)
     for k, ms, _, _, ch in _links(columns, top, robot.n):
         lo, hi = backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), W[k], WD[k], VD[k],
                                  A.mid, A.half, P, norms, t, pris, top)
@@ -662,6 +665,16 @@ def channel_magnitudes(lo: np.ndarray, hi: np.ndarray, qd_max: ArrayLike,
 #: down a chain, and their recursion's cost grows as the balls' does).
 BOX_MAX_JOINTS = 8
 
+#: Called with each compiled kernel of the enclosures before it runs: none by default; the
+#: shell's wait for a second process compiling the kernel ahead on a first run
+#: (:func:`gd_analyze.jobs.compile_ahead.ready`). Nothing is computed differently.
+BEFORE_KERNEL: list[Callable[[Any], None]] = []
+
+
+def _before(kernel):
+    for hook in BEFORE_KERNEL:
+        hook(kernel)
+
 
 def joint_sum_arithmetic(n: int) -> str:
     """The arithmetic of :func:`channel_enclosures` (the joint sums' enclosures) on n joints.
@@ -755,8 +768,10 @@ def _boxes_and_balls(robot, q_lo, q_hi, columns, gravity, alone, lo, hi):
     top, A, P, t, pris, norms, g, (W, WD, VD) = forward
     columns = np.asarray(columns, int)
     q_lo, q_hi = np.ascontiguousarray(q_lo), np.ascontiguousarray(q_hi)
+    _before(box_forward_kernel)
     X, XD, XV = box_forward_kernel(q_lo, q_hi, P, t, pris, g, top,
                                    None if alone else (W, WD, VD))
+    _before(both_backward_kernel)
     for k, ms, _, _, ch in _links(columns, top, robot.n):
         both_backward_kernel(k, np.ascontiguousarray(columns[ms] % 10), ms, ch,
                              (W[k], WD[k], VD[k]), (X[k], XD[k], XV[k]), A.mid, A.half, norms,
@@ -921,6 +936,7 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
         A = _Ball(q_lo, q_hi)
         P, t, pris = _geometry(robot)
         inertia = np.ascontiguousarray(_inertia_tensors(values))
+        _before(inertia_kernel)
         lo, hi = inertia_kernel(A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)), t,
                                 pris, np.array(values, float), inertia, _norms(inertia))
     else:

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..certify.regressor_bounds import joint_sum_arithmetic
 from ..dynamics.base_parameters import base_parameters
 from ..simplify.deploy import guarantee_region, region_searches, robot_region
 from ..simplify.explicit_model import LADDER
@@ -28,6 +29,7 @@ from ..store import explicit_cache
 from ..symbolic.explicit import term_peaks
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.pruning import contribution_peaks
+from . import compile_ahead
 
 if TYPE_CHECKING:
     from ..model.robot import Robot
@@ -225,6 +227,7 @@ def start_peaks(pool, robot, trajectory, options, derive=UNKEPT):
         trajectory has at least :data:`REGION_BESIDE_SETPOINTS` set points (the
         certification, read back or made, then does not wait for the pass).
     """
+    compile_ahead.start(joint_sum_arithmetic(robot.n))    # a first run: on the other core
     args = (robot, trajectory.q, trajectory.qd, trajectory.qdd)
     proved = proves_over_region(robot, options)
     jobs = {"recursive": pool.submit(contribution_job, *args, peaks=not proved)}

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from tqdm.auto import tqdm
 
+from ..certify.regressor_bounds import joint_sum_arithmetic
 from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
@@ -52,6 +53,7 @@ from ..store.names import SweepAttr as SA
 from ..store.schema import attribute_value
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
+from . import compile_ahead
 from .analyze import analysis_pass, analysis_passes
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
@@ -483,6 +485,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
         raise ValueError("in_process runs without a dask cluster: give no client, scheduler "
                          "or n_workers")
     started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    compile_ahead.start(joint_sum_arithmetic(robot.n))    # a first run: on the other core
     base = base_parameters(robot) if recursive_peaks else None
     passes = 2 if base is None and chapter_errors else 1
     if in_process:
