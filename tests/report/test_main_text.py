@@ -134,7 +134,9 @@ def test_the_leading_part_is_named_only_when_it_leads():
     """Oracle: the counts of the classes given. A class leads when it holds more ranked
     elements than each other class; on a tie none is named (h below: 1 rotational, 1 both, which
     read "rotational effects lead"), nor when every element is negligible or ≡ 0 (an arm without
-    inertia read "translational effects lead" with no element translational)."""
+    inertia read "translational effects lead" with no element translational). Elements that
+    need both parts are "most" only where they are more than half of those ranked (one ranked
+    element read "most ranked elements need both parts")."""
     from gd_analyze.report.markup import plain
 
     def lead(labels, classes, zero):
@@ -150,6 +152,15 @@ def test_the_leading_part_is_named_only_when_it_leads():
         "no part leads, for no element is ranked"] * 2
     assert lead(["D11", "D12", "D22", "h1"], ["both", "both", "rotational", "translational"],
                 [False] * 4) == ["most ranked elements need both parts", "translational effects lead"]
+    # "most" only where more than half the ranked elements need both parts
+    assert lead(["D11", "D12", "D22", "h1", "h2"], ["both", "negligible", "negligible", "both",
+                                                     "both"], [False] * 5) == [
+        "its one ranked element needs both parts", "every ranked element needs both parts"]
+    assert lead(["D11", "D12", "D21", "D22", "D31", "D32", "D33", "h1"],
+                ["both", "both", "both", "translational", "translational", "rotational",
+                 "rotational", "translational"], [False] * 8) == [
+        "more ranked elements need both parts than either part alone",
+        "translational effects lead"]
     assert lead(["D11", "D12", "D22", "h1", "h2"],
                 ["rotational", "translational", "rotational", "rotational", "rotational"],
                 [False] * 5) == ["rotational effects lead", "rotational effects lead"]
