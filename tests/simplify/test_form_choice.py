@@ -4,6 +4,8 @@ Oracles: Pinocchio's rnea (the exact explicit model's torques at random states o
 and the operation counts given to the decision.
 """
 
+import json
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -153,3 +155,37 @@ def test_the_recursive_note_says_why_where_the_recursive_model_is_not_cheaper():
         "one's 3: a tie, which the recursive one wins).")
     assert "whose bound holds on this trajectory only" in recursive_note(500, 498, "cheapest", True)
     assert recursive_note(500, 498, "recursive", False).endswith("498, --form recursive).")
+
+
+def test_a_model_that_drops_nothing_is_called_exact_not_pruned(one_joint_urdf, tmp_path):
+    """Oracle: the deployed model's own bound. On this one-joint arm the model drops only
+    pairs proved zero (its bound is 0 at every joint), yet Sec. 5.4's note read "the pruned
+    recursive one (3 operations against the pruned explicit one's 3 ...)"."""
+    import xarray as xr
+
+    from gd_analyze.cli import main
+    from gd_analyze.store.names import Attr
+
+    traj = tmp_path / "one.csv"
+    assert main(["plan", str(one_joint_urdf), "-o", str(traj)]) == 0
+    out = tmp_path / "out"
+    assert main([str(one_joint_urdf), str(traj), "-o", str(out), "--no-report", "-q",
+                 "--explicit", "always"]) == 0
+    model = json.loads((out / "simplified_model.json").read_text())
+    with xr.open_dataset(out / "results.h5", engine="h5netcdf") as ds:
+        note = str(ds.attrs.get(Attr.SIMPLIFIED_FORM_NOTE, ""))
+    assert "recursive one (" in note, note
+    assert not np.any(model["bound"]), model["bound"]     # it drops nothing that is not 0
+    assert "the exact recursive one" in note and "pruned recursive" not in note
+    assert "the exact explicit one's" in note and "pruned explicit" not in note
+
+
+def test_the_recursive_note_names_each_model_exact_or_pruned():
+    """Oracle: the flags given."""
+    from gd_analyze.simplify.form_choice import recursive_note
+
+    assert recursive_note(3, 3, "cheapest", True, exact=(True, True)).startswith(
+        "The deployed model is the exact recursive one (3 operations against the exact "
+        "explicit one's 3")
+    assert "the pruned recursive one (5 operations against the exact explicit one's 9" in \
+        recursive_note(5, 9, "cheapest", True, exact=(False, True))

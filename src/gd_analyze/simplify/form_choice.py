@@ -72,7 +72,8 @@ class FormChoice:
 
 def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any],
                 explicit: Mapping[str, Any] | None = None,
-                full: Mapping[str, Any] | None = None) -> FormChoice:
+                full: Mapping[str, Any] | None = None,
+                exact: tuple[bool, bool] = (False, False)) -> FormChoice:
     """The one decision of which model is deployed: recursive, explicit or exact explicit.
 
     Parameters
@@ -90,6 +91,9 @@ def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any]
         as in a sweep over the region, not built).
     full : mapping, optional
         The full explicit model's, where it is derived.
+    exact : tuple of (bool, bool), optional
+        The recursive and the explicit model of the rule drop nothing (said "exact", not
+        "pruned", in :func:`recursive_note`).
 
     Returns
     -------
@@ -113,11 +117,12 @@ def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any]
                           "cheaper than the recursive model pruned over the region")
     if explicit is None:
         return FormChoice("recursive")
-    return FormChoice("recursive", recursive_note(rec, total_operations(explicit), form, proved))
+    return FormChoice("recursive", recursive_note(rec, total_operations(explicit), form, proved,
+                                                  exact=exact))
 
 
 def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
-                   restored: bool = False) -> str:
+                   restored: bool = False, exact: tuple[bool, bool] = (False, False)) -> str:
     """The sentence saying why the pruned recursive model is deployed, not the explicit one.
 
     Parameters
@@ -133,6 +138,8 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
         Parameters were restored after the choice, for the proof that D_s is positive definite
         (:func:`gd_analyze.certify.positive_definite.with_inertia_check`): ``recursive`` is the
         cost after it.
+    exact : tuple of (bool, bool), optional
+        The recursive and the explicit model drop nothing: each is called exact, not pruned.
 
     Returns
     -------
@@ -151,8 +158,9 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
            ": a tie, which the recursive one wins" if explicit == recursive else "")
     after = (", with the parameters restored for the proof that its inertia matrix is "
              "positive definite," if restored else "")
-    return (f"The deployed model is the pruned recursive one ({recursive:,} operations{after} "
-            f"against the pruned explicit one's {explicit:,}{why}).")
+    word = ["exact" if e else "pruned" for e in exact]
+    return (f"The deployed model is the {word[0]} recursive one ({recursive:,} operations{after} "
+            f"against the {word[1]} explicit one's {explicit:,}{why}).")
 
 
 def inertia_checked(model: SimplifiedModel, recursive: SimplifiedModel,
@@ -394,8 +402,11 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
                                torque_floor=torque_floor, chapter_choices=ranking.choices(),
                                **common)
         costs.update({f"explicit, {rule}": dict(ex.cost), "explicit, full": dict(ex.full_cost)})
+    # a model whose dropped terms' bound is 0 everywhere is the exact one (pairs proved zero)
+    rec_exact, ex_exact = (m is not None and not np.any(np.asarray(m.bound, float)) for m in (rec, ex))
+    exact = (rec_exact, ex_exact)
     choice = choose_form(rule, form, proved, rec.cost, None if ex is None else ex.cost,
-                         None if ex is None else ex.full_cost)
+                         None if ex is None else ex.full_cost, exact)
     # a screen chose the exact recursive model; the sampled pre-screen skipped the region's
     # certification too (not the screen of the pairs searched under the proved bounds), so
     # no ladder is certified either
@@ -434,7 +445,7 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
     model, replaced = inertia_checked(model, with_costs(rec), rebuild, q)
     if form_note and replaced is None and model.cost != rec.cost:   # the restored model's count
         form_note = recursive_note(total_operations(model.cost), total_operations(ex.cost),
-                                   form, proved, restored=True)
+                                   form, proved, restored=True, exact=exact)
     if replaced is not None:
         check: Any = replaced.inertia_check
         form_note = ("The deployed model is the " + ("exact" if screen else "pruned")
