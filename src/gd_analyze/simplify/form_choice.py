@@ -92,8 +92,8 @@ def choose_form(rule: str, form: str, proved: bool, recursive: Mapping[str, Any]
     full : mapping, optional
         The full explicit model's, where it is derived.
     exact : tuple of (bool, bool), optional
-        The recursive and the explicit model of the rule drop nothing (said "exact", not
-        "pruned", in :func:`recursive_note`).
+        The recursive and the explicit model of the rule drop nothing but terms whose bound is
+        0 at every joint (said "exact", not "pruned", in :func:`recursive_note`).
 
     Returns
     -------
@@ -139,7 +139,8 @@ def recursive_note(recursive: int, explicit: int, form: str, proved: bool,
         (:func:`gd_analyze.certify.positive_definite.with_inertia_check`): ``recursive`` is the
         cost after it.
     exact : tuple of (bool, bool), optional
-        The recursive and the explicit model drop nothing: each is called exact, not pruned.
+        The recursive and the explicit model drop nothing but terms whose bound is 0 at every
+        joint: each is called exact, not pruned.
 
     Returns
     -------
