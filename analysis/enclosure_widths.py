@@ -1,8 +1,9 @@
 """Where interval boxes enclose the regressor's channels more tightly than the balls, and where not.
 
 For one arm, random boxes of joint positions of one width: every column's channels enclosed by
-the compiled midpoint-radius balls (``certify.regressor_bounds.channel_enclosures``, what the
-certification uses) and by interval boxes (the array code ``_column_groups`` with ``_Box``).
+the compiled midpoint-radius balls and by the compiled interval boxes
+(``certify.regressor_bounds.channel_enclosures`` with ``arithmetic="ball"`` and ``"box"``; the
+certification intersects the two on arms of at most 8 joints).
 Prints, over the entries the balls do not prove zero (width above 1e-12), the median of the
 boxes' width over the balls', by kind of channel (gravity, inertial, velocity) and by link k
 of the column against joint i (k - i = 0..3), and the share of entries the boxes prove zero.
@@ -42,10 +43,8 @@ def main(argv=None):
     mid = np.random.default_rng(args.seed).uniform(-2.0, 2.0, (args.boxes, n))
     q_lo, q_hi = mid - args.width / 2, mid + args.width / 2
     columns = np.arange(10 * n)
-    ball_lo, ball_hi = rb.channel_enclosures(robot, q_lo, q_hi, columns)
-    box_lo, box_hi = np.zeros(ball_lo.shape), np.zeros(ball_lo.shape)
-    for ms, i, (lo, hi) in rb._column_groups(robot, q_lo, q_hi, columns, None, rb._Box):
-        box_lo[:, :, i, ms], box_hi[:, :, i, ms] = lo, hi
+    ball_lo, ball_hi = rb.channel_enclosures(robot, q_lo, q_hi, columns, arithmetic="ball")
+    box_lo, box_hi = rb.channel_enclosures(robot, q_lo, q_hi, columns, arithmetic="box")
     ball, box = ball_hi - ball_lo, box_hi - box_lo
     live = ball > 1e-12
     ratio = np.where(live, box / np.where(live, ball, 1.0), np.nan)

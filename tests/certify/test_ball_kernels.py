@@ -1,4 +1,5 @@
 """The compiled ball recursion encloses what the array code encloses, and holds at points."""
+import interval_oracle
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -101,7 +102,7 @@ def test_compiled_inertia_enclosure_is_the_array_codes(name):
     half[5:10] = rng.uniform(1.6, 3.0, (5, n))
     lo_q, hi_q = rb._boxes(robot, centre - half, centre + half)
     lo, hi = rb.inertia_enclosure(robot, lo_q, hi_q, phi)
-    a_lo, a_hi = rb._inertia_arrays(robot, lo_q, hi_q, phi, rb._Ball)
+    a_lo, a_hi = interval_oracle.inertia_arrays(robot, lo_q, hi_q, phi, rb._Ball)
     arm = np.asarray(robot.armature, float)
     idx = np.arange(n)
     a_lo[:, idx, idx] += arm

@@ -1,5 +1,6 @@
 """The compiled interval-box recursion encloses what the array code's boxes enclose, holds the
 regressor at points, and intersected with the balls is tighter than either alone."""
+import interval_oracle
 import numpy as np
 import pytest
 from conftest import random_boxes as _boxes
@@ -15,11 +16,12 @@ ARMS = {"puma560": lambda: load_robot("puma560"), "stanford": lambda: load_robot
 
 
 def _array_code(robot, lo, hi, cols):
-    """The oracle: the array code's box recursion (``_column_groups`` with ``_Box``, each
-    operation rounded outward by one ulp), in :func:`channel_enclosures`' layout."""
+    """The oracle: the array code's box recursion (``_column_groups`` with the oracle's
+    ``Box``, each operation rounded outward by one ulp), in :func:`channel_enclosures`'
+    layout."""
     shape = (lo.shape[0], rb.channel_count(robot.n), robot.n, cols.size)
     a, b = np.zeros(shape), np.zeros(shape)
-    for ms, i, (x, y) in rb._column_groups(robot, lo, hi, cols, None, rb._Box):
+    for ms, i, (x, y) in interval_oracle.column_groups(robot, lo, hi, cols):
         a[:, :, i, ms], b[:, :, i, ms] = x, y
     return a, b
 

@@ -1,4 +1,5 @@
 """The interval regressor recursion: at points it is the regressor, over boxes it encloses it."""
+import interval_oracle
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -8,6 +9,7 @@ from gd_analyze.certify.region import channel_values as point_channels
 from gd_analyze.certify.region import full_channels
 from gd_analyze.certify.regressor_bounds import (
     channel_enclosures,
+    channel_magnitudes,
     channel_values,
     combined_bound,
     inertia_enclosure,
@@ -119,15 +121,18 @@ def test_both_arithmetics_enclose_the_sampled_peaks_on_boxes(arithmetic):
     lo = rng.uniform(robot.q_min, robot.q_max, (4, n))
     hi = np.minimum(lo + rng.uniform(0.05, 1.0, (4, n)), robot.q_max)
     cols = np.arange(10 * n)
-    U = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max,
-                        arithmetic=arithmetic)
+    if arithmetic == "ball":
+        U = pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max)
+    else:                 # the box kernels' channels, as the certification's joint sums take them
+        U = channel_magnitudes(*channel_enclosures(robot, lo, hi, cols, arithmetic="box"),
+                               robot.qd_max, robot.qdd_max)
     for b in range(4):
         q = rng.uniform(lo[b], hi[b], (300, n))
         peaks = pair_peaks_at(point_channels(robot, q, cols), np.ones(cols.size),
                               robot.qd_max, robot.qdd_max)          # (m, 3, n)
         assert np.all(peaks.transpose(1, 2, 0) <= U[b] * (1 + 1e-12) + 1e-12)
     with pytest.raises(ValueError):
-        pair_magnitudes(robot, lo, hi, cols, robot.qd_max, robot.qdd_max, arithmetic="x")
+        channel_enclosures(robot, lo, hi, cols, arithmetic="x")
 
 
 def _crba(robot, q):
@@ -148,7 +153,8 @@ def test_inertia_enclosures_hold_pinocchios_d_on_boxes(name, arithmetic):
     rng = np.random.default_rng(4)
     centre = rng.uniform(-2, 2, (6, robot.n))
     half = rng.uniform(0.0, 0.4, (6, robot.n))
-    lo, hi = inertia_enclosure(robot, centre - half, centre + half, phi, arithmetic=arithmetic)
+    enclosure = inertia_enclosure if arithmetic == "ball" else interval_oracle.inertia_box
+    lo, hi = enclosure(robot, centre - half, centre + half, phi)
     X = rng.normal(size=(6, 3, robot.n))
     flo, fhi = inertia_form_enclosure(robot, centre - half, centre + half, phi, X)
     for b in range(6):
@@ -158,7 +164,7 @@ def test_inertia_enclosures_hold_pinocchios_d_on_boxes(name, arithmetic):
         P = X[b] @ D @ X[b].T
         assert ((flo[b] <= P) & (P <= fhi[b])).all()
     D = _crba(robot, centre)
-    plo, phi_ = inertia_enclosure(robot, centre, centre, phi, arithmetic=arithmetic)
+    plo, phi_ = enclosure(robot, centre, centre, phi)
     assert ((plo <= D) & (D <= phi_)).all()
     assert (phi_ - plo).max() <= 1e-12 * np.abs(D).max()
 

@@ -1,26 +1,27 @@
 """Compiled interval-box enclosures of the regressor recursion, box by box.
 
 The same recursion as :mod:`.ball_kernels` (forward: the links' velocities and accelerations
-per channel; backward: each column of a link through every joint below it), in the interval
-arithmetic of :mod:`.intervals` instead of midpoint-radius balls: a vector is three intervals,
+per channel; backward: each column of a link through every joint below it), in interval
+arithmetic instead of midpoint-radius balls: a vector is three intervals,
 stored as six numbers along the last axis (the lower ends, then the upper ends). Interval boxes
 keep each component's own width, where a ball gives the three one radius; they wrap under
 rotations, where a ball does not. Each is the tighter on some channels
 (``regressor_bounds.channel_enclosures`` intersects the two), so this is the second of two
 sound enclosures, not a replacement.
 
-Rounding: each operation computes its ends in floating point from the operands' ends, as
-:mod:`.intervals` does (a product's ends the least and largest of the four endpoint products,
+Rounding: each operation computes its ends in floating point from the operands' ends, as the
+tests' array oracle does (``tests/interval_oracle.py``; a product's ends the least and largest of the four endpoint products,
 a point matrix's product the positive and negative parts of the matrix), and then widens each
 end outward by 32 units of round-off of the magnitudes it combined plus 2^-996 (an underflowing
 product's absolute error is at most 2^-1075), in one step. The operation performs at most six
 roundings, each within one unit of round-off of those magnitudes (IEEE 754, round to nearest;
 Higham 2002, Sec. 2.2), and the widening's own three roundings are far inside the margin, so
 the widened ends enclose the exact operation's range over the operands' intervals (Moore,
-Kearfott & Cloud 2009, Ch. 2-4). The cosine and sine of a joint's interval are those of
-:func:`.intervals.cos_sin` (the same slack and the same test for an extremum inside). The
-array code of ``regressor_bounds._column_groups`` with its box algebra (``_Box``, which rounds
-each operation by one ulp) is the tests' oracle of these kernels.
+Kearfott & Cloud 2009, Ch. 2-4). The cosine of a joint's interval [a, b] is widened by 4e-16
+plus 4 ulps of the angle and reaches -1 or 1 where the interval holds an odd or even multiple
+of pi; sin x = cos(x - pi/2). The array code of ``regressor_bounds._column_groups`` with the
+oracle's box algebra (``Box``, which rounds each operation by one ulp) is the tests' oracle of
+these kernels.
 
 Compiling: the small helpers (an operation's rounding, a product, a row) are inlined into their
 callers in numba's own code (``inline="always"``); the composite ones (cross products,
@@ -113,7 +114,7 @@ def _scale(a, s):
 
 @njit(cache=True, fastmath=False, nogil=True)
 def _cross(a, b):
-    """a x b (:func:`.intervals.cross`)."""
+    """a x b (the oracle's ``cross``)."""
     l0, h0 = _msub(a[1], a[4], b[2], b[5], a[2], a[5], b[1], b[4])
     l1, h1 = _msub(a[2], a[5], b[0], b[3], a[0], a[3], b[2], b[5])
     l2, h2 = _msub(a[0], a[3], b[1], b[4], a[1], a[4], b[0], b[3])
@@ -184,7 +185,7 @@ def _row(M, r, a):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _matvec(M, a):
-    """M a for a point matrix M (3, 3) (:func:`.intervals.matvec`)."""
+    """M a for a point matrix M (3, 3) (the oracle's ``matvec``)."""
     l0, h0 = _row(M, 0, a)
     l1, h1 = _row(M, 1, a)
     l2, h2 = _row(M, 2, a)
@@ -193,7 +194,7 @@ def _matvec(M, a):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _cos_range(a, b):
-    """An enclosure of cos over [a, b] (``intervals.cos_sin``'s ``enclose``)."""
+    """An enclosure of cos over [a, b] (the oracle's ``cos_sin``)."""
     ca, cb = math.cos(a), math.cos(b)
     top, bot = max(ca, cb), min(ca, cb)
     k_hi = math.ceil(a / _TWO_PI - 1e-12)
@@ -210,7 +211,7 @@ def _cos_range(a, b):
 @njit(cache=True, fastmath=False, nogil=True)
 def _trig(q_lo, q_hi):
     """Per joint of a box, enclosures of cos q and sin q: (cos lo, cos hi, sin lo, sin hi),
-    shape (n, 4) (:func:`.intervals.cos_sin`: sin x = cos(x - pi/2))."""
+    shape (n, 4) (the oracle's ``cos_sin``: sin x = cos(x - pi/2))."""
     out = np.empty((q_lo.shape[0], 4))
     for j in range(q_lo.shape[0]):
         out[j, 0], out[j, 1] = _cos_range(q_lo[j], q_hi[j])
@@ -220,7 +221,7 @@ def _trig(q_lo, q_hi):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _rot_z(a, trig, transpose):
-    """Rz(q) a, or Rz(q)^T a, for every q of the joint's interval (``regressor_bounds._rotz``;
+    """Rz(q) a, or Rz(q)^T a, for every q of the joint's interval (the oracle's ``rotz``;
     ``trig`` the joint's row of :func:`_trig`)."""
     cl, ch, sl, sh = trig[0], trig[1], trig[2], trig[3]
     if transpose:
@@ -245,14 +246,14 @@ def _set(A, index, a):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _slide(t, x, y):
-    """t + [min(x, y), max(x, y)], rounded outward (one component of ``_Box.slide``)."""
+    """t + [min(x, y), max(x, y)], rounded outward (one component of the oracle's ``Box.slide``)."""
     m = abs(t) + max(abs(x), abs(y))
     return _down(t + min(x, y), m), _up(t + max(x, y), m)
 
 
 @njit(cache=True, fastmath=False, nogil=True)
 def _position(k, q_lo, q_hi, t, P, pris):
-    """p_k as a box: t_k, plus q_k P_k z for a prismatic joint (``_Box.slide``)."""
+    """p_k as a box: t_k, plus q_k P_k z for a prismatic joint (the oracle's ``Box.slide``)."""
     if not pris[k]:
         return (t[k, 0], t[k, 1], t[k, 2], t[k, 0], t[k, 1], t[k, 2])
     l0, h0 = _slide(t[k, 0], q_lo[k] * P[k, 0, 2], q_hi[k] * P[k, 0, 2])
@@ -280,7 +281,7 @@ def _rot_t(k, a, trig, P, pris):
 
 @njit(cache=True, fastmath=False, nogil=True, inline="always")
 def _sym(a, i, j):
-    """E a for the symmetric unit matrix E of the index pair (i, j) (``_Box.sym``)."""
+    """E a for the symmetric unit matrix E of the index pair (i, j) (the oracle's ``Box.sym``)."""
     return (a[j] if i == 0 else (a[i] if j == 0 else 0.0),
             a[j] if i == 1 else (a[i] if j == 1 else 0.0),
             a[j] if i == 2 else (a[i] if j == 2 else 0.0),
@@ -456,8 +457,8 @@ def both_backward_kernel(k, types, ms, ch, balls, boxes, mid, half, norms, q_lo,
         The links the forward recursions ran.
     alone : bool
         True: the boxes' enclosures alone, neither intersected nor clipped with the balls
-        (the boxes' arithmetic on its own, as ``regressor_bounds._column_groups`` runs it with
-        its box algebra: the tests' oracle).
+        (the boxes' arithmetic on its own, as ``regressor_bounds._column_groups`` runs it in
+        the box algebra of the tests' oracle).
     lo, hi : ndarray, shape (B, C_all, n, m)
         Written at [b, ch[x], i, ms[q]] for every joint i <= k: lo <= torque <= hi [N m or N
         per unit parameter] (``regressor_bounds.channel_enclosures``' layout).

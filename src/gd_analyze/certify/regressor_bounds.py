@@ -9,8 +9,10 @@ The joint torques are linear in the inertial parameters, tau = W(q, qd, qdd) phi
 the recursive Newton-Euler regressor recursion (Fu, Gonzalez & Lee 1987, Table 3.3; Khalil &
 Kleinfinger 1987) once per *channel*: gravity G (qd = qdd = 0), the inertial channels A_j
 (qdd = e_j, g = 0) and the bilinear velocity channels C_jl (the coefficient of qd_j qd_l,
-g = 0), in the interval arithmetic of :mod:`.intervals`, over a batch of boxes of q. The result
-encloses every coefficient over its box; with degenerate boxes it evaluates them at points.
+g = 0), over a batch of boxes of q, in midpoint-radius balls (:mod:`.ball_kernels`) and
+interval boxes (:mod:`.box_kernels`), rounded outward. The result encloses every coefficient
+over its box; at points (:func:`channel_values`) the same recursion runs in plain floating
+point.
 """
 
 from __future__ import annotations
@@ -64,54 +66,6 @@ def _sym(x, ab):
     return y
 
 
-class _Box:
-    """Interval boxes (:mod:`.intervals`): a vector is (lo, hi), each (..., 3)."""
-
-    add, scale, cross = staticmethod(iv.add), staticmethod(iv.scale), staticmethod(iv.cross)
-    matvec, point = staticmethod(iv.matvec), staticmethod(iv.point)
-
-    @staticmethod
-    def zeros(shape):
-        z = np.zeros(tuple(shape) + (3,))
-        return z, z.copy()
-
-    @staticmethod
-    def unit_z(a, index):
-        a[0][:, index, 2] += 1.0
-        a[1][:, index, 2] += 1.0
-
-    @staticmethod
-    def put_point(a, index, value):
-        a[0][:, index] = value
-        a[1][:, index] = value
-
-    @staticmethod
-    def sym(a, ab):
-        """E x for the symmetric unit matrix E of the index pair ab (||E||_2 = 1)."""
-        return tuple(_sym(x, ab) for x in a)
-
-    @staticmethod
-    def z(a):
-        return a[0][..., 2], a[1][..., 2]
-
-    def __init__(self, q_lo, q_hi):
-        self.cs = iv.cos_sin(q_lo, q_hi)
-        self.q = (q_lo, q_hi)
-
-    def rotz(self, k, v, transpose):
-        (clo, chi), (slo, shi) = self.cs
-        return _rotz((clo[:, k], chi[:, k]), (slo[:, k], shi[:, k]), v, transpose)
-
-    def slide(self, k, t, dz):
-        ql, qh = self.q[0][:, k, None, None], self.q[1][:, k, None, None]
-        base = np.broadcast_to(t, ql.shape[:1] + (1, 3))
-        return iv.add((base, base), (np.minimum(ql * dz, qh * dz), np.maximum(ql * dz, qh * dz)))
-
-    def fixed(self, t, B):
-        base = np.broadcast_to(t, (B, 1, 3))
-        return base, base
-
-
 class _Point:
     """Plain floating point at points (q_lo = q_hi), for :func:`channel_values`: a vector is
     (x, x), one array twice, so that :func:`_column_groups` runs unchanged. Samples, not
@@ -147,7 +101,10 @@ class _Point:
         z = np.zeros(tuple(shape) + (3,))
         return z, z
 
-    put_point = staticmethod(_Box.put_point)
+    @staticmethod
+    def put_point(a, index, value):
+        for x in a:
+            x[:, index] = value
 
     @staticmethod
     def unit_z(a, index):
@@ -238,21 +195,6 @@ def _take(a, index):
 def _put(a, index, value):
     for x, v in zip(a, value):
         x[:, index] = v
-
-
-def _rotz(c, s, v, transpose):
-    """Rz(q) v or Rz(q)^T v for interval cos c and sin s of shape (B,), v (B, C, 3)."""
-    cb = (c[0][:, None], c[1][:, None])
-    sb = (s[0][:, None], s[1][:, None])
-    x, y = (v[0][..., 0], v[1][..., 0]), (v[0][..., 1], v[1][..., 1])
-    if transpose:
-        nx = iv.add(iv.mul(cb, x), iv.mul(sb, y))
-        ny = iv.sub(iv.mul(cb, y), iv.mul(sb, x))
-    else:
-        nx = iv.sub(iv.mul(cb, x), iv.mul(sb, y))
-        ny = iv.add(iv.mul(sb, x), iv.mul(cb, y))
-    return (np.stack([nx[0], ny[0], v[0][..., 2]], -1),
-            np.stack([nx[1], ny[1], v[1][..., 2]], -1))
 
 
 class _Chain:
@@ -358,7 +300,7 @@ def _links(columns, top, n):
             yield k, ms, jv, lv, np.concatenate([[0], 1 + np.arange(kk), 1 + n + jv * n + lv])
 
 
-def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra=_Box):
+def _column_groups(robot, q_lo, q_hi, columns, gravity, algebra):
     """Per link k and joint i <= k: (the positions in ``columns`` of the link's columns, i,
     enclosure of their torques at joint i per channel, each of shape (B, C, g)).
 
@@ -560,8 +502,8 @@ def _boxes(robot, q_lo, q_hi):
 
 
 def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: ArrayLike,
-                    qd_max: ArrayLike, qdd_max: ArrayLike, gravity: ArrayLike | None = None,
-                    arithmetic: str = "ball") -> np.ndarray:
+                    qd_max: ArrayLike, qdd_max: ArrayLike, gravity: ArrayLike | None = None
+                    ) -> np.ndarray:
     """Upper bounds of each column's three parts over boxes of q and the velocity and
     acceleration limits, per joint.
 
@@ -577,9 +519,6 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
         Velocity and acceleration limits [rad/s, m/s; rad/s^2, m/s^2].
     gravity : array_like, shape (3,), optional
         [m/s^2]; default the robot's.
-    arithmetic : {"ball", "box"}, optional
-        Midpoint-radius balls (:mod:`.balls`, default: rotations do not wrap; evaluated by the
-        compiled kernels of :mod:`.ball_kernels`) or interval boxes (:mod:`.intervals`).
 
     Returns
     -------
@@ -597,28 +536,23 @@ def pair_magnitudes(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, columns: A
     Notes
     -----
     qdd enters linearly and qd quadratically, so both enter through their bounds exactly;
-    over q the bound is the interval enclosure of :mod:`.intervals` (Moore, Kearfott & Cloud
-    2009), rounded outward.
+    over q the bound is the enclosure of the recursion in midpoint-radius balls
+    (:mod:`.balls`: rotations do not wrap), evaluated link by link, in the link's own
+    channels, by the compiled kernels of :mod:`.ball_kernels` (Moore, Kearfott & Cloud 2009),
+    rounded outward.
     """
     q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
-    if arithmetic not in ("ball", "box"):
-        raise ValueError(f"arithmetic must be 'ball' or 'box', got {arithmetic!r}")
     qd_max, qdd_max = np.asarray(qd_max, float), np.asarray(qdd_max, float)
     columns = np.asarray(columns, int)
-    quad = _QuadraticBound(n, qd_max)
     out = np.zeros((q_lo.shape[0], 3, n, columns.size))
-    if arithmetic == "ball":            # link by link, in the link's own channels
-        quads: dict[int, _QuadraticBound] = {}
-        for k, ms, _, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
-            kk = k + 1
-            quad_k = quads.setdefault(kk, _QuadraticBound(kk, qd_max[:kk]))
-            for i in range(k, -1, -1):
-                lo, hi = lo_k[:, i].transpose(0, 2, 1), hi_k[:, i].transpose(0, 2, 1)
-                out[:, :, i, ms] = _parts(lo, hi, quad_k, qdd_max[:kk])
-    else:
-        for ms, i, (lo, hi) in _column_groups(robot, q_lo, q_hi, columns, gravity, _Box):
-            out[:, :, i, ms] = _parts(lo, hi, quad, qdd_max)
+    quads: dict[int, _QuadraticBound] = {}
+    for k, ms, _, lo_k, hi_k in _ball_links(robot, q_lo, q_hi, columns, gravity):
+        kk = k + 1
+        quad_k = quads.setdefault(kk, _QuadraticBound(kk, qd_max[:kk]))
+        for i in range(k, -1, -1):
+            lo, hi = lo_k[:, i].transpose(0, 2, 1), hi_k[:, i].transpose(0, 2, 1)
+            out[:, :, i, ms] = _parts(lo, hi, quad_k, qdd_max[:kk])
     return out * (1.0 + 8 * iv.ROUNDING * (2 * n + 2))
 
 
@@ -761,7 +695,8 @@ def _boxes_and_balls(robot, q_lo, q_hi, columns, gravity, alone, lo, hi):
     alone), written into ``lo`` and ``hi`` (B, C, n, m): the forward recursions compiled
     apart (the boxes intersected with the balls link by link), the backward ones together,
     link by link (:func:`.box_kernels.both_backward_kernel`). In boxes alone, the array code
-    of :func:`_column_groups` with :class:`_Box` is the kernels' test oracle."""
+    of :func:`_column_groups` in the box algebra of ``tests/interval_oracle.py`` is the
+    kernels' test oracle."""
     forward = _forward_balls(robot, q_lo, q_hi, columns, gravity)
     if forward is None:
         return
@@ -822,19 +757,6 @@ def combined_bound(mid: np.ndarray, rad: np.ndarray, qd_max: ArrayLike,
     return np.maximum(out, 0.0) * (1 + 8 * iv.ROUNDING * (2 * n + 4)) + slack
 
 
-def _inertial_forward(chain):
-    """Per link k: wd, vd (B, n, 3) of the inertial channels (qd = 0, qdd = e_j, g = 0)."""
-    A, n, B = chain.A, chain.robot.n, chain.B
-    wd, vd = A.zeros((B, n)), A.zeros((B, n))
-    out = []
-    for k in range(n):
-        a = A.add(vd, A.cross(wd, chain.p(k)))
-        vd, wd = chain.rot_t(k, a), chain.rot_t(k, wd)
-        A.unit_z(vd if chain.pris[k] else wd, k)
-        out.append((wd, vd))
-    return out
-
-
 def _inertia_tensors(values):
     """Per link, the symmetric inertia tensor (3, 3) of its XX, XY, XZ, YY, YZ, ZZ."""
     v = np.asarray(values, float)
@@ -855,36 +777,8 @@ def _norms(matrices):
     return np.array([balls.spectral_norm(np.asarray(M)) * (1 + 1e-12) for M in matrices])
 
 
-def _inertia_arrays(robot, q_lo, q_hi, values, algebra):
-    """:func:`inertia_enclosure` before the armature and the symmetric intersection, as array
-    code over the boxes in the arithmetic ``algebra`` (:class:`_Ball` or :class:`_Box`): the
-    box arithmetic's, and the oracle of the compiled ball kernel
-    (:func:`.ball_kernels.inertia_kernel`), which performs the same operations box by box."""
-    n = robot.n
-    chain = _Chain(robot, q_lo, q_hi, algebra)
-    A, B = chain.A, chain.B
-    links = _inertial_forward(chain)
-    lo, hi = np.zeros((B, n, n)), np.zeros((B, n, n))
-    f = m = None
-    for k in range(n - 1, -1, -1):
-        wd, vd = links[k]
-        p = values[k]
-        inertia = _inertia_tensors(values[k:k + 1])[0]
-        mc = A.point(p[6:9])
-        fk = A.add(A.scale(vd, p[9]), A.cross(wd, mc))
-        mk = A.add(A.matvec(inertia, wd), A.cross(mc, vd))
-        f, m = (fk, mk) if f is None else (A.add(fk, f), A.add(mk, m))
-        zl, zh = A.z(f if chain.pris[k] else m)
-        lo[:, k], hi[:, k] = zl, zh
-        if k:
-            f = chain.rot(k, f)
-            m = A.add(chain.rot(k, m), A.cross(chain.p(k), f))
-    return lo, hi
-
-
 def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: np.ndarray,
-                      armature: ArrayLike | None = None, arithmetic: str = "ball"
-                      ) -> tuple[np.ndarray, np.ndarray]:
+                      armature: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Enclosures of the inertia matrix D(q) over boxes of joint positions.
 
     Parameters
@@ -901,8 +795,6 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
         pruned model's kept inertial values its D_s.
     armature : array_like, shape (n,), optional
         Added on the diagonal [kg m^2 or kg]; default the robot's.
-    arithmetic : {"ball", "box"}, optional
-        As :func:`pair_magnitudes`.
 
     Returns
     -------
@@ -919,28 +811,23 @@ def inertia_enclosure(robot: Robot, q_lo: np.ndarray, q_hi: np.ndarray, values: 
     -----
     Column j of D is the torque of the Newton-Euler recursion at qd = 0, qdd = e_j and g = 0
     (Walker & Orin 1982, method 1; Fu, Gonzalez & Lee 1987, Table 3.3), run once for all
-    columns in the arithmetic chosen, rounded outward; each link's wrench is f = m vd +
+    columns in midpoint-radius balls (:mod:`.balls`), rounded outward; each link's wrench is f = m vd +
     wd x (m c) and n = I wd + (m c) x vd with its own parameters (Featherstone 2008, Eq. 2.63
     at zero velocity), so the links' contributions are summed as wrenches before the joints
     take their components. D_ij and D_ji are enclosed separately; their intersection is
-    returned. The ball arithmetic runs compiled, box by box
-    (:func:`.ball_kernels.inertia_kernel`); the box arithmetic runs as array code over the
-    boxes (:func:`_inertia_arrays`, also the kernel's test oracle in the ball arithmetic).
+    returned. The recursion runs compiled, box by box (:func:`.ball_kernels.inertia_kernel`).
     """
     q_lo, q_hi = _boxes(robot, q_lo, q_hi)
     n = robot.n
     values = np.asarray(values, float)
     if values.shape != (n, 10):
         raise ValueError(f"values must have shape ({n}, 10), got {values.shape}")
-    if arithmetic == "ball":
-        A = _Ball(q_lo, q_hi)
-        P, t, pris = _geometry(robot)
-        inertia = np.ascontiguousarray(_inertia_tensors(values))
-        _before(inertia_kernel)
-        lo, hi = inertia_kernel(A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)), t,
-                                pris, np.array(values, float), inertia, _norms(inertia))
-    else:
-        lo, hi = _inertia_arrays(robot, q_lo, q_hi, values, {"box": _Box}[arithmetic])
+    A = _Ball(q_lo, q_hi)
+    P, t, pris = _geometry(robot)
+    inertia = np.ascontiguousarray(_inertia_tensors(values))
+    _before(inertia_kernel)
+    lo, hi = inertia_kernel(A.mid, A.half, P, _norms(P), _norms(P.transpose(0, 2, 1)), t,
+                            pris, np.array(values, float), inertia, _norms(inertia))
     arm = np.asarray(robot.armature if armature is None else armature, float)
     idx = np.arange(n)
     lo[:, idx, idx] = np.nextafter(lo[:, idx, idx] + arm, -np.inf)
