@@ -3,7 +3,8 @@
 The oracle is numba's own account: its ``numba:compile`` events say which kernels a process
 compiled, and its cache index (read by numba) whether a kernel is cached. A first main job on a
 copy of the package with an empty numba cache must compile none of the kernels the second
-process compiles, and write the same results as a job that compiled everything itself.
+process compiles, and write the same model file as this test process's own job, whose kernels
+were compiled or loaded without a second process.
 """
 
 import json
