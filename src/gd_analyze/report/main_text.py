@@ -12,7 +12,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..ranking.ranking import element_label, parse_element_label
 from .common import say
 from .figure_style import element_markevery
 from .markup import element
@@ -23,41 +22,9 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
 __all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
-           "element_scale", "prismatic_count_note", "alike_sentence"]
+           "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
-
-
-def element_scale(labels: Sequence[str], peak_total: npt.NDArray[np.float64],
-                  tau_peak: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """Each element's own scale: peak sqrt(D_ii D_jj) bound for D_ij, peak |tau_i| for h_i.
-
-    Parameters
-    ----------
-    labels : sequence of str
-        ``D11``, ``D12``, ..., ``h1``, ... (``D1,10`` for two-digit indices).
-    peak_total : ndarray, shape (M,)
-        Peak |D_ij| or |h_i| over the set points.
-    tau_peak : ndarray, shape (n,)
-        Peak |tau_i| [N m].
-
-    Returns
-    -------
-    ndarray, shape (M,)
-        sqrt(peak D_ii * peak D_jj) [kg m^2] (>= the peak of sqrt(D_ii D_jj)) or peak |tau_i|.
-    """
-    n = np.asarray(tau_peak).size
-    index = {lab: k for k, lab in enumerate(labels)}
-    out = np.zeros(len(labels))
-    for k, lab in enumerate(labels):
-        kind, i, j = parse_element_label(lab, n)
-        if kind == "D":
-            dii = peak_total[index[element_label("D", i, i)]]
-            djj = peak_total[index[element_label("D", j, j)]]
-            out[k] = np.sqrt(abs(dii * djj))
-        else:
-            out[k] = tau_peak[i]
-    return out
 
 
 def _math(label):

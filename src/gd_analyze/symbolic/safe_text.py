@@ -15,7 +15,7 @@ import re
 import string
 from typing import Any
 
-__all__ = ["comment_safe", "header_lines", "joint_label", "c_string", "python_string",
+__all__ = ["comment_safe", "header_lines", "c_string", "python_string",
            "include_guard", "c_prefix", "check_prefix",
            "SAFE_CHARACTERS", "MAX_LENGTH", "DIGEST_LENGTH", "PREFIX_PATTERN"]
 
@@ -102,32 +102,6 @@ def header_lines(header: dict[str, Any]) -> list[str]:
 #: A prefix of the emitted C symbols: a letter, then letters, digits and underscores (never a
 #: reserved identifier: no leading underscore), at most 64 characters.
 PREFIX_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,63}")
-
-
-def joint_label(text: str, limit: int = 64) -> str:
-    """A joint's name for a string literal of emitted code: only ``[A-Za-z0-9_.-]``.
-
-    Parameters
-    ----------
-    text : str
-        Any text, e.g. a URDF ``<joint name>``.
-    limit : int, optional
-        Longest result.
-
-    Returns
-    -------
-    str
-        Every other character replaced by ``_``, cut to ``limit``; ``"_"`` for empty text. It
-        cannot end a C or Python string literal, escape, hold a trigraph or a printf ``%``.
-
-    Examples
-    --------
-    >>> joint_label('j1"; system("x'), joint_label("panda_joint1")
-    ('j1___system__x', 'panda_joint1')
-    """
-    safe = "".join(ch if ch.isascii() and (ch.isalnum() or ch in "_.-") else "_"
-                   for ch in str(text))[:limit]
-    return safe or "_"
 
 
 #: The characters a string literal of emitted code holds as they are (every other one is
