@@ -27,8 +27,12 @@ __all__ = ["term_values", "terms_disagreement", "CHECK_STATES", "CHECK_SEED"]
 CHECK_STATES = 3
 CHECK_SEED = 20250916
 #: Floor of an element's scale, as a fraction of the largest scale of its quantity (an
-#: element that is zero at every state is compared with its quantity's scale).
-_FLOOR = 1e-6
+#: element that is zero at every state is compared with its quantity's scale). The engine's
+#: round-off is that of the arm's largest torques (up to about 1e-14 of them): an element
+#: far smaller, such as the gravity torque of an axis a URDF's rounded angles tilt from the
+#: vertical (1e-6 of the arm's, the SO-101's first joint), is measured against 1e-3 of them,
+#: so that round-off stays about 1e-11 of its scale.
+_FLOOR = 1e-3
 
 
 def term_values(terms: Term, q: np.ndarray, qd: np.ndarray,
@@ -130,7 +134,7 @@ def terms_disagreement(robot: Robot, terms: Term) -> float:
         max over the :data:`CHECK_STATES` states, the parts and the elements of
         |terms - engine| / scale: sqrt(D_ii D_jj) for D_ij (of the whole D), and for h_i and
         c_i the largest |h_i| (|c_i|) over the states (tran and rot added in magnitude), with
-        a floor of 1e-6 of the arm's torque scale there (the largest of D's scale times
+        a floor of 1e-3 of the arm's torque scale there (the largest of D's scale times
         max(1, qd^2), |h| and |c|: a one-joint arm's h or a massless link's parts are zero up
         to round-off, never measured against that round-off). ``inf`` if a value is not
         finite, a row's index is out of range or the terms' shape does not fit the robot.
