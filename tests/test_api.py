@@ -155,6 +155,20 @@ def test_trajectory_as_arrays_mapping_or_file(toy_run):
             gd.analyze(robot, bad)
 
 
+def test_a_robot_or_options_of_another_type_is_one_input_error():
+    """A robot's name in place of the Robot, or options of another type, raised
+    AttributeError ("'str' object has no attribute 'n'") from inside the job."""
+    t = np.linspace(0.0, 1.0, 5)
+    q = np.outer(t, [1.0, -0.5])
+    robot = gd.load_robot("two-link")
+    for call, match in ((lambda: gd.analyze("two-link", (t, q)), "load_robot.*not a str"),
+                        (lambda: gd.analyze(None, (t, q)), "not a NoneType"),
+                        (lambda: gd.analyze(robot, (t, q), {"dominance": 0.9}),
+                         "AnalysisOptions, not a dict")):
+        with pytest.raises(InputError, match=match):
+            call()
+
+
 @pytest.mark.parametrize("bad, kind", [(1e-3j, "complex128"), ("x", "<U")])
 def test_complex_and_text_arrays_are_refused(bad, kind):
     """numpy casts complex to float with a warning only, dropping the imaginary part: every

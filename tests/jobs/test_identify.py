@@ -10,6 +10,7 @@ from identify_recordings import (
     fourier,
     irregular_clock,
     truth_for,
+    write_recording,
 )
 
 from gd_analyze import SimplifiedModel, load_robot
@@ -190,6 +191,38 @@ def test_options_are_checked():
         IdentifyOptions(cutoff=-1.0)
     with pytest.raises(ValueError, match="drive gains"):
         IdentifyOptions(current=True)
+
+
+def test_one_recording_given_alone_is_one_recording(tmp_path):
+    """A file's name given alone, not in a list, was read as a sequence of its characters
+    ("r: no such file"), and a Path was "not iterable": it is one recording, from which the
+    true arm's viscous friction is found (noise-free, no filter)."""
+    robot = _robot("two-link")
+    truth = truth_for(robot)
+    _, (t, q, qd, qdd, tau) = _record(truth, robot.n, 25, seed=2)
+    path = write_recording(tmp_path / "run1.csv", t, q, tau, qd, qdd)
+    for given in (str(path), path):
+        result = identify(robot, given, validate=given, options={"cutoff": None})
+        assert [(r.file, r.role) for r in result.recordings] == [(str(path), "train"),
+                                                                  (str(path), "validate")]
+        np.testing.assert_allclose(result.identified.viscous, truth.viscous, rtol=1e-6)
+
+
+def test_a_robot_options_or_recording_of_another_type_is_one_input_error():
+    """A robot, options or recording of another type raised AttributeError ("'NoneType'
+    object has no attribute 'n'", "'str' object has no attribute 'current'"), and a drive
+    column given as one word was read letter by letter ("unknown drive column 'v'")."""
+    robot = _robot("two-link")
+    t = np.arange(20) * 0.01
+    rec = recording_from_arrays(t, np.zeros((20, 2)), np.ones((20, 2)), source="r")
+    for bad, call in (("NoneType", lambda: identify(None, [rec])),
+                      ("IdentifyOptions", lambda: identify(robot, [rec], options="fast")),
+                      ("not a tuple", lambda: identify(robot, [(t, t, t)]))):
+        with pytest.raises(InputError, match=bad):
+            call()
+    assert IdentifyOptions(drives="viscous").drives == ("viscous",)
+    assert IdentifyOptions(drives="Viscous, offset").drives == ("viscous", "offset")
+    assert IdentifyOptions(drives="none").drives == ()
 
 
 def test_outliers_are_left_out():

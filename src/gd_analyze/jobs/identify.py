@@ -30,6 +30,7 @@ from ..estimation.fit import FitFailure, RegressorRows, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
+from ..model.robot import Robot
 from ..model.robots import load_robot
 from ..store.stored_identification import (
     IdentificationResult,
@@ -45,7 +46,6 @@ from .options import AnalysisOptions
 
 if TYPE_CHECKING:
     from ..dynamics.base_parameters import BaseParameters
-    from ..model.robot import Robot
 
 __all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
 
@@ -66,7 +66,8 @@ class IdentifyOptions:
     decimate : int
         Keep every decimate-th sample after filtering.
     drives : tuple of str
-        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset``.
+        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset``; a
+        str is read as ``--drives`` is (comma-separated, or ``none``).
     current : bool
         The recordings hold motor currents [A]; ``drive_gains`` turn them into torque.
     drive_gains : tuple of float or None
@@ -92,6 +93,9 @@ class IdentifyOptions:
     simplify: bool = False
 
     def __post_init__(self):
+        if isinstance(self.drives, str):         # one word is not a sequence of its letters
+            kinds = tuple(k.strip() for k in self.drives.lower().split(","))
+            object.__setattr__(self, "drives", () if kinds == ("none",) else kinds)
         unknown = [k for k in self.drives if k not in DRIVE_KINDS]
         if unknown:
             raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
@@ -151,7 +155,16 @@ def _drive_torque(robot, qd, qdd):
     return tau if fr is None else tau + fr
 
 
+def _listed(items):
+    """The recordings as a list: one file or Recording given alone is one recording, not a
+    sequence of its name's characters."""
+    return [items] if isinstance(items, (str, os.PathLike, Recording)) else list(items or ())
+
+
 def _recording(item, n, options):
+    if not isinstance(item, (str, os.PathLike, Recording)):
+        raise InputError(f"a recording is a CSV file or a Recording, not a "
+                         f"{type(item).__name__}")
     rec = (item if isinstance(item, Recording)
            else read_recording(item, n_joints=n, current=options.current))
     if rec.n != n:
@@ -189,9 +202,10 @@ def identify(robot: Robot | str | Path,
         The robot file (the prior): a :class:`~gd_analyze.model.robot.Robot`, a built-in
         name or a TOML or URDF file.
     recordings : sequence of str, os.PathLike or Recording
-        The training recordings (:func:`~gd_analyze.trajectory.recording.read_recording`).
+        The training recordings (:func:`~gd_analyze.trajectory.recording.read_recording`);
+        one given alone is one recording.
     validate : sequence of str, os.PathLike or Recording, optional
-        Recordings not used for fitting, on which the errors are reported.
+        Recordings not used for fitting, on which the errors are reported (one alone, too).
     options : IdentifyOptions or dict, optional
         The settings (a dict: :class:`IdentifyOptions`' fields).
 
@@ -203,8 +217,8 @@ def identify(robot: Robot | str | Path,
     Raises
     ------
     InputError
-        On a recording that cannot be used (file, row, column), too few moving samples, or
-        options that do not fit the robot.
+        On a recording that cannot be used (file, row, column), too few moving samples,
+        options that do not fit the robot, or a robot, recording or options of another type.
 
     Notes
     -----
@@ -220,8 +234,12 @@ def identify(robot: Robot | str | Path,
             options = IdentifyOptions(**options)
         except (TypeError, ValueError) as exc:
             raise InputError(f"options: {exc}") from None
-    prior = robot if not isinstance(robot, (str, Path)) else load_robot(robot)
+    elif not isinstance(options, IdentifyOptions):
+        raise InputError(f"options: an IdentifyOptions or a dict of its fields, not a "
+                         f"{type(options).__name__}")
+    prior = robot if isinstance(robot, Robot) else load_robot(robot)
     n = prior.n
+    recordings, validate = _listed(recordings), _listed(validate)
     if not recordings:
         raise InputError("no recording to identify from")
     train = [_recording(r, n, options) for r in recordings]

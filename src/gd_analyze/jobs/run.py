@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ..errors import InputError
-from ..model.robot import with_payload
+from ..model.robot import Robot, with_payload
 from ..simplify import deploy
 from ..simplify.simplified import SOURCE_STEM
 from ..store import model_trust
@@ -40,7 +40,6 @@ from .payload import payload_sweep
 if TYPE_CHECKING:
     import xarray as xr
 
-    from ..model.robot import Robot
     from ..trajectory.trajectory import Trajectory
 
 __all__ = ["AnalysisOutputs", "Payload", "run_analysis",
@@ -260,7 +259,9 @@ def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | M
     Raises
     ------
     InputError
-        If the trajectory cannot be read or does not fit the robot.
+        If the trajectory cannot be read or does not fit the robot, or the robot is not a
+        :class:`~gd_analyze.model.robot.Robot` (a name or a file: :func:`gd_analyze.load_robot`
+        first) or the options not an :class:`AnalysisOptions`.
     ValueError
         If an option is out of range.
 
@@ -282,6 +283,11 @@ def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | M
     ({'t': 5, 'joint': 2, 'joint_k': 2}, 's', ['joint1', 'joint2'])
     """
 
+    if not isinstance(robot, Robot):
+        raise InputError(f"robot: a Robot (gd.load_robot(...) reads a name or a file), not a "
+                         f"{type(robot).__name__}")
+    if not isinstance(options, (AnalysisOptions, type(None))):
+        raise InputError(f"options: an AnalysisOptions, not a {type(options).__name__}")
     options = AnalysisOptions() if options is None else options
     trajectory = as_trajectory(trajectory, robot.n)
     return analyze(robot, trajectory, options,
