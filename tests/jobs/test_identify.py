@@ -211,7 +211,8 @@ def test_one_recording_given_alone_is_one_recording(tmp_path):
 def test_a_robot_options_or_recording_of_another_type_is_one_input_error():
     """A robot, options or recording of another type raised AttributeError ("'NoneType'
     object has no attribute 'n'", "'str' object has no attribute 'current'"), and a drive
-    column given as one word was read letter by letter ("unknown drive column 'v'")."""
+    column given as one word was read letter by letter ("unknown drive column 'v'"): it is
+    refused, naming the form."""
     robot = _robot("two-link")
     t = np.arange(20) * 0.01
     rec = recording_from_arrays(t, np.zeros((20, 2)), np.ones((20, 2)), source="r")
@@ -220,9 +221,10 @@ def test_a_robot_options_or_recording_of_another_type_is_one_input_error():
                       ("not a tuple", lambda: identify(robot, [(t, t, t)]))):
         with pytest.raises(InputError, match=bad):
             call()
-    assert IdentifyOptions(drives="viscous").drives == ("viscous",)
-    assert IdentifyOptions(drives="Viscous, offset").drives == ("viscous", "offset")
-    assert IdentifyOptions(drives="none").drives == ()
+    with pytest.raises(ValueError, match="not the str 'viscous'"):
+        IdentifyOptions(drives="viscous")
+    with pytest.raises(InputError, match="options: drives is a tuple"):
+        identify(robot, [rec], options={"drives": "viscous"})
 
 
 def test_outliers_are_left_out():

@@ -66,8 +66,8 @@ class IdentifyOptions:
     decimate : int
         Keep every decimate-th sample after filtering.
     drives : tuple of str
-        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset``; a
-        str is read as ``--drives`` is (comma-separated, or ``none``).
+        The drive columns, a subset of ``armature``, ``viscous``, ``coulomb``, ``offset`` (a
+        str is refused: it is not read letter by letter).
     current : bool
         The recordings hold motor currents [A]; ``drive_gains`` turn them into torque.
     drive_gains : tuple of float or None
@@ -81,7 +81,8 @@ class IdentifyOptions:
     Raises
     ------
     ValueError
-        On an unknown drive kind, a cutoff <= 0, decimate < 1, or currents without gains.
+        On an unknown drive kind (or drives given as one str), a cutoff <= 0, decimate < 1,
+        or currents without gains.
     """
 
     cutoff: object = "auto"
@@ -94,8 +95,8 @@ class IdentifyOptions:
 
     def __post_init__(self):
         if isinstance(self.drives, str):         # one word is not a sequence of its letters
-            kinds = tuple(k.strip() for k in self.drives.lower().split(","))
-            object.__setattr__(self, "drives", () if kinds == ("none",) else kinds)
+            raise ValueError(f"drives is a tuple of drive columns, e.g. ('viscous', "
+                             f"'coulomb'), not the str {self.drives!r}")
         unknown = [k for k in self.drives if k not in DRIVE_KINDS]
         if unknown:
             raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
