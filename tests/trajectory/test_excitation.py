@@ -33,6 +33,14 @@ from gd_analyze.trajectory.planning import default_motion_range
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 
+def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, power=None):
+    """The excitation's smooth log condition number at x and its gradient with respect to x
+    (``_log_condition`` returns the gradient as a function, called where the optimiser needs
+    it)."""
+    value, gradient = ex_module._log_condition(x, robot, columns, basis, coulomb_scale, power)
+    return value, gradient()
+
+
 def _formula(series, t):
     """q, qd, qdd of Swevers et al. (1997), Eq. (9), written out term by term (not the
     module's matrix form)."""
@@ -186,7 +194,7 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     series = random_excitation(robot, 4, 2 * math.pi / 8, 5)
     basis = ex_module._Basis(4, series.wf, ex_module._middles(series.period, 60))
     x = ex_module._variables(series)
-    value, grad = ex_module._log_condition_and_gradient(x, robot, cols, basis)
+    value, grad = _log_condition_and_gradient(x, robot, cols, basis)
     q, qd, qdd = _formula(series, ex_module._middles(series.period, 60))
     model = pinocchio_model(robot)
     data = model.createData()
@@ -234,7 +242,7 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
             ((sz[-1] / sz) ** power).sum())) / power
 
     def g(z):
-        return ex_module._log_condition_and_gradient(z, robot, cols, basis)[1]
+        return _log_condition_and_gradient(z, robot, cols, basis)[1]
 
     assert objective(x) == pytest.approx(value, rel=1e-9)
     err = check_grad(objective, g, x, epsilon=1e-6)
@@ -242,12 +250,12 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
 
     # the first stages' P = 2: the A-optimality criterion, (1/2) log p + (1/2) log of the
     # trace of the inverse information matrix of the unit-norm columns
-    value2, grad2 = ex_module._log_condition_and_gradient(x, robot, cols, basis, power=2)
+    value2, grad2 = _log_condition_and_gradient(x, robot, cols, basis, power=2)
     assert value2 == pytest.approx(0.5 * math.log(cols.count) + 0.5 * math.log(
         np.trace(np.linalg.inv(Ws.T @ Ws))), rel=1e-9)
     assert objective(x, power=2) == pytest.approx(value2, rel=1e-9)
     err = check_grad(lambda z: objective(z, power=2),
-                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis,
+                     lambda z: _log_condition_and_gradient(z, robot, cols, basis,
                                                                       power=2)[1],
                      x, epsilon=1e-6)
     assert err <= 1e-3 * np.linalg.norm(grad2)
@@ -263,13 +271,13 @@ def test_the_objective_is_the_scaled_condition_of_a_regressor_spanning_pinocchio
     st = np.linalg.svd(Yt.reshape(-1, cols.count) / np.linalg.norm(
         Yt.reshape(-1, cols.count), axis=0), compute_uv=False)
     P = ex_module.SMOOTH_POWER
-    value_t, grad_t = ex_module._log_condition_and_gradient(x, robot, cols, basis, v)
+    value_t, grad_t = _log_condition_and_gradient(x, robot, cols, basis, v)
     assert value_t == pytest.approx(math.log(st[0] / st[-1]) + (math.log(
         ((st / st[0]) ** P).sum()) + math.log(((st[-1] / st) ** P).sum())) / P, rel=1e-9)
     assert value_t != pytest.approx(value, rel=1e-6)
     assert objective(x, v=v) == pytest.approx(value_t, rel=1e-9)
     err = check_grad(lambda z: objective(z, v=v),
-                     lambda z: ex_module._log_condition_and_gradient(z, robot, cols, basis, v)[1],
+                     lambda z: _log_condition_and_gradient(z, robot, cols, basis, v)[1],
                      x, epsilon=1e-6)
     assert np.isfinite(grad_t).all() and err <= 1e-3 * np.linalg.norm(grad_t)
 

@@ -74,7 +74,7 @@ CONSTRAINT_POINTS_PER_HARMONIC = 20
 BOUND_POINTS_PER_HARMONIC = 400
 #: The optimisation's stages, each (v, P): the Coulomb columns sgn(qd_j) replaced by
 #: tanh(qd_j / v_j) with v_j = v x the joint's velocity limit (None: sgn itself), and the
-#: exponent P of the smooth objective (:func:`_log_condition_and_gradient`). The sampled
+#: exponent P of the smooth objective (:func:`_log_condition`). The sampled
 #: sgn(qd) is piecewise constant in the coefficients (its gradient is zero): the surrogates let
 #: the optimiser see how the time spent at each speed decorrelates the Coulomb column from the
 #: viscous one (mean |qd| / rms qd), the pair that bounds the condition number of an arm whose
@@ -361,12 +361,6 @@ def _singular(Ws):
 #: Exponent P of the smooth objective: log of the ratio of the P-norm of the singular values
 #: to the P-norm of their inverses' inverse, log cond as P -> infinity.
 SMOOTH_POWER = 16.0
-
-
-def _log_condition_and_gradient(x, robot, columns, basis, coulomb_scale=None, power=None):
-    """:func:`_log_condition` at x and its gradient with respect to x, shape (n (2K - 1),)."""
-    value, gradient = _log_condition(x, robot, columns, basis, coulomb_scale, power)
-    return value, gradient()
 
 
 def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
