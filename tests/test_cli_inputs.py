@@ -115,3 +115,13 @@ def test_a_number_just_beyond_a_limit_shows_its_digits(tmp_path, capsys):
     csv.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n0,0,0,0,0,1.0000001e8,0\n1,0,0,0,0,0,0\n")
     _refused(capsys, ["compare", "two-link", csv],
              "1.0000001e+08 is beyond the supported magnitude 1e+08")
+
+
+def test_an_excitation_beyond_the_set_point_limit_is_refused_before_it_is_planned(tmp_path,
+                                                                                 capsys):
+    """One set point per 10 ms over --duration 1e9 s are 10^11 set points, beyond the 10^8 a
+    trajectory may hold: one line naming --duration, exit 2 (not an array of 745 GiB, exit 4),
+    nothing written."""
+    _refused(capsys, ["plan", "two-link", "--excitation", "-o", tmp_path / "x.csv",
+                      "--duration", "1e9"], "--duration: 100,000,000,001 set points")
+    assert not list(tmp_path.iterdir())

@@ -705,9 +705,6 @@ def _plan_excitation(args, robot, qdd_arg):
                   else None)
         raise InputError(str(exc), column=column) from None
     traj = ex.trajectory
-    if not 2 <= traj.n_setpoints <= 10**8:
-        raise InputError(f"{traj.n_setpoints} set points: give --setpoints (2 to 10^8)",
-                         column="--setpoints")
     if first_beyond(traj.t, LIMITS["t"]) is not None:
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")

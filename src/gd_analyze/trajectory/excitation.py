@@ -689,8 +689,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     Raises
     ------
     ValueError
-        If K < 2, starts < 1, N < 2, the timing is inconsistent (:func:`excitation_timing`), or a
-        joint has no velocity limit.
+        If K < 2, starts < 1, N < 2 or N > 10^8, the timing is inconsistent
+        (:func:`excitation_timing`), or a joint has no velocity limit.
 
     Notes
     -----
@@ -715,8 +715,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
         raise ValueError("at least one start")
     T, wf, periods = excitation_timing(duration, base_frequency)
     N = round(T / DEFAULT_SAMPLE_PERIOD) + 1 if n_setpoints is None else int(n_setpoints)
-    if N < 2:
-        raise ValueError("a trajectory needs at least 2 set points")
+    if not 2 <= N <= 10**8:
+        raise ValueError(f"{N:,} set points over the duration {T:g} s: 2 to 10^8 allowed")
     import scipy.optimize  # noqa: F401  (loads SciPy's own BLAS before the limit below)
     from threadpoolctl import threadpool_limits
 
