@@ -284,7 +284,7 @@ def test_sweep_command_on_csv_files(tmp_path, capsys, puma_analysis):
 @pytest.mark.parametrize("args, expect", [
     (["sweep", "puma560"], "either --random K or trajectory CSV files"),
     (["sweep", "puma560", "--random", "3", str(SHIPPED)], "either --random K"),
-    (["sweep", "puma560", "--random", "0"], "K must be in [1, 10^6]"),
+    (["sweep", "puma560", "--random", "0"], "--random must be in [1, 1000000]"),
     (["sweep", "puma560", "--random", "2", "--payload-sweep", "1:0:0.5"], "--payload-sweep"),
 ])
 def test_sweep_bad_arguments(tmp_path, capsys, args, expect):

@@ -68,7 +68,15 @@ def test_a_value_with_a_minus_sign_is_the_options(plan, capsys):
 
 def test_held_out_below_zero_is_refused_before_a_cluster_starts(capsys):
     _refused(capsys, ["sweep", "two-link", "--random", "2", "--held-out", "-1",
-                      "--scheduler", "tcp://192.0.2.1:9"], "--held-out must be at least 0")
+                      "--scheduler", "tcp://192.0.2.1:9"], "--held-out must be in [0, 1000000]")
+
+
+def test_held_out_beyond_the_random_limit_is_refused_before_it_is_planned(capsys):
+    """--held-out K plans K random trajectories as --random K does, so it takes --random's
+    bound, 10^6: 10^6 + 1 is one line naming it, before any trajectory is planned (it planned
+    them all, for minutes, then tried the scheduler)."""
+    _refused(capsys, ["sweep", "two-link", "--random", "2", "--held-out", str(10**6 + 1),
+                      "--scheduler", "tcp://192.0.2.1:9"], "--held-out must be in [0, 1000000]")
 
 
 def test_a_urdf_with_lower_above_upper_is_refused(tmp_path, plan, capsys):

@@ -150,9 +150,11 @@ def _integer(text):
     return _number(text, integer=True)
 
 
-def _whole(name, lo=0):
-    """A whole number of at least lo, by the CSV's rules (no ``1_0``, no other digits)."""
-    return _checked(_integer, lambda v: v >= lo, f"{name} must be at least {lo}, got {{v}}")
+def _whole(name, lo=0, hi=None):
+    """A whole number of at least lo (and at most hi, if given), by the CSV's rules (no ``1_0``,
+    no other digits)."""
+    return _checked(_integer, lambda v: lo <= v <= (v if hi is None else hi), f"{name} must be "
+                    + (f"at least {lo}" if hi is None else f"in [{lo}, {hi}]") + ", got {v}")
 
 
 def _fraction(lo, hi, name, lo_open=True):
@@ -586,7 +588,7 @@ def sweep_parser() -> argparse.ArgumentParser:
                             "sweep_report.html/.pdf.")
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("csv", metavar="CSV", nargs="*", help="trajectory files (or use --random)")
-    p.add_argument("--random", metavar="K", type=_whole("--random"),
+    p.add_argument("--random", metavar="K", type=_whole("--random", 1, 10**6),
                    help="plan K random quintic trajectories (start and goal uniform in the "
                         "joint limits, shortest duration within the limits, 31 set points)")
     p.add_argument("--seed", metavar="S", type=_seed, default=0,
@@ -609,7 +611,7 @@ def sweep_parser() -> argparse.ArgumentParser:
     _add_region_arguments(p, "the region over which the merged model's bound is proved "
                              "(--guarantee region), in place of the robot's limits; random "
                              "trajectories keep to the robot's")
-    p.add_argument("--held-out", metavar="K", type=_whole("--held-out"), default=20,
+    p.add_argument("--held-out", metavar="K", type=_whole("--held-out", 0, 10**6), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
     _add_print_arguments(p, "the HTML and PDF report")
