@@ -133,3 +133,18 @@ def test_an_excitation_beyond_the_set_point_limit_is_refused_before_it_is_planne
     _refused(capsys, ["plan", "two-link", "--excitation", "-o", tmp_path / "x.csv",
                       "--duration", "1e9"], "--duration: 100,000,000,001 set points")
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--goal", "1e308,0"], "--goal: joint 1 at 1e+308 "),
+    (["--goal", "0,1e6", "--duration", "1e9"], "--goal: joint 2 at 1e+06 "),
+    (["--start", "-1e6,0", "--duration", "1e9"], "--start: joint 1 at -1e+06 ")])
+def test_a_plan_from_or_to_a_position_no_trajectory_may_hold_is_refused(tmp_path, capsys, args,
+                                                                         said):
+    """With --ignore-limits, a start or goal beyond 1e4 rad (a position the CSV reader
+    refuses; 1e6 deg is 1.7e4 rad) is one line naming that option and the joint: not an
+    overflow warning beside the error, nor the advice to choose a longer --duration, which no
+    duration could follow; nothing is written."""
+    _refused(capsys, ["plan", "two-link", "-o", tmp_path / "x.csv", "--ignore-limits", *args],
+             said)
+    assert not list(tmp_path.iterdir())

@@ -524,14 +524,17 @@ def cmd_plan(args: argparse.Namespace) -> int:
     for name in ("harmonics", "base_frequency", "seed"):
         if getattr(args, name) is not None:
             raise InputError("only with --excitation", column=f"--{name.replace('_', '-')}")
-    if args.setpoints is None:
-        args.setpoints = DEFAULT_SETPOINTS
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
         warn_if(check_velocity_limits(robot))
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
             raise InputError(f"{name}: {len(vals)} values for {robot.n} joints")
+        far = None if vals is None else first_beyond(user_positions(robot, vals), LIMITS["q"])
+        if far is not None:     # no trajectory may hold it, whatever its duration
+            raise InputError(f"joint {far[0] + 1} at {vals[far[0]]:g} is beyond the largest "
+                             f"position accepted, {math.degrees(LIMITS['q']):.6g} deg (a "
+                             f"prismatic joint: {LIMITS['q']:g} m)", column=name)
     start = start if args.start is None else user_positions(robot, args.start)
     goal = goal if args.goal is None else user_positions(robot, args.goal)
 
@@ -549,7 +552,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     if not args.ignore_limits:
         _check_plan(planning, start, goal, args.duration)
     try:
-        plan = quintic_plan(planning, start, goal, args.setpoints, args.duration)
+        plan = quintic_plan(planning, start, goal, args.setpoints or DEFAULT_SETPOINTS,
+                            args.duration)
     except ValueError as exc:
         raise InputError(str(exc)) from None
     T = plan.duration                                       # t runs from 0 to T
@@ -624,11 +628,9 @@ def _write_plan(args, robot, pieces, advice, record, summary):
 
 
 def _check_plan_options(args, positive=False):
-    """Refuse ``plan``'s --setpoints, --duration and --base-frequency out of range (with
+    """Refuse ``plan``'s --duration and --base-frequency out of range (with
     ``positive``: a --duration or --base-frequency <= 0 as not positive, first), then an
     output CSV or provenance that this run may not write (store/staging.py)."""
-    if args.setpoints is not None and not 2 <= args.setpoints <= 10**8:
-        raise InputError("--setpoints: a trajectory needs 2 to 10^8 set points")
     for name, value in (("--duration", args.duration), ("--base-frequency",
                                                         args.base_frequency)):
         if positive and value is not None and not value > 0:
@@ -692,8 +694,6 @@ def _plan_excitation(args, robot, qdd_arg):
     warn_if(check_velocity_limits(robot))
     _check_plan_options(args, positive=True)
     harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
-    if harmonics > 100:
-        raise InputError(f"at most 100 harmonics, got {harmonics}", column="--harmonics")
     seed = 0 if args.seed is None else args.seed
     try:
         ex = plan_excitation(robot, duration=args.duration, harmonics=harmonics,

@@ -447,7 +447,7 @@ def plan_parser() -> argparse.ArgumentParser:
                         f"{','.join(f'{v:g}' for v in DEFAULT_GOAL_DEG)}; for other robots "
                         "the other end of the start's span: even joints move up, odd joints "
                         "down)")
-    p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints"),
+    p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints", 2, 10**8),
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS}; "
                         f"with --excitation one per {DEFAULT_SAMPLE_PERIOD * 1e3:g} ms)")
     p.add_argument("--duration", metavar="T", type=_number,
@@ -460,7 +460,7 @@ def plan_parser() -> argparse.ArgumentParser:
                         "and acceleration limits, minimising the condition number of the "
                         "column-scaled base regressor with armature, viscous, Coulomb and "
                         "offset columns")
-    p.add_argument("--harmonics", metavar="K", type=_whole("--harmonics", 2),
+    p.add_argument("--harmonics", metavar="K", type=_whole("--harmonics", 2, 100),
                    help=f"with --excitation: harmonics of the series (default "
                         f"{DEFAULT_HARMONICS})")
     p.add_argument("--base-frequency", metavar="WF", type=_number,
