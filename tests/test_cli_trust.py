@@ -220,6 +220,9 @@ def test_case8_payload_sweep(cwd, capsys, args, match):
     (["--seed", "-1"], "--seed must be in [0, 2^63)"),
     (["--seed", "1" * 30], "--seed must be in [0, 2^63)"),
     (["--scheduler", "not a url"], "--scheduler"),
+    # no port, or a scheme dask has no comm for: refused as an address, not tried
+    (["--scheduler", "tcp://localhost"], "--scheduler: not a dask scheduler address"),
+    (["--scheduler", "http://127.0.0.1:8786"], "--scheduler: not a dask scheduler address"),
 ])
 def test_case8_sweep_arguments(cwd, capsys, args, match):
     _refused(["sweep", "two-link", "--random", "2", "-o", "o", *args], capsys, cwd, match)

@@ -170,7 +170,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.scheduler is not None:
         import re
 
-        if not re.fullmatch(r"([a-z][a-z0-9+.-]*://)?[^\s/:]+(:[0-9]{1,5})?/?", args.scheduler):
+        if not re.fullmatch(r"((tcp|tls|ws|wss|ucx)://)?[^\s/:]+:[0-9]{1,5}/?", args.scheduler):
             raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
                              column="--scheduler")
     if args.rule == "chapter" and (args.form == "recursive" or args.explicit == "never"):
