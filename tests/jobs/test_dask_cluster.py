@@ -59,6 +59,23 @@ def test_a_silent_server_is_refused_after_the_timeout(server):
         check_scheduler(server(b""), timeout=0.5)
 
 
+def test_an_address_where_nothing_accepts_is_not_called_a_silent_server(monkeypatch):
+    """dask's connect gives up connecting when its timeout runs out (as it does at an address
+    where nothing listens, or that no route reaches): that is said, not "the server accepted
+    the connection and stayed silent", which a check timed out at the same moment said."""
+    import asyncio
+
+    import distributed.comm
+
+    async def nothing_accepts(address, timeout):
+        await asyncio.sleep(timeout)
+        raise OSError(f"Timed out trying to connect to {address} after {timeout} s")
+
+    monkeypatch.setattr(distributed.comm, "connect", nothing_accepts)
+    with pytest.raises(ConnectionError, match="^Timed out trying to connect to tcp://"):
+        check_scheduler("tcp://192.0.2.1:9", timeout=0.5)
+
+
 def test_a_server_that_is_not_dask_is_refused(server):
     with pytest.raises(ConnectionError, match="not a dask scheduler"):
         check_scheduler(server(HTTP * 20))
