@@ -148,3 +148,14 @@ def test_a_plan_from_or_to_a_position_no_trajectory_may_hold_is_refused(tmp_path
     _refused(capsys, ["plan", "two-link", "-o", tmp_path / "x.csv", "--ignore-limits", *args],
              said)
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("command", [[], ["sweep"]])
+def test_negligible_of_one_is_refused_as_the_option(plan, tmp_path, capsys, command):
+    """--negligible E calls an element negligible below E times its scale: the ranking takes E
+    in [0, 1) (at E = 1 an element at its own scale would be negligible), so 1 is one line
+    naming the option, exit 2, and no output folder; it passed the parser and ended in exit 4
+    (an internal error) when the ranking refused it."""
+    _refused(capsys, [*command, "two-link", plan, "-o", tmp_path / "o", "--no-report",
+                      "--negligible", "1"], "--negligible must be in [0.0, 1.0), got 1.0")
+    assert not (tmp_path / "o").exists()

@@ -157,15 +157,17 @@ def _whole(name, lo=0, hi=None):
                     + (f"at least {lo}" if hi is None else f"in [{lo}, {hi}]") + ", got {v}")
 
 
-def _fraction(lo, hi, name, lo_open=True):
-    return _checked(_number, lambda v: (lo < v if lo_open else lo <= v) and v <= hi
-                    and math.isfinite(v),
-                    f"{name} must be in {'(' if lo_open else '['}{lo}, {hi}], got {{v}}")
+def _fraction(lo, hi, name, ends="(]"):
+    """A finite number from lo to hi, an end included where ``ends`` has a square bracket
+    (``"[)"``: lo but not hi)."""
+    return _checked(_number, lambda v: math.isfinite(v) and (lo <= v if ends[0] == "[" else lo < v)
+                    and (v <= hi if ends[1] == "]" else v < hi),
+                    f"{name} must be in {ends[0]}{lo}, {hi}{ends[1]}, got {{v}}")
 
 
 def _nonnegative(name):
     """A finite number >= 0."""
-    return _fraction(0.0, math.inf, name, lo_open=False)
+    return _fraction(0.0, math.inf, name, "[]")
 
 
 def _angles(text):
@@ -295,8 +297,7 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
                  "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
                  "trajectory, TAU)")
-    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, 1e3, "--tolerance",
-                                                                lo_open=False),
+    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, 1e3, "--tolerance", "[]"),
                    default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
                         f"its scale {where} (default {defaults['tolerance']:g})")
@@ -331,7 +332,7 @@ def _add_threshold_arguments(p, dominance="default {}", negligible="default {}")
     """--dominance and --negligible, each help text a template of its default."""
     p.add_argument("--dominance", metavar="S", type=_fraction(0.5, 1.0, "--dominance"),
                    default=defaults["dominance"], help=dominance.format(defaults["dominance"]))
-    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", False),
+    p.add_argument("--negligible", metavar="E", type=_fraction(0.0, 1.0, "--negligible", "[)"),
                    default=defaults["negligible"], help=negligible.format(defaults["negligible"]))
 
 
@@ -552,7 +553,7 @@ def control_parser() -> argparse.ArgumentParser:
     p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
                    default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
     p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
-                                                             "--offset", False),
+                                                             "--offset", "[]"),
                    default=0.0, help="initial position error on every joint [rad; m on a "
                                      "prismatic joint], within [-2 pi, 2 pi] (default 0)")
     rad, metre = defaults["verdict_tolerance"]
