@@ -159,3 +159,13 @@ def test_negligible_of_one_is_refused_as_the_option(plan, tmp_path, capsys, comm
     _refused(capsys, [*command, "two-link", plan, "-o", tmp_path / "o", "--no-report",
                       "--negligible", "1"], "--negligible must be in [0.0, 1.0), got 1.0")
     assert not (tmp_path / "o").exists()
+
+
+def test_a_torque_floor_whose_budget_overflows_is_refused(plan, tmp_path, capsys):
+    """The budget of a joint is EPS times its scale, at least TAU: --tolerance 1000 with
+    --torque-floor 1e308 is 1e311, beyond a float (numpy's overflow warnings, one line each,
+    then a run on an infinite budget). TAU is bounded at 1e30 N m, far above the largest torque
+    an accepted input can make (about 1e20 N m): one line, exit 2, no output folder."""
+    _refused(capsys, ["two-link", plan, "-o", tmp_path / "o", "--no-report", "--tolerance",
+                      "1000", "--torque-floor", "1e308"], "--torque-floor must be in [0, 1e+30]")
+    assert not (tmp_path / "o").exists()

@@ -301,7 +301,7 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                    default=defaults["tolerance"],
                    help="error budget: every joint's simplified torque stays within EPS times "
                         f"its scale {where} (default {defaults['tolerance']:g})")
-    g.add_argument("--torque-floor", metavar="TAU", type=_nonnegative("--torque-floor"),
+    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0, 1e30, "--torque-floor", "[]"),
                    default=defaults["torque_floor"],
                    help=f"least scale of a joint torque [N m] (default "
                         f"{defaults['torque_floor']:g})")
