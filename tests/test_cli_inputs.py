@@ -169,3 +169,13 @@ def test_a_torque_floor_whose_budget_overflows_is_refused(plan, tmp_path, capsys
     _refused(capsys, ["two-link", plan, "-o", tmp_path / "o", "--no-report", "--tolerance",
                       "1000", "--torque-floor", "1e308"], "--torque-floor must be in [0, 1e+30]")
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("command", [[], ["sweep"]])
+def test_quiet_and_verbose_together_are_refused(plan, tmp_path, capsys, command):
+    """-q prints nothing but errors (and warnings), -v lists every file written: asked for
+    both, the run said nothing and -v was dropped unsaid. They are one or the other: one line
+    naming both, exit 2, no output folder."""
+    _refused(capsys, [*command, "two-link", plan, "-o", tmp_path / "o", "--no-report", "-q",
+                      "-v"], "argument -v/--verbose: not allowed with argument -q/--quiet")
+    assert not (tmp_path / "o").exists()

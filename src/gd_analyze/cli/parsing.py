@@ -336,12 +336,12 @@ def _add_threshold_arguments(p, dominance="default {}", negligible="default {}")
                    default=defaults["negligible"], help=negligible.format(defaults["negligible"]))
 
 
-def _add_verbose_argument(p, quiet=False, default=" (default: how many, and the folder)"):
-    """-v, its help ending in ``default`` (with ``quiet``: -q before it)."""
-    if quiet:
-        p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
-    p.add_argument("-v", "--verbose", action="store_true",
-                   help="list every file written" + default)
+def _add_verbose_argument(p, quiet="print nothing but errors",
+                          default=" (default: how many, and the folder)"):
+    """-q (help ``quiet``) and -v (its help ending in ``default``), one or the other."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("-q", "--quiet", action="store_true", help=quiet)
+    g.add_argument("-v", "--verbose", action="store_true", help="list every file written" + default)
 
 
 def _add_print_arguments(p, skip=None):
@@ -402,9 +402,7 @@ def analyze_parser() -> argparse.ArgumentParser:
                         "(default 0: uncompressed, fastest)")
     p.add_argument("--no-verify", action="store_true",
                    help="skip the verification against Pinocchio")
-    p.add_argument("-q", "--quiet", action="store_true",
-                   help="print nothing but warnings and errors (no summary, no progress bar)")
-    _add_verbose_argument(p)
+    _add_verbose_argument(p, "print nothing but warnings and errors (no summary, no progress bar)")
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
@@ -565,7 +563,7 @@ def control_parser() -> argparse.ArgumentParser:
                         f"(default {rad:g},{metre:g}; one number for both)")
     _add_print_arguments(p, "the HTML and PDF report")
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
-    _add_verbose_argument(p, quiet=True)
+    _add_verbose_argument(p)
     _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
                                "gravity controllers; the simplified model keeps its own)")
     return p
@@ -616,7 +614,7 @@ def sweep_parser() -> argparse.ArgumentParser:
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
     _add_print_arguments(p, "the HTML and PDF report")
-    _add_verbose_argument(p, quiet=True)
+    _add_verbose_argument(p)
     _add_chain_arguments(p)
     _add_mounting_arguments(p)
     _add_payload_arguments(p, sweep=True)
@@ -706,5 +704,5 @@ def identify_parser() -> argparse.ArgumentParser:
                         "error on the validation recordings")
     _add_print_arguments(p, "report.html and report.pdf")
     _add_chain_arguments(p)
-    _add_verbose_argument(p, quiet=True, default="")
+    _add_verbose_argument(p, default="")
     return p
