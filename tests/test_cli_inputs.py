@@ -179,3 +179,13 @@ def test_quiet_and_verbose_together_are_refused(plan, tmp_path, capsys, command)
     _refused(capsys, [*command, "two-link", plan, "-o", tmp_path / "o", "--no-report", "-q",
                       "-v"], "argument -v/--verbose: not allowed with argument -q/--quiet")
     assert not (tmp_path / "o").exists()
+
+
+def test_workers_with_a_scheduler_are_refused(capsys):
+    """--workers N sizes the LocalCluster started when no --scheduler is given; a running
+    cluster has its own workers, so --workers beside --scheduler was dropped unsaid (the sweep
+    ran on that cluster's workers). They are one or the other: one line naming both, exit 2,
+    before any connection."""
+    _refused(capsys, ["sweep", "two-link", "--random", "2", "--workers", "4", "--scheduler",
+                      "tcp://192.0.2.1:9"], "argument --scheduler: not allowed with argument "
+                                            "--workers")

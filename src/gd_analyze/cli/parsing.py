@@ -165,11 +165,6 @@ def _fraction(lo, hi, name, ends="(]"):
                     f"{name} must be in {ends[0]}{lo}, {hi}{ends[1]}, got {{v}}")
 
 
-def _nonnegative(name):
-    """A finite number >= 0."""
-    return _fraction(0.0, math.inf, name, "[]")
-
-
 def _angles(text):
     try:
         return [_number(v) for v in text.split(",")]
@@ -199,7 +194,7 @@ def _vector3(name):
 def _add_payload_arguments(p, sweep=False):
     """--payload, --payload-com, --payload-inertia (with ``sweep``: --payload-sweep after them)."""
     g = p.add_argument_group("payload (a rigid load fixed to the last link)")
-    g.add_argument("--payload", metavar="MASS", type=_nonnegative("--payload"),
+    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", "[]"),
                    help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
     g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
                    default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
@@ -491,7 +486,7 @@ def evaluate_parser() -> argparse.ArgumentParser:
                             "the model's guarantee and whether it covers the trajectory.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
-    p.add_argument("--max-error", metavar="REL", type=_nonnegative("--max-error"),
+    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error", "[]"),
                    help="exit with status 3 if the peak relative torque error of any joint "
                         "(relative to its peak |tau| on the trajectory; to the model's s_i "
                         "where that is 0) exceeds REL (default: exit 3 if any joint's error "
@@ -594,13 +589,14 @@ def sweep_parser() -> argparse.ArgumentParser:
                    help="seed for --random, an integer in [0, 2^63)")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-sweep/)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="address of a running dask scheduler (default: start a LocalCluster; "
-                        f"a sweep of at most {IN_PROCESS_SETPOINTS_MAX:,} set points without "
-                        "--workers runs in the command's own process)")
-    p.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
-                   help="workers of the LocalCluster, started even for a small sweep "
-                        "(default: one per core)")
+    cluster = p.add_mutually_exclusive_group()      # a running cluster has its own workers
+    cluster.add_argument("--scheduler", metavar="ADDRESS",
+                         help="address of a running dask scheduler (default: start a LocalCluster; "
+                              f"a sweep of at most {IN_PROCESS_SETPOINTS_MAX:,} set points without "
+                              "--workers runs in the command's own process)")
+    cluster.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
+                         help="workers of the LocalCluster, started even for a small sweep "
+                              "(default: one per core)")
     _add_threshold_arguments(p)
     _add_budget_arguments(p, where="over the joint-limit region (see --guarantee) or on every "
                                    "swept trajectory (scale_i = max(that trajectory's peak "
