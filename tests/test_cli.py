@@ -446,13 +446,16 @@ def test_summary_says_how_many_set_points_were_verified(tmp_path, capsys):
     assert line.startswith("verified against Pinocchio on 11 set points:")
 
 
+@pytest.mark.parametrize("command", [["sweep", "two-link", "--random", "2"], ["two-link", "T"]])
 @pytest.mark.parametrize("option", [["--form", "recursive"], ["--explicit", "never"]])
-def test_sweep_refuses_the_options_the_chapter_merge_ignores(tmp_path, capsys, option):
-    """The chapter rule's merge is explicit (the budget rule's merge takes --form and
-    --explicit): one line, exit 2, nothing written."""
-    out_dir = tmp_path / "sweep"
-    code, out, err = _run(["sweep", "two-link", "--random", "2", "-o", out_dir, "--rule",
-                           "chapter", *option], capsys)
+def test_the_chapter_rule_refuses_the_options_it_would_ignore(tmp_path, capsys, option,
+                                                              command):
+    """The chapter rule's model (and a sweep's merge of it) is explicit, in the main job and
+    the sweep alike (the budget rule takes --form and --explicit): one line, exit 2, nothing
+    written."""
+    out_dir = tmp_path / "out"
+    command = [str(_two_link_csv(tmp_path)) if a == "T" else a for a in command]
+    code, out, err = _run([*command, "-o", out_dir, "--rule", "chapter", *option], capsys)
     assert code == 2
     assert option[0] in err and len(err.strip().splitlines()) == 1, err
     assert not out_dir.exists()

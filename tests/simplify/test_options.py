@@ -32,3 +32,13 @@ def test_defaults_are_the_configured_ones_and_each_choice_is_checked():
             SimplifyOptions(tolerance=bad)
         with pytest.raises(ValueError, match=">= 0"):
             SimplifyOptions(torque_floor=bad)
+
+
+@pytest.mark.parametrize("other", [{"form": "recursive"}, {"explicit": "never"}])
+def test_the_chapter_rule_refuses_a_form_it_cannot_write(other):
+    """The chapter rule's model is the explicit model's elements in their classes, so it can
+    neither be written in recursive form nor built without the explicit model."""
+    with pytest.raises(ValueError, match="rule 'chapter' takes no form"):
+        SimplifyOptions(rule="chapter", **other)
+    assert SimplifyOptions(rule="budget", **other).rule == "budget"
+    assert SimplifyOptions(rule="chapter", form="explicit", explicit="always").form == "explicit"

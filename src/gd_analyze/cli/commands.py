@@ -376,6 +376,23 @@ def region_limits(args: argparse.Namespace, robot: Robot) -> RegionLimits | None
     return limits
 
 
+def check_rule_options(args: argparse.Namespace) -> None:
+    """Refuse ``--form recursive`` or ``--explicit never`` beside ``--rule chapter``, whose
+    model is the explicit model's elements (the rule of
+    :class:`gd_analyze.simplify.options.SimplifyOptions`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        Naming the option refused.
+    """
+    try:
+        SimplifyOptions(rule=args.rule, form=args.form, explicit=args.explicit)
+    except ValueError as exc:
+        raise InputError(str(exc), column="--form" if args.form == "recursive"
+                         else "--explicit") from None
+
+
 def _options(args, robot=None):
     """The main job's settings from its arguments (``robot``: for the region's options)."""
 
@@ -419,6 +436,7 @@ def cmd_analyze(args: argparse.Namespace) -> int:
         On bad input; the command line prints it as one line and exits 2.
     """
 
+    check_rule_options(args)
     bar = progress_bar(not args.quiet and sys.stderr.isatty())
     robot, trajectory = _load(args)
     bar.reset(total=trajectory.n_setpoints)

@@ -30,6 +30,7 @@ from ..trajectory.trajectory import read_trajectory
 from .commands import (
     apply_payload,
     chain_settings,
+    check_rule_options,
     command_line,
     load_robot_arg,
     mounting_settings,
@@ -173,10 +174,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         if not re.fullmatch(r"((tcp|tls|ws|wss|ucx)://)?[^\s/:]+:[0-9]{1,5}/?", args.scheduler):
             raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
                              column="--scheduler")
-    if args.rule == "chapter" and (args.form == "recursive" or args.explicit == "never"):
-        option = "--form recursive" if args.form == "recursive" else "--explicit never"
-        raise InputError(f"{option} does not apply to --rule chapter, whose merge keeps parts "
-                         "of the explicit model's elements")
+    check_rule_options(args)
     if args.csv:
         trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
     else:

@@ -55,8 +55,9 @@ class SimplifyOptions:
     Raises
     ------
     ValueError
-        If a value is out of range or not one of its choices, or ``region`` is not a
-        RegionLimits.
+        If a value is out of range or not one of its choices, ``region`` is not a
+        RegionLimits, or rule ``"chapter"`` is given form ``"recursive"`` or explicit
+        ``"never"`` (its model is the explicit model's elements in their classes).
 
     Examples
     --------
@@ -81,3 +82,6 @@ class SimplifyOptions:
         _check_choice("explicit", self.explicit, EXPLICIT)
         _check_choice("form", self.form, FORMS)
         _check_choice("guarantee", self.guarantee, GUARANTEES)
+        if self.rule == "chapter" and (self.form == "recursive" or self.explicit == "never"):
+            raise ValueError("rule 'chapter' takes no form 'recursive' or explicit 'never': its "
+                             "model is the explicit model's elements in their classes")
