@@ -376,6 +376,49 @@ def test_cli_writes_the_excitation_and_its_provenance(tmp_path, monkeypatch, cap
     assert record["robot_sha256"] == robot.sha256 and record["setpoints"] == 241
 
 
+@pytest.mark.parametrize("N, size", [(2, 1), (1001, 300), (1001, 1001)])
+def test_pieces_are_the_whole_excitation(N, size):
+    """Sampled piece by piece, the excitation gives the set points of the whole trajectory:
+    exactly numpy.linspace's times, and the series' formula there (to rounding: a matrix
+    product of one row may round otherwise than one of many)."""
+    ex = plan_excitation(load_robot("two-link"), starts=1, maxiter=1, n_setpoints=N)
+    pieces = list(ex.chunks(size))
+    assert max(p.n_setpoints for p in pieces) <= size and sum(p.n_setpoints for p in pieces) == N
+    whole = ex.trajectory
+    t = np.concatenate([p.t for p in pieces])
+    assert np.array_equal(t, np.linspace(0.0, ex.duration, N)) and np.array_equal(t, whole.t)
+    for k, name in enumerate(("q", "qd", "qdd")):
+        got = np.concatenate([getattr(p, name) for p in pieces])
+        np.testing.assert_allclose(got, getattr(whole, name), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(got, _formula(ex.series, t)[k], rtol=0, atol=1e-12)
+    assert {p.derivatives for p in pieces} == {"fourier"} and pieces[0].source == ex.source
+
+
+def test_cli_writes_the_excitation_piece_by_piece(tmp_path, monkeypatch, capsys):
+    """The command writes the set points a piece of at most CHUNK_SETPOINTS at a time (its
+    memory does not grow with N), and the file is the series' formula at every set point."""
+    from gd_analyze.cli import commands, main
+    from gd_analyze.trajectory import planning
+
+    monkeypatch.setattr(commands, "plan_excitation", lambda *args, **kwargs: plan_excitation(
+        *args, **kwargs, starts=1, maxiter=FEW_ITERATIONS))
+    monkeypatch.setattr(planning, "CHUNK_SETPOINTS", 100)
+    sizes, write = [], commands.write_trajectory_chunks
+    monkeypatch.setattr(commands, "write_trajectory_chunks", lambda pieces, n, path: write(
+        (sizes.append(p.n_setpoints) or p for p in pieces), n, path))
+    monkeypatch.chdir(tmp_path)
+    assert main(["plan", "two-link", "--excitation", "-o", "ex.csv", "--setpoints", "1001"]) == 0
+    assert capsys.readouterr().err.startswith("wrote ex.csv: 1001 set points over 10.0000 s")
+    assert sizes == [100] * 10 + [1]
+    ex = json.loads((tmp_path / "ex.provenance.json").read_text())["excitation"]
+    series = FourierSeries(q0=np.array(ex["q0"]), a=np.array(ex["a"]), b=np.array(ex["b"]),
+                           wf=ex["base_frequency_rad_s"])
+    traj = read_trajectory(tmp_path / "ex.csv", 2)
+    assert np.array_equal(traj.t, np.linspace(0.0, 10.0, 1001))
+    for got, want in zip((traj.q, traj.qd, traj.qdd), _formula(series, traj.t)):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("args, column", [
     (["--excitation", "--start", "0,0,0,0,0,0"], "--start"),
     (["--excitation", "--ignore-limits"], "--ignore-limits"),

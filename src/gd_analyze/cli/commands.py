@@ -722,13 +722,12 @@ def _plan_excitation(args, robot, qdd_arg):
                   else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)
                   else None)
         raise InputError(str(exc), column=column) from None
-    traj = ex.trajectory
-    if first_beyond(traj.t, LIMITS["t"]) is not None:
+    if first_beyond([ex.duration], LIMITS["t"]) is not None:
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")
     series, limits = ex.series, ex.limits
-    return _write_plan(args, robot, lambda: [traj], "", {
-        "trajectory": traj.source,
+    return _write_plan(args, robot, ex.chunks, "", {
+        "trajectory": ex.source,
         "excitation": {
             "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
                       "start and end at rest, optimised by SLSQP for the scaled condition "
@@ -749,11 +748,11 @@ def _plan_excitation(args, robot, qdd_arg):
                        "qdd_peak": ex.bounds.qdd_peak.tolist(),
                        "grid_points_per_period": ex.bounds.points},
         },
-        "setpoints": traj.n_setpoints, "duration_s": float(traj.t[-1]),
+        "setpoints": ex.n_setpoints, "duration_s": ex.duration,
         **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
         "qdd_max_source": limits["qdd_source"],
-    }, f"{traj.n_setpoints} set points over {traj.t[-1]:.4f} s ({traj.source}); scaled "
+    }, f"{ex.n_setpoints} set points over {ex.duration:.4f} s ({ex.source}); scaled "
        f"condition number {ex.condition:.4g} of {ex.columns.count} columns (random starts: "
        f"{float(np.min(ex.start_conditions)):.4g} at best), {ex.seconds:.1f} s; acceleration "
        f"limits: {limits['qdd_source']}")

@@ -46,7 +46,7 @@ from ..symbolic.drive_regressor import (
     identification_columns,
     identification_regressor,
 )
-from .planning import default_motion_range
+from .planning import SampledMotion, default_motion_range
 from .trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -334,11 +334,9 @@ def _kept_drives(columns, qd, qdd, coulomb_scale=None):
         D = drive_regressor(qd, qdd, columns.drives)
         surrogate = np.tanh(qd / v)
         slope = (1.0 - surrogate ** 2) / v
-        if "coulomb" in columns.drives:
-            n = qd.shape[1]
-            c = columns.drives.index("coulomb")
-            rows = np.arange(n)
-            D[:, rows, c * n + rows] = surrogate
+        if "coulomb" in columns.drives:     # joint j's Coulomb column is c n + j
+            n, c = qd.shape[1], columns.drives.index("coulomb")
+            D[:, np.arange(n), c * n + np.arange(n)] = surrogate
     return D[:, :, columns.drive_mask], slope
 
 
@@ -380,8 +378,7 @@ def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
     then to x by the basis (linear).
     """
     n = robot.n
-    states = basis.states(x, n)
-    q, qd, qdd = states
+    q, qd, qdd = basis.states(x, n)
     M = q.shape[0]
     base_idx = np.flatnonzero(columns.base.independent.reshape(-1))
     Yb, pullback = regressor_columns_pullback(robot, base_idx, q, qd, qdd)
@@ -559,13 +556,19 @@ def excitation_timing(duration: float | None = None,
 
 
 @dataclass(frozen=True, eq=False)
-class Excitation:
-    """An optimised excitation trajectory (:func:`plan_excitation`).
+class Excitation(SampledMotion):
+    """An optimised excitation trajectory (:func:`plan_excitation`), sampled on demand
+    (:meth:`rows`, :meth:`~gd_analyze.trajectory.planning.SampledMotion.chunks`, the whole
+    :attr:`~gd_analyze.trajectory.planning.SampledMotion.trajectory`).
 
     Attributes
     ----------
-    trajectory : Trajectory
-        The set points: t (N,) [s], q, qd, qdd (N, n); ``derivatives = "fourier"``.
+    duration : float
+        T [s], a whole number of periods.
+    n_setpoints : int
+        N >= 2 set points, evenly spaced in time, both ends included.
+    source : str
+        How the motion was made (harmonics, w_f, periods, seed).
     series : FourierSeries
         The series it samples.
     columns : IdentificationColumns
@@ -590,7 +593,9 @@ class Excitation:
         SLSQP's messages of each start, its stages joined by "; ".
     """
 
-    trajectory: Trajectory
+    duration: float
+    n_setpoints: int
+    source: str
     series: FourierSeries
     columns: IdentificationColumns
     condition: float
@@ -601,6 +606,26 @@ class Excitation:
     shrink: np.ndarray
     seconds: float
     messages: tuple
+
+    def rows(self, start: int, stop: int) -> Trajectory:
+        """Set points start to stop - 1 of the whole motion (the same times; the values to
+        rounding, the matrix products of :meth:`FourierSeries.evaluate` being over the piece).
+
+        Parameters
+        ----------
+        start, stop : int
+            0 <= start < stop <= N.
+
+        Returns
+        -------
+        Trajectory
+            t (stop - start,) [s] (:meth:`~gd_analyze.trajectory.planning.SampledMotion.times`),
+            q, qd, qdd (stop - start, n) from :meth:`FourierSeries.evaluate`;
+            ``derivatives = "fourier"``.
+        """
+        t = self.times(start, stop)
+        q, qd, qdd = self.series.evaluate(t)
+        return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives="fourier", source=self.source)
 
 
 def _variable_scales(K, wf, lo, hi, qd, qdd):
@@ -781,15 +806,12 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
         shrink = np.where(np.hypot(found.a, found.b).sum(1) > 0,
                           np.hypot(series.a, series.b).sum(1)
                           / np.hypot(found.a, found.b).sum(1), 1.0)
-    bounds = limit_bounds(series)
-    t = np.linspace(0.0, T, N)
-    q, qdot, qddot = series.evaluate(t)
-    traj = Trajectory(t=t, q=q, qd=qdot, qdd=qddot, derivatives="fourier",
+    return Excitation(duration=T, n_setpoints=N,
                       source=f"excitation: Fourier series of {K} harmonics, w_f = {wf:.6g} "
                              f"rad/s, {periods} period{'s' if periods > 1 else ''} of "
-                             f"{period:.6g} s, seed {int(seed)}")
-    return Excitation(trajectory=traj, series=series, columns=columns, condition=cond,
-                      start_conditions=tuple(start_conditions), bounds=bounds,
+                             f"{period:.6g} s, seed {int(seed)}",
+                      series=series, columns=columns, condition=cond,
+                      start_conditions=tuple(start_conditions), bounds=limit_bounds(series),
                       limits={"q_min": lo, "q_max": hi, "qd_max": qd, "qdd_max": qdd,
                               "qdd_source": qdd_source},
                       periods=periods, shrink=shrink, seconds=time.perf_counter() - clock,

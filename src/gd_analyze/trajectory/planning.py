@@ -32,7 +32,7 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["DEFAULT_START_DEG", "DEFAULT_GOAL_DEG", "DEFAULT_SETPOINTS",
            "quintic_duration", "quintic_min_durations", "default_motion", "default_motion_range",
-           "user_positions", "plan_quintic", "quintic_plan", "QuinticPlan", "CHUNK_SETPOINTS", "random_trajectories",
+           "user_positions", "plan_quintic", "quintic_plan", "QuinticPlan", "SampledMotion", "CHUNK_SETPOINTS", "random_trajectories",
            "provenance_path", "write_provenance", "read_provenance", "provenance_mismatch",
            "joint_title", "check_velocity_limits",
            "PLACEHOLDER_QD"]
@@ -219,13 +219,86 @@ def user_positions(robot: Robot, values: ArrayLike) -> np.ndarray:
     return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
 
 
-#: Set points computed and written at a time by :meth:`QuinticPlan.chunks` (about 50 MB of
+#: Set points computed and written at a time by :meth:`SampledMotion.chunks` (about 50 MB of
 #: arrays for 6 joints), so that ``plan --setpoints 100000000`` runs in bounded memory.
 CHUNK_SETPOINTS = 2**19
 
 
+class SampledMotion:
+    """A motion over [0, T] sampled on demand at N set points evenly spaced in time, piece by
+    piece (:class:`QuinticPlan`, :class:`~gd_analyze.trajectory.excitation.Excitation`).
+
+    Attributes
+    ----------
+    duration : float
+        T [s], > 0.
+    n_setpoints : int
+        N >= 2, both ends included.
+    """
+
+    duration: float
+    n_setpoints: int
+
+    def times(self, start: int, stop: int) -> np.ndarray:
+        """Times of set points start to stop - 1, bit for bit ``numpy.linspace(0, T, N)[start:stop]``.
+
+        Parameters
+        ----------
+        start, stop : int
+            0 <= start < stop <= N.
+
+        Returns
+        -------
+        ndarray, shape (stop - start,)
+            [s].
+        """
+        T, N = self.duration, self.n_setpoints
+        t = np.arange(start, stop, dtype=float) * (T / (N - 1)) + 0.0   # numpy.linspace's
+        if stop == N:
+            t[-1] = T
+        return t
+
+    def rows(self, start: int, stop: int) -> Trajectory:
+        """Set points start to stop - 1, at :meth:`times` (each subclass gives its own).
+
+        Parameters
+        ----------
+        start, stop : int
+            0 <= start < stop <= N.
+
+        Returns
+        -------
+        Trajectory
+            t (stop - start,) [s], q, qd, qdd (stop - start, n) [rad, rad/s, rad/s^2].
+        """
+        raise NotImplementedError
+
+    def chunks(self, size: int | None = None) -> Iterator[Trajectory]:
+        """The set points in consecutive pieces of at most ``size``.
+
+        Parameters
+        ----------
+        size : int, optional
+            Set points per piece, >= 1 (default :data:`CHUNK_SETPOINTS`).
+
+        Yields
+        ------
+        Trajectory
+            :meth:`rows` of each piece, in order.
+        """
+        size = CHUNK_SETPOINTS if size is None else int(size)
+        for start in range(0, self.n_setpoints, size):
+            yield self.rows(start, min(start + size, self.n_setpoints))
+
+    @property
+    def trajectory(self) -> Trajectory:
+        """Trajectory: every set point at once, in the memory of all N (:meth:`chunks` needs
+        that of one piece)."""
+        return self.rows(0, self.n_setpoints)
+
+
 @dataclasses.dataclass(frozen=True)
-class QuinticPlan:
+class QuinticPlan(SampledMotion):
     """A quintic rest-to-rest motion, sampled on demand at N set points evenly spaced in time.
 
     Attributes
@@ -257,14 +330,11 @@ class QuinticPlan:
         Returns
         -------
         Trajectory
-            t (stop - start,) [s] (``numpy.linspace(0, T, N)[start:stop]`` exactly), q, qd,
-            qdd (stop - start, n) [rad, rad/s, rad/s^2]; s(u) = 10 u^3 - 15 u^4 + 6 u^5 with
-            u = t / T, q = q_start + s (q_goal - q_start).
+            t (stop - start,) [s] (:meth:`~SampledMotion.times`), q, qd, qdd (stop - start, n)
+            [rad, rad/s, rad/s^2]; s(u) = 10 u^3 - 15 u^4 + 6 u^5 with u = t / T,
+            q = q_start + s (q_goal - q_start).
         """
-        T, N = self.duration, self.n_setpoints
-        t = np.arange(start, stop, dtype=float) * (T / (N - 1)) + 0.0   # numpy.linspace's
-        if stop == N:
-            t[-1] = T
+        T, t = self.duration, self.times(start, stop)
         u = (t / T)[:, None]
         s = u**3 * (10 - 15 * u + 6 * u**2)
         sd = 30 * u**2 * (1 - u) ** 2 / T
@@ -272,23 +342,6 @@ class QuinticPlan:
         dq = self.q_goal - self.q_start
         return Trajectory(t=t, q=self.q_start + s * dq, qd=sd * dq, qdd=sdd * dq,
                           derivatives="quintic", source=self.source)
-
-    def chunks(self, size: int | None = None) -> Iterator[Trajectory]:
-        """The set points in consecutive pieces of at most ``size``.
-
-        Parameters
-        ----------
-        size : int, optional
-            Set points per piece, >= 1 (default :data:`CHUNK_SETPOINTS`).
-
-        Yields
-        ------
-        Trajectory
-            :meth:`rows` of each piece, in order.
-        """
-        size = CHUNK_SETPOINTS if size is None else int(size)
-        for start in range(0, self.n_setpoints, size):
-            yield self.rows(start, min(start + size, self.n_setpoints))
 
 
 def quintic_plan(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
@@ -342,7 +395,7 @@ def plan_quintic(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
                  n_setpoints: int = DEFAULT_SETPOINTS, duration: float | None = None
                  ) -> Trajectory:
     """Quintic joint-interpolated rest-to-rest motion at the shortest admissible duration,
-    sampled at once (:func:`quintic_plan`, then :meth:`QuinticPlan.rows` of every set point).
+    sampled at once (:func:`quintic_plan`, then its :attr:`~SampledMotion.trajectory`).
 
     Parameters
     ----------
@@ -360,8 +413,7 @@ def plan_quintic(robot: Robot, q_start: ArrayLike, q_goal: ArrayLike,
     ValueError
         As :func:`quintic_plan`.
     """
-    plan = quintic_plan(robot, q_start, q_goal, n_setpoints, duration)
-    return plan.rows(0, plan.n_setpoints)
+    return quintic_plan(robot, q_start, q_goal, n_setpoints, duration).trajectory
 
 
 def default_motion_range(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
@@ -427,18 +479,15 @@ def random_trajectories(robot: Robot, k: int, seed: int = 0,
     k = int(k)
     if k < 1:
         raise ValueError(f"the number of trajectories must be >= 1, got {k}")
-    if int(n_setpoints) < 2:
-        raise ValueError("a trajectory needs at least 2 set points")
     if isinstance(seed, bool) or int(seed) != seed or int(seed) < 0:
         raise ValueError(f"the seed must be a non-negative integer, got {seed!r}")
     seed = int(seed)
     rng = np.random.default_rng(seed)
     lo, hi = default_motion_range(robot)
     out = []
-    for i in range(k):
-        q_start = rng.uniform(lo, hi)
-        q_goal = rng.uniform(lo, hi)
-        traj = plan_quintic(robot, q_start, q_goal, n_setpoints=int(n_setpoints))
+    for i in range(k):          # the start, then the goal (arguments run left to right)
+        traj = plan_quintic(robot, rng.uniform(lo, hi), rng.uniform(lo, hi),
+                            n_setpoints=int(n_setpoints))
         out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
     return out
 

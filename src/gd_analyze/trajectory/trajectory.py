@@ -192,12 +192,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
                          row=int(rows[k]), column="t")
     _check_magnitudes(values, names, n, path, lambda k: int(rows[k]))
     q = values[:, 1:n + 1]
-    if len(names) == 3 * n + 1:
-        qd, qdd = values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]
-        how = "file"
-    else:
-        qd, qdd = _spline(t, q, path, row_of=lambda k: k + 2)
-        how = "cubic-spline"
+    how = "file" if len(names) == 3 * n + 1 else "cubic-spline"
+    qd, qdd = ((values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]) if how == "file"
+               else _spline(t, q, path, row_of=lambda k: k + 2))
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
 
