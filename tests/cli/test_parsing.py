@@ -55,3 +55,20 @@ def test_identify_drive_options_out_of_range_are_one_line(capsys, argv, said):
     code = main(["identify", "two-link", "no-such-file.csv", *argv])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and said in err, err
+
+
+@pytest.mark.parametrize("workers, ok", [("1", True), ("256", True), ("257", False),
+                                         ("1000", False), ("0", False)])
+def test_sweep_workers_are_at_most_256(workers, ok):
+    """--workers 1000 started a LocalCluster of 1000 processes on this machine. The parser
+    alone is asked: the old one let the value through, and a sweep would have started them."""
+    from gd_analyze.cli.parsing import sweep_parser
+    from gd_analyze.errors import InputError
+
+    argv = ["puma560", "--random", "2", "--workers", workers]
+    if ok:
+        assert sweep_parser().parse_intermixed_args(argv).workers == int(workers)
+        return
+    with pytest.raises(InputError, match=rf"^sweep: argument --workers: --workers must be in "
+                                         rf"\[1, 256\], got {workers}$"):
+        sweep_parser().parse_intermixed_args(argv)

@@ -594,9 +594,9 @@ def sweep_parser() -> argparse.ArgumentParser:
                          help="address of a running dask scheduler (default: start a LocalCluster; "
                               f"a sweep of at most {IN_PROCESS_SETPOINTS_MAX:,} set points without "
                               "--workers runs in the command's own process)")
-    cluster.add_argument("--workers", metavar="N", type=_whole("--workers", 1),
+    cluster.add_argument("--workers", metavar="N", type=_whole("--workers", 1, 256),
                          help="workers of the LocalCluster, started even for a small sweep "
-                              "(default: one per core)")
+                              "(default: one per core; at most 256, each a process)")
     _add_threshold_arguments(p)
     _add_budget_arguments(p, where="over the joint-limit region (see --guarantee) or on every "
                                    "swept trajectory (scale_i = max(that trajectory's peak "
