@@ -576,11 +576,13 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise InputError(str(exc)) from None
     T = plan.duration                                       # t runs from 0 to T
     if first_beyond([T], LIMITS["t"]) is not None:          # the CSV reader's rule
-        raise InputError(f"the planned duration, {exact_text(T)} s, is beyond the "
-                         f"supported magnitude {LIMITS['t']:g} s of t: the acceleration or "
-                         f"velocity limits ({qdd_source}) are too small to plan with",
-                         column=None if args.duration is not None or qdd_arg is None
-                         else "--qdd-max")
+        t_vel, t_acc = quintic_min_durations(planning, start, goal)     # T is the larger
+        own = "--qd-max" if getattr(limits, "qd_max", None) is not None else "robot"
+        kind, source = (("velocity", own) if t_vel.max() >= t_acc.max()
+                        else ("acceleration", qdd_source))
+        raise InputError(f"the planned duration, {exact_text(T)} s, exceeds the largest t, "
+                         f"{LIMITS['t']:g} s: the {kind} limits ({source}) are too small",
+                         column=next((o for o in ("--qdd-max", "--qd-max") if o in source), None))
     return _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
