@@ -46,6 +46,8 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
 
     Raises
     ------
+    InputError
+        If ``model`` is not a SimplifiedModel (one line naming the argument).
     OSError
         If the file cannot be written.
 
@@ -53,10 +55,11 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     -----
     NaN and inf, which JSON cannot hold, are written as null.
     """
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            json.dump(json_safe(model.to_dict()), fh, indent=2)
-            fh.write("\n")
+    if not isinstance(model, SimplifiedModel):
+        raise InputError(f"model: a SimplifiedModel, not a {type(model).__name__}")
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(json_safe(model.to_dict()), fh, indent=2)
+        fh.write("\n")
 
 
 def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:

@@ -296,8 +296,7 @@ class _Basis:
         s, c = np.sin(np.outer(t, w)), np.cos(np.outer(t, w))
         Za = np.vstack([-np.ones((1, K - 1)), np.eye(K - 1)])
         Zb = np.vstack([-np.arange(2, K + 1)[None, :].astype(float), np.eye(K - 1)])
-        one = np.ones((t.size, 1))
-        zero = np.zeros((t.size, 1))
+        one, zero = np.ones((t.size, 1)), np.zeros((t.size, 1))
         self.P = (np.hstack([one, (s / w) @ Za, (-c / w) @ Zb]),
                   np.hstack([zero, c @ Za, s @ Zb]),
                   np.hstack([zero, (-w * s) @ Za, (w * c) @ Zb]))
@@ -802,10 +801,9 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
         start = random_excitation(robot, K, wf, [int(seed), k], qdd_max, margin)
         best = (start_conditions[k], start, start)
     cond, series, found = best
+    found_amp = np.hypot(found.a, found.b).sum(1)      # the oscillation as optimised
     with np.errstate(divide="ignore", invalid="ignore"):
-        shrink = np.where(np.hypot(found.a, found.b).sum(1) > 0,
-                          np.hypot(series.a, series.b).sum(1)
-                          / np.hypot(found.a, found.b).sum(1), 1.0)
+        shrink = np.where(found_amp > 0, np.hypot(series.a, series.b).sum(1) / found_amp, 1.0)
     return Excitation(duration=T, n_setpoints=N,
                       source=f"excitation: Fourier series of {K} harmonics, w_f = {wf:.6g} "
                              f"rad/s, {periods} period{'s' if periods > 1 else ''} of "
