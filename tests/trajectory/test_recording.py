@@ -156,3 +156,21 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
     assert streamed.sha256 == whole.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
     if defect is None:        # the values, their copies in time order, pieces: not the bytes
         assert peak < path.stat().st_size / 2, peak
+
+
+@pytest.mark.parametrize("args, said", [
+    ((None,), "path: a CSV file (str or os.PathLike), not a NoneType"),
+    (("r.csv", "2"), "n_joints: a whole number >= 1, not str '2'"),
+    (("r.csv", 1.5), "n_joints: a whole number >= 1, not float '1.5'"),
+    (("r.csv", -1), "n_joints: a whole number >= 1, not int '-1'"),
+])
+def test_arguments_of_another_type_are_one_line_naming_the_argument(tmp_path, monkeypatch,
+                                                                     args, said):
+    """None read as the file "None" ("None: no such file"), and a joint count "2" gave "the
+    file has 1 joint position columns, the robot has 2 joints"; the file here is a good one."""
+    monkeypatch.chdir(tmp_path)
+    _write(tmp_path / "r.csv", "t,q1,tau1\n" + "".join(f"{0.01 * k},{k},{k}\n" for k in range(12)))
+    with pytest.raises(InputError) as e:
+        read_recording(*args)
+    assert str(e.value) == said
+    assert read_recording("r.csv", 1).n == 1

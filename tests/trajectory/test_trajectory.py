@@ -85,6 +85,27 @@ def test_missing_file(tmp_path):
         read_trajectory(tmp_path / "nope.csv")
 
 
+@pytest.mark.parametrize("args, said", [
+    ((None,), "path: a CSV file (str or os.PathLike), not a NoneType"),
+    ((3,), "path: a CSV file (str or os.PathLike), not a int"),
+    ((b"t.csv",), "path: a CSV file (str or os.PathLike), not a bytes"),
+    (("t.csv", "2"), "n_joints: a whole number >= 1, not str '2'"),
+    (("t.csv", 2.0), "n_joints: a whole number >= 1, not float '2.0'"),
+    (("t.csv", True), "n_joints: a whole number >= 1, not bool 'True'"),
+    (("t.csv", 0), "n_joints: a whole number >= 1, not int '0'"),
+])
+def test_arguments_of_another_type_are_one_line_naming_the_argument(tmp_path, monkeypatch,
+                                                                     args, said):
+    """None read as the file "None" ("None: no such file"), and a joint count "2" as 2
+    ("the file has 6 joints, the robot has 2"); the file here is a good one."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.csv").write_text("t,q1,q2\n0,0,0\n1,1,0\n")
+    with pytest.raises(InputError) as e:
+        read_trajectory(*args)
+    assert str(e.value) == said
+    assert read_trajectory("t.csv", np.int64(2)).n_setpoints == 2
+
+
 def test_joint_limit_warning(tmp_path, two_link):
     path = tmp_path / "wide.csv"
     path.write_text("t,q1,q2\n0,0,0\n1,4,0\n2,0,0\n")      # 4 rad > 180 deg on joint 1

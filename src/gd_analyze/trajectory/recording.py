@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import _cell_values, _numbered_rows, _read_csv
+from .trajectory import _cell_values, _csv_path, _numbered_rows, _read_csv
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -128,8 +128,7 @@ def _columns(header, path, n_joints, current):
 
 def _check_magnitudes(values, names, cols, row_no, path):
     """An InputError for the first value beyond its kind's supported magnitude."""
-    limits = {"t": LIMITS["t"], "q": LIMITS["q"], "qd": LIMITS["qd"], "qdd": LIMITS["qdd"],
-              "tau": TAU_LIMIT}
+    limits = {**LIMITS, "tau": TAU_LIMIT}
     for kind, idx in [("t", [0])] + list(cols.items()):
         bad = first_beyond(values[:, idx], limits[kind])
         if bad is not None:
@@ -143,11 +142,10 @@ def _ordered(t, arrays, rows, path):
     """Sort by time (stable), drop repeated stamps (keep the first), and say what was done."""
     notes = []
     order = np.argsort(t, kind="stable")
-    if (np.diff(t) < 0).any():
-        back = int(np.count_nonzero(np.diff(t) < 0))
-        k = int(np.flatnonzero(np.diff(t) < 0)[0]) + 1
-        notes.append(f"{path}: {back} time stamps earlier than the row before (first at row "
-                     f"{rows[k]}): rows sorted by time")
+    back = np.flatnonzero(np.diff(t) < 0)          # a stamp earlier than the one before
+    if back.size:
+        notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
+                     f"row {rows[back[0] + 1]}): rows sorted by time")
     t, rows = t[order], rows[order]
     arrays = [None if a is None else a[order] for a in arrays]
     keep = np.concatenate([[True], np.diff(t) > 0])
@@ -187,7 +185,9 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         If the file is missing or unreadable, not UTF-8 text, has an unknown, missing or
         repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
         the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
-        joint count other than ``n_joints``. One line with the file, row and column.
+        joint count other than ``n_joints``. One line with the file, row and column. Before
+        the file is opened: if ``path`` is not a str or os.PathLike, or ``n_joints`` not a
+        whole number >= 1 (the message names the argument).
 
     Examples
     --------
@@ -197,7 +197,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     >>> read_recording(f).q.shape
     (12, 1)
     """
-    path = str(path)
+    path = _csv_path(path, n_joints)
     found = {}
 
     def header(fields):

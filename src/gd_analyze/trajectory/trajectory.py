@@ -118,12 +118,10 @@ def _parse_header(header, path):
     n = len(qs)
     if n == 0:
         raise InputError("no joint position columns q1..qn in the header", path, row=1)
-    for cols in (trajectory_columns(n, True), trajectory_columns(n, False)):
-        if names == cols:
-            return names, n
+    expected = trajectory_columns(n, len(names) > n + 1)     # with derivatives, or without
+    if names == expected:
+        return names, n
     # Name the first column that differs from the expected layout.
-    full = trajectory_columns(n, True)
-    expected = full if len(names) > n + 1 else trajectory_columns(n, False)
     for k, (got, want) in enumerate(zip(names, expected)):
         if got != want:
             raise InputError(f"expected column {want!r}, got {got!r}", path, row=1,
@@ -170,9 +168,11 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         digits, no ``inf`` or ``nan``); has a value beyond the limits of
         :data:`gd_analyze.model.limits.LIMITS`; if time is not strictly increasing; if there
         are fewer than 2 set points; or if the joint count differs from n_joints. The message
-        names the file, the row (header = row 1) and the column.
+        names the file, the row (header = row 1) and the column. Before the file is opened: if
+        ``path`` is not a str or os.PathLike, or ``n_joints`` not a whole number >= 1 (the
+        message names the argument).
     """
-    path = str(path)
+    path = _csv_path(path, n_joints)
 
     def header(fields):
         try:
@@ -197,6 +197,20 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
                else _spline(t, q, path, row_of=lambda k: k + 2))
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
+
+
+def _csv_path(path: Any, n_joints: Any) -> str:
+    """The name of a CSV file to read, as text: the arguments of :func:`read_trajectory` and
+    :func:`~gd_analyze.trajectory.recording.read_recording` checked, InputError naming the
+    argument where ``path`` is not a str or os.PathLike, or ``n_joints`` (when given) not a
+    whole number >= 1."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path: a CSV file (str or os.PathLike), not a {type(path).__name__}")
+    whole = isinstance(n_joints, (int, np.integer)) and not isinstance(n_joints, bool)
+    if n_joints is not None and not (whole and n_joints >= 1):
+        raise InputError(f"n_joints: a whole number >= 1, not {type(n_joints).__name__} "
+                         f"{str(n_joints)[:40]!r}")
+    return str(path)
 
 
 def _spline(t, q, path, row_of):
@@ -293,11 +307,9 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
         k = int(step[0]) + 1
         raise InputError(f"time not strictly increasing ({t[k]} at set point {k} after "
                          f"{t[k - 1]})", ARRAYS, column="t")
-    if qd is None:
-        qd, qdd = _spline(t, arrays["q"], ARRAYS, row_of=lambda k: None)
-        how = "cubic-spline"
-    else:
-        qd, qdd, how = arrays["qd"], arrays["qdd"], "arrays"
+    how = "cubic-spline" if qd is None else "arrays"
+    qd, qdd = (_spline(t, arrays["q"], ARRAYS, row_of=lambda k: None) if qd is None
+               else (arrays["qd"], arrays["qdd"]))
     return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd,  # type: ignore[arg-type]  # ndarrays here
                       derivatives=how, source=ARRAYS)
 
@@ -870,8 +882,8 @@ def write_trajectory_chunks(chunks: Iterable[Trajectory], n: int,
     def write(stream):
         stream.write(",".join(columns) + "\n")
         for piece in chunks:
-            table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd])
-            table = table + 0.0         # -0.0 (a joint at rest moving down) is written "0"
+            # + 0.0: -0.0 (a joint at rest moving down) is written "0"
+            table = np.column_stack([piece.t, piece.q, piece.qd, piece.qdd]) + 0.0
             for start in range(0, table.shape[0], _ROWS_FORMATTED):
                 stream.write(_csv_rows(table[start:start + _ROWS_FORMATTED]))
 
