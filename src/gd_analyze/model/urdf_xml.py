@@ -158,6 +158,7 @@ def _joint(joint, name, path):
             raise InputError("missing", path, column=f"{where} <{tag} link>")
         links.append(el.get("link"))
     xyz, rpy = _origin(joint, path, where)
+    _only(joint, "limit", path, f"{where} <limit>", required=kind in ("revolute", "prismatic"))
     mimic = None
     el = _only(joint, "mimic", path, f"{where} <mimic>", required=False)
     if el is not None:
@@ -237,7 +238,9 @@ def read_urdf_xml(raw: bytes, path: str) -> UrdfXml:
         joints of one name; an ``<inertial>`` without ``<mass value>`` or ``<inertia>``, or with
         a value (mass, the six inertia attributes, the origin's xyz and rpy) that is not a
         finite decimal number, or a negative mass; a joint origin that is not 3 finite numbers;
-        several ``<inertial>``, ``<mass>``, ``<inertia>`` or ``<origin>`` in one place; more
+        a revolute or prismatic joint without ``<limit>`` (urdfdom would refuse it with
+        messages of its own on the C stderr); several ``<inertial>``, ``<mass>``,
+        ``<inertia>``, ``<origin>`` or ``<limit>`` in one place; more
         links or joints, or a deeper tree, than :data:`~gd_analyze.model.limits.LIMITS`
         accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop.
 
@@ -380,15 +383,13 @@ def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str], path:
         if mimic is None:
             continue
         followed, _, offset = mimic
-        where = f"joint {name!r} <mimic>"
         if name in chain:
-            raise InputError(f"a mimic joint on the chain (it follows {followed!r}): "
-                             "gd-analyze does not model <mimic> joints", path, column=where)
-        if name in locked and followed in chain:
-            raise InputError(f"locked at q = 0 off the chain, but it follows the chain joint "
-                             f"{followed!r}: gd-analyze does not model <mimic> joints", path,
-                             column=where)
-        if name in locked and offset != 0.0:
-            raise InputError(f"locked at q = 0 off the chain, but its offset {offset:g} puts it "
-                             "elsewhere: gd-analyze does not model <mimic> joints", path,
-                             column=where)
+            why = f"a mimic joint on the chain (it follows {followed!r})"
+        elif name in locked and followed in chain:
+            why = f"locked at q = 0 off the chain, but it follows the chain joint {followed!r}"
+        elif name in locked and offset != 0.0:
+            why = f"locked at q = 0 off the chain, but its offset {offset:g} puts it elsewhere"
+        else:
+            continue
+        raise InputError(f"{why}: gd-analyze does not model <mimic> joints", path,
+                         column=f"joint {name!r} <mimic>")
