@@ -120,13 +120,8 @@ def _only(element, tag, path, where, required=True):
 def _origin(element, path, where):
     """(xyz, rpy) of the ``<origin>`` child of an element (zeros where absent)."""
     origin = _only(element, "origin", path, f"{where} <origin>", required=False)
-    xyz, rpy = np.zeros(3), np.zeros(3)
-    if origin is not None:
-        if origin.get("xyz") is not None:
-            xyz = _vector(origin.get("xyz"), path, f"{where} <origin xyz>")
-        if origin.get("rpy") is not None:
-            rpy = _vector(origin.get("rpy"), path, f"{where} <origin rpy>")
-    return xyz, rpy
+    return tuple(np.zeros(3) if origin is None or origin.get(key) is None else
+                 _vector(origin.get(key), path, f"{where} <origin {key}>") for key in ("xyz", "rpy"))
 
 
 def _inertial(link, name, path):
@@ -197,7 +192,10 @@ def _check_size(root, path):
     for joint in joints:
         p, c = joint.find("parent"), joint.find("child")
         if p is not None and c is not None:
-            parent.setdefault(c.get("link"), p.get("link"))
+            if c.get("link") in parent:
+                raise InputError(f"link {c.get('link')!r} is the child of two joints (a URDF's "
+                                 "links form a tree)", path, column=f"joint {joint.get('name')!r}")
+            parent[c.get("link")] = p.get("link")
     depth, limit = {}, LIMITS["urdf_depth"]
     for link in parent:
         path_up = []
@@ -242,7 +240,8 @@ def read_urdf_xml(raw: bytes, path: str) -> UrdfXml:
         messages of its own on the C stderr); several ``<inertial>``, ``<mass>``,
         ``<inertia>``, ``<origin>`` or ``<limit>`` in one place; more
         links or joints, or a deeper tree, than :data:`~gd_analyze.model.limits.LIMITS`
-        accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop.
+        accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop; a
+        link that is the child of two joints.
 
     Notes
     -----
@@ -296,8 +295,7 @@ def _body_inertia(pin, doc, fixed, link):
         seen.add(name)
         value = doc.inertials.get(name)
         if value is not None:
-            mass, xyz, rpy, Ic = value
-            c = np.asarray(xyz, float)
+            mass, c, rpy, Ic = value
             R = np.asarray(pin.rpy.rpyToMatrix(*rpy))
             own = (mass, mass * c, R @ Ic @ R.T - mass * pin.skew(c) @ pin.skew(c))
             dm, dh, dI = _moved(pin, own, placement)
@@ -339,11 +337,9 @@ def check_inertias(doc: UrdfXml, model: pinocchio.Model, path: str) -> None:
         if kind == "fixed":
             fixed.setdefault(parent, []).append((child, _placement(pin, xyz, rpy)))
     for name, (kind, _, child, *_rest) in doc.joints.items():
-        if kind == "fixed":
-            continue
         j = model.getJointId(name)
-        if j >= model.njoints:
-            continue  # not a joint of the model (a parse Pinocchio does not do): nothing to check
+        if kind == "fixed" or j >= model.njoints:
+            continue  # not a moving joint of the model (merged, or a parse Pinocchio does not do)
         ours = _body_inertia(pin, doc, fixed, child)
         theirs = np.asarray(model.inertias[j].matrix())
         d = np.sqrt(np.abs(np.diag(ours)))
