@@ -79,6 +79,8 @@ BAD_UR5 = [
     ("mimic on the chain", '<child link="forearm_link"/>',
      '<child link="forearm_link"/><mimic joint="shoulder_lift_joint"/>',
      "joint 'elbow_joint' <mimic>"),
+    ("revolute joint without limit", '<limit effort="150.0" lower="-3.14159265359" '
+     'upper="3.14159265359" velocity="3.15"/>', "", "joint 'elbow_joint' <limit>"),
 ]
 
 

@@ -98,3 +98,23 @@ def test_a_proof_is_made_once_per_process(monkeypatch):
     assert again is not first
     assert (again.proved, again.lower, again.boxes, again.sampled_min) == (
         first.proved, first.lower, first.boxes, first.sampled_min)
+
+
+def test_no_floor_names_the_link_that_gives_none(tmp_path):
+    """A PUMA 560 whose link 6 is a point mass off its axis gives no floor under D; the reason
+    named link 1 (the first entry of the all-zero floor) whatever link it was. Oracle: the
+    link made a point mass in the file."""
+    from importlib import resources
+
+    text = resources.files("gd_analyze").joinpath("data/puma560.toml").read_text()
+    wrist = "com = [0.0, 0.0, 0.032]\ninertia = [0.15e-3, 0.15e-3, 0.04e-3]"
+    assert text.count(wrist) == 1 and text.rindex("[[link]]") < text.index(wrist)
+    path = tmp_path / "point_wrist.toml"
+    path.write_text(text.replace(wrist, "com = [0.02, 0.0, 0.032]\ninertia = [0.0, 0.0, 0.0]"))
+    robot = load_robot(path)
+    region, _, _ = guarantee_region(robot)
+    base = base_parameters(robot)
+    proof = prove_inertia(robot, base, np.zeros((len(base.beta), 3), bool), region.q_min,
+                          region.q_max, samples=50)
+    assert not proof.proved
+    assert proof.why == "no floor under D: link 6's spatial inertia gives none"

@@ -118,6 +118,26 @@ def test_the_exact_puma_model_is_proved_and_recorded():
         sample_positions(_model(robot, rec))
 
 
+def test_the_bound_of_an_arm_of_prismatic_joints_only_is_in_kg():
+    """A gantry's D is the masses it moves [kg] (x^T D x = sum m v^2, v in m/s): its bound
+    was stated in 'SI units (kg m^2, kg m and kg mixed: q in rad and m)', with no angle in
+    it. Oracle: D's unit from the kinetic energy; with one revolute joint the units mix."""
+    links = "".join(
+        f'<link name="l{k}"><inertial><mass value="{k}"/><inertia ixx="0.1" ixy="0" ixz="0" '
+        f'iyy="0.1" iyz="0" izz="0.1"/></inertial></link><joint name="j{k}" type="{kind}">'
+        f'<parent link="l{k - 1}"/><child link="l{k}"/><axis xyz="{axis}"/><limit lower="-1" '
+        'upper="1" effort="10" velocity="1"/></joint>'
+        for k, (kind, axis) in enumerate([("prismatic", "1 0 0"), ("prismatic", "0 1 0"),
+                                          ("revolute", "0 0 1")], start=1))
+    for n, unit in [(2, "kg"), (3, "SI units (kg m^2, kg m and kg mixed: q in rad and m)")]:
+        robot = load_robot(f'<robot name="gantry"><link name="l0"/>{links}</robot>', tip=f"l{n}")
+        q, qd, qdd = random_states(robot, 20, 2)
+        model = with_inertia_check(_model(robot, recursive_model(robot, q, qd, qdd, 0.0)), q)
+        assert model.inertia_check["proved"] and model.inertia_check["unit"] == unit
+        assert f"lambda_min(D_s) >= {model.inertia_check['lower_bound']:.3g} {unit} (" in \
+            model.inertia_check["statement"]
+
+
 def test_a_model_that_drops_the_wrists_inertia_is_not_proved_and_is_restored():
     """Dropping every base parameter of links 5 and 6 whole makes D_s singular: the proof
     fails ("not proved"), and the restore keeps those parameters until it holds."""

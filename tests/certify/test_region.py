@@ -164,6 +164,26 @@ def test_the_scale_is_reached_where_it_says():
     assert np.all(floor == 1e6)
 
 
+def test_the_scale_of_a_range_narrower_than_the_local_search_s_step():
+    """A joint range under the polish's 1e-6 difference step (--q-limits 10:10.00001, a
+    URDF's lower="0" upper="1e-12") gave L-BFGS-B an upper bound below its lower one: an
+    internal error, exit 4. Oracle: Pinocchio's rnea at the state named, within the range."""
+    import dataclasses
+
+    robot = load_robot("puma560")
+    base = base_parameters(robot)
+    region = joint_region(robot, robot.qdd_max)
+    q_min, q_max = region.q_min.copy(), region.q_max.copy()
+    q_min[1], q_max[1] = 0.1, 0.1 + 1e-9
+    region = dataclasses.replace(region, q_min=q_min, q_max=q_max)
+    cols = np.flatnonzero(base.independent.reshape(-1))
+    scale, state = region_scale(robot, region, cols, base.beta, samples=50)
+    n = robot.n
+    tau = _rnea(robot, state[:, :n], state[:, n:2 * n], state[:, 2 * n:])
+    np.testing.assert_allclose(np.abs(tau[np.arange(n), np.arange(n)]), scale, rtol=1e-9)
+    assert np.all(state[:, 1] >= 0.1) and np.all(state[:, 1] <= 0.1 + 1e-9)
+
+
 def test_the_vertices_are_one_of_each_opposite_pair():
     """Half the box's vertices, one of each pair x, -x: together with their negatives, all."""
     qd_max = np.array([1.0, 2.0, 0.5, 3.0])

@@ -10,6 +10,7 @@ from urdf_oracle import (
     STATES,
     TOL,
     TOY_URDF,
+    UR5,
     UrdfOracle,
     chain_model,
     random_chain_states,  # noqa: F401 (a fixture)
@@ -128,6 +129,28 @@ def test_not_a_urdf(tmp_path):
         read_urdf_chain(bad)
     with pytest.raises(InputError, match="no such file"):
         read_urdf_chain(tmp_path / "missing.urdf")
+
+
+@pytest.mark.parametrize("old, new, reason", [
+    ('<child link="forearm_link"/>', '<child link="fore_arm_link"/>',
+     "Failed to build tree: child link [fore_arm_link] of joint [elbow_joint] not found"),
+    ('name="shoulder_pan_joint" type="revolute"', 'name="shoulder_pan_joint" type="hinge"',
+     "Joint [shoulder_pan_joint] has no known type [hinge]"),
+    ('lower="-3.14159265359"', 'lower="-180deg"',
+     "joint [elbow_joint]: lower value (-180deg) is not a valid float"),
+    ('<robot name="ur5" ', "<robot ", "No name given for the robot."),
+])
+def test_a_urdf_urdfdom_refuses_is_one_line_with_its_reason(tmp_path, capfd, old, new, reason):
+    """urdfdom printed its reason (and the C source line) on the C stderr, and the error said
+    only 'The XML stream does not contain a valid URDF model.': now its reason is the error's,
+    and nothing else is printed. Oracle: urdfdom's own words for the file."""
+    assert UR5.count(old) == 1
+    path = tmp_path / "bad.urdf"
+    path.write_text(UR5.replace(old, new))
+    with pytest.raises(InputError) as err:
+        read_urdf_chain(path)
+    assert str(err.value) == f"{path}: not a valid URDF file: {reason}"
+    assert capfd.readouterr().err == ""
 
 
 def test_floating_joint_refused(tmp_path):

@@ -74,6 +74,17 @@ def test_broken_panda_refused(tmp_path, old, new, column):
     assert err.value.column == column
 
 
+def test_a_link_with_two_parent_joints_is_refused_naming_the_second():
+    """urdfdom keeps one of a link's two parent joints: Pinocchio then loaded another body
+    than the file gives, and the error blamed the parser's reading of a link's <inertial>.
+    Oracle: the joint added to the file."""
+    text = UR5.replace("</robot>", '<joint name="again" type="fixed"><parent link="base_link"/>'
+                       '<child link="forearm_link"/></joint></robot>')
+    with pytest.raises(InputError, match="link 'forearm_link' is the child of two joints") as err:
+        read_urdf_xml(text.encode(), "two.urdf")
+    assert err.value.column == "joint 'again'"
+
+
 def test_doctype_refused_before_any_entity_is_expanded(tmp_path):
     """Billion laughs: urdfdom ignores the declaration, ElementTree would expand it."""
     lol = ['<!ENTITY lol0 "lol">'] + [

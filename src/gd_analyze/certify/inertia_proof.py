@@ -207,19 +207,20 @@ def _link_capacities(robot):
     """(A, B): A_k the largest certified g with g (s_k^T V)^2 <= V^T M_k V for every V
     (A_1 = s_1^T M_1 s_1: the first link moves about its axis only), B_k the same for
     (u_k^T V)^2 and M_(k-1), u_k = X_k^T s_k (B_1 on the line of s_1; inf where u_k is
-    orthogonal to it); None when a link's spatial inertia is not certified semidefinite along
-    its joint (the argument needs every link's energy to be non-negative)."""
+    orthogonal to it); the index k (int) of the first link whose spatial inertia is not
+    certified semidefinite along its joint (the argument needs every link's energy to be
+    non-negative)."""
     phi = standard_parameters(robot)
     n = robot.n
     A, B = np.zeros(n), np.full(n, np.inf)
-    for k in range(n):
-        s = np.zeros(6)
-        s[5 if robot.prismatic[k] else 2] = 1.0
+    S = np.zeros((n, 6))        # each joint's axis, (omega, v) ordered
+    S[np.arange(n), np.where(np.asarray(robot.prismatic, bool), 5, 2)] = 1.0
+    for k, s in enumerate(S):
         M = _spatial(phi[k])
         A[k] = float(np.nextafter(s @ M @ s * (1 - 4 * _U), 0.0)) if k == 0 else \
             _largest_g(M, s)
         if not A[k] > 0:
-            return None
+            return k
         if k == 0:
             continue
         P, t = np.asarray(robot.rotation[k], float), np.asarray(robot.translation[k], float)
@@ -228,10 +229,8 @@ def _link_capacities(robot):
             np.concatenate([z, np.zeros(3)])
         prev = _spatial(phi[k - 1])
         if k == 1:          # V_0 moves about s_0 only: the condition on that line
-            s0 = np.zeros(6)
-            s0[5 if robot.prismatic[0] else 2] = 1.0
-            e = float(s0 @ prev @ s0) * (1 - 4 * _U)
-            c = float(u @ s0) ** 2 * (1 + 4 * _U)
+            e = float(S[0] @ prev @ S[0]) * (1 - 4 * _U)
+            c = float(u @ S[0]) ** 2 * (1 + 4 * _U)
             B[k] = np.inf if c == 0 else (e / c if e > 0 else 0.0)
         else:
             B[k] = _largest_g(prev, u)
@@ -304,7 +303,7 @@ def inertia_floor(robot: Robot, kind: str = "chain") -> np.ndarray:
     n = robot.n
     arm = np.asarray(robot.armature, float)
     caps = _link_capacities(robot)
-    if caps is None:
+    if isinstance(caps, int):
         return np.zeros(n)
     A, B = caps
     if kind == "pairs":
@@ -504,9 +503,10 @@ def _prove(robot, drop, q_min, q_max, max_boxes, rtol, ctx, t0):
                             boxes=boxes, samples=qs.shape[0],
                             seconds=time.perf_counter() - t0, why=why)
     if not (floor > 0).all():
-        k = int(np.argmin(floor > 0))
-        return result(False, -np.inf, np.nan, 0,
-                      f"no floor under D: link {k + 1}'s spatial inertia gives none")
+        k = _link_capacities(robot)
+        return result(False, -np.inf, np.nan, 0, "no floor under D: " + (
+            f"link {k + 1}'s spatial inertia gives none" if isinstance(k, int) else
+            "the links' inertias give none along the chain"))
     if sampled <= 0:
         return result(False, -np.inf, np.nan, 0,
                       f"D_s has eigenvalue {sampled:.3g} at a sampled position")

@@ -283,7 +283,8 @@ def inertia_statement(check):
 
 
 def _unit(robot):
-    return ("kg m^2" if not np.any(robot.prismatic) else
+    prismatic = np.asarray(robot.prismatic, bool)
+    return ("kg m^2" if not prismatic.any() else "kg" if prismatic.all() else
             "SI units (kg m^2, kg m and kg mixed: q in rad and m)")
 
 
@@ -441,8 +442,7 @@ def _default_rebuild(model, dropped):
 
 def _drops_terms(model):
     """Whether an explicit model leaves out terms of D (the exact explicit one does not)."""
-    choices = set(model.choices.values())
-    return choices != {"both"}
+    return set(model.choices.values()) != {"both"}
 
 
 def _record(model, where, proof, restored, samples=None, sampled=None, why="", method=""):

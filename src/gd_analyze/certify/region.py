@@ -727,7 +727,6 @@ def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
     if qdd_max.shape != (n,) or not (np.isfinite(qdd_max).all() and (qdd_max > 0).all()):
         raise ValueError("acceleration limits must be finite and positive, one per joint")
     pris = np.asarray(robot.prismatic, bool)
-    rev = ~pris
     assumed = np.zeros(n, bool) if qdd_assumed is None else np.asarray(qdd_assumed, bool)
     lo = np.where(np.isfinite(robot.q_min), robot.q_min, -np.pi).astype(float)
     hi = np.where(np.isfinite(robot.q_max), robot.q_max, np.pi).astype(float)
@@ -752,7 +751,7 @@ def joint_region(robot, qdd_max, limits=None, qdd_assumed=None, qdd_rule=""):
                           "acceleration limit", pris, "/s^2")
         notes += more
         assumed = np.zeros(n, bool)
-    full = rev & ((hi - lo) >= 2 * np.pi * (1 - 1e-12))     # a full turn: the whole circle
+    full = ~pris & ((hi - lo) >= 2 * np.pi * (1 - 1e-12))     # a full turn: the whole circle
     lo = np.where(full, -np.pi, lo)
     hi = np.where(full, np.pi, hi)
     given = [] if limits is None else [k for k, v in (("--q-limits", limits.q_limits),
@@ -1020,7 +1019,8 @@ def region_scale(robot, region, columns, beta, torque_floor=0.0, samples=1000, s
             return -v[0], -(v[1:] - v[0]) / 1e-6
         for k in order[:refine]:
             res = minimize(neg, q[k], jac=True, method="L-BFGS-B",
-                           bounds=list(zip(region.q_min, region.q_max - 1e-6)),
+                           bounds=list(zip(region.q_min, np.maximum(region.q_max - 1e-6,
+                                                                    region.q_min))),
                            options={"maxiter": 10})
             x = np.clip(res.x, region.q_min, region.q_max)
             v, vqd, vqdd = worst_states(channel_values(robot, x[None, :], columns), W,

@@ -35,7 +35,9 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import math
+import os
 import re
+import tempfile
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -50,15 +52,13 @@ from .robot_spec import robot_from_chain
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
 
 if TYPE_CHECKING:                       # for the type hints only
-    import os
-
     import pinocchio
     from numpy.typing import ArrayLike
 
     from .robot import Robot
 
 __all__ = ["UrdfChain", "read_urdf_chain", "load_urdf", "URDF_BUILTIN", "axis_rotation",
-           "right_angle_rotation", "RIGHT_ANGLE_TOL"]
+           "right_angle_rotation", "RIGHT_ANGLE_TOL", "builtin_urdf_path"]
 
 #: Built-in robots vendored as URDF files in ``gd_analyze/data`` (``data/robots/`` in the
 #: repository): file, chain and the text the reports show.
@@ -240,20 +240,32 @@ def _read_model(path):
 
 def _parse_model(raw, label):
     """Pinocchio's model of a URDF document's bytes, and the document as read by
-    :mod:`gd_analyze.model.urdf_xml`; ``label`` names the document in errors."""
+    :mod:`gd_analyze.model.urdf_xml`; ``label`` names the document in errors. A document
+    urdfdom refuses is refused with urdfdom's first reason, which it prints on the C stderr
+    (captured here: the error stays one line); what it prints about a file it reads is
+    passed on."""
     pin = _pin()
     doc = read_urdf_xml(raw, label)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start + 1})", label) from None
-    try:
-        # the bytes just checked, not the file again (it could have changed since)
-        model = pin.buildModelFromXML(text)
-    except (ValueError, RuntimeError, OSError) as exc:
-        msg = str(exc).strip().splitlines()
-        raise InputError(f"not a valid URDF file: {msg[0] if msg else type(exc).__name__}",
-                         label) from None
+    with tempfile.TemporaryFile() as said:     # urdfdom writes its reasons on the C stderr
+        saved = os.dup(2)
+        os.dup2(said.fileno(), 2)
+        try:
+            # the bytes just checked, not the file again (it could have changed since)
+            model = pin.buildModelFromXML(text)
+        except (ValueError, RuntimeError, OSError) as exc:
+            said.seek(0)
+            why = (re.findall(r"Error:[ \t]*(.+)", said.read().decode(errors="replace"))
+                   + str(exc).strip().splitlines() + [type(exc).__name__])
+            raise InputError(f"not a valid URDF file: {why[0].strip()}", label) from None
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+        said.seek(0)
+        os.write(2, said.read())        # a warning about a file it reads
     check_inertias(doc, model, label)
     return model, raw, doc
 
@@ -268,17 +280,14 @@ def _joint_body(model, links, j):
     """The link that joint j moves (the BODY frame right after its JOINT frame)."""
     pin = _pin()
     jf = model.getFrameId(model.names[j], pin.FrameType.JOINT)
-    for name, k in links.items():
-        if model.frames[k].parentFrame == jf:
-            return name
-    return model.names[j]
+    return next((name for name, k in links.items() if model.frames[k].parentFrame == jf),
+                model.names[j])
 
 
 def _root_link(model, links):
-    for name, k in links.items():
-        if model.frames[k].parentJoint == 0 and model.frames[k].parentFrame == 0:
-            return name
-    return next(iter(links))
+    roots = [name for name, k in links.items()
+             if model.frames[k].parentJoint == 0 and model.frames[k].parentFrame == 0]
+    return (roots or list(links))[0]
 
 
 def _link(links, name, option, path):
@@ -504,9 +513,6 @@ def builtin_urdf_path(name: str) -> Path:
         If the name is not a URDF built-in.
     """
     return Path(str(resources.files("gd_analyze").joinpath("data").joinpath(URDF_BUILTIN[name]["file"])))
-
-
-__all__.append("builtin_urdf_path")
 
 
 def load_urdf(path: str | os.PathLike[str], base: str | None = None,

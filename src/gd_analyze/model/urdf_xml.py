@@ -120,13 +120,8 @@ def _only(element, tag, path, where, required=True):
 def _origin(element, path, where):
     """(xyz, rpy) of the ``<origin>`` child of an element (zeros where absent)."""
     origin = _only(element, "origin", path, f"{where} <origin>", required=False)
-    xyz, rpy = np.zeros(3), np.zeros(3)
-    if origin is not None:
-        if origin.get("xyz") is not None:
-            xyz = _vector(origin.get("xyz"), path, f"{where} <origin xyz>")
-        if origin.get("rpy") is not None:
-            rpy = _vector(origin.get("rpy"), path, f"{where} <origin rpy>")
-    return xyz, rpy
+    return tuple(np.zeros(3) if origin is None or origin.get(key) is None else
+                 _vector(origin.get(key), path, f"{where} <origin {key}>") for key in ("xyz", "rpy"))
 
 
 def _inertial(link, name, path):
@@ -158,6 +153,7 @@ def _joint(joint, name, path):
             raise InputError("missing", path, column=f"{where} <{tag} link>")
         links.append(el.get("link"))
     xyz, rpy = _origin(joint, path, where)
+    _only(joint, "limit", path, f"{where} <limit>", required=kind in ("revolute", "prismatic"))
     mimic = None
     el = _only(joint, "mimic", path, f"{where} <mimic>", required=False)
     if el is not None:
@@ -196,7 +192,10 @@ def _check_size(root, path):
     for joint in joints:
         p, c = joint.find("parent"), joint.find("child")
         if p is not None and c is not None:
-            parent.setdefault(c.get("link"), p.get("link"))
+            if c.get("link") in parent:
+                raise InputError(f"link {c.get('link')!r} is the child of two joints (a URDF's "
+                                 "links form a tree)", path, column=f"joint {joint.get('name')!r}")
+            parent[c.get("link")] = p.get("link")
     depth, limit = {}, LIMITS["urdf_depth"]
     for link in parent:
         path_up = []
@@ -237,9 +236,12 @@ def read_urdf_xml(raw: bytes, path: str) -> UrdfXml:
         joints of one name; an ``<inertial>`` without ``<mass value>`` or ``<inertia>``, or with
         a value (mass, the six inertia attributes, the origin's xyz and rpy) that is not a
         finite decimal number, or a negative mass; a joint origin that is not 3 finite numbers;
-        several ``<inertial>``, ``<mass>``, ``<inertia>`` or ``<origin>`` in one place; more
+        a revolute or prismatic joint without ``<limit>`` (urdfdom would refuse it with
+        messages of its own on the C stderr); several ``<inertial>``, ``<mass>``,
+        ``<inertia>``, ``<origin>`` or ``<limit>`` in one place; more
         links or joints, or a deeper tree, than :data:`~gd_analyze.model.limits.LIMITS`
-        accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop.
+        accepts (``urdf_links``, ``urdf_joints``, ``urdf_depth``); joints that form a loop; a
+        link that is the child of two joints.
 
     Notes
     -----
@@ -293,8 +295,7 @@ def _body_inertia(pin, doc, fixed, link):
         seen.add(name)
         value = doc.inertials.get(name)
         if value is not None:
-            mass, xyz, rpy, Ic = value
-            c = np.asarray(xyz, float)
+            mass, c, rpy, Ic = value
             R = np.asarray(pin.rpy.rpyToMatrix(*rpy))
             own = (mass, mass * c, R @ Ic @ R.T - mass * pin.skew(c) @ pin.skew(c))
             dm, dh, dI = _moved(pin, own, placement)
@@ -336,11 +337,9 @@ def check_inertias(doc: UrdfXml, model: pinocchio.Model, path: str) -> None:
         if kind == "fixed":
             fixed.setdefault(parent, []).append((child, _placement(pin, xyz, rpy)))
     for name, (kind, _, child, *_rest) in doc.joints.items():
-        if kind == "fixed":
-            continue
         j = model.getJointId(name)
-        if j >= model.njoints:
-            continue  # not a joint of the model (a parse Pinocchio does not do): nothing to check
+        if kind == "fixed" or j >= model.njoints:
+            continue  # not a moving joint of the model (merged, or a parse Pinocchio does not do)
         ours = _body_inertia(pin, doc, fixed, child)
         theirs = np.asarray(model.inertias[j].matrix())
         d = np.sqrt(np.abs(np.diag(ours)))
@@ -380,15 +379,13 @@ def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str], path:
         if mimic is None:
             continue
         followed, _, offset = mimic
-        where = f"joint {name!r} <mimic>"
         if name in chain:
-            raise InputError(f"a mimic joint on the chain (it follows {followed!r}): "
-                             "gd-analyze does not model <mimic> joints", path, column=where)
-        if name in locked and followed in chain:
-            raise InputError(f"locked at q = 0 off the chain, but it follows the chain joint "
-                             f"{followed!r}: gd-analyze does not model <mimic> joints", path,
-                             column=where)
-        if name in locked and offset != 0.0:
-            raise InputError(f"locked at q = 0 off the chain, but its offset {offset:g} puts it "
-                             "elsewhere: gd-analyze does not model <mimic> joints", path,
-                             column=where)
+            why = f"a mimic joint on the chain (it follows {followed!r})"
+        elif name in locked and followed in chain:
+            why = f"locked at q = 0 off the chain, but it follows the chain joint {followed!r}"
+        elif name in locked and offset != 0.0:
+            why = f"locked at q = 0 off the chain, but its offset {offset:g} puts it elsewhere"
+        else:
+            continue
+        raise InputError(f"{why}: gd-analyze does not model <mimic> joints", path,
+                         column=f"joint {name!r} <mimic>")

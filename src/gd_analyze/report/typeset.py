@@ -17,7 +17,7 @@ what follows it, breaks long tables over pages with their header repeated, sets 
 last page would hold a figure alone again with no figure floating past the next heading (the
 figure heads that page with the rest of its section), sets a report whose
 last page would hold a few lines (:data:`NEAR_EMPTY`) again with less space between lines,
-blocks and table rows if that saves the page, sets the sub- and
+blocks and table rows if that saves the page and Typst's layout converges, sets the sub- and
 superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
 DejaVu Sans, the font matplotlib measured it in, embedded as a TrueType subset: the PDF holds
@@ -84,12 +84,15 @@ _CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
 @functools.cache
 def _fonts():
     """The fonts every Typst document of a process is set in, loaded once: matplotlib's DejaVu
-    folder (the reports use DejaVu Sans and DejaVu Sans Mono) and Typst's own; never the
-    system's."""
+    folder (the reports use DejaVu Sans and DejaVu Sans Mono; the figures' text is set in the
+    font matplotlib measured it in) and Typst's own; never the system's."""
+    from pathlib import Path
+
+    import matplotlib
     import typst
 
     return typst.Fonts(include_system_fonts=False, include_embedded_fonts=True,
-                       font_paths=[_font_folder()])
+                       font_paths=[str(Path(matplotlib.get_data_path()) / "fonts" / "ttf")])
 
 
 def fonts_loaded() -> None:
@@ -105,10 +108,12 @@ def fonts_loaded() -> None:
 
 def _compile(template, inputs, created, end=False):
     """PDF bytes of a fixed template compiled with the given sys.inputs (all data), and with
-    ``end`` where its text ends (the template's ``<gd-end>`` metadata: page, fill), else None.
+    ``end`` where its text ends (the template's ``<gd-end>`` metadata: page, fill, and
+    ``warnings``, Typst's messages, for the caller to issue if it keeps this layout), else None.
 
     Typst's warnings (a layout that did not converge: the figures' placement reads the
-    positions of the previous layout pass) are issued as :class:`RuntimeWarning`.
+    positions of the previous layout pass) are issued as :class:`RuntimeWarning` (with ``end``:
+    by the caller).
     """
     from importlib import resources
 
@@ -120,21 +125,13 @@ def _compile(template, inputs, created, end=False):
                                   ignore_system_fonts=True)
         try:
             pdf, found = compiler.compile_with_warnings(timestamp=_timestamp(created))
-            where = json.loads(compiler.query("<gd-end>", field="value", one=True)) if end else None
+            where = {**json.loads(compiler.query("<gd-end>", field="value", one=True)),
+                     "warnings": [w.message for w in found]} if end else None
         except typst.TypstError as exc:
             raise RuntimeError(f"typst: {exc.message}") from None
-    for w in found:
+    for w in [] if end else found:
         warnings.warn(f"typst: {w.message}", RuntimeWarning, stacklevel=3)
     return pdf, where
-
-
-def _font_folder():
-    """matplotlib's folder of DejaVu fonts: the figures' text is set in the font it measured."""
-    from pathlib import Path
-
-    import matplotlib
-
-    return str(Path(matplotlib.get_data_path()) / "fonts" / "ttf")
 
 
 def _runs(text):
@@ -181,8 +178,7 @@ def printed_scale(size: tuple[float, float]) -> float:
     float
         Printed size / drawn size, at most 1 (:func:`_figure_width` over the drawn width).
     """
-    w = float(size[0])
-    return min(_figure_width(size, paper) / w for paper in PAPER)
+    return min(_figure_width(size, paper) / float(size[0]) for paper in PAPER)
 
 
 def _block(b, paper, sizes):
@@ -309,13 +305,17 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
         # heading (the figure heads its page with the rest of its section), kept if that
         # ends no later and not so
         barred, end_barred = typeset(barrier=True)
-        if end_barred["page"] <= end["page"] and not end_barred.get("alone"):
+        if end_barred["page"] <= end["page"] and not end_barred.get("alone") and (
+                not end_barred["warnings"]):
             pdf, end, barrier = barred, end_barred, True
     if end["page"] > 1 and end["fill"] < NEAR_EMPTY:
-        # a last page of a few lines: set tighter, kept if that saves the page
+        # a last page of a few lines: set tighter, kept if that saves the page and Typst's
+        # layout converged (a figure's placement may differ between its last two passes)
         tight, end_tight = typeset(barrier=barrier, tight=True)
-        if end_tight["page"] < end["page"]:
-            pdf = tight
+        if end_tight["page"] < end["page"] and not end_tight["warnings"]:
+            pdf, end = tight, end_tight
+    for message in end["warnings"]:
+        warnings.warn(f"typst: {message}", RuntimeWarning, stacklevel=2)
     with open(path, "wb") as fh:
         fh.write(pdf)
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
