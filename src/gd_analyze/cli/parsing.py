@@ -315,12 +315,12 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                        default=defaults["explicit"],
                        help="derive the explicit G-D model too: auto (default) where its "
                             "estimated size is cheap and it may be deployed (not with --form "
-                            "recursive), always, or never")
+                            "recursive), always, or never (not with --rule chapter)")
         g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
                        default=defaults["form"],
                        help="the simplified model written: the cheaper of the pruned recursive "
                             "and explicit models (default), or that form (explicit: derived "
-                            "whatever --explicit says)")
+                            "whatever --explicit says; --rule chapter writes no recursive)")
 
 
 def _add_threshold_arguments(p, dominance="default {}", negligible="default {}"):
