@@ -127,3 +127,27 @@ def contribution_peaks_numpy(robot, base, q, qd, qdd):
         np.fmax(whole_peak, np.fmax.reduce(np.abs(s), axis=0).T, out=whole_peak)
         np.fmax(peak, np.fmax.reduce(np.abs(val), axis=0).transpose(2, 0, 1), out=peak)
     return tau_peak, peak, whole_peak
+
+
+def element_series(D_tran, D_rot, h_tran, h_rot):
+    """The ranked elements' translational and rotational values, as array code (the
+    ranking kernel gathers them itself).
+
+    Parameters
+    ----------
+    D_tran, D_rot : ndarray, shape (N, n, n)
+        Inertia matrix parts [kg m^2].
+    h_tran, h_rot : ndarray, shape (N, n)
+        Coriolis and centrifugal parts [N m].
+
+    Returns
+    -------
+    tran, rot : ndarray, shape (N, M)
+        Per set point and element, in the order of :func:`gd_analyze.ranking.ranking.element_labels`.
+    """
+    n = D_tran.shape[-1]
+    iu = np.triu_indices(n)
+    tran = np.concatenate([D_tran[:, iu[0], iu[1]], h_tran], axis=1)
+    rot = np.concatenate([D_rot[:, iu[0], iu[1]], h_rot], axis=1)
+    return tran, rot
+

@@ -9,12 +9,13 @@ import dataclasses
 
 import numpy as np
 import pytest
+from numpy_engines import element_series
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.jobs.analyze import analysis_pass, analysis_passes
 from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.jobs.sweep import _analyze_batch, _error_batch, analyze_one
-from gd_analyze.ranking.ranking import RankingAccumulator, element_labels, element_series
+from gd_analyze.ranking.ranking import RankingAccumulator, element_labels
 from gd_analyze.simplify.choices import choice_masks, simplified_torque
 from gd_analyze.simplify.torque_error import TorqueErrorAccumulator
 from gd_analyze.trajectory.planning import plan_quintic, random_trajectories

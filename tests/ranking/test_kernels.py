@@ -7,9 +7,10 @@ and NaN.
 import numpy as np
 import pytest
 from conftest import random_states
+from numpy_engines import element_series
 
 from gd_analyze import gd_terms, load_robot
-from gd_analyze.ranking.ranking import RankingAccumulator, element_series
+from gd_analyze.ranking.ranking import RankingAccumulator
 from gd_analyze.ranking.statistics import ROWS
 from gd_analyze.simplify.budget import PartPeaks, part_index
 

@@ -1,13 +1,13 @@
 import numpy as np
 import pytest
 from conftest import SHIPPED
+from numpy_engines import element_series
 
 from gd_analyze import gd_terms
 from gd_analyze.ranking.ranking import (
     CHAPTER_DOMINANCE,
     arm_scales,
     element_labels,
-    element_series,
     rank_dominance,
 )
 from gd_analyze.trajectory.trajectory import read_trajectory

@@ -103,7 +103,7 @@ def ranking_kernel(D_tran, D_rot, h_tran, h_rot, tau, arm, arm_d, bounds, stats,
     Notes
     -----
     The M = n (n + 1) / 2 + n elements are the upper triangle of D row by row, then h
-    (:func:`gd_analyze.ranking.ranking.element_series`); the series and statistics are those
+    (:func:`gd_analyze.ranking.ranking.element_labels`); the series and statistics are those
     of :mod:`gd_analyze.ranking.statistics`. A segment's statistics are formed apart, element
     by element in one block (faster than updating the running peaks in place): a sum is the
     segment's values added in row order to 0, then added to the running sum (module

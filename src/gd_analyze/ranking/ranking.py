@@ -334,30 +334,6 @@ class Ranking:
         return {lab: code[c] for lab, c in zip(self.labels, self.dominance)}
 
 
-def element_series(D_tran, D_rot, h_tran, h_rot):
-    """Gather the ranked elements' translational and rotational values.
-
-    Parameters
-    ----------
-    D_tran, D_rot : ndarray, shape (N, n, n)
-        Inertia matrix parts [kg m^2].
-    h_tran, h_rot : ndarray, shape (N, n)
-        Coriolis and centrifugal parts [N m].
-
-    Returns
-    -------
-    tran, rot : ndarray, shape (N, M)
-        Per set point and element, in the order of :func:`element_labels`.
-    """
-    n = D_tran.shape[-1]
-    iu = np.triu_indices(n)
-    tran = np.concatenate([D_tran[:, iu[0], iu[1]], h_tran], axis=1)
-    rot = np.concatenate([D_rot[:, iu[0], iu[1]], h_rot], axis=1)
-    return tran, rot
-
-
-__all__.append("element_series")
-
 #: Rows per block of the array code of :meth:`RankingAccumulator.update`.
 _BLOCK = 8192
 
@@ -506,7 +482,7 @@ class RankingAccumulator:
         per segment, the sums of |x| and x^2 (the segment's in row order, then added) and the
         peaks of |x| of x = tran, rot + arm and tran + rot + arm, the peaks of |rot|,
         sqrt(D_ii D_jj) (D_ii + Ia_i clipped at 0) and |tau|, with the elements of
-        :func:`element_series`.
+        :func:`element_labels`.
         """
         n = self.n
         D_tran, D_rot = np.asarray(D_tran, float), np.asarray(D_rot, float)

@@ -1,6 +1,6 @@
 """The running statistics the ranking accumulates per element, and their rows in one array.
 
-Per element of D and h (:func:`gd_analyze.ranking.ranking.element_series`) and set point k,
+Per element of D and h (:func:`gd_analyze.ranking.ranking.element_labels`) and set point k,
 with arm_k the armature on the element (Ia_i on D_ii, 0 elsewhere), the series are
 
 - ``"tran"``: tran_k;
