@@ -103,3 +103,17 @@ def test_a_robot_file_with_a_byte_order_mark_is_read_with_a_note(tmp_path):
     np.testing.assert_array_equal(robot.mass, plain.mass)
     np.testing.assert_array_equal(robot.inertia, plain.inertia)
     assert robot.name == plain.name
+
+
+@pytest.mark.parametrize("name", ["ur5.xml", "ur5.urdf.xacro"])
+def test_a_urdf_not_named_urdf_is_said_to_be_xml(tmp_path, name):
+    """A robot file whose name does not end in .urdf is read as TOML: a URDF saved as .xml,
+    or a ROS package's .urdf.xacro, was refused with TOML's 'Invalid statement (at line 1,
+    column 1)'. Oracle: the file is the shipped UR5 URDF."""
+    path = tmp_path / name
+    path.write_bytes(builtin_urdf_path("ur5").read_bytes())
+    with pytest.raises(InputError, match=r"not a valid TOML robot file: XML, not TOML \(a URDF "
+                       r"file's name ends in \.urdf; a xacro file needs xacro first\)"):
+        load_robot(path)
+    (tmp_path / "ur5.urdf").write_bytes(path.read_bytes())
+    assert load_robot(tmp_path / "ur5.urdf").n == 6

@@ -1,3 +1,5 @@
+import math
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -113,6 +115,22 @@ def test_joint_limit_warning(tmp_path, two_link):
     with pytest.warns(JointLimitWarning, match="column q1"):
         msgs = check_joint_limits(two_link, traj)
     assert len(msgs) == 1
+
+
+def test_joint_limit_warning_shows_a_narrow_range(tmp_path, two_link):
+    """Limits were printed to whole degrees (millimetres for a prismatic joint): a range of
+    [0, 0.0005] rad read 'outside its limits [0, 0] deg (1 set points)'. Oracle: the limits
+    set, in deg, and the one row beyond them."""
+    import dataclasses
+
+    narrow = dataclasses.replace(two_link, q_min=np.array([0.0, -3.0]),
+                                 q_max=np.array([0.0005, 3.0]))
+    path = tmp_path / "narrow.csv"
+    path.write_text("t,q1,q2\n0,0,0\n1,0.06,0\n2,0,0\n")
+    with pytest.warns(JointLimitWarning) as caught:
+        check_joint_limits(narrow, read_trajectory(path, 2))
+    assert (f"joint 1 at {math.degrees(0.06):.4g} deg is outside its limits "
+            f"[0, {math.degrees(0.0005):.4g}] deg (1 set point)" in str(caught[0].message))
 
 
 @pytest.mark.parametrize("defect, row, column", [

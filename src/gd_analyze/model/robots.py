@@ -199,7 +199,8 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     ------
     InputError
         If the name is not a built-in robot and no such file exists, if the file is not valid
-        TOML, or if it fails validation. A UTF-8 byte-order mark at the start of the file is
+        TOML (XML, a URDF or xacro file not named ``*.urdf``, is said to be), or if it fails
+        validation. A UTF-8 byte-order mark at the start of the file is
         stripped, with an :class:`~gd_analyze.errors.InputNote`.
 
     Examples
@@ -209,16 +210,14 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     """
     key = str(name_or_path)
     if key in TOML_BUILTIN:
-        res = resources.files("gd_analyze").joinpath("data").joinpath(TOML_BUILTIN[key])
-        raw = res.read_bytes()
+        raw = resources.files("gd_analyze").joinpath(f"data/{TOML_BUILTIN[key]}").read_bytes()
         source = key
     else:
         path = Path(key)
         if path.is_dir():
             raise InputError("is a folder, not a robot file", key)
         if not path.is_file():
-            raise InputError(
-                f"unknown robot (built-in: {', '.join(builtin_robots())}) and no such file", key)
+            raise InputError(f"unknown robot (built-in: {robots_text()}) and no such file", key)
         try:
             raw = path.read_bytes()
         except OSError as exc:
@@ -230,7 +229,9 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
     try:
         spec = tomllib.loads(raw.decode("utf-8").removeprefix("\ufeff"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a valid TOML robot file: {exc}", source) from None
+        why = ("XML, not TOML (a URDF file's name ends in .urdf; a xacro file needs xacro first)"
+               if raw.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<") else exc)
+        raise InputError(f"not a valid TOML robot file: {why}", source) from None
     except RecursionError:
         raise InputError("not a robot file: nested too deeply", source) from None
     return robot_from_dict(spec, source=source, sha256=hashlib.sha256(raw).hexdigest())

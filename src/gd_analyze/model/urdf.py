@@ -38,6 +38,7 @@ import math
 import os
 import re
 import tempfile
+import threading
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -93,6 +94,8 @@ _TOL = 1e-12
 #: (:func:`right_angle_rotation`): 1e-10 takes pi and pi/2 written with 11 or more digits, and
 #: keeps the arm within 1e-10 of the file's (a turn 1.8e-9 off, pi/2 as 1.570796325, stays).
 RIGHT_ANGLE_TOL = 1e-10
+#: One thread at a time sends the C stderr (file descriptor 2) to a file while urdfdom parses.
+_C_STDERR = threading.Lock()
 
 
 def right_angle_rotation(R: ArrayLike) -> np.ndarray:
@@ -216,8 +219,7 @@ def axis_rotation(axis: ArrayLike) -> np.ndarray:
     if not math.isfinite(norm) or norm == 0.0:
         raise ValueError(f"not a joint axis: {a.tolist()}")
     a = a / norm
-    z = np.array([0.0, 0.0, 1.0])
-    v = np.cross(z, a)
+    v = np.array([-a[1], a[0], 0.0])                           # z x a
     s = float(np.linalg.norm(v))
     c = float(a[2])
     if s < _TOL:
@@ -250,7 +252,7 @@ def _parse_model(raw, label):
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text (byte {exc.start + 1})", label) from None
-    with tempfile.TemporaryFile() as said:     # urdfdom writes its reasons on the C stderr
+    with _C_STDERR, tempfile.TemporaryFile() as said:  # urdfdom's reasons, on the C stderr
         saved = os.dup(2)
         os.dup2(said.fileno(), 2)
         try:
@@ -491,8 +493,7 @@ def _bound(limit):
 def _given(limit):
     """A URDF limit, or NaN where it is not given: ROS's placeholder 0 (``velocity="0"``,
     ``effort="0"``) or what Pinocchio sets for a missing one (0, inf or the largest float)."""
-    v = float(limit)
-    return v if 0 < v < 1e300 else math.nan
+    return float(limit) if 0 < limit < 1e300 else math.nan
 
 
 def builtin_urdf_path(name: str) -> Path:

@@ -799,14 +799,14 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory) -> list[str]:
         if out.size:
             k = int(out[0])
             if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
-                where = (f"{q[k, j]:.4f} m is outside its limits "
-                         f"[{robot.q_min[j]:.4f}, {robot.q_max[j]:.4f}] m")
+                where = (f"{q[k, j]:.4g} m is outside its limits "
+                         f"[{robot.q_min[j]:.4g}, {robot.q_max[j]:.4g}] m")
             else:
-                where = (f"{math.degrees(q[k, j]):.1f} deg is outside its limits "
-                         f"[{math.degrees(robot.q_min[j]):.0f}, "
-                         f"{math.degrees(robot.q_max[j]):.0f}] deg")
+                where = (f"{math.degrees(q[k, j]):.4g} deg is outside its limits "
+                         f"[{math.degrees(robot.q_min[j]):.4g}, "
+                         f"{math.degrees(robot.q_max[j]):.4g}] deg")
             msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
-                   f"{where} ({out.size} set points)")
+                   f"{where} ({out.size} set point{'s' if out.size > 1 else ''})")
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
