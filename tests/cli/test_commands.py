@@ -184,30 +184,27 @@ def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, 
     assert np.all(data[[0, -1], 3:] == 0)                      # qd, qdd at rest at both ends
 
 
-@pytest.mark.parametrize("options, column, kind", [
-    (["--qd-max", "1e-300"], "--qd-max: ", "velocity limits (--qd-max)"),
-    (["--qd-max", "1e-10"], "--qd-max: ", "velocity limits (--qd-max)"),
-    (["--qdd-max", "1e-300"], "--qdd-max: ", "acceleration limits (--qdd-max)"),
-    ([], "", "velocity limits (robot)"),
+@pytest.mark.parametrize("options, limits, column, kind", [
+    (["--qd-max", "1e-9"], (180.0, 360.0), "--qd-max: ", "velocity limits (--qd-max)"),
+    ([], (1e-9, 360.0), "", "velocity limits (robot)"),
+    ([], (180.0, 1e-30), "", "acceleration limits (robot)"),
 ])
 def test_a_plan_too_slow_for_t_names_the_limit_that_makes_it_so(tmp_path, capsys, options,
-                                                                 column, kind):
+                                                                 limits, column, kind):
     """A duration beyond the largest t accepted blames the limit that sets it, the option when
-    the user gave it: --qd-max 1e-300 blamed the robot's limits. The duration said is the
-    quintic's closed form, max_i 15 |dq_i| / (8 qd_max_i) or sqrt(10 |dq_i| / (sqrt(3)
-    qdd_max_i)). The robot of the last case is the two-link arm with a velocity limit of
-    1e-9 deg/s in its own file."""
+    the user gave it: --qd-max blamed the robot's limits. The duration said is the quintic's
+    closed form, max_i of 15 |dq_i| / (8 qd_max_i) and sqrt(10 |dq_i| / (sqrt(3)
+    qdd_max_i)). The robot is the two-link arm with the velocity and acceleration limits
+    ``limits`` [deg/s, deg/s^2] in its own file."""
     robot = tmp_path / "slow.toml"
     shipped = Path(__file__).parents[2] / "src" / "gd_analyze" / "data" / "two-link.toml"
-    robot.write_text(shipped.read_text().replace("qd_max_deg = 180.0", "qd_max_deg = 1e-9"))
-    name = "two-link" if options else str(robot)
-    dq = np.abs(np.subtract(*default_motion(load_robot(name))))
-    qd_max = math.radians(float(options[1])) if options[:1] == ["--qd-max"] else \
-        math.radians(1e-9 if not options else 180.0)
-    qdd_max = math.radians(float(options[1])) if options[:1] == ["--qdd-max"] else \
-        math.radians(360.0)
+    robot.write_text(shipped.read_text().replace("qd_max_deg = 180.0", f"qd_max_deg = {limits[0]}")
+                     .replace("qdd_max_deg = 360.0", f"qdd_max_deg = {limits[1]}"))
+    dq = np.abs(np.subtract(*default_motion(load_robot(str(robot)))))
+    qd_max = math.radians(float(options[1]) if options else limits[0])
+    qdd_max = math.radians(limits[1])
     T = max((15 * dq / (8 * qd_max)).max(), np.sqrt(10 * dq / (math.sqrt(3) * qdd_max)).max())
-    code, out, err = _run(capsys, "plan", name, "-o", tmp_path / "plan.csv", *options)
+    code, out, err = _run(capsys, "plan", robot, "-o", tmp_path / "plan.csv", *options)
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     said = err.removeprefix(f"gd-analyze: error: {column}the planned duration, ")
     assert said != err and f"the {kind} are too small" in said, err

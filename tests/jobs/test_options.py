@@ -1,6 +1,7 @@
 """The main job's settings as values: the user's region through the Python API."""
 
 import numpy as np
+import pytest
 
 import gd_analyze as gd
 
@@ -24,3 +25,18 @@ def test_region_limits_pass_through_the_api_into_the_dataset():
     assert ds.attrs["region_summary"].splitlines()[0] == \
         "region: q [deg] 1 [-28.65, 28.65], 2 [-57.3, 57.3]"
     assert ds.attrs["simplified_guarantee_kind"] == "region"
+
+
+@pytest.mark.parametrize("field, value, said", [
+    ("dominance", "0.9", "dominance must be a number in (0.5, 1], got '0.9'"),
+    ("dominance", None, "dominance must be a number in (0.5, 1], got None"),
+    ("negligible", "x", "negligible must be a number in [0, 1), got 'x'"),
+    ("negligible", float("nan"), "negligible must be a number in [0, 1), got nan"),
+])
+def test_a_threshold_that_is_not_a_number_is_one_value_error(field, value, said):
+    """AnalysisOptions(dominance="0.9") raised TypeError ("'<' not supported between
+    instances of 'float' and 'str'"); a number's range check is as before."""
+    with pytest.raises(ValueError) as e:
+        gd.AnalysisOptions(**{field: value})
+    assert str(e.value) == said
+    assert gd.AnalysisOptions(dominance=np.float64(0.75), negligible=0).dominance == 0.75

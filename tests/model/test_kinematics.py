@@ -53,3 +53,19 @@ def test_as_states_rejects_wrong_shapes(puma):
         as_states(puma, np.zeros((3, 6)), np.zeros((4, 6)))
     (q,) = as_states(puma, np.zeros(6))
     assert q.shape == (1, 6)
+
+
+@pytest.mark.parametrize("robot", [None, "two-link", {"n": 2}])
+def test_a_robot_of_another_type_is_one_input_error(robot):
+    """gd.gd_terms(None, q, qd) and gd.regressor("two-link", ...) raised AttributeError
+    ("'NoneType' object has no attribute 'n'") from inside; every entry that checks its states
+    (as_states) now names the argument, as gd.analyze does."""
+    import gd_analyze as gd
+    from gd_analyze.errors import InputError
+
+    q = np.zeros((3, 2))
+    said = f"robot: a Robot (from load_robot), not a {type(robot).__name__}"
+    for call in (lambda: gd.gd_terms(robot, q, q), lambda: gd.regressor(robot, q, q, q)):
+        with pytest.raises(InputError) as e:
+            call()
+        assert str(e.value) == said

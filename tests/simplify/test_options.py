@@ -42,3 +42,11 @@ def test_the_chapter_rule_refuses_a_form_it_cannot_write(other):
         SimplifyOptions(rule="chapter", **other)
     assert SimplifyOptions(rule="budget", **other).rule == "budget"
     assert SimplifyOptions(rule="chapter", form="explicit", explicit="always").form == "explicit"
+
+
+@pytest.mark.parametrize("field, value", [("tolerance", "0.01"), ("torque_floor", None)])
+def test_a_tolerance_or_floor_that_is_not_a_number_is_one_value_error(field, value):
+    """SimplifyOptions(tolerance="0.01") raised TypeError ("'>=' not supported between
+    instances of 'str' and 'float'")."""
+    with pytest.raises(ValueError, match="must be numbers >= 0, got "):
+        SimplifyOptions(**{field: value})

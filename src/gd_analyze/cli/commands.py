@@ -580,8 +580,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
         own = "--qd-max" if getattr(limits, "qd_max", None) is not None else "robot"
         kind, source = (("velocity", own) if t_vel.max() >= t_acc.max()
                         else ("acceleration", qdd_source))
-        raise InputError(f"the planned duration, {exact_text(T)} s, exceeds the largest t, "
-                         f"{LIMITS['t']:g} s: the {kind} limits ({source}) are too small",
+        raise InputError(f"the planned duration, {exact_text(T)} s, is beyond the supported "
+                         f"magnitude {LIMITS['t']:g} s: the {kind} limits ({source}) are too small",
                          column=next((o for o in ("--qdd-max", "--qd-max") if o in source), None))
     return _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],

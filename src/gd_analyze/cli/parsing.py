@@ -250,8 +250,10 @@ def _q_ranges(text):
 
 
 def _positive_list(name):
-    """Comma-separated finite positive numbers (one for all joints or one per joint)."""
-    return _numbers(lambda v: all(x > 0 for x in v), f"{name} limits must be finite and positive")
+    """Comma-separated finite numbers of at least 1e-9 (one for all joints or one per joint):
+    a smaller velocity or acceleration limit overflows a duration (15 |dq| / (8 qd_max)) or
+    underflows the squares of the motions it allows."""
+    return _numbers(lambda v: all(x >= 1e-9 for x in v), f"{name} limits must be at least 1e-9")
 
 
 #: What the region options say, for the main job, sweep and plan.

@@ -479,8 +479,8 @@ def base_regressor(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     >>> Y.shape, beta.shape
     ((3, 6, 36), (36,))
     """
+    q, qd, qdd = as_states(robot, q, qd, qdd)        # the robot's type checked first
     base = base_parameters(robot) if base is None else base
-    q, qd, qdd = as_states(robot, q, qd, qdd)
     columns = np.flatnonzero(base.independent.reshape(-1))
     N = q.shape[0]
     Y = np.empty((N, robot.n, columns.size))

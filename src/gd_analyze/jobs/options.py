@@ -40,7 +40,7 @@ class AnalysisOptions:
     Raises
     ------
     ValueError
-        If a threshold is out of range.
+        If a threshold is not a number (an int or float) or is out of range.
 
     Examples
     --------
@@ -56,9 +56,9 @@ class AnalysisOptions:
     simplify: SimplifyOptions = field(default_factory=SimplifyOptions)
 
     def __post_init__(self):
-        if not 0.5 < self.dominance <= 1.0:
-            raise ValueError(f"dominance must be in (0.5, 1], got {self.dominance!r}")
-        if not 0.0 <= self.negligible < 1.0:
-            raise ValueError(f"negligible must be in [0, 1), got {self.negligible!r}")
+        if not (isinstance(self.dominance, (int, float)) and 0.5 < self.dominance <= 1.0):
+            raise ValueError(f"dominance must be a number in (0.5, 1], got {self.dominance!r}")
+        if not (isinstance(self.negligible, (int, float)) and 0.0 <= self.negligible < 1.0):
+            raise ValueError(f"negligible must be a number in [0, 1), got {self.negligible!r}")
         if self.compress not in range(10):
             raise ValueError(f"compress must be 0-9, got {self.compress!r}")

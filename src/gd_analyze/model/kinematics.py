@@ -15,15 +15,13 @@ Eq. (3.2-5), and :func:`link_matrices` gives the DH link matrices ^{i-1}A_i.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..errors import InputError
 from .limits import real_values
-
-if TYPE_CHECKING:
-    from .robot import Robot
+from .robot import Robot
 
 __all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "body_frames",
            "link_matrices", "frames", "centres_of_mass"]
@@ -50,17 +48,21 @@ def as_states(robot: Robot, *arrays: ArrayLike,
 
     Raises
     ------
+    InputError
+        If ``robot`` is not a :class:`~gd_analyze.model.robot.Robot` (one line naming the
+        argument).
     ValueError
         If an array's last axis is not n, if it has more than two axes, or if the arrays do not
         all have the same number of set points N; an InputError if an array holds complex or
         non-numeric values (:func:`~gd_analyze.model.limits.real_values`).
     """
+    if not isinstance(robot, Robot):
+        raise InputError(f"robot: a Robot (from load_robot), not a {type(robot).__name__}")
     out = []
     names = list(names or ()) + ["q", "qd", "qdd", "array"][len(names or ()):]
     for k, x in enumerate(arrays):
         x = real_values(names[min(k, len(names) - 1)], x)
-        if x.ndim == 1:
-            x = x[None, :]
+        x = x[None, :] if x.ndim == 1 else x            # one state: one set point
         if x.ndim != 2 or x.shape[1] != robot.n:
             raise ValueError(f"expected shape (N, {robot.n}) for {robot.name}, got {x.shape}")
         out.append(x)

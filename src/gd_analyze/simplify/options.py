@@ -55,7 +55,8 @@ class SimplifyOptions:
     Raises
     ------
     ValueError
-        If a value is out of range or not one of its choices, ``region`` is not a
+        If a value is out of range, not a number where one is asked for (tolerance,
+        torque_floor: an int or float) or not one of its choices, ``region`` is not a
         RegionLimits, or rule ``"chapter"`` is given form ``"recursive"`` or explicit
         ``"never"`` (its model is the explicit model's elements in their classes).
 
@@ -76,12 +77,12 @@ class SimplifyOptions:
     def __post_init__(self):
         if self.region is not None and not isinstance(self.region, RegionLimits):
             raise ValueError("region must be a RegionLimits (or None: the robot's limits)")
-        if not self.tolerance >= 0.0 or not self.torque_floor >= 0.0:
-            raise ValueError("tolerance and torque_floor must be >= 0 (and not NaN)")
-        _check_choice("rule", self.rule, RULES)
-        _check_choice("explicit", self.explicit, EXPLICIT)
-        _check_choice("form", self.form, FORMS)
-        _check_choice("guarantee", self.guarantee, GUARANTEES)
+        eps, tau = self.tolerance, self.torque_floor
+        if not all(isinstance(v, (int, float)) and v >= 0.0 for v in (eps, tau)):
+            raise ValueError(f"tolerance, torque_floor must be numbers >= 0, got {eps!r}, {tau!r}")
+        for name, allowed in (("rule", RULES), ("explicit", EXPLICIT), ("form", FORMS),
+                              ("guarantee", GUARANTEES)):
+            _check_choice(name, getattr(self, name), allowed)
         if self.rule == "chapter" and (self.form == "recursive" or self.explicit == "never"):
             raise ValueError("rule 'chapter' takes no form 'recursive' or explicit 'never': its "
                              "model is the explicit model's elements in their classes")
