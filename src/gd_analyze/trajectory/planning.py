@@ -219,8 +219,10 @@ def user_positions(robot: Robot, values: ArrayLike) -> np.ndarray:
     return np.where(np.asarray(robot.prismatic, bool), values, np.radians(values))
 
 
-#: Set points computed and written at a time by :meth:`SampledMotion.chunks` (about 50 MB of
-#: arrays for 6 joints), so that ``plan --setpoints 100000000`` runs in bounded memory.
+#: Set points computed and written at a time by :meth:`SampledMotion.chunks` (for 6 joints
+#: about 75 MB of arrays, and some 250 MB with their CSV text: ``plan puma560 --setpoints
+#: 10000000`` peaks at 465 MiB, ``analysis/plan_memory.py``), so that ``plan --setpoints
+#: 100000000`` runs in bounded memory.
 CHUNK_SETPOINTS = 2**19
 
 
