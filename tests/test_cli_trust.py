@@ -229,7 +229,9 @@ def test_case8_sweep_arguments(cwd, capsys, args, match):
 
 
 @pytest.mark.parametrize("args, match", [
-    (["--wn", "1e6"], "too stiff"), (["--zeta", "1e9"], "too stiff"),
+    (["--wn", "1e4", "--zeta", "100"], "too stiff"), (["--wn", "1e4"], "(pd_gravity) too stiff"),
+    (["--wn", "1e6"], "--wn must be in [0.01, 10000.0]"),
+    (["--zeta", "1e9"], "--zeta must be in [0.01, 100.0]"),
     (["--offset", "1e308"], "--offset"),
 ])
 def test_case8_control_bounds(cwd, capsys, args, match):

@@ -77,3 +77,28 @@ def test_sweep_workers_are_at_most_256(workers, ok):
     with pytest.raises(InputError, match=rf"^sweep: argument --workers: --workers must be in "
                                          rf"\[1, 256\], got {workers}$"):
         sweep_parser().parse_intermixed_args(argv)
+
+
+@pytest.mark.parametrize("argv, line", [
+    # ran with exit 0: Kp = 1e-600 underflows to 0, a controller that does not control
+    (["--wn", "1e-300"], "--wn must be in [0.01, 10000.0], got 1e-300"),
+    (["--wn", "2e4"], "--wn must be in [0.01, 10000.0], got 20000.0"),
+    # was refused as too stiff with "its fastest mode, inf rad/s" (zeta^2 overflowed)
+    (["--zeta", "1e300"], "--zeta must be in [0.01, 100.0], got 1e+300"),
+    (["--zeta", "0.001"], "--zeta must be in [0.01, 100.0], got 0.001"),
+])
+def test_control_gains_out_of_range_are_one_line(capsys, argv, line):
+    """wn and zeta beyond the controllers a drive could follow: one line naming the option
+    and the range, before the model or the trajectory is read."""
+    code = main(["control", "no-such-model.json", "no-such-file.csv", *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and err == f"gd-analyze: error: control: argument {argv[0]}: {line}\n", err
+
+
+@pytest.mark.parametrize("argv", [["--wn", "0.01", "--zeta", "100"], ["--wn", "1e4",
+                                                                        "--zeta", "0.01"]])
+def test_control_gains_at_their_bounds_are_taken(argv):
+    from gd_analyze.cli.parsing import control_parser
+
+    args = control_parser().parse_intermixed_args(["m.json", "t.csv", *argv])
+    assert (args.wn, args.zeta) == (float(argv[1]), float(argv[3]))

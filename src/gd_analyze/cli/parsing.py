@@ -541,12 +541,15 @@ def control_parser() -> argparse.ArgumentParser:
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-<csv stem>-control/)")
-    p.add_argument("--wn", metavar="RAD/S", type=_fraction(0.0, math.inf, "--wn"),
+    # below 0.01 rad/s an error takes minutes to decay; above 1e4 rad/s (1.6 kHz) no drive follows
+    p.add_argument("--wn", metavar="RAD/S", type=_fraction(0.01, 1e4, "--wn", "[]"),
                    default=DEFAULT_WN,
-                   help=f"natural frequency of the error dynamics [rad/s] (default {DEFAULT_WN:g}); "
-                        "Kp = wn^2, Kv = 2 zeta wn")
-    p.add_argument("--zeta", metavar="Z", type=_fraction(0.0, math.inf, "--zeta"),
-                   default=DEFAULT_ZETA, help=f"damping ratio (default {DEFAULT_ZETA:g})")
+                   help=f"natural frequency of the error dynamics [rad/s], 0.01 to 1e4 (default "
+                        f"{DEFAULT_WN:g}); Kp = wn^2, Kv = 2 zeta wn")
+    # below 0.01 the loop rings undamped; above 100 its slow mode, about wn / (2 zeta), stalls
+    p.add_argument("--zeta", metavar="Z", type=_fraction(0.01, 100.0, "--zeta", "[]"),
+                   default=DEFAULT_ZETA,
+                   help=f"damping ratio, 0.01 to 100 (default {DEFAULT_ZETA:g})")
     p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
                                                              "--offset", "[]"),
                    default=0.0, help="initial position error on every joint [rad; m on a "
