@@ -1,9 +1,12 @@
 """One-line errors (gd_analyze.errors)."""
 
+import pathlib
+
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gd_analyze.errors import InputError
+from gd_analyze.errors import InputError, path_text
 
 
 def test_the_parts_and_their_order():
@@ -23,3 +26,12 @@ def test_a_key_or_file_name_with_a_line_break_stays_on_one_line():
 def test_always_one_line(message, path, column):
     text = str(InputError(message, path, column=column))
     assert len(text.splitlines()) <= 1
+
+
+def test_a_file_argument_is_a_str_or_a_path_like():
+    assert path_text(pathlib.Path("a/b.csv"), "CSV file") == str(pathlib.Path("a/b.csv"))
+    assert path_text("b.csv", "CSV file") == "b.csv"
+    for bad in (None, 1.5, b"b.csv", ["b.csv"]):
+        with pytest.raises(InputError) as e:
+            path_text(bad, "CSV file")
+        assert str(e.value) == f"path: a CSV file (str or os.PathLike), not a {type(bad).__name__}"

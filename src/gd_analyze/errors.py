@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["InputError", "InputWarning", "InputNote"]
+__all__ = ["InputError", "InputWarning", "InputNote", "path_text"]
 
 
 class InputError(ValueError):
@@ -67,6 +67,39 @@ def one_line(text: object) -> str:
         return text
     return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii")
                    for c in text)
+
+
+def path_text(path: object, what: str) -> str:
+    """A file argument of the Python API as text.
+
+    Parameters
+    ----------
+    path : object
+        The argument, a str or os.PathLike.
+    what : str
+        What the file is, for the message (e.g. ``"CSV file"``).
+
+    Returns
+    -------
+    str
+        ``str(path)``.
+
+    Raises
+    ------
+    InputError
+        If ``path`` is not a str or os.PathLike (``None``, a number): one line naming the
+        argument, not the "None: no such file" or TypeError that opening it would give.
+
+    Examples
+    --------
+    >>> path_text(None, "CSV file")
+    Traceback (most recent call last):
+    ...
+    gd_analyze.errors.InputError: path: a CSV file (str or os.PathLike), not a NoneType
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"path: a {what} (str or os.PathLike), not a {type(path).__name__}")
+    return str(path)
 
 
 class InputWarning(UserWarning):

@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 from typing import TYPE_CHECKING
 
-from ..errors import InputError
+from ..errors import InputError, path_text
 from ..files import atomic_path
 from ..model.mounting import as_mounted
 from ..model.robot_spec import robot_from_dict
@@ -47,7 +47,8 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     Raises
     ------
     InputError
-        If ``model`` is not a SimplifiedModel (one line naming the argument).
+        If ``model`` is not a SimplifiedModel or ``path`` not a str or os.PathLike (one line
+        naming the argument).
     OSError
         If the file cannot be written.
 
@@ -57,7 +58,7 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     """
     if not isinstance(model, SimplifiedModel):
         raise InputError(f"model: a SimplifiedModel, not a {type(model).__name__}")
-    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+    with atomic_path(path_text(path, "JSON file")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(json_safe(model.to_dict()), fh, indent=2)
         fh.write("\n")
 
@@ -78,8 +79,9 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     Raises
     ------
     InputError
-        If the file is missing or not strict JSON (duplicate keys, NaN, numbers beyond a
-        float, deep nesting), of another schema version, does not follow
+        If ``path`` is not a str or os.PathLike, the file is missing or not strict JSON
+        (duplicate keys, NaN, numbers beyond a float, deep nesting), of another schema
+        version, does not follow
         :data:`~gd_analyze.store.json_schema.MODEL_SCHEMA` (types, unknown keys, finite
         thresholds in range), its robot's parameters do not match
         ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
@@ -93,7 +95,7 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     The file's ``cost`` and ``full_cost`` are not read: a claim is not a count (Sec. 3.4.1's
     simplified model is counted from its own terms).
     """
-    path = str(path)
+    path = path_text(path, "simplified-model JSON file")
     spec = load_json(path, "simplified-model JSON")
     if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
         raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "

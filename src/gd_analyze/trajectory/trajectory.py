@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
-from ..errors import InputError, InputNote
+from ..errors import InputError, InputNote, path_text
 from ..files import atomic_path
 from ..model.limits import LIMITS, exact_text, first_beyond, real_values
 
@@ -204,13 +204,12 @@ def _csv_path(path: Any, n_joints: Any) -> str:
     :func:`~gd_analyze.trajectory.recording.read_recording` checked, InputError naming the
     argument where ``path`` is not a str or os.PathLike, or ``n_joints`` (when given) not a
     whole number >= 1."""
-    if not isinstance(path, (str, os.PathLike)):
-        raise InputError(f"path: a CSV file (str or os.PathLike), not a {type(path).__name__}")
+    path = path_text(path, "CSV file")
     whole = isinstance(n_joints, (int, np.integer)) and not isinstance(n_joints, bool)
     if n_joints is not None and not (whole and n_joints >= 1):
         raise InputError(f"n_joints: a whole number >= 1, not {type(n_joints).__name__} "
                          f"{str(n_joints)[:40]!r}")
-    return str(path)
+    return path
 
 
 def _spline(t, q, path, row_of):
