@@ -2,11 +2,12 @@
 
 import pathlib
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gd_analyze.errors import InputError, path_text
+from gd_analyze.errors import InputError, check_flags, expect, path_text
 
 
 def test_the_parts_and_their_order():
@@ -35,3 +36,15 @@ def test_a_file_argument_is_a_str_or_a_path_like():
         with pytest.raises(InputError) as e:
             path_text(bad, "CSV file")
         assert str(e.value) == f"path: a CSV file (str or os.PathLike), not a {type(bad).__name__}"
+
+
+def test_an_argument_of_another_type_is_one_line_naming_it():
+    assert expect(3, (int, str), "n", "a number or a name") == 3
+    with pytest.raises(InputError) as e:
+        expect(None, (int, str), "n", "a number or a name")
+    assert str(e.value) == "n: a number or a name, not a NoneType"
+    check_flags(a=True, b=False, c=np.True_, d=np.bool_(False))
+    for bad in ("no", 1, 0.0, None, np.array([True])):
+        with pytest.raises(InputError) as e:
+            check_flags(a=True, flag=bad)
+        assert str(e.value) == f"flag: True or False, not a {type(bad).__name__}"

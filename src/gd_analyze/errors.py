@@ -8,8 +8,11 @@ command line can print it as it is and exit with status 2.
 from __future__ import annotations
 
 import os
+from typing import Any
 
-__all__ = ["InputError", "InputWarning", "InputNote", "path_text"]
+import numpy as np
+
+__all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "path_text"]
 
 
 class InputError(ValueError):
@@ -69,6 +72,69 @@ def one_line(text: object) -> str:
                    for c in text)
 
 
+def expect(value: Any, types: type | tuple[type, ...], name: str, what: str) -> Any:
+    """An argument of the Python API, checked to be of its type.
+
+    Parameters
+    ----------
+    value : object
+        The argument.
+    types : type or tuple of type
+        What it may be (:func:`isinstance`).
+    name : str
+        The argument's name, for the message.
+    what : str
+        What it should be, for the message (e.g. ``"a Robot"``).
+
+    Returns
+    -------
+    object
+        ``value``.
+
+    Raises
+    ------
+    InputError
+        If ``value`` is not of ``types``: ``"NAME: WHAT, not a TYPE"``, one line naming the
+        argument.
+
+    Examples
+    --------
+    >>> expect(3, str, "name", "a str")
+    Traceback (most recent call last):
+    ...
+    gd_analyze.errors.InputError: name: a str, not a int
+    """
+    if not isinstance(value, types):
+        raise InputError(f"{name}: {what}, not a {type(value).__name__}")
+    return value
+
+
+def check_flags(**flags: Any) -> None:
+    """Check that every flag of the Python API is a bool (Python's or numpy's).
+
+    Parameters
+    ----------
+    **flags : bool
+        Each flag by its argument's name.
+
+    Raises
+    ------
+    InputError
+        At the first flag that is not a bool (``"no"`` would read as True, 3 as a count):
+        one line naming it (:func:`expect`).
+
+    Examples
+    --------
+    >>> check_flags(verify=True, current=np.False_)
+    >>> check_flags(current="no")
+    Traceback (most recent call last):
+    ...
+    gd_analyze.errors.InputError: current: True or False, not a str
+    """
+    for name, value in flags.items():
+        expect(value, (bool, np.bool_), name, "True or False")
+
+
 def path_text(path: object, what: str) -> str:
     """A file argument of the Python API as text.
 
@@ -97,9 +163,7 @@ def path_text(path: object, what: str) -> str:
     ...
     gd_analyze.errors.InputError: path: a CSV file (str or os.PathLike), not a NoneType
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise InputError(f"path: a {what} (str or os.PathLike), not a {type(path).__name__}")
-    return str(path)
+    return str(expect(path, (str, os.PathLike), "path", f"a {what} (str or os.PathLike)"))
 
 
 class InputWarning(UserWarning):

@@ -191,6 +191,11 @@ def test_options_are_checked():
         IdentifyOptions(cutoff=-1.0)
     with pytest.raises(ValueError, match="drive gains"):
         IdentifyOptions(current=True)
+    # a flag that is not a bool: "yes" and "no" alike were read as True
+    for flag in ("current", "consistent", "simplify"):
+        with pytest.raises(ValueError, match=f"^{flag}: True or False, not a str$"):
+            IdentifyOptions(**{flag: "no"})
+    assert IdentifyOptions(consistent=np.True_).consistent
 
 
 def test_one_recording_given_alone_is_one_recording(tmp_path):

@@ -40,3 +40,18 @@ def test_a_threshold_that_is_not_a_number_is_one_value_error(field, value, said)
         gd.AnalysisOptions(**{field: value})
     assert str(e.value) == said
     assert gd.AnalysisOptions(dominance=np.float64(0.75), negligible=0).dominance == 0.75
+
+
+@pytest.mark.parametrize("field, value, said", [
+    ("verify", "no", "verify: True or False, not a str"),
+    ("formulations", 1, "formulations: True or False, not a int"),
+    ("simplify", 3, "simplify: a SimplifyOptions or None, not a int"),
+    ("simplify", {"tolerance": 0.1}, "simplify: a SimplifyOptions or None, not a dict"),
+])
+def test_a_flag_or_nested_options_of_another_type_is_one_value_error(field, value, said):
+    """AnalysisOptions(verify="no") was accepted and read as True (a non-empty str), and
+    simplify=3 was kept, to fail deep in the job; numpy's bool is a bool."""
+    with pytest.raises(ValueError) as e:
+        gd.AnalysisOptions(**{field: value})
+    assert str(e.value) == said
+    assert gd.AnalysisOptions(verify=np.False_, formulations=np.bool_(True)).verify is np.False_

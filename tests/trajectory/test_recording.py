@@ -163,6 +163,8 @@ def test_a_large_recording_is_streamed_as_the_cell_by_cell_reading_reads_it(tmp_
     (("r.csv", "2"), "n_joints: a whole number >= 1, not str '2'"),
     (("r.csv", 1.5), "n_joints: a whole number >= 1, not float '1.5'"),
     (("r.csv", -1), "n_joints: a whole number >= 1, not int '-1'"),
+    # read as True: the torque columns taken for currents
+    (("r.csv", None, "no"), "current: True or False, not a str"),
 ])
 def test_arguments_of_another_type_are_one_line_naming_the_argument(tmp_path, monkeypatch,
                                                                      args, said):

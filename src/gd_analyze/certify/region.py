@@ -280,10 +280,7 @@ class RegionLimits:
                 raise ValueError("--q-limits: every limit must be a finite number")
             if not (pairs[:, 0] < pairs[:, 1]).all():
                 raise ValueError("--q-limits: each range LO:HI needs LO < HI")
-        for name in ("qd_max", "qdd_max"):
-            if getattr(self, name) is None:
-                continue
-            v = np.atleast_1d(np.asarray(getattr(self, name), float))
+        for name, v in self._rates().items():
             if not v.size or not (np.isfinite(v).all() and (v > 0).all()):
                 raise ValueError(f"--{name.replace('_', '-')}: every limit must be a finite "
                                  f"positive number, got {', '.join(f'{x:g}' for x in v)}")
@@ -299,11 +296,12 @@ class RegionLimits:
         out = {}
         if self.q_limits is not None:
             out["region_q_limits"] = np.asarray(self.q_limits, float).reshape(-1, 2).tolist()
-        for name in ("qd_max", "qdd_max"):
-            if getattr(self, name) is not None:
-                out[f"region_{name}"] = np.atleast_1d(
-                    np.asarray(getattr(self, name), float)).tolist()
-        return out
+        return out | {f"region_{name}": v.tolist() for name, v in self._rates().items()}
+
+    def _rates(self):
+        """The velocity and acceleration limits given, by field name, as 1-D float arrays."""
+        return {name: np.atleast_1d(np.asarray(v, float)) for name in ("qd_max", "qdd_max")
+                if (v := getattr(self, name)) is not None}
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._version import VERSION
 from ..dynamics.base_parameters import base_regressor
-from ..errors import InputError
+from ..errors import InputError, check_flags, expect
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
@@ -82,7 +82,8 @@ class IdentifyOptions:
     ------
     ValueError
         On an unknown drive kind (or drives given as one str), a cutoff <= 0, decimate < 1,
-        or currents without gains.
+        currents without gains, or current, consistent or simplify not a bool (numpy's too;
+        an InputError naming the field).
     """
 
     cutoff: object = "auto"
@@ -110,6 +111,7 @@ class IdentifyOptions:
                              f"{self.cutoff!r}")
         if int(self.decimate) != self.decimate or self.decimate < 1:
             raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
+        check_flags(current=self.current, consistent=self.consistent, simplify=self.simplify)
         if self.current and self.drive_gains is None:
             raise ValueError("currents need the drive gains K (tau = K i)")
         if self.drive_gains is not None and not all(
@@ -163,9 +165,7 @@ def _listed(items):
 
 
 def _recording(item, n, options):
-    if not isinstance(item, (str, os.PathLike, Recording)):
-        raise InputError(f"a recording is a CSV file or a Recording, not a "
-                         f"{type(item).__name__}")
+    expect(item, (str, os.PathLike, Recording), "recording", "a CSV file or a Recording")
     rec = (item if isinstance(item, Recording)
            else read_recording(item, n_joints=n, current=options.current))
     if rec.n != n:
@@ -235,9 +235,8 @@ def identify(robot: Robot | str | Path,
             options = IdentifyOptions(**options)
         except (TypeError, ValueError) as exc:
             raise InputError(f"options: {exc}") from None
-    elif not isinstance(options, IdentifyOptions):
-        raise InputError(f"options: an IdentifyOptions or a dict of its fields, not a "
-                         f"{type(options).__name__}")
+    else:
+        expect(options, IdentifyOptions, "options", "an IdentifyOptions or a dict of its fields")
     prior = robot if isinstance(robot, Robot) else load_robot(robot)
     n = prior.n
     recordings, validate = _listed(recordings), _listed(validate)

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..config import defaults
+from ..errors import check_flags, expect
 from ..simplify.options import SimplifyOptions
 
 __all__ = ["SimplifyOptions", "AnalysisOptions"]
@@ -34,13 +35,15 @@ class AnalysisOptions:
         Store the agreement and operation counts of L-E, N-E and G-D (Table 3.5).
     compress : int
         gzip level 0-9 of the per-set-point variables of results.h5.
-    simplify : SimplifyOptions
-        How the simplified model is built.
+    simplify : SimplifyOptions or None
+        How the simplified model is built; None: no model (the ranking's choices alone).
 
     Raises
     ------
     ValueError
-        If a threshold is not a number (an int or float) or is out of range.
+        If a threshold is not a number (an int or float) or is out of range, verify or
+        formulations not a bool (numpy's too), or simplify not a SimplifyOptions or None
+        (an InputError naming the field).
 
     Examples
     --------
@@ -60,5 +63,7 @@ class AnalysisOptions:
             raise ValueError(f"dominance must be a number in (0.5, 1], got {self.dominance!r}")
         if not (isinstance(self.negligible, (int, float)) and 0.0 <= self.negligible < 1.0):
             raise ValueError(f"negligible must be a number in [0, 1), got {self.negligible!r}")
+        check_flags(verify=self.verify, formulations=self.formulations)
+        expect(self.simplify, (SimplifyOptions, type(None)), "simplify", "a SimplifyOptions or None")
         if self.compress not in range(10):
             raise ValueError(f"compress must be 0-9, got {self.compress!r}")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..errors import InputError
+from ..errors import InputError, expect
 from ..model.robot import Robot, with_payload
 from ..simplify import deploy
 from ..simplify.simplified import SOURCE_STEM
@@ -283,11 +283,8 @@ def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | M
     ({'t': 5, 'joint': 2, 'joint_k': 2}, 's', ['joint1', 'joint2'])
     """
 
-    if not isinstance(robot, Robot):
-        raise InputError(f"robot: a Robot (gd.load_robot(...) reads a name or a file), not a "
-                         f"{type(robot).__name__}")
-    if not isinstance(options, (AnalysisOptions, type(None))):
-        raise InputError(f"options: an AnalysisOptions, not a {type(options).__name__}")
+    expect(robot, Robot, "robot", "a Robot (gd.load_robot(...) reads a name or a file)")
+    expect(options, (AnalysisOptions, type(None)), "options", "an AnalysisOptions")
     options = AnalysisOptions() if options is None else options
     trajectory = as_trajectory(trajectory, robot.n)
     return analyze(robot, trajectory, options,

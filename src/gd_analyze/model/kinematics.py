@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
+from ..errors import expect
 from .limits import real_values
 from .robot import Robot
 
@@ -56,8 +56,7 @@ def as_states(robot: Robot, *arrays: ArrayLike,
         all have the same number of set points N; an InputError if an array holds complex or
         non-numeric values (:func:`~gd_analyze.model.limits.real_values`).
     """
-    if not isinstance(robot, Robot):
-        raise InputError(f"robot: a Robot (from load_robot), not a {type(robot).__name__}")
+    expect(robot, Robot, "robot", "a Robot (from load_robot)")
     out = []
     names = list(names or ()) + ["q", "qd", "qdd", "array"][len(names or ()):]
     for k, x in enumerate(arrays):

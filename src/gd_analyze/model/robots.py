@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, InputNote
+from ..errors import InputError, InputNote, expect
 from .robot_spec import robot_from_dict
 from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, load_urdf_text
 
@@ -147,9 +147,8 @@ def load_robot(name_or_path: str | os.PathLike[str] | pinocchio.Model, base: str
         return load_pinocchio_model(name_or_path, base, tip)
     if is_urdf_text(name_or_path):
         return load_urdf_text(name_or_path, base, tip)
-    if not isinstance(name_or_path, (str, os.PathLike)):
-        raise InputError(f"a robot is a built-in name, a TOML or URDF file, URDF text or a "
-                         f"pinocchio.Model, not a {type(name_or_path).__name__}")
+    expect(name_or_path, (str, os.PathLike), "robot", "a built-in name, a TOML or URDF file, "
+           "URDF text or a pinocchio.Model")
     if str(name_or_path).lstrip().startswith("<"):
         raise InputError("not URDF text: a URDF document must begin with <robot (after "
                          "optional blanks, an XML declaration and comments)")

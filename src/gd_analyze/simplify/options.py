@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ..certify.region import RegionLimits
 from ..config import defaults
+from ..errors import expect
 
 __all__ = ["SimplifyOptions", "RULES", "EXPLICIT", "FORMS", "GUARANTEES"]
 
@@ -17,11 +18,6 @@ RULES = ("budget", "chapter")
 EXPLICIT = ("auto", "always", "never")
 FORMS = ("cheapest", "recursive", "explicit")
 GUARANTEES = ("auto", "region", "trajectory")
-
-
-def _check_choice(name, value, allowed):
-    if value not in allowed:
-        raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -75,14 +71,14 @@ class SimplifyOptions:
     region: RegionLimits | None = None
 
     def __post_init__(self):
-        if self.region is not None and not isinstance(self.region, RegionLimits):
-            raise ValueError("region must be a RegionLimits (or None: the robot's limits)")
+        expect(self.region, (RegionLimits, type(None)), "region", "a RegionLimits or None")
         eps, tau = self.tolerance, self.torque_floor
         if not all(isinstance(v, (int, float)) and v >= 0.0 for v in (eps, tau)):
             raise ValueError(f"tolerance, torque_floor must be numbers >= 0, got {eps!r}, {tau!r}")
         for name, allowed in (("rule", RULES), ("explicit", EXPLICIT), ("form", FORMS),
                               ("guarantee", GUARANTEES)):
-            _check_choice(name, getattr(self, name), allowed)
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"{name} must be one of {allowed}, got {getattr(self, name)!r}")
         if self.rule == "chapter" and (self.form == "recursive" or self.explicit == "never"):
             raise ValueError("rule 'chapter' takes no form 'recursive' or explicit 'never': its "
                              "model is the explicit model's elements in their classes")

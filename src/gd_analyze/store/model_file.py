@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, path_text
+from ..errors import InputError, expect, path_text
 from ..files import atomic_path
 from ..model.mounting import as_mounted
 from ..model.robot_spec import robot_from_dict
@@ -56,8 +56,7 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     -----
     NaN and inf, which JSON cannot hold, are written as null.
     """
-    if not isinstance(model, SimplifiedModel):
-        raise InputError(f"model: a SimplifiedModel, not a {type(model).__name__}")
+    expect(model, SimplifiedModel, "model", "a SimplifiedModel")
     with atomic_path(path_text(path, "JSON file")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(json_safe(model.to_dict()), fh, indent=2)
         fh.write("\n")

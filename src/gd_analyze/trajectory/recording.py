@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
+from ..errors import InputError, check_flags
 from ..model.limits import LIMITS, exact_text, first_beyond
 from .trajectory import _cell_values, _csv_path, _numbered_rows, _read_csv
 
@@ -186,8 +186,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
         the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
         joint count other than ``n_joints``. One line with the file, row and column. Before
-        the file is opened: if ``path`` is not a str or os.PathLike, or ``n_joints`` not a
-        whole number >= 1 (the message names the argument).
+        the file is opened: if ``path`` is not a str or os.PathLike, ``n_joints`` not a
+        whole number >= 1, or ``current`` not a bool (the message names the argument).
 
     Examples
     --------
@@ -198,6 +198,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     (12, 1)
     """
     path = _csv_path(path, n_joints)
+    check_flags(current=current)
     found = {}
 
     def header(fields):
