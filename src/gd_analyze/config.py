@@ -21,7 +21,7 @@ import types
 from pathlib import Path
 from typing import Any
 
-__all__ = ["defaults", "cache_dir", "ROUND_OFF", "ROUND_OFF_EPS"]
+__all__ = ["defaults", "MAXIMA", "cache_dir", "ROUND_OFF", "ROUND_OFF_EPS"]
 
 #: A quantity whose peak is at most this fraction of its own scale is floating-point round-off
 #: (about 4500 machine epsilons: a sum of a few thousand rounded terms), never data: the one
@@ -31,6 +31,11 @@ ROUND_OFF = 1e-12
 #: largest scale in the same units): the absolute floor of the verification against Pinocchio
 #: (:data:`gd_analyze.dynamics.pinocchio.FLOOR_EPS`).
 ROUND_OFF_EPS = 64.0
+
+#: The largest error budget EPS [1] and torque floor TAU [N m] accepted, by the command line's
+#: --tolerance and --torque-floor and by :class:`gd_analyze.simplify.options.SimplifyOptions`
+#: alike: EPS x s_i and EPS x TAU then stay far from a float's range.
+MAXIMA: dict[str, float] = {"tolerance": 1e3, "torque_floor": 1e30}
 
 #: The defaults, read-only. Units: ``torque_floor`` [N m]; the others are fractions or names.
 defaults: types.MappingProxyType[str, Any] = types.MappingProxyType({

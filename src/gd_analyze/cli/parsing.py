@@ -12,7 +12,7 @@ import math
 import re
 
 from .._version import VERSION as __version__
-from ..config import defaults
+from ..config import MAXIMA, defaults
 from ..errors import InputError
 from ..estimation.regressor import DRIVE_KINDS
 from ..jobs.identify import DEFAULT_DRIVES
@@ -294,12 +294,12 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
                  "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
                  "trajectory, TAU)")
-    g.add_argument("--tolerance", metavar="EPS", type=_fraction(0.0, 1e3, "--tolerance", "[]"),
-                   default=defaults["tolerance"],
+    g.add_argument("--tolerance", metavar="EPS", default=defaults["tolerance"],
+                   type=_fraction(0.0, MAXIMA["tolerance"], "--tolerance", "[]"),
                    help="error budget: every joint's simplified torque stays within EPS times "
                         f"its scale {where} (default {defaults['tolerance']:g})")
-    g.add_argument("--torque-floor", metavar="TAU", type=_fraction(0, 1e30, "--torque-floor", "[]"),
-                   default=defaults["torque_floor"],
+    g.add_argument("--torque-floor", metavar="TAU", default=defaults["torque_floor"],
+                   type=_fraction(0, MAXIMA["torque_floor"], "--torque-floor", "[]"),
                    help=f"least scale of a joint torque [N m] (default "
                         f"{defaults['torque_floor']:g})")
     if rule:

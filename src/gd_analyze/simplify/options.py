@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..certify.region import RegionLimits
-from ..config import defaults
+from ..config import MAXIMA, defaults
 from ..errors import expect
 
 __all__ = ["SimplifyOptions", "RULES", "EXPLICIT", "FORMS", "GUARANTEES"]
@@ -51,9 +51,10 @@ class SimplifyOptions:
     Raises
     ------
     ValueError
-        If a value is out of range, not a number where one is asked for (tolerance,
-        torque_floor: an int or float) or not one of its choices, ``region`` is not a
-        RegionLimits, or rule ``"chapter"`` is given form ``"recursive"`` or explicit
+        If a value is out of range (tolerance and torque_floor from 0 to
+        :data:`gd_analyze.config.MAXIMA`, as at the command line), not a number where one is
+        asked for (tolerance, torque_floor: an int or float) or not one of its choices,
+        ``region`` is not a RegionLimits, or rule ``"chapter"`` is given form ``"recursive"`` or explicit
         ``"never"`` (its model is the explicit model's elements in their classes).
 
     Examples
@@ -72,9 +73,10 @@ class SimplifyOptions:
 
     def __post_init__(self):
         expect(self.region, (RegionLimits, type(None)), "region", "a RegionLimits or None")
-        eps, tau = self.tolerance, self.torque_floor
-        if not all(isinstance(v, (int, float)) and v >= 0.0 for v in (eps, tau)):
-            raise ValueError(f"tolerance, torque_floor must be numbers >= 0, got {eps!r}, {tau!r}")
+        for name, most in MAXIMA.items():
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and 0.0 <= v <= most):
+                raise ValueError(f"{name} must be a number in [0, {most:g}], got {v!r}")
         for name, allowed in (("rule", RULES), ("explicit", EXPLICIT), ("form", FORMS),
                               ("guarantee", GUARANTEES)):
             if getattr(self, name) not in allowed:
