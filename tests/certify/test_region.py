@@ -14,8 +14,11 @@ from gd_analyze.certify.region import (
     sample_positions,
     worst_states,
 )
+from gd_analyze.cli.parsing import analyze_parser
 from gd_analyze.dynamics.base_parameters import base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.errors import InputError
+from gd_analyze.model.limits import LIMITS
 
 
 def _rnea(robot, q, qd, qdd):
@@ -295,6 +298,25 @@ from gd_analyze.certify.region import FULL_TURN, Region, RegionLimits  # noqa: E
 def test_region_limits_refuse_nan_inf_and_negative_naming_the_option(kwargs, option):
     with pytest.raises(ValueError, match=f"^{option}:"):
         RegionLimits(**kwargs)
+
+
+@pytest.mark.parametrize("field", ["qd_max", "qdd_max"])
+def test_region_limits_refuse_what_the_command_line_refuses(field):
+    """RegionLimits(qd_max=(1e-320,)) was accepted through the API though --qd-max refuses
+    anything below 1e-9 deg/s (a denormal limit overflows a planned duration): the least the
+    command line passes on, 1e-9 deg/s in rad/s, is the least the API takes."""
+    least = float(np.radians(LIMITS["least_rate"]))
+    option = "--" + field.replace("_", "-")
+    for tiny in (1e-320, least * (1 - 1e-9)):
+        with pytest.raises(ValueError, match=f"^{option}: every limit must be finite and at "
+                                             f"least 1.745e-11, got "):
+            RegionLimits(**{field: (1.0, tiny)})
+        with pytest.raises(InputError, match=f"{option} limits must be at least"):
+            analyze_parser().parse_intermixed_args(["puma560", "t.csv", option, f"{tiny!r}"])
+    assert getattr(RegionLimits(**{field: (least,)}), field) == (least,)
+    # the command line's least (in degrees) reaches the API as exactly that least
+    assert analyze_parser().parse_intermixed_args(
+        ["puma560", "t.csv", option, "1e-9"]).__dict__[field] == [1e-9]
 
 
 def test_users_region_replaces_the_robots_and_is_clipped_to_its_limits():

@@ -11,13 +11,13 @@ from gd_analyze.cli import main
      "argument --payload-com: --payload-com needs 3 comma-separated numbers, got '1,2'"),
     (["--gravity=-9.81,0"],
      "argument --gravity: --gravity needs 3 comma-separated numbers, got '-9.81,0'"),
-    (["--qd-max", "1,0"], "argument --qd-max: --qd-max limits must be at least 1e-9, got '1,0'"),
+    (["--qd-max", "1,0"], "argument --qd-max: --qd-max limits must be at least 1e-09, got '1,0'"),
     # a denormal limit overflowed the plan's duration ("overflow encountered in divide"), and
     # the excitation's regressor (scaled condition number inf, exit 0)
     (["--qd-max", "1e-320"],
-     "argument --qd-max: --qd-max limits must be at least 1e-9, got '1e-320'"),
+     "argument --qd-max: --qd-max limits must be at least 1e-09, got '1e-320'"),
     (["--qdd-max", "1,1e-10"],
-     "argument --qdd-max: --qdd-max limits must be at least 1e-9, got '1,1e-10'"),
+     "argument --qdd-max: --qdd-max limits must be at least 1e-09, got '1,1e-10'"),
     (["--tolerance=-0.5"], "argument --tolerance: --tolerance must be in [0.0, 1000.0], got -0.5"),
     # EPS x s_i overflowed to inf in the region search (exit 0 after overflow warnings)
     (["--tolerance", "1e308"],

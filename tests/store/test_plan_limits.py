@@ -75,7 +75,7 @@ def test_plan_qdd_max_and_provenance(tmp_path):
 
 
 @pytest.mark.parametrize("value, message", [("1,2", "2 values for 6 joints"),
-                                            ("0", "must be at least 1e-9"),
+                                            ("0", "must be at least 1e-09"),
                                             ("x", "comma-separated numbers")])
 def test_plan_bad_qdd_max(tmp_path, capsys, value, message):
     out = tmp_path / "p.csv"

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.regressor_kernels import link_channels
+from ..model.limits import LIMITS
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
@@ -235,8 +236,7 @@ FULL_TURN = "any angle (full turn)"
 def _per_joint(values, n, name):
     """A user's limits, one for all joints or one per joint, as an array of n."""
     v = np.asarray(values, float)
-    if v.shape[0] == 1:
-        v = np.repeat(v, n, axis=0)
+    v = np.repeat(v, n, axis=0) if v.shape[0] == 1 else v
     if v.shape[0] != n:
         raise ValueError(f"{name}: {v.shape[0]} values for {n} joints (give one for all or one "
                          "per joint)")
@@ -259,9 +259,10 @@ class RegionLimits:
     Raises
     ------
     ValueError
-        If a value is NaN or infinite, a velocity or acceleration limit is not positive, or
-        a position range has lo >= hi; the message names the option (``--q-limits``,
-        ``--qd-max``, ``--qdd-max``).
+        If a value is NaN or infinite, a velocity or acceleration limit is below the command
+        line's least (``LIMITS["least_rate"]`` of :mod:`gd_analyze.model.limits`, 1e-9 deg/s,
+        taken in rad/s: 1.745e-11), or a position range has lo >= hi; the message names the
+        option (``--q-limits``, ``--qd-max``, ``--qdd-max``).
 
     Examples
     --------
@@ -274,16 +275,17 @@ class RegionLimits:
     qdd_max: tuple | None = None
 
     def __post_init__(self):
-        if self.q_limits is not None:
-            pairs = np.asarray(self.q_limits, float).reshape(-1, 2)
+        rates = self._given()
+        if (pairs := rates.pop("q_limits", None)) is not None:
             if not pairs.size or not np.isfinite(pairs).all():
                 raise ValueError("--q-limits: every limit must be a finite number")
             if not (pairs[:, 0] < pairs[:, 1]).all():
                 raise ValueError("--q-limits: each range LO:HI needs LO < HI")
-        for name, v in self._rates().items():
-            if not v.size or not (np.isfinite(v).all() and (v > 0).all()):
-                raise ValueError(f"--{name.replace('_', '-')}: every limit must be a finite "
-                                 f"positive number, got {', '.join(f'{x:g}' for x in v)}")
+        least = np.radians(LIMITS["least_rate"])    # the command line's least, deg/s in rad/s
+        for name, v in rates.items():
+            if not v.size or not (np.isfinite(v) & (v >= least)).all():
+                raise ValueError(f"--{name.replace('_', '-')}: every limit must be finite and at "
+                                 f"least {least:.4g}, got {', '.join(f'{x:g}' for x in v)}")
 
     def settings(self):
         """The limits as the provenance stores them (SI units; only those given).
@@ -293,15 +295,13 @@ class RegionLimits:
         dict
             ``region_q_limits`` [[lo, hi], ...], ``region_qd_max``, ``region_qdd_max``.
         """
-        out = {}
-        if self.q_limits is not None:
-            out["region_q_limits"] = np.asarray(self.q_limits, float).reshape(-1, 2).tolist()
-        return out | {f"region_{name}": v.tolist() for name, v in self._rates().items()}
+        return {f"region_{name}": v.tolist() for name, v in self._given().items()}
 
-    def _rates(self):
-        """The velocity and acceleration limits given, by field name, as 1-D float arrays."""
-        return {name: np.atleast_1d(np.asarray(v, float)) for name in ("qd_max", "qdd_max")
-                if (v := getattr(self, name)) is not None}
+    def _given(self):
+        """The limits given, by field name, as float arrays: q_limits of shape (m, 2), the
+        velocity and acceleration limits of shape (m,)."""
+        return {k: np.asarray(v, float).reshape((-1, 2) if k == "q_limits" else -1)
+                for k in ("q_limits", "qd_max", "qdd_max") if (v := getattr(self, k)) is not None}
 
 
 @dataclass(frozen=True)

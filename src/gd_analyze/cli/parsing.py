@@ -18,7 +18,7 @@ from ..estimation.regressor import DRIVE_KINDS
 from ..jobs.identify import DEFAULT_DRIVES
 from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX
 from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
-from ..model.limits import DEFAULT_QDD_PER_QD
+from ..model.limits import DEFAULT_QDD_PER_QD, LIMITS
 from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN
 from ..symbolic.safe_text import check_prefix
@@ -250,10 +250,11 @@ def _q_ranges(text):
 
 
 def _positive_list(name):
-    """Comma-separated finite numbers of at least 1e-9 (one for all joints or one per joint):
-    a smaller velocity or acceleration limit overflows a duration (15 |dq| / (8 qd_max)) or
-    underflows the squares of the motions it allows."""
-    return _numbers(lambda v: all(x >= 1e-9 for x in v), f"{name} limits must be at least 1e-9")
+    """Comma-separated finite numbers of at least LIMITS["least_rate"], 1e-9 (one for all
+    joints or one per joint): a smaller velocity or acceleration limit overflows a duration
+    (15 |dq| / (8 qd_max)) or underflows the squares of the motions it allows."""
+    least = LIMITS["least_rate"]
+    return _numbers(lambda v: min(v) >= least, f"{name} limits must be at least {least:g}")
 
 
 #: What the region options say, for the main job, sweep and plan.

@@ -39,6 +39,10 @@ LIMITS = {
     "duration": 1e9,    # planned duration [s]
     "min_duration": 1e-6,   # shortest planned duration [s]
     "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
+    # the least velocity or acceleration limit of a region, as the command line reads it [deg/s,
+    # deg/s^2; m/s, m/s^2]: a smaller one overflows a planned duration (15 |dq| / (8 qd_max))
+    # or underflows the motions it allows; certify.region.RegionLimits (SI) takes its radians
+    "least_rate": 1e-9,
     # a URDF's size, checked before Pinocchio's parser reads it: its parser recurses once per
     # link down the tree and overflows the C stack (SIGSEGV) on a chain of 4,000 links
     "urdf_links": 10_000,   # <link> elements
