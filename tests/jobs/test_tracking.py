@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gd_analyze import gd_terms
-from gd_analyze.jobs.tracking import control_gains, desired_motion
+from gd_analyze.jobs.tracking import closed_loop_rates, control_gains, desired_motion
 from gd_analyze.trajectory.trajectory import Trajectory
 
 
@@ -124,3 +124,17 @@ def test_a_run_on_unix_time_stamps_is_the_run_from_zero(puma, shipped):
                                    atol=1e-5 * np.abs(runs[0].tau).max())
         # the stamps, rounded, join the pieces a little less smoothly: a few more steps
         assert runs[1].nfev <= 1.5 * runs[0].nfev, (controller, runs[0].nfev, runs[1].nfev)
+
+
+@pytest.mark.parametrize("wn, zeta", [(20.0, 1e300), (3.0, 1e160), (20.0, 0.5), (2.0, 3.0)])
+def test_the_computed_torque_rate_is_the_fast_root_without_overflow(puma, wn, zeta):
+    """The fastest root of s^2 + 2 zeta wn s + wn^2, |s| = wn (zeta + sqrt(zeta^2 - 1)) for
+    zeta >= 1 and wn below: zeta = 1e300 gave inf ("its fastest mode, inf rad/s") because
+    zeta^2 overflowed, and zeta = 0.5 gave zeta wn, half the roots' |s|. Oracle: numpy's roots where they are representable, else the closed
+    form's limit 2 zeta wn (the slow root wn / (2 zeta) is negligible beside it)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        gains = control_gains(puma, np.zeros(6), wn, zeta)
+        rate = closed_loop_rates(puma, gains, np.eye(6)[None])["full"]
+    exact = (2 * zeta * wn if zeta > 1e100 else
+             float(np.abs(np.roots([1.0, 2 * zeta * wn, wn**2])).max()))
+    assert rate == pytest.approx(exact, rel=1e-12)

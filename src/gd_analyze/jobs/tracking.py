@@ -156,8 +156,10 @@ def closed_loop_rates(robot: Robot, gains: Gains, D: np.ndarray) -> dict[str, fl
     Source: linearisation of Eq. (3.4-24) about the desired motion with qd = 0 (Fu, Gonzalez
     & Lee 1987, Ch. 5); an explicit Runge-Kutta method needs steps below about 3 / |s|.
     """
-    wn, zeta = np.asarray(gains.wn, float), np.asarray(gains.zeta, float)
-    ct = float(np.max(wn * (zeta + np.sqrt(np.maximum(zeta**2 - 1.0, 0.0)))))
+    # |s| = wn (z + sqrt(z^2 - 1)) with z = max(zeta, 1) (underdamped: |s| = wn), the root as
+    # sqrt(z - 1) sqrt(z + 1): z^2 overflows from z = 1.3e154
+    wn, z = np.asarray(gains.wn, float), np.maximum(np.asarray(gains.zeta, float), 1.0)
+    ct = float(np.max(wn * (z + np.sqrt(z - 1.0) * np.sqrt(z + 1.0))))
     n = robot.n
     D = np.asarray(D, dtype=float)
     Kp, Kv = np.diag(gains.Kp_pd), np.diag(gains.Kv_pd)
