@@ -377,12 +377,14 @@ MAX_CELL = 1000
 
 def _numbered_rows(raw, path, long_cell=False):
     """The rows of a CSV file's bytes that are not blank, (row number, cells) each; an
-    InputError for bytes that are not UTF-8 text without a NUL byte, not CSV, or no row
+    InputError for bytes that are not UTF-8 text without a NUL byte (naming the row and the
+    byte that is not UTF-8), not CSV, or no row
     (``long_cell``: a cell beyond the csv module's field limit is named as such)."""
     try:
         text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError("not a UTF-8 text file", path) from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file (byte 0x{raw[exc.start]:02x})", path,
+                         row=raw.count(b"\n", 0, exc.start) + 1) from None
     if "\x00" in text:
         raise InputError("not a text file (holds a NUL byte)", path)
     try:
