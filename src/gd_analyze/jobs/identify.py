@@ -39,7 +39,7 @@ from ..store.stored_identification import (
     group_names,
 )
 from ..trajectory.recording import Recording, read_recording
-from ..trajectory.trajectory import trajectory_from_arrays
+from ..trajectory.trajectory import check_joint_limits, trajectory_from_arrays
 from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
@@ -245,6 +245,8 @@ def identify(robot: Robot | str | Path,
         raise InputError("no recording to identify from")
     train = [_recording(r, n, options) for r in recordings]
     valid = [_recording(r, n, options) for r in validate]
+    for rec in train + valid:               # a recording in degrees by mistake, say
+        check_joint_limits(prior, rec, rec.rows)
     if not any(np.any(r.tau) for r in train):
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
