@@ -27,7 +27,7 @@ from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
-from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
+from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess, still_joints
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
 from ..model.robot import Robot
@@ -251,20 +251,20 @@ def identify(robot: Robot | str | Path,
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
-    names = group_names([Path(r.source).stem for r in train + valid])
-    notes = []
-    cutoff = options.cutoff
-    if cutoff == "auto":
-        cutoff = max(default_cutoff(r.t, r.q) for r in train)
-        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
-                     f"bandwidth holding 99% of the positions' power), used for every recording")
-    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
-            for r, name in zip(train + valid, names)]
-    if all(p.held.all() for p in pres[:len(train)]):
+    if all(still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
                          f"spans less than {STILL_SPAN['revolute']:g} rad or "
                          f"{STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
+    names = group_names([Path(r.source).stem for r in train + valid])
+    notes = []
+    cutoff = options.cutoff
+    if cutoff == "auto":
+        cutoff = max(default_cutoff(r.t, r.q, prior.prismatic) for r in train)
+        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
+                     f"bandwidth holding 99% of the positions' power), used for every recording")
+    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
+            for r, name in zip(train + valid, names)]
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)
