@@ -59,6 +59,19 @@ def test_default_cutoff_follows_the_motion():
     assert 0.2 < slow < 2.0 < fast < 0.2 / 0.002
 
 
+def test_default_cutoff_leaves_out_a_joint_held_still():
+    """A joint held at 0.3 rad whose encoder reads white noise of 1e-5 rad: its power spreads
+    to the Nyquist frequency, and counted, it set the cutoff to 0.4 x Nyquist (no filtering:
+    the moving joints' differentiated noise then spoilt the fit). Left out, the cutoff is the
+    moving joint's alone."""
+    t = np.arange(0, 60, 0.002)
+    moving = _signal(t, 0.2)[0]
+    held = 0.3 + 1e-5 * np.random.default_rng(3).normal(size=(t.size, 1))
+    alone = default_cutoff(t, moving)
+    assert default_cutoff(t, np.hstack([moving, held]), np.array([False, False])) == alone
+    assert default_cutoff(t, np.hstack([held, moving])) == alone
+
+
 def test_without_filter_the_given_derivatives_are_kept():
     t = np.sort(np.random.default_rng(2).uniform(0, 5, 300))
     q, qd, qdd = _signal(t)

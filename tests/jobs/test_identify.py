@@ -1,6 +1,8 @@
 """The identification job against Pinocchio: recordings the tests make with a true arm (the
 robot file with other inertial parameters, friction and offsets; identify_recordings.py)."""
 
+import warnings
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -25,7 +27,7 @@ from gd_analyze.model.robot_file import robot_toml
 from gd_analyze.ranking.labels import element_labels
 from gd_analyze.symbolic.recursive_model import recursive_model
 from gd_analyze.trajectory.recording import recording_from_arrays
-from gd_analyze.trajectory.trajectory import as_trajectory
+from gd_analyze.trajectory.trajectory import JointLimitWarning, as_trajectory
 
 ARMS = [("puma560", None), ("panda", "panda"), ("xarm7", XARM7)]
 
@@ -293,6 +295,27 @@ def test_a_recording_in_which_no_joint_moves_is_refused(tmp_path):
     still = _held_recording(truth, 2, 10, seed=2, held=[0, 1])
     with pytest.raises(InputError, match="no joint moves in the training recordings"):
         identify(robot, [still])
+
+
+def test_a_recording_in_degrees_is_warned_about_with_its_file_row_and_column(tmp_path):
+    """Positions in degrees by mistake, read as radians (tens of radians, beyond the
+    two-link's limits of +-pi): a warning per joint naming the file's row of the first
+    such sample, where the fit ran silently (61 % held-out error); the first two samples are
+    written in reverse order, so that sample 0 is the file's row 3. In radians: no warning."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 10, seed=2)
+    q = np.degrees(train.q)
+    assert (np.abs(q[0]) > np.pi).all()
+    order = [1, 0, *range(2, train.t.size)]
+    path = write_recording(tmp_path / "deg.csv", train.t[order], q[order], train.tau[order])
+    with pytest.warns(JointLimitWarning) as caught:
+        identify(robot, [path], validate=[train])
+    assert [str(w.message).split(" at ")[0] for w in caught] == [
+        f"{path}: row 3, column q{j}: joint {j}" for j in (1, 2)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", JointLimitWarning)
+        identify(robot, [train], validate=[train])
 
 
 def test_recordings_without_torque_are_refused():

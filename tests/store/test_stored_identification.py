@@ -11,6 +11,7 @@ from gd_analyze.jobs.identify import IdentifyOptions, identify
 from gd_analyze.store.stored_identification import (
     group_names,
     identification_size,
+    identification_tree,
     read_identification,
     recordings_json,
     write_identification,
@@ -46,3 +47,12 @@ def test_written_and_read_back(tmp_path):
     assert np.array_equal(ds.tau_predicted.values, result.recordings[1].tau_predicted)
     doc = recordings_json(result)
     assert doc["recordings"][1]["total_relative_error"] == ds.attrs["total_relative_error"]
+    # a recording named like one of the root group's variables or dimensions gets a group of
+    # its own (h5netcdf refused to create the group: an internal error)
+    root = identification_tree(result)["/"]
+    taken = sorted(set(root.variables) | set(root.dims))
+    assert not set(group_names(taken)) & set(taken)
+    rec = recording_from_arrays(t, q, truth.torque(q, qd, qdd), qd, qdd, source="offset.csv")
+    result = identify(robot, [rec], options=IdentifyOptions(cutoff=None))
+    tree = read_identification(write_identification(result, tmp_path / "offset.h5"))
+    assert list(tree) == ["/", "offset_2"]

@@ -82,6 +82,15 @@ def test_bad_input_names_file_row_and_column(tmp_path, text, row, column, match)
     assert "\n" not in str(e) and str(e).startswith(str(path))
 
 
+def test_a_byte_not_utf8_names_its_row(tmp_path):
+    """A Windows-1252 degree sign (byte 0xb0) in the third row: that row and the byte."""
+    path = tmp_path / "bad.csv"
+    path.write_bytes(b"t,q1,q2\n0,1,2\n1,2,3 \xb0\n2,3,4\n")
+    with pytest.raises(InputError, match=r"not a UTF-8 text file \(byte 0xb0\)") as err:
+        read_trajectory(path, n_joints=2)
+    assert err.value.row == 3
+
+
 def test_missing_file(tmp_path):
     with pytest.raises(InputError, match="no such file"):
         read_trajectory(tmp_path / "nope.csv")

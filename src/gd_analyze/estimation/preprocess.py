@@ -241,7 +241,8 @@ def most_samples(t: npt.ArrayLike, resampled: bool = True) -> int:
     return max(int(t.size), sum(int((t[s][-1] - t[s][0]) / step) + 1 for s in segs))
 
 
-def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> float:
+def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
+                   prismatic: npt.NDArray[np.bool_] | None = None) -> float:
     """The default low-pass cutoff, from the data: CUTOFF_FACTOR x the motion's bandwidth.
 
     Parameters
@@ -250,11 +251,15 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> fl
         Time [s], increasing.
     q : ndarray, shape (N, n)
         Joint positions [rad or m].
+    prismatic : ndarray of bool, shape (n,), optional
+        True for a prismatic joint (default: none), for :func:`still_joints`.
 
     Returns
     -------
     float
-        The cutoff [Hz]: :data:`CUTOFF_FACTOR` times the highest, over the joints that move,
+        The cutoff [Hz]: :data:`CUTOFF_FACTOR` times the highest, over the joints that move
+        (not held still, :func:`still_joints`: a held joint's positions are encoder noise, whose
+        power spreads to the Nyquist frequency),
         frequency below which :data:`ENERGY` of the power of the linearly detrended position
         lies (Welch's periodogram, ``scipy.signal.welch``, on the median-step clock), within
         [2 / duration, 0.4 x the Nyquist frequency].
@@ -278,7 +283,7 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> fl
     nper = int(min(qu.shape[0], max(256, 2 ** int(np.log2(max(qu.shape[0] // 4, 1))))))
     f, P = signal.welch(qu, fs=fs, nperseg=nper, axis=0)
     band = 0.0
-    for j in range(q.shape[1]):
+    for j in np.flatnonzero(~still_joints(q, prismatic)):
         total = P[:, j].sum()
         if not np.isfinite(total) or total <= 0:
             continue
@@ -357,7 +362,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
         notes.append(f"{label}: irregular clock, steps {dts.min() * 1e3:.3g} to "
                      f"{dts.max() * 1e3:.3g} ms (median {step * 1e3:.3g} ms)")
     if isinstance(cutoff, str):
-        cutoff = default_cutoff(t, q)
+        cutoff = default_cutoff(t, q, prismatic)
         notes.append(f"{label}: cutoff {cutoff:.3g} Hz chosen from the data ({CUTOFF_FACTOR:g} x "
                      f"the bandwidth holding {ENERGY:.0%} of the positions' power)")
     if cutoff is not None and not 0 < cutoff < 0.5 / step:
@@ -441,7 +446,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
 
 def still_joints(q: npt.NDArray[np.float64],
-                 prismatic: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
+                 prismatic: npt.NDArray[np.bool_] | None) -> npt.NDArray[np.bool_]:
     """The joints held still in a recording: position span below :data:`STILL_SPAN`.
 
     A joint held still (braked, or left out of the excitation) has speeds that are the
@@ -453,8 +458,8 @@ def still_joints(q: npt.NDArray[np.float64],
     ----------
     q : ndarray, shape (N, n)
         Positions [rad, or m for a prismatic joint].
-    prismatic : ndarray of bool, shape (n,)
-        True for a prismatic joint.
+    prismatic : ndarray of bool, shape (n,), or None
+        True for a prismatic joint (None: every joint revolute).
 
     Returns
     -------

@@ -27,7 +27,7 @@ from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError, check_flags, expect
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
-from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess
+from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess, still_joints
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
 from ..model.robot import Robot
@@ -39,7 +39,7 @@ from ..store.stored_identification import (
     group_names,
 )
 from ..trajectory.recording import Recording, read_recording
-from ..trajectory.trajectory import trajectory_from_arrays
+from ..trajectory.trajectory import check_joint_limits, trajectory_from_arrays
 from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
@@ -244,24 +244,26 @@ def identify(robot: Robot | str | Path,
         raise InputError("no recording to identify from")
     train = [_recording(r, n, options) for r in recordings]
     valid = [_recording(r, n, options) for r in validate]
+    for rec in train + valid:               # a recording in degrees by mistake, say
+        check_joint_limits(prior, rec, rec.rows)
     if not any(np.any(r.tau) for r in train):
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
-    names = group_names([Path(r.source).stem for r in train + valid])
-    notes = []
-    cutoff = options.cutoff
-    if cutoff == "auto":
-        cutoff = max(default_cutoff(r.t, r.q) for r in train)
-        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
-                     f"bandwidth holding 99% of the positions' power), used for every recording")
-    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
-            for r, name in zip(train + valid, names)]
-    if all(p.held.all() for p in pres[:len(train)]):
+    if all(still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
                          f"spans less than {STILL_SPAN['revolute']:g} rad or "
                          f"{STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
+    names = group_names([Path(r.source).stem for r in train + valid])
+    notes = []
+    cutoff = options.cutoff
+    if cutoff == "auto":
+        cutoff = max(default_cutoff(r.t, r.q, prior.prismatic) for r in train)
+        notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
+                     f"bandwidth holding 99% of the positions' power), used for every recording")
+    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
+            for r, name in zip(train + valid, names)]
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)

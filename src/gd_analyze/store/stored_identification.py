@@ -44,7 +44,8 @@ Root group ``/``
       semidefinite.
 
 Group ``/<name>`` per recording, ``<name>`` the file's stem made safe (letters, digits, ``_``,
-``-``, ``.``; others ``_``) and unique (``_2``, ``_3``, ... on repeats):
+``-``, ``.``; others ``_``) and unique (``_2``, ``_3``, ... on repeats and on the names of the
+root group's variables and dimensions, e.g. ``offset``):
     Coordinates ``t`` [s] (the file's own time base, not shifted, after the stated resampling
     and trimming) and ``joint``.
     Variables (t, joint): ``q`` [rad or m], ``qd``, ``qdd``, ``tau_measured`` (after the stated
@@ -263,6 +264,10 @@ class IdentificationResult:
 
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9_.-]")
+#: The root group's variables and dimensions, which no recording's group may be named.
+_ROOT_NAMES = {"value", "std", "ols_value", "prior", "identifiable", "kind", "noise_std",
+               "prismatic", "offset", "standard", "standard_prior", "link_consistent",
+               "pseudo_inertia_min_eigenvalue", "parameter", "joint", "link", "standard_parameter"}
 
 
 def group_names(stems: Sequence[str]) -> list[str]:
@@ -276,14 +281,15 @@ def group_names(stems: Sequence[str]) -> list[str]:
     -------
     list of str
         Each stem with every character but letters, digits, ``_``, ``-`` and ``.`` written as
-        ``_`` (an empty or dot-led name prefixed ``r``), repeats suffixed ``_2``, ``_3``, ...
+        ``_`` (an empty or dot-led name prefixed ``r``), repeats and the names of the root
+        group's variables and dimensions (``offset``, ``std``, ...) suffixed ``_2``, ``_3``, ...
 
     Examples
     --------
     >>> group_names(["run 1", "run 1", "../x"])
     ['run_1', 'run_1_2', 'r.._x']
     """
-    out, seen = [], set()
+    out, seen = [], set(_ROOT_NAMES)
     for stem in stems:
         name = _UNSAFE.sub("_", str(stem))[:100]
         if not name or name[0] in ".-":
@@ -438,11 +444,9 @@ def read_identification(path: str | os.PathLike[str]) -> dict[str, xr.Dataset]:
     import xarray as xr
 
     with h5netcdf.File(path, "r") as f:
-        groups = list(f.groups)
-    out = {"/": xr.load_dataset(path, engine="h5netcdf")}
-    for g in groups:
-        out[g] = xr.load_dataset(path, engine="h5netcdf", group=g)
-    return out
+        groups = ["/", *f.groups]
+    return {g: xr.load_dataset(path, engine="h5netcdf", group=None if g == "/" else g)
+            for g in groups}
 
 
 def _finite(values):

@@ -34,6 +34,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from numpy.typing import ArrayLike
 
     from ..model.robot import Robot
+    from .recording import Recording
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
            "trajectory_columns",
@@ -376,12 +377,14 @@ MAX_CELL = 1000
 
 def _numbered_rows(raw, path, long_cell=False):
     """The rows of a CSV file's bytes that are not blank, (row number, cells) each; an
-    InputError for bytes that are not UTF-8 text without a NUL byte, not CSV, or no row
+    InputError for bytes that are not UTF-8 text without a NUL byte (naming the row and the
+    byte that is not UTF-8), not CSV, or no row
     (``long_cell``: a cell beyond the csv module's field limit is named as such)."""
     try:
         text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError("not a UTF-8 text file", path) from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file (byte 0x{raw[exc.start]:02x})", path,
+                         row=raw.count(b"\n", 0, exc.start) + 1) from None
     if "\x00" in text:
         raise InputError("not a text file (holds a NUL byte)", path)
     try:
@@ -776,15 +779,19 @@ def parse_number(text: str, integer: bool = False) -> float | int:
     raise ValueError(f"not {'a whole' if integer else 'a'} number: {text!r}{hint}")
 
 
-def check_joint_limits(robot: Robot, trajectory: Trajectory) -> list[str]:
+def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording,
+                       rows: np.ndarray | None = None) -> list[str]:
     """Warn for every joint whose position leaves its limits along the trajectory.
 
     Parameters
     ----------
     robot : Robot
         The arm, with n joints and limits q_min, q_max [rad].
-    trajectory : Trajectory
-        Positions q, shape (N, n) [rad].
+    trajectory : Trajectory or Recording
+        Positions q, shape (N, n) [rad] (a recording in degrees by mistake is seen here).
+    rows : ndarray of int, shape (N,), optional
+        The file's row of each sample (a recording's ``rows``); by default sample k is row
+        k + 2.
 
     Returns
     -------
@@ -797,15 +804,11 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory) -> list[str]:
         out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
         if out.size:
             k = int(out[0])
-            if getattr(robot, "prismatic", np.zeros(robot.n, bool))[j]:
-                where = (f"{q[k, j]:.4g} m is outside its limits "
-                         f"[{robot.q_min[j]:.4g}, {robot.q_max[j]:.4g}] m")
-            else:
-                where = (f"{math.degrees(q[k, j]):.4g} deg is outside its limits "
-                         f"[{math.degrees(robot.q_min[j]):.4g}, "
-                         f"{math.degrees(robot.q_max[j]):.4g}] deg")
-            msg = (f"{trajectory.source}: row {k + 2}, column q{j + 1}: joint {j + 1} at "
-                   f"{where} ({out.size} set point{'s' if out.size > 1 else ''})")
+            scale, unit = (1.0, "m") if robot.prismatic[j] else (180 / math.pi, "deg")
+            at, lo, hi = (scale * v for v in (q[k, j], robot.q_min[j], robot.q_max[j]))
+            msg = (f"{trajectory.source}: row {k + 2 if rows is None else rows[k]}, column "
+                   f"q{j + 1}: joint {j + 1} at {at:.4g} {unit} is outside its limits [{lo:.4g}, "
+                   f"{hi:.4g}] {unit} ({out.size} set point{'s' if out.size > 1 else ''})")
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
