@@ -1,9 +1,15 @@
 """The torque-error figure of the simplified model (gd_analyze.report.simplified_section)."""
 
 import numpy as np
+import pytest
 import xarray as xr
+from conftest import ROOT
 
-from gd_analyze.report.simplified_section import ROUND_OFF, error_figure
+from gd_analyze import load_robot
+from gd_analyze.jobs.analyze import analyze
+from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
+from gd_analyze.report.simplified_section import ROUND_OFF, error_figure, simplified_caption
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 
 def _ds(diff, bound, scale):
@@ -236,3 +242,27 @@ def test_a_recursive_rule_with_no_contribution_is_not_said_to_drop_none_of_zero(
 
     assert "0.01: no (parameter, part) pair contributes, so none is dropped; the model" in rule(0)
     assert "0.01: of the 4 (parameter, part) pairs that contribute, none is dropped; the" in rule(4)
+
+
+@pytest.mark.parametrize("case", ["puma560", "ur5", "puma560 exact"])
+def test_the_torque_error_caption_says_what_the_figure_draws(shipped_dataset, case):
+    """The caption of the torque-error figure is true of the figure drawn: "per joint against
+    time" only where a panel is drawn, the note of the joints without one only where some
+    have none, and a figure of no panel said so (a model that drops nothing: EPS = 0, the
+    exact model). Oracle: the figure's own panels."""
+    name, _, exact = case.partition(" ")
+    if exact:
+        robot = load_robot(name)
+        trajectory = read_trajectory(ROOT / "data" / f"{name}_trajectory.csv", robot.n)
+        options = AnalysisOptions(verify=False, formulations=False, simplify=SimplifyOptions(
+            tolerance=0.0, guarantee="trajectory"))
+        ds = analyze(robot, trajectory, options).dataset
+    else:
+        ds = shipped_dataset(name)
+    panels, n = len(error_figure(ds).axes), int(ds.sizes["joint"])
+    caption = " ".join(simplified_caption(ds).split())
+    assert ("per joint against time" in caption) == (panels > 0), caption
+    assert ("get no panel" in caption) == (0 < panels < n), caption
+    assert ("no joint is drawn" in caption) == (panels == 0), caption
+    if exact:
+        assert panels == 0

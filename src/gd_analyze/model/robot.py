@@ -306,11 +306,6 @@ class Robot:
                    for v in (self.viscous, self.coulomb, self.torque_offset))
 
     @property
-    def is_dh(self) -> bool:
-        """bool: True if the robot came from DH rows (d, a, alpha, offset are meaningful)."""
-        return self.convention in ("standard", "modified")
-
-    @property
     def joint_types(self) -> tuple[str, ...]:
         """tuple of str: ``"revolute"`` or ``"prismatic"`` per joint."""
         return tuple(JOINT_TYPES[int(p)] for p in self.prismatic)

@@ -296,8 +296,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     parts = budget_parts(s)
     n = scale.size
     column = width < _PAGE
-    H = 2.7 if width >= _PAGE else 3.3
-    top = 0.6 if width >= _PAGE else 0.95         # the legend: two rows, or four
+    H, top = (3.3, 0.95) if column else (2.7, 0.6)      # top: the legend's four rows, or two
     fig = new_figure(width, H)
     ax = fig.add_axes((0.7 / width, 0.7 / H, (width - 0.9) / width, (H - 0.7 - top) / H))
     x = np.arange(1, n + 1)
@@ -611,8 +610,9 @@ def simplified_caption(ds: StoredSimplified | xr.Dataset) -> str:
         from the stored guarantee's kind.
     """
     s = StoredSimplified.of(ds)
+    quiet = _quiet(s, np.asarray(s.tau_error_peak, float)[None])
     return say("simplified_caption", units=joint_units_text(s.tau_units),
-               region=s.guarantee_kind == "region")
+               region=s.guarantee_kind == "region", quiet=len(quiet), n=s.n)
 
 
 def _int(v):
@@ -917,6 +917,15 @@ def _round_off(diff, bound, scale, arm_scale=None):
                 and is_round_off(float(np.max(np.abs(diff))), scale, arm_scale=arm_scale))
 
 
+def _quiet(s, diff):
+    """The joints whose tau_s - tau (``diff``, shape (N, n) [N m; N], or the peaks |tau_s -
+    tau| as one row) and bound are both round-off (:func:`_round_off`): no panel of theirs in
+    :func:`error_figure`."""
+    scale = np.asarray(s.scale if s.scale is not None else s.tau_peak, float)
+    arm = arm_scales(scale, s.tau_units)
+    return [i for i in range(s.n) if _round_off(diff[:, i], s.bound[i], scale[i], arm[i])]
+
+
 def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
                  data: PlotData | None = None) -> Figure:
     """Per-joint plots of tau_s - tau against time, with the guaranteed band +- bound.
@@ -955,9 +964,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     else:
         t, diff = s.t, s.torque_difference()
     bound = s.bound
-    scale = np.asarray(s.scale if s.scale is not None else s.tau_peak, float)
-    arm = arm_scales(scale, units)
-    quiet = [i for i in range(n) if _round_off(diff[:, i], bound[i], scale[i], arm[i])]
+    quiet = _quiet(s, diff)
     shown = [i for i in range(n) if i not in quiet]
     W = width
     column = W < 5.0
