@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import gd_analyze
 from gd_analyze import load_robot
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -332,11 +333,17 @@ def pytest_configure(config):
     (``tests/conftest.py``'s ``cache``) or ``GD_ANALYZE_NO_CACHE``. The tests that count the
     G-D engine's set points (``tests/jobs/test_analyze.py``) count only the trajectory's, not
     the states of a cache read's self-check.
+
+    The controller also compiles the package's bytecode once (``compileall``, as pip does for an
+    installed package): with ``PYTHONDONTWRITEBYTECODE`` set, every command a test runs in a
+    child process (some hundreds) would otherwise compile the package's source again.
     """
+    import compileall
     import tempfile
 
     if hasattr(config, "workerinput"):          # an xdist worker: the controller's folder
         return
+    compileall.compile_dir(Path(gd_analyze.__file__).parent, quiet=2)
     folder = tempfile.mkdtemp(prefix="gd-analyze-tests-")
     config._gd_cache_folder = folder
     os.environ["XDG_CACHE_HOME"] = folder
