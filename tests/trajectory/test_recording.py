@@ -65,6 +65,32 @@ def test_arrays_are_checked():
         recording_from_arrays(t, np.zeros((12, 1)), np.zeros((11, 1)))
 
 
+
+@pytest.mark.parametrize("kwargs, where", [
+    ({"current": np.ones((12, 1))}, "current: True or False, not a ndarray"),
+    ({"current": "no"}, "current: True or False, not a str"),
+    ({"current": 1}, "current: True or False, not a int"),
+    ({"source": 3}, "source: a name"),
+    ({"t": "abc"}, "key t: t must hold real numbers"),
+    ({"q": None}, "key q: q must hold real numbers"),
+    ({"tau": {}}, "key tau: tau must hold real numbers"),
+    ({"t": np.arange(12) * (0.01 + 1j)}, "key t: t must hold real numbers"),
+    ({"t": np.zeros((12, 2))}, r"key t: t must have shape \(N,\)"),
+    ({"q": np.zeros((12, 1, 1))}, r"key q: q must have shape \(N, n\)"),
+    ({"q": np.zeros((12, 0)), "tau": np.zeros((12, 0))}, "key q: q must have shape"),
+    ({"qd": np.full((12, 1), np.inf)}, "key qd: inf at sample 0 is not finite"),
+    ({"tau": np.full((12, 1), 1e300)}, "key tau: 1e.300 at sample 0 is not finite or beyond"),
+])
+def test_arrays_of_another_type_shape_or_value_are_one_line_naming_the_argument(kwargs, where):
+    """The Python API's arguments are checked as a file's cells are: one InputError line
+    naming the argument (before, ``current`` took any value, an array of currents raised
+    numpy's ambiguous truth value, text or None in q a ValueError or AttributeError)."""
+    args = {"t": 0.01 * np.arange(12), "q": np.zeros((12, 1)), "tau": np.zeros((12, 1))}
+    with pytest.raises(InputError, match=where) as err:
+        recording_from_arrays(**{**args, **kwargs})
+    assert "\n" not in str(err.value)
+    assert recording_from_arrays(**args, current=np.True_).current is True
+
 def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
     rows = [f"{0.001 * k},{float(np.sin(k))!r},{k}" for k in range(15_000)]
     good = _write(tmp_path / "big.csv", "t,q1,tau1\n" + "\n".join(rows) + "\n")

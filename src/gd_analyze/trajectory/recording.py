@@ -18,14 +18,13 @@ import hashlib
 import os
 import re
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError, check_flags
+from ..errors import InputError, check_flags, expect
 from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import _cell_values, _csv_path, _numbered_rows, _read_csv
+from .trajectory import _cell_values, _csv_path, _numbered_rows, _read_csv, checked_arrays
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -252,21 +251,15 @@ def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayL
     Raises
     ------
     InputError
-        If the shapes disagree, a value is not finite, or there are too few distinct stamps.
+        One line naming the argument: an array that is not real numbers, of another shape,
+        with a value not finite or beyond the supported magnitude, too few distinct stamps,
+        ``source`` not a str or ``current`` not a bool.
     """
-    t = np.asarray(t, float).reshape(-1)
-    arrays: list[Any] = [None if a is None else np.atleast_2d(np.asarray(a, float)) for a in
-              (q, tau, qd, qdd)]
-    for name, a in zip(("q", "tau", "qd", "qdd"), arrays):
-        if a is None:
-            continue
-        if a.shape != arrays[0].shape or a.shape[0] != t.size:
-            raise InputError(f"{name} has shape {a.shape}, expected ({t.size}, "
-                             f"{arrays[0].shape[1]})", source, column=name)
-        if not np.isfinite(a).all():
-            raise InputError(f"{name} holds a value that is not finite", source, column=name)
-    if not np.isfinite(t).all():
-        raise InputError("t holds a value that is not finite", source, column="t")
+    expect(source, str, "source", "a name (str)")
+    check_flags(current=current)
+    t, got = checked_arrays({"t": t, "q": q, "tau": tau, "qd": qd, "qdd": qdd}, source,
+                            {**LIMITS, "tau": TAU_LIMIT}, MIN_SAMPLES, "sample")
+    arrays = [got.get(k) for k in ("q", "tau", "qd", "qdd")]
     rows = np.arange(2, t.size + 2)
     ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, rows, source)
     digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a in

@@ -234,6 +234,65 @@ def _spline(t, q, path, row_of):
 ARRAYS = "trajectory arrays"
 
 
+def checked_arrays(named: Mapping[str, Any], source: str, limits: Mapping[str, float],
+                   least: int, what: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Arrays of the Python API as floats, checked: real numbers, shapes, magnitudes.
+
+    Parameters
+    ----------
+    named : mapping of str to array_like or None
+        ``t`` first, shape (N,) [s], then ``q`` and the others, each shape (N, n) (None: not
+        given, left out).
+    source : str
+        What the messages call the arrays.
+    limits : mapping of str to float
+        The largest magnitude of each array (:data:`gd_analyze.model.limits.LIMITS`).
+    least : int
+        The fewest samples N.
+    what : str
+        What a sample is called in the messages (e.g. ``"set point"``).
+
+    Returns
+    -------
+    t : ndarray, shape (N,)
+    arrays : dict of str to ndarray, each shape (N, n)
+
+    Raises
+    ------
+    InputError
+        One line naming the array: not real numbers (text, complex, None for ``t`` or
+        ``q``), a wrong shape, n = 0, N below ``least``, a value not finite or beyond its
+        limit.
+    """
+    arrays: dict[str, np.ndarray] = {}
+    for name, v in named.items():
+        if v is None and name not in ("t", "q"):
+            continue
+        try:
+            arrays[name] = np.array(real_values(name, v), dtype=float)
+        except InputError as exc:       # complex, text...: one line naming the array
+            raise InputError(exc.message, source, column=name) from None
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric arrays: {exc}", source, column=name) from None
+    t = arrays.pop("t")
+    if t.ndim != 1 or t.size < least:
+        raise InputError(f"t must have shape (N,) with N >= {least}, got {t.shape}", source,
+                         column="t")
+    N = t.size
+    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
+    for name, x in arrays.items():
+        if x.ndim != 2 or x.shape[0] != N or x.shape[1] != n or n < 1:
+            raise InputError(f"{name} must have shape (N, n) = ({N}, n), got {x.shape}",
+                             source, column=name)
+    for name, x in (("t", t), *arrays.items()):
+        bad = first_beyond(x, limits[name])
+        if bad is not None:
+            raise InputError(f"{float(x[bad]):g} at {what} {bad[0]} is not finite or beyond "
+                             f"the supported magnitude {limits[name]:g} of {name}", source,
+                             column=name)
+    return t, arrays
+
+
 def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = None,
                            qdd: ArrayLike | None = None, n_joints: int | None = None
                            ) -> Trajectory:
@@ -274,34 +333,11 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
     if (qd is None) != (qdd is None):
         raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
                          ARRAYS)
-    arrays: dict[str, np.ndarray] = {}
-    for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
-        if v is None:
-            continue
-        try:
-            arrays[name] = np.array(real_values(name, v), dtype=float)
-        except InputError as exc:       # complex, text...: one line naming the array
-            raise InputError(exc.message, ARRAYS, column=name) from None
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"not numeric arrays: {exc}", ARRAYS, column=name) from None
-    t = arrays.pop("t")
-    if t.ndim != 1 or t.size < 2:
-        raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
-                         column="t")
-    N = t.size
-    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
-    for name, x in arrays.items():
-        if x.ndim != 2 or x.shape[0] != N or x.shape[1] != n or n < 1:
-            raise InputError(f"{name} must have shape (N, n) = ({N}, n), got {x.shape}",
-                             ARRAYS, column=name)
-    if n_joints is not None and n != n_joints:
-        raise InputError(f"the arrays have {n} joints, the robot has {n_joints}", ARRAYS)
-    for name, x in (("t", t), *arrays.items()):
-        bad = first_beyond(x, LIMITS[name])
-        if bad is not None:
-            raise InputError(f"{float(x[bad]):g} at set point {bad[0]} is not finite or beyond "
-                             f"the supported magnitude {LIMITS[name]:g} of {name}", ARRAYS,
-                             column=name)
+    t, arrays = checked_arrays({"t": t, "q": q, "qd": qd, "qdd": qdd}, ARRAYS, LIMITS, 2,
+                               "set point")
+    if n_joints is not None and arrays["q"].shape[1] != n_joints:
+        raise InputError(f"the arrays have {arrays['q'].shape[1]} joints, the robot has "
+                         f"{n_joints}", ARRAYS)
     step = np.nonzero(np.diff(t) <= 0)[0]
     if step.size:
         k = int(step[0]) + 1
