@@ -32,11 +32,30 @@ def test_columns_in_any_order_with_derivatives(tmp_path):
     assert rec.q[1, 0] == 2 and rec.qdd[1, 0] == 3 and rec.qd[1, 0] == 4
 
 
+
+def test_the_time_column_may_stand_anywhere(tmp_path):
+    """A log that writes its time stamps last (or amid the joints) reads as one that writes
+    them first (it was refused: the header had to start with t)."""
+    rows = [(0.01 * k, float(np.sin(k)), 2.0 * k) for k in range(12)]
+    first = _write(tmp_path / "a.csv", "t,q1,tau1\n" + "".join(f"{a!r},{b!r},{c!r}\n"
+                                                              for a, b, c in rows))
+    last = _write(tmp_path / "b.csv", "tau1,q1,t\n" + "".join(f"{c!r},{b!r},{a!r}\n"
+                                                              for a, b, c in rows))
+    a, b = read_recording(first), read_recording(last)
+    assert np.array_equal(a.t, b.t) and np.array_equal(a.q, b.q) and np.array_equal(a.tau, b.tau)
+    body = "".join(f"{c!r},{b!r},{1e11 if k == 3 else a!r}\n" for k, (a, b, c) in enumerate(rows))
+    with pytest.raises(InputError, match="row 5, column t: 1e.11 is beyond the supported"):
+        read_recording(_write(tmp_path / "c.csv", "tau1,q1,t\n" + body))
+
 @pytest.mark.parametrize("header, where", [
     ("t,q1,q1,tau1", "column q1"),
     ("t,q1,q2,tau1", "column tau2"),
     ("t,q1,tau1,i1", "column i1"),
     ("x,q1,tau1", "column x"),
+    ("q1,tau1", "column t: no time column t"),
+    ("t,q1,tau1,t", "column t: column 't' appears twice"),
+    ("t1,q1,tau1", "column t1: unknown column"),
+    ("t,q0,tau1", "column q0: unknown column"),
 ])
 def test_bad_headers(tmp_path, header, where):
     path = _write(tmp_path / "h.csv", header + "\n")
