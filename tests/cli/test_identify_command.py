@@ -65,6 +65,26 @@ def test_json_and_files(recordings, tmp_path, capsys):
     assert sorted(p.name for p in (out / "figures").iterdir())
 
 
+
+def test_a_clipped_torque_is_one_warning_line(recordings, tmp_path, capsys):
+    """The fit recording with joint 1's torque clipped at 80 % of its peak: one warning line
+    naming the file, the column, the joint, the value and the share; exit 0."""
+    data = np.genfromtxt(recordings[0], delimiter=",", names=True)
+    limit = 0.8 * np.abs(data["tau1"]).max()
+    data["tau1"] = np.clip(data["tau1"], -limit, limit)
+    path = tmp_path / "clipped.csv"
+    np.savetxt(path, np.column_stack([data[k] for k in data.dtype.names]), delimiter=",",
+               header=",".join(data.dtype.names), comments="", fmt="%.17g")
+    code = main(["identify", "two-link", str(path), "-o", str(tmp_path / "out"), "--no-report"])
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if "clipped" in line]
+    share = np.mean(np.abs(data["tau1"]) == limit)
+    assert code == 0 and lines == [
+        f"gd-analyze: warning: {path}: column tau1: joint 1's torque is clipped at "
+        f"{np.sign(data['tau1'][np.abs(data['tau1']) == limit][0]) * limit:.6g} N m (flat at "
+        f"its extreme, a drive's limit or a sensor's range?) on {share:.1%} of the samples: "
+        f"left out of the fit"], err
+
 def test_no_report(recordings, tmp_path, capsys):
     out = tmp_path / "out"
     code = main(["identify", "two-link", str(recordings[0]), "-o", str(out), "--no-report",

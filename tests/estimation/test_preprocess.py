@@ -6,6 +6,8 @@ import pytest
 from scipy import signal
 
 from gd_analyze.estimation.preprocess import (
+    CLIP_REACH,
+    clipped_samples,
     default_cutoff,
     most_samples,
     preprocess,
@@ -159,3 +161,34 @@ def test_most_samples_bounds_the_samples_preprocessing_gives(clock, cutoff):
     pre = preprocess(t, q, q, cutoff=cutoff, **given)
     most = most_samples(t, resampled=cutoff is not None)
     assert pre.t.size <= most <= 2 * pre.t.size
+
+
+def test_clipped_torque_is_found_not_a_quantised_peak_a_dither_or_a_hold():
+    """A torque clipped at +-0.8 of its peak (a drive's limit): exactly the samples at +-0.8,
+    and the rows the filter's reach spreads them to (CLIP_REACH periods of the cutoff) marked on
+    the preprocessed clock. Not clipping: the same torque quantised to 1e-3 (its peaks hold
+    their top level over several samples; clipped, it is found), a joint held still dithering
+    over 3 levels, the arm at rest at its peak torque."""
+    rng = np.random.default_rng(1)
+    t = np.cumsum(rng.uniform(0.5e-3, 1.5e-3, 20000))
+    q = np.column_stack([np.sin(0.7 * t), np.cos(0.3 * t)])
+    tau = np.column_stack([5 * np.sin(0.7 * t) + 3 * np.sin(2.1 * t), np.cos(0.3 * t)])
+    clipped, limit = tau.copy(), 0.8 * np.abs(tau[:, 0]).max()
+    clipped[:, 0] = np.clip(tau[:, 0], -limit, limit)
+    mask = clipped_samples(q, clipped)
+    assert np.array_equal(mask[:, 0], np.abs(clipped[:, 0]) == limit) and mask[:, 0].mean() > 0.05
+    assert not mask[:, 1].any()
+    pre = preprocess(t, q, clipped, cutoff=2.0, clipped=mask)
+    reach = int(np.ceil(CLIP_REACH / (2.0 * pre.step)))
+    inside = np.interp(pre.t, t, mask[:, 0].astype(float)) > 0
+    assert np.array_equal(pre.clipped[:, 0], np.convolve(inside, np.ones(2 * reach + 1),
+                                                         "same") > 0)
+    assert not pre.clipped[:, 1].any()
+    quantised = np.round(tau / 1e-3) * 1e-3
+    assert not clipped_samples(q, quantised).any()
+    assert clipped_samples(q, np.clip(quantised, -limit, limit))[:, 0].any()
+    dither = np.column_stack([quantised[:, 0], 1.0 + 1e-3 * rng.integers(-1, 2, t.size)])
+    assert not clipped_samples(q, dither).any()
+    rest = np.argmax(tau[:, 0])                 # the arm stops at its peak torque for 0.5 s
+    hold = np.r_[:rest, [rest] * 500, rest:t.size]
+    assert not clipped_samples(q[hold], tau[hold]).any()

@@ -32,11 +32,30 @@ def test_columns_in_any_order_with_derivatives(tmp_path):
     assert rec.q[1, 0] == 2 and rec.qdd[1, 0] == 3 and rec.qd[1, 0] == 4
 
 
+
+def test_the_time_column_may_stand_anywhere(tmp_path):
+    """A log that writes its time stamps last (or amid the joints) reads as one that writes
+    them first (it was refused: the header had to start with t)."""
+    rows = [(0.01 * k, float(np.sin(k)), 2.0 * k) for k in range(12)]
+    first = _write(tmp_path / "a.csv", "t,q1,tau1\n" + "".join(f"{a!r},{b!r},{c!r}\n"
+                                                              for a, b, c in rows))
+    last = _write(tmp_path / "b.csv", "tau1,q1,t\n" + "".join(f"{c!r},{b!r},{a!r}\n"
+                                                              for a, b, c in rows))
+    a, b = read_recording(first), read_recording(last)
+    assert np.array_equal(a.t, b.t) and np.array_equal(a.q, b.q) and np.array_equal(a.tau, b.tau)
+    body = "".join(f"{c!r},{b!r},{1e11 if k == 3 else a!r}\n" for k, (a, b, c) in enumerate(rows))
+    with pytest.raises(InputError, match="row 5, column t: 1e.11 is beyond the supported"):
+        read_recording(_write(tmp_path / "c.csv", "tau1,q1,t\n" + body))
+
 @pytest.mark.parametrize("header, where", [
     ("t,q1,q1,tau1", "column q1"),
     ("t,q1,q2,tau1", "column tau2"),
     ("t,q1,tau1,i1", "column i1"),
     ("x,q1,tau1", "column x"),
+    ("q1,tau1", "column t: no time column t"),
+    ("t,q1,tau1,t", "column t: column 't' appears twice"),
+    ("t1,q1,tau1", "column t1: unknown column"),
+    ("t,q0,tau1", "column q0: unknown column"),
 ])
 def test_bad_headers(tmp_path, header, where):
     path = _write(tmp_path / "h.csv", header + "\n")
@@ -64,6 +83,32 @@ def test_arrays_are_checked():
     with pytest.raises(InputError, match="shape"):
         recording_from_arrays(t, np.zeros((12, 1)), np.zeros((11, 1)))
 
+
+
+@pytest.mark.parametrize("kwargs, where", [
+    ({"current": np.ones((12, 1))}, "current: True or False, not a ndarray"),
+    ({"current": "no"}, "current: True or False, not a str"),
+    ({"current": 1}, "current: True or False, not a int"),
+    ({"source": 3}, "source: a name"),
+    ({"t": "abc"}, "key t: t must hold real numbers"),
+    ({"q": None}, "key q: q must hold real numbers"),
+    ({"tau": {}}, "key tau: tau must hold real numbers"),
+    ({"t": np.arange(12) * (0.01 + 1j)}, "key t: t must hold real numbers"),
+    ({"t": np.zeros((12, 2))}, r"key t: t must have shape \(N,\)"),
+    ({"q": np.zeros((12, 1, 1))}, r"key q: q must have shape \(N, n\)"),
+    ({"q": np.zeros((12, 0)), "tau": np.zeros((12, 0))}, "key q: q must have shape"),
+    ({"qd": np.full((12, 1), np.inf)}, "key qd: inf at sample 0 is not finite"),
+    ({"tau": np.full((12, 1), 1e300)}, "key tau: 1e.300 at sample 0 is not finite or beyond"),
+])
+def test_arrays_of_another_type_shape_or_value_are_one_line_naming_the_argument(kwargs, where):
+    """The Python API's arguments are checked as a file's cells are: one InputError line
+    naming the argument (before, ``current`` took any value, an array of currents raised
+    numpy's ambiguous truth value, text or None in q a ValueError or AttributeError)."""
+    args = {"t": 0.01 * np.arange(12), "q": np.zeros((12, 1)), "tau": np.zeros((12, 1))}
+    with pytest.raises(InputError, match=where) as err:
+        recording_from_arrays(**{**args, **kwargs})
+    assert "\n" not in str(err.value)
+    assert recording_from_arrays(**args, current=np.True_).current is True
 
 def test_a_large_file_reads_as_a_small_one_and_names_a_bad_cell(tmp_path):
     rows = [f"{0.001 * k},{float(np.sin(k))!r},{k}" for k in range(15_000)]

@@ -248,51 +248,40 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
     columns = IdentificationColumns.keeping_all(base, n, kinds)
     theta0 = prior_values(base, prior, kinds)
     # rows at rest: thresholds from all training data
-    qd_train = np.concatenate([p.qd[p.keep] for p in train])
-    _, threshold = moving_rows(qd_train)
+    threshold = moving_rows(np.concatenate([p.qd[p.keep] for p in train]))[1]
     notes = ["rows (sample, joint) with |qd_i| below 2% of the joint's 99th-percentile "
              "speed are left out of the fit: at rest the torque holds an unknown static "
              "friction (they count in the errors), except where the joint is held still "
              "all along a recording (its offset takes that friction); Coulomb friction is "
              "F_c sign(qd), not smoothed, as in the robot file"]
-
-    def fitted(p):      # the rows (sample, joint) a training recording fits
-        return moving_rows(p.qd[p.keep], threshold)[0] | p.held[None, :]
     rows = [RegressorRows(prior, p, columns) for p in train]
-    factors: Any = None  # the factors of all training rows, block by block
-    for p, src in zip(train, rows):
-        used, tau = fitted(p), p.tau[p.keep]
-        for a, b, Y in src:
-            f = joint_factors(Y, tau[a:b], used[a:b])
-            factors = f if factors is None else combine_factors(factors, f)
+
+    def solved(used_rows):      # least squares on these rows, the factors block by block
+        factors: Any = None
+        for p, src, used in zip(train, rows, used_rows):
+            tau = p.tau[p.keep]
+            for a, b, Y in src:
+                f = joint_factors(Y, tau[a:b], used[a:b])
+                factors = f if factors is None else combine_factors(factors, f)
+        return least_squares(factors, theta0)
+    moving = [(moving_rows(p.qd[p.keep], threshold)[0] | np.asarray(p.held, bool))  # fitted
+              & (True if p.clipped is None else ~p.clipped[p.keep]) for p in train]
     try:
-        est = least_squares(factors, theta0)
+        est = solved(moving)
         # outliers: rows whose residual exceeds OUTLIER_SIGMAS x the joint's noise are left out
         # and the fit repeated once (a Gaussian residual exceeds 5 sigma once in 1.7 million)
-        refit: Any
-        dropped, refit, fit_rows = 0, None, []
         limit = OUTLIER_SIGMAS * np.maximum(est.noise_std, 1e-300)
-        for p, src in zip(train, rows):
-            moving = fitted(p)
-            used = moving & ~(np.abs(p.tau[p.keep] - src.times(est.value[:, None])[..., 0])
-                              > limit)
-            dropped += int(moving.sum() - used.sum())
-            fit_rows.append(used)
+        fit_rows = [used & ~(np.abs(p.tau[p.keep] - src.times(est.value[:, None])[..., 0])
+                             > limit) for p, src, used in zip(train, rows, moving)]
+        dropped = sum(int(m.sum() - used.sum()) for m, used in zip(moving, fit_rows))
         if dropped:
-            for p, src, used in zip(train, rows, fit_rows):
-                tau = p.tau[p.keep]
-                for a, b, Y in src:
-                    f = joint_factors(Y, tau[a:b], used[a:b])
-                    refit = f if refit is None else combine_factors(refit, f)
-            est = least_squares(refit, theta0)
+            est = solved(fit_rows)
             notes.append(f"{dropped} outlier rows (residual above {OUTLIER_SIGMAS:g} x the "
                          f"joint's noise standard deviation) left out and the fit repeated")
     except ValueError as exc:
         raise FitFailure(str(exc)) from None
-    phi0 = base.standard
-    b = base.rank
+    phi0, b, theta = base.standard, base.rank, est.value
     drive_kind = col_kinds[b:]
-    theta = est.value
     nonneg = np.array([k != "offset" for k in drive_kind], bool)
     if consistent:
         sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
@@ -312,8 +301,7 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
         drives = theta[b:]
         method = ("the standard parameters closest to the robot file's that reproduce the "
                   "identified base parameters (least-norm deviation)")
-        file_phi, file_drives = rounding_cleaned(phi, drives, nonneg)
-        file_note = None
+        (file_phi, file_drives), file_note = rounding_cleaned(phi, drives, nonneg), None
         if not loadable(file_phi, bool((file_drives[nonneg] >= 0).all())):
             sol = consistent_standard(base, theta, est.identifiable, est.R, phi0, drive_kind,
                                       theta0[b:])
@@ -332,11 +320,9 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                                      viscous=per_kind["viscous"], coulomb=per_kind["coulomb"],
                                      torque_offset=per_kind["offset"])
     eig = min_eigenvalues(phi)
-    scaleJ = np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1))
-    fit = Fit(base=base, columns=columns, names=col_names, kinds=col_kinds,
-              prior=theta0, threshold=threshold, estimate=est, theta=theta,
-              used=tuple(fit_rows), standard=np.asarray(phi), identified=identified,
-              offsets=per_kind["offset"], min_eigenvalue=eig,
-              consistent=eig >= -1e-10 * scaleJ, method=method, robot_file_note=file_note,
-              notes=tuple(notes))
+    fit = Fit(base=base, columns=columns, names=col_names, kinds=col_kinds, prior=theta0,
+              threshold=threshold, estimate=est, theta=theta, used=tuple(fit_rows),
+              standard=np.asarray(phi), identified=identified, offsets=per_kind["offset"],
+              min_eigenvalue=eig, method=method, robot_file_note=file_note, notes=tuple(notes),
+              consistent=eig >= -1e-10 * np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1)))
     return fit, rows

@@ -27,7 +27,8 @@ filtering* of Gautier ("Dynamic identification of robots with power model", ICRA
 a term the model holds but the filter smooths (Coulomb friction's step at a reversal) is smoothed
 alike on both sides of tau = Y theta.
 
-The default cutoff is chosen from the data (:func:`default_cutoff`).
+The default cutoff is chosen from the data (:func:`default_cutoff`). The rows of a clipped
+torque (:func:`clipped_samples`) are marked on the output's clock, to be left out of the fit.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
-           "still_joints",
+           "still_joints", "clipped_samples", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
            "FILTER_BLOCK"]
 
@@ -58,6 +59,15 @@ EDGE_PERIODS = 3.0
 #: A joint whose kept positions span less than this is held still [rad for a revolute joint
 #: (0.57 deg), m for a prismatic one].
 STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
+#: The fewest samples in a row at a torque's extreme that are taken for clipping
+#: (:func:`clipped_samples`).
+CLIP_RUN = 3
+#: The fewest steps between a torque's values in which clipping is looked for (a coarser
+#: signal, or a joint's few levels of noise, holds its extremes over runs anyway).
+CLIP_LEVELS = 20
+#: The rows left out around a clipped sample: this many periods of the cutoff on each side
+#: (the zero-phase filter spreads the clipping's error over its impulse response).
+CLIP_REACH = 0.5
 #: Samples per block of :meth:`Preprocessed.filtered_blocks` (a block of the regressor holds
 #: this many x n x p numbers).
 FILTER_BLOCK = 4096
@@ -92,6 +102,10 @@ class Preprocessed:
     held : ndarray of bool, shape (n,), or None
         The joints held still (:func:`still_joints`), their qd and qdd set to 0; None if the
         joints' kinds were not given.
+    clipped : ndarray of bool, shape (N, n), or None
+        The rows (sample, joint) a clipped torque reaches (:func:`clipped_samples`, widened by
+        the filter's reach, half a period of the cutoff): left out of the fit; None if none
+        were given.
     """
 
     t: np.ndarray
@@ -106,6 +120,7 @@ class Preprocessed:
     segments: tuple = ()
     sos: np.ndarray | None = None
     held: np.ndarray | None = None
+    clipped: np.ndarray | None = None
 
     def filtered(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """The same zero-phase filter on another signal of the same samples, segment by segment.
@@ -317,7 +332,8 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
                qd: npt.NDArray[np.float64] | None = None,
                qdd: npt.NDArray[np.float64] | None = None, cutoff: float | str | None = "auto",
                decimate: int = 1, label: str = "recording",
-               prismatic: npt.NDArray[np.bool_] | None = None) -> Preprocessed:
+               prismatic: npt.NDArray[np.bool_] | None = None,
+               clipped: npt.NDArray[np.bool_] | None = None) -> Preprocessed:
     """Resample, filter, differentiate and decimate one recording (steps in the module docstring).
 
     Parameters
@@ -338,6 +354,9 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     prismatic : ndarray of bool, shape (n,), optional
         True for a prismatic joint: given, the joints held still are found
         (:func:`still_joints`) and their qd and qdd set to 0.
+    clipped : ndarray of bool, shape (N, n), optional
+        The rows (sample, joint) whose torque is clipped (:func:`clipped_samples`), to be left
+        out of the fit: :attr:`Preprocessed.clipped` on the output's clock.
 
     Returns
     -------
@@ -349,7 +368,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
         If the cutoff is not below the Nyquist frequency, decimate < 1, or no segment is long
         enough for the filter.
     """
-    from scipy import signal
+    from scipy import ndimage, signal
 
     t = np.asarray(t, float)
     segs, step = _segments(t)
@@ -370,17 +389,15 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
                          f"{0.5 / step:.4g} Hz of the median step")
     if int(decimate) < 1:
         raise ValueError(f"decimate must be >= 1, got {decimate}")
-    trim = edge_samples(step, cutoff)
-    if cutoff is None and (qd is None or qdd is None):
-        trim = 1                    # one-sided differences at the ends
-    out: dict[str, list[Any]] = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep")}
+    trim = (1 if cutoff is None and (qd is None or qdd is None)   # one-sided differences
+            else edge_samples(step, cutoff))
+    out: dict[str, list[Any]] = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep", "clipped")}
     given = {"qd": qd, "qdd": qdd}
-    sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step,
-                                                    output="sos")
-    dropped = 0
+    sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step, output="sos")
+    dropped, need = 0, max(3 * (2 * ORDER + 1), 2 * trim + 3)
     for s in segs:
         ts = t[s]
-        if ts.size < max(3 * (2 * ORDER + 1), 2 * trim + 3):
+        if ts.size < need:
             dropped += ts.size
             continue
         if sos is not None:
@@ -395,30 +412,31 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
             ts_out, qs, taus = tu, smooth(resample(q[s])), smooth(resample(tau[s]))
             d = {k: None if v is None else smooth(resample(v[s])) for k, v in given.items()}
+            # the samples next to a clipped one, and those within the filter's reach
+            d["clipped"] = None if clipped is None else ndimage.maximum_filter1d(
+                resample(clipped[s].astype(float)) > 0, axis=0,
+                size=2 * int(np.ceil(CLIP_REACH / (cutoff * step))) + 1)
             spacing = step
         else:
-            ts_out, qs, taus = ts, q[s], tau[s]
-            d = {k: None if v is None else v[s] for k, v in given.items()}
-            spacing = ts
+            ts_out, qs, taus, spacing = ts, q[s], tau[s], ts
+            d = {k: None if v is None else v[s] for k, v in {**given, "clipped": clipped}.items()}
         qds = d["qd"] if d["qd"] is not None else np.gradient(qs, spacing, axis=0)
         qdds = d["qdd"] if d["qdd"] is not None else np.gradient(qds, spacing, axis=0)
         keep = np.zeros(ts_out.size, bool)
         keep[slice(trim, ts_out.size - trim, int(decimate))] = True
-        for k, v in zip(("t", "q", "qd", "qdd", "tau", "keep"), (ts_out, qs, qds, qdds, taus,
-                                                                 keep)):
+        for k, v in zip(out, (ts_out, qs, qds, qdds, taus, keep, d["clipped"])):
             out[k].append(v)
     if not out["t"]:
         raise ValueError(f"{label}: no segment is long enough for the filter and the "
-                         f"differences")
+                         f"differences (the longest holds {max(s.stop - s.start for s in segs)} "
+                         f"samples; {need} are needed with this filter)")
     if dropped:
         notes.append(f"{label}: {dropped} samples in segments too short for the filter dropped")
-    if sos is not None:
-        notes.append(f"{label}: resampled onto a uniform {step * 1e3:.3g} ms clock by linear "
-                     f"interpolation; q, tau{', qd' if qd is not None else ''}"
-                     f"{', qdd' if qdd is not None else ''} low-pass filtered at {cutoff:.3g} Hz "
-                     f"(Butterworth order {ORDER}, forwards and backwards: zero phase)")
-    else:
-        notes.append(f"{label}: no filter, no resampling")
+    notes.append(f"{label}: no filter, no resampling" if sos is None else
+                 f"{label}: resampled onto a uniform {step * 1e3:.3g} ms clock by linear "
+                 f"interpolation; q, tau{', qd' if qd is not None else ''}"
+                 f"{', qdd' if qdd is not None else ''} low-pass filtered at {cutoff:.3g} Hz "
+                 f"(Butterworth order {ORDER}, forwards and backwards: zero phase)")
     derived = [k for k in ("qd", "qdd") if given[k] is None]
     if derived:
         notes.append(f"{label}: {' and '.join(derived)} by central differences of the "
@@ -428,21 +446,18 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     if sos is not None:
         notes.append(f"{label}: the regressor filtered by the same filter as the torque "
                      f"(parallel filtering)")
-    cat = {k: np.concatenate(v) for k, v in out.items()}
-    held = None
-    if prismatic is not None:
-        held = still_joints(cat["q"][cat["keep"]], prismatic)
-        if held.any():
-            cat["qd"][:, held] = 0.0
-            cat["qdd"][:, held] = 0.0
-            notes.append(f"{label}: joint(s) {', '.join(str(j + 1) for j in np.flatnonzero(held))}"
-                         f" held still (position span below {STILL_SPAN['revolute']:g} rad or "
-                         f"{STILL_SPAN['prismatic']:g} m): qd and qdd set to 0")
+    cat = {k: np.concatenate(v) for k, v in out.items() if k != "clipped" or clipped is not None}
+    held = None if prismatic is None else still_joints(cat["q"][cat["keep"]], prismatic)
+    if held is not None and held.any():
+        cat["qd"][:, held] = cat["qdd"][:, held] = 0.0
+        notes.append(f"{label}: joint(s) {', '.join(str(j + 1) for j in np.flatnonzero(held))}"
+                     f" held still (position span below {STILL_SPAN['revolute']:g} rad or "
+                     f"{STILL_SPAN['prismatic']:g} m): qd and qdd set to 0")
     stops = np.cumsum([v.size for v in out["t"]])
     segments = tuple((int(a), int(b)) for a, b in zip(np.concatenate([[0], stops[:-1]]), stops))
     return Preprocessed(t=cat["t"], q=cat["q"], qd=cat["qd"], qdd=cat["qdd"], tau=cat["tau"],
                         cutoff=cutoff, step=step, notes=tuple(notes), keep=cat["keep"],
-                        segments=segments, sos=sos, held=held)
+                        segments=segments, sos=sos, held=held, clipped=cat.get("clipped"))
 
 
 def still_joints(q: npt.NDArray[np.float64],
@@ -478,3 +493,59 @@ def still_joints(q: npt.NDArray[np.float64],
     limit = np.where(np.asarray(prismatic, bool), STILL_SPAN["prismatic"],
                      STILL_SPAN["revolute"])
     return np.asarray(span < limit, bool)
+
+
+def clipped_samples(q: npt.NDArray[np.float64],
+                    tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+    """The samples at which a joint's torque is clipped: held at its extreme while the arm moves.
+
+    A drive's torque limit or a sensor's range holds the recorded torque flat at its largest
+    (or smallest) value over runs of samples, where the torque the model predicts goes on:
+    fitted, those samples bias the parameters. Per joint whose torque takes more than
+    :data:`CLIP_LEVELS` values, and per extreme value v, the samples equal to v are clipped
+    where
+
+    - one run of them at least holds :data:`CLIP_RUN` samples during which some position
+      changes (not the arm held at rest);
+    - they outnumber three times the samples within two quanta below v (the quantum: the
+      smallest step between the torque's values, above 1e-9 of their range, so that a value
+      rounded to a multiple of the quantum counts as that multiple). A smooth peak of a
+      quantised torque holds its top value over a few samples too, but the levels just below
+      it about as long; a joint held still dithers among a few levels alike.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, n)
+        Positions [rad or m], sorted by time.
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]).
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True at the clipped samples.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 4, 400)
+    >>> tau = np.column_stack([np.clip(np.sin(t * 3), -0.7, 0.7), np.sin(t * 3)])
+    >>> mask = clipped_samples(t[:, None], tau)
+    >>> np.unique(tau[mask[:, 0], 0]).tolist(), bool(mask[:, 1].any())
+    ([-0.7, 0.7], False)
+    """
+    q, tau = np.asarray(q, float), np.asarray(tau, float)
+    out = np.zeros(tau.shape, bool)
+    moved = np.concatenate([[False], (np.diff(q, axis=0) != 0).any(axis=1)])
+    for j in range(tau.shape[1]):
+        x = tau[:, j]
+        steps = np.diff(np.unique(x))
+        steps = steps[steps > 1e-9 * steps.sum()]     # not the rounding of a quantised value
+        for v in (x.min(), x.max()) if steps.size >= CLIP_LEVELS else ():
+            at = np.abs(x - v) <= 0.01 * steps.min()
+            if at.sum() <= 3 * np.count_nonzero(np.abs(x - v) <= 2.01 * steps.min()) - 3 * at.sum():
+                continue
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], at.view(np.int8), [0]])))
+            if any(b - a >= CLIP_RUN and moved[a + 1:b].any()
+                   for a, b in zip(edges[::2], edges[1::2])):
+                out[at, j] = True
+    return out

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import os
 import tempfile
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,10 +25,10 @@ import numpy as np
 
 from .._version import VERSION
 from ..dynamics.base_parameters import base_regressor
-from ..errors import InputError, check_flags, expect
+from ..errors import InputError, InputWarning, check_flags, expect
+from ..estimation import preprocess as prep
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
-from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess, still_joints
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
 from ..model.robot import Robot
@@ -176,13 +177,24 @@ def _recording(item, n, options):
     return rec
 
 
-def _prepared(rec, cutoff, options, label, prismatic):
+def _prepared(rec, cutoff, options, label, prismatic, train, notes):
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
+    clipped = prep.clipped_samples(rec.q, rec.tau)     # one warning line per clipped joint
+    for j in np.flatnonzero(clipped.any(axis=0)):
+        at = " and ".join(dict.fromkeys(f"{v:.6g}" for v in np.unique(rec.tau[clipped[:, j], j])))
+        notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
+                     f"{'current' if options.current else 'torque'} is clipped at {at} "
+                     f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at its "
+                     f"extreme, a drive's limit or a sensor's range?) on "
+                     f"{clipped[:, j].mean():.1%} of the samples: "
+                     + ("left out of the fit" if train else "they count in its errors"))
+        warnings.warn(notes[-1], InputWarning, stacklevel=3)
     try:
-        return preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
-                          decimate=int(options.decimate), label=label, prismatic=prismatic)
+        return prep.preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
+                               decimate=int(options.decimate), label=label,
+                               prismatic=prismatic, clipped=clipped)
     except ValueError as exc:
-        if options.cutoff == "auto" and cutoff is not None:     # chosen, not given
+        if options.cutoff == "auto" and cutoff is not None and not train:   # chosen elsewhere
             raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
                              f"recordings; this one's median step is "
                              f"{float(np.median(np.diff(rec.t))):.4g} s: are all time stamps in "
@@ -228,11 +240,9 @@ def identify(robot: Robot | str | Path,
     (Gautier & Poignet 2001); physically consistent parameters after Wensing, Kim & Slotine
     (2017).
     """
-    if options is None:
-        options = IdentifyOptions()
-    elif isinstance(options, dict):
+    if options is None or isinstance(options, dict):
         try:
-            options = IdentifyOptions(**options)
+            options = IdentifyOptions(**(options or {}))
         except (TypeError, ValueError) as exc:
             raise InputError(f"options: {exc}") from None
     else:
@@ -244,83 +254,78 @@ def identify(robot: Robot | str | Path,
         raise InputError("no recording to identify from")
     train = [_recording(r, n, options) for r in recordings]
     valid = [_recording(r, n, options) for r in validate]
-    for rec in train + valid:               # a recording in degrees by mistake, say
-        check_joint_limits(prior, rec, rec.rows)
+    # a recording in degrees by mistake, say: named again on a failure of the fit
+    beyond = [m for r in train + valid for m in check_joint_limits(prior, r, r.rows)]
+    degrees = ("; a recording in degrees? (see the joint-limit warnings)"
+               if any("in degrees?" in m for m in beyond) else "")
     if not any(np.any(r.tau) for r in train):
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
-    if all(still_joints(r.q, prior.prismatic).all() for r in train):
+    if all(prep.still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
-                         f"spans less than {STILL_SPAN['revolute']:g} rad or "
-                         f"{STILL_SPAN['prismatic']:g} m in each): there is nothing to "
+                         f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
+                         f"{prep.STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
     names = group_names([Path(r.source).stem for r in train + valid])
     notes = []
     cutoff = options.cutoff
     if cutoff == "auto":
-        cutoff = max(default_cutoff(r.t, r.q, prior.prismatic) for r in train)
+        cutoff = max(prep.default_cutoff(r.t, r.q, prior.prismatic) for r in train)
         notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
                      f"bandwidth holding 99% of the positions' power), used for every recording")
-    pres = [_prepared(r, cutoff, options, name, prior.prismatic)
-            for r, name in zip(train + valid, names)]
+    pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes)
+            for k, (r, name) in enumerate(zip(train + valid, names))]
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)
     except FitFailure as exc:
-        raise InputError(f"cannot identify: {exc}") from None
+        raise InputError(f"cannot identify: {exc}{degrees}") from None
     except SolverFailure as exc:
-        raise InputError(f"cannot find physically consistent parameters: {exc}; the "
-                         "recordings may not excite the arm enough (try plan --excitation)"
-                         ) from None
+        raise InputError(f"cannot find physically consistent parameters: {exc}" + (
+            degrees or "; the recordings may not excite the arm enough (try plan --excitation)")
+        ) from None
     notes += fit.notes
     base, b, theta, est, columns = fit.base, fit.base.rank, fit.theta, fit.estimate, fit.columns
-    identified, method, file_note = fit.identified, fit.method, fit.robot_file_note
-    simplified = _simplified_model(identified, pres, len(train), options) \
+    simplified = _simplified_model(fit.identified, pres, len(train), options) \
         if options.simplify else None
     fits = []
     pending = dict(enumerate(regressors))       # each freed once its recording is predicted
-    rigid = np.zeros(theta.size)
-    rigid[:b] = base.beta                       # the robot file's rigid links, without drives
+    rigid = np.concatenate([base.beta, np.zeros(theta.size - b)])   # the file's, no drives
     for k, (p, name, rec) in enumerate(zip(pres, names, train + valid)):
         is_train = k < len(train)
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
         products = rows.times(np.column_stack([theta, rigid]))
-        pred = products[..., 0]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
-        used_r = fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)
         fits.append(RecordingFit(
-            name=name, file=rec.source, sha256=rec.sha256,
+            name=name, file=rec.source, sha256=rec.sha256, tau_simplified=tau_s,
             role="train" if is_train else "validate", t=p.t[keep], q=p.q[keep],
-            qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep], tau_predicted=pred,
-            tau_prior=tau_prior, used=used_r, notes=tuple(rec.notes) + tuple(p.notes),
-            tau_simplified=tau_s))
+            qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep],
+            tau_predicted=products[..., 0], tau_prior=tau_prior, notes=(*rec.notes, *p.notes),
+            used=fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)))
     unident = [nm for nm, ok in zip(fit.names, est.identifiable) if not ok]
     if unident:
         notes.append(f"not identifiable on these data (kept at the robot file's value): "
                      f"{', '.join(unident)}")
-    table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta,
-                           std=est.std, ols_value=est.ols_value, prior=fit.prior,
-                           identifiable=est.identifiable)
+    table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta, std=est.std,
+                           ols_value=est.ols_value, prior=fit.prior, identifiable=est.identifiable)
     if simplified is not None:
         notes.append(f"simplified model of the identified robot (the main job's analysis along "
                      f"{names[simplified[2]]}): {simplified[1]}")
     settings = {**options.settings(), "cutoff_hz_used": cutoff,
-                "idle_threshold": fit.threshold.tolist(), "standard_method": method,
-                "robot_file_note": file_note,
+                "idle_threshold": fit.threshold.tolist(), "standard_method": fit.method,
+                "robot_file_note": fit.robot_file_note,
                 "simplified_guarantee": None if simplified is None else simplified[1]}
-    inputs = {r.source: r.sha256 for r in train + valid}
-    inputs[str(prior.source)] = prior.sha256
+    inputs = {**{r.source: r.sha256 for r in train + valid}, str(prior.source): prior.sha256}
     return IdentificationResult(
-        prior=prior, identified=identified, offsets=fit.offsets, parameters=table,
+        prior=prior, identified=fit.identified, offsets=fit.offsets, parameters=table,
         condition_number=est.condition_number, rank=est.rank, standard=fit.standard,
-        standard_prior=base.standard, min_eigenvalue=fit.min_eigenvalue,
-        consistent=fit.consistent,
-        standard_method=method, recordings=tuple(fits), settings=settings, inputs=inputs,
-        preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
+        standard_prior=base.standard, min_eigenvalue=fit.min_eigenvalue, inputs=inputs,
+        consistent=fit.consistent, standard_method=fit.method, recordings=tuple(fits),
+        settings=settings, preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
 
 
 

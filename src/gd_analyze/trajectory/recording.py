@@ -1,7 +1,7 @@
 """Recordings for identification: joint positions and measured torques against time.
 
 A recording CSV has a header ``t,q1..qn,tau1..taun`` with optional ``qd1..qdn`` and
-``qdd1..qddn`` (any order after ``t``), in [s], [rad or m], [N m or N], [rad/s or m/s],
+``qdd1..qddn`` (the columns in any order), in [s], [rad or m], [N m or N], [rad/s or m/s],
 [rad/s^2 or m/s^2]. With motor currents (``--current``) the torque columns hold currents [A]
 (named ``tau1..taun`` or ``i1..in``) and the drive gains K turn them into torque, tau = K i.
 
@@ -18,14 +18,13 @@ import hashlib
 import os
 import re
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError, check_flags
-from ..model.limits import LIMITS, exact_text, first_beyond
-from .trajectory import _cell_values, _csv_path, _numbered_rows, _read_csv
+from ..errors import InputError, check_flags, expect
+from ..model.limits import LIMITS
+from . import trajectory as tr
 
 __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"]
 
@@ -33,6 +32,7 @@ __all__ = ["Recording", "read_recording", "recording_from_arrays", "MIN_SAMPLES"
 MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
+_LIMITS = {**LIMITS, "tau": TAU_LIMIT}
 _COLUMN = re.compile(r"^(t|q|qd|qdd|tau|i)(\d*)$")
 
 
@@ -82,31 +82,28 @@ class Recording:
 def _columns(header, path, n_joints, current):
     """{kind: [column index per joint]} from the header, or an InputError naming the column."""
     names = [c.strip() for c in header]
-    if not names or names[0] != "t":
-        raise InputError(f"the header must start with 't', got {names[0]!r}" if names else
-                         "empty header", path, row=1, column=names[0] if names else None)
-    found = {}
-    for k, name in enumerate(names[1:], start=1):
+    found: dict = {}
+    for k, name in enumerate(names):
         m = _COLUMN.match(name)
-        if not m or m.group(1) == "t" or not m.group(2) or int(m.group(2)) < 1:
+        if not m or (m.group(1) == "t") == bool(m.group(2)) or int(m.group(2) or 1) < 1:
             raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun and "
                              f"optionally qd1..qdn, qdd1..qddn)", path, row=1, column=name)
         kind = "tau" if m.group(1) == "i" else m.group(1)
         if m.group(1) == "i" and not current:
             raise InputError(f"column {name!r} holds a current: give --current and "
                              f"--drive-gains", path, row=1, column=name)
-        slot = found.setdefault(kind, {})
-        j = int(m.group(2))
+        slot, j = found.setdefault(kind, {}), int(m.group(2) or 1)
         if j in slot:
             raise InputError(f"column {name!r} appears twice", path, row=1, column=name)
         slot[j] = k
     n = len(found.get("q", {}))
-    if n == 0:
-        raise InputError("no joint position columns q1..qn in the header", path, row=1)
+    if "t" not in found or n == 0:
+        raise InputError(f"no {'time column t' if n else 'joint position columns q1..qn'} in "
+                         f"the header", path, row=1, column="t" if n else "q1")
     if n_joints is not None and n != n_joints:
         raise InputError(f"the file has {n} joint position columns, the robot has {n_joints} "
                          f"joints", path, row=1, column="q")
-    out = {}
+    out = {"t": [found["t"][1]]}
     for kind in ("q", "tau", "qd", "qdd"):
         slot = found.get(kind)
         if slot is None:
@@ -126,18 +123,6 @@ def _columns(header, path, n_joints, current):
     return names, out, n
 
 
-def _check_magnitudes(values, names, cols, row_no, path):
-    """An InputError for the first value beyond its kind's supported magnitude."""
-    limits = {**LIMITS, "tau": TAU_LIMIT}
-    for kind, idx in [("t", [0])] + list(cols.items()):
-        bad = first_beyond(values[:, idx], limits[kind])
-        if bad is not None:
-            j = idx[bad[1]]
-            raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported "
-                             f"magnitude {limits[kind]:g}", path, row=int(row_no[bad[0]]),
-                             column=names[j])
-
-
 def _ordered(t, arrays, rows, path):
     """Sort by time (stable), drop repeated stamps (keep the first), and say what was done."""
     notes = []
@@ -146,14 +131,13 @@ def _ordered(t, arrays, rows, path):
     if back.size:
         notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
                      f"row {rows[back[0] + 1]}): rows sorted by time")
-    t, rows = t[order], rows[order]
-    arrays = [None if a is None else a[order] for a in arrays]
-    keep = np.concatenate([[True], np.diff(t) > 0])
+    keep = np.concatenate([[True], np.diff(t[order]) > 0])
     if not keep.all():
         notes.append(f"{path}: {int(np.count_nonzero(~keep))} rows repeat an earlier time "
-                     f"stamp (first at row {rows[~keep][0]}): the first row of each stamp kept")
-        t, rows = t[keep], rows[keep]
-        arrays = [None if a is None else a[keep] for a in arrays]
+                     f"stamp (first at row {rows[order][~keep][0]}): the first row of each "
+                     f"stamp kept")
+    order = order[keep]
+    t, rows, arrays = t[order], rows[order], [None if a is None else a[order] for a in arrays]
     if t.size < MIN_SAMPLES:
         raise InputError(f"{t.size} distinct time stamps: at least {MIN_SAMPLES} are needed",
                          path, column="t")
@@ -197,7 +181,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     >>> read_recording(f).q.shape
     (12, 1)
     """
-    path = _csv_path(path, n_joints)
+    path = tr._csv_path(path, n_joints)
     check_flags(current=current)
     found = {}
 
@@ -210,17 +194,17 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
 
     def cells(raw):
         """Cell by cell, naming the row and column of the first fault."""
-        (_, header_cells), *data = _numbered_rows(raw, path)
+        (_, header_cells), *data = tr._numbered_rows(raw, path)
         names, found["cols"], _ = _columns(header_cells, path, n_joints, current)
-        return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
+        return tr._cell_values(data, names, path), names, np.array([r for r, _ in data], int)
 
-    values, names, rows, sha256 = _read_csv(path, header, cells)
+    values, names, rows, sha256 = tr._read_csv(path, header, cells)
     cols = found["cols"]
-    _check_magnitudes(values, names, cols, rows, path)
+    tr.check_magnitudes(values, names, cols, path, rows, _LIMITS)
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
     get = {k: values[:, idx] for k, idx in cols.items()}
-    t, (q, tau, qd, qdd), rows, notes = _ordered(values[:, 0], [get["q"], get["tau"],
+    t, (q, tau, qd, qdd), rows, notes = _ordered(get["t"][:, 0], [get["q"], get["tau"],
                                                                 get.get("qd"), get.get("qdd")],
                                                  rows, path)
     return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
@@ -252,21 +236,15 @@ def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayL
     Raises
     ------
     InputError
-        If the shapes disagree, a value is not finite, or there are too few distinct stamps.
+        One line naming the argument: an array that is not real numbers, of another shape,
+        with a value not finite or beyond the supported magnitude, too few distinct stamps,
+        ``source`` not a str or ``current`` not a bool.
     """
-    t = np.asarray(t, float).reshape(-1)
-    arrays: list[Any] = [None if a is None else np.atleast_2d(np.asarray(a, float)) for a in
-              (q, tau, qd, qdd)]
-    for name, a in zip(("q", "tau", "qd", "qdd"), arrays):
-        if a is None:
-            continue
-        if a.shape != arrays[0].shape or a.shape[0] != t.size:
-            raise InputError(f"{name} has shape {a.shape}, expected ({t.size}, "
-                             f"{arrays[0].shape[1]})", source, column=name)
-        if not np.isfinite(a).all():
-            raise InputError(f"{name} holds a value that is not finite", source, column=name)
-    if not np.isfinite(t).all():
-        raise InputError("t holds a value that is not finite", source, column="t")
+    expect(source, str, "source", "a name (str)")
+    check_flags(current=current)
+    t, got = tr.checked_arrays({"t": t, "q": q, "tau": tau, "qd": qd, "qdd": qdd}, source,
+                               _LIMITS, MIN_SAMPLES, "sample")
+    arrays = [got.get(k) for k in ("q", "tau", "qd", "qdd")]
     rows = np.arange(2, t.size + 2)
     ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, rows, source)
     digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a in

@@ -38,8 +38,8 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
            "trajectory_columns",
-           "JointLimitWarning", "check_joint_limits", "FAST_PARSE_BYTES", "MAX_CELL",
-           "streamed_values"]
+           "JointLimitWarning", "check_joint_limits", "check_magnitudes", "checked_arrays",
+           "FAST_PARSE_BYTES", "MAX_CELL", "streamed_values"]
 
 #: Files larger than this [bytes] are parsed by pandas first when they are regular; the
 #: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
@@ -191,7 +191,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         k = int(bad[0]) + 1
         raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
                          row=int(rows[k]), column="t")
-    _check_magnitudes(values, names, n, path, lambda k: int(rows[k]))
+    kinds = ("q", "qd", "qdd")[:(len(names) - 1) // n]       # with derivatives, or without
+    check_magnitudes(values, names, {"t": [0], **{k: list(range(1 + i * n, 1 + (i + 1) * n))
+                                                 for i, k in enumerate(kinds)}}, path, rows)
     q = values[:, 1:n + 1]
     how = "file" if len(names) == 3 * n + 1 else "cubic-spline"
     qd, qdd = ((values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]) if how == "file"
@@ -234,6 +236,64 @@ def _spline(t, q, path, row_of):
 ARRAYS = "trajectory arrays"
 
 
+def checked_arrays(named: Mapping[str, Any], source: str, limits: Mapping[str, float],
+                   least: int, what: str) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Arrays of the Python API as floats, checked: real numbers, shapes, magnitudes.
+
+    Parameters
+    ----------
+    named : mapping of str to array_like or None
+        ``t`` first, shape (N,) [s], then ``q`` and the others, each shape (N, n) (None: not
+        given, left out).
+    source : str
+        What the messages call the arrays.
+    limits : mapping of str to float
+        The largest magnitude of each array (:data:`gd_analyze.model.limits.LIMITS`).
+    least : int
+        The fewest samples N.
+    what : str
+        What a sample is called in the messages (e.g. ``"set point"``).
+
+    Returns
+    -------
+    t : ndarray, shape (N,)
+    arrays : dict of str to ndarray, each shape (N, n)
+
+    Raises
+    ------
+    InputError
+        One line naming the array: not real numbers (text, complex, None for ``t`` or
+        ``q``), a wrong shape, n = 0, N below ``least``, a value not finite or beyond its
+        limit.
+    """
+    arrays: dict[str, np.ndarray] = {}
+    for name, v in named.items():
+        if v is None and name not in ("t", "q"):
+            continue
+        try:
+            arrays[name] = np.array(real_values(name, v), dtype=float)
+        except InputError as exc:       # complex, text...: one line naming the array
+            raise InputError(exc.message, source, column=name) from None
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric arrays: {exc}", source, column=name) from None
+    t = arrays.pop("t")
+    if t.ndim != 1 or t.size < least:
+        raise InputError(f"t must have shape (N,) with N >= {least}, got {t.shape}", source,
+                         column="t")
+    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
+    for name, x in arrays.items():
+        if x.ndim != 2 or x.shape != (t.size, n) or n < 1:
+            raise InputError(f"{name} must have shape (N, n) = ({t.size}, n), got {x.shape}",
+                             source, column=name)
+    for name, x in (("t", t), *arrays.items()):
+        bad = first_beyond(x, limits[name])
+        if bad is not None:
+            raise InputError(f"{float(x[bad]):g} at {what} {bad[0]} is not finite or beyond "
+                             f"the supported magnitude {limits[name]:g} of {name}", source,
+                             column=name)
+    return t, arrays
+
+
 def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = None,
                            qdd: ArrayLike | None = None, n_joints: int | None = None
                            ) -> Trajectory:
@@ -274,34 +334,11 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
     if (qd is None) != (qdd is None):
         raise InputError("give both qd and qdd, or neither (then a cubic spline through q)",
                          ARRAYS)
-    arrays: dict[str, np.ndarray] = {}
-    for name, v in (("t", t), ("q", q), ("qd", qd), ("qdd", qdd)):
-        if v is None:
-            continue
-        try:
-            arrays[name] = np.array(real_values(name, v), dtype=float)
-        except InputError as exc:       # complex, text...: one line naming the array
-            raise InputError(exc.message, ARRAYS, column=name) from None
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"not numeric arrays: {exc}", ARRAYS, column=name) from None
-    t = arrays.pop("t")
-    if t.ndim != 1 or t.size < 2:
-        raise InputError(f"t must have shape (N,) with N >= 2, got {t.shape}", ARRAYS,
-                         column="t")
-    N = t.size
-    n = arrays["q"].shape[1] if arrays["q"].ndim == 2 else -1
-    for name, x in arrays.items():
-        if x.ndim != 2 or x.shape[0] != N or x.shape[1] != n or n < 1:
-            raise InputError(f"{name} must have shape (N, n) = ({N}, n), got {x.shape}",
-                             ARRAYS, column=name)
-    if n_joints is not None and n != n_joints:
-        raise InputError(f"the arrays have {n} joints, the robot has {n_joints}", ARRAYS)
-    for name, x in (("t", t), *arrays.items()):
-        bad = first_beyond(x, LIMITS[name])
-        if bad is not None:
-            raise InputError(f"{float(x[bad]):g} at set point {bad[0]} is not finite or beyond "
-                             f"the supported magnitude {LIMITS[name]:g} of {name}", ARRAYS,
-                             column=name)
+    t, arrays = checked_arrays({"t": t, "q": q, "qd": qd, "qdd": qdd}, ARRAYS, LIMITS, 2,
+                               "set point")
+    if n_joints is not None and arrays["q"].shape[1] != n_joints:
+        raise InputError(f"the arrays have {arrays['q'].shape[1]} joints, the robot has "
+                         f"{n_joints}", ARRAYS)
     step = np.nonzero(np.diff(t) <= 0)[0]
     if step.size:
         k = int(step[0]) + 1
@@ -432,19 +469,37 @@ def _size(fh):
     return end - at
 
 
-def _check_magnitudes(values, names, n, path, row_of):
-    """Raise for the first value beyond LIMITS (the columns ``names`` of n joints, a header
-    :func:`_parse_header` accepts)."""
-    groups = [("t", slice(0, 1)), ("q", slice(1, n + 1))]
-    if len(names) > n + 1:
-        groups += [("qd", slice(n + 1, 2 * n + 1)), ("qdd", slice(2 * n + 1, 3 * n + 1))]
-    for kind, cols in groups:
-        bad = first_beyond(values[:, cols], LIMITS[kind])
+def check_magnitudes(values: np.ndarray, names: list[str], columns: Mapping[str, list[int]],
+                     path: str, rows: np.ndarray, limits: Mapping[str, float] = LIMITS) -> None:
+    """Raise for the first value of a CSV file beyond its kind's supported magnitude.
+
+    Parameters
+    ----------
+    values : ndarray, shape (N, m)
+        The file's numbers.
+    names : list of str, length m
+        The columns' names.
+    columns : mapping of str to list of int
+        The columns of each kind (``"t"``, ``"q"``...), indices into ``names``.
+    path : str
+        The file.
+    rows : ndarray of int, shape (N,)
+        The file's row of each line of ``values``.
+    limits : mapping of str to float, optional
+        The largest magnitude of each kind (default :data:`gd_analyze.model.limits.LIMITS`).
+
+    Raises
+    ------
+    InputError
+        Naming the file, the row and the column.
+    """
+    for kind, idx in columns.items():
+        bad = first_beyond(values[:, idx], limits[kind])
         if bad is not None:
-            j = cols.start + bad[1]
+            j = idx[bad[1]]
             raise InputError(f"{exact_text(values[bad[0], j])} is beyond the supported magnitude "
-                             f"{LIMITS[kind]:g} of {kind} (see docs/limits-and-safety.md)", path,
-                             row=row_of(bad[0]), column=names[j])
+                             f"{limits[kind]:g} of {kind} (see docs/limits-and-safety.md)", path,
+                             row=int(rows[bad[0]]), column=names[j])
 
 
 @functools.lru_cache(maxsize=1)
@@ -801,14 +856,21 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording,
     messages = []
     q = trajectory.q
     for j in range(robot.n):
-        out = np.nonzero((q[:, j] < robot.q_min[j]) | (q[:, j] > robot.q_max[j]))[0]
+        x, lo, hi = q[:, j], robot.q_min[j], robot.q_max[j]
+        out = np.nonzero((x < lo) | (x > hi))[0]
         if out.size:
             k = int(out[0])
-            scale, unit = (1.0, "m") if robot.prismatic[j] else (180 / math.pi, "deg")
-            at, lo, hi = (scale * v for v in (q[k, j], robot.q_min[j], robot.q_max[j]))
+            s, unit = (1.0, "m") if robot.prismatic[j] else (180 / math.pi, "deg")
+            # degrees read as radians: far outside (beyond 3 half-ranges from the middle of
+            # the limits), and within them once converted
+            deg = (unit == "deg" and np.abs(2 * x - lo - hi).max() > 3 * (hi - lo)
+                   and bool(np.all((np.radians(x) >= lo) & (np.radians(x) <= hi))))
             msg = (f"{trajectory.source}: row {k + 2 if rows is None else rows[k]}, column "
-                   f"q{j + 1}: joint {j + 1} at {at:.4g} {unit} is outside its limits [{lo:.4g}, "
-                   f"{hi:.4g}] {unit} ({out.size} set point{'s' if out.size > 1 else ''})")
+                   f"q{j + 1}: joint {j + 1} at {s * x[k]:.4g} {unit} is outside its limits "
+                   f"[{s * lo:.4g}, {s * hi:.4g}] {unit} ({out.size} set point"
+                   f"{'s' if out.size > 1 else ''})"
+                   + (f"; in degrees? (q{j + 1} read in degrees lies within them)" if deg
+                      else ""))
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
