@@ -117,7 +117,7 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     drives : bool, optional
         Draw the drives' part of tau (armature and friction) as a sixth curve.
     width : float, optional
-        Figure width [in]: three panels a row.
+        Figure width [in]: three panels a row at page width, four for ten joints or more.
 
     Returns
     -------
@@ -134,10 +134,12 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     x = np.asarray(data.x, dtype=float) - origin
     n = series["c"].shape[1]
     column = width < _PAGE
-    cols = min(n, 2 if column else 3)
+    # page width: three panels a row, four from ten joints on, in rows lower from four rows on:
+    # the figure of a 10- to 15-joint arm leaves room under it on its page for what follows
+    cols = min(n, 2 if column else 3 if n <= 9 else 4)
     rows = math.ceil(n / cols)
     left, right, gap, top, hgap = 0.55, 0.08, 0.55, 0.62 + 0.32 * column, 0.55
-    h = 1.1 if column else 1.35
+    h = 1.1 if column else min(1.35, 4.05 / rows)
     w = (width - left - right - (cols - 1) * gap) / cols
     H = top + rows * h + (rows - 1) * hgap + 0.4
     fig = new_figure(width, H)
