@@ -262,7 +262,7 @@ def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width,
     across a page 6 and 12 joints keep "joint i", 15 are numbered under an axis label
     "joint"; where a joint's room is too narrow even for the note on its side (15 joints in
     a column), the figure's note names the joints instead."""
-    from figure_checks import collisions
+    from figure_checks import collisions, draw
 
     from gd_analyze.report import simplified_section
     from gd_analyze.report.figure_style import raise_small_text
@@ -281,6 +281,12 @@ def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width,
     listed = "Nothing dropped at joints " + ", ".join(map(str, range(1, n + 1))) + "."
     assert len(notes) == n or (not notes and listed in below), (n, width)
     assert (listed in below) == (not notes) and (notes or (n, width) == (15, 3.5))
+    # neighbours' notes keep 2 pt apart: 12 joints across a page printed them touching, read
+    # as "droppeddropped"
+    renderer = draw(fig, FIG_RC)
+    boxes = sorted((t.get_window_extent(renderer) for t in notes), key=lambda b: b.x0)
+    gaps = [b.x0 - a.x1 for a, b in zip(boxes, boxes[1:])]
+    assert min(gaps, default=np.inf) >= 2 * fig.dpi / 72, (n, width, min(gaps))
     labels = [t.get_text() for t in ax.get_xticklabels()]
     full = [f"joint {k}" for k in range(1, n + 1)]
     assert labels == full or labels == [str(k) for k in range(1, n + 1)]

@@ -331,16 +331,17 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     short = joint_ticks(ax.xaxis, n, slot, least, short=column)
     # "nothing dropped" beside the budget's dash, on the side with more room (raised to the
     # printed minimum it would reach the dash from below when the dash sits low), turned on
-    # its side where the joints are numbered short; named in the note below where even its
-    # two lines on their side are wider than a joint's room
-    above = 100 * eps < 0.5 * ymax
-    listed = short and 2.3 * max(7.0, least) / 72 > 0.85 * slot
+    # its side where the joints are numbered short or "dropped" (4.2 em) leaves no gap in a
+    # joint's room; named in the note below where even its two lines on their side do not
+    above, size = 100 * eps < 0.5 * ymax, max(7.0, least) / 72
+    turned = short or 4.2 * size > 0.85 * slot
+    listed = turned and 2.3 * size > 0.85 * slot
     for i in range(n):
         if bottom[i] == 0 and not listed:
             ax.annotate("nothing\ndropped", (x[i], 100 * eps),
                         xytext=(0, 3 if above else -3), textcoords="offset points",
                         ha="center", va="bottom" if above else "top", fontsize=7,
-                        color="0.35", linespacing=1.1, rotation=90 if short else 0)
+                        color="0.35", linespacing=1.1, rotation=90 if turned else 0)
     ax.set_ylim(0, ymax)
     set_ticks(ax.yaxis, 0, ymax / 1.25, 4)
     ax.tick_params(axis="x", length=0)
@@ -356,8 +357,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     note = textwrap.fill(note, int((width - 0.2) / 0.058))
     fig.text(0.1 / width, 0.04 / H, note, fontsize=7, va="bottom", color="0.25")
     # the panel raised above the note, its tick labels and axis label at their printed size
-    need = 0.04 + (note.count("\n") + 1) * 1.25 * max(7.0, least) / 72 + (0.45 if short
-                                                                              else 0.3)
+    need = 0.04 + (note.count("\n") + 1) * 1.25 * size + (0.45 if short else 0.3)
     box = ax.get_position()
     if need > box.y0 * H:
         ax.set_position((box.x0, need / H, box.width, box.y1 - need / H))
