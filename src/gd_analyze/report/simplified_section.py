@@ -334,14 +334,13 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     # its side where the joints are numbered short or "dropped" (4.2 em) leaves no gap in a
     # joint's room; named in the note below where even its two lines on their side do not
     above, size = 100 * eps < 0.5 * ymax, max(7.0, least) / 72
-    turned = short or 4.2 * size > 0.85 * slot
-    listed = turned and 2.3 * size > 0.85 * slot
+    listed = 2.3 * size > 0.85 * slot               # (then it would be turned: 2.3 < 4.2)
     for i in range(n):
         if bottom[i] == 0 and not listed:
-            ax.annotate("nothing\ndropped", (x[i], 100 * eps),
-                        xytext=(0, 3 if above else -3), textcoords="offset points",
-                        ha="center", va="bottom" if above else "top", fontsize=7,
-                        color="0.35", linespacing=1.1, rotation=90 if turned else 0)
+            ax.annotate("nothing\ndropped", (x[i], 100 * eps), xytext=(0, 3 if above else -3),
+                        textcoords="offset points", ha="center", va="bottom" if above else "top",
+                        fontsize=7, color="0.35", linespacing=1.1,
+                        rotation=90 if short or 4.2 * size > 0.85 * slot else 0)
     ax.set_ylim(0, ymax)
     set_ticks(ax.yaxis, 0, ymax / 1.25, 4)
     ax.tick_params(axis="x", length=0)
