@@ -1,16 +1,21 @@
 """The figures of what the error budget acts on (gd_analyze.report.simplified_section): the torque
 contributions against Pinocchio, the budget against the stored bound, the costs as stored."""
 
+import dataclasses
+
 import matplotlib
 import numpy as np
 import pinocchio as pin
 import pytest
+from pdf_checks import text
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.report.common import strings
+from gd_analyze.report.drawing import figure_svg
 from gd_analyze.report.main import FIG_RC
 from gd_analyze.report.plot_data import plot_data
+from gd_analyze.report.sections import Outline
 from gd_analyze.report.simplified_section import (
     CONTRIBUTIONS,
     budget_parts,
@@ -20,6 +25,7 @@ from gd_analyze.report.simplified_section import (
     fig_error_budget,
     fig_torque_contributions,
 )
+from gd_analyze.report.typeset import write_pdf
 
 
 @pytest.mark.parametrize("name", ["puma560", "stanford"])
@@ -256,7 +262,7 @@ def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width,
     across a page 6 and 12 joints keep "joint i", 15 are numbered under an axis label
     "joint"; where a joint's room is too narrow even for the note on its side (15 joints in
     a column), the figure's note names the joints instead."""
-    from figure_checks import collisions
+    from figure_checks import collisions, draw
 
     from gd_analyze.report import simplified_section
     from gd_analyze.report.figure_style import raise_small_text
@@ -275,8 +281,44 @@ def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width,
     listed = "Nothing dropped at joints " + ", ".join(map(str, range(1, n + 1))) + "."
     assert len(notes) == n or (not notes and listed in below), (n, width)
     assert (listed in below) == (not notes) and (notes or (n, width) == (15, 3.5))
+    # neighbours' notes keep 2 pt apart: 12 joints across a page printed them touching, read
+    # as "droppeddropped"
+    renderer = draw(fig, FIG_RC)
+    boxes = sorted((t.get_window_extent(renderer) for t in notes), key=lambda b: b.x0)
+    gaps = [b.x0 - a.x1 for a, b in zip(boxes, boxes[1:])]
+    assert min(gaps, default=np.inf) >= 2 * fig.dpi / 72, (n, width, min(gaps))
     labels = [t.get_text() for t in ax.get_xticklabels()]
     full = [f"joint {k}" for k in range(1, n + 1)]
     assert labels == full or labels == [str(k) for k in range(1, n + 1)]
     assert (ax.get_xlabel() == "joint") == (labels != full)
     assert (labels == full) == (width == 7.2 and n != 15)   # short where "joint i" won't fit
+
+
+@pytest.mark.parametrize("paper", ["a4", "letter"])
+@pytest.mark.parametrize("n", [10, 12, 15])
+def test_the_contributions_of_many_joints_leave_their_page_room_for_the_error_table(
+        n, paper, shipped_dataset, tmp_path):
+    """The figure of a 10- to 15-joint arm, set under its heading at a page's top, leaves room
+    under it for the next section's table of the torque error per joint (n rows): that page is
+    not left with its foot blank (the G1 right arm's figure of four rows of three panels, 8.07
+    in tall, stood alone on its page, the table going to the next)."""
+    data = plot_data(shipped_dataset("puma560"))
+    cols = np.arange(n) % 6                       # the PUMA 560's joints over again
+    data = dataclasses.replace(data, series={k: np.asarray(v)[:, cols] for k, v in
+                                             data.series.items() if np.ndim(v) == 2})
+    with matplotlib.rc_context(FIG_RC):
+        fig = fig_torque_contributions(data, ["N m"] * n)
+        size = tuple(fig.get_size_inches())
+        svg = figure_svg(fig)
+    o = Outline("Report", figures={"c"})
+    o.section("1", "Simplified model and torque error")
+    o.figure("c", "What the error budget acts on.")
+    o.section("1.1", "Torque error along the trajectory")
+    o.table({"header": ["joint", "peak |\u03c4s \u2212 \u03c4| [N m]", "peak |\u03c4| [N m]",
+                        "peak error / peak |\u03c4|"],
+             "rows": [[str(i + 1), "1.234e-02", "30.386", "0.0123 %"] for i in range(n)],
+             "align": ["left", "right", "right", "right"], "colour_cols": []},
+            "Open-loop torque error per joint.")
+    write_pdf(o, {"c": (svg, size)}, tmp_path / "doc.pdf", paper)
+    first = " ".join(text(tmp_path / "doc.pdf").split("\f")[0].split())
+    assert "What the error budget acts on" in first and "Open-loop torque error" in first, size

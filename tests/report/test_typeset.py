@@ -450,3 +450,25 @@ def test_a_layout_typst_did_not_settle_is_not_kept_for_a_page(tmp_path, monkeypa
         warnings.simplefilter("error", RuntimeWarning)
         _, pages = _write(tmp_path, _few_lines_last(240))
     assert pages == (5 if unsettled == "tight" else 4)
+
+
+@pytest.mark.parametrize(("words_before", "rows"), [(500, 28), (600, 24), (600, 32)])
+def test_a_last_section_begun_low_that_leaves_a_few_rows_starts_a_page(tmp_path, words_before,
+                                                                        rows):
+    """A last section begun in its page's lower half whose table leaves a few rows on the last
+    page (that the tighter setting does not save: the provenance of a 12-joint arm's report,
+    its last page 68 % empty) starts a page of its own: the last page is then over a third
+    full, and the page before it over half."""
+    o = Outline("Report")
+    o.section("1", "Text")
+    o.paragraph(" ".join(["word"] * words_before) + ".")
+    o.section("2", "Provenance")
+    o.table({"header": ["item", "value"], "rows": [[f"item {j}", f"value {j}"]
+                                                   for j in range(rows)],
+             "align": ["left", "left"]}, "Provenance.", kv=True)
+    path, pages = _write(tmp_path, o)
+    assert pages == 2 and pdf_checks.last_page_fill(path, MARGINS) > NEAR_EMPTY
+    assert _page_of(path, "2. Provenance") == 1                  # 0-based
+    _, h, ws = words(path)[0]
+    lowest = max(y1 for *_, y1 in ws if y1 < h - 72 * MARGINS[2])
+    assert lowest - 72 * MARGINS[1] > 0.5 * (h - 72 * (MARGINS[1] + MARGINS[2]))

@@ -117,7 +117,7 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     drives : bool, optional
         Draw the drives' part of tau (armature and friction) as a sixth curve.
     width : float, optional
-        Figure width [in]: three panels a row.
+        Figure width [in]: three panels a row at page width, four for ten joints or more.
 
     Returns
     -------
@@ -134,10 +134,12 @@ def fig_torque_contributions(data: PlotData, units: Sequence[str], drives: bool 
     x = np.asarray(data.x, dtype=float) - origin
     n = series["c"].shape[1]
     column = width < _PAGE
-    cols = min(n, 2 if column else 3)
+    # page width: three panels a row, four from ten joints on, in rows lower from four rows on:
+    # the figure of a 10- to 15-joint arm leaves room under it on its page for what follows
+    cols = min(n, 2 if column else 3 if n <= 9 else 4)
     rows = math.ceil(n / cols)
     left, right, gap, top, hgap = 0.55, 0.08, 0.55, 0.62 + 0.32 * column, 0.55
-    h = 1.1 if column else 1.35
+    h = 1.1 if column else min(1.35, 4.05 / rows)
     w = (width - left - right - (cols - 1) * gap) / cols
     H = top + rows * h + (rows - 1) * hgap + 0.4
     fig = new_figure(width, H)
@@ -329,16 +331,16 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     short = joint_ticks(ax.xaxis, n, slot, least, short=column)
     # "nothing dropped" beside the budget's dash, on the side with more room (raised to the
     # printed minimum it would reach the dash from below when the dash sits low), turned on
-    # its side where the joints are numbered short; named in the note below where even its
-    # two lines on their side are wider than a joint's room
-    above = 100 * eps < 0.5 * ymax
-    listed = short and 2.3 * max(7.0, least) / 72 > 0.85 * slot
+    # its side where the joints are numbered short or "dropped" (4.2 em) leaves no gap in a
+    # joint's room; named in the note below where even its two lines on their side do not
+    above, size = 100 * eps < 0.5 * ymax, max(7.0, least) / 72
+    listed = 2.3 * size > 0.85 * slot               # (then it would be turned: 2.3 < 4.2)
     for i in range(n):
         if bottom[i] == 0 and not listed:
-            ax.annotate("nothing\ndropped", (x[i], 100 * eps),
-                        xytext=(0, 3 if above else -3), textcoords="offset points",
-                        ha="center", va="bottom" if above else "top", fontsize=7,
-                        color="0.35", linespacing=1.1, rotation=90 if short else 0)
+            ax.annotate("nothing\ndropped", (x[i], 100 * eps), xytext=(0, 3 if above else -3),
+                        textcoords="offset points", ha="center", va="bottom" if above else "top",
+                        fontsize=7, color="0.35", linespacing=1.1,
+                        rotation=90 if short or 4.2 * size > 0.85 * slot else 0)
     ax.set_ylim(0, ymax)
     set_ticks(ax.yaxis, 0, ymax / 1.25, 4)
     ax.tick_params(axis="x", length=0)
@@ -354,8 +356,7 @@ def fig_error_budget(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) ->
     note = textwrap.fill(note, int((width - 0.2) / 0.058))
     fig.text(0.1 / width, 0.04 / H, note, fontsize=7, va="bottom", color="0.25")
     # the panel raised above the note, its tick labels and axis label at their printed size
-    need = 0.04 + (note.count("\n") + 1) * 1.25 * max(7.0, least) / 72 + (0.45 if short
-                                                                              else 0.3)
+    need = 0.04 + (note.count("\n") + 1) * 1.25 * size + (0.45 if short else 0.3)
     box = ax.get_position()
     if need > box.y0 * H:
         ax.set_position((box.x0, need / H, box.width, box.y1 - need / H))

@@ -17,7 +17,8 @@ what follows it, breaks long tables over pages with their header repeated, sets 
 last page would hold a figure alone again with no figure floating past the next heading (the
 figure heads that page with the rest of its section), sets a report whose
 last page would hold a few lines (:data:`NEAR_EMPTY`) again with less space between lines,
-blocks and table rows if that saves the page and Typst's layout converges, sets the sub- and
+blocks and table rows if that saves the page and Typst's layout converges, and, if it still
+would, with its last section (begun in its page's lower half) starting a page, sets the sub- and
 superscripts of :mod:`gd_analyze.report.markup` as such and code in monospace. The figures are
 embedded as vector graphics from their SVG; their text (``svg.fonttype`` "none") is set in
 DejaVu Sans, the font matplotlib measured it in, embedded as a TrueType subset: the PDF holds
@@ -82,10 +83,16 @@ _CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
 
 
 @functools.cache
-def _fonts():
-    """The fonts every Typst document of a process is set in, loaded once: matplotlib's DejaVu
-    folder (the reports use DejaVu Sans and DejaVu Sans Mono; the figures' text is set in the
-    font matplotlib measured it in) and Typst's own; never the system's."""
+def fonts_loaded() -> Any:
+    """The fonts every Typst document of the process is set in, loaded once (a worker thread
+    may load them while the figures are drawn): matplotlib's DejaVu folder (the reports use
+    DejaVu Sans and DejaVu Sans Mono; the figures' text is set in the font matplotlib measured
+    it in) and Typst's own; never the system's.
+
+    Returns
+    -------
+    typst.Fonts
+    """
     from pathlib import Path
 
     import matplotlib
@@ -93,17 +100,6 @@ def _fonts():
 
     return typst.Fonts(include_system_fonts=False, include_embedded_fonts=True,
                        font_paths=[str(Path(matplotlib.get_data_path()) / "fonts" / "ttf")])
-
-
-def fonts_loaded() -> None:
-    """Load the fonts every Typst document of the process is set in (once): a worker thread
-    may do it while the figures are drawn.
-
-    Returns
-    -------
-    None
-    """
-    _fonts()
 
 
 def _compile(template, inputs, created, end=False):
@@ -121,7 +117,7 @@ def _compile(template, inputs, created, end=False):
 
     source = resources.files("gd_analyze.report").joinpath(f"templates/{template}")
     with resources.as_file(source) as path:           # a file: a query reuses the layout
-        compiler = typst.Compiler(input=str(path), sys_inputs=inputs, font_paths=_fonts(),
+        compiler = typst.Compiler(input=str(path), sys_inputs=inputs, font_paths=fonts_loaded(),
                                   ignore_system_fonts=True)
         try:
             pdf, found = compiler.compile_with_warnings(timestamp=_timestamp(created))
@@ -299,21 +295,28 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
         return _compile("report.typ", inputs, created, end=True)
 
     pdf, end = typeset()
-    barrier = False
-    if end["page"] > 1 and end.get("alone"):
-        # a last page holding a figure alone: set again with no figure floating past the next
-        # heading (the figure heads its page with the rest of its section), kept if that
-        # ends no later and not so
-        barred, end_barred = typeset(barrier=True)
-        if end_barred["page"] <= end["page"] and not end_barred.get("alone") and (
-                not end_barred["warnings"]):
-            pdf, end, barrier = barred, end_barred, True
+    kept: dict[str, bool] = {}
+
+    def again(better, **flags):
+        # set again with these flags too, kept if better and Typst's layout settled (a
+        # figure's placement may differ between its last two passes)
+        nonlocal pdf, end
+        tried, where = typeset(**kept, **flags)
+        if better(where) and not where["warnings"]:
+            pdf, end = tried, where
+            kept.update(flags)
+
+    if end["page"] > 1 and end["alone"]:
+        # a last page holding a figure alone: no figure floating past the next heading (the
+        # figure heads its page with the rest of its section), if that ends no later
+        again(lambda e: e["page"] <= end["page"] and not e["alone"], barrier=True)
     if end["page"] > 1 and end["fill"] < NEAR_EMPTY:
-        # a last page of a few lines: set tighter, kept if that saves the page and Typst's
-        # layout converged (a figure's placement may differ between its last two passes)
-        tight, end_tight = typeset(barrier=barrier, tight=True)
-        if end_tight["page"] < end["page"] and not end_tight["warnings"]:
-            pdf, end = tight, end_tight
+        # a last page of a few lines: set tighter, if that saves the page
+        again(lambda e: e["page"] < end["page"], tight=True)
+    if end["fill"] < NEAR_EMPTY and end["last"][0] == end["page"] - 1 and end["last"][1] >= .5:
+        # still a few lines, of a last section begun in its page's lower half: that section
+        # starts a page, if that fills the last page
+        again(lambda e: e["page"] <= end["page"] and e["fill"] >= NEAR_EMPTY, turn=True)
     for message in end["warnings"]:
         warnings.warn(f"typst: {message}", RuntimeWarning, stacklevel=2)
     with open(path, "wb") as fh:
@@ -348,7 +351,7 @@ def figure_pdfs(figures: Mapping[str, tuple[str, tuple[float, float]]],
     Notes
     -----
     The fixed template ``templates/figure.typ`` reads the SVG, the size and the title as data
-    (``sys.inputs``); the fonts are loaded once per process (:func:`_fonts`).
+    (``sys.inputs``); the fonts are loaded once per process (:func:`fonts_loaded`).
     """
     return {k: _compile("figure.typ", {"gd-figure": svg, "gd-width": repr(float(size[0])),
                                        "gd-height": repr(float(size[1])), "gd-title": str(k)},
