@@ -7,12 +7,14 @@ command line can print it as it is and exit with status 2.
 
 from __future__ import annotations
 
+import numbers
 import os
 from typing import Any
 
 import numpy as np
 
-__all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "path_text"]
+__all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "is_number",
+           "path_text"]
 
 
 class InputError(ValueError):
@@ -133,6 +135,28 @@ def check_flags(**flags: Any) -> None:
     """
     for name, value in flags.items():
         expect(value, (bool, np.bool_), name, "True or False")
+
+
+def is_number(value: Any) -> bool:
+    """Whether an argument of the Python API is a real number.
+
+    Parameters
+    ----------
+    value : object
+        The argument.
+
+    Returns
+    -------
+    bool
+        True for an int or float (numpy's too), False for anything else, a bool among them
+        (True would read as 1).
+
+    Examples
+    --------
+    >>> is_number(np.float32(0.5)), is_number(True), is_number("1")
+    (True, False, False)
+    """
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def path_text(path: object, what: str) -> str:

@@ -189,8 +189,11 @@ def test_recordings_must_fit_the_robot():
 def test_options_are_checked():
     with pytest.raises(ValueError, match="unknown drive column"):
         IdentifyOptions(drives=("stiction",))
-    with pytest.raises(ValueError, match="cutoff"):
-        IdentifyOptions(cutoff=-1.0)
+    for cutoff in (-1.0, True):     # True was read as a 1 Hz cutoff
+        with pytest.raises(ValueError, match="^cutoff must be a frequency > 0"):
+            IdentifyOptions(cutoff=cutoff)
+    with pytest.raises(ValueError, match="^drive gains must be finite"):    # True was K = 1
+        IdentifyOptions(current=True, drive_gains=(True, 2.0))
     with pytest.raises(ValueError, match="drive gains"):
         IdentifyOptions(current=True)
     # a flag that is not a bool: "yes" and "no" alike were read as True

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._version import VERSION
 from ..dynamics.base_parameters import base_regressor
-from ..errors import InputError, check_flags, expect
+from ..errors import InputError, check_flags, expect, is_number
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
 from ..estimation.preprocess import STILL_SPAN, default_cutoff, preprocess, still_joints
@@ -105,7 +105,7 @@ class IdentifyOptions:
         if len(set(self.drives)) != len(self.drives):
             raise ValueError("a drive column is given twice")
         if not (self.cutoff is None or self.cutoff == "auto" or
-                (isinstance(self.cutoff, (int, float)) and math.isfinite(self.cutoff)
+                (is_number(self.cutoff) and math.isfinite(self.cutoff)
                  and self.cutoff > 0)):
             raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
                              f"{self.cutoff!r}")
@@ -115,7 +115,7 @@ class IdentifyOptions:
         if self.current and self.drive_gains is None:
             raise ValueError("currents need the drive gains K (tau = K i)")
         if self.drive_gains is not None and not all(
-                isinstance(k, (int, float)) and math.isfinite(k) and k != 0
+                is_number(k) and math.isfinite(k) and k != 0
                 for k in self.drive_gains):
             raise ValueError("drive gains must be finite and nonzero numbers")
 

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from ..trajectory.trajectory import Trajectory
 
 
-__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
+__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "GAIN_RANGES",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
            "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates",
            "singular_inertia", "Gains", "control_gains", "desired_motion",
@@ -54,6 +54,13 @@ DEFAULT_WN = 20.0
 
 #: Default damping ratio (critical damping).
 DEFAULT_ZETA = 1.0
+
+
+#: The natural frequency wn [rad/s] and damping ratio zeta [1] accepted, by the command line's
+#: --wn and --zeta and :func:`gd_analyze.jobs.control.run_control` alike: below 0.01 rad/s an
+#: error takes minutes to decay, above 1e4 rad/s (1.6 kHz) no drive follows; below zeta 0.01
+#: the loop rings undamped, above 100 its slow mode, about wn / (2 zeta), stalls.
+GAIN_RANGES = {"wn": (0.01, 1e4), "zeta": (0.01, 100.0)}
 
 
 #: Default relative tolerance of the integrator.
