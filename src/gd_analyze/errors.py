@@ -25,7 +25,7 @@ class InputError(ValueError):
     message : str
         What is wrong, in one line.
     path : str or os.PathLike, optional
-        The file the error is in.
+        The file the error is in (an empty name is written ``''``).
     row : int, optional
         The row of the file, counted from 1 with the header as row 1 (as a spreadsheet shows it).
     column : str, optional
@@ -41,7 +41,7 @@ class InputError(ValueError):
     def __init__(self, message: object, path: str | os.PathLike[str] | None = None,
                  row: int | None = None, column: str | None = None) -> None:
         self.message = one_line(str(message).replace("\n", " "))
-        self.path = None if path is None else one_line(path)
+        self.path = None if path is None else one_line(path) or "''"
         self.row = row
         self.column = None if column is None else one_line(column)
         super().__init__(self.__str__())

@@ -194,7 +194,7 @@ def _vector3(name):
 def _add_payload_arguments(p, sweep=False):
     """--payload, --payload-com, --payload-inertia (with ``sweep``: --payload-sweep after them)."""
     g = p.add_argument_group("payload (a rigid load fixed to the last link)")
-    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", "[]"),
+    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", "[)"),
                    help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
     g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
                    default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
@@ -489,7 +489,7 @@ def evaluate_parser() -> argparse.ArgumentParser:
                             "the model's guarantee and whether it covers the trajectory.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
-    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error", "[]"),
+    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error", "[)"),
                    help="exit with status 3 if the peak relative torque error of any joint "
                         "(relative to its peak |tau| on the trajectory; to the model's s_i "
                         "where that is 0) exceeds REL (default: exit 3 if any joint's error "

@@ -98,7 +98,6 @@ from .tracking import (
     DEFAULT_RTOL,
     DEFAULT_WN,
     DEFAULT_ZETA,
-    GAIN_RANGES,
     MAX_RHS_EVALS,
     MAX_STIFFNESS_STEPS,
     RHS_PER_STEP,
@@ -435,7 +434,8 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     ValueError
         If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
         set points, a controller is unknown, wn or zeta is outside
-        :data:`~gd_analyze.jobs.tracking.GAIN_RANGES`, the gains are invalid or so stiff that the
+        :data:`~gd_analyze.jobs.tracking.GAIN_RANGES` (as ``--wn``, ``--zeta``;
+        :func:`~gd_analyze.jobs.tracking.control_gains`), the gains so stiff that the
         integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
         (:func:`~gd_analyze.jobs.tracking.closed_loop_rates`, every controller), D is
         singular (:func:`~gd_analyze.jobs.tracking.singular_inertia`), or a run exceeds
@@ -461,10 +461,6 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
-    for name, value in (("wn", wn), ("zeta", zeta)):
-        (lo, hi), arr = GAIN_RANGES[name], np.asarray(value, dtype=float)   # as --wn, --zeta
-        if not ((arr >= lo) & (arr <= hi)).all():
-            raise ValueError(f"{name} must be in [{lo:g}, {hi:g}], got {value!r}")
     unknown = [c for c in controllers if c not in CONTROLLERS]
     if unknown or not controllers:
         raise ValueError(f"controllers must be among {CONTROLLERS}, got {list(controllers)}")

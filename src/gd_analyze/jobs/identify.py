@@ -81,7 +81,8 @@ class IdentifyOptions:
     Raises
     ------
     ValueError
-        On an unknown drive kind (or drives given as one str), a cutoff <= 0, decimate < 1,
+        On an unknown drive kind (or drives not a tuple or list: one str), a cutoff <= 0 or
+        not a number, decimate not a whole number >= 1 (a bool neither),
         currents without gains, or current, consistent or simplify not a bool (numpy's too;
         an InputError naming the field).
     """
@@ -95,9 +96,9 @@ class IdentifyOptions:
     simplify: bool = False
 
     def __post_init__(self):
-        if isinstance(self.drives, str):         # one word is not a sequence of its letters
+        if not isinstance(self.drives, (tuple, list)):  # one word is not a sequence of letters
             raise ValueError(f"drives is a tuple of drive columns, e.g. ('viscous', "
-                             f"'coulomb'), not the str {self.drives!r}")
+                             f"'coulomb'), not the {type(self.drives).__name__} {self.drives!r}")
         unknown = [k for k in self.drives if k not in DRIVE_KINDS]
         if unknown:
             raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
@@ -109,7 +110,7 @@ class IdentifyOptions:
                  and self.cutoff > 0)):
             raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
                              f"{self.cutoff!r}")
-        if int(self.decimate) != self.decimate or self.decimate < 1:
+        if not (is_number(self.decimate) and self.decimate % 1 == 0 and self.decimate >= 1):
             raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
         check_flags(current=self.current, consistent=self.consistent, simplify=self.simplify)
         if self.current and self.drive_gains is None:
