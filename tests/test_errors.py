@@ -48,3 +48,10 @@ def test_an_argument_of_another_type_is_one_line_naming_it():
         with pytest.raises(InputError) as e:
             check_flags(a=True, flag=bad)
         assert str(e.value) == f"flag: True or False, not a {type(bad).__name__}"
+
+
+def test_an_empty_file_name_is_written_as_two_quotes():
+    """An empty file name began the line with ": no such file", as if the path were left
+    out."""
+    assert str(InputError("no such file", "")) == "'': no such file"
+    assert str(InputError("x", pathlib.Path("a.csv"))) == "a.csv: x"

@@ -7,12 +7,14 @@ command line can print it as it is and exit with status 2.
 
 from __future__ import annotations
 
+import numbers
 import os
 from typing import Any
 
 import numpy as np
 
-__all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "path_text"]
+__all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "is_number",
+           "path_text"]
 
 
 class InputError(ValueError):
@@ -23,7 +25,7 @@ class InputError(ValueError):
     message : str
         What is wrong, in one line.
     path : str or os.PathLike, optional
-        The file the error is in.
+        The file the error is in (an empty name is written ``''``).
     row : int, optional
         The row of the file, counted from 1 with the header as row 1 (as a spreadsheet shows it).
     column : str, optional
@@ -39,7 +41,7 @@ class InputError(ValueError):
     def __init__(self, message: object, path: str | os.PathLike[str] | None = None,
                  row: int | None = None, column: str | None = None) -> None:
         self.message = one_line(str(message).replace("\n", " "))
-        self.path = None if path is None else one_line(path)
+        self.path = None if path is None else one_line(path) or "''"
         self.row = row
         self.column = None if column is None else one_line(column)
         super().__init__(self.__str__())
@@ -133,6 +135,28 @@ def check_flags(**flags: Any) -> None:
     """
     for name, value in flags.items():
         expect(value, (bool, np.bool_), name, "True or False")
+
+
+def is_number(value: Any) -> bool:
+    """Whether an argument of the Python API is a real number.
+
+    Parameters
+    ----------
+    value : object
+        The argument.
+
+    Returns
+    -------
+    bool
+        True for an int or float (numpy's too), False for anything else, a bool among them
+        (True would read as 1).
+
+    Examples
+    --------
+    >>> is_number(np.float32(0.5)), is_number(True), is_number("1")
+    (True, False, False)
+    """
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def path_text(path: object, what: str) -> str:

@@ -300,6 +300,17 @@ def test_region_limits_refuse_nan_inf_and_negative_naming_the_option(kwargs, opt
         RegionLimits(**kwargs)
 
 
+@pytest.mark.parametrize("kwargs, option", [
+    (dict(qd_max=(True,)), "--qd-max"), (dict(qdd_max="2"), "--qdd-max"),
+    (dict(q_limits=((0.0, "a"),)), "--q-limits"), (dict(q_limits=((False, True),)), "--q-limits")])
+def test_region_limits_refuse_a_bool_or_str_naming_the_option(kwargs, option):
+    """RegionLimits(qd_max=(True,)) was a limit of 1 rad/s and qdd_max="2" one of 2 rad/s^2,
+    read through float(); q_limits=((0.0, "a"),) raised numpy's "could not convert string to
+    float: 'a'", naming no option."""
+    with pytest.raises(ValueError, match=f"^{option} must hold real numbers, got "):
+        RegionLimits(**kwargs)
+
+
 @pytest.mark.parametrize("field", ["qd_max", "qdd_max"])
 def test_region_limits_refuse_what_the_command_line_refuses(field):
     """RegionLimits(qd_max=(1e-320,)) was accepted through the API though --qd-max refuses

@@ -22,7 +22,7 @@ from gd_analyze.cli import main
     # EPS x s_i overflowed to inf in the region search (exit 0 after overflow warnings)
     (["--tolerance", "1e308"],
      "argument --tolerance: --tolerance must be in [0.0, 1000.0], got 1e+308"),
-    (["--payload", "-1"], "argument --payload: --payload must be in [0.0, inf], got -1.0"),
+    (["--payload", "-1"], "argument --payload: --payload must be in [0.0, inf), got -1.0"),
     (["--qdd-max", "1,x"],
      "argument --qdd-max: expected comma-separated numbers, got '1,x': "),
 ])

@@ -301,18 +301,29 @@ def test_control_figures_label_without_scripts_at_print_size(result):
     assert len(rows) == 2
 
 
-@pytest.mark.parametrize("wn, zeta", [(1e308, 1.0), (20.0, 1e308), (1e160, 1e160)])
-def test_gains_beyond_a_float_are_too_stiff_without_overflow(wn, zeta):
-    """wn or zeta so large that wn^2 or zeta wn overflows: the loop is refused as too stiff
-    (it was "Array must not contain infs or NaNs" after five overflow warnings)."""
+@pytest.mark.parametrize("name, wn, zeta", [
+    ("wn", 1e308, 1.0), ("zeta", 20.0, 1e308), ("wn", 1e160, 1e160), ("wn", 1e4 * (1 + 1e-12), 1.0),
+    ("zeta", 20.0, 100.5), ("wn", 0.0099, 1.0), ("wn", [20.0, 0.001], 1.0), ("zeta", 20.0, np.nan)])
+def test_gains_beyond_the_command_lines_ranges_are_refused_without_overflow(name, wn, zeta):
+    """wn or zeta beyond --wn's and --zeta's ranges, even so large that wn^2 or zeta wn
+    overflows: refused with the command line's bounds, which its parser reads from the same
+    constant (run_control accepted any positive wn and zeta; those beyond a float were refused
+    as "too stiff" after overflowing, before that with "Array must not contain infs or NaNs"
+    after five overflow warnings)."""
     import warnings
 
+    from gd_analyze.cli.parsing import control_parser
+    from gd_analyze.jobs.tracking import GAIN_RANGES
     from gd_analyze.trajectory.planning import default_motion, plan_quintic
 
     two = load_robot("two-link")
     trajectory = plan_quintic(two, *default_motion(two))
+    lo, hi = GAIN_RANGES[name]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        with pytest.raises(ValueError, match="too stiff: its fastest mode, .*lower wn or zeta"):
+        with pytest.raises(ValueError, match=rf"^{name} must be in \[{lo:g}, {hi:g}\], got "):
             run_control(SimplifiedModel(two, full_choices(2), 0.9, 0.01), trajectory, wn=wn,
                         zeta=zeta, cost=False)
+    for bound in (lo, hi):
+        args = control_parser().parse_intermixed_args(["m.json", "t.csv", f"--{name}", repr(bound)])
+        assert getattr(args, name) == bound

@@ -189,8 +189,18 @@ def test_recordings_must_fit_the_robot():
 def test_options_are_checked():
     with pytest.raises(ValueError, match="unknown drive column"):
         IdentifyOptions(drives=("stiction",))
-    with pytest.raises(ValueError, match="cutoff"):
-        IdentifyOptions(cutoff=-1.0)
+    for cutoff in (-1.0, True):     # True was read as a 1 Hz cutoff
+        with pytest.raises(ValueError, match="^cutoff must be a frequency > 0"):
+            IdentifyOptions(cutoff=cutoff)
+    with pytest.raises(ValueError, match="^drive gains must be finite"):    # True was K = 1
+        IdentifyOptions(current=True, drive_gains=(True, 2.0))
+    # None and inf raised TypeError and OverflowError from int(); True was read as 1
+    for decimate in (None, float("inf"), float("nan"), True, "2", 2.5, 0):
+        with pytest.raises(ValueError, match="^decimate must be a whole number >= 1, got "):
+            IdentifyOptions(decimate=decimate)
+    assert IdentifyOptions(decimate=np.int64(3)).decimate == 3 == IdentifyOptions(decimate=3.0).decimate
+    with pytest.raises(ValueError, match=r"^drives is a tuple of drive columns, .*not the NoneType"):
+        IdentifyOptions(drives=None)        # was TypeError: 'NoneType' object is not iterable
     with pytest.raises(ValueError, match="drive gains"):
         IdentifyOptions(current=True)
     # a flag that is not a bool: "yes" and "no" alike were read as True

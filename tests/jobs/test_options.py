@@ -32,6 +32,7 @@ def test_region_limits_pass_through_the_api_into_the_dataset():
     ("dominance", None, "dominance must be a number in (0.5, 1], got None"),
     ("negligible", "x", "negligible must be a number in [0, 1), got 'x'"),
     ("negligible", float("nan"), "negligible must be a number in [0, 1), got nan"),
+    ("dominance", True, "dominance must be a number in (0.5, 1], got True"),
 ])
 def test_a_threshold_that_is_not_a_number_is_one_value_error(field, value, said):
     """AnalysisOptions(dominance="0.9") raised TypeError ("'<' not supported between
@@ -55,3 +56,12 @@ def test_a_flag_or_nested_options_of_another_type_is_one_value_error(field, valu
         gd.AnalysisOptions(**{field: value})
     assert str(e.value) == said
     assert gd.AnalysisOptions(verify=np.False_, formulations=np.bool_(True)).verify is np.False_
+
+
+@pytest.mark.parametrize("value", [True, np.True_, False, 3.5, "3", None, 10, -1])
+def test_a_gzip_level_that_is_a_bool_or_not_a_whole_number_0_to_9_is_refused(value):
+    """AnalysisOptions(compress=True) was accepted and read as gzip level 1 (True in
+    range(10)); a bool is refused as the thresholds refuse one, naming the option."""
+    with pytest.raises(ValueError, match=r"^compress must be a whole number 0-9, got "):
+        gd.AnalysisOptions(compress=value)
+    assert [gd.AnalysisOptions(compress=k).compress for k in (0, np.int64(9))] == [0, 9]

@@ -4,7 +4,13 @@ import numpy as np
 import pytest
 
 from gd_analyze import gd_terms
-from gd_analyze.jobs.tracking import closed_loop_rates, control_gains, desired_motion
+from gd_analyze.jobs.tracking import (
+    GAIN_RANGES,
+    Gains,
+    closed_loop_rates,
+    control_gains,
+    desired_motion,
+)
 from gd_analyze.trajectory.trajectory import Trajectory
 
 
@@ -36,6 +42,13 @@ def test_gains(puma, shipped):
     for bad in ({"wn": 0.0}, {"zeta": -1.0}, {"wn": [1.0, 2.0]}, {"wn": np.nan}):
         with pytest.raises(ValueError):
             control_gains(puma, shipped.q[0], **bad)
+    # the command line's ranges, from one constant (any positive wn and zeta were taken)
+    for name, (lo, hi) in GAIN_RANGES.items():
+        for beyond in (lo * (1 - 1e-12), hi * (1 + 1e-12), [20.0] * 5 + [hi * 2]):
+            with pytest.raises(ValueError, match=rf"^{name} must be in \[{lo:g}, {hi:g}\], got "):
+                control_gains(puma, shipped.q[0], **{name: beyond})
+        assert getattr(control_gains(puma, shipped.q[0], **{name: [lo, hi] * 3}), name).tolist() \
+            == [lo, hi] * 3
 
 
 def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
@@ -132,8 +145,10 @@ def test_the_computed_torque_rate_is_the_fast_root_without_overflow(puma, wn, ze
     zeta >= 1 and wn below: zeta = 1e300 gave inf ("its fastest mode, inf rad/s") because
     zeta^2 overflowed, and zeta = 0.5 gave zeta wn, half the roots' |s|. Oracle: numpy's roots where they are representable, else the closed
     form's limit 2 zeta wn (the slow root wn / (2 zeta) is negligible beside it)."""
+    one = np.ones(6)        # the gains built as control_gains would, which refuses zeta > 100
     with np.errstate(over="ignore", invalid="ignore"):
-        gains = control_gains(puma, np.zeros(6), wn, zeta)
+        gains = Gains(wn=wn * one, zeta=zeta * one, Kp=wn**2 * one, Kv=2 * zeta * wn * one,
+                      inertia_scale=one, Kp_pd=wn**2 * one, Kv_pd=2 * zeta * wn * one)
         rate = closed_loop_rates(puma, gains, np.eye(6)[None])["full"]
     exact = (2 * zeta * wn if zeta > 1e100 else
              float(np.abs(np.roots([1.0, 2 * zeta * wn, wn**2])).max()))

@@ -117,3 +117,10 @@ def test_a_urdf_not_named_urdf_is_said_to_be_xml(tmp_path, name):
         load_robot(path)
     (tmp_path / "ur5.urdf").write_bytes(path.read_bytes())
     assert load_robot(tmp_path / "ur5.urdf").n == 6
+
+
+def test_an_empty_robot_name_is_no_folder():
+    """load_robot("") said ": is a folder, not a robot file" (Path("") is "."): an empty name
+    is an unknown robot and no file."""
+    with pytest.raises(InputError, match=r"^'': unknown robot \(built-in: .*\) and no such file$"):
+        load_robot("")

@@ -3,6 +3,7 @@
 import math
 import re
 
+import numpy as np
 import pytest
 
 from gd_analyze.certify.region import RegionLimits
@@ -47,7 +48,8 @@ def test_the_chapter_rule_refuses_a_form_it_cannot_write(other):
     assert SimplifyOptions(rule="chapter", form="explicit", explicit="always").form == "explicit"
 
 
-@pytest.mark.parametrize("field, value", [("tolerance", "0.01"), ("torque_floor", None)])
+@pytest.mark.parametrize("field, value", [("tolerance", "0.01"), ("torque_floor", None),
+                                          ("tolerance", True), ("torque_floor", np.True_)])
 def test_a_tolerance_or_floor_that_is_not_a_number_is_one_value_error(field, value):
     """SimplifyOptions(tolerance="0.01") raised TypeError ("'>=' not supported between
     instances of 'str' and 'float'")."""

@@ -36,3 +36,17 @@ def test_a_file_argument_that_is_not_a_path_is_one_line_naming_it(tmp_path, monk
     assert list(tmp_path.iterdir()) == []
     save_model(model, tmp_path / "m.json")          # a path is still one
     assert load_model(str(tmp_path / "m.json")).choices == model.choices
+
+
+@pytest.mark.parametrize("name, said", [(".", "is a folder: give a file name"),
+                                        ("", "no file name"),
+                                        ("no folder/m.json", "its folder does not exist")])
+def test_a_destination_that_cannot_be_a_file_is_one_line(tmp_path, monkeypatch, name, said):
+    """save_model(model, "/tmp") raised IsADirectoryError from the rename (after writing its
+    temporary file beside /tmp, in /), "" OSError "Device or resource busy" and a missing
+    folder FileNotFoundError; nothing is written."""
+    monkeypatch.chdir(tmp_path)
+    model = SimplifiedModel(gd.load_robot("two-link"), full_choices(2), 0.9, 0.01)
+    with pytest.raises(InputError, match=f": {said}$"):
+        save_model(model, name)
+    assert list(tmp_path.iterdir()) == []

@@ -425,3 +425,13 @@ def test_full_disk_error_finds_the_cause_in_the_chain(tmp_path):
         assert isinstance(error, InputError) and str(error) == f"{cache}: cannot write: {said}"
     assert full_disk_error(OSError(errno.EACCES, "Permission denied", cache)) is None
     assert full_disk_error(ValueError("no")) is None
+
+
+def test_an_empty_output_file_name_is_no_folder(tmp_path, monkeypatch):
+    """check_output_file("") said ": is a folder: give a file name" (Path("") is the current
+    folder); a folder is still called one."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(InputError, match=r"^'': no file name$"):
+        check_output_file("")
+    with pytest.raises(InputError, match=r"^\.: is a folder: give a file name$"):
+        check_output_file(".")

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..dynamics.regressor_kernels import link_channels
-from ..model.limits import LIMITS
+from ..model.limits import LIMITS, real_values
 
 __all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
@@ -259,7 +259,7 @@ class RegionLimits:
     Raises
     ------
     ValueError
-        If a value is NaN or infinite, a velocity or acceleration limit is below the command
+        If a value is not a real number (a bool, a str), NaN or infinite, a velocity or acceleration limit is below the command
         line's least (``LIMITS["least_rate"]`` of :mod:`gd_analyze.model.limits`, 1e-9 deg/s,
         taken in rad/s: 1.745e-11), or a position range has lo >= hi; the message names the
         option (``--q-limits``, ``--qd-max``, ``--qdd-max``).
@@ -300,7 +300,8 @@ class RegionLimits:
     def _given(self):
         """The limits given, by field name, as float arrays: q_limits of shape (m, 2), the
         velocity and acceleration limits of shape (m,)."""
-        return {k: np.asarray(v, float).reshape((-1, 2) if k == "q_limits" else -1)
+        return {k: real_values("--" + k.replace("_", "-"), v).reshape((-1, 2) if k == "q_limits"
+                                                                     else -1)
                 for k in ("q_limits", "qd_max", "qdd_max") if (v := getattr(self, k)) is not None}
 
 

@@ -17,7 +17,7 @@ from ..errors import InputError
 from ..estimation.regressor import DRIVE_KINDS
 from ..jobs.identify import DEFAULT_DRIVES
 from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX
-from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
+from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA, GAIN_RANGES
 from ..model.limits import DEFAULT_QDD_PER_QD, LIMITS
 from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN
@@ -194,7 +194,7 @@ def _vector3(name):
 def _add_payload_arguments(p, sweep=False):
     """--payload, --payload-com, --payload-inertia (with ``sweep``: --payload-sweep after them)."""
     g = p.add_argument_group("payload (a rigid load fixed to the last link)")
-    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", "[]"),
+    g.add_argument("--payload", metavar="MASS", type=_fraction(0.0, math.inf, "--payload", "[)"),
                    help="load mass [kg] (the PUMA 560's rated load is 2.5 kg)")
     g.add_argument("--payload-com", metavar="X,Y,Z", type=_vector3("--payload-com"),
                    default=[0.0, 0.0, 0.0], help="load centre of mass in the last link frame [m]")
@@ -489,7 +489,7 @@ def evaluate_parser() -> argparse.ArgumentParser:
                             "the model's guarantee and whether it covers the trajectory.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
-    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error", "[]"),
+    p.add_argument("--max-error", metavar="REL", type=_fraction(0.0, math.inf, "--max-error", "[)"),
                    help="exit with status 3 if the peak relative torque error of any joint "
                         "(relative to its peak |tau| on the trajectory; to the model's s_i "
                         "where that is 0) exceeds REL (default: exit 3 if any joint's error "
@@ -542,15 +542,14 @@ def control_parser() -> argparse.ArgumentParser:
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
                    help="output folder (default: reports/<robot>-<csv stem>-control/)")
-    # below 0.01 rad/s an error takes minutes to decay; above 1e4 rad/s (1.6 kHz) no drive follows
-    p.add_argument("--wn", metavar="RAD/S", type=_fraction(0.01, 1e4, "--wn", "[]"),
+    (wn_lo, wn_hi), (z_lo, z_hi) = GAIN_RANGES["wn"], GAIN_RANGES["zeta"]
+    p.add_argument("--wn", metavar="RAD/S", type=_fraction(wn_lo, wn_hi, "--wn", "[]"),
                    default=DEFAULT_WN,
-                   help=f"natural frequency of the error dynamics [rad/s], 0.01 to 1e4 (default "
-                        f"{DEFAULT_WN:g}); Kp = wn^2, Kv = 2 zeta wn")
-    # below 0.01 the loop rings undamped; above 100 its slow mode, about wn / (2 zeta), stalls
-    p.add_argument("--zeta", metavar="Z", type=_fraction(0.01, 100.0, "--zeta", "[]"),
+                   help=f"natural frequency of the error dynamics [rad/s], {wn_lo:g} to {wn_hi:g} "
+                        f"(default {DEFAULT_WN:g}); Kp = wn^2, Kv = 2 zeta wn")
+    p.add_argument("--zeta", metavar="Z", type=_fraction(z_lo, z_hi, "--zeta", "[]"),
                    default=DEFAULT_ZETA,
-                   help=f"damping ratio, 0.01 to 100 (default {DEFAULT_ZETA:g})")
+                   help=f"damping ratio, {z_lo:g} to {z_hi:g} (default {DEFAULT_ZETA:g})")
     p.add_argument("--offset", metavar="RAD", type=_fraction(-2 * math.pi, 2 * math.pi,
                                                              "--offset", "[]"),
                    default=0.0, help="initial position error on every joint [rad; m on a "

@@ -391,9 +391,11 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     trajectory : Trajectory
         The set points to track.
     wn : float or array_like, shape (n,), optional
-        Undamped natural frequency of the error dynamics [rad/s] (default 20).
+        Undamped natural frequency of the error dynamics [rad/s] (default 20), within
+        :data:`~gd_analyze.jobs.tracking.GAIN_RANGES` (0.01 to 1e4, as ``--wn``).
     zeta : float or array_like, shape (n,), optional
-        Damping ratio (default 1).
+        Damping ratio (default 1), within :data:`~gd_analyze.jobs.tracking.GAIN_RANGES` (0.01 to
+        100, as ``--zeta``).
     q0_offset : float or array_like, shape (n,), optional
         Initial position error q(0) - q_d(0) [rad] (default 0: start on the trajectory).
     controllers : sequence of str, optional
@@ -431,7 +433,9 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     ------
     ValueError
         If the trajectory's joint count differs from the robot's, t_end leaves fewer than 2
-        set points, a controller is unknown, the gains are invalid or so stiff that the
+        set points, a controller is unknown, wn or zeta is outside
+        :data:`~gd_analyze.jobs.tracking.GAIN_RANGES` (as ``--wn``, ``--zeta``;
+        :func:`~gd_analyze.jobs.tracking.control_gains`), the gains so stiff that the
         integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
         (:func:`~gd_analyze.jobs.tracking.closed_loop_rates`, every controller), D is
         singular (:func:`~gd_analyze.jobs.tracking.singular_inertia`), or a run exceeds
@@ -476,9 +480,8 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     singular = singular_inertia(robot, D)
     if singular:
         raise ValueError(singular)
-    with np.errstate(over="ignore", invalid="ignore"):     # a huge wn or zeta: too stiff below
-        gains = control_gains(robot, desired(t[0]), wn, zeta)
-        rates = closed_loop_rates(robot, gains, D)
+    gains = control_gains(robot, desired(t[0]), wn, zeta)
+    rates = closed_loop_rates(robot, gains, D)
     for name in (c for c in CONTROLLERS if c in controllers):
         # computed torque: the gains' own bound; PD + gravity: what a run can evaluate
         most = MAX_STIFFNESS_STEPS if name != "pd_gravity" else MAX_RHS_EVALS // RHS_PER_STEP

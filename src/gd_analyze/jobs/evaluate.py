@@ -353,33 +353,26 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
     """
     robot: Robot = model.robot
     peak = np.asarray(err["peak_abs_error"], float)
-    units = [joint_torque_units(bool(p)) for p in robot.prismatic]  # type: ignore[union-attr]  # never None (Robot.__post_init__)
-    g = model.guarantee
-    if max_error is None and g is None:
+    g, promise = model.guarantee, max_error is None     # the model's promise, or --max-error
+    if promise and g is None:
         return {"by": None, "limit": None, "exceeded": False, "worst_joint": None,
                 "message": ""}
-    s = np.asarray(g.scale if max_error is None else (err.get("scale") or np.zeros(robot.n)),  # type: ignore[union-attr]  # the guarantee is not None here
-                   float)
+    s = np.asarray(g.scale if promise else (err.get("scale") or np.zeros(robot.n)), float)  # type: ignore[union-attr]  # the guarantee is not None here
     own = np.maximum(np.asarray(err["peak_tau"], float), s)
     off = _round_off(peak, own, own, robot)
-    if max_error is None:
-        limit = g.tolerance * s  # type: ignore[union-attr]  # the guarantee is not None here
-        measure, bound = peak, limit
-        within = within_bound(peak, limit, s)               # up to round-off, as guaranteed
-    else:
-        limit = np.full(robot.n, float(max_error))
-        measure, bound = np.asarray(err["relative_peak_error"], float), limit
-        within = measure <= bound
+    limit = g.tolerance * s if promise else np.full(robot.n, float(max_error))  # type: ignore[union-attr, arg-type]  # the guarantee, or max_error, is not None here
+    measure = peak if promise else np.asarray(err["relative_peak_error"], float)
+    within = within_bound(peak, limit, s) if promise else measure <= limit  # up to round-off
     fails = ~within & ~off                                  # NaN never passes
-    out = {"by": "model" if max_error is None else "--max-error", "limit": limit.tolist(),
+    out = {"by": "model" if promise else "--max-error", "limit": limit.tolist(),
            "exceeded": bool(fails.any()), "worst_joint": None, "message": ""}
     if not fails.any():
         return out
     with np.errstate(divide="ignore", invalid="ignore"):
-        over = np.where(fails, np.nan_to_num(measure / bound, nan=np.inf, posinf=np.inf), -1.0)
+        over = np.where(fails, np.nan_to_num(measure / limit, nan=np.inf, posinf=np.inf), -1.0)
     j = int(np.argmax(over))
-    u = units[j]
-    if max_error is None:
+    u = joint_torque_units(bool(robot.prismatic[j]))
+    if promise:
         out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
                           f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[union-attr]  # the guarantee is not None here
                           f"{limit[j]:.4g} {u}")

@@ -25,7 +25,7 @@ import numpy as np
 
 from .._version import VERSION
 from ..dynamics.base_parameters import base_regressor
-from ..errors import InputError, InputWarning, check_flags, expect
+from ..errors import InputError, InputWarning, check_flags, expect, is_number
 from ..estimation import preprocess as prep
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_robot
@@ -82,7 +82,8 @@ class IdentifyOptions:
     Raises
     ------
     ValueError
-        On an unknown drive kind (or drives given as one str), a cutoff <= 0, decimate < 1,
+        On an unknown drive kind (or drives not a tuple or list: one str), a cutoff <= 0 or
+        not a number, decimate not a whole number >= 1 (a bool neither),
         currents without gains, or current, consistent or simplify not a bool (numpy's too;
         an InputError naming the field).
     """
@@ -96,9 +97,9 @@ class IdentifyOptions:
     simplify: bool = False
 
     def __post_init__(self):
-        if isinstance(self.drives, str):         # one word is not a sequence of its letters
+        if not isinstance(self.drives, (tuple, list)):  # one word is not a sequence of letters
             raise ValueError(f"drives is a tuple of drive columns, e.g. ('viscous', "
-                             f"'coulomb'), not the str {self.drives!r}")
+                             f"'coulomb'), not the {type(self.drives).__name__} {self.drives!r}")
         unknown = [k for k in self.drives if k not in DRIVE_KINDS]
         if unknown:
             raise ValueError(f"unknown drive column {unknown[0]!r} (known: "
@@ -106,17 +107,17 @@ class IdentifyOptions:
         if len(set(self.drives)) != len(self.drives):
             raise ValueError("a drive column is given twice")
         if not (self.cutoff is None or self.cutoff == "auto" or
-                (isinstance(self.cutoff, (int, float)) and math.isfinite(self.cutoff)
+                (is_number(self.cutoff) and math.isfinite(self.cutoff)
                  and self.cutoff > 0)):
             raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
                              f"{self.cutoff!r}")
-        if int(self.decimate) != self.decimate or self.decimate < 1:
+        if not (is_number(self.decimate) and self.decimate % 1 == 0 and self.decimate >= 1):
             raise ValueError(f"decimate must be a whole number >= 1, got {self.decimate!r}")
         check_flags(current=self.current, consistent=self.consistent, simplify=self.simplify)
         if self.current and self.drive_gains is None:
             raise ValueError("currents need the drive gains K (tau = K i)")
         if self.drive_gains is not None and not all(
-                isinstance(k, (int, float)) and math.isfinite(k) and k != 0
+                is_number(k) and math.isfinite(k) and k != 0
                 for k in self.drive_gains):
             raise ValueError("drive gains must be finite and nonzero numbers")
 

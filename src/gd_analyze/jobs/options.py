@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..config import defaults
-from ..errors import check_flags, expect
+from ..errors import check_flags, expect, is_number
 from ..simplify.options import SimplifyOptions
 
 __all__ = ["SimplifyOptions", "AnalysisOptions"]
@@ -41,9 +41,9 @@ class AnalysisOptions:
     Raises
     ------
     ValueError
-        If a threshold is not a number (an int or float) or is out of range, verify or
-        formulations not a bool (numpy's too), or simplify not a SimplifyOptions or None
-        (an InputError naming the field).
+        If a threshold or compress is not a number (an int or float, not a bool) or is out of
+        range, verify or formulations not a bool (numpy's too), or simplify not a
+        SimplifyOptions or None (an InputError naming the field).
 
     Examples
     --------
@@ -59,11 +59,11 @@ class AnalysisOptions:
     simplify: SimplifyOptions = field(default_factory=SimplifyOptions)
 
     def __post_init__(self):
-        if not (isinstance(self.dominance, (int, float)) and 0.5 < self.dominance <= 1.0):
+        if not (is_number(self.dominance) and 0.5 < self.dominance <= 1.0):
             raise ValueError(f"dominance must be a number in (0.5, 1], got {self.dominance!r}")
-        if not (isinstance(self.negligible, (int, float)) and 0.0 <= self.negligible < 1.0):
+        if not (is_number(self.negligible) and 0.0 <= self.negligible < 1.0):
             raise ValueError(f"negligible must be a number in [0, 1), got {self.negligible!r}")
         check_flags(verify=self.verify, formulations=self.formulations)
         expect(self.simplify, (SimplifyOptions, type(None)), "simplify", "a SimplifyOptions or None")
-        if self.compress not in range(10):
-            raise ValueError(f"compress must be 0-9, got {self.compress!r}")
+        if not (is_number(self.compress) and self.compress in range(10)):
+            raise ValueError(f"compress must be a whole number 0-9, got {self.compress!r}")

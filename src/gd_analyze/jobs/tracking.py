@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from ..trajectory.trajectory import Trajectory
 
 
-__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA",
+__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "GAIN_RANGES",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
            "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates",
            "singular_inertia", "Gains", "control_gains", "desired_motion",
@@ -54,6 +54,13 @@ DEFAULT_WN = 20.0
 
 #: Default damping ratio (critical damping).
 DEFAULT_ZETA = 1.0
+
+
+#: The natural frequency wn [rad/s] and damping ratio zeta [1] accepted, by the command line's
+#: --wn and --zeta and :func:`gd_analyze.jobs.control.run_control` alike: below 0.01 rad/s an
+#: error takes minutes to decay, above 1e4 rad/s (1.6 kHz) no drive follows; below zeta 0.01
+#: the loop rings undamped, above 100 its slow mode, about wn / (2 zeta), stalls.
+GAIN_RANGES = {"wn": (0.01, 1e4), "zeta": (0.01, 100.0)}      # in this order
 
 
 #: Default relative tolerance of the integrator.
@@ -223,9 +230,9 @@ def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAUL
     q_ref : array_like, shape (n,)
         Configuration whose inertia diagonal scales the PD gains, normally q_d(0) [rad].
     wn : float or array_like, shape (n,), optional
-        Undamped natural frequency [rad/s], > 0.
+        Undamped natural frequency [rad/s], within :data:`GAIN_RANGES` (0.01 to 1e4).
     zeta : float or array_like, shape (n,), optional
-        Damping ratio [1], > 0.
+        Damping ratio [1], within :data:`GAIN_RANGES` (0.01 to 100).
 
     Returns
     -------
@@ -235,7 +242,7 @@ def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAUL
     Raises
     ------
     ValueError
-        If wn or zeta is not positive and finite, or not a scalar or n values.
+        If wn or zeta is outside :data:`GAIN_RANGES` (NaN too), or not a scalar or n values.
 
     Notes
     -----
@@ -244,13 +251,13 @@ def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAUL
     """
     n = robot.n
     out = []
-    for name, value in (("wn", wn), ("zeta", zeta)):
+    for (name, (lo, hi)), value in zip(GAIN_RANGES.items(), (wn, zeta)):   # --wn's, --zeta's
         arr = np.asarray(value, dtype=float)
         if arr.ndim > 1 or (arr.ndim == 1 and arr.shape != (n,)):
             raise ValueError(f"{name} must be a number or {n} numbers, got shape {arr.shape}")
         arr = np.broadcast_to(arr, (n,)).astype(float)
-        if not (np.isfinite(arr).all() and (arr > 0).all()):
-            raise ValueError(f"{name} must be positive and finite, got {arr.tolist()}")
+        if not ((arr >= lo) & (arr <= hi)).all():
+            raise ValueError(f"{name} must be in [{lo:g}, {hi:g}], got {arr.tolist()}")
         out.append(arr)
     wn, zeta = out
     q_ref = np.asarray(q_ref, dtype=float).reshape(1, n)

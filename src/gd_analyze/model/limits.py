@@ -12,13 +12,12 @@ The README's "Limits" section lists the same values.
 from __future__ import annotations
 
 import math
-import numbers
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import InputError
+from ..errors import InputError, is_number
 
 if TYPE_CHECKING:
     from .robot import Robot
@@ -146,8 +145,7 @@ def real_values(name: str, values: ArrayLike) -> np.ndarray:
     arr = np.asarray(values)
     kind = arr.dtype.kind
     if kind == "O":             # objects: each a real number (int, float, Fraction...)
-        if not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
-                   for v in arr.ravel()):
+        if not all(is_number(v) for v in arr.ravel()):
             raise InputError(f"{name} must hold real numbers, got objects that are not")
         return arr.astype(float)
     if kind not in "iuf":

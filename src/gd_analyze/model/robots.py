@@ -213,7 +213,7 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
         source = key
     else:
         path = Path(key)
-        if path.is_dir():
+        if path.is_dir() and key:          # "" is no folder, though Path("") is "."
             raise InputError("is a folder, not a robot file", key)
         if not path.is_file():
             raise InputError(f"unknown robot (built-in: {robots_text()}) and no such file", key)

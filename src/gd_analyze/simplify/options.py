@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from ..certify.region import RegionLimits
 from ..config import MAXIMA, defaults
-from ..errors import expect
+from ..errors import expect, is_number
 
 __all__ = ["SimplifyOptions", "RULES", "EXPLICIT", "FORMS", "GUARANTEES"]
 
@@ -53,7 +53,7 @@ class SimplifyOptions:
     ValueError
         If a value is out of range (tolerance and torque_floor from 0 to
         :data:`gd_analyze.config.MAXIMA`, as at the command line), not a number where one is
-        asked for (tolerance, torque_floor: an int or float) or not one of its choices,
+        asked for (tolerance, torque_floor: an int or float, not a bool) or not one of its choices,
         ``region`` is not a RegionLimits, or rule ``"chapter"`` is given form ``"recursive"`` or explicit
         ``"never"`` (its model is the explicit model's elements in their classes).
 
@@ -75,7 +75,7 @@ class SimplifyOptions:
         expect(self.region, (RegionLimits, type(None)), "region", "a RegionLimits or None")
         for name, most in MAXIMA.items():
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and 0.0 <= v <= most):
+            if not (is_number(v) and 0.0 <= v <= most):
                 raise ValueError(f"{name} must be a number in [0, {most:g}], got {v!r}")
         for name, allowed in (("rule", RULES), ("explicit", EXPLICIT), ("form", FORMS),
                               ("guarantee", GUARANTEES)):

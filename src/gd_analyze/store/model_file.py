@@ -27,6 +27,7 @@ from ..simplify.simplified import (
 )
 from .json_schema import MODEL_SCHEMA, load_json
 from .model_trust import check_guarantee, check_region
+from .staging import check_output_file
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -48,7 +49,8 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     ------
     InputError
         If ``model`` is not a SimplifiedModel or ``path`` not a str or os.PathLike (one line
-        naming the argument).
+        naming the argument), or ``path`` is a folder, a device or a symbolic link, or its
+        folder does not exist (:func:`~gd_analyze.store.staging.check_output_file`).
     OSError
         If the file cannot be written.
 
@@ -57,7 +59,8 @@ def save_model(model: SimplifiedModel, path: str | os.PathLike[str]) -> None:
     NaN and inf, which JSON cannot hold, are written as null.
     """
     expect(model, SimplifiedModel, "model", "a SimplifiedModel")
-    with atomic_path(path_text(path, "JSON file")) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+    check_output_file(path := path_text(path, "JSON file"))
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as fh:
         json.dump(json_safe(model.to_dict()), fh, indent=2)
         fh.write("\n")
 

@@ -130,7 +130,7 @@ def check_output_file(path: str | os.PathLike[str]) -> None:
         raise InputError("is a symbolic link: give the file itself or a new name (a link is "
                          "never written through or replaced)", path)
     if mode is not None and stat.S_ISDIR(mode):
-        raise InputError("is a folder: give a file name", path)
+        raise InputError("is a folder: give a file name" if str(path) else "no file name", path)
     if mode is not None and not stat.S_ISREG(mode):
         raise InputError("is not a regular file (a device, FIFO or socket): give a file name",
                          path)
