@@ -55,6 +55,13 @@ def test_provenance_says_what_cluster_ran(swept):
     assert "caller" not in rows["computed on"]
 
 
+def test_the_printed_line_counts_one_worker_in_the_singular(swept):
+    """--workers 1 printed "on 1 dask workers": the line counts the worker that ran."""
+    _, printed = swept
+    line = next(x for x in printed.splitlines() if " trajectories in " in x)
+    assert re.search(r"^puma560: 3 trajectories in [0-9.]+ s on 1 dask worker \(", line), line
+
+
 def test_the_merged_model_is_recursive_and_said_so(swept):
     out, printed = swept
     model = load_model(out / "merged_model.json")

@@ -239,3 +239,21 @@ def test_the_error_caption_names_only_the_controllers_drawn(tmp_path):
     named = set(re.findall(r"set point[s]? (?:\d+, |\d+ and )*?\d+ \(([^)]+)\)", caption)) | set(
         re.findall(r"(?:, |and )\d+ \(([^)]+)\)", caption))
     assert named == drawn, (named, drawn, caption)
+
+
+def test_a_joint_type_whose_torque_difference_is_noise_reads_as_the_table(tmp_path):
+    """The PR2 (prismatic torso) said "by at most 3.30e-06 N m, 0 N" where Table 3.1 gives
+    joint 1's difference as \u2261 0: a value at or below its joint's noise floor is said
+    \u2261 0 in the summary and the verdict too, never as a measured 0. Oracle: the table's
+    rule, the stored noise floor."""
+    from gd_analyze.report.control import dataset_verdict
+
+    ds = two_link_control(tmp_path, 11)
+    ds["joint_type"] = ds["joint_type"].copy(data=np.array(["revolute", "prismatic"], object))
+    peak = ds["tau_difference_peak"].values
+    ds["tau_difference_floor"].values[:] = [peak[0] / 2, 2 * peak[1]]   # joint 2: noise
+    assert 0 < peak[1] <= ds["tau_difference_floor"].values[1]
+    judged = dataset_verdict(ds)
+    for said in (judged["summary"], judged["verdict"]):
+        said = said.replace("\u00a0", " ")
+        assert ", \u2261 0 N" in said and ", 0 N" not in said, said

@@ -270,9 +270,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if not args.quiet:
         run = StoredSweep.of(ds)
         s = run.settings
-        where = (f"on {int(s.n_workers)} dask workers ({s.scheduler_address})"
-                 if int(s.n_workers) else "in this process (no dask cluster)")
-        print(f"{robot.name}: {run.trajectories} trajectories in "
+        w, k = int(s.n_workers), run.trajectories
+        where = (f"on {w} dask worker{'s' * (w > 1)} ({s.scheduler_address})"
+                 if w else "in this process (no dask cluster)")
+        print(f"{robot.name}: {k} trajector{'ies' if k > 1 else 'y'} in "
               f"{float(s.elapsed_s):.1f} s {where}")
         print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
               + f"{'min':>8}{'median':>8}{'max':>8}  merged")

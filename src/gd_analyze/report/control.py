@@ -95,8 +95,8 @@ NOISE = "\u2261 0 (integrator noise)"
 
 
 def _value(value, unit):
-    """A number and its unit, never split over two lines."""
-    return f"{fmt_number(value)}\u00a0{unit}".replace(" ", "\u00a0")
+    """A number and its unit, never split over two lines; 0 (integrator noise) as \u2261 0."""
+    return ((fmt_number(value) if value else "\u2261 0") + f"\u00a0{unit}").replace(" ", "\u00a0")
 
 
 def _by_type(values, prismatic, which):
@@ -615,11 +615,11 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     st = s.settings
     names = s.controllers
     prismatic = np.array(s.prismatic, dtype=bool)
-    peaks = {c: s.error_peak_grid[c] for c in names}
-    q_floor, tau_floor = noise_floors(s)
+    q_floor, tau_floor = noise_floors(s)     # a joint's integrator noise is not its largest value
+    peaks = {c: np.where(is_round_off(s.error_peak_grid[c], q_floor, 1.0), 0.0,
+                         s.error_peak_grid[c]) for c in names}
     rule = {k: noise_words(s, k) for k in ("q", "tau")}     # the rules, said everywhere
-    quiet = {c: bool(is_round_off(peaks[c], q_floor, 1.0).all())
-             for c in names}           # every joint's error is integrator noise: not data
+    quiet = {c: not peaks[c].any() for c in names}   # every joint's error is noise: not data
     summary = "; ".join(f"{CONTROL_LABELS.get(c, c)}: peak |e| "
                         + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
@@ -628,10 +628,9 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                f"\u03c9{sub('n')} = {_per_joint(st.wn, ' rad/s')}, "
                f"\u03b6 = {_per_joint(st.zeta)}. {summary}.")
     diff = s.tau_difference_peak
-    if diff is not None:                 # a joint's integrator noise is not its largest value
-        off = is_round_off(diff, tau_floor, 1.0)
-        quiet["tau_difference"] = bool(off.all())
-        diff = np.where(off, 0.0, diff)
+    if diff is not None:
+        diff = np.where(is_round_off(diff, tau_floor, 1.0), 0.0, diff)
+        quiet["tau_difference"] = not diff.any()
         summary += say("control_difference", rule=rule["tau"],
                        difference=NOISE if quiet["tau_difference"] else
                        by_type_text(diff, prismatic, 'tau'))
