@@ -73,6 +73,15 @@ def test_consistent_parameters_of_inconsistent_base_parameters():
     assert np.allclose(sol.drives, [0.1, 0.2], atol=1e-6)
 
 
+def _two_link_problem():
+    """The arguments of :func:`consistent_standard` for the two-link arm's own parameters."""
+    robot = load_robot("two-link")
+    base = base_parameters(robot)
+    theta = np.concatenate([base.beta, [0.1]])
+    return (base, theta, np.ones(theta.size, bool), np.eye(theta.size),
+            standard_parameters(robot), ("viscous",), np.zeros(1))
+
+
 def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch):
     """Clarabel raising SolverError in either stage: SCS solves both; both failing: the
     dedicated SolverFailure, not cvxpy's own error."""
@@ -81,12 +90,7 @@ def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch)
 
     from gd_analyze.estimation.consistent import SolverFailure
 
-    robot = load_robot("two-link")
-    base = base_parameters(robot)
-    phi0 = standard_parameters(robot)
-    theta = np.concatenate([base.beta, [0.1]])
-    args = (base, theta, np.ones(theta.size, bool), np.eye(theta.size), phi0, ("viscous",),
-            np.zeros(1))
+    args = _two_link_problem()
     real = cp.Problem.solve
     failing = {"CLARABEL"}
 
@@ -102,6 +106,36 @@ def test_a_failing_solver_falls_back_and_two_failures_are_one_error(monkeypatch)
     with pytest.raises(SolverFailure, match="CLARABEL made to fail.*SCS made to fail"):
         consistent_standard(*args)
 
+
+
+def test_a_solution_that_is_not_consistent_is_not_taken(monkeypatch):
+    """A solver's solution with a pseudo-inertia not >= 0 (SCS's 'optimal_inaccurate' on a
+    recording in degrees gave a least eigenvalue of -0.01, reported as physically consistent
+    parameters): the next solver is tried, and with none left, SolverFailure says why. Here
+    every variable is made -1000 after the solve (negative masses)."""
+    import cvxpy as cp
+    import pytest
+
+    from gd_analyze.estimation.consistent import SolverFailure
+
+    args = _two_link_problem()
+    real = cp.Problem.solve
+    spoiled = {"CLARABEL"}
+
+    def solve(self, *a, solver=None, **k):
+        out = real(self, *a, solver=solver, **k)
+        if solver in spoiled:
+            for x in self.variables():
+                x.value = np.full(x.shape, -1e3)
+        return out
+
+    monkeypatch.setattr(cp.Problem, "solve", solve)
+    sol = consistent_standard(*args)
+    assert sol.solver == "SCS" and (min_eigenvalues(sol.phi) >= 0).all()
+    spoiled.add("SCS")
+    with pytest.raises(SolverFailure, match="CLARABEL: optimal, but a pseudo-inertia not >= 0; "
+                       "SCS: optimal(_inaccurate)?, but a pseudo-inertia not >= 0"):
+        consistent_standard(*args)
 
 def _link(mass, com, inertia_c):
     """Standard parameters (10,) of one link from its mass, centre of mass and inertia about

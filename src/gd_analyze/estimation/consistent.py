@@ -211,7 +211,8 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     Raises
     ------
     SolverFailure
-        If neither Clarabel nor SCS solves the problem (a RuntimeError).
+        If neither Clarabel nor SCS solves the problem (a RuntimeError), or a solution it calls
+        (inaccurately) optimal has a pseudo-inertia not >= 0 (to 1e-10 of its scale).
     """
     import cvxpy as cp
 
@@ -259,6 +260,10 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
             if second.status not in ("optimal", "optimal_inaccurate"):
                 why.append(f"{name}: second stage {second.status}")
                 continue
+            phi_v = (phi0.reshape(-1) + S * u.value).reshape(n, 10)
+            if (min_eigenvalues(phi_v) < -1e-10 * np.abs(phi_v[:, :6]).max(axis=1)).any():
+                why.append(f"{name}: {second.status}, but a pseudo-inertia not >= 0")
+                continue        # an inaccurate solution that is not consistent: not one
         except cp.error.SolverError as exc:
             why.append(f"{name}: {str(exc).splitlines()[0] if str(exc) else 'failed'}")
             continue
@@ -267,7 +272,6 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     if solver is None:
         raise SolverFailure("the consistency problem was solved by neither Clarabel nor SCS ("
                             + "; ".join(why) + ")")
-    phi_v = (phi0.reshape(-1) + S * u.value).reshape(n, 10)
     d_v = theta_hat[b:] + d_scale * v.value if nd else np.zeros(0)
     if nonneg:
         d_v[nonneg] = np.maximum(d_v[nonneg], 0.0)
