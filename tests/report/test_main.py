@@ -634,11 +634,11 @@ def test_fig_3_10_analogue_grows_to_n_by_n(n):
                     series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D, "h_tran": h,
                             "h_rot": h, "h": 2 * h})
     labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
-    with matplotlib.rc_context(RC):             # in parts of at most six rows of four
+    with matplotlib.rc_context(RC):             # in parts of at most five rows of four
         parts = [fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01, part=k)
                  for k in range(len(element_parts(labels)))]
         figh = fig_h(data, {}, {})
-    assert len(parts) == -(-len(labels) // 24)
+    assert len(parts) == -(-len(labels) // 20)
     fig = parts[0]
     titles = [ax.get_title() for f in parts for ax in f.axes]
     assert len(titles) == n * (n + 1) // 2

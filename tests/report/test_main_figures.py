@@ -152,3 +152,35 @@ def test_a_massless_arm_gets_its_report(tmp_path):
     assert main([str(urdf), str(plan), "-o", str(tmp_path / "out"), "-q"]) == 0
     assert (tmp_path / "out" / "report.html").is_file()
     assert (tmp_path / "out" / "report.pdf").is_file()
+
+
+@pytest.mark.parametrize("paper", ["a4", "letter"])
+@pytest.mark.parametrize("n", [6, 13, 15])
+def test_a_part_of_fig_2_fits_under_its_heading_and_lead(n, paper, tmp_path):
+    """The first part of Fig. 2 stands on the page of its section's heading and lead paragraph
+    (as long as the report's: 472 characters): a part of six rows of a 15-joint arm (8.68 in)
+    went to the next page, leaving the heading and lead alone on a page 89 % empty."""
+    import matplotlib
+    from pdf_checks import text
+
+    from gd_analyze.ranking.ranking import element_label
+    from gd_analyze.report.drawing import figure_svg
+    from gd_analyze.report.main_figures import RC, PlotData, fig_D
+    from gd_analyze.report.sections import Outline
+    from gd_analyze.report.typeset import write_pdf
+
+    rng = np.random.default_rng(n)
+    D = rng.standard_normal((21, n, n))
+    data = PlotData(x=np.linspace(0.0, 2.0, 21), enveloped=False, N=21,
+                    series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D})
+    labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    with matplotlib.rc_context(RC):
+        fig = fig_D(data, {lab: "both" for lab in labels}, {}, 0.9, 0.01)
+        size, svg = tuple(fig.get_size_inches()), figure_svg(fig)
+    o = Outline("Report", figures={"D"})
+    o.section("1", "Acceleration-related elements of D")
+    o.paragraph("One panel per element of the inertia matrix, in reading order. " * 7, "note")
+    o.figure("D", "Elements of D against time, split into their parts. " * 5)
+    write_pdf(o, {"D": (svg, size)}, tmp_path / "doc.pdf", paper)
+    first = " ".join(text(tmp_path / "doc.pdf").split("\f")[0].split())
+    assert "One panel per element" in first and "Figure 1. Elements of D" in first, size

@@ -99,9 +99,11 @@ _LEFT, _RIGHT, _WGAP, _HGAP, _TOP = 0.5, 0.06, 0.6, 0.44, 0.22
 MIN_PANEL_W = 1.1
 #: Least panel width of the column-width D and h figures [in]: three a row.
 _MIN_COLUMN_PANEL_W = 0.5
-#: Most rows of panels in one figure (a page); more panels go to further parts
-#: (:func:`element_parts`).
-MAX_ROWS = {"page": 6, "column": 8}
+#: Most rows of panels in one figure; more panels go to further parts (:func:`element_parts`).
+#: Five at page width: a part (7.4 in) with its caption, its section's heading and lead
+#: paragraph fits an A4 or letter page (a part of six rows, 8.7 in, went to the next page and
+#: left the heading and the lead alone on theirs).
+MAX_ROWS = {"page": 5, "column": 8}
 
 
 def _y_axis(ax, nbins, *arrays):
