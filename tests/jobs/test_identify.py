@@ -235,7 +235,12 @@ def test_a_robot_options_or_recording_of_another_type_is_one_input_error():
     rec = recording_from_arrays(t, np.zeros((20, 2)), np.ones((20, 2)), source="r")
     for bad, call in (("NoneType", lambda: identify(None, [rec])),
                       ("IdentifyOptions", lambda: identify(robot, [rec], options="fast")),
-                      ("not a tuple", lambda: identify(robot, [(t, t, t)]))):
+                      ("not a tuple", lambda: identify(robot, [(t, t, t)])),
+                      # a number alone raised TypeError ("'int' object is not iterable")
+                      ("^recording: a CSV file or a Recording, not a int$",
+                       lambda: identify(robot, [rec], validate=3)),
+                      ("^recording: a CSV file or a Recording, not a float$",
+                       lambda: identify(robot, 2.5))):
         with pytest.raises(InputError, match=bad):
             call()
     with pytest.raises(ValueError, match="not the str 'viscous'"):

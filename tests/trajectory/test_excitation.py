@@ -5,6 +5,7 @@ the same harmonics and limits, and its objective's regressor spans Pinocchio's."
 import json
 import math
 import pickle
+import re
 import subprocess
 import sys
 
@@ -408,7 +409,12 @@ def test_cli_writes_the_excitation_piece_by_piece(tmp_path, monkeypatch, capsys)
         (sizes.append(p.n_setpoints) or p for p in pieces), n, path))
     monkeypatch.chdir(tmp_path)
     assert main(["plan", "two-link", "--excitation", "-o", "ex.csv", "--setpoints", "1001"]) == 0
-    assert capsys.readouterr().err.startswith("wrote ex.csv: 1001 set points over 10.0000 s")
+    said = capsys.readouterr().err
+    assert said.startswith("wrote ex.csv: 1001 set points over 10.0000 s")
+    # the condition number is the series' on its samples, not the set points' (2 set points,
+    # both at rest, said 2.872 of 13 columns): the line says where it was taken
+    assert re.search(r"; scaled condition number \S+ of 13 columns on 100 samples of a period "
+                     r"\(random starts: ", said), said
     assert sizes == [100] * 10 + [1]
     ex = json.loads((tmp_path / "ex.provenance.json").read_text())["excitation"]
     series = FourierSeries(q0=np.array(ex["q0"]), a=np.array(ex["a"]), b=np.array(ex["b"]),

@@ -14,6 +14,7 @@ from gd_analyze.trajectory.planning import (
 from gd_analyze.trajectory.trajectory import (
     JointLimitWarning,
     Trajectory,
+    as_trajectory,
     check_joint_limits,
     read_trajectory,
     trajectory_columns,
@@ -262,3 +263,12 @@ def test_written_values_are_pandas_to_csv_of_any_float(tmp_path):
     write_trajectory(Trajectory(t=table[:, 0], q=table[:, 1:3], qd=table[:, 3:5],
                                 qdd=table[:, 5:], derivatives="arrays", source="test"), path)
     assert path.read_bytes() == oracle.read_bytes()
+
+
+@pytest.mark.parametrize("value, kind", [((np.arange(3.0),) * 3, "tuple of 3"),
+                                         ([np.arange(3.0)], "list of 1"), (3.0, "float")])
+def test_a_sequence_of_another_length_says_its_length(value, kind):
+    """as_trajectory((t, q, qd)) said "... or a sequence (t, q[, qd, qdd]), not a tuple", as
+    if a tuple were not a sequence: it is one of the wrong length."""
+    with pytest.raises(InputError, match=rf"or a sequence \(t, q\[, qd, qdd\]\), not a {kind}$"):
+        as_trajectory(value)

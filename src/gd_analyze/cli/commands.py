@@ -47,7 +47,7 @@ from ..store.datasets import joint_units
 from ..store.model_file import load_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
 from ..store.staging import check_free_space, check_output_file, safe_name, staged_output, writing
-from ..trajectory.excitation import DEFAULT_HARMONICS, plan_excitation
+from ..trajectory.excitation import DEFAULT_HARMONICS, OBJECTIVE_SAMPLES, plan_excitation
 from ..trajectory.planning import (
     DEFAULT_SETPOINTS,
     check_velocity_limits,
@@ -754,10 +754,10 @@ def _plan_excitation(args, robot, qdd_arg):
         **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
         "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
         "qdd_max_source": limits["qdd_source"],
-    }, f"{ex.n_setpoints} set points over {ex.duration:.4f} s ({ex.source}); scaled "
-       f"condition number {ex.condition:.4g} of {ex.columns.count} columns (random starts: "
-       f"{float(np.min(ex.start_conditions)):.4g} at best), {ex.seconds:.1f} s; acceleration "
-       f"limits: {limits['qdd_source']}")
+    }, f"{ex.n_setpoints} set points over {ex.duration:.4f} s ({ex.source}); scaled condition "
+       f"number {ex.condition:.4g} of {ex.columns.count} columns on {OBJECTIVE_SAMPLES} samples "
+       f"of a period (random starts: {float(np.min(ex.start_conditions)):.4g} at best), "
+       f"{ex.seconds:.1f} s; acceleration limits: {limits['qdd_source']}")
 
 
 def _load_model(args):

@@ -16,7 +16,7 @@ import math
 import os
 import tempfile
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -107,8 +107,7 @@ class IdentifyOptions:
         if len(set(self.drives)) != len(self.drives):
             raise ValueError("a drive column is given twice")
         if not (self.cutoff is None or self.cutoff == "auto" or
-                (is_number(self.cutoff) and math.isfinite(self.cutoff)
-                 and self.cutoff > 0)):
+                (is_number(self.cutoff) and 0 < self.cutoff < math.inf)):     # NaN neither
             raise ValueError(f"cutoff must be a frequency > 0 [Hz], 'auto' or None, got "
                              f"{self.cutoff!r}")
         if not (is_number(self.decimate) and self.decimate % 1 == 0 and self.decimate >= 1):
@@ -117,8 +116,7 @@ class IdentifyOptions:
         if self.current and self.drive_gains is None:
             raise ValueError("currents need the drive gains K (tau = K i)")
         if self.drive_gains is not None and not all(
-                is_number(k) and math.isfinite(k) and k != 0
-                for k in self.drive_gains):
+                is_number(k) and 0 < abs(k) < math.inf for k in self.drive_gains):
             raise ValueError("drive gains must be finite and nonzero numbers")
 
     def settings(self) -> dict:
@@ -163,7 +161,8 @@ def _drive_torque(robot, qd, qdd):
 def _listed(items):
     """The recordings as a list: one file or Recording given alone is one recording, not a
     sequence of its name's characters."""
-    return [items] if isinstance(items, (str, os.PathLike, Recording)) else list(items or ())
+    one = isinstance(items, (str, os.PathLike, Recording)) or not isinstance(items or (), Iterable)
+    return [items] if one else list(items or ())     # not iterable: refused as a recording
 
 
 def _recording(item, n, options):

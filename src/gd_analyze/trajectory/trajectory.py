@@ -394,8 +394,9 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
         return trajectory_from_arrays(**value, n_joints=n_joints)  # type: ignore[misc]  # keys checked
     if isinstance(value, (tuple, list)) and len(value) in (2, 4):
         return trajectory_from_arrays(*value, n_joints=n_joints)  # type: ignore[misc]  # length checked
+    of = f" of {len(value)}" if isinstance(value, (tuple, list)) else ""    # 2 or 4 are read
     raise InputError("a trajectory is a Trajectory, a CSV file, a mapping of t, q[, qd, qdd] "
-                     f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}", ARRAYS)
+                     f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}{of}", ARRAYS)
 
 
 __all__ += ["trajectory_from_arrays", "as_trajectory", "parse_number"]
