@@ -391,3 +391,24 @@ def test_held_out_round_off_is_not_named_at_a_joint():
         "the merged model's error is measured: it is round-off on every one and every joint; "
         "2 of them lie in the region, where its bound is proved. ")
     assert "at most 1.00 % of s" in said([2e-15, 0.1])
+
+
+def test_the_cost_caption_names_only_the_evaluators_of_its_table(tmp_path):
+    """Oracle: the rows of Table 5.2. Its caption named "the full explicit model" on arms of
+    8 and 10 joints (the PR2, the iCub) whose sweep derives none, so the table has no such row;
+    here the two-link sweep's stored counts without that evaluator."""
+    csv, out = tmp_path / "one.csv", tmp_path / "out"
+    assert main(["plan", "two-link", "-o", str(csv)]) == 0
+    assert main(["sweep", "two-link", str(csv), "-o", str(out), "--no-report", "-q",
+                 "--held-out", "0"]) == 0
+    with xr.open_dataset(out / "sweep.h5") as ds:
+        ds = ds.load()
+    ds = ds.sel(evaluator=[e for e in ds["evaluator"].values if e != "full explicit model"])
+    write_dataset(ds, out / "fewer.h5")
+    write_sweep_report(out / "fewer.h5", out / "report", formats=("html",))
+    html = (out / "report" / "sweep_report.html").read_text()
+    rows = [r[0] for r in _table(html, "Table 5.2: ")[1:]]
+    assert rows[0].startswith("merged model") and rows[-1].startswith("Newton-Euler")
+    caption = _text(html[html.index("Table 5.2: "):])[:300]
+    for name in ("exact recursive model", "full explicit model"):
+        assert (name in caption) <= (name in rows), (caption, rows)

@@ -34,6 +34,21 @@ def test_trajectory_statement_gives_the_sampled_region_error():
     assert Guarantee.from_dict(missing.to_dict(), 2, 0.01).region_sampled_error is None
 
 
+def test_a_trajectory_bound_without_its_trajectorys_sha256_does_not_say_it_differs():
+    """A model file whose guarantee.trajectory_sha256 was removed said of its own trajectory
+    "it is not the trajectory the model was built on (SHA-256 differs)". Oracle: the file
+    stores no SHA-256, so nothing was compared."""
+    spec = Guarantee("trajectory", 0.01, bound=np.zeros(2), scale=np.ones(2),
+                     trajectory_sha256="ab" * 32).to_dict()
+    spec.pop("trajectory_sha256")
+    g = Guarantee.from_dict(spec, 2, 0.01)
+    covered, why = g.covers(np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), "cd" * 32)
+    assert not covered and "differs" not in why and "stores no SHA-256" in why, why
+    kept = Guarantee.from_dict({**spec, "trajectory_sha256": "ab" * 32}, 2, 0.01)
+    assert kept.covers(np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), "cd" * 32)[1]\
+        .startswith("it is not the trajectory the model was built on (SHA-256 differs)")
+
+
 def test_a_file_whose_bound_exceeds_its_promise_is_refused():
     spec = _region(bound=(0.03, 0.0)).to_dict()         # 0.03 > 0.01 x 2.0
     with pytest.raises(InputError, match="guarantee.bound"):

@@ -296,12 +296,12 @@ class Guarantee:
         (False, "outside the model's region: joint 1's |qd| reaches 2.5 (limit 2)")
         """
         if self.kind == "trajectory":
-            own = (self.trajectory_sha256,) if not self.trajectories_sha256 else \
-                tuple(self.trajectories_sha256)
+            own = tuple(self.trajectories_sha256) or (self.trajectory_sha256,)
             if trajectory_sha256 and trajectory_sha256 in own:
                 return True, "it is a trajectory the model was built on (same SHA-256)"
-            return False, ("it is not the trajectory the model was built on (SHA-256 "
-                           "differs): a trajectory-kind bound holds there only")
+            return False, ("it is not the trajectory the model was built on (SHA-256 differs)"
+                           if any(own) else "the model file stores no SHA-256 of its own "
+                           "trajectory to compare") + ": a trajectory-kind bound holds there only"
         q, qd, qdd = (np.atleast_2d(np.asarray(v, float)) for v in (q, qd, qdd))
         wrap = np.zeros(q.shape[1], bool)
         if continuous is not None:
