@@ -131,6 +131,27 @@ def test_initial_offset_decays_as_critically_damped(model, shipped):
                                rtol=0, atol=1e-7)
 
 
+def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(model, puma,
+                                                                             shipped):
+    """An initial offset that starts joint 5 0.2 rad below its limit takes the simplified-model
+    controller's closed loop out of the region (q(0) = q_d(0) + offset, the oracle): not
+    covered, the joint, its unit and how far said; 0.01 rad stays inside: covered."""
+    assert model.guarantee.kind == "region"
+    offset = np.zeros(6)
+    offset[4] = puma.q_min[4] - shipped.q[0, 4] - 0.2
+    for e0, inside in ((0.01, True), (offset, False)):
+        res = run_control(model, shipped, q0_offset=e0, controllers=("simplified",), t_end=0.5,
+                          grid_points=201, cost=False)
+        said = res.summary()["guarantee"]
+        assert said["covered"] == int(inside), said["reason"]
+        assert control_dataset(res).attrs["model_guarantee_covered"] == int(inside)
+    assert said["reason"].startswith("the closed loop of the simplified-model controller is "
+                                     "outside the model's region: joint 5's q reaches ")
+    beyond = float(said["reason"].split(", ")[1].split(" rad below")[0])
+    assert 0.2 - 1e-9 <= beyond < 0.21 and said["reason"].endswith(
+        f"below its limit {puma.q_min[4]:.6g} rad")
+
+
 def test_run_control_rejects_bad_input(model, shipped):
     two = load_robot("two-link")
     with pytest.raises(ValueError):

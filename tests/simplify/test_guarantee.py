@@ -76,7 +76,10 @@ def test_covers_reports_the_true_extreme_not_the_first_set_point_outside():
     assert not covered and "reaches 6.283" in reason and "3.217" not in reason
     qd = np.array([[0.0], [-10.5], [-20.0], [11.0]])
     covered, reason = g.covers(0 * qd, qd, 0 * qd)
-    assert not covered and "|qd| reaches 20 " in reason
+    assert not covered and "|qd| reaches 20 rad/s, 10 rad/s above its limit 10 rad/s" in reason
+    # a prismatic joint in m: 6.283 m is 3.283 m beyond the 3 m limit
+    assert g.covers(q, 0 * q, 0 * q, prismatic=[True])[1].endswith(
+        "q reaches 6.283 m, 3.28 m above its limit 3 m")
 
 
 def test_region_round_trips_and_a_region_that_disagrees_is_refused():

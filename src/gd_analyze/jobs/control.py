@@ -89,6 +89,7 @@ from ..store.control_dataset import peak_rms
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
+from ..trajectory.trajectory import Trajectory
 from .evaluate import coverage, model_torque
 from .tracking import (
     CONTROLLER_DESCRIPTIONS,
@@ -117,7 +118,6 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
-    from ..trajectory.trajectory import Trajectory
     from .tracking import TrackingRun
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "NOISE_TIGHTEN", "NOISE_FACTOR",
@@ -189,9 +189,8 @@ class ControlResult:
             return None
         tol = max(float(self.provenance.get("rtol", 0.0)), ROUND_OFF)
         scale = np.nanmax(np.abs(self.runs["full"].tau), axis=0)
-        if self.tau_noise is None:
-            return tol * scale
-        return np.maximum(NOISE_FACTOR * np.asarray(self.tau_noise, float), tol * scale)
+        noise = 0.0 if self.tau_noise is None else NOISE_FACTOR * np.asarray(self.tau_noise, float)
+        return np.maximum(noise, tol * scale)
 
     @property
     def descriptions(self) -> dict[str, str]:
@@ -223,8 +222,7 @@ class ControlResult:
             If the controller was not run.
         """
         e = self.runs[controller].error
-        ps, rs = peak_rms(e[self.is_setpoint])
-        pg, rg = peak_rms(e)
+        (ps, rs), (pg, rg) = peak_rms(e[self.is_setpoint]), peak_rms(e)
         return {"peak_setpoints": ps.tolist(), "rms_setpoints": rs.tolist(),
                 "peak_grid": pg.tolist(), "rms_grid": rg.tolist()}
 
@@ -247,13 +245,11 @@ class ControlResult:
             ``robot``, ``wn``, ``zeta``, ``tracking`` (controller -> :meth:`error_figures`
             [rad]), ``tau_difference`` (``peak``, ``rms`` per joint [N m], or None),
             ``cost`` (or None) and ``guarantee`` (the model's ``scope`` sentence, its
-            ``kind`` and whether it ``covered`` the desired motion, with the ``reason``).
+            ``kind`` and whether it ``covered`` the desired motion and, for a region, the
+            states of the simplified-model controller's closed loop, with the ``reason``).
         """
-        diff = self.tau_difference
-        td = None
-        if diff is not None:
-            pk, rm = peak_rms(diff)
-            td = {"peak": pk.tolist(), "rms": rm.tolist()}
+        td = None if (diff := self.tau_difference) is None else {
+            k: v.tolist() for k, v in zip(("peak", "rms"), peak_rms(diff))}
         return {"robot": self.robot.name, "wn": self.gains.wn.tolist(),
                 "zeta": self.gains.zeta.tolist(),
                 "tracking": {c: self.error_figures(c) for c in self.runs},
@@ -305,8 +301,7 @@ def model_cost(model: SimplifiedModel) -> dict[str, Any]:
         counted.append(("full explicit model", full_program(robot, terms).cost()))
     counted.append(("Newton-Euler (as implemented)", operation_counts(robot)["newton-euler"]))
     counts = {"evaluators": [name for name, _ in counted],
-              "multiplications": [int(c["multiplications"]) for _, c in counted],
-              "additions": [int(c["additions"]) for _, c in counted]}
+              **{k: [int(c[k]) for _, c in counted] for k in ("multiplications", "additions")}}
     facts = model_facts(model)
     if model.recursive is not None:
         return {**counts, "dropped": facts["pairs_dropped"], "parts": facts["pairs"],
@@ -496,6 +491,13 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     runs = {name: track(robot, name, gains, desired, t, q0_offset=offset, choices=model,
                         rtol=rtol, atol=atol, method=method)
             for name in CONTROLLERS if name in controllers}
+    loop = runs.get("simplified")       # the states where the controller evaluates the model
+    if covers["covered"] and covers["kind"] == "region" and loop is not None:
+        said = coverage(model, Trajectory(loop.t, loop.q, loop.qd, np.zeros_like(loop.q)),
+                        plant=robot, path=model_file)
+        if not said["covered"]:
+            covers = {**said, "reason": "the closed loop of the simplified-model controller is "
+                      + said["reason"]}
     noise, unmeasured = None, ""
     if "full" in runs and "simplified" in runs:
         try:
@@ -516,7 +518,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
         "t_end": float(t[-1]),
         "gravity_base": [float(v) for v in robot.gravity],
         "model": {**model_facts(model), "guarantee_covered": int(covers["covered"]),
-                  "guarantee_coverage": covers["reason"]},     # the desired motion, this plant
+                  "guarantee_coverage": covers["reason"]},  # desired motion and closed loop
     }
     if unmeasured:
         provenance["noise_unmeasured"] = unmeasured

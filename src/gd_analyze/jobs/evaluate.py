@@ -262,7 +262,8 @@ def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
     said = []
     for trajectory in trajectories:
         covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
-                                   trajectory_sha256=trajectory.sha256, continuous=continuous)
+                                   trajectory_sha256=trajectory.sha256, continuous=continuous,
+                                   prismatic=robot.prismatic)
         if covered and g.kind == "trajectory":
             check_trajectory_claim(model, trajectory, path)
         said.append({**out, "covered": bool(covered), "reason": reason})

@@ -265,7 +265,8 @@ class Guarantee:
         return f"within {eps} of s_i {where}; {tail}"
 
     def covers(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, trajectory_sha256: str = "",
-               continuous: ArrayLike | None = None) -> tuple[bool, str]:
+               continuous: ArrayLike | None = None, prismatic: ArrayLike | None = None
+               ) -> tuple[bool, str]:
         """Whether the bound holds along a trajectory, and why.
 
         Parameters
@@ -277,6 +278,8 @@ class Guarantee:
         continuous : array_like of bool, shape (n,), optional
             Joints without position limits, whose region is [-pi, pi]: their q is taken
             modulo 2 pi (the torque is periodic in it).
+        prismatic : array_like of bool, shape (n,), optional
+            The prismatic joints, for the units of the reason (default: all revolute).
 
         Returns
         -------
@@ -285,15 +288,16 @@ class Guarantee:
             epsilons of it, the round-off of a planner that ends exactly on the limit);
             trajectory kind: the file is one the model was built on (by SHA-256).
         reason : str
-            One clause saying why, naming the first joint and quantity outside R.
+            One clause saying why, naming the first joint and quantity outside R, its extreme
+            and how far beyond its limit, in the joint's unit.
 
         Examples
         --------
         >>> g = Guarantee("region", 0.01, np.zeros(1), np.ones(1), q_min=np.array([-1.0]),
         ...               q_max=np.array([1.0]), qd_max=np.array([2.0]),
         ...               qdd_max=np.array([5.0]), scale_state=np.zeros((1, 3)))
-        >>> g.covers([[0.5]], [[2.5]], [[0.0]])
-        (False, "outside the model's region: joint 1's |qd| reaches 2.5 (limit 2)")
+        >>> g.covers([[0.5]], [[2.5]], [[0.0]])[1][28:]
+        "joint 1's |qd| reaches 2.5 rad/s, 0.5 rad/s above its limit 2 rad/s"
         """
         if self.kind == "trajectory":
             own = tuple(self.trajectories_sha256) or (self.trajectory_sha256,)
@@ -303,14 +307,11 @@ class Guarantee:
                            if any(own) else "the model file stores no SHA-256 of its own "
                            "trajectory to compare") + ": a trajectory-kind bound holds there only"
         q, qd, qdd = (np.atleast_2d(np.asarray(v, float)) for v in (q, qd, qdd))
-        wrap = np.zeros(q.shape[1], bool)
-        if continuous is not None:
-            wrap |= np.asarray(continuous, bool)
+        wrap = np.zeros_like(q[0], bool) | (continuous is not None and np.asarray(continuous, bool))
         if self.region is not None and self.q_min is not None:    # a turn of its own box
             span = np.asarray(self.q_max, float) - np.asarray(self.q_min, float)
             wrap |= np.asarray(self.region.full_turn, bool) & (span >= 2 * np.pi * (1 - 1e-12))
-        if wrap.any():
-            q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
+        q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
         slack = 4 * np.finfo(float).eps
         checks: tuple[tuple[str, np.ndarray, Any, Any], ...] = (
             ("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
@@ -325,11 +326,11 @@ class Guarantee:
                     j = int(np.nonzero(bad)[1][0])
                     # the true extreme of that joint, not its first set point outside
                     top = float(x[:, j].min() if which == "below" else x[:, j].max())
-                    if lo is None:
-                        return False, (f"outside the model's region: joint {j + 1}'s {name} "
-                                       f"reaches {top:.6g} (limit {hi[j]:.6g})")
-                    return False, (f"outside the model's region: joint {j + 1}'s q reaches "
-                                   f"{top:.6g}, {which} its limit {limit[j]:.6g}")
+                    u = ("m" if prismatic is not None and np.asarray(prismatic)[j] else "rad") \
+                        + {"q": "", "|qd|": "/s", "|qdd|": "/s^2"}[name]
+                    return False, (f"outside the model's region: joint {j + 1}'s {name} reaches "
+                                   f"{top:.6g} {u}, {abs(top - float(limit[j])):.3g} {u} {which} "
+                                   f"its limit {float(limit[j]):.6g} {u}")
         return True, "every set point lies in the model's region (positions, velocities and accelerations within its limits)"
 
     def to_dict(self) -> dict:
