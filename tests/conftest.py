@@ -336,7 +336,8 @@ def pytest_configure(config):
 
     The controller also compiles the package's bytecode once (``compileall``, as pip does for an
     installed package): with ``PYTHONDONTWRITEBYTECODE`` set, every command a test runs in a
-    child process (some hundreds) would otherwise compile the package's source again.
+    child process (some hundreds) would otherwise compile the package's source again. Before
+    xdist workers start, it runs :data:`WARM_UP` too (:func:`warm_up`).
     """
     import compileall
     import tempfile
@@ -349,6 +350,52 @@ def pytest_configure(config):
     os.environ["XDG_CACHE_HOME"] = folder
     for name in ("GD_ANALYZE_NO_CACHE", "GD_ANALYZE_CACHE_DIR"):
         os.environ.pop(name, None)
+    if getattr(config.option, "numprocesses", None) and not kernels_cached():
+        warm_up(Path(folder))                               # the suite on xdist workers, cold
+
+
+#: Kernels whose numba cache index tells whether the package's kernels are compiled for this
+#: interpreter (:func:`kernels_cached`): the G-D pass's and the region proof's.
+KEY_KERNELS = ("dynamics/__pycache__/kernels.gd_kernel-*",
+               "certify/__pycache__/ball_kernels.forward_kernel-*",
+               "certify/__pycache__/box_kernels.box_forward_kernel-*")
+
+
+def kernels_cached():
+    """Whether numba's cache in the package holds an index of every :data:`KEY_KERNELS` kernel
+    for this interpreter (``*.py310.nbi`` for Python 3.10, and so on)."""
+    import sys
+
+    tag = f"py{sys.version_info.major}{sys.version_info.minor}.nbi"
+    package = Path(gd_analyze.__file__).parent
+    return all(any(package.glob(pattern + tag)) for pattern in KEY_KERNELS)
+
+
+#: The main jobs :func:`warm_up` runs: the PUMA 560's shipped trajectory, its model proved over
+#: the region (the dynamics, ranking and region proof's kernels) and on the trajectory (the
+#: pruning's peak kernels).
+WARM_UP = (("--guarantee", "region"), ("--guarantee", "trajectory"))
+
+
+def warm_up(folder):
+    """Run :data:`WARM_UP` in child processes, one after the other, before xdist's workers start.
+
+    On a fresh clone or a new interpreter (CI: each Python its own), numba's cache in ``src`` is
+    empty, and every process that first calls a kernel compiles it: the two workers, the dask
+    workers of the sweep tests and the commands run in child processes, many at once, each
+    compiling the same kernels until one has written them (on four test modules, 508 s of CPU
+    cold, 406 s cold with this warm-up, 251 s warm: docs/performance.md). Run once here, the
+    compiles are paid once; the region certification they derive lands in the session's
+    derivation cache, where the tests read it. A failing warm-up is not reported here: the tests
+    that run the same command fail. Skipped where :func:`kernels_cached`.
+    """
+    import subprocess
+    import sys
+
+    for n, options in enumerate(WARM_UP):
+        subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560", str(SHIPPED), "-q",
+                        "--no-report", "-o", str(folder / f"warm-up-{n}"), *options],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
 
 
 def pytest_unconfigure(config):
