@@ -99,6 +99,9 @@ def test_error_budget_keys_are_accepted(tmp_path, model_doc):
                cost={"multiplications": 1, "additions": 0, "sin": 0, "cos": 1},   # its count
                full_cost={"multiplications": 20, "additions": 16}, bound=[0.1] * n,
                explicit_terms=terms)
+    with pytest.raises(InputError, match="key guarantee: missing key"):   # a budget's promise
+        load_model(_write(tmp_path, doc))
+    doc["rule"] = "chapter"
     model = load_model(_write(tmp_path, doc))
     assert model.torque([0.0] * n, [0.0] * n, [0.0] * n)[0, 0] == 2.5    # 2.5 cos(q1)
     bad = copy.deepcopy(doc)

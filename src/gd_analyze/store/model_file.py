@@ -121,9 +121,7 @@ def _check_region_first(robot, spec, path):
     (:func:`.model_trust.check_region`) before the model's program is built and sampled."""
     if not isinstance(spec.get("guarantee"), dict):
         return
-    tolerance = spec.get("tolerance")
-    g = Guarantee.from_dict(spec["guarantee"], robot.n,
-                            float("nan") if tolerance is None else float(tolerance), path)
+    g = Guarantee.from_dict(spec["guarantee"], robot.n, float(spec.get("tolerance", "nan")), path)
     check_region(robot, g, float(spec.get("torque_floor", 0.0)), path)
 
 
