@@ -614,3 +614,31 @@ def test_a_model_without_its_guarantee_is_refused_not_read_as_an_older_file(
     _refused(capsys, ["evaluate", path, SHIPPED], key)
     with pytest.raises(InputError, match=key.replace("(", r"\(").replace(")", r"\)")):
         gd_analyze.load_model(path)
+
+
+def test_a_budget_model_relabelled_the_chapters_is_refused(tmp_path):
+    """An explicit model pruned within a budget, its guarantee removed and its rule set to
+    "chapter", was read as the chapter's model, which evaluate does not gate. Oracle: the
+    chapter's model keeps every term of the parts its choices name (Sec. 3.4.1)."""
+    from gd_analyze import load_robot
+    from gd_analyze.simplify.explicit_model import build_model, collect_peaks
+    from gd_analyze.simplify.simplified import json_safe
+    from gd_analyze.store.explicit_cache import explicit_terms
+
+    puma = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    terms, _ = explicit_terms(puma)
+    peaks = collect_peaks(puma, terms, traj.q, traj.qd, traj.qdd)
+    pruned, _ = build_model(puma, terms, peaks, tolerance=0.01)
+    chapter, _ = build_model(puma, terms, peaks, rule="chapter", chapter_choices=pruned.choices)
+    assert 0 < pruned.terms.C.size < chapter.terms.C.size
+    for name, model in (("chapter", chapter), ("relabelled", pruned)):
+        doc = json.loads(json.dumps(json_safe(model.to_dict())))
+        doc["rule"] = "chapter"
+        doc.pop("guarantee", None)
+        path = _write(tmp_path, name, doc)
+        if model is chapter:
+            assert gd_analyze.load_model(path).terms.C.size == chapter.terms.C.size
+            continue
+        with pytest.raises(InputError, match="key explicit_terms: are not the chapter's model"):
+            gd_analyze.load_model(path)

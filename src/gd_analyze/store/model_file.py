@@ -131,12 +131,10 @@ def _recorded_mounting(robot, spec, path):
     ``--base-rpy`` or ``--gravity`` is not applied on top of it
     (:func:`gd_analyze.model.mounting.with_mounting`)."""
 
-    said = spec.get("mounting")
+    said, key = spec.get("mounting"), "mounting"
     if said is None:
         rpy = (spec.get("provenance") or {}).get("mounting_base_rpy_deg", (0.0, 0.0, 0.0))
         said, key = {"base_rpy_deg": rpy, "gravity_world": None}, "provenance"
-    else:
-        key = "mounting"
     try:
         return as_mounted(robot, said["base_rpy_deg"], said["gravity_world"])
     except (TypeError, ValueError) as exc:

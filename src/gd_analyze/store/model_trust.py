@@ -46,7 +46,10 @@ claim fails, with one line naming the key:
   (:func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic`). A file without them
   (written before) is read, its bound checked as above. A model of the explicit form keeps
   every term (bound 0) only if its terms are the robot's full explicit model's
-  (:func:`.explicit_cache.explicit_terms`).
+  (:func:`.explicit_cache.explicit_terms`);
+- ``explicit_terms`` of a model of the chapter's rule, which states no bound: every term of the
+  parts its choices keep (:func:`gd_analyze.simplify.budget.chapter_terms`), so that a pruned
+  model whose guarantee was removed is not read as the chapter's.
 """
 
 from __future__ import annotations
@@ -70,6 +73,7 @@ from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
 from ..model.drives import rigid_links
+from ..simplify.budget import chapter_terms
 from ..simplify.guarantee import ROUND_OFF_EPS
 from .certification_cache import certification, certification_key
 from .explicit_cache import explicit_terms
@@ -155,7 +159,9 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         scale not reached at its stored state (:func:`check_region`), a bound below the
         one re-proved for the model's dropped pairs (``guarantee.bound``), or ways of proving
         it that are not the arm's arithmetic, do not give it when derived again, or are stated
-        for a model without a recursive form to derive them on (``guarantee.bound_method``).
+        for a model without a recursive form to derive them on (``guarantee.bound_method``);
+        a model of the chapter's rule whose terms are not every term of the parts its choices
+        keep (``explicit_terms``).
 
     Notes
     -----
@@ -163,6 +169,10 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     (:func:`gd_analyze.jobs.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
+    if model.rule == "chapter" and model.terms is not None and not _same_terms(
+            chapter_terms(explicit_terms(model.robot)[0], model.choices), model.terms):
+        raise InputError("are not the chapter's model of the file's choices (the terms of the "
+                         "parts its classes keep, nothing pruned)", path, column="explicit_terms")
     key = _claim_key(model) if g is not None and g.proved and model.recursive is not None else None
     if key in _PROVED_CLAIMS:
         return                              # the same claim, checked before in this process
@@ -213,9 +223,7 @@ def _tiled(model, region, limit):
     if not g.tilings and not g.decomposed:
         return False
     robot, how = model.robot, tuple(g.bound_method)
-    ways: dict = {}
-    for j, m in enumerate(how):
-        ways.setdefault(m, j)
+    ways = {m: j for j, m in reversed(list(enumerate(how)))}      # each way's first joint
     found = tree_method_bounds(robot, base_parameters(robot), region,
                                np.asarray(model.recursive.dropped, bool), g.tilings,
                                g.decomposed, ways or None)
