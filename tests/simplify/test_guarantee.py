@@ -29,7 +29,8 @@ def test_trajectory_statement_gives_the_sampled_region_error():
     assert text.startswith("within 1 % of s_i on this trajectory only")
     assert "13.5 %" in text
     missing = Guarantee("trajectory", 0.01, bound=np.zeros(2), scale=np.ones(2),
-                        region_missing="joint 2 has no velocity limit")
+                        region_missing="joint 2 has no velocity limit",
+                        scale_state=np.zeros((2, 6)))
     assert "joint 2 has no velocity limit" in missing.statement()
     assert Guarantee.from_dict(missing.to_dict(), 2, 0.01).region_sampled_error is None
 
@@ -39,7 +40,7 @@ def test_a_trajectory_bound_without_its_trajectorys_sha256_does_not_say_it_diffe
     "it is not the trajectory the model was built on (SHA-256 differs)". Oracle: the file
     stores no SHA-256, so nothing was compared."""
     spec = Guarantee("trajectory", 0.01, bound=np.zeros(2), scale=np.ones(2),
-                     trajectory_sha256="ab" * 32).to_dict()
+                     trajectory_sha256="ab" * 32, scale_state=np.zeros((2, 6))).to_dict()
     spec.pop("trajectory_sha256")
     g = Guarantee.from_dict(spec, 2, 0.01)
     covered, why = g.covers(np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2)), "cd" * 32)

@@ -99,6 +99,14 @@ def test_error_budget_keys_are_accepted(tmp_path, model_doc):
                cost={"multiplications": 1, "additions": 0, "sin": 0, "cos": 1},   # its count
                full_cost={"multiplications": 20, "additions": 16}, bound=[0.1] * n,
                explicit_terms=terms)
+    with pytest.raises(InputError, match="key guarantee: missing key"):   # a budget's promise
+        load_model(_write(tmp_path, doc))
+    with pytest.raises(InputError, match="key explicit_terms: are not the chapter's model"):
+        load_model(_write(tmp_path, {**doc, "rule": "chapter"}))    # nor the chapter's model
+    # s_i the torque floor, not reached at rest (the PUMA's gravity torques are below 1e6 N m)
+    doc.update(torque_floor=1e6, guarantee={
+        "kind": "trajectory", "bound": [0.1] * n, "scale": [1e6] * n, "method": "",
+        "trajectory_sha256": "0" * 64, "scale_state": [[0.0] * (3 * n)] * n})
     model = load_model(_write(tmp_path, doc))
     assert model.torque([0.0] * n, [0.0] * n, [0.0] * n)[0, 0] == 2.5    # 2.5 cos(q1)
     bad = copy.deepcopy(doc)

@@ -569,3 +569,76 @@ def test_a_full_turn_joints_range_beyond_180_deg_within_its_limits_is_read_back(
                  str(out)]) == 0
     model = gd_analyze.load_model(out / "simplified_model.json")
     assert model.guarantee.q_max[5] == pytest.approx(math.radians(250))
+
+
+def test_a_trajectory_models_scale_x100_is_refused_on_any_trajectory(models, capsys, tmp_path):
+    """A trajectory model's s_i multiplied by 100 was measured again on its own trajectory
+    only: evaluated on another, it loosened the gate 100 times. Oracle: Pinocchio's |tau_i|
+    at the stored states is the honest s_i, the peak of |tau_i| on the trajectory."""
+    folder, _, trajectory_doc = models
+    g, n = trajectory_doc["guarantee"], 6
+    robot = gd_analyze.load_model(folder / "trajectory" / "simplified_model.json").robot
+    state = np.asarray(g["scale_state"])
+    tau = _rnea(robot, state[:, :n], state[:, n:2 * n], state[:, 2 * n:])
+    traj = read_trajectory(SHIPPED, n_joints=n)
+    peak = np.abs(_rnea(robot, traj.q, traj.qd, traj.qdd)).max(axis=0)
+    np.testing.assert_allclose(np.abs(tau[np.arange(n), np.arange(n)]), g["scale"], rtol=1e-9)
+    np.testing.assert_allclose(peak, g["scale"], rtol=1e-9)
+    other = tmp_path / "other.csv"
+    assert main(["plan", "puma560", "-o", str(other)]) == 0
+    capsys.readouterr()
+    forged = _copy(trajectory_doc)
+    forged["guarantee"]["scale"] = [100 * v for v in g["scale"]]
+    _, line = _refused(capsys, ["evaluate", _write(folder, "trajectory_x100", forged), other],
+                       "guarantee.scale")
+    assert "joint 1:" in line and "drives included" in line
+    del forged["guarantee"]["scale_state"]
+    _refused(capsys, ["evaluate", _write(folder, "trajectory_no_states", forged), other],
+             "guarantee.scale_state")
+
+
+@pytest.mark.parametrize("edit, key", [
+    (lambda d: d.pop("guarantee"), "guarantee"),
+    (lambda d: (d.pop("guarantee"), d.pop("rule")), "rule"),
+    (lambda d: (d.pop("guarantee"), d.update(rule="chapter")), "(document)"),
+    (lambda d: (d.pop("guarantee"), d.pop("rule"), d.update(schema_version=1)), "(document)")])
+def test_a_model_without_its_guarantee_is_refused_not_read_as_an_older_file(
+        models, capsys, tmp_path, edit, key):
+    """A budget model whose guarantee was removed (and its rule, or relabelled the chapter's,
+    or its version set to 1) was read as an older file: evaluate applied no gate, exit 0.
+    Oracle: a file of this version with an error budget always states its guarantee."""
+    folder, _, trajectory_doc = models
+    forged = _copy(trajectory_doc)
+    edit(forged)
+    path = _write(folder, "no_guarantee_" + str(len(list(folder.iterdir()))), forged)
+    _refused(capsys, ["evaluate", path, SHIPPED], key)
+    with pytest.raises(InputError, match=key.replace("(", r"\(").replace(")", r"\)")):
+        gd_analyze.load_model(path)
+
+
+def test_a_budget_model_relabelled_the_chapters_is_refused(tmp_path):
+    """An explicit model pruned within a budget, its guarantee removed and its rule set to
+    "chapter", was read as the chapter's model, which evaluate does not gate. Oracle: the
+    chapter's model keeps every term of the parts its choices name (Sec. 3.4.1)."""
+    from gd_analyze import load_robot
+    from gd_analyze.simplify.explicit_model import build_model, collect_peaks
+    from gd_analyze.simplify.simplified import json_safe
+    from gd_analyze.store.explicit_cache import explicit_terms
+
+    puma = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, n_joints=6)
+    terms, _ = explicit_terms(puma)
+    peaks = collect_peaks(puma, terms, traj.q, traj.qd, traj.qdd)
+    pruned, _ = build_model(puma, terms, peaks, tolerance=0.01)
+    chapter, _ = build_model(puma, terms, peaks, rule="chapter", chapter_choices=pruned.choices)
+    assert 0 < pruned.terms.C.size < chapter.terms.C.size
+    for name, model in (("chapter", chapter), ("relabelled", pruned)):
+        doc = json.loads(json.dumps(json_safe(model.to_dict())))
+        doc["rule"] = "chapter"
+        doc.pop("guarantee", None)
+        path = _write(tmp_path, name, doc)
+        if model is chapter:
+            assert gd_analyze.load_model(path).terms.C.size == chapter.terms.C.size
+            continue
+        with pytest.raises(InputError, match="key explicit_terms: are not the chapter's model"):
+            gd_analyze.load_model(path)

@@ -621,7 +621,9 @@ def _model(robot, trajectory, result, options, settings):
     if result.model is not None:                 # the explicit simplified model
         # a recursive model with its choices as results.h5 stores them
         own = {} if result.model.recursive is None else {"choices": dict(result.choices)}
-        return dataclasses.replace(result.model, validation=result.error, **own)
+        g, arm = result.model.guarantee, result.model.robot     # where s_i is reached kept
+        return dataclasses.replace(result.model, validation=result.error, **own,
+                                   guarantee=g and g.with_scale_states(arm, [trajectory]))
     return SimplifiedModel(robot=robot, choices=result.choices,
                            dominance_threshold=float(options.dominance),
                            negligible_threshold=float(options.negligible),

@@ -172,11 +172,8 @@ def model_scale(model: SimplifiedModel) -> np.ndarray | None:
     """
     if model.guarantee is not None:
         return np.asarray(model.guarantee.scale, float)
-    peak = (model.validation or {}).get("peak_tau")
-    if not peak or len(peak) != model.robot.n:
-        return None
-    peak = np.array([np.nan if v is None else v for v in peak], float)
-    return np.maximum(peak, float(model.torque_floor))
+    peak = np.array((model.validation or {}).get("peak_tau") or [], float)    # null: NaN
+    return np.maximum(peak, float(model.torque_floor)) if peak.shape == (model.robot.n,) else None
 
 
 def coverage(model: SimplifiedModel, trajectory: Trajectory, plant: Robot | None = None,

@@ -36,10 +36,10 @@ import numpy as np
 
 from ..config import defaults
 from ..ranking.labels import element_label
-from ..symbolic.explicit import atoms, budget_drop, prune
+from ..symbolic.explicit import Term, atoms, budget_drop, prune
 
 __all__ = ["RULES", "DEFAULT_TOLERANCE", "PartPeaks", "part_index", "budget_choices",
-           "Selection", "select_terms", "relative_peaks", "chosen_terms"]
+           "Selection", "select_terms", "relative_peaks", "chosen_terms", "chapter_terms"]
 
 #: The rules that build a simplified model.
 RULES = ("budget", "chapter")
@@ -70,6 +70,27 @@ def part_index(n):
     for i in range(n):
         out += [(element_label("h", i), p, "h", i, -1) for p in ("tran", "rot")]
     return out
+
+
+def chapter_terms(terms: Term, choices: dict) -> Term:
+    """The chapter's simplified model in explicit form: the terms of the parts its share-based
+    classes keep, merged, nothing pruned.
+
+    Parameters
+    ----------
+    terms : Term
+        The full explicit model's terms (:func:`gd_analyze.symbolic.explicit.model_terms`).
+    choices : dict
+        Element label -> ``"tran"``, ``"rot"``, ``"both"`` or ``"none"`` (:func:`chosen_terms`).
+
+    Returns
+    -------
+    Term
+        :func:`gd_analyze.symbolic.explicit.prune` of the chosen terms with nothing to drop:
+        the kept terms of ``rule="chapter"``, as ``simplified_model.json`` stores them.
+    """
+    return prune(terms.subset(chosen_terms(terms, choices)), np.zeros((0, terms.K.shape[1])),
+                 None)[0]
 
 
 def chosen_terms(terms, choices):
@@ -332,11 +353,9 @@ def select_terms(terms, term_peaks, part_peaks, tau_peak, tolerance=DEFAULT_TOLE
     if rule == "chapter":
         if chapter_choices is None:
             raise ValueError("the chapter rule needs the ranking's choices")
-        choices = dict(chapter_choices)
-        kept, _, _ = prune(terms.subset(chosen_terms(terms, choices)), np.zeros((0, n)), None)
-        return Selection(rule=rule, tolerance=float(tolerance), choices=choices, kept=kept,
-                         scale=scale, bound=nan, bound_by_kind={k: nan for k in "Dhc"},
-                         element_bound=nan)
+        return Selection(rule=rule, tolerance=float(tolerance), choices=dict(chapter_choices),
+                         kept=chapter_terms(terms, chapter_choices), scale=scale, bound=nan,
+                         bound_by_kind={k: nan for k in "Dhc"}, element_bound=nan)
     choices, element_used = budget_choices(part_peaks, scale, tolerance)
     kept, used, dropped = prune(terms, term_peaks, tolerance * scale)
     merged, atom = atoms(terms)

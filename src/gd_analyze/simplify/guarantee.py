@@ -9,15 +9,21 @@ own numbers.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..certify.region import Region
+from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF_CLAUSE
+
+if TYPE_CHECKING:                       # for the type hints only
+    from ..model.robot import Robot
 
 __all__ = ["Guarantee", "KINDS", "ROUND_OFF_EPS", "ROUND_OFF_CLAUSE", "within_bound",
            "encode_tree", "decode_tree", "TREE_CODE"]
@@ -28,6 +34,8 @@ KINDS = ("region", "trajectory")
 #: scale (the verification's floor): the pruned and the exact program round differently, and a
 #: small joint inherits the rounding of the large ones.
 ROUND_OFF_EPS = 64
+#: Set points per block where :meth:`Guarantee.with_scale_states` computes the torques.
+STATE_BLOCK = 8192
 
 
 def within_bound(error: ArrayLike, bound: ArrayLike, scale: ArrayLike) -> np.ndarray:
@@ -134,7 +142,8 @@ class Guarantee:
         The region (region kind) [rad, m; rad/s, m/s; rad/s^2, m/s^2]; a continuous joint
         is given as [-pi, pi].
     scale_state : ndarray, shape (n, 3 n), optional
-        Per joint, the state (q, qd, qdd) where |tau_i| = scale_i was found.
+        Per joint, the state (q, qd, qdd) where |tau_i| = scale_i was found (over R, or on
+        the trajectories: :meth:`with_scale_states`), where a reader computes s_i again.
     sampled_error : ndarray, shape (n,), optional
         Region kind: the worst |tau_s - tau| found by sampling R [N m or N].
     region_sampled_error : ndarray, shape (n,), optional
@@ -223,15 +232,12 @@ class Guarantee:
             Region kind: max_i sampled_error_i / scale_i; trajectory kind: max_i of
             ``region_sampled_error``; None when not measured.
         """
-        if self.kind == "region":
-            if self.sampled_error is None:
-                return None
-            scale = np.asarray(self.scale, float)
+        scale = np.asarray(self.scale, float)
+        if self.kind == "region" and self.sampled_error is not None:
             rel = np.asarray(self.sampled_error, float) / np.where(scale > 0, scale, np.inf)
             return float(100.0 * rel.max(initial=0.0))
-        if self.region_sampled_error is None:
-            return None
-        rel = np.asarray(self.region_sampled_error, float)
+        rel = np.asarray(np.nan if self.kind == "region" or self.region_sampled_error is None
+                         else self.region_sampled_error, float)
         return float(100.0 * np.nanmax(rel)) if np.isfinite(rel).any() else None
 
     def statement(self) -> str:
@@ -256,12 +262,9 @@ class Guarantee:
                     f"round-off, {ROUND_OFF_EPS} eps of the largest s_i)")
         where = ("on this trajectory only" if not self.trajectories_sha256 else
                  f"on the {len(self.trajectories_sha256)} swept trajectories only")
-        pct = self.sampled_percent()
-        if pct is None:
-            tail = f"not checked over a region ({self.region_missing})" if self.region_missing \
-                else "not checked over a region"
-        else:
-            tail = f"sampled over the region: {pct:.3g} % of s_i"
+        pct, why = self.sampled_percent(), self.region_missing and f" ({self.region_missing})"
+        tail = f"not checked over a region{why}" if pct is None else \
+            f"sampled over the region: {pct:.3g} % of s_i"
         return f"within {eps} of s_i {where}; {tail}"
 
     def covers(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, trajectory_sha256: str = "",
@@ -333,6 +336,39 @@ class Guarantee:
                                    f"its limit {float(limit[j]):.6g} {u}")
         return True, "every set point lies in the model's region (positions, velocities and accelerations within its limits)"
 
+    def with_scale_states(self, robot: Robot, trajectories: Sequence[Any]) -> Guarantee:
+        """This trajectory-kind guarantee with its scale states: where s_i was found.
+
+        Parameters
+        ----------
+        robot : Robot
+            The model's robot.
+        trajectories : sequence of Trajectory
+            The trajectories the model was built on, each q, qd, qdd of shape (N_k, n)
+            [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+
+        Returns
+        -------
+        Guarantee
+            ``scale_state`` (n, 3 n): per joint i, the set point (q, qd, qdd) of the
+            trajectories with the largest |tau_i| (:func:`gd_analyze.dynamics.dalembert.gd_terms`
+            of the robot, as s_i = max(peak |tau_i|, torque floor) is measured), where a reader
+            computes |tau_i| again (:func:`gd_analyze.store.model_trust.check_region`); a
+            region-kind guarantee is returned as it is.
+        """
+        if self.kind != "trajectory":
+            return self
+        n = robot.n
+        best, states = np.full(n, -np.inf), np.zeros((n, 3 * n))
+        for t in trajectories:
+            for a in range(0, t.q.shape[0], STATE_BLOCK):
+                x = np.hstack([v[a:a + STATE_BLOCK] for v in (t.q, t.qd, t.qdd)])
+                tau = np.abs(gd_terms(robot, x[:, :n], x[:, n:2 * n]).tau(x[:, 2 * n:]))
+                k = np.argmax(tau, axis=0)
+                new = tau[k, np.arange(n)] > best
+                states[new], best[new] = x[k[new]], tau[k[new], np.arange(n)[new]]
+        return dataclasses.replace(self, scale_state=states)
+
     def to_dict(self) -> dict:
         """The ``guarantee`` key of ``simplified_model.json`` (SI units).
 
@@ -343,13 +379,13 @@ class Guarantee:
         out = {"kind": self.kind, "statement": self.statement(),
                "bound": _floats(self.bound), "scale": _floats(self.scale),
                "method": self.method}
+        states = None if self.scale_state is None else [_floats(r) for r in self.scale_state]
         if self.kind == "region":
             out.update(q_min=_floats(self.q_min), q_max=_floats(self.q_max),
                        qd_max=_floats(self.qd_max), qdd_max=_floats(self.qdd_max),
-                       scale_state=[_floats(row) for row in np.asarray(self.scale_state)],
-                       sampled_error=_floats(self.sampled_error))
+                       scale_state=states, sampled_error=_floats(self.sampled_error))
         else:
-            out["trajectory_sha256"] = self.trajectory_sha256
+            out.update(trajectory_sha256=self.trajectory_sha256, scale_state=states)
             if self.trajectories_sha256:
                 out["trajectories_sha256"] = list(self.trajectories_sha256)
             out["region_sampled_error"] = _floats(self.region_sampled_error)
@@ -392,27 +428,23 @@ class Guarantee:
         Raises
         ------
         InputError
-            If a list has not n entries (``scale_state``: n lists of 3 n), a region key is
-            missing, or a stored bound exceeds EPS s_i. One line naming the key.
+            If a list has not n entries (``scale_state``: n lists of 3 n), a key of its kind
+            is missing (``scale_state`` for either kind), or a stored bound exceeds EPS s_i. One line naming the key.
         """
         def arr(key, width=None, required=True):
-            if key not in spec or spec[key] is None:
-                if required:
-                    raise InputError("missing for a guarantee of this kind", path,
-                                     column=f"guarantee.{key}")
+            said = spec.get(key)
+            if said is None and not required:
                 return None
-            if not isinstance(spec[key], list) or not all(
-                    x is None or isinstance(x, (int, float, list)) for x in spec[key]):
-                raise InputError("expected a list of numbers", path, column=f"guarantee.{key}")
-            v = np.array([np.nan if x is None else x for x in spec[key]], float) \
-                if width is None else spec[key]
-            if width is not None:
-                if len(v) != n or any(not isinstance(r, list) or len(r) != width for r in v):
-                    raise InputError(f"expected {n} lists of {width} numbers", path,
-                                     column=f"guarantee.{key}")
-                return np.array(v, float)
-            if v.shape != (n,):
-                raise InputError(f"expected {n} numbers", path, column=f"guarantee.{key}")
+            try:                                # null read as NaN; ragged rows refused
+                v = np.array(said, float) if isinstance(said, list) and all(
+                    x is None or isinstance(x, (int, float, list)) for x in said) else None
+            except (TypeError, ValueError):
+                v = None
+            if v is None or v.shape != ((n,) if width is None else (n, width)):
+                raise InputError("missing for a guarantee of this kind" if said is None else
+                                 f"expected {n} numbers" if width is None else
+                                 f"expected {n} lists of {width} numbers", path,
+                                 column=f"guarantee.{key}")
             return v
         kind = spec["kind"]
         region = None
@@ -426,7 +458,8 @@ class Guarantee:
         if np.isfinite(tolerance) and not np.all(bound <= tolerance * scale * (1 + 1e-12)):
             raise InputError("a bound exceeds tolerance x scale", path, column="guarantee.bound")
         common = dict(kind=kind, tolerance=float(tolerance), bound=bound, scale=scale,
-                      method=spec.get("method", ""), region=region)
+                      method=spec.get("method", ""), region=region,
+                      scale_state=arr("scale_state", 3 * n))
         if kind == "region":
             limits = {k: arr(k) for k in ("q_min", "q_max", "qd_max", "qdd_max")}
             if region is not None and not all(np.array_equal(getattr(region, k), v)
@@ -436,8 +469,7 @@ class Guarantee:
             method = tuple(spec.get("bound_method") or ())
             if method and len(method) != n:
                 raise InputError(f"expected {n} names", path, column="guarantee.bound_method")
-            return cls(**common, **limits, scale_state=arr("scale_state", 3 * n),
-                       bound_method=method,
+            return cls(**common, **limits, bound_method=method,
                        joint_sum_arithmetic=str(spec.get("joint_sum_arithmetic", "")),
                        sampled_error=arr("sampled_error", required=False),
                        tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()),

@@ -274,4 +274,5 @@ def _sweep_guarantee(robot, model, trajectories, scales, relative, tolerance, re
                                        tolerance, region=region).region_sampled_error
     return Guarantee("trajectory", float(tolerance), bound=bound, scale=scale,
                      trajectories_sha256=shas, region_sampled_error=sampled,
-                     region_missing=missing, method=method, region=region)
+                     region_missing=missing, method=method,
+                     region=region).with_scale_states(robot, trajectories)

@@ -136,7 +136,7 @@ class SimplifiedModel:
     guarantee : Guarantee or None
         Where the bound holds (:class:`~gd_analyze.simplify.guarantee.Guarantee`):
         over the joint-limit region (proved) or on the trajectory only; None for the chapter
-        rule and for files written by an older version (without a guarantee).
+        rule (a file of the budget rule without one is refused).
     program_cache : Program or None
         The model's program where its builder already has it (not written to the file);
         otherwise :meth:`program` builds it once, on first use.
@@ -484,13 +484,12 @@ class SimplifiedModel:
         -------
         str
             :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`, or for a model
-            without a guarantee (chapter rule, older files) that it has none.
+            without a guarantee (chapter rule) that it has none.
         """
         if self.guarantee is not None:
             return self.guarantee.statement()
-        if self.rule == "chapter":
-            return "no bound: share-based classes of the chapter (Sec. 3.4.1)"
-        return "on the trajectory it was built on only (an older model file: no region check)"
+        return "no bound: share-based classes of the chapter (Sec. 3.4.1)" if self.rule == \
+            "chapter" else "no bound stated (a model of the budget rule built without one)"
 
     @classmethod
     def from_dict(cls, spec: dict, robot: Robot, path: str = "<dict>") -> SimplifiedModel:
@@ -552,12 +551,10 @@ class SimplifiedModel:
                                  "'recursive'", path, column="form")
             recursive = RecursiveModel.from_dict(spec["recursive"], robot, path)
             terms = None
-        tolerance = spec.get("tolerance")
+        tolerance = float(spec.get("tolerance", "nan"))       # NaN: no budget (schema 1)
         guarantee = None
         if spec.get("guarantee") is not None:
-            guarantee = Guarantee.from_dict(spec["guarantee"], robot.n,
-                                            float("nan") if tolerance is None
-                                            else float(tolerance), path)
+            guarantee = Guarantee.from_dict(spec["guarantee"], robot.n, tolerance, path)
             if guarantee.region is not None and not np.array_equal(
                     guarantee.region.is_prismatic, np.asarray(robot.prismatic, bool)):
                 raise InputError("its joint types are not the robot's",
@@ -569,7 +566,7 @@ class SimplifiedModel:
                    validation=spec.get("validation", {}),
                    provenance=spec.get("provenance", {}),
                    rule=spec.get("rule", "chapter"),
-                   tolerance=float("nan") if tolerance is None else float(tolerance),
+                   tolerance=tolerance,
                    torque_floor=float(spec.get("torque_floor", 0.0)), terms=terms,
                    cost={}, full_cost={},
                    bound=[float("nan") if v is None else float(v)

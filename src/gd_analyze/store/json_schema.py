@@ -104,7 +104,7 @@ def _message(err) -> tuple[str, str]:
         return key, f"more than {err.validator_value} items"
     if rule == "pattern":
         return key, f"malformed value {value[:40]!r}"
-    return key, " ".join(err.message.split())[:200]
+    return key, schema["description"] if rule == "not" else " ".join(err.message.split())[:200]
 
 
 class Schema:

@@ -121,9 +121,7 @@ def _check_region_first(robot, spec, path):
     (:func:`.model_trust.check_region`) before the model's program is built and sampled."""
     if not isinstance(spec.get("guarantee"), dict):
         return
-    tolerance = spec.get("tolerance")
-    g = Guarantee.from_dict(spec["guarantee"], robot.n,
-                            float("nan") if tolerance is None else float(tolerance), path)
+    g = Guarantee.from_dict(spec["guarantee"], robot.n, float(spec.get("tolerance", "nan")), path)
     check_region(robot, g, float(spec.get("torque_floor", 0.0)), path)
 
 
@@ -133,12 +131,10 @@ def _recorded_mounting(robot, spec, path):
     ``--base-rpy`` or ``--gravity`` is not applied on top of it
     (:func:`gd_analyze.model.mounting.with_mounting`)."""
 
-    said = spec.get("mounting")
+    said, key = spec.get("mounting"), "mounting"
     if said is None:
         rpy = (spec.get("provenance") or {}).get("mounting_base_rpy_deg", (0.0, 0.0, 0.0))
         said, key = {"base_rpy_deg": rpy, "gravity_world": None}, "provenance"
-    else:
-        key = "mounting"
     try:
         return as_mounted(robot, said["base_rpy_deg"], said["gravity_world"])
     except (TypeError, ValueError) as exc:

@@ -16,6 +16,11 @@ claim fails, with one line naming the key:
   :data:`SCALE_RTOL` of s_i, plus the round-off of the arm's largest s_i
   (:data:`~gd_analyze.simplify.guarantee.ROUND_OFF_EPS` machine epsilons), or s_i is
   the torque floor and |tau_i| is not above it;
+- of a trajectory-kind guarantee, ``guarantee.scale_state`` and ``guarantee.scale``: the same
+  but for the region (a trajectory has none) and with the robot as it is (its s_i is
+  max(peak |tau_i| on the trajectories, torque floor), drives included): an s_i multiplied by
+  100 loosens no gate. That the states are set points of the model's trajectory is checked
+  where the trajectory is at hand (:func:`gd_analyze.jobs.evaluate.check_trajectory_claim`);
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
   part) pairs: first on the trees of boxes stored with it (``guarantee.tilings``, and the
   pairs of trees of the decomposition, ``guarantee.decomposed_tilings``: the first links'
@@ -41,7 +46,10 @@ claim fails, with one line naming the key:
   (:func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic`). A file without them
   (written before) is read, its bound checked as above. A model of the explicit form keeps
   every term (bound 0) only if its terms are the robot's full explicit model's
-  (:func:`.explicit_cache.explicit_terms`).
+  (:func:`.explicit_cache.explicit_terms`);
+- ``explicit_terms`` of a model of the chapter's rule, which states no bound: every term of the
+  parts its choices keep (:func:`gd_analyze.simplify.budget.chapter_terms`), so that a pruned
+  model whose guarantee was removed is not read as the chapter's.
 """
 
 from __future__ import annotations
@@ -65,6 +73,7 @@ from ..dynamics.base_parameters import base_parameters
 from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
 from ..model.drives import rigid_links
+from ..simplify.budget import chapter_terms
 from ..simplify.guarantee import ROUND_OFF_EPS
 from .certification_cache import certification, certification_key
 from .explicit_cache import explicit_terms
@@ -106,7 +115,8 @@ def check_region(robot: Robot, guarantee: Guarantee | None, torque_floor: float 
         The model's robot, rebuilt from the file.
     guarantee : Guarantee or None
         The file's ``guarantee`` (:meth:`~gd_analyze.simplify.guarantee.Guarantee.from_dict`);
-        nothing is checked for None or a trajectory guarantee.
+        nothing is checked for None. Of the trajectory kind, only its scale: |tau_i| of the
+        robot (drives included, as that kind's s_i is measured) at each ``scale_state``.
     torque_floor : float, optional
         The model's least scale [N m or N].
     path : str, optional
@@ -115,7 +125,7 @@ def check_region(robot: Robot, guarantee: Guarantee | None, torque_floor: float 
     Returns
     -------
     Region or None
-        The guarantee's region, within the robot's limits.
+        The guarantee's region, within the robot's limits; None for a trajectory kind.
 
     Raises
     ------
@@ -125,9 +135,9 @@ def check_region(robot: Robot, guarantee: Guarantee | None, torque_floor: float 
         (``guarantee.scale_state``) or an s_i that |tau_i| there does not reach
         (``guarantee.scale``).
     """
-    if guarantee is None or guarantee.kind != "region":
+    if guarantee is None:
         return None
-    region = _region_within_limits(robot, guarantee, path)
+    region = _region_within_limits(robot, guarantee, path) if guarantee.proved else None
     _scale_reached(robot, guarantee, region, float(torque_floor), path)
     return region
 
@@ -149,7 +159,9 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         scale not reached at its stored state (:func:`check_region`), a bound below the
         one re-proved for the model's dropped pairs (``guarantee.bound``), or ways of proving
         it that are not the arm's arithmetic, do not give it when derived again, or are stated
-        for a model without a recursive form to derive them on (``guarantee.bound_method``).
+        for a model without a recursive form to derive them on (``guarantee.bound_method``);
+        a model of the chapter's rule whose terms are not every term of the parts its choices
+        keep (``explicit_terms``).
 
     Notes
     -----
@@ -157,16 +169,17 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     (:func:`gd_analyze.jobs.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
-    key = _claim_key(model) if (g is not None
-                                and g.kind == "region"
-                                and model.recursive is not None) else None
+    if model.rule == "chapter" and model.terms is not None and not _same_terms(
+            chapter_terms(explicit_terms(model.robot)[0], model.choices), model.terms):
+        raise InputError("are not the chapter's model of the file's choices (the terms of the "
+                         "parts its classes keep, nothing pruned)", path, column="explicit_terms")
+    key = _claim_key(model) if g is not None and g.proved and model.recursive is not None else None
     if key in _PROVED_CLAIMS:
         return                              # the same claim, checked before in this process
     region = check_region(model.robot, g, model.torque_floor, path)
     if region is None:
         return
-    bound: np.ndarray = np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
-    scale: np.ndarray = np.asarray(g.scale, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
+    bound, scale = (np.asarray(v, float) for v in (g.bound, g.scale))  # type: ignore[union-attr]  # the guarantee is not None here
     limit = bound + BOUND_RTOL * np.abs(scale)
     how = tuple(g.bound_method)  # type: ignore[union-attr]  # the guarantee is not None here
     if how and model.recursive is None:
@@ -210,9 +223,7 @@ def _tiled(model, region, limit):
     if not g.tilings and not g.decomposed:
         return False
     robot, how = model.robot, tuple(g.bound_method)
-    ways: dict = {}
-    for j, m in enumerate(how):
-        ways.setdefault(m, j)
+    ways = {m: j for j, m in reversed(list(enumerate(how)))}      # each way's first joint
     found = tree_method_bounds(robot, base_parameters(robot), region,
                                np.asarray(model.recursive.dropped, bool), g.tilings,
                                g.decomposed, ways or None)
@@ -398,8 +409,7 @@ def _region_within_limits(robot, g, path):
     q_min, q_max, qd_max, qdd_max = (np.asarray(v, float) for v in (g.q_min, g.q_max,
                                                                      g.qd_max, g.qdd_max))
     rev = ~np.asarray(robot.prismatic, bool)
-    lo = np.asarray(robot.q_min, float)
-    hi = np.asarray(robot.q_max, float)
+    lo, hi = np.asarray(robot.q_min, float), np.asarray(robot.q_max, float)
     with np.errstate(invalid="ignore"):
         turn = rev & (~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
     lo = np.where(np.isfinite(lo), lo, -np.inf)     # a full turn: the robot's own limits, or
@@ -422,9 +432,7 @@ def _region_within_limits(robot, g, path):
                          column="guarantee.q_min")
     for key, value, limit in (("qd_max", qd_max, robot.qd_max),
                               ("qdd_max", qdd_max, robot.qdd_max)):
-        limit = np.asarray(limit, float)
-        if limit.shape != (n,):
-            limit = np.full(n, np.nan)
+        limit = np.asarray(limit, float) if np.shape(limit) == (n,) else np.full(n, np.nan)
         cap = np.where(np.isfinite(limit), limit * (1 + REGION_RTOL), np.inf)
         bad = ~(np.isfinite(value) & (value > 0) & (value <= cap))
         if bad.any():
@@ -437,18 +445,17 @@ def _region_within_limits(robot, g, path):
 
 
 def _scale_reached(robot, g, region, torque_floor, path):
-    """Refuse a scale s_i that |tau_i| at its stored state does not reach."""
+    """Refuse a scale s_i that |tau_i| at its stored state does not reach (a state in the
+    region, or none for a trajectory kind's)."""
     n = robot.n
     state = np.asarray(g.scale_state, float).reshape(n, 3 * n)
     q, qd, qdd = state[:, :n], state[:, n:2 * n], state[:, 2 * n:]
-    inside = np.isfinite(state).all() and region.contains(q, qd, qdd).all()
-    if not inside:
-        raise InputError("a state where s_i was found lies outside the guarantee's region",
-                         path, column="guarantee.scale_state")
-    with np.errstate(all="ignore"):      # s_i is the rigid links' (the base regressor's) torque
-        tau = gd_terms(rigid_links(robot), q, qd).tau(qdd)
-    reached = np.abs(tau[np.arange(n), np.arange(n)])
-    scale = np.asarray(g.scale, float)
+    if not (np.isfinite(state).all() and (region is None or region.contains(q, qd, qdd).all())):
+        raise InputError("a state where s_i was found is not finite or lies outside the "
+                         "guarantee's region", path, column="guarantee.scale_state")
+    with np.errstate(all="ignore"):      # over R, the rigid links' (the base regressor's) torque
+        tau = gd_terms(robot if region is None else rigid_links(robot), q, qd).tau(qdd)
+    reached, scale = np.abs(np.diagonal(tau)), np.asarray(g.scale, float)
     # round-off of the arm's largest scale allowed, as every check of a bound allows it
     slack = ROUND_OFF_EPS * np.finfo(float).eps * float(np.nanmax(np.abs(scale), initial=0.0))
     ok = (np.abs(reached - scale) <= SCALE_RTOL * np.abs(scale) + slack) | (
@@ -456,5 +463,6 @@ def _scale_reached(robot, g, region, torque_floor, path):
     if not ok.all():
         j = int(np.argmax(~ok))
         raise InputError(f"is not |tau_i| at its stored scale_state (joint {j + 1}: "
-                         f"{scale[j]:.6g} stated, {reached[j]:.6g} recomputed with the robot's "
-                         "rigid links)", path, column="guarantee.scale")
+                         f"{scale[j]:.6g} stated, {reached[j]:.6g} recomputed with the robot"
+                         + ("'s rigid links)" if region is not None else ", drives included)"),
+                         path, column="guarantee.scale")
