@@ -3,6 +3,8 @@ decimation.
 
 Steps, each stated in :attr:`Preprocessed.notes`:
 
+0. Outlier spikes of the torque, single samples far off their neighbours, are replaced by the
+   mean of their neighbours (:func:`despiked`).
 1. The clock is split at gaps longer than :data:`GAP_STEPS` median steps; each segment is
    handled alone (no data is invented across a gap).
 2. With a filter, each segment is resampled onto a uniform clock (the median step, in the
@@ -41,7 +43,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
-           "still_joints", "clipped_samples", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
+           "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
+           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "SPIKE_SIGMAS",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
            "FILTER_BLOCK"]
 
@@ -62,9 +65,18 @@ STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
 #: The fewest samples in a row at a torque's extreme that are taken for clipping
 #: (:func:`clipped_samples`).
 CLIP_RUN = 3
-#: The fewest steps between a torque's values in which clipping is looked for (a coarser
-#: signal, or a joint's few levels of noise, holds its extremes over runs anyway).
-CLIP_LEVELS = 20
+#: The fewest steps between a torque's values in which clipping is looked for.
+CLIP_LEVELS = 4
+#: A torque's resolution for clipping is at least this many noise standard deviations.
+CLIP_NOISE = 4.0
+#: The samples at a clipped extreme outnumber those just below it this many times
+#: (:func:`clipped_samples`; a smooth peak's at most 2.4 times).
+CLIP_RATIO = 3.0
+#: The largest share of a joint's samples moving one way that a clipped extreme holds.
+CLIP_SHARE = 0.7
+#: A sample off the mean of its neighbours by more than this many noise standard deviations
+#: (beyond their own difference) is a spike (:func:`despiked`).
+SPIKE_SIGMAS = 10.0
 #: The rows left out around a clipped sample: this many periods of the cutoff on each side
 #: (the zero-phase filter spreads the clipping's error over its impulse response).
 CLIP_REACH = 0.5
@@ -372,7 +384,10 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
     t = np.asarray(t, float)
     segs, step = _segments(t)
-    notes = []
+    tau, spikes = despiked(tau)
+    notes = [f"{label}: {spikes.sum()} outlier samples of the torque (spikes, more than "
+             f"{SPIKE_SIGMAS:g} noise deviations off their neighbours) replaced by the mean of "
+             f"their neighbours"] if spikes.any() else []
     if len(segs) > 1:
         notes.append(f"{label}: {len(segs) - 1} gaps longer than {GAP_STEPS} median steps "
                      f"({step * 1e3:.3g} ms): processed as {len(segs)} separate segments")
@@ -495,23 +510,87 @@ def still_joints(q: npt.NDArray[np.float64],
     return np.asarray(span < limit, bool)
 
 
+def _resolution(x):
+    """The steps between a signal's distinct values (above 1e-9 of their range, so that a value
+    rounded to a multiple of the quantum counts as that multiple), and the scale of each sample's
+    white noise from its second difference, |x[k+1] - 2 x[k] + x[k-1]| x 1.4826 / sqrt 6 (of
+    which the median is the noise's standard deviation, robust to the signal's own curvature,
+    its jumps and a few spikes; 0 for a noise-free or slowly quantised signal)."""
+    steps = np.diff(np.unique(x))
+    return (steps[steps > 1e-9 * steps.sum()],
+            np.abs(np.diff(x, 2, prepend=x[:1], append=x[-1:])) * 1.4826 / 6 ** 0.5)
+
+
+def despiked(tau: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """Outlier spikes replaced by the mean of their two neighbours.
+
+    A sample is a spike when it stands off the mean m of its two neighbours by more than
+    :data:`SPIKE_SIGMAS` x the signal's noise (or its quantum, if larger) plus the neighbours'
+    own difference: a single bad sample, not a step (a Coulomb jump at a reversal, whose
+    neighbours differ by the jump) nor a slope. Filtered, a spike would spread over the filter's
+    impulse response (a Hampel-type filter, Pearson, "Outliers in process modeling and
+    identification", IEEE Trans. Control Syst. Technol. 10(1), 2002).
+
+    Parameters
+    ----------
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]), sorted by time.
+
+    Returns
+    -------
+    tau : ndarray, shape (N, n)
+        A copy, each spike replaced by m.
+    spikes : ndarray of bool, shape (N, n)
+        True at the spikes (never the first or last sample).
+
+    Examples
+    --------
+    >>> x = np.sin(np.linspace(0, 6, 200))[:, None]
+    >>> x[50] += 3.0
+    >>> clean, spikes = despiked(x)
+    >>> np.flatnonzero(spikes).tolist(), bool(abs(clean[50, 0] - np.sin(1.5075)) < 1e-3)
+    ([50], True)
+    """
+    tau = np.array(tau, float)
+    spikes = np.zeros(tau.shape, bool)
+    for j in range(tau.shape[1]):
+        x, (steps, noise) = tau[:, j], _resolution(tau[:, j])
+        mid = 0.5 * (x[2:] + x[:-2])
+        spikes[1:-1, j] = (np.abs(x[1:-1] - mid) > SPIKE_SIGMAS * max(np.median(noise),
+                                                                       steps.min(initial=np.inf))
+                           + np.abs(x[2:] - x[:-2]))
+        x[spikes[:, j]] = mid[spikes[1:-1, j]]
+    return tau, spikes
+
+
 def clipped_samples(q: npt.NDArray[np.float64],
                     tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
-    """The samples at which a joint's torque is clipped: held at its extreme while the arm moves.
+    """The samples at which a joint's torque is clipped: held at its extreme while the joint moves.
 
     A drive's torque limit or a sensor's range holds the recorded torque flat at its largest
     (or smallest) value over runs of samples, where the torque the model predicts goes on:
-    fitted, those samples bias the parameters. Per joint whose torque takes more than
-    :data:`CLIP_LEVELS` values, and per extreme value v, the samples equal to v are clipped
-    where
+    fitted, those samples bias the parameters. The torque may carry sensor noise added after
+    the clip, or be quantised to a few levels. Per joint whose torque takes more than
+    :data:`CLIP_LEVELS` values, with z the torque's running median over 5 samples (spikes and
+    noise damped), q_0 its quantum (the smallest step between its values) and sigma its noise
+    standard deviation (the median absolute second difference x 1.4826 / sqrt 6), per extreme:
 
-    - one run of them at least holds :data:`CLIP_RUN` samples during which some position
-      changes (not the arm held at rest);
-    - they outnumber three times the samples within two quanta below v (the quantum: the
-      smallest step between the torque's values, above 1e-9 of their range, so that a value
-      rounded to a multiple of the quantum counts as that multiple). A smooth peak of a
-      quantised torque holds its top value over a few samples too, but the levels just below
-      it about as long; a joint held still dithers among a few levels alike.
+    - the level v: the median of the z within w / 2 of z's extreme, w the largest of q_0,
+      :data:`CLIP_NOISE` sigma and the median step of z between samples (so that a smooth peak
+      of a noise-free signal spans samples);
+    - the resolution u: the larger of q_0 and CLIP_NOISE x the noise near v (the median of the
+      second differences where z is within w / 2 of v: 0 on a clip without noise, whatever the
+      rest); w grows to u if smaller;
+    - the samples with z within w / 2 of v outnumber :data:`CLIP_RATIO` x those in the band of
+      width w just below. A smooth peak's values gather as the square root of the depth below
+      it, so that its top band holds at most 2.4 times the next (the top level of a quantised
+      peak, a sinusoid's natural peak); the joint's few levels of noise spread alike;
+    - the clipped samples, those within u / 2 of v, hold at most :data:`CLIP_SHARE` of the
+      samples in which the joint moves the way most of them move: a torque held flat through
+      most of a stroke is Coulomb friction (a joint's torque a square wave of its velocity's
+      sign, as real recordings show), not a limit;
+    - one run of them holds at least :data:`CLIP_RUN` samples during which the joint's own
+      position changes (not the joint held at rest, dithering over a few levels).
 
     Parameters
     ----------
@@ -529,23 +608,30 @@ def clipped_samples(q: npt.NDArray[np.float64],
     --------
     >>> t = np.linspace(0, 4, 400)
     >>> tau = np.column_stack([np.clip(np.sin(t * 3), -0.7, 0.7), np.sin(t * 3)])
-    >>> mask = clipped_samples(t[:, None], tau)
+    >>> mask = clipped_samples(np.column_stack([t, t]), tau)
     >>> np.unique(tau[mask[:, 0], 0]).tolist(), bool(mask[:, 1].any())
     ([-0.7, 0.7], False)
     """
+    from scipy import ndimage
+
     q, tau = np.asarray(q, float), np.asarray(tau, float)
     out = np.zeros(tau.shape, bool)
-    moved = np.concatenate([[False], (np.diff(q, axis=0) != 0).any(axis=1)])
     for j in range(tau.shape[1]):
-        x = tau[:, j]
-        steps = np.diff(np.unique(x))
-        steps = steps[steps > 1e-9 * steps.sum()]     # not the rounding of a quantised value
-        for v in (x.min(), x.max()) if steps.size >= CLIP_LEVELS else ():
-            at = np.abs(x - v) <= 0.01 * steps.min()
-            if at.sum() <= 3 * np.count_nonzero(np.abs(x - v) <= 2.01 * steps.min()) - 3 * at.sum():
+        x, (steps, noise) = tau[:, j], _resolution(tau[:, j])
+        if steps.size < CLIP_LEVELS:
+            continue
+        dq, z = np.diff(q[:, j], prepend=q[0, j]), ndimage.median_filter(x, 5, mode="nearest")
+        w = max(steps.min(), CLIP_NOISE * np.median(noise), float(np.median(np.abs(np.diff(z)))))
+        for y, sx in ((z, x), (-z, -x)):
+            v = np.median(y[y > y.max() - w / 2])
+            u = max(steps.min(), CLIP_NOISE * np.median(noise[np.abs(y - v) < w / 2]))
+            wv = max(w, u)                      # the resolutions from the noise near v
+            near, at = np.abs(y - v) < wv / 2, np.abs(sx - v) < u / 2
+            way = dq > 0 if 2 * np.count_nonzero(dq[at] > 0) >= at.sum() else dq < 0
+            if (np.count_nonzero(near) <= CLIP_RATIO * np.count_nonzero((y > v - 1.5 * wv) & (y <= v - wv / 2))
+                    or np.count_nonzero(at & way) > CLIP_SHARE * np.count_nonzero(way)):
                 continue
             edges = np.flatnonzero(np.diff(np.concatenate([[0], at.view(np.int8), [0]])))
-            if any(b - a >= CLIP_RUN and moved[a + 1:b].any()
-                   for a, b in zip(edges[::2], edges[1::2])):
+            if any(b - a >= CLIP_RUN and dq[a + 1:b].any() for a, b in zip(edges[::2], edges[1::2])):
                 out[at, j] = True
     return out
