@@ -132,15 +132,16 @@ def _ordered(t, arrays, rows, path):
         notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
                      f"row {rows[back[0] + 1]}): rows sorted by time")
     keep = np.concatenate([[True], np.diff(t[order]) > 0])
-    if not keep.all():
-        notes.append(f"{path}: {int(np.count_nonzero(~keep))} rows repeat an earlier time "
-                     f"stamp (first at row {rows[order][~keep][0]}): the first row of each "
-                     f"stamp kept")
+    repeated = rows[order][~keep]       # never fewer than MIN_SAMPLES rows: one if too few stamps
+    if repeated.size:
+        notes.append(f"{path}: {repeated.size} rows repeat an earlier time stamp (first at row "
+                     f"{repeated[0]}): the first row of each stamp kept")
     order = order[keep]
     t, rows, arrays = t[order], rows[order], [None if a is None else a[order] for a in arrays]
     if t.size < MIN_SAMPLES:
-        raise InputError(f"{t.size} distinct time stamps: at least {MIN_SAMPLES} are needed",
-                         path, column="t")
+        raise InputError(f"{t.size} distinct time stamps (this row repeats an earlier one, as "
+                         f"{repeated.size - 1} more do): at least {MIN_SAMPLES} are needed",
+                         path, row=int(repeated[0]), column="t")
     return t, arrays, rows, notes
 
 
