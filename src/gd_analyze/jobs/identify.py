@@ -181,7 +181,8 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes):
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     clipped = prep.clipped_samples(rec.q, rec.tau)     # one warning line per clipped joint
     for j in np.flatnonzero(clipped.any(axis=0)):
-        at = " and ".join(dict.fromkeys(f"{v:.6g}" for v in np.unique(rec.tau[clipped[:, j], j])))
+        x, mid = rec.tau[clipped[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
+        at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
         notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
                      f"{'current' if options.current else 'torque'} is clipped at {at} "
                      f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at its "
