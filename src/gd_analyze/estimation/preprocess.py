@@ -151,10 +151,8 @@ class Preprocessed:
             return x
         from scipy import signal
 
-        out = np.empty_like(x, dtype=float)
-        for a, b in self.segments:
-            out[a:b] = signal.sosfiltfilt(self.sos, x[a:b], axis=0)
-        return out
+        return np.concatenate([signal.sosfiltfilt(self.sos, x[a:b], axis=0)
+                               for a, b in self.segments])
 
     def filtered_blocks(self, make: Callable[[int, int], npt.NDArray[np.float64]],
                         rows: int | None = None
@@ -233,8 +231,7 @@ def _segments(t):
     """Index slices of the runs of t without a gap longer than GAP_STEPS median steps."""
     dt = np.diff(t)
     med = float(np.median(dt))
-    cuts = np.flatnonzero(dt > GAP_STEPS * med) + 1
-    bounds = np.concatenate([[0], cuts, [t.size]])
+    bounds = np.concatenate([[0], np.flatnonzero(dt > GAP_STEPS * med) + 1, [t.size]])
     return [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], med
 
 
@@ -300,15 +297,12 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
     """
     from scipy import signal
 
-    t = np.asarray(t, float)
-    q = np.asarray(q, float)
+    t, q = np.asarray(t, float), np.asarray(q, float)
     step = float(np.median(np.diff(t)))
-    fs = 1.0 / step
     tu = np.arange(t[0], t[-1], step)
-    qu = np.column_stack([np.interp(tu, t, q[:, j]) for j in range(q.shape[1])])
-    qu = signal.detrend(qu, axis=0)
+    qu = signal.detrend(np.column_stack([np.interp(tu, t, x) for x in q.T]), axis=0)
     nper = int(min(qu.shape[0], max(256, 2 ** int(np.log2(max(qu.shape[0] // 4, 1))))))
-    f, P = signal.welch(qu, fs=fs, nperseg=nper, axis=0)
+    f, P = signal.welch(qu, fs=1.0 / step, nperseg=nper, axis=0)
     band = 0.0
     for j in np.flatnonzero(~still_joints(q, prismatic)):
         total = P[:, j].sum()
@@ -316,9 +310,7 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
             continue
         c = np.cumsum(P[:, j]) / total
         band = max(band, float(f[min(np.searchsorted(c, ENERGY), f.size - 1)]))
-    duration = float(t[-1] - t[0])
-    lo, hi = 2.0 / duration, 0.4 * 0.5 * fs
-    return float(min(max(CUTOFF_FACTOR * band, lo), hi))
+    return float(min(max(CUTOFF_FACTOR * band, 2.0 / (t[-1] - t[0])), 0.4 * 0.5 / step))
 
 
 def edge_samples(step: float, cutoff: float | None) -> int:
@@ -335,9 +327,7 @@ def edge_samples(step: float, cutoff: float | None) -> int:
     -------
     int
     """
-    if cutoff is None:
-        return 0
-    return max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
+    return 0 if cutoff is None else max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
 
 
 def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
@@ -385,9 +375,8 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     t = np.asarray(t, float)
     segs, step = _segments(t)
     tau, spikes = despiked(tau)
-    notes = [f"{label}: {spikes.sum()} outlier samples of the torque (spikes, more than "
-             f"{SPIKE_SIGMAS:g} noise deviations off their neighbours) replaced by the mean of "
-             f"their neighbours"] if spikes.any() else []
+    notes = [f"{label}: {spikes.sum()} outlier samples of the torque (spikes off their "
+             f"neighbours) replaced by the mean of those"] if spikes.any() else []
     if len(segs) > 1:
         notes.append(f"{label}: {len(segs) - 1} gaps longer than {GAP_STEPS} median steps "
                      f"({step * 1e3:.3g} ms): processed as {len(segs)} separate segments")
@@ -407,7 +396,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     trim = (1 if cutoff is None and (qd is None or qdd is None)   # one-sided differences
             else edge_samples(step, cutoff))
     out: dict[str, list[Any]] = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep", "clipped")}
-    given = {"qd": qd, "qdd": qdd}
+    given = {"q": q, "tau": tau, "qd": qd, "qdd": qdd}
     sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step, output="sos")
     dropped, need = 0, max(3 * (2 * ORDER + 1), 2 * trim + 3)
     for s in segs:
@@ -421,26 +410,22 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
             def resample(x, tu=tu, ts=ts):
                 return np.column_stack([np.interp(tu, ts, x[:, j]) for j in range(x.shape[1])])
-
-            def smooth(x):
-                return signal.sosfiltfilt(sos, x, axis=0)
-
-            ts_out, qs, taus = tu, smooth(resample(q[s])), smooth(resample(tau[s]))
-            d = {k: None if v is None else smooth(resample(v[s])) for k, v in given.items()}
+            d: dict[str, Any] = {k: None if v is None else signal.sosfiltfilt(
+                sos, resample(v[s]), axis=0) for k, v in given.items()}
             # the samples next to a clipped one, and those within the filter's reach
             d["clipped"] = None if clipped is None else ndimage.maximum_filter1d(
                 resample(clipped[s].astype(float)) > 0, axis=0,
                 size=2 * int(np.ceil(CLIP_REACH / (cutoff * step))) + 1)
-            spacing = step
+            d["t"], spacing = tu, step
         else:
-            ts_out, qs, taus, spacing = ts, q[s], tau[s], ts
             d = {k: None if v is None else v[s] for k, v in {**given, "clipped": clipped}.items()}
-        qds = d["qd"] if d["qd"] is not None else np.gradient(qs, spacing, axis=0)
-        qdds = d["qdd"] if d["qdd"] is not None else np.gradient(qds, spacing, axis=0)
-        keep = np.zeros(ts_out.size, bool)
-        keep[slice(trim, ts_out.size - trim, int(decimate))] = True
-        for k, v in zip(out, (ts_out, qs, qds, qdds, taus, keep, d["clipped"])):
-            out[k].append(v)
+            d["t"], spacing = ts, ts
+        for k, x in (("qd", "q"), ("qdd", "qd")):    # differences where not given
+            d[k] = np.gradient(d[x], spacing, axis=0) if d[k] is None else d[k]
+        d["keep"] = np.zeros(d["t"].size, bool)
+        d["keep"][slice(trim, d["t"].size - trim, int(decimate))] = True
+        for k in out:
+            out[k].append(d[k])
     if not out["t"]:
         raise ValueError(f"{label}: no segment is long enough for the filter and the "
                          f"differences (the longest holds {max(s.stop - s.start for s in segs)} "
@@ -451,16 +436,14 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
                  f"{label}: resampled onto a uniform {step * 1e3:.3g} ms clock by linear "
                  f"interpolation; q, tau{', qd' if qd is not None else ''}"
                  f"{', qdd' if qdd is not None else ''} low-pass filtered at {cutoff:.3g} Hz "
-                 f"(Butterworth order {ORDER}, forwards and backwards: zero phase)")
+                 f"(Butterworth order {ORDER}, forwards and backwards: zero phase), and the "
+                 f"regressor by the same filter as the torque (parallel filtering)")
     derived = [k for k in ("qd", "qdd") if given[k] is None]
     if derived:
         notes.append(f"{label}: {' and '.join(derived)} by central differences of the "
                      f"{'filtered ' if sos is not None else ''}signals")
     notes.append(f"{label}: {trim} samples dropped at each end of each segment"
                  + (f"; every {int(decimate)}th sample kept" if int(decimate) > 1 else ""))
-    if sos is not None:
-        notes.append(f"{label}: the regressor filtered by the same filter as the torque "
-                     f"(parallel filtering)")
     cat = {k: np.concatenate(v) for k, v in out.items() if k != "clipped" or clipped is not None}
     held = None if prismatic is None else still_joints(cat["q"][cat["keep"]], prismatic)
     if held is not None and held.any():
@@ -511,14 +494,15 @@ def still_joints(q: npt.NDArray[np.float64],
 
 
 def _resolution(x):
-    """The steps between a signal's distinct values (above 1e-9 of their range, so that a value
-    rounded to a multiple of the quantum counts as that multiple), and the scale of each sample's
-    white noise from its second difference, |x[k+1] - 2 x[k] + x[k-1]| x 1.4826 / sqrt 6 (of
-    which the median is the noise's standard deviation, robust to the signal's own curvature,
-    its jumps and a few spikes; 0 for a noise-free or slowly quantised signal)."""
-    steps = np.diff(np.unique(x))
-    return (steps[steps > 1e-9 * steps.sum()],
-            np.abs(np.diff(x, 2, prepend=x[:1], append=x[-1:])) * 1.4826 / 6 ** 0.5)
+    """Per column of x, shape (N, n): the steps between its sorted values (inf where below 1e-9
+    of their range, so that a value rounded to a multiple of the quantum counts as that
+    multiple), and the scale of each sample's white noise from its second difference,
+    |x[k+1] - 2 x[k] + x[k-1]| x 1.4826 / sqrt 6 (of which the median is the noise's standard
+    deviation, robust to the signal's own curvature, its jumps and a few spikes; 0 for a
+    noise-free or slowly quantised signal)."""
+    steps = np.diff(np.sort(x, axis=0), axis=0)
+    steps[steps <= 1e-9 * np.ptp(x, axis=0)] = np.inf
+    return steps, np.abs(np.diff(x, 2, axis=0, prepend=x[:1], append=x[-1:])) * 1.4826 / 6 ** 0.5
 
 
 def despiked(tau: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
@@ -552,14 +536,11 @@ def despiked(tau: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt
     ([50], True)
     """
     tau = np.array(tau, float)
-    spikes = np.zeros(tau.shape, bool)
-    for j in range(tau.shape[1]):
-        x, (steps, noise) = tau[:, j], _resolution(tau[:, j])
-        mid = 0.5 * (x[2:] + x[:-2])
-        spikes[1:-1, j] = (np.abs(x[1:-1] - mid) > SPIKE_SIGMAS * max(np.median(noise),
-                                                                       steps.min(initial=np.inf))
-                           + np.abs(x[2:] - x[:-2]))
-        x[spikes[:, j]] = mid[spikes[1:-1, j]]
+    steps, noise = _resolution(tau)
+    mid, spikes = 0.5 * (tau[2:] + tau[:-2]), np.zeros(tau.shape, bool)
+    spikes[1:-1] = np.abs(tau[1:-1] - mid) > SPIKE_SIGMAS * np.maximum(
+        np.median(noise, axis=0), steps.min(axis=0, initial=np.inf)) + np.abs(tau[2:] - tau[:-2])
+    tau[1:-1][spikes[1:-1]] = mid[spikes[1:-1]]
     return tau, spikes
 
 
@@ -616,8 +597,9 @@ def clipped_samples(q: npt.NDArray[np.float64],
 
     q, tau = np.asarray(q, float), np.asarray(tau, float)
     out = np.zeros(tau.shape, bool)
+    levels, noises = _resolution(tau)
     for j in range(tau.shape[1]):
-        x, (steps, noise) = tau[:, j], _resolution(tau[:, j])
+        x, noise, steps = tau[:, j], noises[:, j], levels[np.isfinite(levels[:, j]), j]
         if steps.size < CLIP_LEVELS:
             continue
         dq, z = np.diff(q[:, j], prepend=q[0, j]), ndimage.median_filter(x, 5, mode="nearest")
