@@ -18,9 +18,9 @@ def _prepared(truth, robot, seconds, seed, noise=0.0, outliers=0):
     rng = np.random.default_rng(seed + 7)
     if noise:
         tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
-    if outliers:
-        rows = rng.choice(len(t), outliers, replace=False)
-        tau[rows, 0] += 50 * tau[:, 0].std()
+    if outliers:        # bursts of two samples: preprocessing replaces single spikes
+        rows = rng.choice(len(t) - 1, outliers, replace=False)
+        tau[np.concatenate([rows, rows + 1]), 0] += 50 * tau[:, 0].std()
     return preprocess(t, q, tau, qd, qdd, cutoff=None, label=f"rec{seed}",
                       prismatic=robot.prismatic), (q, qd, qdd)
 

@@ -251,7 +251,8 @@ def test_a_robot_options_or_recording_of_another_type_is_one_input_error():
 
 def test_outliers_are_left_out():
     """Spikes on 1 % of the samples (20 x the torque's spread) barely move the fit: the
-    held-out error stays within 0.2 points of the fit without them."""
+    held-out error stays within 0.2 points of the fit without them; preprocessing says it
+    replaced them."""
     robot = _robot("two-link")
     truth = truth_for(robot, seed=4)
     clean, _ = _record(truth, robot.n, 30, seed=2, noise=0.01)
@@ -264,9 +265,27 @@ def test_outliers_are_left_out():
     options = IdentifyOptions(cutoff=None)
     base_err = identify(robot, [clean], validate=[held], options=options).recordings[1].errors()[2]
     res = identify(robot, [spiked], validate=[held], options=options)
-    assert any("outlier" in s for s in res.preprocessing)
+    assert any("outlier samples" in s for s in res.recordings[0].notes)
     assert res.recordings[1].errors()[2] <= base_err + 0.002
 
+
+
+def test_a_few_spikes_do_not_spread_through_the_filter():
+    """Five single-sample spikes (50 x the torque's spread) in a two-link recording identified
+    with the default low-pass filter: replaced before filtering, so the held-out error stays
+    within 0.05 points of the recording without them (filtered, each spread over the filter's
+    impulse response and took the held-out error from under 0.1 % to over 4 %)."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    clean, _ = _record(truth, robot.n, 20, seed=2, noise=0.01, derivatives=False)
+    held, _ = _record(truth, robot.n, 8, seed=5, derivatives=False)
+    tau = clean.tau.copy()
+    rows = np.random.default_rng(0).choice(np.arange(10, tau.shape[0] - 10), 5, replace=False)
+    tau[rows, 0] += 50 * tau[:, 0].std()
+    spiked = recording_from_arrays(clean.t, clean.q, tau, source="spiked")
+    errors = [identify(robot, [rec], validate=[held]).recordings[1].errors()[2]
+              for rec in (clean, spiked)]
+    assert errors[0] < 0.01 and errors[1] <= errors[0] + 5e-4, errors
 
 
 def test_a_clipped_torque_is_warned_about_and_left_out_of_the_fit(monkeypatch):
@@ -306,6 +325,35 @@ def test_a_clipped_torque_is_warned_about_and_left_out_of_the_fit(monkeypatch):
     monkeypatch.setattr(job.prep, "clipped_samples", lambda q, tau: np.zeros(tau.shape, bool))
     fitted = error(identify(robot, [clipped], validate=[held]))
     assert plain < 0.005 and excluded < 0.005 and fitted > 0.02, (plain, excluded, fitted)
+
+def test_a_clipped_torque_with_noise_after_the_clip_is_left_out_of_the_fit(monkeypatch):
+    """PUMA 560 (Pinocchio) with joint 2's torque clipped at 85 % of its peak and sensor noise
+    (1 % of each joint's spread) added after the clip, so that no two clipped samples are equal:
+    one warning line whose level is the limit within 1 %, and the held-out error is below 0.5 %;
+    fitted (the detection switched off: the code before found nothing), above 2 %."""
+    from gd_analyze.jobs import identify as job
+
+    robot = _robot("puma560")
+    truth = truth_for(robot, seed=4)
+    clean, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    tau = clean.tau.copy()
+    limit = 0.85 * np.abs(tau[:, 1]).max()
+    tau[:, 1] = np.clip(tau[:, 1], -limit, limit)
+    tau += 0.01 * tau.std(axis=0) * np.random.default_rng(8).normal(size=tau.shape)
+    noisy = recording_from_arrays(clean.t, clean.q, tau, source="noisy")
+    with pytest.warns(InputWarning) as caught:
+        result = identify(robot, [noisy], validate=[held])
+    lines = [str(w.message) for w in caught if "column tau" in str(w.message)]
+    assert len(lines) == 1 and lines[0].startswith("noisy: column tau2: joint 2's torque is "
+                                                   "clipped at "), lines
+    levels = lines[0].split("clipped at ")[1].split(" N m")[0].split(" and ")
+    assert all(abs(abs(float(v)) - limit) < 0.01 * limit for v in levels), (levels, limit)
+    excluded = result.recordings[1].errors()[2]
+    monkeypatch.setattr(job.prep, "clipped_samples", lambda q, tau: np.zeros(tau.shape, bool))
+    fitted = identify(robot, [noisy], validate=[held]).recordings[1].errors()[2]
+    assert excluded < 0.005 and fitted > 0.02, (excluded, fitted)
+
 
 def _held_recording(truth, n, seconds, seed, held, noise=0.0):
     """A recording with the joints ``held`` still at 0.3 rad, positions read through a 17-bit

@@ -76,6 +76,16 @@ def test_a_huge_torque_is_refused_with_its_row(tmp_path):
         read_recording(_write(tmp_path / "b.csv", "t,q1,tau1\n" + body))
 
 
+def test_too_few_distinct_stamps_name_the_row_and_the_time_column(tmp_path):
+    """A log whose clock stalled (every row the same stamp) is refused naming the first row that
+    repeats a stamp and the column t (the line said "key t", as of a TOML key)."""
+    body = "".join(f"0.5,{0.1 * k},{k}\n" for k in range(12))
+    path = _write(tmp_path / "s.csv", "t,q1,tau1\n" + body)
+    with pytest.raises(InputError, match=r"row 3, column t: 1 distinct time stamps \(this row "
+                                         r"repeats an earlier one, as 10 more do\)") as exc:
+        read_recording(path)
+    assert str(exc.value).startswith(str(path))
+
 def test_arrays_are_checked():
     t = np.arange(12) * 0.01
     with pytest.raises(InputError, match="not finite"):

@@ -143,9 +143,8 @@ class RegressorRows:
     def __init__(self, robot: Robot, pre: Preprocessed, columns: IdentificationColumns) -> None:
         self.robot, self.pre, self.columns = robot, pre, columns
         self.keep = np.ones(pre.t.size, bool) if pre.keep is None else pre.keep
-        kept = int(np.count_nonzero(self.keep))
-        self.rows = kept
-        self._size = kept * robot.n * columns.count * 8
+        self.rows = int(np.count_nonzero(self.keep))
+        self._size = self.rows * robot.n * columns.count * 8
         self._kept: list[tuple[int, int, np.ndarray]] | None = None
 
     def _made(self) -> Iterator[tuple[int, int, np.ndarray]]:

@@ -3,6 +3,8 @@ decimation.
 
 Steps, each stated in :attr:`Preprocessed.notes`:
 
+0. Outlier spikes of the torque, single samples far off their neighbours, are replaced by the
+   mean of their neighbours (:func:`despiked`).
 1. The clock is split at gaps longer than :data:`GAP_STEPS` median steps; each segment is
    handled alone (no data is invented across a gap).
 2. With a filter, each segment is resampled onto a uniform clock (the median step, in the
@@ -41,7 +43,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
-           "still_joints", "clipped_samples", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
+           "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
+           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "SPIKE_SIGMAS",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
            "FILTER_BLOCK"]
 
@@ -62,9 +65,18 @@ STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
 #: The fewest samples in a row at a torque's extreme that are taken for clipping
 #: (:func:`clipped_samples`).
 CLIP_RUN = 3
-#: The fewest steps between a torque's values in which clipping is looked for (a coarser
-#: signal, or a joint's few levels of noise, holds its extremes over runs anyway).
-CLIP_LEVELS = 20
+#: The fewest steps between a torque's values in which clipping is looked for.
+CLIP_LEVELS = 4
+#: A torque's resolution for clipping is at least this many noise standard deviations.
+CLIP_NOISE = 4.0
+#: The samples at a clipped extreme outnumber those just below it this many times
+#: (:func:`clipped_samples`; a smooth peak's at most 2.4 times).
+CLIP_RATIO = 3.0
+#: The largest share of a joint's samples moving one way that a clipped extreme holds.
+CLIP_SHARE = 0.7
+#: A sample off the mean of its neighbours by more than this many noise standard deviations
+#: (beyond their own difference) is a spike (:func:`despiked`).
+SPIKE_SIGMAS = 10.0
 #: The rows left out around a clipped sample: this many periods of the cutoff on each side
 #: (the zero-phase filter spreads the clipping's error over its impulse response).
 CLIP_REACH = 0.5
@@ -139,10 +151,8 @@ class Preprocessed:
             return x
         from scipy import signal
 
-        out = np.empty_like(x, dtype=float)
-        for a, b in self.segments:
-            out[a:b] = signal.sosfiltfilt(self.sos, x[a:b], axis=0)
-        return out
+        return np.concatenate([signal.sosfiltfilt(self.sos, x[a:b], axis=0)
+                               for a, b in self.segments])
 
     def filtered_blocks(self, make: Callable[[int, int], npt.NDArray[np.float64]],
                         rows: int | None = None
@@ -221,8 +231,7 @@ def _segments(t):
     """Index slices of the runs of t without a gap longer than GAP_STEPS median steps."""
     dt = np.diff(t)
     med = float(np.median(dt))
-    cuts = np.flatnonzero(dt > GAP_STEPS * med) + 1
-    bounds = np.concatenate([[0], cuts, [t.size]])
+    bounds = np.concatenate([[0], np.flatnonzero(dt > GAP_STEPS * med) + 1, [t.size]])
     return [slice(int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])], med
 
 
@@ -288,15 +297,12 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
     """
     from scipy import signal
 
-    t = np.asarray(t, float)
-    q = np.asarray(q, float)
+    t, q = np.asarray(t, float), np.asarray(q, float)
     step = float(np.median(np.diff(t)))
-    fs = 1.0 / step
     tu = np.arange(t[0], t[-1], step)
-    qu = np.column_stack([np.interp(tu, t, q[:, j]) for j in range(q.shape[1])])
-    qu = signal.detrend(qu, axis=0)
+    qu = signal.detrend(np.column_stack([np.interp(tu, t, x) for x in q.T]), axis=0)
     nper = int(min(qu.shape[0], max(256, 2 ** int(np.log2(max(qu.shape[0] // 4, 1))))))
-    f, P = signal.welch(qu, fs=fs, nperseg=nper, axis=0)
+    f, P = signal.welch(qu, fs=1.0 / step, nperseg=nper, axis=0)
     band = 0.0
     for j in np.flatnonzero(~still_joints(q, prismatic)):
         total = P[:, j].sum()
@@ -304,9 +310,7 @@ def default_cutoff(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
             continue
         c = np.cumsum(P[:, j]) / total
         band = max(band, float(f[min(np.searchsorted(c, ENERGY), f.size - 1)]))
-    duration = float(t[-1] - t[0])
-    lo, hi = 2.0 / duration, 0.4 * 0.5 * fs
-    return float(min(max(CUTOFF_FACTOR * band, lo), hi))
+    return float(min(max(CUTOFF_FACTOR * band, 2.0 / (t[-1] - t[0])), 0.4 * 0.5 / step))
 
 
 def edge_samples(step: float, cutoff: float | None) -> int:
@@ -323,9 +327,7 @@ def edge_samples(step: float, cutoff: float | None) -> int:
     -------
     int
     """
-    if cutoff is None:
-        return 0
-    return max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
+    return 0 if cutoff is None else max(2, int(np.ceil(EDGE_PERIODS / (cutoff * step))))
 
 
 def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
@@ -372,7 +374,9 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
     t = np.asarray(t, float)
     segs, step = _segments(t)
-    notes = []
+    tau, spikes = despiked(tau)
+    notes = [f"{label}: {spikes.sum()} outlier samples of the torque (spikes off their "
+             f"neighbours) replaced by the mean of those"] if spikes.any() else []
     if len(segs) > 1:
         notes.append(f"{label}: {len(segs) - 1} gaps longer than {GAP_STEPS} median steps "
                      f"({step * 1e3:.3g} ms): processed as {len(segs)} separate segments")
@@ -392,7 +396,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     trim = (1 if cutoff is None and (qd is None or qdd is None)   # one-sided differences
             else edge_samples(step, cutoff))
     out: dict[str, list[Any]] = {k: [] for k in ("t", "q", "qd", "qdd", "tau", "keep", "clipped")}
-    given = {"qd": qd, "qdd": qdd}
+    given = {"q": q, "tau": tau, "qd": qd, "qdd": qdd}
     sos = None if cutoff is None else signal.butter(ORDER, cutoff, fs=1.0 / step, output="sos")
     dropped, need = 0, max(3 * (2 * ORDER + 1), 2 * trim + 3)
     for s in segs:
@@ -406,26 +410,22 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
 
             def resample(x, tu=tu, ts=ts):
                 return np.column_stack([np.interp(tu, ts, x[:, j]) for j in range(x.shape[1])])
-
-            def smooth(x):
-                return signal.sosfiltfilt(sos, x, axis=0)
-
-            ts_out, qs, taus = tu, smooth(resample(q[s])), smooth(resample(tau[s]))
-            d = {k: None if v is None else smooth(resample(v[s])) for k, v in given.items()}
+            d: dict[str, Any] = {k: None if v is None else signal.sosfiltfilt(
+                sos, resample(v[s]), axis=0) for k, v in given.items()}
             # the samples next to a clipped one, and those within the filter's reach
             d["clipped"] = None if clipped is None else ndimage.maximum_filter1d(
                 resample(clipped[s].astype(float)) > 0, axis=0,
                 size=2 * int(np.ceil(CLIP_REACH / (cutoff * step))) + 1)
-            spacing = step
+            d["t"], spacing = tu, step
         else:
-            ts_out, qs, taus, spacing = ts, q[s], tau[s], ts
             d = {k: None if v is None else v[s] for k, v in {**given, "clipped": clipped}.items()}
-        qds = d["qd"] if d["qd"] is not None else np.gradient(qs, spacing, axis=0)
-        qdds = d["qdd"] if d["qdd"] is not None else np.gradient(qds, spacing, axis=0)
-        keep = np.zeros(ts_out.size, bool)
-        keep[slice(trim, ts_out.size - trim, int(decimate))] = True
-        for k, v in zip(out, (ts_out, qs, qds, qdds, taus, keep, d["clipped"])):
-            out[k].append(v)
+            d["t"], spacing = ts, ts
+        for k, x in (("qd", "q"), ("qdd", "qd")):    # differences where not given
+            d[k] = np.gradient(d[x], spacing, axis=0) if d[k] is None else d[k]
+        d["keep"] = np.zeros(d["t"].size, bool)
+        d["keep"][slice(trim, d["t"].size - trim, int(decimate))] = True
+        for k in out:
+            out[k].append(d[k])
     if not out["t"]:
         raise ValueError(f"{label}: no segment is long enough for the filter and the "
                          f"differences (the longest holds {max(s.stop - s.start for s in segs)} "
@@ -436,16 +436,14 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
                  f"{label}: resampled onto a uniform {step * 1e3:.3g} ms clock by linear "
                  f"interpolation; q, tau{', qd' if qd is not None else ''}"
                  f"{', qdd' if qdd is not None else ''} low-pass filtered at {cutoff:.3g} Hz "
-                 f"(Butterworth order {ORDER}, forwards and backwards: zero phase)")
+                 f"(Butterworth order {ORDER}, forwards and backwards: zero phase), and the "
+                 f"regressor by the same filter as the torque (parallel filtering)")
     derived = [k for k in ("qd", "qdd") if given[k] is None]
     if derived:
         notes.append(f"{label}: {' and '.join(derived)} by central differences of the "
                      f"{'filtered ' if sos is not None else ''}signals")
     notes.append(f"{label}: {trim} samples dropped at each end of each segment"
                  + (f"; every {int(decimate)}th sample kept" if int(decimate) > 1 else ""))
-    if sos is not None:
-        notes.append(f"{label}: the regressor filtered by the same filter as the torque "
-                     f"(parallel filtering)")
     cat = {k: np.concatenate(v) for k, v in out.items() if k != "clipped" or clipped is not None}
     held = None if prismatic is None else still_joints(cat["q"][cat["keep"]], prismatic)
     if held is not None and held.any():
@@ -495,23 +493,85 @@ def still_joints(q: npt.NDArray[np.float64],
     return np.asarray(span < limit, bool)
 
 
+def _resolution(x):
+    """Per column of x, shape (N, n): the steps between its sorted values (inf where below 1e-9
+    of their range, so that a value rounded to a multiple of the quantum counts as that
+    multiple), and the scale of each sample's white noise from its second difference,
+    |x[k+1] - 2 x[k] + x[k-1]| x 1.4826 / sqrt 6 (of which the median is the noise's standard
+    deviation, robust to the signal's own curvature, its jumps and a few spikes; 0 for a
+    noise-free or slowly quantised signal)."""
+    steps = np.diff(np.sort(x, axis=0), axis=0)
+    steps[steps <= 1e-9 * np.ptp(x, axis=0)] = np.inf
+    return steps, np.abs(np.diff(x, 2, axis=0, prepend=x[:1], append=x[-1:])) * 1.4826 / 6 ** 0.5
+
+
+def despiked(tau: npt.NDArray[np.float64]) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """Outlier spikes replaced by the mean of their two neighbours.
+
+    A sample is a spike when it stands off the mean m of its two neighbours by more than
+    :data:`SPIKE_SIGMAS` x the signal's noise (or its quantum, if larger) plus the neighbours'
+    own difference: a single bad sample, not a step (a Coulomb jump at a reversal, whose
+    neighbours differ by the jump) nor a slope. Filtered, a spike would spread over the filter's
+    impulse response (a Hampel-type filter, Pearson, "Outliers in process modeling and
+    identification", IEEE Trans. Control Syst. Technol. 10(1), 2002).
+
+    Parameters
+    ----------
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]), sorted by time.
+
+    Returns
+    -------
+    tau : ndarray, shape (N, n)
+        A copy, each spike replaced by m.
+    spikes : ndarray of bool, shape (N, n)
+        True at the spikes (never the first or last sample).
+
+    Examples
+    --------
+    >>> x = np.sin(np.linspace(0, 6, 200))[:, None]
+    >>> x[50] += 3.0
+    >>> clean, spikes = despiked(x)
+    >>> np.flatnonzero(spikes).tolist(), bool(abs(clean[50, 0] - np.sin(1.5075)) < 1e-3)
+    ([50], True)
+    """
+    tau = np.array(tau, float)
+    steps, noise = _resolution(tau)
+    mid, spikes = 0.5 * (tau[2:] + tau[:-2]), np.zeros(tau.shape, bool)
+    spikes[1:-1] = np.abs(tau[1:-1] - mid) > SPIKE_SIGMAS * np.maximum(
+        np.median(noise, axis=0), steps.min(axis=0, initial=np.inf)) + np.abs(tau[2:] - tau[:-2])
+    tau[1:-1][spikes[1:-1]] = mid[spikes[1:-1]]
+    return tau, spikes
+
+
 def clipped_samples(q: npt.NDArray[np.float64],
                     tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
-    """The samples at which a joint's torque is clipped: held at its extreme while the arm moves.
+    """The samples at which a joint's torque is clipped: held at its extreme while the joint moves.
 
     A drive's torque limit or a sensor's range holds the recorded torque flat at its largest
     (or smallest) value over runs of samples, where the torque the model predicts goes on:
-    fitted, those samples bias the parameters. Per joint whose torque takes more than
-    :data:`CLIP_LEVELS` values, and per extreme value v, the samples equal to v are clipped
-    where
+    fitted, those samples bias the parameters. The torque may carry sensor noise added after
+    the clip, or be quantised to a few levels. Per joint whose torque takes more than
+    :data:`CLIP_LEVELS` values, with z the torque's running median over 5 samples (spikes and
+    noise damped), q_0 its quantum (the smallest step between its values) and sigma its noise
+    standard deviation (the median absolute second difference x 1.4826 / sqrt 6), per extreme:
 
-    - one run of them at least holds :data:`CLIP_RUN` samples during which some position
-      changes (not the arm held at rest);
-    - they outnumber three times the samples within two quanta below v (the quantum: the
-      smallest step between the torque's values, above 1e-9 of their range, so that a value
-      rounded to a multiple of the quantum counts as that multiple). A smooth peak of a
-      quantised torque holds its top value over a few samples too, but the levels just below
-      it about as long; a joint held still dithers among a few levels alike.
+    - the level v: the median of the z within w / 2 of z's extreme, w the largest of q_0,
+      :data:`CLIP_NOISE` sigma and the median step of z between samples (so that a smooth peak
+      of a noise-free signal spans samples);
+    - the resolution u: the larger of q_0 and CLIP_NOISE x the noise near v (the median of the
+      second differences where z is within w / 2 of v: 0 on a clip without noise, whatever the
+      rest); w grows to u if smaller;
+    - the samples with z within w / 2 of v outnumber :data:`CLIP_RATIO` x those in the band of
+      width w just below. A smooth peak's values gather as the square root of the depth below
+      it, so that its top band holds at most 2.4 times the next (the top level of a quantised
+      peak, a sinusoid's natural peak); the joint's few levels of noise spread alike;
+    - the clipped samples, those within u / 2 of v, hold at most :data:`CLIP_SHARE` of the
+      samples in which the joint moves the way most of them move: a torque held flat through
+      most of a stroke is Coulomb friction (a joint's torque a square wave of its velocity's
+      sign, as real recordings show), not a limit;
+    - one run of them holds at least :data:`CLIP_RUN` samples during which the joint's own
+      position changes (not the joint held at rest, dithering over a few levels).
 
     Parameters
     ----------
@@ -529,23 +589,31 @@ def clipped_samples(q: npt.NDArray[np.float64],
     --------
     >>> t = np.linspace(0, 4, 400)
     >>> tau = np.column_stack([np.clip(np.sin(t * 3), -0.7, 0.7), np.sin(t * 3)])
-    >>> mask = clipped_samples(t[:, None], tau)
+    >>> mask = clipped_samples(np.column_stack([t, t]), tau)
     >>> np.unique(tau[mask[:, 0], 0]).tolist(), bool(mask[:, 1].any())
     ([-0.7, 0.7], False)
     """
+    from scipy import ndimage
+
     q, tau = np.asarray(q, float), np.asarray(tau, float)
     out = np.zeros(tau.shape, bool)
-    moved = np.concatenate([[False], (np.diff(q, axis=0) != 0).any(axis=1)])
+    levels, noises = _resolution(tau)
     for j in range(tau.shape[1]):
-        x = tau[:, j]
-        steps = np.diff(np.unique(x))
-        steps = steps[steps > 1e-9 * steps.sum()]     # not the rounding of a quantised value
-        for v in (x.min(), x.max()) if steps.size >= CLIP_LEVELS else ():
-            at = np.abs(x - v) <= 0.01 * steps.min()
-            if at.sum() <= 3 * np.count_nonzero(np.abs(x - v) <= 2.01 * steps.min()) - 3 * at.sum():
+        x, noise, steps = tau[:, j], noises[:, j], levels[np.isfinite(levels[:, j]), j]
+        if steps.size < CLIP_LEVELS:
+            continue
+        dq, z = np.diff(q[:, j], prepend=q[0, j]), ndimage.median_filter(x, 5, mode="nearest")
+        w = max(steps.min(), CLIP_NOISE * np.median(noise), float(np.median(np.abs(np.diff(z)))))
+        for y, sx in ((z, x), (-z, -x)):
+            v = np.median(y[y > y.max() - w / 2])
+            u = max(steps.min(), CLIP_NOISE * np.median(noise[np.abs(y - v) < w / 2]))
+            wv = max(w, u)                      # the resolutions from the noise near v
+            near, at = np.abs(y - v) < wv / 2, np.abs(sx - v) < u / 2
+            way = dq > 0 if 2 * np.count_nonzero(dq[at] > 0) >= at.sum() else dq < 0
+            if (np.count_nonzero(near) <= CLIP_RATIO * np.count_nonzero((y > v - 1.5 * wv) & (y <= v - wv / 2))
+                    or np.count_nonzero(at & way) > CLIP_SHARE * np.count_nonzero(way)):
                 continue
             edges = np.flatnonzero(np.diff(np.concatenate([[0], at.view(np.int8), [0]])))
-            if any(b - a >= CLIP_RUN and moved[a + 1:b].any()
-                   for a, b in zip(edges[::2], edges[1::2])):
+            if any(b - a >= CLIP_RUN and dq[a + 1:b].any() for a, b in zip(edges[::2], edges[1::2])):
                 out[at, j] = True
     return out

@@ -181,7 +181,8 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes):
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     clipped = prep.clipped_samples(rec.q, rec.tau)     # one warning line per clipped joint
     for j in np.flatnonzero(clipped.any(axis=0)):
-        at = " and ".join(dict.fromkeys(f"{v:.6g}" for v in np.unique(rec.tau[clipped[:, j], j])))
+        x, mid = rec.tau[clipped[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
+        at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
         notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
                      f"{'current' if options.current else 'torque'} is clipped at {at} "
                      f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at its "
@@ -248,12 +249,11 @@ def identify(robot: Robot | str | Path,
     else:
         expect(options, IdentifyOptions, "options", "an IdentifyOptions or a dict of its fields")
     prior = robot if isinstance(robot, Robot) else load_robot(robot)
-    n = prior.n
     recordings, validate = _listed(recordings), _listed(validate)
     if not recordings:
         raise InputError("no recording to identify from")
-    train = [_recording(r, n, options) for r in recordings]
-    valid = [_recording(r, n, options) for r in validate]
+    train = [_recording(r, prior.n, options) for r in recordings]
+    valid = [_recording(r, prior.n, options) for r in validate]
     # a recording in degrees by mistake, say: named again on a failure of the fit
     beyond = [m for r in train + valid for m in check_joint_limits(prior, r, r.rows)]
     degrees = ("; a recording in degrees? (see the joint-limit warnings)"
@@ -306,12 +306,11 @@ def identify(robot: Robot | str | Path,
             qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep],
             tau_predicted=products[..., 0], tau_prior=tau_prior, notes=(*rec.notes, *p.notes),
             used=fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)))
-    unident = [nm for nm, ok in zip(fit.names, est.identifiable) if not ok]
-    if unident:
-        notes.append(f"not identifiable on these data (kept at the robot file's value): "
-                     f"{', '.join(unident)}")
     table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta, std=est.std,
                            ols_value=est.ols_value, prior=fit.prior, identifiable=est.identifiable)
+    if table.unidentifiable:
+        notes.append(f"not identifiable on these data (kept at the robot file's value): "
+                     f"{', '.join(table.unidentifiable)}")
     if simplified is not None:
         notes.append(f"simplified model of the identified robot (the main job's analysis along "
                      f"{names[simplified[2]]}): {simplified[1]}")

@@ -188,13 +188,11 @@ class RecordingFit:
         total : float
             ||E||_F / ||T||_F.
         """
-        other = getattr(self, f"tau_{which}")
-        E = self.tau_measured - other
-        norm = np.linalg.norm(self.tau_measured, axis=0)
+        E = self.tau_measured - getattr(self, f"tau_{which}")
+        norm = np.linalg.norm(self.tau_measured, axis=0)     # ||T||_F is the norm of these
         rel = np.divide(np.linalg.norm(E, axis=0), norm, out=np.full(norm.shape, np.inf),
                         where=norm > 0)
-        total = float(np.linalg.norm(E) / np.linalg.norm(self.tau_measured)) \
-            if np.linalg.norm(self.tau_measured) > 0 else float("inf")
+        total = float(np.linalg.norm(E) / np.linalg.norm(norm)) if norm.any() else float("inf")
         return np.sqrt(np.mean(E ** 2, axis=0)), rel, total
 
 
@@ -344,9 +342,8 @@ def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
     import xarray as xr
 
     p = result.parameters
-    n = result.prior.n
     joints = list(result.prior.joint_names())
-    links = np.arange(1, n + 1)
+    links = np.arange(1, result.prior.n + 1)
 
     par = ("parameter",)
     root = xr.Dataset(
@@ -371,10 +368,7 @@ def identification_tree(result: IdentificationResult) -> dict[str, xr.Dataset]:
                "condition_number": float(result.condition_number), "rank": int(result.rank),
                "unidentifiable": json.dumps(p.unidentifiable),
                "standard_method": result.standard_method, "coulomb_model": "sign(qd)"})
-    out = {"/": root}
-    for fit in result.recordings:
-        out[fit.name] = _recording_dataset(fit, joints)
-    return out
+    return {"/": root, **{fit.name: _recording_dataset(fit, joints) for fit in result.recordings}}
 
 
 def identification_size(samples: Sequence[int], n: int) -> int:

@@ -105,21 +105,18 @@ def _columns(header, path, n_joints, current):
                          f"joints", path, row=1, column="q")
     out = {"t": [found["t"][1]]}
     for kind in ("q", "tau", "qd", "qdd"):
-        slot = found.get(kind)
-        if slot is None:
-            if kind in ("q", "tau"):
-                raise InputError(f"missing column '{kind}1' (expected t,q1..q{n},tau1..tau{n})",
-                                 path, row=1, column=f"{kind}1")
-            continue
-        for j in range(1, n + 1):
-            if j not in slot:
-                raise InputError(f"missing column '{kind}{j}'", path, row=1,
-                                 column=f"{kind}{j}")
+        slot = found.get(kind, {})
+        missing = [j for j in range(1, n + 1) if j not in slot]
+        if missing and (slot or kind == "tau"):     # qd and qdd may be absent, not in part
+            raise InputError(f"missing column '{kind}{missing[0]}'" + (
+                "" if slot else f" (expected t,q1..q{n},tau1..tau{n})"), path, row=1,
+                column=f"{kind}{missing[0]}")
         extra = sorted(set(slot) - set(range(1, n + 1)))
         if extra:
             raise InputError(f"column '{kind}{extra[0]}' beyond the {n} joints", path, row=1,
                              column=f"{kind}{extra[0]}")
-        out[kind] = [slot[j] for j in range(1, n + 1)]
+        if slot:
+            out[kind] = [slot[j] for j in range(1, n + 1)]
     return names, out, n
 
 
@@ -132,15 +129,16 @@ def _ordered(t, arrays, rows, path):
         notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
                      f"row {rows[back[0] + 1]}): rows sorted by time")
     keep = np.concatenate([[True], np.diff(t[order]) > 0])
-    if not keep.all():
-        notes.append(f"{path}: {int(np.count_nonzero(~keep))} rows repeat an earlier time "
-                     f"stamp (first at row {rows[order][~keep][0]}): the first row of each "
-                     f"stamp kept")
+    repeated = rows[order][~keep]       # never fewer than MIN_SAMPLES rows: one if too few stamps
+    if repeated.size:
+        notes.append(f"{path}: {repeated.size} rows repeat an earlier time stamp (first at row "
+                     f"{repeated[0]}): the first row of each stamp kept")
     order = order[keep]
     t, rows, arrays = t[order], rows[order], [None if a is None else a[order] for a in arrays]
     if t.size < MIN_SAMPLES:
-        raise InputError(f"{t.size} distinct time stamps: at least {MIN_SAMPLES} are needed",
-                         path, column="t")
+        raise InputError(f"{t.size} distinct time stamps (this row repeats an earlier one, as "
+                         f"{repeated.size - 1} more do): at least {MIN_SAMPLES} are needed",
+                         path, row=int(repeated[0]), column="t")
     return t, arrays, rows, notes
 
 
@@ -204,9 +202,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
     get = {k: values[:, idx] for k, idx in cols.items()}
-    t, (q, tau, qd, qdd), rows, notes = _ordered(get["t"][:, 0], [get["q"], get["tau"],
-                                                                get.get("qd"), get.get("qdd")],
-                                                 rows, path)
+    t, (q, tau, qd, qdd), rows, notes = _ordered(
+        get["t"][:, 0], [get.get(k) for k in ("q", "tau", "qd", "qdd")], rows, path)
     return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
                      source=path, sha256=sha256, notes=tuple(notes))
 
@@ -245,8 +242,7 @@ def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayL
     t, got = tr.checked_arrays({"t": t, "q": q, "tau": tau, "qd": qd, "qdd": qdd}, source,
                                _LIMITS, MIN_SAMPLES, "sample")
     arrays = [got.get(k) for k in ("q", "tau", "qd", "qdd")]
-    rows = np.arange(2, t.size + 2)
-    ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, rows, source)
+    ts, (qs, taus, qds, qdds), rows, notes = _ordered(t, arrays, np.arange(2, t.size + 2), source)
     digest = hashlib.sha256(b"".join(np.ascontiguousarray(a).tobytes() for a in
                                      (ts, qs, taus) if a is not None)).hexdigest()
     return Recording(t=ts, q=qs, tau=taus, qd=qds, qdd=qdds, rows=rows, current=bool(current),

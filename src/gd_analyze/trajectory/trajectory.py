@@ -596,10 +596,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         names = header(head.decode("utf-8").rstrip("\r\n").split(","))
     except UnicodeDecodeError:
         return None
-    if names is None:
-        return None
-    lines = _line_count(fh, path)
-    if lines < 2:
+    if names is None or (lines := _line_count(fh, path)) < 2:
         return None
     fields = len(names)
 
