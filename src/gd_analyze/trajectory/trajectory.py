@@ -123,14 +123,14 @@ def _parse_header(header, path):
     if names == expected:
         return names, n
     # Name the first column that differs from the expected layout.
-    for k, (got, want) in enumerate(zip(names, expected)):
-        if got != want:
-            raise InputError(f"expected column {want!r}, got {got!r}", path, row=1,
-                             column=f"{k + 1} ({got})")
-    if len(names) > len(expected):
-        raise InputError(f"extra column {names[len(expected)]!r} (expected "
-                         f"t,q1..q{n}[,qd1..qd{n},qdd1..qdd{n}])", path, row=1,
-                         column=names[len(expected)])
+    for k, got in enumerate(names):         # an empty name (a trailing comma) by number only
+        where = f"{k + 1} ({got})" if got else str(k + 1)
+        if k < len(expected) and got != expected[k]:
+            raise InputError(f"expected column {expected[k]!r}, got {got!r}", path, row=1,
+                             column=where)
+        if k == len(expected):
+            raise InputError(f"extra column {got!r} (expected t,q1..q{n}[,qd1..qd{n},"
+                             f"qdd1..qdd{n}])", path, row=1, column=where)
     missing = expected[len(names)]
     raise InputError(f"missing column {missing!r} (expected t,q1..q{n},qd1..qd{n},qdd1..qdd{n})",
                      path, row=1, column=missing)
