@@ -49,13 +49,12 @@ class InputError(ValueError):
         super().__init__(self.__str__())
 
     def __str__(self):
-        loc = [] if self.row is None else [f"row {self.row}"]
+        loc, kind = ([], "key") if self.row is None else ([f"row {self.row}"], "column")
         if self.column is not None:
             # a command-line option and a URDF's element or attribute name themselves; a cell
             # of a CSV file (with a row) is in a column; anything else is a key of a TOML or
             # JSON file
             bare = self.column.startswith("--") or "<" in self.column and self.row is None
-            kind = "key" if self.row is None else "column"
             loc.append(self.column if bare else f"{kind} {self.column}")
         # the path is never empty (an empty name is written '')
         return ": ".join([p for p in (self.path, ", ".join(loc)) if p] + [self.message])

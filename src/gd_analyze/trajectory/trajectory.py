@@ -219,9 +219,13 @@ def _spline(t, q, path, row_of):
     """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS."""
     from scipy.interpolate import CubicSpline
 
-    with np.errstate(all="ignore"):
-        spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
-        qd, qdd = spline(t, 1), spline(t, 2)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # SciPy's "ill-conditioned matrix": LIMITS judge
+        try:
+            spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+            qd, qdd = spline(t, 1), spline(t, 2)
+        except ValueError:                  # a slope beyond a float: a step of 5e-324 s
+            qd = qdd = np.vstack([0 * q[:1], np.diff(q, axis=0) / np.diff(t)[:, None]])
     for name, arr in (("qd", qd), ("qdd", qdd)):
         bad = first_beyond(arr, LIMITS[name])
         if bad is not None:
