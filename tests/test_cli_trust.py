@@ -99,6 +99,7 @@ def test_case3_second_run_into_a_locked_folder(cwd, capsys):
                                                                    "velocity limit 180 deg/s"),
     (["--goal=60,200"], "--goal: joint 2 at 200 deg is outside its position limits"),
     (["--setpoints", "1"], "--setpoints"),
+    (["--goal=-60,-30"], "--goal: start and goal coincide: give a positive duration"),
 ])
 def test_case4_plan_refuses(cwd, capsys, extra, match):
     args = ["plan", "two-link", "-o", "p.csv", "--start=-60,-30", "--goal=60,30", *extra]

@@ -86,7 +86,7 @@ def test_broken_urdf_exits_2_naming_link_and_attribute(ur5_traj, tmp_path, capfd
     code = main([str(bad), str(ur5_traj), "-o", str(out)])
     err = capfd.readouterr().err
     assert code == 2, err
-    assert err.count("\n") == 1 and f"{bad}: key {column}: " in err, err
+    assert err.count("\n") == 1 and f"{bad}: {column}: " in err, err
     assert not out.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.urdf"]
 

@@ -14,6 +14,9 @@ def test_the_parts_and_their_order():
     assert str(InputError("x", "f.csv", row=3, column="q1")) == "f.csv: row 3, column q1: x"
     assert str(InputError("x", "m.json", column="robot.name")) == "m.json: key robot.name: x"
     assert str(InputError("x", column="--payload")) == "--payload: x"
+    # a URDF's element or attribute names itself (no TOML "key"); a CSV header cell stays a column
+    assert str(InputError("x", "a.urdf", column="<robot name>")) == "a.urdf: <robot name>: x"
+    assert str(InputError("x", "f.csv", row=1, column="<q1>")) == "f.csv: row 1, column <q1>: x"
 
 
 def test_a_key_or_file_name_with_a_line_break_stays_on_one_line():

@@ -30,12 +30,14 @@ class InputError(ValueError):
         The row of the file, counted from 1 with the header as row 1 (as a spreadsheet shows it).
     column : str, optional
         The column's name (with a row: a CSV file), the key (without a row: a TOML or JSON
-        file, e.g. ``link[2].mass``) or the option (e.g. ``"--payload"``).
+        file, e.g. ``link[2].mass``), the option (e.g. ``"--payload"``) or a URDF's element or
+        attribute (e.g. ``"<robot name>"``).
 
     Notes
     -----
     ``str(err)`` gives ``"<path>: row <row>, column <column>: <message>"`` with the parts that
-    are known; without a row, ``"<path>: key <column>: <message>"``.
+    are known; without a row, ``"<path>: key <column>: <message>"``, or
+    ``"<path>: <column>: <message>"`` for an option or anything naming an XML element (``<``).
     """
 
     def __init__(self, message: object, path: str | os.PathLike[str] | None = None,
@@ -47,31 +49,22 @@ class InputError(ValueError):
         super().__init__(self.__str__())
 
     def __str__(self):
-        where = []
-        if self.path is not None:
-            where.append(self.path)
-        loc = []
-        if self.row is not None:
-            loc.append(f"row {self.row}")
+        loc, kind = ([], "key") if self.row is None else ([f"row {self.row}"], "column")
         if self.column is not None:
-            # a command-line option names itself; a cell of a CSV file (with a row) is in a
-            # column; anything else is a key of a TOML or JSON file
-            opt = str(self.column).startswith("--")
-            kind = "column" if self.row is not None else "key"
-            loc.append(str(self.column) if opt else f"{kind} {self.column}")
-        if loc:
-            where.append(", ".join(loc))
-        return ": ".join(where + [self.message])
+            # a command-line option and a URDF's element or attribute name themselves; a cell
+            # of a CSV file (with a row) is in a column; anything else is a key of a TOML or
+            # JSON file
+            bare = self.column.startswith("--") or "<" in self.column and self.row is None
+            loc.append(self.column if bare else f"{kind} {self.column}")
+        # the path is never empty (an empty name is written '')
+        return ": ".join([p for p in (self.path, ", ".join(loc)) if p] + [self.message])
 
 
 def one_line(text: object) -> str:
     """``text`` with every unprintable character (line breaks, controls, unassigned code
     points) written as its escape, so that a file name or key cannot break the line."""
-    text = str(text)
-    if text.isprintable():
-        return text
     return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii")
-                   for c in text)
+                   for c in str(text))
 
 
 def expect(value: Any, types: type | tuple[type, ...], name: str, what: str) -> Any:

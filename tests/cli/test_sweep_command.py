@@ -118,6 +118,25 @@ def _sweep(args, capsys):
     return code, out.out + out.err
 
 
+def test_an_element_round_off_on_every_trajectory_prints_no_share(tmp_path, capsys):
+    """The two-link arm with massless rods keeps only their inertias about z: D is constant
+    (closed form: D = [[I1 + I2, I2], [I2, I2]]), so h is identically 0 and has no share. The
+    printed table said "nan" for its min, median and max share; the report says "\u2261 0"."""
+    from importlib import resources
+
+    text = resources.files("gd_analyze").joinpath("data", "two-link.toml").read_text()
+    assert text.count("mass = 1.0") == 2
+    (tmp_path / "massless.toml").write_text(text.replace("mass = 1.0", "mass = 0.0"))
+    code, printed = _sweep([tmp_path / "massless.toml", "--random", "2", "--held-out", "0",
+                            "--no-report", "-o", tmp_path / "out"], capsys)
+    assert code == 0, printed
+    rows = {line.split()[0]: line.split() for line in printed.splitlines()
+            if line.startswith(("D1", "D2", "h"))}
+    for h in ("h1", "h2"):
+        assert rows[h][5:] == ["\u2261", "0"] * 3 + [rows[h][-1]], printed
+    assert "nan" not in printed and rows["D11"][5:8] == ["0.000"] * 3     # rotational only
+
+
 @pytest.mark.slow
 def test_guarantee_region_the_files_say_it_and_it_holds(tmp_path, capsys):
     """--guarantee region: the merged model file, sweep.h5, the emitted code, the printed

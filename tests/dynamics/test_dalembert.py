@@ -180,6 +180,19 @@ def test_rejects_wrong_shapes(puma):
         gd_terms(puma, np.zeros((2, 6)), np.zeros((2, 5)))
 
 
+def test_a_qdd_given_as_fourth_argument_is_one_line_naming_out(puma):
+    """gd_terms(robot, q, qd, qdd), written as regressor(robot, q, qd, qdd) is, passed qdd as
+    the buffers ``out`` and raised AttributeError ("'numpy.ndarray' object has no attribute
+    'D_tran'") from inside."""
+    from gd_analyze.errors import InputError
+
+    q = np.zeros((2, 6))
+    with pytest.raises(InputError) as e:
+        gd_terms(puma, q, q, q)
+    assert str(e.value) == ("out: a GDTerms from allocate_terms (the terms take no qdd), not a "
+                            "ndarray")
+
+
 @pytest.mark.parametrize("name", ["puma560", "two-link"])
 def test_forward_dynamics_matches_pinocchio_aba(name):
     pin = pytest.importorskip("pinocchio")

@@ -163,3 +163,20 @@ def test_no_room_is_refused_before_the_payload_sweep(tmp_path, monkeypatch):
         run_analysis(robot, trajectory, gd.AnalysisOptions(), tmp_path / "out",
                      payload_masses=[0.0, 1.0])
     assert not (tmp_path / "out").exists()
+
+
+def test_the_api_analyses_without_a_model_when_simplify_is_none():
+    """AnalysisOptions(simplify=None), "no model (the ranking's choices alone)" as its
+    docstring says, raised TypeError ("asdict() should be called on dataclass instances")
+    while writing the provenance. Oracle: the terms are Pinocchio's (crba), and no model's
+    guarantee or cost is recorded."""
+    from gd_analyze.dynamics.pinocchio import reference_terms
+
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 1.0, 6)
+    q = np.outer(t, [1.0, -0.5])
+    ds = gd.analyze(robot, (t, q), gd.AnalysisOptions(simplify=None, formulations=False))
+    ref = reference_terms(robot, ds.q.values, ds.qd.values)
+    np.testing.assert_allclose(ds.D.values, ref.D, rtol=0, atol=1e-12)
+    assert int(ds.attrs["verification_passed"]) == 1
+    assert "guarantee" not in ds.attrs and "cost_total" not in ds.data_vars

@@ -46,10 +46,15 @@ def test_link_matrix_matches_the_product_of_elementary_transforms(puma):
         np.testing.assert_allclose(A[i], Rz @ Tz @ Tx @ Rx, atol=1e-15)
 
 
-def test_as_states_rejects_wrong_shapes(puma):
-    with pytest.raises(ValueError):
-        as_states(puma, np.zeros((3, 5)))
-    with pytest.raises(ValueError):
+def test_as_states_rejects_wrong_shapes_naming_the_array(puma):
+    """One line naming the argument (the message named only the robot: which of q, qd, qdd
+    had the wrong shape was left to guess)."""
+    from gd_analyze.errors import InputError
+
+    with pytest.raises(InputError, match=r"^qd: expected shape \(N, 6\) for puma560, got \(3, 5\)$"):
+        as_states(puma, np.zeros((3, 6)), np.zeros((3, 5)))
+    with pytest.raises(InputError, match=r"^arrays disagree on the number of set points: "
+                                         r"q \(3, 6\), qd \(4, 6\)$"):
         as_states(puma, np.zeros((3, 6)), np.zeros((4, 6)))
     (q,) = as_states(puma, np.zeros(6))
     assert q.shape == (1, 6)

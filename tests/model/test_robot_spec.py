@@ -80,6 +80,22 @@ def test_chain_route_builds_the_same_arm():
     _check_chapter(robot)
 
 
+@pytest.mark.parametrize("source, name", [("arm.urdf", "<robot name>"),
+                                          ("pinocchio.Model", "key model.name")])
+def test_a_urdfs_robot_name_with_a_line_break_is_named_as_its_attribute(source, name):
+    """A URDF's robot name with a newline was refused as "key name", the wording of a TOML
+    key: the URDF has a <robot name> attribute, a Pinocchio model a ``name``."""
+    spec = _chain_spec()
+    joints = [{"type": "revolute", "rotation": link["rotation"],
+               "translation": link["translation"], "mass": link["mass"], "com": link["com"],
+               "inertia": np.diag(link["inertia"])} for link in spec["link"]]
+    with pytest.raises(InputError) as err:
+        robot_from_chain("ur\n5", joints, [0.0, -G, 0.0], source=source,
+                         urdf_joints=["j1", "j2"])
+    assert str(err.value) == (f"{source}: {name}: expected at most 200 printable characters "
+                              "(no control characters such as NUL or newline)")
+
+
 def test_prismatic_joint_closed_form():
     """A vertical slider (alpha = 0, z up, gravity -z) on a turntable: the slide's D entry
     is its mass, its gravity force m g, and the units are SI (limits in m, m/s)."""

@@ -124,3 +124,25 @@ def test_an_empty_robot_name_is_no_folder():
     is an unknown robot and no file."""
     with pytest.raises(InputError, match=r"^'': unknown robot \(built-in: .*\) and no such file$"):
         load_robot("")
+
+
+def test_a_robot_file_not_in_utf8_names_the_byte(tmp_path):
+    """A TOML robot file saved as Latin-1 said Python's "'utf-8' codec can't decode byte 0xe9
+    in position 21: invalid continuation byte"; now, as the CSV and URDF readers say it, the
+    byte counted from 1 (oracle: where the file's own bytes hold it)."""
+    from importlib import resources
+
+    text = resources.files("gd_analyze").joinpath("data", "two-link.toml").read_text()
+    raw = text.replace('name = "two-link"', 'name = "two-link \xe9"').encode("latin-1")
+    path = tmp_path / "latin1.toml"
+    path.write_bytes(raw)
+    at = raw.index(b"\xe9") + 1
+    with pytest.raises(InputError) as err:
+        load_robot(path)
+    assert str(err.value) == f"{path}: not a valid TOML robot file: not UTF-8 text (byte {at})"
+
+
+@pytest.mark.parametrize("name", ["a\x00b.toml", "x" * 5000 + ".toml"])
+def test_a_name_no_file_system_can_hold_is_an_unknown_robot(name):
+    with pytest.raises(InputError, match=r"^unknown robot '.*' \(no such file; built-in: "):
+        load_robot(name)

@@ -153,6 +153,20 @@ def test_a_urdf_urdfdom_refuses_is_one_line_with_its_reason(tmp_path, capfd, old
     assert capfd.readouterr().err == ""
 
 
+@pytest.mark.parametrize("axis", ["0 0 0", "0.0 -0 0e5"])
+def test_an_axis_of_zero_length_is_named(tmp_path, axis):
+    """urdfdom keeps an axis of zero length (and normalises any other): the error said the
+    joint was "neither a pure rotation nor a pure translation", not what is wrong."""
+    first = UR5.index('<axis xyz="0 0 1"/>')        # the shoulder_pan_joint's, the first joint
+    assert UR5.rindex('<joint name=', 0, first) == UR5.index('<joint name="shoulder_pan_joint"')
+    path = tmp_path / "axis.urdf"
+    path.write_text(UR5.replace('<axis xyz="0 0 1"/>', f'<axis xyz="{axis}"/>', 1))
+    with pytest.raises(InputError) as err:
+        read_urdf_chain(path)
+    assert str(err.value) == (f"{path}: joint 'shoulder_pan_joint' <axis xyz>: an axis of zero "
+                              "length")
+
+
 def test_floating_joint_refused(tmp_path):
     path = tmp_path / "float.urdf"
     path.write_text(TOY_URDF.replace('name="j1" type="continuous"', 'name="j1" type="floating"'))

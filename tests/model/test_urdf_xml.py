@@ -43,7 +43,7 @@ def test_broken_ur5_refused_naming_link_and_attribute(tmp_path, case, old, new, 
     with pytest.raises(InputError) as err:
         read_urdf_chain(path)
     assert err.value.column == column
-    assert str(err.value).startswith(f"{path}: key {column}: ")
+    assert str(err.value).startswith(f"{path}: {column}: ")        # an attribute, not a "key"
 
 
 def test_missing_inertia_element_refused(tmp_path):

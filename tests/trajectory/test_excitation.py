@@ -19,7 +19,7 @@ from threadpoolctl import threadpool_limits
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.model.robots import load_robot
-from gd_analyze.symbolic.drive_regressor import identification_columns
+from gd_analyze.symbolic.drive_regressor import identification_columns, identification_regressor
 from gd_analyze.trajectory import excitation as ex_module
 from gd_analyze.trajectory.excitation import (
     FourierSeries,
@@ -335,6 +335,32 @@ def test_timing_refuses(duration, wf, message):
         excitation_timing(duration, wf)
 
 
+@pytest.mark.parametrize("name, K, least", [("two-link", 5, 12), ("puma560", 2, 11)])
+def test_the_fewest_set_points_resolve_the_highest_harmonic_and_every_column(name, K, least):
+    """N = least - 1 is refused. Below 2 K + 2, N - 1 = 2 K set points per period find
+    sin(K w_f t) = 0 at every one (the highest harmonic aliases); below ceil(p / n) + 1, the
+    regressor stacked over the N - 1 states (the last set point repeats the first's) has rank
+    < p, counted by numpy on a random series. At the least, full rank."""
+    robot = load_robot(name)
+    columns = identification_columns(robot)
+    series = random_excitation(robot, K, 2 * math.pi / 10, 3)
+
+    def rank(N):
+        q, qd, qdd = series.evaluate(np.linspace(0, 10.0, N)[:-1])[:3]
+        Y = identification_regressor(robot, q, qd, qdd, columns)
+        return np.linalg.matrix_rank(Y.reshape((N - 1) * robot.n, -1))
+
+    t = np.linspace(0, series.period, 2 * K + 1)
+    assert np.abs(np.sin(K * series.wf * t)).max() < 1e-12
+    harmonic_binds = least == 2 * K + 2
+    assert (rank(least - 1) == columns.count) == harmonic_binds
+    assert rank(least) == columns.count
+    with pytest.raises(ValueError, match=f"{least - 1} set points .*: {least} to 10"):
+        plan_excitation(robot, harmonics=K, n_setpoints=least - 1, starts=1, maxiter=1)
+    assert plan_excitation(robot, duration=0.05, harmonics=K, starts=1,
+                           maxiter=1).n_setpoints == least     # the default raised to it
+
+
 #: SLSQP iterations per start and stage of the command's optimiser in
 #: :func:`test_cli_writes_the_excitation_and_its_provenance`: what the command writes does not
 #: depend on how far the optimiser got (the optimum's quality is tested above, on the defaults).
@@ -377,7 +403,7 @@ def test_cli_writes_the_excitation_and_its_provenance(tmp_path, monkeypatch, cap
     assert record["robot_sha256"] == robot.sha256 and record["setpoints"] == 241
 
 
-@pytest.mark.parametrize("N, size", [(2, 1), (1001, 300), (1001, 1001)])
+@pytest.mark.parametrize("N, size", [(12, 1), (1001, 300), (1001, 1001)])
 def test_pieces_are_the_whole_excitation(N, size):
     """Sampled piece by piece, the excitation gives the set points of the whole trajectory:
     exactly numpy.linspace's times, and the series' formula there (to rounding: a matrix
@@ -433,6 +459,7 @@ def test_cli_writes_the_excitation_piece_by_piece(tmp_path, monkeypatch, capsys)
     (["--seed", "3"], "--seed"),
     (["--excitation", "--harmonics", "1"], "--harmonics"),
     (["--excitation", "--qdd-max", "1,2"], "--qdd-max"),
+    (["--excitation", "--setpoints", "2"], "--setpoints"),
 ])
 def test_cli_refuses_bad_options_in_one_line(tmp_path, monkeypatch, capsys, args, column):
     """In the test's process (the console script's own path is tests/test_one_code_path.py's):

@@ -83,6 +83,33 @@ def test_bad_input_names_file_row_and_column(tmp_path, text, row, column, match)
     assert "\n" not in str(e) and str(e).startswith(str(path))
 
 
+@pytest.mark.parametrize("text, column, said", [
+    ("t,q1,q2,qd1,qd2,qdd1,qdd2,\n" + "0,1,2,3,4,5,6,\n" * 2, 8, "extra column ''"),
+    ("t,,q2\n0,1,2\n1,2,3\n", 2, "expected column 'q1', got ''"),
+])
+def test_an_empty_header_cell_is_named_by_its_number(tmp_path, text, column, said):
+    """A header with a trailing comma said "row 1, column : extra column ''": an empty
+    name is no column name, so the column is its number (counted from 1, as a spreadsheet)."""
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(InputError) as err:
+        read_trajectory(path, n_joints=2)
+    assert str(err.value).startswith(f"{path}: row 1, column {column}: {said}")
+
+
+@pytest.mark.parametrize("t1, row", [("5e-324", 3), ("1e-300", 2)])
+def test_time_steps_too_short_for_a_spline_are_one_line(tmp_path, recwarn, t1, row):
+    """Positions only, a step of the smallest double (5e-324 s): its slope 1 / 5e-324 is
+    beyond a float and SciPy's spline raised ValueError ("`dydx` must contain only finite
+    values"), exit 4; a step of 1e-300 s gave SciPy's "ill-conditioned matrix" warning beside
+    the error. Now one InputError, the row where the slope ends, and no warning."""
+    path = tmp_path / "short.csv"
+    path.write_text(f"t,q1,q2\n0,0,0\n{t1},1,1\n{2 * float(t1)!r},0,2\n")
+    with pytest.raises(InputError, match=r"the qd derived by the cubic spline exceeds") as err:
+        read_trajectory(path, n_joints=2)
+    assert (err.value.row, err.value.column) == (row, "q1") and not recwarn.list
+
+
 def test_a_byte_not_utf8_names_its_row(tmp_path):
     """A Windows-1252 degree sign (byte 0xb0) in the third row: that row and the byte."""
     path = tmp_path / "bad.csv"

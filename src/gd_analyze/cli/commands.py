@@ -572,8 +572,8 @@ def cmd_plan(args: argparse.Namespace) -> int:
     try:
         plan = quintic_plan(planning, start, goal, args.setpoints or DEFAULT_SETPOINTS,
                             args.duration)
-    except ValueError as exc:
-        raise InputError(str(exc)) from None
+    except ValueError as exc:       # start = goal, with no duration
+        raise InputError(str(exc), column="--goal" if "coincide" in str(exc) else None) from None
     T = plan.duration                                       # t runs from 0 to T
     if first_beyond([T], LIMITS["t"]) is not None:          # the CSV reader's rule
         t_vel, t_acc = quintic_min_durations(planning, start, goal)     # T is the larger
@@ -720,7 +720,8 @@ def _plan_excitation(args, robot, qdd_arg):
                              base_frequency=args.base_frequency, n_setpoints=args.setpoints,
                              seed=seed, qdd_max=qdd_arg)
     except ValueError as exc:
-        column = ("--duration" if "duration" in str(exc) or "period" in str(exc)
+        column = ("--setpoints" if "set points" in str(exc) and args.setpoints is not None
+                  else "--duration" if "duration" in str(exc) or "period" in str(exc)
                   else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)
                   else None)
         raise InputError(str(exc), column=column) from None

@@ -446,7 +446,9 @@ def plan_parser() -> argparse.ArgumentParser:
                         "down)")
     p.add_argument("--setpoints", metavar="N", type=_whole("--setpoints", 2, 10**8),
                    help=f"number of set points, both ends included (default {DEFAULT_SETPOINTS}; "
-                        f"with --excitation one per {DEFAULT_SAMPLE_PERIOD * 1e3:g} ms)")
+                        f"with --excitation one per {DEFAULT_SAMPLE_PERIOD * 1e3:g} ms, and at "
+                        "least more than 2 per period of the highest harmonic, and (N - 1) n "
+                        "rows for the regressor's columns: the last set point repeats the first)")
     p.add_argument("--duration", metavar="T", type=_number,
                    help="duration [s] (default: the shortest within the limits; with "
                         f"--excitation one period of the base frequency, {DEFAULT_DURATION:g} s "

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import sys
 from pathlib import Path
 
@@ -277,9 +278,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
               f"{float(s.elapsed_s):.1f} s {where}")
         print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
               + f"{'min':>8}{'median':>8}{'max':>8}  merged")
-        for k, lab in enumerate(run.elements):
+        for k, lab in enumerate(run.elements):      # no share (NaN): round-off everywhere
+            shares = (run.share_min[k], run.share_median[k], run.share_max[k])
             print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in run.class_fraction[k])
-                  + f"{run.share_min[k]:>8.3f}{run.share_median[k]:>8.3f}"
-                  + f"{run.share_max[k]:>8.3f}  {run.merged.choice[k]}")
+                  + "".join(f"{v:>8.3f}" if math.isfinite(v) else f"{'≡ 0':>8}" for v in shares)
+                  + f"  {run.merged.choice[k]}")
         print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..errors import expect
 from ..model.drives import friction_torque
 from ..model.kinematics import as_states
 
@@ -246,6 +247,8 @@ def kernel_arguments(robot: Robot) -> tuple[Any, ...]:
 
 
 def _check_out(out, N, n):
+    # gd_terms(robot, q, qd, qdd), as regressor(robot, q, qd, qdd) is called, passes qdd here
+    expect(out, GDTerms, "out", "a GDTerms from allocate_terms (the terms take no qdd)")
     shapes = ((N, n, n), (N, n, n), (N, n), (N, n), (N, n))
     arrays = (out.D_tran, out.D_rot, out.h_tran, out.h_rot, out.c)
     for name, arr, shape in zip(("D_tran", "D_rot", "h_tran", "h_rot", "c"), arrays, shapes):
@@ -285,8 +288,10 @@ def gd_terms(robot, q, qd, out=None, constants=None):
 
     Raises
     ------
-    ValueError
-        If q or qd does not have shape (N, n), they disagree on N, or ``out`` does not fit.
+    InputError
+        If q or qd does not have shape (N, n) or they disagree on N
+        (:func:`~gd_analyze.model.kinematics.as_states`), or ``out`` is not a GDTerms (a qdd
+        given as a fourth argument); a ValueError if ``out`` does not fit.
 
     Notes
     -----
@@ -306,10 +311,7 @@ def gd_terms(robot, q, qd, out=None, constants=None):
     """
     q, qd = as_states(robot, q, qd)
     N, n = q.shape
-    if out is None:
-        res = _check_out(allocate_terms(N, n), N, n)
-    else:
-        res = _check_out(out, N, n)
+    res = _check_out(allocate_terms(N, n) if out is None else out, N, n)
     from .kernels import gd_kernel  # numba: imported by the first computation only
 
     c = np.ascontiguousarray

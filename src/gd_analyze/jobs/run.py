@@ -113,8 +113,9 @@ def _settings(options, base_settings, payload, robot, prefix=None):
     """The provenance of a run: each setting once, with the C prefix of the emitted sources
     (the robot's name made one unless given)."""
 
-    simplify = {k: v for k, v in dataclasses.asdict(options.simplify).items() if k != "region"}
-    region = {} if options.simplify.region is None else options.simplify.region.settings()
+    s = options.simplify                    # None: no model
+    simplify = {} if s is None else {k: v for k, v in dataclasses.asdict(s).items() if k != "region"}
+    region = {} if s is None or s.region is None else s.region.settings()
     return {**(base_settings or {}), "payload_mass": float(payload.mass),
             "payload_com": [float(v) for v in payload.com],
             "payload_inertia": [float(v) for v in payload.inertia],

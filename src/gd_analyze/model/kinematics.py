@@ -19,7 +19,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import expect
+from ..errors import InputError, expect
 from .limits import real_values
 from .robot import Robot
 
@@ -49,24 +49,23 @@ def as_states(robot: Robot, *arrays: ArrayLike,
     Raises
     ------
     InputError
-        If ``robot`` is not a :class:`~gd_analyze.model.robot.Robot` (one line naming the
-        argument).
-    ValueError
-        If an array's last axis is not n, if it has more than two axes, or if the arrays do not
-        all have the same number of set points N; an InputError if an array holds complex or
-        non-numeric values (:func:`~gd_analyze.model.limits.real_values`).
+        If ``robot`` is not a :class:`~gd_analyze.model.robot.Robot`, an array's last axis is
+        not n, it has more than two axes, the arrays do not all have the same number of set
+        points N, or an array holds complex or non-numeric values
+        (:func:`~gd_analyze.model.limits.real_values`): one line naming the argument.
     """
     expect(robot, Robot, "robot", "a Robot (from load_robot)")
     out = []
-    names = list(names or ()) + ["q", "qd", "qdd", "array"][len(names or ()):]
-    for k, x in enumerate(arrays):
-        x = real_values(names[min(k, len(names) - 1)], x)
+    names = [*(names or ()), *["q", "qd", "qdd"][len(names or ()):], *["array"] * len(arrays)]
+    for name, x in zip(names, arrays):
+        x = real_values(name, x)
         x = x[None, :] if x.ndim == 1 else x            # one state: one set point
         if x.ndim != 2 or x.shape[1] != robot.n:
-            raise ValueError(f"expected shape (N, {robot.n}) for {robot.name}, got {x.shape}")
+            raise InputError(f"{name}: expected shape (N, {robot.n}) for {robot.name}, got {x.shape}")
         out.append(x)
     if len({x.shape[0] for x in out}) > 1:
-        raise ValueError(f"arrays disagree on the number of set points: {[x.shape for x in out]}")
+        raise InputError("arrays disagree on the number of set points: " + ", ".join(
+            f"{name} {x.shape}" for name, x in zip(names, out)))
     return tuple(out)
 
 

@@ -429,10 +429,9 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
                 "com": np.asarray(j["com"]).tolist(),
                 "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
                 "q_limits": [float(j.get("q_min", -math.inf)), float(j.get("q_max", math.inf))]}
-        for key in ("qd_max", "qdd_max", "tau_max"):      # None or NaN: not given
-            v = j.get(key)
-            if v is not None and not (isinstance(v, float) and math.isnan(v)):
-                link[key] = v
+        given = {k: j[k] for k in ("qd_max", "qdd_max", "tau_max") if j.get(k) is not None}
+        link.update({k: v for k, v in given.items()         # None or NaN: not given
+                     if not (isinstance(v, float) and math.isnan(v))})
         link.update({k: float(j[k]) for k in DRIVE_FIELDS if j.get(k)})              # drives: optional, zero when absent
         links.append(link)
     spec = {"name": name, "gravity": gravity, "convention": "chain", "link": links,
@@ -441,14 +440,14 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
     try:
         robot = robot_from_dict(spec, source=path or "<chain>", sha256=fields.get("sha256"))
     except InputError as err:
-        col = err.column.replace("link[", "joint[") if err.column else err.column
-        col = (col.replace(".q_limits", ".q_min/q_max").replace(".joint", ".type")
-               if col else col)
+        col = (err.column or "").replace("link[", "joint[").replace(".joint", ".type")
+        col = col.replace(".q_limits", ".q_min/q_max")
         names = metadata.get("urdf_joints") or ()
-        if col and col.startswith("joint[") and "]" in col:
-            k = int(col[len("joint["):col.index("]")])
-            if 1 <= k <= len(names):
-                col = f"{col} (joint {str(names[k - 1])!r})"
-        raise InputError(err.message, path, column=col) from None
+        k = int(col[len("joint["):col.index("]")]) if col.startswith("joint[") else 0
+        if col == "name" and names:         # a URDF's name, or a Pinocchio model's
+            col = "model.name" if path == "pinocchio.Model" else "<robot name>"
+        elif 1 <= k <= len(names):
+            col = f"{col} (joint {str(names[k - 1])!r})"
+        raise InputError(err.message, path, column=col or None) from None
     return dataclasses.replace(robot, metadata=types.MappingProxyType(metadata),
                                source=str(path) if path else "<chain>")

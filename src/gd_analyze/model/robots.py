@@ -155,20 +155,12 @@ def load_robot(name_or_path: str | os.PathLike[str] | pinocchio.Model, base: str
     if is_urdf(name_or_path):
         return load_urdf(name_or_path, base, tip)
     key = str(name_or_path)
-    if key not in TOML_BUILTIN and not _exists(key):
+    if key not in TOML_BUILTIN and not os.path.exists(Path(key)):     # False for a NUL, too
         raise unknown_robot(key)
     if base is not None or tip is not None:
         raise InputError("--base and --tip apply to a URDF robot only", str(name_or_path),
                          column="--base" if base is not None else "--tip")
     return load_toml_robot(name_or_path)
-
-
-def _exists(path):
-    """Whether a path exists (False for one the system cannot even look up: too long, NUL)."""
-    try:
-        return Path(path).exists()
-    except (OSError, ValueError):
-        return False
 
 
 def _is_pinocchio_model(value):
@@ -229,7 +221,8 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
         spec = tomllib.loads(raw.decode("utf-8").removeprefix("\ufeff"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         why = ("XML, not TOML (a URDF file's name ends in .urdf; a xacro file needs xacro first)"
-               if raw.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<") else exc)
+               if raw.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<") else f"not UTF-8 text (byte "
+               f"{exc.start + 1})" if isinstance(exc, UnicodeDecodeError) else exc)
         raise InputError(f"not a valid TOML robot file: {why}", source) from None
     except RecursionError:
         raise InputError("not a robot file: nested too deeply", source) from None

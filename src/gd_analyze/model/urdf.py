@@ -338,6 +338,8 @@ def _joint_kind(model, data, j, path):
         return "prismatic", lin, False
     if np.linalg.norm(lin) < _TOL and abs(np.linalg.norm(ang) - 1.0) < 1e-9:
         return "revolute", ang, model.nqs[j] == 2
+    if not S.any():     # urdfdom keeps an axis of zero length (it normalises any other)
+        raise InputError("an axis of zero length", path, column=f"joint {name!r} <axis xyz>")
     raise InputError(f"joint {name!r} ({model.joints[j].shortname()}) is neither a pure "
                      "rotation nor a pure translation", path)
 

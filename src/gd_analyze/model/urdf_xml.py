@@ -253,7 +253,7 @@ def read_urdf_xml(raw: bytes, path: str) -> UrdfXml:
     ...                     b'</inertial></link></robot>', "r.urdf")
     Traceback (most recent call last):
     ...
-    gd_analyze.errors.InputError: r.urdf: key link 'a' <mass value>: not a number: '2.5kg'
+    gd_analyze.errors.InputError: r.urdf: link 'a' <mass value>: not a number: '2.5kg'
     """
     root = _parse_tree(raw, path)
     if root.tag != "robot":

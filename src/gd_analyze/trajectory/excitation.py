@@ -692,7 +692,7 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
         w_f [rad/s] (:func:`excitation_timing`).
     n_setpoints : int, optional
         Set points N written, both ends included; default one per
-        :data:`DEFAULT_SAMPLE_PERIOD`.
+        :data:`DEFAULT_SAMPLE_PERIOD`, at least the least N allowed (Raises).
     seed : int, optional
         Seed of the random starts (start s uses ``default_rng([seed, s])``).
     qdd_max : array_like, shape (n,), optional
@@ -713,7 +713,9 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     Raises
     ------
     ValueError
-        If K < 2, starts < 1, N < 2 or N > 10^8, the timing is inconsistent
+        If K < 2, starts < 1, N > 10^8 or N below the least that resolves the highest
+        harmonic and can identify the regressor's p columns (max(2 K periods + 2, ceil(p / n) +
+        1): the last set point repeats the first's state), the timing is inconsistent
         (:func:`excitation_timing`), or a joint has no velocity limit.
 
     Notes
@@ -738,9 +740,17 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     if int(starts) < 1:
         raise ValueError("at least one start")
     T, wf, periods = excitation_timing(duration, base_frequency)
-    N = round(T / DEFAULT_SAMPLE_PERIOD) + 1 if n_setpoints is None else int(n_setpoints)
-    if not 2 <= N <= 10**8:
-        raise ValueError(f"{N:,} set points over the duration {T:g} s: 2 to 10^8 allowed")
+    columns = identification_columns(robot, drives)
+    # the set points must resolve the highest harmonic (more than 2 of them per its period: N -
+    # 1 > 2 K periods, the last set point being the first's state) and give the regressor
+    # columns as many rows (n per state: (N - 1) n >= columns)
+    least = max(2 * K * periods + 2, -(-columns.count // robot.n) + 1)
+    N = max(round(T / DEFAULT_SAMPLE_PERIOD) + 1, least) if n_setpoints is None else int(
+        n_setpoints)
+    if not least <= N <= 10**8:
+        raise ValueError(f"{N:,} set points over the duration {T:g} s: {least:,} to 10^8 "
+                         f"allowed (more than 2 K = {2 * K} per period of w_f, {periods} here; "
+                         f"(N - 1) x {robot.n} rows for the {columns.count} regressor columns)")
     import scipy.optimize  # noqa: F401  (loads SciPy's own BLAS before the limit below)
     from threadpoolctl import threadpool_limits
 
@@ -752,10 +762,10 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     # wall, 9.0 s CPU in 9.0 s with one thread)
     with threadpool_limits(1, "blas"):
         return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
-                          int(maxiter), drives, margin, clock)
+                          int(maxiter), columns, margin, clock)
 
 
-def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, drives, margin,
+def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, columns, margin,
                clock):
     """plan_excitation's work, with its arguments checked."""
     from scipy.optimize import minimize
@@ -763,7 +773,6 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, driv
     n = robot.n
     lo, hi, qd, qdd, qdd_source = _limits(robot, qdd_max)
     inner = _margined(lo, hi, qd, qdd, margin)
-    columns = identification_columns(robot, drives)
     period = 2 * math.pi / wf
     objective = _Basis(K, wf, _middles(period, OBJECTIVE_SAMPLES))
     G = CONSTRAINT_POINTS_PER_HARMONIC * K
