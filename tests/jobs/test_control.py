@@ -25,7 +25,7 @@ from gd_analyze.report.control import write_control_report
 from gd_analyze.simplify.simplified import SimplifiedModel, full_choices
 from gd_analyze.store.control_dataset import control_dataset, write_control_dataset
 from gd_analyze.store.model_file import load_model, save_model
-from gd_analyze.trajectory.trajectory import read_trajectory
+from gd_analyze.trajectory.trajectory import Trajectory, read_trajectory
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -135,11 +135,11 @@ def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(mod
                                                                              shipped):
     """An initial offset that starts joint 5 0.2 rad below its limit takes the simplified-model
     controller's closed loop out of the region (q(0) = q_d(0) + offset, the oracle): not
-    covered, the joint, its unit and how far said; 0.01 rad stays inside: covered."""
+    covered, the joint, its unit and how far said; no offset stays inside: covered."""
     assert model.guarantee.kind == "region"
     offset = np.zeros(6)
     offset[4] = puma.q_min[4] - shipped.q[0, 4] - 0.2
-    for e0, inside in ((0.01, True), (offset, False)):
+    for e0, inside in ((0.0, True), (offset, False)):
         res = run_control(model, shipped, q0_offset=e0, controllers=("simplified",), t_end=0.5,
                           grid_points=201, cost=False)
         said = res.summary()["guarantee"]
@@ -150,6 +150,47 @@ def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(mod
     beyond = float(said["reason"].split(", ")[1].split(" rad below")[0])
     assert 0.2 - 1e-9 <= beyond < 0.21 and said["reason"].endswith(
         f"below its limit {puma.q_min[4]:.6g} rad")
+
+
+def test_region_coverage_checks_the_commanded_acceleration(model, puma, shipped):
+    """The simplified-model controller evaluates its model at v = qdd_d + Kv ed + Kp e: an
+    offset of 0.01 rad starts it at v(0) = qdd_d(0) - wn^2 0.01 = -4 rad/s^2 (the shipped
+    motion starts at rest), beyond joint 1's 45 deg/s^2: not covered, said with the value,
+    the distance past the limit and the unit."""
+    qdd_max = model.guarantee.qdd_max[0]
+    res = run_control(model, shipped, q0_offset=0.01, controllers=("simplified",), t_end=0.5,
+                      grid_points=201, cost=False)
+    said = res.summary()["guarantee"]
+    assert not said["covered"]
+    head = ("the closed loop of the simplified-model controller is outside the model's "
+            "region: joint 1's commanded |qdd| reaches ")
+    assert said["reason"].startswith(head), said["reason"]
+    reached, beyond = (float(v.split(" ")[0]) for v in said["reason"][len(head):].split(", "))
+    assert reached == pytest.approx(20.0 ** 2 * 0.01, rel=1e-6)
+    assert beyond == pytest.approx(reached - qdd_max, rel=2e-3)
+    assert said["reason"].endswith(f"rad/s^2 above its limit {qdd_max:.6g} rad/s^2")
+
+
+def test_region_coverage_checks_the_desired_motion_between_set_points(model, shipped):
+    """The shipped motion is one quintic q_0 + dq (10 s^3 - 15 s^4 + 6 s^5), s = t / T, whose
+    |qdd| peaks at 10 sqrt(3) / 3 |dq| / T^2 (s = 1/2 - sqrt(3)/6), on joint 6 at its limit.
+    Kept at s = 0, 1/2, 1 only (qdd = 0 there) and run 1 % faster, the set points lie in the
+    region but the desired motion between them does not: not covered, its peak said."""
+    c = 0.99
+    pick = [0, 15, 30]
+    t = (shipped.t[pick] - shipped.t[0]) * c
+    fast = Trajectory(t, shipped.q[pick], shipped.qd[pick] / c, shipped.qdd[pick] / c ** 2)
+    dq, T = shipped.q[-1] - shipped.q[0], t[-1]
+    peak = 10 * np.sqrt(3) / 3 * np.abs(dq) / T ** 2
+    qdd_max = model.guarantee.qdd_max
+    assert np.flatnonzero(peak > qdd_max).tolist() == [5]      # the case: joint 6 only
+    res = run_control(model, fast, controllers=("full",), cost=False)
+    said = res.summary()["guarantee"]
+    head = ("the desired motion between the set points is outside the model's region: "
+            "joint 6's |qdd| reaches ")
+    assert not said["covered"] and said["reason"].startswith(head), said["reason"]
+    reached = float(said["reason"][len(head):].split(" ")[0])
+    assert reached == pytest.approx(peak[5], rel=1e-5)
 
 
 def test_run_control_rejects_bad_input(model, shipped):

@@ -46,6 +46,7 @@ from .common import (
     cost_table,
     fmt,
     fmt_column,
+    fmt_columns,
     grid_shape,
     joints_text,
     panel_markevery,
@@ -131,7 +132,8 @@ def _joint_types(prismatic):
 def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                     tau_difference: np.ndarray | None = None,
                     tolerance: tuple[float, float] = VERDICT_TOLERANCE,
-                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None) -> str:
+                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None,
+                    covered: bool | None = None) -> str:
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -155,6 +157,10 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
         The rule by which a joint's torque difference is integrator noise, in words
         (:func:`gd_analyze.report.control.noise_words`), said after the torque
         difference.
+    covered : bool, optional
+        Whether the model's guarantee covers the run (``model_guarantee_covered``); where it
+        does not, a run within the tolerance is said to be within it in this run only, never
+        "good enough"; None (an older file): not said.
 
     Returns
     -------
@@ -187,7 +193,8 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
                                       zip(groups["simplified"], groups["pd_gravity"]))
     units = [u for u, _, _ in groups["full"]]      # each joint type apart
-    verdict = "holds" if holds else "beats_pd" if beats_pd else "fails"
+    verdict = ("holds" if covered in (None, True) else "measured") if holds else \
+        "beats_pd" if beats_pd else "fails"
     return say("control_verdict", verdict=verdict, types=_joint_types(prismatic),
                simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd) if pd is not None else "",
                bounds=[(fmt_number(b), u, "prismatic" if kind else "revolute")
@@ -637,9 +644,10 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     tolerance = tuple(float(d if v is None else v) for v, d in
                       zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
                           VERDICT_TOLERANCE))
+    covered = None if (c := s.model.guarantee_covered) is None else str(c) == "1"
     verdict = control_verdict(peaks, prismatic, diff,
                               tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
-                              quiet, rule["tau"])
+                              quiet, rule["tau"], covered)
     return {"verdict": verdict, "summary": summary, "rule": rule,
             "floors": (q_floor, tau_floor)}
 
@@ -666,8 +674,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     desc = s.descriptions if s.descriptions is not None else names
     q_units = joint_units_of(s, "q")
     judged = dataset_verdict(s)
-    summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
-    q_floor, tau_floor = judged["floors"]
+    rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
     files = {"robot": (st.robot, st.robot_sha256),         # the inputs, each with its SHA-256
              "trajectory": (st.trajectory_file, st.trajectory_sha256),
              "model": (st.model_file, st.model_sha256)}
@@ -721,7 +728,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
                     _with_columns(error_rows), align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + tau_u, _with_columns(diff), align="right")
+    tau_diff = _table(["figure"] + tau_u, _with_columns(diff, one=True), align="right")
     tau_table = _table(["controller", "figure"] + tau_u, _with_columns(applied),
                        align=["left", "left"] + ["right"] * n)
     model_note, recursive = _model_note(s)
@@ -744,7 +751,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     return {
         "version": __version__,
         "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
-        "summary": summary, "verdict": verdict,
+        "summary": judged["summary"], "verdict": judged["verdict"],
         "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
                      eps=f"{float(_or(s.model.tolerance, np.nan)):g}", created=created,
                      version=__version__),
@@ -757,10 +764,12 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     }
 
 
-def _with_columns(entries, digits=3):
+def _with_columns(entries, digits=3, one=False):
     """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
     one notation (:func:`gd_analyze.report.numbers.fmt_column`: one format per
-    column).
+    column), or with ``one`` the whole table in one
+    (:func:`~gd_analyze.report.numbers.fmt_columns`: a column whose only number is its noise
+    floor never reads "0.000012" beside "5.06e-04").
 
     Parameters
     ----------
@@ -769,6 +778,8 @@ def _with_columns(entries, digits=3):
         (n,), and which of them are integrator noise by the report's rule ("\u2261 0").
     digits : int, optional
         Significant digits each entry keeps, at least.
+    one : bool, optional
+        One notation for every column (one quantity).
 
     Returns
     -------
@@ -777,8 +788,9 @@ def _with_columns(entries, digits=3):
     if not entries:
         return []
     rows, values, off = zip(*entries)
-    v, hide = np.asarray(values, float), np.asarray(off, bool)
-    cols = [fmt_column(v[:, j], digits, hide[:, j]) for j in range(v.shape[1])]
+    v, hide = np.asarray(values, float).T, np.asarray(off, bool).T      # a row per joint
+    cols = (fmt_columns(v, digits, list(hide)) if one else
+            [fmt_column(c, digits, h) for c, h in zip(v, hide)])
     return [list(r) + list(c) for r, c in zip(rows, zip(*cols))]
 
 
