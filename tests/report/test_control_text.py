@@ -251,13 +251,19 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
     figures = control_figures(ds)
     for key, number in (("error", 1), ("tau_difference", 2), ("tau", 3)):
         caption = text[text.index(f"Figure {number}."):][:300]
-        k = int(re.search(r"markers: every (\d+)\w\w set point", caption).group(1))
         drawn = {line.get_markevery() for ax in figures[key].axes for line in ax.get_lines()
                  if line.get_marker() in ("o", "s", "^")}
         if key == "tau_difference" and not drawn:     # nothing dropped: all integrator noise
             assert "\u2261 0 on every joint (integrator noise)" in " ".join(
                 " ".join(t.get_text().split()) for t in figures[key].texts)
+            # no markers to describe, and the empty panels span the run's times
+            assert "no curve drawn" in caption and "markers: every" not in caption, caption
+            t = ds["time"].values.astype(float)
+            for ax in figures[key].axes:
+                if ax.get_title().startswith("joint"):
+                    assert ax.get_xlim() == pytest.approx((0.0, t[-1] - t[0])), ax.get_xlim()
             continue
+        k = int(re.search(r"markers: every (\d+)\w\w set point", caption).group(1))
         strides = {m[1] if isinstance(m, tuple) else m for m in drawn}   # (start, k): staggered
         assert strides == {k}, (key, drawn, k)
         assert -(-200 // k) <= 12                     # at most 12 markers a line

@@ -179,8 +179,7 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     full, simp = peaks.get("full"), peaks.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
-    pd = peaks.get("pd_gravity")
-    quiet = quiet or {}
+    pd, quiet = peaks.get("pd_gravity"), quiet or {}
 
     def said(c, values):
         return NOISE if quiet.get(c) else by_type_text(values, prismatic, "q")
@@ -338,7 +337,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
         if not drawn and floor is not None:
             ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
                     ha="center", va="center", fontsize=7, color="0.35")
-            ax.set_yticks([])
+            ax.set(yticks=[], xlim=(t[0], t[-1]))       # the run's times, as drawn panels
         ax.set_title(f"joint {j + 1}")
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
@@ -551,9 +550,8 @@ def noise_floors(ds: StoredControl | xr.Dataset) -> tuple[np.ndarray, np.ndarray
     """
     s = StoredControl.of(ds)
     tol, q_scale, tau_scale = noise_scales(s)
-    if s.tau_difference_floor is not None:
-        return tol * q_scale, np.asarray(s.tau_difference_floor, float)
-    return tol * q_scale, tol * tau_scale
+    stored = s.tau_difference_floor
+    return tol * q_scale, tol * tau_scale if stored is None else np.asarray(stored, float)
 
 
 def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
@@ -741,10 +739,12 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                            align=["left"] * (n + 1))
     prov = settings_table(_provenance(s, __version__))
     created = utc_now().isoformat()
-    drawn = [c for c in names if not is_round_off(np.nanmax(np.abs(np.asarray(
-        s.error[c], float)), axis=0), q_floor, 1.0).all()]      # as Fig. 1 draws them
-    markers = {"error": markers_words(s, names, drawn), "tau_difference": markers_words(s, 1),
-               "tau": markers_words(s, names)}
+    curves = {**{c: (s.error[c], q_floor) for c in names},      # as Figs. 1 and 2 draw them
+              "difference": (s.tau_difference, tau_floor)}
+    drawn = [c for c, (y, floor) in curves.items() if y is not None and not is_round_off(
+        np.nanmax(np.abs(np.asarray(y, float)), axis=0), floor, 1.0).all()]
+    markers = {"error": markers_words(s, names, drawn), "tau": markers_words(s, names),
+               "tau_difference": markers_words(s, ["difference"], drawn)}
     captions = {key: say("control_caption", key=key, markers=markers[key],
                          rule=rule.get("q" if key == "error" else "tau"))
                 for key in markers}
