@@ -8,6 +8,8 @@ tests; the crude-model and offset runs reuse the same settings (the offset run s
 """
 
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -16,6 +18,7 @@ from figure_checks import check_print_ready, column_twins
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.dynamics.opcount import count_operations
+from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.errors import InputError
 from gd_analyze.files import file_sha256
 from gd_analyze.jobs.control import run_control
@@ -191,6 +194,24 @@ def test_region_coverage_checks_the_desired_motion_between_set_points(model, shi
     assert not said["covered"] and said["reason"].startswith(head), said["reason"]
     reached = float(said["reason"][len(head):].split(" ")[0])
     assert reached == pytest.approx(peak[5], rel=1e-5)
+
+
+def test_the_simplified_control_law_names_the_gravity_the_model_applies(result, model_file):
+    """The simplified-model controller applies the model's own gravity c_s = tau_s(q, 0, 0):
+    its law reads "+ c" only where that is c. The PUMA 560's model keeps c whole (Pinocchio's
+    c, the oracle, equals c_s at set points); a model that drops a gravity part, or terms of
+    c, reads "+ c_s" in the law stored in control.h5."""
+    model = load_model(model_file)
+    q = result.q_d[::400]
+    c_s = model.torque(q, np.zeros_like(q), np.zeros_like(q))
+    c = reference_terms(model.robot, q, np.zeros_like(q)).c
+    np.testing.assert_allclose(c_s, c, rtol=0, atol=1e-9 * np.abs(c).max())
+    assert result.descriptions["simplified"].endswith("D_s v + h_s + c")
+    facts = result.provenance["model"]
+    for dropped in ({"gravity_dropped": "MX2"}, {"c_terms_kept": 3, "c_terms": 5}):
+        res = replace(result, provenance={**result.provenance, "model": {**facts, **dropped}})
+        assert res.descriptions["simplified"].endswith("D_s v + h_s + c_s")
+        assert "simplified model: D_s v + h_s + c_s;" in control_dataset(res).attrs["control_laws"]
 
 
 def test_run_control_rejects_bad_input(model, shipped):

@@ -11,7 +11,8 @@ and three controllers track a desired motion q_d(t):
 - ``"full"``: computed torque (Fu, Gonzalez & Lee 1987, Ch. 5, computed-torque technique) with
   the full G-D model, tau = D(q) v + h(q, qd) + c(q);
 - ``"simplified"``: computed torque with the simplified model of ``simplified_model.json``,
-  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated in its explicit form
+  tau = D_s(q) v + h_s(q, qd) + c_s(q) (c_s = c where the model keeps gravity whole), evaluated
+  in its explicit form
   (:meth:`gd_analyze.simplify.simplified.SimplifiedModel.torque`: only the kept terms are computed);
 - ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
 
@@ -194,8 +195,13 @@ class ControlResult:
 
     @property
     def descriptions(self) -> dict[str, str]:
-        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`)."""
-        return {c: CONTROLLER_DESCRIPTIONS[c] for c in self.runs}
+        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`),
+        the simplified model's gravity term c_s where the model drops part of c (its
+        ``gravity_dropped`` parameters, or fewer ``c_terms_kept`` than ``c_terms``), else c."""
+        m = self.provenance.get("model", {})
+        part = bool(m.get("gravity_dropped")) or -1 < m.get("c_terms_kept", -1) != m.get("c_terms")
+        return {c: CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
+                for c in self.runs}
 
     @property
     def controllers(self) -> list[str]:
@@ -513,13 +519,11 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
         "model_trajectory_sha256": model.trajectory_sha256,
         "rtol": float(rtol), "atol": float(atol), "method": str(method),
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
-        "t_end": float(t[-1]),
-        "gravity_base": [float(v) for v in robot.gravity],
+        "t_end": float(t[-1]), "gravity_base": [float(v) for v in robot.gravity],
         "model": {**model_facts(model), "guarantee_covered": int(covers["covered"]),
                   "guarantee_coverage": covers["reason"]},  # desired motion and closed loop
+        **({"noise_unmeasured": unmeasured} if unmeasured else {}),
     }
-    if unmeasured:
-        provenance["noise_unmeasured"] = unmeasured
     if noise is not None:
         provenance.update(noise_rtol=float(rtol) / NOISE_TIGHTEN,
                           noise_atol=float(atol) / NOISE_TIGHTEN,

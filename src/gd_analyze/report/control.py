@@ -122,11 +122,10 @@ def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str) -> str:
 def _joint_types(prismatic):
     """For a mixed arm, which joints are revolute and which prismatic, said once; else ""."""
     groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
-    if len(groups) < 2:
-        return ""
-    return ("; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
-                      f"{joint_torque_units(kind)})"
-                      for (u, _, js), kind in zip(groups, (False, True))) + ": ")
+    return "" if len(groups) < 2 else (
+        "; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
+                  f"{joint_torque_units(kind)})"
+                  for (u, _, js), kind in zip(groups, (False, True))) + ": ")
 
 
 def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
