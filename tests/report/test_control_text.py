@@ -149,6 +149,12 @@ def test_sec5_keeps_the_desired_motions_guarantee_where_only_the_closed_loop_lea
     desired = scope_sentences({**facts, "model_guarantee_coverage": "outside the model's "
                                "region: joint 1's q reaches 3 rad"}, 0.01)
     assert "is guaranteed" not in desired and "not guaranteed" in desired
+    # a trajectory-kind guarantee, measured at its trajectory's set points: guaranteed there
+    own = scope_sentences({**facts, "model_guarantee_kind": "trajectory",
+                           "model_guarantee_covered": 1, "model_guarantee_coverage": "it is a "
+                           "trajectory the model was built on (same SHA-256)"}, 0.01)
+    assert "at its set points is guaranteed" in own and "along the desired motion" not in own
+    assert "where the controller evaluates the model, it is not" in own
 
 
 def test_noise_floor_row_in_the_notation_of_the_torque_difference_table():

@@ -107,8 +107,7 @@ def _by_type(values, prismatic, which):
     for kind in (False, True):
         ks = np.nonzero(prismatic == kind)[0]
         if ks.size:
-            unit = (joint_torque_units(kind) if which == "tau" else
-                    joint_motion_units(kind)[0])
+            unit = joint_torque_units(kind) if which == "tau" else joint_motion_units(kind)[0]
             out.append((unit, float(np.nanmax(values[ks])), [int(k) + 1 for k in ks]))
     return out
 
@@ -157,9 +156,11 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
         (:func:`gd_analyze.report.control.noise_words`), said after the torque
         difference.
     covered : bool, optional
-        Whether the model's guarantee covers the run (``model_guarantee_covered``); where it
-        does not, a run within the tolerance is said to be within it in this run only, never
-        "good enough"; None (an older file): not said.
+        Whether the model's guarantee covers the run: a region guarantee that covers the
+        desired motion and the closed loop (``model_guarantee_covered``; a trajectory-kind
+        guarantee holds at the trajectory's set points only, never at the closed loop's
+        states); where not, a run within the tolerance is said to be within it in this run
+        only, never "good enough"; None (an older file): not said.
 
     Returns
     -------
@@ -641,7 +642,8 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     tolerance = tuple(float(d if v is None else v) for v, d in
                       zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
                           VERDICT_TOLERANCE))
-    covered = None if (c := s.model.guarantee_covered) is None else str(c) == "1"
+    covered = None if (c := s.model.guarantee_covered) is None else (    # a trajectory kind:
+        str(c) == "1" and str(s.model.guarantee_kind) == "region")  # its set points only
     verdict = control_verdict(peaks, prismatic, diff,
                               tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
                               quiet, rule["tau"], covered)
