@@ -214,6 +214,24 @@ def test_the_simplified_control_law_names_the_gravity_the_model_applies(result, 
         assert "simplified model: D_s v + h_s + c_s;" in control_dataset(res).attrs["control_laws"]
 
 
+def test_the_laws_and_the_plant_name_the_drives_friction(shipped):
+    """An arm with drives: the full-model controller applies D v + h + c + tau_f (Pinocchio's
+    D, h, c, the armature Ia added to D, the oracle: what is left is the friction, not 0), and
+    the plant is qdd = D^-1 (tau - h - c - tau_f): the stored law and plant say tau_f."""
+    robot = load_robot("puma560-drives")
+    model = SimplifiedModel(robot, full_choices(6), 0.9, 0.01)
+    res = run_control(model, shipped, controllers=("full",), t_end=0.5, grid_points=21,
+                      cost=False)
+    run, g = res.runs["full"], res.gains
+    v = res.qdd_d + g.Kv * (res.qd_d - run.qd) + g.Kp * (res.q_d - run.q)
+    ref = reference_terms(robot, run.q, run.qd)
+    rest = run.tau - np.einsum("nij,nj->ni", ref.D, v) - ref.h - ref.c - robot.armature * v
+    assert np.abs(rest).max() > 1e-3 * np.abs(run.tau).max()        # friction, applied
+    attrs = control_dataset(res).attrs
+    assert "full: computed torque, full G-D model: D v + h + c + tau_f;" in attrs["control_laws"]
+    assert attrs["plant"].startswith("full G-D model, qdd = D^-1 (tau - h - c - tau_f)")
+
+
 def test_run_control_rejects_bad_input(model, shipped):
     two = load_robot("two-link")
     with pytest.raises(ValueError):

@@ -189,19 +189,19 @@ class ControlResult:
         if "full" not in self.runs:
             return None
         tol = max(float(self.provenance.get("rtol", 0.0)), ROUND_OFF)
-        scale = np.nanmax(np.abs(self.runs["full"].tau), axis=0)
         noise = 0.0 if self.tau_noise is None else NOISE_FACTOR * np.asarray(self.tau_noise, float)
-        return np.maximum(noise, tol * scale)
+        return np.maximum(noise, tol * np.nanmax(np.abs(self.runs["full"].tau), axis=0))
 
     @property
     def descriptions(self) -> dict[str, str]:
         """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`),
         the simplified model's gravity term c_s where the model drops part of c (its
-        ``gravity_dropped`` parameters, or fewer ``c_terms_kept`` than ``c_terms``), else c."""
+        ``gravity_dropped`` parameters, or fewer ``c_terms_kept`` than ``c_terms``), else c;
+        the computed-torque laws with the drives' friction tau_f where the arm has it."""
         m = self.provenance.get("model", {})
         part = bool(m.get("gravity_dropped")) or -1 < m.get("c_terms_kept", -1) != m.get("c_terms")
         return {c: CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
-                for c in self.runs}
+                + " + tau_f" * (c != "pd_gravity" and self.robot.has_friction) for c in self.runs}
 
     @property
     def controllers(self) -> list[str]:

@@ -911,9 +911,9 @@ def _gains_table(s, joints):
 def _plant(settings):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
     plant = stored_text(settings.plant)
-    if plant.startswith("full G-D model"):
-        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
-    return plant
+    friction = " \u2212 \u03c4" + sub("f") if "tau_f" in plant else ""     # the drives'
+    return plant if not plant.startswith("full G-D model") else (
+        f"full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c{friction}) (Eq. 3.4-24)")
 
 
 #: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
