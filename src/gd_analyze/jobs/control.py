@@ -597,7 +597,6 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
         if not tight[name].success:
             raise ValueError(f"measuring the integrator noise (rtol = {rtol / NOISE_TIGHTEN:g})"
                              f": the {name} controller's run failed: {tight[name].message}")
-    loose = runs["simplified"].tau - runs["full"].tau
-    fine = tight["simplified"].tau - tight["full"].tau
+    loose, fine = (r["simplified"].tau - r["full"].tau for r in (runs, tight))
     return (np.nanmax(np.abs(loose - fine), axis=0),
             int(tight["full"].nfev + tight["simplified"].nfev))
