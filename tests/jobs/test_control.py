@@ -8,6 +8,8 @@ tests; the crude-model and offset runs reuse the same settings (the offset run s
 """
 
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -16,6 +18,7 @@ from figure_checks import check_print_ready, column_twins
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.dynamics.opcount import count_operations
+from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.errors import InputError
 from gd_analyze.files import file_sha256
 from gd_analyze.jobs.control import run_control
@@ -25,7 +28,7 @@ from gd_analyze.report.control import write_control_report
 from gd_analyze.simplify.simplified import SimplifiedModel, full_choices
 from gd_analyze.store.control_dataset import control_dataset, write_control_dataset
 from gd_analyze.store.model_file import load_model, save_model
-from gd_analyze.trajectory.trajectory import read_trajectory
+from gd_analyze.trajectory.trajectory import Trajectory, read_trajectory
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -135,11 +138,11 @@ def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(mod
                                                                              shipped):
     """An initial offset that starts joint 5 0.2 rad below its limit takes the simplified-model
     controller's closed loop out of the region (q(0) = q_d(0) + offset, the oracle): not
-    covered, the joint, its unit and how far said; 0.01 rad stays inside: covered."""
+    covered, the joint, its unit and how far said; no offset stays inside: covered."""
     assert model.guarantee.kind == "region"
     offset = np.zeros(6)
     offset[4] = puma.q_min[4] - shipped.q[0, 4] - 0.2
-    for e0, inside in ((0.01, True), (offset, False)):
+    for e0, inside in ((0.0, True), (offset, False)):
         res = run_control(model, shipped, q0_offset=e0, controllers=("simplified",), t_end=0.5,
                           grid_points=201, cost=False)
         said = res.summary()["guarantee"]
@@ -150,6 +153,83 @@ def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(mod
     beyond = float(said["reason"].split(", ")[1].split(" rad below")[0])
     assert 0.2 - 1e-9 <= beyond < 0.21 and said["reason"].endswith(
         f"below its limit {puma.q_min[4]:.6g} rad")
+
+
+def test_region_coverage_checks_the_commanded_acceleration(model, puma, shipped):
+    """The simplified-model controller evaluates its model at v = qdd_d + Kv ed + Kp e: an
+    offset of 0.01 rad starts it at v(0) = qdd_d(0) - wn^2 0.01 = -4 rad/s^2 (the shipped
+    motion starts at rest), beyond joint 1's 45 deg/s^2: not covered, said with the value,
+    the distance past the limit and the unit."""
+    qdd_max = model.guarantee.qdd_max[0]
+    res = run_control(model, shipped, q0_offset=0.01, controllers=("simplified",), t_end=0.5,
+                      grid_points=201, cost=False)
+    said = res.summary()["guarantee"]
+    assert not said["covered"]
+    head = ("the closed loop of the simplified-model controller is outside the model's "
+            "region: joint 1's commanded |qdd| reaches ")
+    assert said["reason"].startswith(head), said["reason"]
+    reached, beyond = (float(v.split(" ")[0]) for v in said["reason"][len(head):].split(", "))
+    assert reached == pytest.approx(20.0 ** 2 * 0.01, rel=1e-6)
+    assert beyond == pytest.approx(reached - qdd_max, rel=2e-3)
+    assert said["reason"].endswith(f"rad/s^2 above its limit {qdd_max:.6g} rad/s^2")
+
+
+def test_region_coverage_checks_the_desired_motion_between_set_points(model, shipped):
+    """The shipped motion is one quintic q_0 + dq (10 s^3 - 15 s^4 + 6 s^5), s = t / T, whose
+    |qdd| peaks at 10 sqrt(3) / 3 |dq| / T^2 (s = 1/2 - sqrt(3)/6), on joint 6 at its limit.
+    Kept at s = 0, 1/2, 1 only (qdd = 0 there) and run 1 % faster, the set points lie in the
+    region but the desired motion between them does not: not covered, its peak said."""
+    c = 0.99
+    pick = [0, 15, 30]
+    t = (shipped.t[pick] - shipped.t[0]) * c
+    fast = Trajectory(t, shipped.q[pick], shipped.qd[pick] / c, shipped.qdd[pick] / c ** 2)
+    dq, T = shipped.q[-1] - shipped.q[0], t[-1]
+    peak = 10 * np.sqrt(3) / 3 * np.abs(dq) / T ** 2
+    qdd_max = model.guarantee.qdd_max
+    assert np.flatnonzero(peak > qdd_max).tolist() == [5]      # the case: joint 6 only
+    res = run_control(model, fast, controllers=("full",), cost=False)
+    said = res.summary()["guarantee"]
+    head = ("the desired motion between the set points is outside the model's region: "
+            "joint 6's |qdd| reaches ")
+    assert not said["covered"] and said["reason"].startswith(head), said["reason"]
+    reached = float(said["reason"][len(head):].split(" ")[0])
+    assert reached == pytest.approx(peak[5], rel=1e-5)
+
+
+def test_the_simplified_control_law_names_the_gravity_the_model_applies(result, model_file):
+    """The simplified-model controller applies the model's own gravity c_s = tau_s(q, 0, 0):
+    its law reads "+ c" only where that is c. The PUMA 560's model keeps c whole (Pinocchio's
+    c, the oracle, equals c_s at set points); a model that drops a gravity part, or terms of
+    c, reads "+ c_s" in the law stored in control.h5."""
+    model = load_model(model_file)
+    q = result.q_d[::400]
+    c_s = model.torque(q, np.zeros_like(q), np.zeros_like(q))
+    c = reference_terms(model.robot, q, np.zeros_like(q)).c
+    np.testing.assert_allclose(c_s, c, rtol=0, atol=1e-9 * np.abs(c).max())
+    assert result.descriptions["simplified"].endswith("D_s v + h_s + c")
+    facts = result.provenance["model"]
+    for dropped in ({"gravity_dropped": "MX2"}, {"c_terms_kept": 3, "c_terms": 5}):
+        res = replace(result, provenance={**result.provenance, "model": {**facts, **dropped}})
+        assert res.descriptions["simplified"].endswith("D_s v + h_s + c_s")
+        assert "simplified model: D_s v + h_s + c_s;" in control_dataset(res).attrs["control_laws"]
+
+
+def test_the_laws_and_the_plant_name_the_drives_friction(shipped):
+    """An arm with drives: the full-model controller applies D v + h + c + tau_f (Pinocchio's
+    D, h, c, the armature Ia added to D, the oracle: what is left is the friction, not 0), and
+    the plant is qdd = D^-1 (tau - h - c - tau_f): the stored law and plant say tau_f."""
+    robot = load_robot("puma560-drives")
+    model = SimplifiedModel(robot, full_choices(6), 0.9, 0.01)
+    res = run_control(model, shipped, controllers=("full",), t_end=0.5, grid_points=21,
+                      cost=False)
+    run, g = res.runs["full"], res.gains
+    v = res.qdd_d + g.Kv * (res.qd_d - run.qd) + g.Kp * (res.q_d - run.q)
+    ref = reference_terms(robot, run.q, run.qd)
+    rest = run.tau - np.einsum("nij,nj->ni", ref.D, v) - ref.h - ref.c - robot.armature * v
+    assert np.abs(rest).max() > 1e-3 * np.abs(run.tau).max()        # friction, applied
+    attrs = control_dataset(res).attrs
+    assert "full: computed torque, full G-D model: D v + h + c + tau_f;" in attrs["control_laws"]
+    assert attrs["plant"].startswith("full G-D model, qdd = D^-1 (tau - h - c - tau_f)")
 
 
 def test_run_control_rejects_bad_input(model, shipped):

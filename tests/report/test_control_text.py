@@ -122,6 +122,52 @@ def test_control_verdict_keeps_revolute_and_prismatic_joints_apart():
     assert " m " not in revolute and "joint" not in revolute
 
 
+def test_the_verdict_never_vouches_for_a_model_its_guarantee_does_not_cover():
+    """A run within the tolerance is "good enough" only where the model's guarantee covers it;
+    else the sentence says the guarantee does not cover the motion."""
+    from gd_analyze.report.control import control_verdict
+
+    peaks = {"full": np.array([1e-9]), "simplified": np.array([1e-5])}
+    said = {c: control_verdict(peaks, np.array([False]), covered=c) for c in (True, False)}
+    assert "good enough" in said[True] and "does not cover" not in said[True]
+    assert "good enough" not in said[False] and "guarantee does not cover" in said[False]
+
+
+def test_sec5_keeps_the_desired_motions_guarantee_where_only_the_closed_loop_leaves():
+    """Region guarantee, desired motion inside, the closed loop's states outside: the open-loop
+    error along the desired motion is still guaranteed, the closed loop's is not; a desired
+    motion outside the region: nothing is guaranteed."""
+    from gd_analyze.report.control import scope_sentences
+
+    facts = {"model_rule": "budget", "model_guarantee_kind": "region",
+             "model_scope": "within 1 % of s_i at every state of the region (proved)",
+             "model_guarantee_covered": 0}
+    loop = scope_sentences({**facts, "model_guarantee_coverage": "the closed loop of the "
+                            "simplified-model controller is outside the model's region"}, 0.01)
+    assert "along the desired motion is guaranteed" in loop and "not guaranteed" not in loop
+    assert "where the controller evaluates it is not" in loop
+    desired = scope_sentences({**facts, "model_guarantee_coverage": "outside the model's "
+                               "region: joint 1's q reaches 3 rad"}, 0.01)
+    assert "is guaranteed" not in desired and "not guaranteed" in desired
+    # a trajectory-kind guarantee, measured at its trajectory's set points: guaranteed there
+    own = scope_sentences({**facts, "model_guarantee_kind": "trajectory",
+                           "model_guarantee_covered": 1, "model_guarantee_coverage": "it is a "
+                           "trajectory the model was built on (same SHA-256)"}, 0.01)
+    assert "at its set points is guaranteed" in own and "along the desired motion" not in own
+    assert "where the controller evaluates the model, it is not" in own
+
+
+def test_noise_floor_row_in_the_notation_of_the_torque_difference_table():
+    """Table 3.1: a joint whose differences are all integrator noise shows its floor in the
+    notation of the other joints' numbers, not "0.000012" beside "5.06e-04"."""
+    from gd_analyze.report.control import _with_columns
+
+    rows = _with_columns([(["peak"], [5.06e-4, 3e-6], [False, True]),
+                          (["floor"], [4.2e-8, 1.2e-5], [False, False])], one=True)
+    cells = [c for r in rows for c in r[1:] if c != "\u2261 0"]
+    assert len(cells) == 3 and all("e-" in c for c in cells), rows
+
+
 def test_verdict_tolerance_option_reaches_the_report(tmp_path):
     """``control --verdict-tolerance RAD,M``: checked (exit 2 on a bad value), stored in
     control.h5 and stated in the verdict and the provenance."""
@@ -211,13 +257,19 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
     figures = control_figures(ds)
     for key, number in (("error", 1), ("tau_difference", 2), ("tau", 3)):
         caption = text[text.index(f"Figure {number}."):][:300]
-        k = int(re.search(r"markers: every (\d+)\w\w set point", caption).group(1))
         drawn = {line.get_markevery() for ax in figures[key].axes for line in ax.get_lines()
                  if line.get_marker() in ("o", "s", "^")}
         if key == "tau_difference" and not drawn:     # nothing dropped: all integrator noise
             assert "\u2261 0 on every joint (integrator noise)" in " ".join(
                 " ".join(t.get_text().split()) for t in figures[key].texts)
+            # no markers to describe, and the empty panels span the run's times
+            assert "no curve drawn" in caption and "markers: every" not in caption, caption
+            t = ds["time"].values.astype(float)
+            for ax in figures[key].axes:
+                if ax.get_title().startswith("joint"):
+                    assert ax.get_xlim() == pytest.approx((0.0, t[-1] - t[0])), ax.get_xlim()
             continue
+        k = int(re.search(r"markers: every (\d+)\w\w set point", caption).group(1))
         strides = {m[1] if isinstance(m, tuple) else m for m in drawn}   # (start, k): staggered
         assert strides == {k}, (key, drawn, k)
         assert -(-200 // k) <= 12                     # at most 12 markers a line

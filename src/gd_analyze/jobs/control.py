@@ -11,7 +11,8 @@ and three controllers track a desired motion q_d(t):
 - ``"full"``: computed torque (Fu, Gonzalez & Lee 1987, Ch. 5, computed-torque technique) with
   the full G-D model, tau = D(q) v + h(q, qd) + c(q);
 - ``"simplified"``: computed torque with the simplified model of ``simplified_model.json``,
-  tau = D_s(q) v + h_s(q, qd) + c(q), evaluated in its explicit form
+  tau = D_s(q) v + h_s(q, qd) + c_s(q) (c_s = c where the model keeps gravity whole), evaluated
+  in its explicit form
   (:meth:`gd_analyze.simplify.simplified.SimplifiedModel.torque`: only the kept terms are computed);
 - ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
 
@@ -188,14 +189,19 @@ class ControlResult:
         if "full" not in self.runs:
             return None
         tol = max(float(self.provenance.get("rtol", 0.0)), ROUND_OFF)
-        scale = np.nanmax(np.abs(self.runs["full"].tau), axis=0)
         noise = 0.0 if self.tau_noise is None else NOISE_FACTOR * np.asarray(self.tau_noise, float)
-        return np.maximum(noise, tol * scale)
+        return np.maximum(noise, tol * np.nanmax(np.abs(self.runs["full"].tau), axis=0))
 
     @property
     def descriptions(self) -> dict[str, str]:
-        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`)."""
-        return {c: CONTROLLER_DESCRIPTIONS[c] for c in self.runs}
+        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`),
+        the simplified model's gravity term c_s where the model drops part of c (its
+        ``gravity_dropped`` parameters, or fewer ``c_terms_kept`` than ``c_terms``), else c;
+        the computed-torque laws with the drives' friction tau_f where the arm has it."""
+        m = self.provenance.get("model", {})
+        part = bool(m.get("gravity_dropped")) or -1 < m.get("c_terms_kept", -1) != m.get("c_terms")
+        return {c: CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
+                + " + tau_f" * (c != "pd_gravity" and self.robot.has_friction) for c in self.runs}
 
     @property
     def controllers(self) -> list[str]:
@@ -245,8 +251,9 @@ class ControlResult:
             ``robot``, ``wn``, ``zeta``, ``tracking`` (controller -> :meth:`error_figures`
             [rad]), ``tau_difference`` (``peak``, ``rms`` per joint [N m], or None),
             ``cost`` (or None) and ``guarantee`` (the model's ``scope`` sentence, its
-            ``kind`` and whether it ``covered`` the desired motion and, for a region, the
-            states of the simplified-model controller's closed loop, with the ``reason``).
+            ``kind`` and whether it ``covered`` the desired motion and, for a region, its every
+            sample and the simplified-model controller's closed loop: q, qd and the commanded
+            acceleration v at which it evaluates the model; with the ``reason``).
         """
         td = None if (diff := self.tau_difference) is None else {
             k: v.tolist() for k, v in zip(("peak", "rms"), peak_rms(diff))}
@@ -445,19 +452,14 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     Sources: Fu, Gonzalez & Lee (1987), Eq. (3.4-24) (plant and model), Sec. 3.4.1
     (simplified model), Ch. 5 (computed-torque control).
     """
-    if model_path is None:
-        model_file = "<in memory>"
-        model_sha = model_sha256 or hashlib.sha256(json.dumps(
-            json_safe(model.to_dict()), sort_keys=True).encode()).hexdigest()
-    else:
-        model_file = str(model_path)
-        model_sha = model_sha256 or ""
+    model_file = "<in memory>" if model_path is None else str(model_path)
+    model_sha = model_sha256 or ("" if model_path is not None else hashlib.sha256(json.dumps(
+        json_safe(model.to_dict()), sort_keys=True).encode()).hexdigest())
     robot: Robot = model.robot if plant is None else plant
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
-    unknown = [c for c in controllers if c not in CONTROLLERS]
-    if unknown or not controllers:
+    if not controllers or not set(controllers) <= set(CONTROLLERS):
         raise ValueError(f"controllers must be among {CONTROLLERS}, got {list(controllers)}")
     choice_masks(model.choices, robot.n)            # validate
     model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd)    # finite on the set points
@@ -472,8 +474,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     # D at (up to 64 of) the set points: invertible, and the loops' speed for every controller
     pick = np.unique(np.linspace(0, len(trajectory.t) - 1, 64).round().astype(int))
     D = gd_terms(robot, trajectory.q[pick], np.zeros_like(trajectory.q[pick])).D
-    singular = singular_inertia(robot, D)
-    if singular:
+    if singular := singular_inertia(robot, D):
         raise ValueError(singular)
     gains = control_gains(robot, desired(t[0]), wn, zeta)
     rates = closed_loop_rates(robot, gains, D)
@@ -491,13 +492,16 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     runs = {name: track(robot, name, gains, desired, t, q0_offset=offset, choices=model,
                         rtol=rtol, atol=atol, method=method)
             for name in CONTROLLERS if name in controllers}
-    loop = runs.get("simplified")       # the states where the controller evaluates the model
-    if covers["covered"] and covers["kind"] == "region" and loop is not None:
-        said = coverage(model, Trajectory(loop.t, loop.q, loop.qd, np.zeros_like(loop.q)),
-                        plant=robot, path=model_file)
+    q_d, qd_d, qdd_d = desired(t), desired(t, 1), desired(t, 2)
+    states = [("desired motion between the set points", "|qdd|", q_d, qd_d, qdd_d)]
+    if (loop := runs.get("simplified")) is not None:     # its model's state: q, qd and v
+        states.append(("closed loop of the simplified-model controller", "commanded |qdd|", loop.q,
+                       loop.qd, qdd_d + gains.Kv * (qd_d - loop.qd) + gains.Kp * (q_d - loop.q)))
+    for who, qdd, *state in states if covers["covered"] and covers["kind"] == "region" else ():
+        said = coverage(model, Trajectory(t, *state), plant=robot, path=model_file)
         if not said["covered"]:
-            covers = {**said, "reason": "the closed loop of the simplified-model controller is "
-                      + said["reason"]}
+            covers = {**said, "reason": f"the {who} is " + said["reason"].replace("|qdd|", qdd)}
+            break
     noise, unmeasured = None, ""
     if "full" in runs and "simplified" in runs:
         try:
@@ -515,13 +519,11 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
         "model_trajectory_sha256": model.trajectory_sha256,
         "rtol": float(rtol), "atol": float(atol), "method": str(method),
         "grid_points": int(grid_points), "q0_offset": offset.tolist(),
-        "t_end": float(t[-1]),
-        "gravity_base": [float(v) for v in robot.gravity],
+        "t_end": float(t[-1]), "gravity_base": [float(v) for v in robot.gravity],
         "model": {**model_facts(model), "guarantee_covered": int(covers["covered"]),
                   "guarantee_coverage": covers["reason"]},  # desired motion and closed loop
+        **({"noise_unmeasured": unmeasured} if unmeasured else {}),
     }
-    if unmeasured:
-        provenance["noise_unmeasured"] = unmeasured
     if noise is not None:
         provenance.update(noise_rtol=float(rtol) / NOISE_TIGHTEN,
                           noise_atol=float(atol) / NOISE_TIGHTEN,
@@ -529,9 +531,8 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     if verdict_tolerance is not None:
         provenance["verdict_tolerance"] = [float(v) for v in verdict_tolerance]
     return ControlResult(robot=robot, choices=dict(model.choices), gains=gains, t=t,
-                         is_setpoint=is_set, q_d=desired(t), qd_d=desired(t, 1),
-                         qdd_d=desired(t, 2), runs=runs, cost=cost_figures,
-                         provenance=provenance, tau_noise=noise)
+                         is_setpoint=is_set, q_d=q_d, qd_d=qd_d, qdd_d=qdd_d, runs=runs,
+                         cost=cost_figures, provenance=provenance, tau_noise=noise)
 
 
 def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired: PPoly,
@@ -596,7 +597,6 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
         if not tight[name].success:
             raise ValueError(f"measuring the integrator noise (rtol = {rtol / NOISE_TIGHTEN:g})"
                              f": the {name} controller's run failed: {tight[name].message}")
-    loose = runs["simplified"].tau - runs["full"].tau
-    fine = tight["simplified"].tau - tight["full"].tau
+    loose, fine = (r["simplified"].tau - r["full"].tau for r in (runs, tight))
     return (np.nanmax(np.abs(loose - fine), axis=0),
             int(tight["full"].nfev + tight["simplified"].nfev))

@@ -46,6 +46,7 @@ from .common import (
     cost_table,
     fmt,
     fmt_column,
+    fmt_columns,
     grid_shape,
     joints_text,
     panel_markevery,
@@ -106,8 +107,7 @@ def _by_type(values, prismatic, which):
     for kind in (False, True):
         ks = np.nonzero(prismatic == kind)[0]
         if ks.size:
-            unit = (joint_torque_units(kind) if which == "tau" else
-                    joint_motion_units(kind)[0])
+            unit = joint_torque_units(kind) if which == "tau" else joint_motion_units(kind)[0]
             out.append((unit, float(np.nanmax(values[ks])), [int(k) + 1 for k in ks]))
     return out
 
@@ -121,17 +121,17 @@ def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str) -> str:
 def _joint_types(prismatic):
     """For a mixed arm, which joints are revolute and which prismatic, said once; else ""."""
     groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
-    if len(groups) < 2:
-        return ""
-    return ("; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
-                      f"{joint_torque_units(kind)})"
-                      for (u, _, js), kind in zip(groups, (False, True))) + ": ")
+    return "" if len(groups) < 2 else (
+        "; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
+                  f"{joint_torque_units(kind)})"
+                  for (u, _, js), kind in zip(groups, (False, True))) + ": ")
 
 
 def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                     tau_difference: np.ndarray | None = None,
                     tolerance: tuple[float, float] = VERDICT_TOLERANCE,
-                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None) -> str:
+                    quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None,
+                    covered: bool | None = None) -> str:
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -155,6 +155,12 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
         The rule by which a joint's torque difference is integrator noise, in words
         (:func:`gd_analyze.report.control.noise_words`), said after the torque
         difference.
+    covered : bool, optional
+        Whether the model's guarantee covers the run: a region guarantee that covers the
+        desired motion and the closed loop (``model_guarantee_covered``; a trajectory-kind
+        guarantee holds at the trajectory's set points only, never at the closed loop's
+        states); where not, a run within the tolerance is said to be within it in this run
+        only, never "good enough"; None (an older file): not said.
 
     Returns
     -------
@@ -173,8 +179,7 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     full, simp = peaks.get("full"), peaks.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
-    pd = peaks.get("pd_gravity")
-    quiet = quiet or {}
+    pd, quiet = peaks.get("pd_gravity"), quiet or {}
 
     def said(c, values):
         return NOISE if quiet.get(c) else by_type_text(values, prismatic, "q")
@@ -187,7 +192,8 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
                                       zip(groups["simplified"], groups["pd_gravity"]))
     units = [u for u, _, _ in groups["full"]]      # each joint type apart
-    verdict = "holds" if holds else "beats_pd" if beats_pd else "fails"
+    verdict = ("holds" if covered in (None, True) else "measured") if holds else \
+        "beats_pd" if beats_pd else "fails"
     return say("control_verdict", verdict=verdict, types=_joint_types(prismatic),
                simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd) if pd is not None else "",
                bounds=[(fmt_number(b), u, "prismatic" if kind else "revolute")
@@ -331,7 +337,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
         if not drawn and floor is not None:
             ax.text(0.5, 0.5, "integrator noise only: not drawn", transform=ax.transAxes,
                     ha="center", va="center", fontsize=7, color="0.35")
-            ax.set_yticks([])
+            ax.set(yticks=[], xlim=(t[0], t[-1]))       # the run's times, as drawn panels
         ax.set_title(f"joint {j + 1}")
         ax.set_ylabel(ylabel.format(u=units[j]))
     label_axes(linear)                  # one tick notation for the figure
@@ -544,9 +550,8 @@ def noise_floors(ds: StoredControl | xr.Dataset) -> tuple[np.ndarray, np.ndarray
     """
     s = StoredControl.of(ds)
     tol, q_scale, tau_scale = noise_scales(s)
-    if s.tau_difference_floor is not None:
-        return tol * q_scale, np.asarray(s.tau_difference_floor, float)
-    return tol * q_scale, tol * tau_scale
+    stored = s.tau_difference_floor
+    return tol * q_scale, tol * tau_scale if stored is None else np.asarray(stored, float)
 
 
 def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
@@ -637,9 +642,11 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     tolerance = tuple(float(d if v is None else v) for v, d in
                       zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
                           VERDICT_TOLERANCE))
+    covered = None if (c := s.model.guarantee_covered) is None else (    # a trajectory kind:
+        str(c) == "1" and str(s.model.guarantee_kind) == "region")  # its set points only
     verdict = control_verdict(peaks, prismatic, diff,
                               tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
-                              quiet, rule["tau"])
+                              quiet, rule["tau"], covered)
     return {"verdict": verdict, "summary": summary, "rule": rule,
             "floors": (q_floor, tau_floor)}
 
@@ -666,8 +673,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     desc = s.descriptions if s.descriptions is not None else names
     q_units = joint_units_of(s, "q")
     judged = dataset_verdict(s)
-    summary, verdict, rule = judged["summary"], judged["verdict"], judged["rule"]
-    q_floor, tau_floor = judged["floors"]
+    rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
     files = {"robot": (st.robot, st.robot_sha256),         # the inputs, each with its SHA-256
              "trajectory": (st.trajectory_file, st.trajectory_sha256),
              "model": (st.model_file, st.model_sha256)}
@@ -721,7 +727,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
                     _with_columns(error_rows), align=["left", "left", "left"] + ["right"] * n)
-    tau_diff = _table(["figure"] + tau_u, _with_columns(diff), align="right")
+    tau_diff = _table(["figure"] + tau_u, _with_columns(diff, one=True), align="right")
     tau_table = _table(["controller", "figure"] + tau_u, _with_columns(applied),
                        align=["left", "left"] + ["right"] * n)
     model_note, recursive = _model_note(s)
@@ -734,17 +740,19 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                                            align=["left"] * (n + 1))
     prov = settings_table(_provenance(s, __version__))
     created = utc_now().isoformat()
-    drawn = [c for c in names if not is_round_off(np.nanmax(np.abs(np.asarray(
-        s.error[c], float)), axis=0), q_floor, 1.0).all()]      # as Fig. 1 draws them
-    markers = {"error": markers_words(s, names, drawn), "tau_difference": markers_words(s, 1),
-               "tau": markers_words(s, names)}
+    curves = {**{c: (s.error[c], q_floor) for c in names},      # as Figs. 1 and 2 draw them
+              "difference": (s.tau_difference, tau_floor)}
+    drawn = [c for c, (y, floor) in curves.items() if y is not None and not is_round_off(
+        np.nanmax(np.abs(np.asarray(y, float)), axis=0), floor, 1.0).all()]
+    markers = {"error": markers_words(s, names, drawn), "tau": markers_words(s, names),
+               "tau_difference": markers_words(s, ["difference"], drawn)}
     captions = {key: say("control_caption", key=key, markers=markers[key],
                          rule=rule.get("q" if key == "error" else "tau"))
                 for key in markers}
     return {
         "version": __version__,
         "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
-        "summary": summary, "verdict": verdict,
+        "summary": judged["summary"], "verdict": judged["verdict"],
         "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
                      eps=f"{float(_or(s.model.tolerance, np.nan)):g}", created=created,
                      version=__version__),
@@ -757,10 +765,12 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     }
 
 
-def _with_columns(entries, digits=3):
+def _with_columns(entries, digits=3, one=False):
     """Table rows: each row's leading cells, then its numbers per joint, each joint's column in
     one notation (:func:`gd_analyze.report.numbers.fmt_column`: one format per
-    column).
+    column), or with ``one`` the whole table in one
+    (:func:`~gd_analyze.report.numbers.fmt_columns`: a column whose only number is its noise
+    floor never reads "0.000012" beside "5.06e-04").
 
     Parameters
     ----------
@@ -769,6 +779,8 @@ def _with_columns(entries, digits=3):
         (n,), and which of them are integrator noise by the report's rule ("\u2261 0").
     digits : int, optional
         Significant digits each entry keeps, at least.
+    one : bool, optional
+        One notation for every column (one quantity).
 
     Returns
     -------
@@ -777,8 +789,9 @@ def _with_columns(entries, digits=3):
     if not entries:
         return []
     rows, values, off = zip(*entries)
-    v, hide = np.asarray(values, float), np.asarray(off, bool)
-    cols = [fmt_column(v[:, j], digits, hide[:, j]) for j in range(v.shape[1])]
+    v, hide = np.asarray(values, float).T, np.asarray(off, bool).T      # a row per joint
+    cols = (fmt_columns(v, digits, list(hide)) if one else
+            [fmt_column(c, digits, h) for c, h in zip(v, hide)])
     return [list(r) + list(c) for r, c in zip(rows, zip(*cols))]
 
 
@@ -898,9 +911,9 @@ def _gains_table(s, joints):
 def _plant(settings):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
     plant = stored_text(settings.plant)
-    if plant.startswith("full G-D model"):
-        return "full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c) (Eq. 3.4-24)"
-    return plant
+    friction = " \u2212 \u03c4" + sub("f") if "tau_f" in plant else ""     # the drives'
+    return plant if not plant.startswith("full G-D model") else (
+        f"full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c{friction}) (Eq. 3.4-24)")
 
 
 #: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).

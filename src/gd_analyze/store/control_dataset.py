@@ -251,7 +251,8 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
                  "Kp_pd = diag(D(q_d(0))) wn^2, Kv_pd = diag(D(q_d(0))) 2 zeta wn",
         "control_laws": "; ".join(f"{c}: {result.descriptions[c]}" for c in names)
                         + "; v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), e = q_d - q",
-        "plant": "full G-D model, qdd = D^-1 (tau - h - c) (Eq. 3.4-24)",
+        "plant": "full G-D model, qdd = D^-1 (tau - h - c" + " - tau_f" * result.robot.has_friction
+                 + ") (Eq. 3.4-24)",
         "interpolation": "piecewise quintic Hermite through (q, qd, qdd) at the set points "
                          "(scipy BPoly.from_derivatives), C2",
         "integrator": f"scipy.integrate.solve_ivp {prov.get('method', '')}",
