@@ -642,3 +642,40 @@ def test_a_budget_model_relabelled_the_chapters_is_refused(tmp_path):
             continue
         with pytest.raises(InputError, match="key explicit_terms: are not the chapter's model"):
             gd_analyze.load_model(path)
+
+
+def test_a_trajectory_models_sampled_region_error_is_said_to_be_the_files(models, capsys):
+    """A trajectory model's region_sampled_error set to 1e-6 was printed by evaluate as
+    "sampled over the region: 0.0001 % of s_i", a figure nothing measured again. Oracle: the
+    edited file's figure, 1e-6 of s_i, is 1e-4 %; it is printed only as the file's."""
+    folder, _, trajectory_doc = models
+    forged = _copy(trajectory_doc)
+    forged["guarantee"]["region_sampled_error"] = [1e-6] * 6
+    code = main(["evaluate", str(_write(folder, "sampled_1e-6", forged)), str(SHIPPED)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    said = [ln for ln in out.splitlines() if "sampled over the region" in ln]
+    assert len(said) == 1 and "0.0001 % of s_i (as the model file states, not measured " \
+        "again)" in said[0], out
+    model = gd_analyze.load_model(folder / "trajectory" / "simplified_model.json")
+    assert model.scope().endswith("(as the model file states, not measured again)")
+
+
+@pytest.mark.parametrize("edit, key", [
+    (lambda d: d.update(tolerance=0.5), "tolerance"),
+    (lambda d: (d.update(torque_floor=1e4), d["guarantee"].update(scale=[1e4] * 6)),
+     "torque_floor")])
+def test_an_eps_or_torque_floor_edited_upward_is_refused(models, capsys, edit, key):
+    """EPS edited from 0.01 to 0.5 loosened evaluate's gate (EPS s_i) 50 times; a torque floor
+    of 1e4 N m with every s_i set to it passed every check of s_i. Oracle: the provenance's
+    EPS and torque floor, the ones the main job was run with (its command line's defaults)."""
+    folder, _, trajectory_doc = models
+    assert trajectory_doc["provenance"]["tolerance"] == 0.01
+    assert trajectory_doc["provenance"]["torque_floor"] == 0.0
+    forged = _copy(trajectory_doc)
+    edit(forged)
+    path = _write(folder, f"edited_{key}", forged)
+    _, line = _refused(capsys, ["evaluate", path, SHIPPED], key)
+    assert "the model was built with" in line
+    with pytest.raises(InputError, match=f"key {key}:"):
+        gd_analyze.load_model(path)

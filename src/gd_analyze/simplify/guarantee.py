@@ -184,6 +184,10 @@ class Guarantee:
         Region kind: the enclosures the joint sums were added on,
         :func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic` (``"both"``: balls
         and interval boxes intersected; ``"ball"``); "" where not stored.
+    read_back : bool
+        Read from a model file (:meth:`from_dict`): a trajectory kind's
+        ``region_sampled_error`` is the file's figure, not measured again (that is the main
+        job's sampling of the region), and :meth:`statement` says so.
 
     Notes
     -----
@@ -213,6 +217,7 @@ class Guarantee:
     decomposed: tuple = ()
     bound_method: tuple = ()
     joint_sum_arithmetic: str = ""
+    read_back: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -247,7 +252,8 @@ class Guarantee:
         -------
         str
             ``"within EPS x s_i at every state of the region (proved)"`` or ``"on this
-            trajectory only; sampled over the region: X %"`` with the model's numbers.
+            trajectory only; sampled over the region: X %"`` with the model's numbers, the
+            figure said to be the model file's where it was read from one (:attr:`read_back`).
 
         Examples
         --------
@@ -263,8 +269,9 @@ class Guarantee:
         where = ("on this trajectory only" if not self.trajectories_sha256 else
                  f"on the {len(self.trajectories_sha256)} swept trajectories only")
         pct, why = self.sampled_percent(), self.region_missing and f" ({self.region_missing})"
+        said = " (as the model file states, not measured again)" if self.read_back else ""
         tail = f"not checked over a region{why}" if pct is None else \
-            f"sampled over the region: {pct:.3g} % of s_i"
+            f"sampled over the region: {pct:.3g} % of s_i{said}"
         return f"within {eps} of s_i {where}; {tail}"
 
     def covers(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, trajectory_sha256: str = "",
@@ -478,4 +485,4 @@ class Guarantee:
         return cls(**common, trajectory_sha256=spec.get("trajectory_sha256", ""),
                    trajectories_sha256=tuple(spec.get("trajectories_sha256") or ()),
                    region_sampled_error=arr("region_sampled_error", required=False),
-                   region_missing=spec.get("region_missing", ""))
+                   region_missing=spec.get("region_missing", ""), read_back=True)

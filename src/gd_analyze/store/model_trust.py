@@ -6,6 +6,10 @@ guarantee pasted in, its ``scale`` and ``bound`` multiplied by 100). :func:`chec
 recomputes what the claim rests on, from the model's robot, and refuses the file where the
 claim fails, with one line naming the key:
 
+- ``tolerance``, ``torque_floor`` (of a model with a guarantee): equal to the provenance's,
+  the EPS and torque floor the model was built with, where it states them (evaluate's gate is
+  EPS s_i: an EPS edited from 0.01 to 0.5 would loosen it 50 times, a torque floor raised to
+  1e4 N m with every s_i set to it, far more);
 - ``guarantee.q_min``, ``q_max``, ``qd_max``, ``qdd_max``: the region lies within the robot's
   own limits (a revolute joint without limits, or with more than a turn, has [-pi, pi]; a
   limit the robot does not give is any finite positive number);
@@ -161,7 +165,8 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         it that are not the arm's arithmetic, do not give it when derived again, or are stated
         for a model without a recursive form to derive them on (``guarantee.bound_method``);
         a model of the chapter's rule whose terms are not every term of the parts its choices
-        keep (``explicit_terms``).
+        keep (``explicit_terms``); a ``tolerance`` or ``torque_floor`` that is not the
+        provenance's.
 
     Notes
     -----
@@ -169,6 +174,10 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
     (:func:`gd_analyze.jobs.evaluate.coverage`, on the very file by SHA-256).
     """
     g = model.guarantee
+    for name in ("tolerance", "torque_floor") if g is not None else ():  # the gate's EPS s_i
+        if name in model.provenance and (built := model.provenance[name]) != getattr(model, name):
+            raise InputError(f"is {getattr(model, name):g}, not the {built!r} the model was built "
+                             f"with (provenance.{name})", path, column=name)
     if model.rule == "chapter" and model.terms is not None and not _same_terms(
             chapter_terms(explicit_terms(model.robot)[0], model.choices), model.terms):
         raise InputError("are not the chapter's model of the file's choices (the terms of the "
@@ -201,8 +210,7 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         j = int(np.argmax(np.where(short, reproved - bound, -np.inf)))
         raise InputError(f"is below the bound re-proved for its dropped terms (joint {j + 1}: "
                          f"{bound[j]:.4g} < {reproved[j]:.4g})", path, column="guarantee.bound")
-    unmet = unproved_way(how, bound, _reproved(model, region, path)[1] if model.recursive is not None
-                   else {}, limit)
+    unmet = unproved_way(how, bound, _reproved(model, region, path)[1], limit) if how else None
     if unmet is not None:
         raise InputError(f"joint {unmet + 1}'s {how[unmet]!r} does not give its bound "
                          f"{bound[unmet]:.4g} when derived again", path,
@@ -218,7 +226,8 @@ def _tiled(model, region, limit):
     joint's way (``guarantee.bound_method``), that way's bound on them from the first joint
     stating it (:func:`gd_analyze.certify.certify.tree_method_bounds`,
     :func:`gd_analyze.certify.certify.unproved_way`), else the least of the trees'
-    (:func:`gd_analyze.certify.certify.tilings_bound`); False without trees."""
+    (:func:`gd_analyze.certify.certify.tilings_bound`; NaN never passes); False without
+    trees."""
     g = model.guarantee
     if not g.tilings and not g.decomposed:
         return False
@@ -229,8 +238,7 @@ def _tiled(model, region, limit):
                                g.decomposed, ways or None)
     if how:
         return unproved_way(how, np.asarray(g.bound, float), found, limit) is None
-    least = np.minimum(found["joint sum"], found["decomposition"])
-    return bool(np.all(least <= limit))     # NaN never passes
+    return bool(np.all(np.minimum(found["joint sum"], found["decomposition"]) <= limit))
 
 
 def remember_claim(model: SimplifiedModel) -> None:
@@ -324,10 +332,9 @@ def _reproved(model, region, path):
     (:func:`gd_analyze.certify.certify.method_bounds`), the last kept."""
     key = _claim_key(model)
     if key not in _REPROVED:
-        robot = model.robot
-        pb = _certified(robot, region, float(model.torque_floor))
+        pb = _certified(model.robot, region, float(model.torque_floor))
         dropped = np.asarray(model.recursive.dropped, bool)
-        bound, trees = region_trees(robot, base_parameters(robot), region, pb, dropped,
+        bound, trees = region_trees(model.robot, base_parameters(model.robot), region, pb, dropped,
                                     float(model.tolerance) * np.asarray(pb.scale, float))
         _REPROVED.clear()
         _REPROVED[key] = bound, method_bounds(pb, dropped, trees)
@@ -416,14 +423,12 @@ def _region_within_limits(robot, g, path):
     hi = np.where(np.isfinite(hi), hi, np.inf)      # [-pi, pi] (the region of the whole circle)
     lo, hi = np.where(turn, np.minimum(lo, -np.pi), lo), np.where(turn, np.maximum(hi, np.pi), hi)
     span = np.where(np.isfinite(hi - lo), hi - lo, 1.0)
-    for key, value, limit, below in (
-            ("q_min", q_min, lo, True), ("q_max", q_max, hi, False)):
-        slack = REGION_RTOL * np.maximum(np.abs(span), 1e-300)
-        bad = ~np.isfinite(value) | ~((value >= limit - slack) if below
-                                      else (value <= limit + slack))
+    slack = REGION_RTOL * np.maximum(np.abs(span), 1e-300)
+    for key, value, limit, sign in (("q_min", q_min, lo, -1), ("q_max", q_max, hi, 1)):
+        bad = ~np.isfinite(value) | ~(sign * (value - limit) <= slack)
         if bad.any():
             j = int(np.argmax(bad))
-            raise InputError(f"joint {j + 1}'s {value[j]:.6g} is {'below' if below else 'above'}"
+            raise InputError(f"joint {j + 1}'s {value[j]:.6g} is {'above' if sign > 0 else 'below'}"
                              f" the robot's limit {limit[j]:.6g}: the region must lie within the "
                              "robot's limits", path, column=f"guarantee.{key}")
     if not np.all(q_min <= q_max):
@@ -447,9 +452,8 @@ def _region_within_limits(robot, g, path):
 def _scale_reached(robot, g, region, torque_floor, path):
     """Refuse a scale s_i that |tau_i| at its stored state does not reach (a state in the
     region, or none for a trajectory kind's)."""
-    n = robot.n
-    state = np.asarray(g.scale_state, float).reshape(n, 3 * n)
-    q, qd, qdd = state[:, :n], state[:, n:2 * n], state[:, 2 * n:]
+    state = np.asarray(g.scale_state, float).reshape(robot.n, -1)
+    q, qd, qdd = np.split(state, 3, axis=1)
     if not (np.isfinite(state).all() and (region is None or region.contains(q, qd, qdd).all())):
         raise InputError("a state where s_i was found is not finite or lies outside the "
                          "guarantee's region", path, column="guarantee.scale_state")
