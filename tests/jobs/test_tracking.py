@@ -153,3 +153,33 @@ def test_the_computed_torque_rate_is_the_fast_root_without_overflow(puma, wn, ze
     exact = (2 * zeta * wn if zeta > 1e100 else
              float(np.abs(np.roots([1.0, 2 * zeta * wn, wn**2])).max()))
     assert rate == pytest.approx(exact, rel=1e-12)
+
+
+def test_a_run_on_an_arm_with_coulomb_friction_finishes_and_its_plant_is_regularised(shipped):
+    """With sign(qd) itself in the plant, the PD + gravity loop on the PUMA 560 with drives
+    switched its friction torque at every step where qd crossed 0 and stopped at the evaluation
+    bound. With the band, it finishes; its q, qd obey the plant qdd = D^-1 (tau - h - c -
+    tau_f) with tau_f's sign(qd) linear within the band (physical identity: the run's
+    acceleration, by finite differences of qd, against the forward dynamics at its states)."""
+    from gd_analyze import load_robot
+    from gd_analyze.jobs.tracking import track
+    from gd_analyze.model.drives import COULOMB_BAND, friction_torque
+
+    robot = load_robot("puma560-drives")
+    assert np.any(robot.coulomb)
+    fine = np.linspace(shipped.t[0], shipped.t[-1], 3001)
+    run = track(robot, "pd_gravity", control_gains(robot, shipped.q[0]),
+                desired_motion(shipped), fine, q0_offset=0.01)
+    assert run.success and np.isfinite(run.q).all()
+    # the plant's acceleration at the run's states, from its torques, against qd's slope
+    terms = gd_terms(robot, run.q, run.qd)
+    plant_f = friction_torque(robot, run.qd, COULOMB_BAND)
+    qdd = np.linalg.solve(terms.D, (run.tau - terms.h - terms.c - plant_f)[..., None])[..., 0]
+    slope = np.gradient(run.qd, run.t, axis=0)
+    inner = slice(2, -2)
+    scale = np.abs(qdd).max(axis=0)
+    assert np.all(np.abs(slope[inner] - qdd[inner]).max(axis=0) <= 0.05 * scale)
+    # with sign(qd) in the plant instead, the slopes disagree where qd is within the band
+    sign_f = friction_torque(robot, run.qd)
+    qdd_sign = np.linalg.solve(terms.D, (run.tau - terms.h - terms.c - sign_f)[..., None])[..., 0]
+    assert np.abs(slope[inner] - qdd_sign[inner]).max() > 0.5 * scale.max()

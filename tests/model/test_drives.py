@@ -130,6 +130,11 @@ def test_friction_is_viscous_times_qd_plus_coulomb_times_sign():
     no_f = gd_terms(rigid_links(robot), np.zeros((3, 2)), qd)
     np.testing.assert_array_equal(terms.tau(np.zeros((3, 2))) - no_f.tau(np.zeros((3, 2))),
                                   [[3.5, 0.0], [-4.0, 0.0], [0.0, 0.0]])
+    # a band of 0.5 (a simulated plant's): sign(qd) beyond it, qd / 0.5 within it
+    qd = np.array([[1.0, 0.0], [-0.25, 0.0], [0.1, 0.0]])
+    # 0.5 + 3 = 3.5; 0.5 * (-0.25) + 3 * (-0.5) = -1.625; 0.05 + 3 * 0.2 = 0.65
+    np.testing.assert_allclose(friction_torque(robot, qd, band=0.5),
+                               [[3.5, 0.0], [-1.625, 0.0], [0.65, 0.0]], rtol=1e-15)
 
 
 def test_armature_dominated_diagonal_counts_as_rotational():

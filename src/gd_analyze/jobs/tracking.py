@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..dynamics.dalembert import gd_terms, one_state_terms, qdd_from_terms
+from ..model.drives import COULOMB_BAND, friction_torque
 from ..ranking.labels import element_units
 
 if TYPE_CHECKING:
@@ -434,8 +435,9 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
     Notes
     -----
     Plant: qdd = D^-1 (tau - h - c - tau_f), Eq. (3.4-24) with the drives' armature in D and
-    friction tau_f (:mod:`gd_analyze.model.drives`); the G-D terms at the current state are
-    computed once per right-hand-side call and serve both the plant and the
+    friction tau_f (:mod:`gd_analyze.model.drives`, its Coulomb part linear within
+    :data:`~gd_analyze.model.drives.COULOMB_BAND`; the controllers' laws keep sign(qd)); the G-D terms at the current
+    state are computed once per right-hand-side call and serve both the plant and the
     full-model and PD laws; the simplified law evaluates its model at that one state in floats
     (:meth:`~gd_analyze.simplify.simplified.SimplifiedModel.torque_at`: its program's
     operations in the same order as the emitted numpy model's). The torques returned at
@@ -454,7 +456,7 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
     motion = _stacked(desired, d1, d2)             # q_d, qd_d, qdd_d: one evaluation a call
     motion = PPoly.construct_fast(motion.c, motion.x - t0, motion.extrapolate)
     state_terms = one_state_terms(robot)
-    calls = [0]
+    calls, band = [0], bool(np.any(robot.coulomb))
     at = getattr(choices, "torque_at", None) if controller == "simplified" else None
     # the simplified model at the one state of a call (choices.torque without torque_at)
     one_state = None if at is None else (lambda q, qd, v: at(q[0], qd[0], v[0])[None])
@@ -469,7 +471,8 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
         tau = controller_torque(controller, robot, gains, m[:, :n], m[:, n:2 * n],
                                 m[:, 2 * n:], q, qd, choices=choices, terms=terms,
                                 model_torque=one_state)
-        return np.concatenate([y[n:], qdd_from_terms(terms, tau)[0]])
+        plant = replace(terms, tau_f=friction_torque(robot, qd, COULOMB_BAND)) if band else terms
+        return np.concatenate([y[n:], qdd_from_terms(plant, tau)[0]])
 
     y0 = np.concatenate([desired(t0) + np.broadcast_to(np.asarray(q0_offset, float), (n,)),
                          d1(t0)])
@@ -477,9 +480,7 @@ def track(robot: Robot, controller: str, gains: Gains, desired: PPoly, t_eval: A
         sol = solve_ivp(rhs, (0.0, t_eval[-1] - t0), y0, method=method, t_eval=t_eval - t0,
                         rtol=rtol, atol=atol)
     except _TooManyEvals:
-        cause = ("the plant's Coulomb friction switches sign wherever qd crosses 0 (a "
-                 "discontinuous plant)" if np.any(robot.coulomb) else
-                 "the gains or the trajectory make it too stiff (lower wn or zeta)")
+        cause = "the gains, the trajectory or the plant's friction make it too stiff (lower wn)"
         knots = desired.x.size
         if knots > DENSE_SETPOINTS:
             cause += (f"; the desired motion passes through {knots} set points "

@@ -912,8 +912,10 @@ def _plant(settings):
     """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
     plant = stored_text(settings.plant)
     friction = " \u2212 \u03c4" + sub("f") if "tau_f" in plant else ""     # the drives'
+    rest = plant.partition("; ")[2]                  # how the plant's Coulomb friction is set
     return plant if not plant.startswith("full G-D model") else (
-        f"full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c{friction}) (Eq. 3.4-24)")
+        f"full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c{friction}) (Eq. 3.4-24)"
+        + f"; {rest}" * bool(rest))
 
 
 #: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).

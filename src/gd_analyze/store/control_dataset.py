@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..model.drives import COULOMB_BAND
 from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
 from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
@@ -252,7 +253,9 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
         "control_laws": "; ".join(f"{c}: {result.descriptions[c]}" for c in names)
                         + "; v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), e = q_d - q",
         "plant": "full G-D model, qdd = D^-1 (tau - h - c" + " - tau_f" * result.robot.has_friction
-                 + ") (Eq. 3.4-24)",
+                 + ") (Eq. 3.4-24)" + f"; Coulomb friction regularised: sign(qd) in tau_f is qd / b "
+                 f"within |qd| < b = {COULOMB_BAND} rad/s (m/s for a prismatic joint)"
+                 * bool(any(result.robot.coulomb)),
         "interpolation": "piecewise quintic Hermite through (q, qd, qdd) at the set points "
                          "(scipy BPoly.from_derivatives), C2",
         "integrator": f"scipy.integrate.solve_ivp {prov.get('method', '')}",
