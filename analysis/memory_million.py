@@ -2,7 +2,7 @@
 main job with its report (HTML, PDF and the figure files).
 
     python analysis/memory_million.py [--setpoints N] [--no-terms] [--joints n] [--src DIR]
-                                      [--read-only]
+                                      [--read-only] [--blank-end]
 
 Each measurement runs in a fresh Python process that prints its own peak resident set size
 (ru_maxrss), so the figures do not mix. The main job runs as a user runs it, in one process.
@@ -15,7 +15,8 @@ jobs then share one derivation cache, filled by an untimed ``--no-report`` run o
 gd_terms-only process is run (its (N, n, n) arrays are what the job avoids), and the limit is 2 GiB (issue 42: 15 joints under 2 GiB) instead of 1 GiB. ``--src DIR`` runs
 every process on another checkout's ``src`` (first on PYTHONPATH), to measure the code before
 a change. A process that only reads the CSV (``read_trajectory``) gives the reading's own peak;
-``--read-only`` runs that one alone (no job). Prints one JSON line.
+``--read-only`` runs that one alone (no job). ``--blank-end`` ends the CSV with an empty line
+(as many recorded files do). Prints one JSON line.
 """
 
 from __future__ import annotations
@@ -57,6 +58,7 @@ def main(argv=None):
     p.add_argument("--joints", type=int, default=0, help="a random chain of this many joints")
     p.add_argument("--src", default="", help="another checkout's src folder")
     p.add_argument("--read-only", action="store_true", help="measure the CSV's reading alone")
+    p.add_argument("--blank-end", action="store_true", help="end the CSV with an empty line")
     args = p.parse_args(argv)
     N = args.setpoints
     if args.src:
@@ -86,13 +88,16 @@ def main(argv=None):
                     f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
                     f"np.radians(DEFAULT_GOAL_DEG), {N});")
             run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)
+        if args.blank_end:
+            with open(csv, "ab") as fh:
+                fh.write(b"\n")
         rss_read, t_read = run("from gd_analyze.trajectory.trajectory import read_trajectory; "
                                f"tr = read_trajectory({str(csv)!r}); " + PEAK)
         csv_size = csv.stat().st_size
         if args.read_only:
             print(json.dumps({"setpoints": N, "joints": args.joints or 6,
                               "src": args.src or None, "load_average": os.getloadavg(),
-                              "read_csv_peak_rss_mib": rss_read, "read_csv_s": t_read,
+                              "blank_end": args.blank_end, "read_csv_peak_rss_mib": rss_read, "read_csv_s": t_read,
                               "csv_mib": csv_size / 2**20}))
             return 0
         rss_terms, t_terms = (None, None) if args.no_terms or args.joints else run(

@@ -173,8 +173,15 @@ def test_joint_limit_warning_shows_a_narrow_range(tmp_path, two_link):
 @pytest.mark.parametrize("defect, row, column", [
     (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
     ("time", 3002, "t")])
-def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, row, column):
-    """Files above FAST_PARSE_BYTES go through pandas; a fault is still located exactly."""
+@pytest.mark.parametrize("end, blank", [("\n", ""), ("\n", "\n"), ("\r\n", "\r\n\r\n")])
+def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, monkeypatch, defect, row,
+                                                      column, end, blank):
+    """Files above FAST_PARSE_BYTES go through pandas, also with LF or CRLF line ends and empty
+    lines at the end (as many recorded files have): the cell-by-cell parser is not called; a
+    fault is still located exactly (by that parser)."""
+    import hashlib
+
+    import gd_analyze.trajectory.trajectory as trajectory
     from gd_analyze.trajectory.trajectory import FAST_PARSE_BYTES
 
     plan = _default_plan(puma, n=12001)
@@ -192,11 +199,13 @@ def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, defect, ro
         cells[3002][0] = "0"
     for r, c in cells.items():
         lines[r - 1] = ",".join(c)
-    path.write_text("\n".join(lines) + "\n")
+    path.write_bytes((end.join(lines) + end + blank).encode())
     assert path.stat().st_size > FAST_PARSE_BYTES
     if defect is None:
+        monkeypatch.setattr(trajectory, "_validated_values", None)   # the fall-back: not called
         back = read_trajectory(path, 6)
         np.testing.assert_array_equal(back.q, plan.q)      # round-trip float parsing
+        assert back.sha256 == hashlib.sha256(path.read_bytes()).hexdigest()
         return
     with pytest.raises(InputError) as err:
         read_trajectory(path, 6)

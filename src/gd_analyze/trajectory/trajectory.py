@@ -140,9 +140,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     """Read and validate a trajectory CSV file.
 
     One reader for every size: a file is parsed by pandas when it is regular (every line has
-    the header's number of fields, only the bytes of plain numbers, no quotes), and cell by cell
-    otherwise, or whenever pandas' result fails a check; the cell-by-cell parse then names the
-    first faulty row and column. Both accept exactly the same files and give the same values.
+    the header's number of fields, only the bytes of plain numbers, no quotes; LF or CRLF, empty
+    lines only at its end), and cell by cell otherwise, or whenever pandas' result fails a
+    check; the cell-by-cell parse then names the first faulty row and column. Both accept exactly the same files and give the same values.
     pandas reads a large file a piece at a time, so its bytes are never held whole: the memory
     is that of the values (and of the whole file's bytes only when it is irregular).
 
@@ -466,14 +466,6 @@ def _read(fh, path, size=-1):
         raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
 
 
-def _size(fh):
-    """The size of an open file [bytes], from where it is to its end (it stays there)."""
-    at = fh.tell()
-    end = fh.seek(0, os.SEEK_END)
-    fh.seek(at)
-    return end - at
-
-
 def check_magnitudes(values: np.ndarray, names: list[str], columns: Mapping[str, list[int]],
                      path: str, rows: np.ndarray, limits: Mapping[str, float] = LIMITS) -> None:
     """Raise for the first value of a CSV file beyond its kind's supported magnitude.
@@ -526,8 +518,8 @@ def _read_csv(path, header, cells):
             warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
                           InputNote, stacklevel=3)
         fh.seek(0)
-        parsed = streamed_values(fh, path, header) if _size(fh) > FAST_PARSE_BYTES else None
-        if parsed is not None:
+        if (os.fstat(fh.fileno()).st_size > FAST_PARSE_BYTES
+                and (parsed := streamed_values(fh, path, header)) is not None):
             values, names, sha256 = parsed
             return values, names, np.arange(2, values.shape[0] + 2), sha256
         fh.seek(0)
@@ -553,11 +545,12 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     -------
     (values, names, sha256) or None
         values, shape (N, len(names)): the N rows after the header, every one finite; sha256:
-        that of the very bytes parsed, BOM included. None if anything is off (a header refused
-        or longer than :data:`HEADER_BYTES`, a quote, a byte other than those of plain numbers,
-        a blank line or a line with other fields than the header, a lone carriage return, a
-        value pandas cannot parse or that is not finite, fewer than 2 rows): then the caller
-        parses the whole file cell by cell, which gives the answer or the exact error.
+        that of the file's bytes, BOM and the empty lines that end it included (those are no
+        rows). None if anything is off (a header refused or longer than :data:`HEADER_BYTES`, a
+        quote, a byte other than those of plain numbers, a blank line before the last row, a
+        line with other fields than the header, a lone carriage return, a value pandas cannot
+        parse or that is not finite, fewer than 2 rows): then the caller parses the whole file
+        cell by cell, which gives the answer or the exact error.
 
     Raises
     ------
@@ -566,12 +559,13 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
 
     Notes
     -----
-    Two passes over the file: the first counts its lines (the values' rows), the second
-    hashes, checks and parses each piece of about :data:`PARSE_PIECE` bytes (whole lines), on
-    :data:`PARSE_THREADS` threads (pandas' parser releases the GIL). At no time are the file's
-    bytes held whole: the memory is the values and the pieces in flight, whatever the file's
-    size. A file that changes between the passes parses to another number of rows (None). The
-    values are correctly rounded, as Python's ``float`` parses each cell.
+    Two passes over the file (after a look at its last 4 KiB for empty lines that end it): the
+    first counts its lines (the values' rows), the second hashes, checks and parses each piece
+    of about :data:`PARSE_PIECE` bytes (whole lines), on :data:`PARSE_THREADS` threads (pandas'
+    parser releases the GIL). At no time are the file's bytes held whole: the memory is the
+    values and the pieces in flight, whatever the file's size. A file that changes between the
+    passes parses to another number of rows (None). The values are correctly rounded, as
+    Python's ``float`` parses each cell.
 
     Examples
     --------
@@ -582,15 +576,16 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     ([[0.0, 1.5], [0.5, -0.002]], ['t', 'q1'])
     >>> streamed_values(io.BytesIO(b"t,q1\\n0,1.5\\n0.5,nan\\n"), "f.csv", lambda f: f) is None
     True
+    >>> streamed_values(io.BytesIO(b"t,q1\\r\\n0,1\\r\\n1,2\\r\\n\\r\\n"), "f.csv", lambda f: f)[0].shape
+    (2, 2)
     """
     import pandas as pd
 
     digest = hashlib.sha256()
     head = _read(fh, path, HEADER_BYTES)
-    end = head.find(b"\n")
-    if end < 0:
+    head = head[:head.find(b"\n") + 1]
+    if not head:
         return None
-    head = head[:end + 1]
     fh.seek(len(head))
     digest.update(head)
     head = head.removeprefix(_BOM)
@@ -600,7 +595,13 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         names = header(head.decode("utf-8").rstrip("\r\n").split(","))
     except UnicodeDecodeError:
         return None
-    if names is None or (lines := _line_count(fh, path)) < 2:
+    # the empty lines that end the file (within its last 4 KiB) are no rows: not parsed
+    start = fh.tell()
+    fh.seek(max(start, fh.seek(0, os.SEEK_END) - 4096))
+    last = _read(fh, path)
+    end = fh.tell() - len(last) + len(last.rstrip(b"\r\n"))
+    fh.seek(start)
+    if names is None or (lines := _line_count(fh, path, end)) < 2:
         return None
     fields = len(names)
 
@@ -618,7 +619,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     pending: collections.deque = collections.deque()
     pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
     try:
-        for piece in _pieces(fh, path):
+        for piece in _pieces(fh, path, end):
             digest.update(piece)
             # only the bytes of plain numbers; every line with the header's fields: pandas
             # then refuses a line with more fields than the first, the shape check a first
@@ -642,6 +643,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         pool.shutdown(wait=True, cancel_futures=True)
     if row != lines or not np.isfinite(values).all():
         return None
+    digest.update(_read(fh, path))      # the empty lines at the end
     return values, names, digest.hexdigest()
 
 
@@ -658,23 +660,23 @@ def _put_piece(values, row, piece):
     return row + piece.shape[0]
 
 
-def _line_count(fh, path):
-    """The lines from ``fh``'s position to the end of the file (the last may lack its newline),
+def _line_count(fh, path, end):
+    """The lines from ``fh``'s position to byte ``end`` (the last may lack its newline),
     counted block by block; ``fh`` is put back where it was."""
     at, lines, last = fh.tell(), 0, b"\n"
-    while block := _read(fh, path, PARSE_PIECE):
+    while block := _read(fh, path, min(PARSE_PIECE, end - fh.tell())):
         lines += _byte_count(block, b"\n")
         last = block[-1:]
     fh.seek(at)
     return lines + (last != b"\n")
 
 
-def _pieces(fh, path):
-    """The rest of the file in pieces of whole lines, each about :data:`PARSE_PIECE` bytes
-    (longer where a line is); the last piece may lack its final newline. ValueError if a line
-    is longer than :data:`HEADER_BYTES` plus a piece (no regular file has one)."""
+def _pieces(fh, path, end):
+    """The file up to byte ``end`` in pieces of whole lines, each about :data:`PARSE_PIECE`
+    bytes (longer where a line is); the last piece may lack its final newline. ValueError if a
+    line is longer than :data:`HEADER_BYTES` plus a piece (no regular file has one)."""
     carry = b""
-    while block := _read(fh, path, PARSE_PIECE):
+    while block := _read(fh, path, min(PARSE_PIECE, end - fh.tell())):
         data = carry + block
         cut = data.rfind(b"\n") + 1
         if cut == 0:
