@@ -14,6 +14,7 @@ from staging_checks import refused_by_the_limit, run_limited
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
+from gd_analyze.estimation.estimate import RANK_TOL
 from gd_analyze.trajectory.planning import default_motion
 
 
@@ -250,3 +251,20 @@ def test_plan_meeting_a_file_size_limit_is_one_line(tmp_path, limit):
     assert run.stderr == f"gd-analyze: error: {runs / 'plan.csv'}: cannot write: File too " \
                          "large\n"
     assert list(runs.iterdir()) == []
+
+
+@pytest.mark.parametrize("options", [(), ("--base-frequency", "1e4")])
+def test_an_excitation_identification_cannot_use_is_warned_in_one_line(tmp_path, capsys,
+                                                                       options):
+    """At w_f = 1e4 rad/s the two-link excitation lasts 0.6 ms: its scaled condition number
+    (stored in the provenance, the oracle) is far beyond 1 / the estimator's rank tolerance, so
+    one warning line says so, exit 0; the default excitation (10 s) stays below it, unwarned."""
+    csv = tmp_path / "x.csv"
+    code, out, err = _run(capsys, "plan", "two-link", "--excitation", "-o", csv, *options)
+    cond = json.loads(csv.with_suffix(".provenance.json").read_text())["excitation"][
+        "scaled_condition_number"]
+    warned = [line for line in err.splitlines() if "rank tolerance" in line]
+    assert code == 0 and (cond > 1 / RANK_TOL) == bool(options)
+    assert warned == ([f"gd-analyze: warning: scaled condition number {cond:.4g} above 1e+06 (1 / "
+                       "the estimator's rank tolerance): identify may find parameters not "
+                       "identifiable"] if options else [])

@@ -148,6 +148,11 @@ def test_region_coverage_follows_the_closed_loop_not_only_the_desired_motion(mod
         said = res.summary()["guarantee"]
         assert said["covered"] == int(inside), said["reason"]
         assert control_dataset(res).attrs["model_guarantee_covered"] == int(inside)
+        if inside:      # a "yes" names every state checked: set points, desired motion, loop
+            assert said["reason"] == (
+                f"every set point, and at the {res.t.size} output times the desired motion "
+                "between the set points (q, |qd|, |qdd|) and the closed loop of the "
+                "simplified-model controller (q, |qd|, commanded |qdd|), lie in the model's region")
     assert said["reason"].startswith("the closed loop of the simplified-model controller is "
                                      "outside the model's region: joint 5's q reaches ")
     beyond = float(said["reason"].split(", ")[1].split(" rad below")[0])

@@ -25,6 +25,7 @@ from .._version import VERSION as __version__
 from ..certify.region import RegionLimits, joint_region
 from ..dynamics.compare import compare_report, format_compare
 from ..errors import InputError, InputWarning
+from ..estimation.estimate import RANK_TOL
 from ..files import file_sha256
 from ..jobs.analyze import progress_bar
 from ..jobs.control import CONTROL_FILE, DEFAULT_GRID_POINTS, run_control
@@ -651,8 +652,7 @@ def _check_plan_options(args, positive=False):
     """Refuse ``plan``'s --duration and --base-frequency out of range (with
     ``positive``: a --duration or --base-frequency <= 0 as not positive, first), then an
     output CSV or provenance that this run may not write (store/staging.py)."""
-    for name, value in (("--duration", args.duration), ("--base-frequency",
-                                                        args.base_frequency)):
+    for name, value in (("--duration", args.duration), ("--base-frequency", args.base_frequency)):
         if positive and value is not None and not value > 0:
             raise InputError(f"must be positive, got {value:g}", column=name)
     if args.duration is not None and not (LIMITS["min_duration"] <= args.duration
@@ -704,21 +704,18 @@ def _plan_excitation(args, robot, qdd_arg):
     int
         0; bad input raises :class:`~gd_analyze.errors.InputError`.
     """
-    for name in ("start", "goal"):
-        if getattr(args, name) is not None:
-            raise InputError("not with --excitation (a Fourier series has no start or goal)",
-                             column=f"--{name}")
-    if args.ignore_limits:
-        raise InputError("not with --excitation (an excitation always stays within the "
-                         "limits)", column="--ignore-limits")
+    no_ends = "a Fourier series has no start or goal"
+    for name, why in (("start", no_ends), ("goal", no_ends),
+                      ("ignore-limits", "an excitation always stays within the limits")):
+        if getattr(args, name.replace("-", "_")) not in (None, False):
+            raise InputError(f"not with --excitation ({why})", column=f"--{name}")
     warn_if(check_velocity_limits(robot))
     _check_plan_options(args, positive=True)
-    harmonics = DEFAULT_HARMONICS if args.harmonics is None else args.harmonics
     seed = 0 if args.seed is None else args.seed
-    try:
-        ex = plan_excitation(robot, duration=args.duration, harmonics=harmonics,
-                             base_frequency=args.base_frequency, n_setpoints=args.setpoints,
-                             seed=seed, qdd_max=qdd_arg)
+    try:                # --harmonics is a whole number from 2
+        ex = plan_excitation(robot, duration=args.duration, seed=seed, qdd_max=qdd_arg,
+                             harmonics=args.harmonics or DEFAULT_HARMONICS,
+                             base_frequency=args.base_frequency, n_setpoints=args.setpoints)
     except ValueError as exc:
         column = ("--setpoints" if "set points" in str(exc) and args.setpoints is not None
                   else "--duration" if "duration" in str(exc) or "period" in str(exc)
@@ -728,6 +725,9 @@ def _plan_excitation(args, robot, qdd_arg):
     if first_beyond([ex.duration], LIMITS["t"]) is not None:
         raise InputError(f"the planned duration exceeds the supported magnitude "
                          f"{LIMITS['t']:g} s", column="--duration")
+    if ex.condition > 1 / RANK_TOL:     # beyond it the estimator's rank test may drop columns
+        warn_if(f"scaled condition number {ex.condition:.4g} above {1 / RANK_TOL:g} (1 / the "
+                "estimator's rank tolerance): identify may find parameters not identifiable")
     series, limits = ex.series, ex.limits
     return _write_plan(args, robot, ex.chunks, "", {
         "trajectory": ex.source,
@@ -746,9 +746,8 @@ def _plan_excitation(args, robot, qdd_arg):
             "shrink": ex.shrink.tolist(),
             "optimiser": list(ex.messages),
             "seconds": ex.seconds,
-            "bounds": {"q_low": ex.bounds.q_low.tolist(), "q_high": ex.bounds.q_high.tolist(),
-                       "qd_peak": ex.bounds.qd_peak.tolist(),
-                       "qdd_peak": ex.bounds.qdd_peak.tolist(),
+            "bounds": {**{k: getattr(ex.bounds, k).tolist()
+                          for k in ("q_low", "q_high", "qd_peak", "qdd_peak")},
                        "grid_points_per_period": ex.bounds.points},
         },
         "setpoints": ex.n_setpoints, "duration_s": ex.duration,
