@@ -36,6 +36,7 @@ from gd_analyze.simplify.deploy import (
     guarantee_region,
     restored_rebuild,
 )
+from gd_analyze.simplify.guarantee import Guarantee
 from gd_analyze.store.json_schema import MODEL_SCHEMA
 from gd_analyze.symbolic.recursive_model import recursive_model
 
@@ -111,7 +112,10 @@ def test_the_exact_puma_model_is_proved_and_recorded():
     assert np.linalg.eigvalsh(D)[:, 0].min() >= check["lower_bound"]
     assert check["statement"].startswith("proved positive definite over the bounding box of "
                                          "the trajectory positions: lambda_min(D_s) >= ")
-    spec = model.to_dict()
+    # a budget model's file states its guarantee (the exact model's: bound 0 on a trajectory)
+    stated = Guarantee("trajectory", 0.01, bound=np.zeros(6), scale=np.ones(6),
+                       scale_state=np.zeros((6, 18)))
+    spec = dataclasses.replace(model, guarantee=stated).to_dict()
     MODEL_SCHEMA.check(spec, "<test>")
     assert SimplifiedModel.from_dict(spec, robot).inertia_check is None    # never believed
     with pytest.raises(ValueError, match="no region"):

@@ -873,7 +873,7 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     return say("scope_sentences", rule=str(_or(m.rule, "")), kind=str(_or(m.guarantee_kind, "")),
                scope=scope_markup(str(_or(m.scope, ""))), eps=f"{eps:g}",
                covered=str(m.guarantee_covered) == "1",
-               reason=str(_or(m.guarantee_coverage, "")))
+               reason=scope_markup(attr_text(_or(m.guarantee_coverage, ""), "")))
 
 
 #: Stored units of the gains (:func:`gd_analyze.ranking.labels.joint_gain_units`) and

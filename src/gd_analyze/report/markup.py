@@ -53,7 +53,7 @@ _SUPERSCRIPT = dict(zip("0123456789tranoim+-\u2212",
 
 
 def sub(text: str) -> str:
-    """``text`` marked as a subscript.
+    """``text`` marked as a subscript (nothing for an empty ``text``).
 
     Parameters
     ----------
@@ -63,7 +63,7 @@ def sub(text: str) -> str:
     -------
     str
     """
-    return f"{SUB}{text}{END}"
+    return f"{SUB}{text}{END}" if text else ""
 
 
 def sup(text: str) -> str:
@@ -102,14 +102,14 @@ def code(text: str) -> str:
 
 
 #: The simplified model's symbols as the core's plain-text statements write them, and the
-#: letter each is set as with its subscript (s_i: the joint's torque scale).
-_STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s)\b")
+#: letter each is set as with its subscript (s_i: the joint's torque scale), or qd, qdd dotted.
+_STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s|qdd|qd)\b")
 
 
 def scope(statement: str) -> str:
     """A statement of the core (plain text: a guarantee's, a screen's, a proof's) as the
     reports write it: ``s_i`` as s with subscript i, ``D_s``, ``h_s``, ``c_s`` and ``tau_s``
-    as D, h, c and tau with subscript s.
+    as D, h, c and tau with subscript s; qd and qdd as q with one or two dots.
 
     Parameters
     ----------
@@ -128,10 +128,12 @@ def scope(statement: str) -> str:
     >>> scope("the proof that D_s is positive definite") == (
     ...     "the proof that D" + sub("s") + " is positive definite")
     True
+    >>> scope("|qd| and |qdd|, not qd_max") == "|q\u0307| and |q\u0308|, not qd_max"
+    True
     """
     def symbol(m: re.Match[str]) -> str:
-        letter, index = m.group(1).split("_")
-        return ("\u03c4" if letter == "tau" else letter) + sub(index)
+        letter, _, index = m.group(1).partition("_")
+        return {"qd": "q\u0307", "qdd": "q\u0308", "tau": "\u03c4"}.get(letter, letter) + sub(index)
     return _STATEMENT_SYMBOLS.sub(symbol, statement)
 
 
