@@ -58,7 +58,8 @@ if TYPE_CHECKING:
 
 __all__ = ["summary_dataset", "with_setpoints", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute",
-           "guarantee_fields", "stored_guarantee", "region_fields", "stored_region"]
+           "TORQUE_ERRORS", "error_variables", "guarantee_fields", "stored_guarantee",
+           "region_fields", "stored_region"]
 
 
 #: The set points' dimension; its coordinate variable is the time t [s].
@@ -94,6 +95,45 @@ SETPOINT_VARIABLES = {
 def _setpoint_variables(friction):
     """:data:`SETPOINT_VARIABLES`, ``tau_f`` only for a robot with friction."""
     return {k: v for k, v in SETPOINT_VARIABLES.items() if friction or k != Var.TAU_F}
+
+
+#: The simplified model's torque error per joint, as
+#: :func:`gd_analyze.simplify.simplified.torque_error` gives it: (its key, the variable, in the
+#: torque's units (else [1]), long_name).
+TORQUE_ERRORS = (
+    ("peak_abs_error", Var.TAU_ERROR_PEAK, True, "peak |tau_simplified - tau|"),
+    ("rms_error", Var.TAU_ERROR_RMS, True, "RMS of |tau_simplified - tau|"),
+    ("relative_peak_error", Var.TAU_ERROR_RELATIVE_PEAK, False,
+     "peak |tau_simplified - tau| / peak |tau|"),
+    ("relative_rms_error", Var.TAU_ERROR_RELATIVE_RMS, False,
+     "RMS |tau_simplified - tau| / peak |tau|"))
+
+
+def error_variables(errors: Mapping[str, Any], dims: tuple[str, ...], torque: str,
+                    table: Sequence[tuple[str, str, bool, str]] = TORQUE_ERRORS,
+                    prefix: str = "") -> dict[str, Any]:
+    """The variables of torque errors, as a table of :data:`TORQUE_ERRORS`' form declares them.
+
+    Parameters
+    ----------
+    errors : mapping of str to array_like
+        Each key of the table -> its values over ``dims`` (None: NaN) [N m or N, or 1].
+    dims : tuple of str
+        The variables' dims, ending in ``joint``.
+    torque : str
+        The ``units`` attribute of a joint torque (:func:`units_attribute`).
+    table : sequence of (str, str, bool, str), optional
+        (key, variable, in the torque's units (else [1]), long_name).
+    prefix : str, optional
+        Put before each long_name (``"own simplified model: "``).
+
+    Returns
+    -------
+    dict
+        Variable name -> (dims, values, attributes).
+    """
+    return {name: var(dims, np.array(errors[key], float), torque if torqued else "1",
+                      prefix + long_name) for key, name, torqued, long_name in table}
 
 
 #: Per-joint unit coordinates: name -> (quantity of :func:`joint_units`, long_name).
@@ -401,17 +441,10 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         "choices": [choices[lab] for lab in labels],
         "chapter": [CHAPTER_DOMINANCE.get(lab, "") if puma else "" for lab in labels]})
     data_vars.update({
-        Var.TAU_ERROR_PEAK: var(("joint",), np.array(error["peak_abs_error"]), torque,
-                               "peak |tau_simplified - tau|"),
-        Var.TAU_ERROR_RMS: var(("joint",), np.array(error["rms_error"]), torque,
-                              "RMS of |tau_simplified - tau|"),
+        **error_variables(error, ("joint",), torque),
         Var.TAU_PEAK: var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
         Var.TAU_MAX: var(("joint",), np.asarray(robot.tau_max, float), torque,
                         "joint effort limit |tau| <= tau_max (NaN: not given)"),
-        Var.TAU_ERROR_RELATIVE_PEAK: var(("joint",), np.array(error["relative_peak_error"]), "1",
-                                        "peak |tau_simplified - tau| / peak |tau|"),
-        Var.TAU_ERROR_RELATIVE_RMS: var(("joint",), np.array(error["relative_rms_error"]), "1",
-                                       "RMS |tau_simplified - tau| / peak |tau|"),
         **({} if "round_off" not in error else {Var.TAU_ERROR_ROUND_OFF: flag(
             ("joint",), error["round_off"],
             "1 where the torque error is floating-point round-off (shown as \u2261 0), not data")}),

@@ -40,7 +40,7 @@ from ..ranking.ranking import (
     is_round_off,
     parse_element_label,
 )
-from .datasets import joint_units, units_attribute
+from .datasets import TORQUE_ERRORS, error_variables, joint_units, units_attribute
 from .names import SWEEP_ATTRIBUTES, Attr, Var
 from .names import SweepAttr as SA
 from .names import SweepVar as SV
@@ -236,9 +236,7 @@ def merged_error_variables(error: Mapping[str, Any], torque: str) -> dict[str, A
         ``merged_error_relative_peak``, ``merged_error_relative_rms`` (dim joint), as
         :func:`gd_analyze.store.schema.var`.
     """
-    return {name: var((SV.JOINT,), np.array([np.nan if x is None else x for x in error[key]],
-                                            float), torque if torqued else "1", long_name)
-            for key, name, torqued, long_name in _MERGED_ERRORS}
+    return error_variables(error, (SV.JOINT,), torque, _MERGED_ERRORS)
 
 
 def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
@@ -290,9 +288,6 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     summ = [r["summary"] for r in results]
     err = [s["error"] for s in summ]
 
-    def per_joint(key):
-        return np.array([e[key] for e in err], dtype=float)
-
     def each(key, dtype=None):
         """Per trajectory, the summary's ``key``."""
         return np.array([s[key] for s in summ], dtype=dtype)
@@ -327,16 +322,8 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         SV.Q_START: var(TJ, each("q_start"), position, "joint position at the first set point"),
         SV.Q_GOAL: var(TJ, each("q_goal"), position, "joint position at the last set point"),
         SV.TAU_PEAK: tau_peak,
-        SV.TAU_ERROR_PEAK: var(TJ, per_joint("peak_abs_error"), torque,
-                               "own simplified model: peak |tau_simplified - tau|"),
-        SV.TAU_ERROR_RMS: var(TJ, per_joint("rms_error"), torque,
-                              "own simplified model: RMS of |tau_simplified - tau|"),
-        SV.TAU_ERROR_RELATIVE_PEAK: var(TJ, per_joint("relative_peak_error"), "1",
-                                        "own simplified model: peak |tau_simplified - tau| / "
-                                        "peak |tau|"),
-        SV.TAU_ERROR_RELATIVE_RMS: var(TJ, per_joint("relative_rms_error"), "1",
-                                       "own simplified model: RMS |tau_simplified - tau| / "
-                                       "peak |tau|"),
+        **error_variables({key: [e[key] for e in err] for key, *_ in TORQUE_ERRORS}, TJ, torque,
+                          prefix="own simplified model: "),
         SV.MERGED_TAU_ERROR_PEAK: var(TJ, m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
