@@ -33,8 +33,7 @@ from ..dynamics.dalembert import GDTerms, allocate_terms, gd_terms
 from ..files import atomic_path
 from ..model.limits import check_finite
 from ..ranking.chapter_comparison import CHAPTER_CHOICES, S_VALUES, agreement_against_s, block_leads
-from ..ranking.labels import joint_torque_units
-from ..ranking.ranking import TermsRanking, arm_scales, is_chapter_puma, is_round_off
+from ..ranking.ranking import TermsRanking, is_chapter_puma
 from ..simplify.budget import PartPeaks
 from ..simplify.choices import recursive_choices
 from ..simplify.form_choice import deploy
@@ -42,6 +41,7 @@ from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simpl
 from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
 from ..store.derivations import DERIVATIONS
 from ..store.schema import append_dataset, var
+from .evaluate import round_off
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
 from .simplified_dataset import deployment_dataset
@@ -59,7 +59,7 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["Analysis", "AnalysisPass", "analysis_pass", "analysis_passes", "analyze", "analyze_to_file", "verify",
            "VERIFY_TOLERANCE",
            "VERIFY_MAX_SETPOINTS", "STREAM_CHUNK", "CHUNK_JOINTS", "stream_chunk",
-           "progress_bar"]
+           "progress_bar", "stacked"]
 
 #: Largest relative disagreement with Pinocchio accepted by :func:`verify`.
 VERIFY_TOLERANCE = 1e-9
@@ -260,8 +260,8 @@ def stream_chunk(n: int) -> int:
 
 def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,
                   provenance: Mapping[str, Any] | None = None, chunk: int | None = None,
-                  writer: SetpointWriter | None = None, progress: bool | tqdm = False,
-                  terms: GDTerms | None = None) -> AnalysisPass:
+                  writer: SetpointWriter | None = None, progress: bool | tqdm = False
+                  ) -> AnalysisPass:
     """The one per-trajectory analysis: the G-D terms once per set point, then everything else.
 
     Pass 1 computes the terms chunk by chunk and feeds the ranking, the writer and the samples
@@ -292,9 +292,6 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
         Show a tqdm progress bar on stderr, or use the one given (the command line's, which
         also covers reading and the report). It counts set points: it restarts at 0 of N for
         each pass, named "G-D terms" and "simplified model".
-    terms : GDTerms, optional
-        The trajectory's G-D terms, if the caller computed them (a sweep computes many short
-        trajectories in one call); then none are computed here.
 
     Returns
     -------
@@ -311,7 +308,7 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     """
     chunk = stream_chunk(robot.n) if chunk is None else chunk
     options = AnalysisOptions() if options is None else options
-    args = (robot, trajectory, options, provenance, chunk, writer, progress, terms, None)
+    args = (robot, trajectory, options, provenance, chunk, writer, progress, None)
     if options.simplify is None:
         return _analysis_pass(*args, background=None)[0]
     # the simplification's compiled peak passes need only the trajectory: they run in threads
@@ -368,11 +365,30 @@ def analysis_passes(robot: Robot, trajectories: Sequence[Trajectory], options: A
     """
     if options.verify or options.formulations or options.simplify is not None:
         raise ValueError("analysis_passes ranks only: no verify, formulations or simplify")
-    # the trajectories one after another: what the pass reads of a trajectory
-    stacked = SimpleNamespace(**{k: np.concatenate([getattr(tr, k) for tr in trajectories],
-                                                   dtype=float) for k in ("q", "qd", "qdd")})
-    return _analysis_pass(robot, stacked, options, None, len(stacked.q), None, progress, None,
-                          np.cumsum([len(tr.q) for tr in trajectories]), background=None)
+    motion, ends = stacked(trajectories)
+    return _analysis_pass(robot, motion, options, None, len(motion.q), None, progress, ends,
+                          background=None)
+
+
+def stacked(trajectories: Sequence[Trajectory]) -> tuple[SimpleNamespace, NDArray[np.int64]]:
+    """K trajectories laid one after another, as :func:`analysis_passes` reads them.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+        K trajectories, each q, qd, qdd of shape (N_k, n) [rad, rad/s, rad/s^2].
+
+    Returns
+    -------
+    motion : types.SimpleNamespace
+        ``q``, ``qd``, ``qdd``: the trajectories' rows one after another, shape (sum N_k, n),
+        as floats.
+    ends : ndarray of int, shape (K,)
+        Where each trajectory's rows end in them.
+    """
+    motion = SimpleNamespace(**{k: np.concatenate([getattr(tr, k) for tr in trajectories],
+                                                  dtype=float) for k in ("q", "qd", "qdd")})
+    return motion, np.cumsum([len(tr.q) for tr in trajectories])
 
 
 def _other_update(other, errors, q, qd, qdd, tau):
@@ -380,8 +396,8 @@ def _other_update(other, errors, q, qd, qdd, tau):
     errors.update(other.torque(q, qd, qdd), tau)
 
 
-def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, terms,
-                   ends, background):
+def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, ends,
+                   background):
     """:func:`analysis_pass` with the simplification's peak passes started (``background``):
     a list of one pass, or with ``ends`` (where each of K trajectories laid one after another
     ends, as :func:`analysis_passes` lays them out) of K, one per trajectory."""
@@ -410,12 +426,10 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     bar = progress_bar(bool(progress)) if own else progress
     bar.reset(total=N)
     bar.set_description("G-D terms")
-    given = terms
     # streamed chunks (not held) reuse one set of output buffers: no fresh pages per chunk
-    buf = None if hold or given is not None else allocate_terms(min(chunk, N), n)
+    buf = None if hold else allocate_terms(min(chunk, N), n)
     for a, b in ranges:
-        terms = (gd_terms(robot, q[a:b], qd[a:b], out=buf) if given is None
-                 else given.rows(slice(a, b)))
+        terms = gd_terms(robot, q[a:b], qd[a:b], out=buf)
         D, h = terms.D, terms.h                 # formed once: for tau and the file
         tau = terms.tau(qdd[a:b], D=D, h=h)
         _check_finite(terms, tau)
@@ -532,13 +546,12 @@ _CHOICE_SETPOINTS = 64
 def _marked(errors, robot):
     """The torque errors (of one trajectory each) with ``round_off`` per joint: True where its
     peak is floating-point round-off by the reports' one rule
-    (:func:`gd_analyze.ranking.ranking.is_round_off` of peak |tau_i| and of the arm's), so
+    (:func:`gd_analyze.jobs.evaluate.round_off` of peak |tau_i| and of the arm's), so
     the stored numbers are never read as data."""
 
-    units = [joint_torque_units(bool(p)) for p in robot.prismatic]
     tau = np.array([error["peak_tau"] for error in errors], float).reshape(len(errors), -1)
     peak = np.array([error["peak_abs_error"] for error in errors], float).reshape(tau.shape)
-    off = is_round_off(peak, tau, arm_scale=arm_scales(tau, units)).tolist()
+    off = round_off(peak, tau, tau, robot).tolist()
     return [{**error, "round_off": each} for error, each in zip(errors, off)]
 
 

@@ -21,7 +21,7 @@ closed loop is exactly e'' + Kv e' + Kp e = 0, so the error starting on the traj
 the integrator's tolerance; a model error tau_m - tau_exact enters as a forcing
 D^-1 (tau_m - tau_exact) of that linear error equation.
 
-Gains (settable; :func:`control_gains`)
+Gains (settable; :func:`~gd_analyze.jobs.tracking.control_gains`)
 ---------------------------------------
 Computed torque: Kp = wn^2 [s^-2] and Kv = 2 zeta wn [s^-1] per joint, default wn = 20 rad/s and
 zeta = 1 (critically damped, no overshoot). 20 rad/s (3.2 Hz, time constant 1/wn = 0.05 s)
@@ -35,7 +35,7 @@ Kp_pd = diag(D(q_d(0))) wn^2 [N m/rad; N/m on a prismatic joint], Kv_pd = diag(D
 joint then has the same wn and zeta as long as the inertia stays near its starting value and the
 coupling is ignored.
 
-Desired motion (:func:`desired_motion`)
+Desired motion (:func:`~gd_analyze.jobs.tracking.desired_motion`)
 ---------------------------------------
 Between set points, q_d is the piecewise quintic Hermite polynomial through (q, qd, qdd) at both
 ends of each interval (``scipy.interpolate.BPoly.from_derivatives``, converted to a ``PPoly``):
@@ -91,25 +91,8 @@ from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
 from ..trajectory.trajectory import Trajectory
+from . import tracking
 from .evaluate import coverage, coverages, model_torque
-from .tracking import (
-    CONTROLLER_DESCRIPTIONS,
-    CONTROLLERS,
-    DEFAULT_ATOL,
-    DEFAULT_METHOD,
-    DEFAULT_RTOL,
-    DEFAULT_WN,
-    DEFAULT_ZETA,
-    MAX_RHS_EVALS,
-    MAX_STIFFNESS_STEPS,
-    RHS_PER_STEP,
-    Gains,
-    closed_loop_rates,
-    control_gains,
-    desired_motion,
-    singular_inertia,
-    track,
-)
 
 if TYPE_CHECKING:                       # for the type hints only
     import os
@@ -119,7 +102,6 @@ if TYPE_CHECKING:                       # for the type hints only
 
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
-    from .tracking import TrackingRun
 
 __all__ = ["DEFAULT_GRID_POINTS", "CONTROL_FILE", "NOISE_TIGHTEN", "NOISE_FACTOR",
            "ControlResult", "run_control", "difference_noise", "model_cost", "model_facts"]
@@ -154,7 +136,7 @@ class ControlResult:
         The desired motion at the samples [rad, rad/s, rad/s^2].
     runs : dict
         Controller name -> :class:`~gd_analyze.jobs.tracking.TrackingRun`, in
-        :data:`CONTROLLERS` order.
+        :data:`~gd_analyze.jobs.tracking.CONTROLLERS` order.
     cost : dict or None
         :func:`model_cost` of the model, if asked for.
     provenance : dict
@@ -166,7 +148,7 @@ class ControlResult:
 
     robot: Robot
     choices: dict
-    gains: Gains
+    gains: tracking.Gains
     t: np.ndarray
     is_setpoint: np.ndarray
     q_d: np.ndarray
@@ -194,13 +176,14 @@ class ControlResult:
 
     @property
     def descriptions(self) -> dict[str, str]:
-        """dict: controller name -> its control law in one line (:data:`CONTROLLER_DESCRIPTIONS`),
-        the simplified model's gravity term c_s where the model drops part of c (its
-        ``gravity_dropped`` parameters, or fewer ``c_terms_kept`` than ``c_terms``), else c;
-        the computed-torque laws with the drives' friction tau_f where the arm has it."""
+        """dict: controller name -> its control law in one line
+        (:data:`~gd_analyze.jobs.tracking.CONTROLLER_DESCRIPTIONS`), the simplified model's
+        gravity term c_s where the model drops part of c (its ``gravity_dropped`` parameters,
+        or fewer ``c_terms_kept`` than ``c_terms``), else c; the computed-torque laws with the
+        drives' friction tau_f where the arm has it."""
         m = self.provenance.get("model", {})
         part = bool(m.get("gravity_dropped")) or -1 < m.get("c_terms_kept", -1) != m.get("c_terms")
-        return {c: CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
+        return {c: tracking.CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
                 + " + tau_f" * (c != "pd_gravity" and self.robot.has_friction) for c in self.runs}
 
     @property
@@ -375,11 +358,12 @@ def _sample_times(t_set, grid_points):
     return t, np.isin(t, t_set)
 
 
-def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = DEFAULT_WN,
-                zeta: ArrayLike = DEFAULT_ZETA, q0_offset: ArrayLike = 0.0,
-                controllers: Sequence[str] = CONTROLLERS,
-                grid_points: int = DEFAULT_GRID_POINTS, rtol: float = DEFAULT_RTOL,
-                atol: float = DEFAULT_ATOL, method: str = DEFAULT_METHOD,
+def run_control(model: SimplifiedModel, trajectory: Trajectory,
+                wn: ArrayLike = tracking.DEFAULT_WN, zeta: ArrayLike = tracking.DEFAULT_ZETA,
+                q0_offset: ArrayLike = 0.0,
+                controllers: Sequence[str] = tracking.CONTROLLERS,
+                grid_points: int = DEFAULT_GRID_POINTS, rtol: float = tracking.DEFAULT_RTOL,
+                atol: float = tracking.DEFAULT_ATOL, method: str = tracking.DEFAULT_METHOD,
                 t_end: float | None = None, cost: bool = True,
                 model_path: str | os.PathLike[str] | None = None,
                 model_sha256: str | None = None, plant: Robot | None = None,
@@ -401,7 +385,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     q0_offset : float or array_like, shape (n,), optional
         Initial position error q(0) - q_d(0) [rad] (default 0: start on the trajectory).
     controllers : sequence of str, optional
-        Which of :data:`CONTROLLERS` to run.
+        Which of :data:`~gd_analyze.jobs.tracking.CONTROLLERS` to run.
     grid_points : int, optional
         Evenly spaced samples of the fine grid (the set points are added).
     rtol, atol : float, optional
@@ -438,9 +422,10 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
         set points, a controller is unknown, wn or zeta is outside
         :data:`~gd_analyze.jobs.tracking.GAIN_RANGES` (as ``--wn``, ``--zeta``;
         :func:`~gd_analyze.jobs.tracking.control_gains`), the gains so stiff that the
-        integration would need more than :data:`MAX_STIFFNESS_STEPS` steps
-        (:func:`~gd_analyze.jobs.tracking.closed_loop_rates`, every controller), D is
-        singular (:func:`~gd_analyze.jobs.tracking.singular_inertia`), or a run exceeds
+        integration would need more than
+        :data:`~gd_analyze.jobs.tracking.MAX_STIFFNESS_STEPS` steps
+        (:func:`~gd_analyze.jobs.tracking.closed_loop_rates`, every controller), D is singular
+        (:func:`~gd_analyze.jobs.tracking.singular_inertia`), or a run exceeds
         :data:`~gd_analyze.jobs.tracking.MAX_RHS_EVALS` evaluations.
     InputError
         If the model's torque is not finite on a set point (:func:`~gd_analyze.jobs.evaluate.model_torque`),
@@ -459,8 +444,9 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
     if trajectory.q.shape[1] != robot.n:
         raise ValueError(f"the trajectory has {trajectory.q.shape[1]} joints, the robot "
                          f"{robot.n}")
-    if not controllers or not set(controllers) <= set(CONTROLLERS):
-        raise ValueError(f"controllers must be among {CONTROLLERS}, got {list(controllers)}")
+    if not controllers or not set(controllers) <= set(tracking.CONTROLLERS):
+        raise ValueError(f"controllers must be among {tracking.CONTROLLERS}, got "
+                         f"{list(controllers)}")
     choice_masks(model.choices, robot.n)            # validate
     model_torque(model, trajectory.q, trajectory.qd, trajectory.qdd)    # finite on the set points
     covers = coverage(model, trajectory, plant=robot, path=model_file)  # a claim checked first
@@ -469,29 +455,30 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
         t_set = t_set[t_set <= float(t_end) * (1 + 1e-12)]
         if t_set.size < 2:
             raise ValueError(f"t_end = {t_end} s leaves fewer than 2 set points")
-    desired = desired_motion(trajectory)
+    desired = tracking.desired_motion(trajectory)
     t, is_set = _sample_times(t_set, grid_points)
     # D at (up to 64 of) the set points: invertible, and the loops' speed for every controller
     pick = np.unique(np.linspace(0, len(trajectory.t) - 1, 64).round().astype(int))
     D = gd_terms(robot, trajectory.q[pick], np.zeros_like(trajectory.q[pick])).D
-    if singular := singular_inertia(robot, D):
+    if singular := tracking.singular_inertia(robot, D):
         raise ValueError(singular)
-    gains = control_gains(robot, desired(t[0]), wn, zeta)
-    rates = closed_loop_rates(robot, gains, D)
-    for name in (c for c in CONTROLLERS if c in controllers):
+    gains = tracking.control_gains(robot, desired(t[0]), wn, zeta)
+    rates = tracking.closed_loop_rates(robot, gains, D)
+    for name in (c for c in tracking.CONTROLLERS if c in controllers):
         # computed torque: the gains' own bound; PD + gravity: what a run can evaluate
-        most = MAX_STIFFNESS_STEPS if name != "pd_gravity" else MAX_RHS_EVALS // RHS_PER_STEP
+        most = (tracking.MAX_STIFFNESS_STEPS if name != "pd_gravity"
+                else tracking.MAX_RHS_EVALS // tracking.RHS_PER_STEP)
         steps = rates[name] * float(t[-1] - t[0]) / 3.0
         if steps > most:
             raise ValueError(
                 f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
-                f"{CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too stiff: its "
-                f"fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} integrator "
-                f"steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
+                f"{tracking.CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too "
+                f"stiff: its fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} "
+                f"integrator steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()
-    runs = {name: track(robot, name, gains, desired, t, q0_offset=offset, choices=model,
-                        rtol=rtol, atol=atol, method=method)
-            for name in CONTROLLERS if name in controllers}
+    runs = {name: tracking.track(robot, name, gains, desired, t, q0_offset=offset,
+                                 choices=model, rtol=rtol, atol=atol, method=method)
+            for name in tracking.CONTROLLERS if name in controllers}
     q_d, qd_d, qdd_d = desired(t), desired(t, 1), desired(t, 2)
     states = [("desired motion between the set points", "|qdd|", q_d, qd_d, qdd_d)]
     if (loop := runs.get("simplified")) is not None:     # its model's state: q, qd and v
@@ -536,10 +523,10 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory, wn: ArrayLike = 
                          cost=cost_figures, provenance=provenance, tau_noise=noise)
 
 
-def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired: PPoly,
-                     t: NDArray[np.float64], runs: dict[str, TrackingRun],
-                     q0_offset: NDArray[np.float64], rtol: float = DEFAULT_RTOL,
-                     atol: float = DEFAULT_ATOL, method: str = DEFAULT_METHOD
+def difference_noise(robot: Robot, model: SimplifiedModel, gains: tracking.Gains, desired: PPoly,
+                     t: NDArray[np.float64], runs: dict[str, tracking.TrackingRun],
+                     q0_offset: NDArray[np.float64], rtol: float = tracking.DEFAULT_RTOL,
+                     atol: float = tracking.DEFAULT_ATOL, method: str = tracking.DEFAULT_METHOD
                      ) -> tuple[np.ndarray, int]:
     """Measured integrator noise of the closed-loop torque difference, simplified-model minus
     full-model computed torque.
@@ -589,7 +576,7 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
     tight = {}
     for name in ("full", "simplified"):
         try:
-            tight[name] = track(robot, name, gains, desired, t, q0_offset=q0_offset,
+            tight[name] = tracking.track(robot, name, gains, desired, t, q0_offset=q0_offset,
                                 choices=model, rtol=rtol / NOISE_TIGHTEN,
                                 atol=atol / NOISE_TIGHTEN, method=method)
         except ValueError as err:

@@ -43,12 +43,11 @@ class ClusterLost(InputError):
     ----------
     message : str
         What failed, in one line.
-    where : str, optional
-        The scheduler's address, or how the cluster was started.
+    path : str, optional
+        Where: the scheduler's address, or how the cluster was started.
+    row, column : None
+        As :class:`~gd_analyze.errors.InputError` (a cluster has neither).
     """
-
-    def __init__(self, message: str, where: str | None = None) -> None:
-        super().__init__(message, where)
 
 
 @contextlib.contextmanager

@@ -29,14 +29,14 @@ from ..simplify.torque_error import TorqueErrorAccumulator
 from ..store.model_trust import check_guarantee
 
 if TYPE_CHECKING:                       # for the type hints only
-    from numpy.typing import NDArray
+    from numpy.typing import ArrayLike, NDArray
 
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
     from ..trajectory.trajectory import Trajectory
 
 __all__ = ["evaluate", "model_torque", "model_scale", "coverage", "coverages", "gate",
-           "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
+           "round_off", "check_trajectory_claim", "TRAJECTORY_SCALE_RTOL"]
 
 
 def model_torque(model: SimplifiedModel, q: NDArray[np.float64], qd: NDArray[np.float64],
@@ -137,7 +137,7 @@ def evaluate(model: SimplifiedModel, trajectory: Trajectory,
     scale = model_scale(model)
     s = np.zeros(robot.n) if scale is None else scale
     denominator = np.where(peak_tau > 0, peak_tau, np.where(s > 0, s, 0.0))
-    off = _round_off(peak, denominator, np.maximum(peak_tau, s), robot)
+    off = round_off(peak, denominator, np.maximum(peak_tau, s), robot)
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(denominator > 0, peak / denominator, np.where(off, 0.0, np.inf))
         rel_rms = np.where(denominator > 0, rms / denominator, np.where(off, 0.0, np.inf))
@@ -149,9 +149,22 @@ def evaluate(model: SimplifiedModel, trajectory: Trajectory,
     return err
 
 
-def _round_off(peak, scale, arm, robot):
+def round_off(peak: ArrayLike, scale: ArrayLike, arm: ArrayLike, robot: Robot) -> np.ndarray:
     """Per joint, whether an error is round-off of its scale or of the arm's largest scale in
-    the same units (:func:`~gd_analyze.ranking.ranking.is_round_off`)."""
+    the same units (:func:`~gd_analyze.ranking.ranking.is_round_off`).
+
+    Parameters
+    ----------
+    peak, scale, arm : array_like, shape (n,) or (K, n)
+        Peak errors, their scales and the torques whose largest per unit is the arm's scale
+        [N m or N].
+    robot : Robot
+        The arm, n joints (the joints' units).
+
+    Returns
+    -------
+    ndarray of bool, shape of ``peak``
+    """
     units = [joint_torque_units(bool(p)) for p in robot.prismatic]
     return np.asarray(is_round_off(peak, scale, arm_scale=arm_scales(arm, units)), bool)
 
@@ -309,7 +322,7 @@ def check_trajectory_claim(model: SimplifiedModel, trajectory: Trajectory,
     peak, peak_tau = errors.peak, errors.peak_tau
     scale, bound = np.asarray(g.scale, float), np.asarray(g.bound, float)  # type: ignore[union-attr, type-var]  # the guarantee is not None here
     own = np.maximum(peak_tau, scale)
-    ok = within_bound(peak, bound, scale) | _round_off(peak, own, own, robot)   # as the gate
+    ok = within_bound(peak, bound, scale) | round_off(peak, own, own, robot)   # as the gate
     if not ok.all():
         j = int(np.argmax(np.where(ok, -np.inf, peak - bound)))
         raise InputError(f"is below the error measured again on its own trajectory (joint "
@@ -357,7 +370,7 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
                 "message": ""}
     s = np.asarray(g.scale if promise else (err.get("scale") or np.zeros(robot.n)), float)  # type: ignore[union-attr]  # the guarantee is not None here
     own = np.maximum(np.asarray(err["peak_tau"], float), s)
-    off = _round_off(peak, own, own, robot)
+    off = round_off(peak, own, own, robot)
     limit = g.tolerance * s if promise else np.full(robot.n, float(max_error))  # type: ignore[union-attr, arg-type]  # the guarantee, or max_error, is not None here
     measure = peak if promise else np.asarray(err["relative_peak_error"], float)
     within = within_bound(peak, limit, s) if promise else measure <= limit  # up to round-off

@@ -18,7 +18,7 @@ from ..errors import InputError
 from ..model.robot import with_payload
 from ..ranking.ranking import CLASSES, DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..store.sweep_view import payload_dataset, sweep_payloads_dataset
-from .sweep import analyze_one, check_thresholds, check_trajectory, run_sweep
+from .sweep import analyze_one, run_sweep
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -85,8 +85,6 @@ def payload_sweep(robot: Robot, trajectory: Trajectory, masses: ArrayLike,
         raise InputError("the payload masses must be a non-empty list", column="--payload-sweep")
     if np.unique(masses).size != masses.size:
         raise InputError("the payload masses must be distinct", column="--payload-sweep")
-    check_thresholds(dominance, negligible)
-    check_trajectory(robot, trajectory)
     results = [analyze_one(with_payload(robot, m, com, inertia), trajectory, dominance,
                            negligible) for m in masses]
     return payload_dataset(robot, trajectory, masses, com, inertia, results, dominance,

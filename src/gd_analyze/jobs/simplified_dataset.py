@@ -24,7 +24,6 @@ from ..symbolic.recursive_model import PART_NAMES
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
 
-    from ..certify.region import Region
     from ..simplify.budget import Selection
     from ..simplify.form_choice import Deployment
     from ..simplify.simplified import SimplifiedModel
@@ -32,7 +31,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..trajectory.trajectory import Trajectory
 
 __all__ = ["AKB_COSTS", "coefficient_structure", "cost_rows", "simplified_dataset",
-           "deployment_dataset", "region_coverage", "region_screen_attrs"]
+           "deployment_dataset"]
 
 #: Armstrong, Khatib & Burdick (ICRA 1986), PUMA 560: explicit model costs
 #: (multiplications, additions, total); the split of the simplified model is not given.
@@ -354,8 +353,16 @@ def deployment_dataset(deployment: Deployment, trajectory: Trajectory,
     -------
     xarray.Dataset
         As :func:`simplified_dataset`, with the attributes ``simplified_ladder_skipped``,
-        ``simplified_ladder_form`` and ``simplified_form_note`` where they apply, and those of
-        :func:`region_coverage` and :func:`region_screen_attrs`.
+        ``simplified_ladder_form`` and ``simplified_form_note`` where they apply; with a region,
+        ``region_covers_trajectory`` (1 or 0) and ``region_coverage`` ("" inside, else the
+        clause of :meth:`gd_analyze.certify.region.Excursion.text`: the joint, the quantity and
+        its extreme against the limit); where a screen chose the exact recursive model
+        (:meth:`gd_analyze.certify.screen.RegionScreen.to_dict`: the sampled pre-screen that
+        skipped the region's certification, or the screen of the pairs searched under the
+        proved bounds), ``simplified_region_screen`` (the sentence with the numbers),
+        ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
+        (shares of the exact recursive model's operations [1]) and
+        ``simplified_region_screen_proved`` (1: the proved screen, 0: the sampled one).
     """
     d = deployment
     rungs = d.ladder_rows()
@@ -369,55 +376,14 @@ def deployment_dataset(deployment: Deployment, trajectory: Trajectory,
         extra.attrs["simplified_ladder_form"] = d.model.form
     if d.form_note:
         extra.attrs["simplified_form_note"] = d.form_note
-    extra.attrs.update(region_coverage(d.region, trajectory))
-    if d.screen:
-        extra.attrs.update(region_screen_attrs(d.screen))
+    if d.region is not None:            # whether the analysed trajectory stays in the region
+        out = d.region.excursion(trajectory.q, trajectory.qd, trajectory.qdd)
+        extra.attrs.update({"region_covers_trajectory": int(out is None),
+                            "region_coverage": "" if out is None else out.text()})
+    if d.screen:                        # the screen that chose the exact recursive model
+        extra.attrs.update({
+            Attr.SIMPLIFIED_REGION_SCREEN: str(d.screen["statement"]),
+            Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(d.screen["possible_saving"]),
+            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(d.screen["threshold"]),
+            Attr.SIMPLIFIED_REGION_SCREEN_PROVED: int(bool(d.screen.get("proved", False)))})
     return extra
-
-
-def region_screen_attrs(screen: Mapping[str, Any]) -> dict[str, Any]:
-    """The screen that chose the exact recursive model, as results.h5 stores it.
-
-    Parameters
-    ----------
-    screen : dict
-        :meth:`gd_analyze.certify.screen.RegionScreen.to_dict`: the sampled pre-screen that
-        skipped the region's certification, or the screen of the pairs searched under the
-        proved bounds (``proved``).
-
-    Returns
-    -------
-    dict
-        ``simplified_region_screen`` (the sentence with the numbers),
-        ``simplified_region_possible_saving`` and ``simplified_region_saving_threshold``
-        (shares of the exact recursive model's operations [1]), and
-        ``simplified_region_screen_proved`` (1: the proved screen, 0: the sampled one).
-    """
-    return {Attr.SIMPLIFIED_REGION_SCREEN: str(screen["statement"]),
-            Attr.SIMPLIFIED_REGION_POSSIBLE_SAVING: float(screen["possible_saving"]),
-            Attr.SIMPLIFIED_REGION_SAVING_THRESHOLD: float(screen["threshold"]),
-            Attr.SIMPLIFIED_REGION_SCREEN_PROVED: int(bool(screen.get("proved", False)))}
-
-
-def region_coverage(region: Region | None, trajectory: Trajectory) -> dict[str, Any]:
-    """Whether the analysed trajectory stays in the region, as results.h5 stores it.
-
-    Parameters
-    ----------
-    region : Region or None
-        The model's region (None: no region, nothing stored).
-    trajectory : Trajectory
-        q, qd, qdd of shape (N, n).
-
-    Returns
-    -------
-    dict
-        ``region_covers_trajectory`` (1 or 0) and ``region_coverage``: "" inside, else the
-        clause of :meth:`gd_analyze.certify.region.Excursion.text` (the joint, the
-        quantity and its extreme against the limit); empty without a region.
-    """
-    if region is None:
-        return {}
-    out = region.excursion(trajectory.q, trajectory.qd, trajectory.qdd)
-    return {"region_covers_trajectory": int(out is None),
-            "region_coverage": "" if out is None else out.text()}

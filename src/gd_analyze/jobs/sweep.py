@@ -54,7 +54,7 @@ from ..store.schema import attribute_value
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
 from . import compile_ahead
-from .analyze import analysis_pass, analysis_passes
+from .analyze import analysis_pass, analysis_passes, stacked
 from .dask_cluster import TASK_RETRIES, ClusterLost, cluster_failures, dask_client
 from .options import AnalysisOptions
 
@@ -68,8 +68,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..trajectory.trajectory import Trajectory
 
 __all__ = ["DEFAULT_BATCH_MAX", "ERRORS_SETPOINTS_MAX", "IN_PROCESS", "IN_PROCESS_SETPOINTS_MAX",
-           "analyze_one", "run_sweep", "check_thresholds",
-           "check_trajectory", "WorkerErrors"]
+           "analyze_one", "run_sweep", "check_trajectory", "WorkerErrors"]
 
 #: Largest number of trajectories per dask task chosen automatically by :func:`run_sweep`.
 DEFAULT_BATCH_MAX = 50
@@ -87,27 +86,6 @@ IN_PROCESS = "this process, without a dask cluster"
 #: Most set points in one task of :class:`WorkerErrors` cutting the trajectories by itself
 #: (about 38 MB of q, qd, qdd for 6 joints).
 ERRORS_SETPOINTS_MAX = 2**18
-
-
-def check_thresholds(dominance: float, negligible: float) -> None:
-    """Check the ranking's thresholds.
-
-    Parameters
-    ----------
-    dominance : float
-        s, must be in (0.5, 1].
-    negligible : float
-        e, must be >= 0.
-
-    Raises
-    ------
-    ValueError
-        If either is out of range (or NaN).
-    """
-    if not 0.5 < float(dominance) <= 1.0:
-        raise ValueError(f"the dominance threshold s must be in (0.5, 1], got {dominance}")
-    if not float(negligible) >= 0.0:
-        raise ValueError(f"the negligibility threshold e must be >= 0, got {negligible}")
 
 
 def check_trajectory(robot: Robot, trajectory: Trajectory) -> None:
@@ -181,10 +159,9 @@ def analyze_one(robot: Robot, trajectory: Trajectory, dominance: float = DEFAULT
     without the verification and the per-set-point dataset. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from
     Eqs. (3.4-24) to (3.4-28).
     """
-    check_thresholds(dominance, negligible)
+    options = _ranking_only(dominance, negligible)
     check_trajectory(robot, trajectory)
-    return _summary(trajectory, analysis_pass(robot, trajectory,
-                                              _ranking_only(dominance, negligible),
+    return _summary(trajectory, analysis_pass(robot, trajectory, options,
                                               chunk=trajectory.q.shape[0]))
 
 
@@ -229,7 +206,9 @@ def _groups(trajectories, max_setpoints=_GROUP_SETPOINTS):
 
 
 def _ranking_only(dominance, negligible):
-    """The analysis of one swept trajectory: its ranking and masked model, nothing checked."""
+    """The analysis of one swept trajectory: its ranking and masked model, nothing checked
+    (the thresholds are, by :class:`~gd_analyze.jobs.options.AnalysisOptions`: a ValueError
+    if either is out of range)."""
     return AnalysisOptions(dominance=dominance, negligible=negligible, verify=False,
                            formulations=False, simplify=None)
 
@@ -242,10 +221,9 @@ def _analyze_batch(robot, trajectories, dominance, negligible, base=None):
     out = [_summary(tr, result) for group in _groups(trajectories)
            for tr, result in zip(group, analysis_passes(robot, group, options, silent))]
     if base is not None:        # the recursive model's peaks, per trajectory
-
-        stack = [np.concatenate([np.asarray(getattr(tr, k), float) for tr in trajectories])
-                 for k in ("q", "qd", "qdd")]
-        peaks = stacked_peaks(robot, base, *stack, [np.shape(tr.q)[0] for tr in trajectories])
+        motion, ends = stacked(trajectories)
+        peaks = stacked_peaks(robot, base, motion.q, motion.qd, motion.qdd,
+                              np.diff(ends, prepend=0))
         for k, r in enumerate(out):
             r["recursive_peaks"] = tuple(p[k] for p in peaks)
     return out
@@ -256,12 +234,11 @@ def _error_batch(robot, trajectories, choices):
     trajectory, a group of them at a time: ``peak``, ``sum_sq``, ``count``, ``peak_tau``."""
     out = []
     for group in _groups(trajectories):
-        q, qd, qdd = (np.concatenate([getattr(tr, k) for tr in group], dtype=float)
-                      for k in ("q", "qd", "qdd"))
-        terms = gd_terms(robot, q, qd)
+        motion, ends = stacked(group)
+        terms = gd_terms(robot, motion.q, motion.qd)
         acc = TorqueErrorAccumulator(terms.c.shape[1], trajectories=len(group))
-        acc.update(simplified_torque(terms, choices, qdd), terms.tau(qdd),
-                   ends=np.cumsum([np.shape(tr.q)[0] for tr in group]))
+        acc.update(simplified_torque(terms, choices, motion.qdd), terms.tau(motion.qdd),
+                   ends=ends)
         out += [{"peak": p, "sum_sq": s, "count": c, "peak_tau": t} for p, s, c, t in zip(
             acc.peak, acc.sum_sq, acc.count.tolist(), acc.peak_tau)]
     return out
@@ -476,7 +453,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     trajectories = list(trajectories)
     if not trajectories:
         raise ValueError("a sweep needs at least one trajectory")
-    check_thresholds(dominance, negligible)
+    _ranking_only(float(dominance), float(negligible))      # the thresholds checked
     for tr in trajectories:
         check_trajectory(robot, tr)
     if batch is not None and int(batch) < 1:

@@ -311,10 +311,9 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     facts = model_facts(model)
     names = [("merged model" + name[len("simplified model"):])
              if name.startswith("simplified model") else name for name in cost["evaluators"]]
-    ds = sweep_ds.copy()
-    ds = ds.assign_coords(evaluator=(SV.EVALUATOR, np.array(names, dtype=str),
-                                     {"long_name": "evaluator of tau at one set point",
-                                      "units": "1"}))
+    ds = sweep_ds.assign_coords(evaluator=(SV.EVALUATOR, np.array(names, dtype=str),
+                                           {"long_name": "evaluator of tau at one set point",
+                                            "units": "1"}))
     ds[SV.MULTIPLICATIONS] = ((SV.EVALUATOR,), np.array(cost["multiplications"], np.int64),
                              {"units": "1", "long_name": "multiplications per set point "
                                                          "(counted)"})
