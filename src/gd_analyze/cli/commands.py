@@ -468,11 +468,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     robot, trajectory = _load(args)
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
-    with warnings.catch_warnings():     # beyond the joint limits: one warning line each
-        warnings.simplefilter("ignore", JointLimitWarning)
-        messages = check_joint_limits(robot, trajectory)
-    for msg in messages:
-        print(f"{PROG}: warning: {msg}", file=sys.stderr)
+    warnings.simplefilter("always", JointLimitWarning)    # beyond the joint limits: a line each
+    check_joint_limits(robot, trajectory)
     report = None
     if not args.no_report:
         def report(results, folder, progress):
