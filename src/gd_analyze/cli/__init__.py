@@ -76,14 +76,6 @@ class _Escaping:
         return getattr(self._stream, name)
 
 
-@contextlib.contextmanager
-def _escaped_output():
-    """sys.stdout and sys.stderr written through :class:`_Escaping` inside the block."""
-    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
-            contextlib.redirect_stderr(_Escaping(sys.stderr)):
-        yield
-
-
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     kind = "note" if issubclass(category, InputNote) else "warning"
     print(f"{PROG}: {kind}: {message}", file=sys.stderr)
@@ -204,7 +196,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         4 internal error. Control characters of the output (an ESC from an input file) are
         written as escapes (:func:`escape_control`).
     """
-    with _escaped_output():          # no control character reaches the terminal
+    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
+            contextlib.redirect_stderr(_Escaping(sys.stderr)):  # no control character shown
         return _main(argv)
 
 
