@@ -21,10 +21,10 @@ def parsers():
     """
     from gd_analyze import cli
 
-    out = {"gd-analyze ROBOT TRAJECTORY.csv": cli.analyze_parser()}
+    out = {"gd-analyze ROBOT TRAJECTORY.csv": cli.parsing.analyze_parser()}
     for name in cli.COMMANDS:
         if name != "analyze":
-            out[f"gd-analyze {name}"] = getattr(cli, f"{name}_parser")()
+            out[f"gd-analyze {name}"] = getattr(cli.parsing, f"{name}_parser")()
     return out
 
 

@@ -69,7 +69,7 @@ from million_ratio import _range, run_child  # noqa: E402
 
 #: The median wall-time ratio allowed.
 RATIO_LIMIT = 8.0
-#: The sweep's default held-out trajectories and their seed offset (cli/sweep_command.py).
+#: The sweep's default held-out trajectories and their seed offset (cli/commands.py).
 HELD_OUT, HELD_OUT_SEED = 20, 1_000_003
 
 

@@ -519,7 +519,7 @@ def test_a_full_disk_outside_the_output_folder_is_not_a_bug(monkeypatch, capsys)
             raise RuntimeError("could not save the compiled kernel") from exc
         return 0
 
-    monkeypatch.setattr(cli, "cmd_plan", fills_the_disk)
+    monkeypatch.setattr(cli.commands, "cmd_plan", fills_the_disk)
     assert main(["plan", "two-link", "-o", "unused.csv"]) == 2
     err = capsys.readouterr().err.strip()
     assert err == "gd-analyze: error: cannot write: no space left on the device", err

@@ -303,7 +303,7 @@ def test_internal_error_is_exit_4(cwd, capsys, monkeypatch):
     def boom(args):
         return {}["no such key"]
 
-    monkeypatch.setattr(cli, "cmd_plan", boom)
+    monkeypatch.setattr(cli.commands, "cmd_plan", boom)
     code, _, err = _run(["plan", "two-link", "-o", "p.csv"], capsys)
     assert code == 4 and err.count("\n") == 1 and "Traceback" not in err
     assert "internal error: KeyError" in err and "--debug" in err

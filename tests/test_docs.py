@@ -109,7 +109,7 @@ def parse(arguments):
     """
     command = arguments[0] if arguments and arguments[0] in cli.COMMANDS else "analyze"
     rest = arguments[1:] if arguments and arguments[0] == command else arguments
-    parser = cli.analyze_parser() if command == "analyze" else getattr(cli, f"{command}_parser")()
+    parser = cli.parsing.analyze_parser() if command == "analyze" else getattr(cli.parsing, f"{command}_parser")()
     return command, parser.parse_intermixed_args(rest)
 
 
@@ -241,8 +241,8 @@ def _load_script(name):
 
 
 def test_every_option_of_every_command_is_in_its_table():
-    parsers = {"analyze": cli.analyze_parser()}
-    parsers.update({name: getattr(cli, f"{name}_parser")() for name in cli.COMMANDS
+    parsers = {"analyze": cli.parsing.analyze_parser()}
+    parsers.update({name: getattr(cli.parsing, f"{name}_parser")() for name in cli.COMMANDS
                     if name != "analyze"})
     tables = re.split(r"^`gd-analyze ", PAGES["options.md"], flags=re.MULTILINE)[1:]
     by_command = {}

@@ -104,7 +104,7 @@ def test_column_figures_only_on_request(drives, tmp_path):
     """write_report writes no <name>_column file by default (latency); with
     column_figures=True every page-width figure has its 3.5-in twin; the main job's
     --column-figures asks for them."""
-    from gd_analyze.cli import analyze_parser
+    from gd_analyze.cli.parsing import analyze_parser
 
     path, _ = drives
     plain = report.write_report(path, tmp_path / "plain", formats=("html",))

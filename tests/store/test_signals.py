@@ -152,7 +152,7 @@ SWEEP = """
         return original(*args, **kwargs)
 
     sweep.run_sweep = announced
-    import gd_analyze.cli.sweep_command as command
+    import gd_analyze.cli.commands as command
     command.run_sweep = announced
     # 20,000 trajectories: minutes of sweeping after "sweeping", which the signal follows at
     # once (planning 100,000 took 5 s before it)

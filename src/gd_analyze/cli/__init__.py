@@ -24,24 +24,8 @@ from ..model.robots import builtin_robots, unknown_robot
 from ..model.urdf import is_urdf_text
 from ..store.signals import after_run, exit_with, install
 from ..store.staging import Terminated, full_disk_error
-from .commands import cmd_analyze, cmd_compare, cmd_control, cmd_evaluate, cmd_plan
-from .identify_command import cmd_identify
-from .parsing import (
-    COMMANDS,
-    EXIT_INPUT,
-    EXIT_INTERNAL,
-    EXIT_OK,
-    PROG,
-    analyze_parser,
-    compare_parser,
-    control_parser,
-    evaluate_parser,
-    identify_parser,
-    parse_range,
-    plan_parser,
-    sweep_parser,
-)
-from .sweep_command import cmd_sweep
+from . import commands, parsing
+from .parsing import COMMANDS, EXIT_INPUT, EXIT_INTERNAL, EXIT_OK, PROG, parse_range
 
 __all__ = ["main", "run", "parse_range", "escape_control", "MAIN_JOB_IMPORTS", "REPORT_IMPORTS"]
 
@@ -92,14 +76,6 @@ class _Escaping:
         return getattr(self._stream, name)
 
 
-@contextlib.contextmanager
-def _escaped_output():
-    """sys.stdout and sys.stderr written through :class:`_Escaping` inside the block."""
-    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
-            contextlib.redirect_stderr(_Escaping(sys.stderr)):
-        yield
-
-
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     kind = "note" if issubclass(category, InputNote) else "warning"
     print(f"{PROG}: {kind}: {message}", file=sys.stderr)
@@ -135,12 +111,18 @@ def _check_utf8(argv):
                          "another encoding?): the provenance is written in UTF-8; rename the file")
 
 
-def _print_help(rest, parsers):
+def _command(name):
+    """A command's parser maker (``parsing.<name>_parser``) and its runner
+    (``commands.cmd_<name>``); ``"analyze"`` is the main job."""
+    return getattr(parsing, f"{name}_parser"), getattr(commands, f"cmd_{name}")
+
+
+def _print_help(rest):
     """``gd-analyze help [COMMAND]``: the help of the main job or of a command; exit status 0."""
     name = rest[0] if rest else "analyze"
-    if name not in parsers:
+    if name not in COMMANDS:
         raise InputError(f"help: unknown command {name!r} (commands: {', '.join(COMMANDS)})")
-    parsers[name][0]().print_help()
+    _command(name)[0]().print_help()
     return EXIT_OK
 
 
@@ -214,7 +196,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         4 internal error. Control characters of the output (an ESC from an input file) are
         written as escapes (:func:`escape_control`).
     """
-    with _escaped_output():          # no control character reaches the terminal
+    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
+            contextlib.redirect_stderr(_Escaping(sys.stderr)):  # no control character shown
         return _main(argv)
 
 
@@ -225,13 +208,7 @@ def _main(argv):
     command = argv[0] if argv and argv[0] in COMMANDS else "analyze"
     if argv and argv[0] == command:
         argv = argv[1:]
-    parsers = {"analyze": (analyze_parser, cmd_analyze), "plan": (plan_parser, cmd_plan),
-               "evaluate": (evaluate_parser, cmd_evaluate),
-               "compare": (compare_parser, cmd_compare),
-               "control": (control_parser, cmd_control),
-               "sweep": (sweep_parser, cmd_sweep),
-               "identify": (identify_parser, cmd_identify)}
-    make_parser, run = parsers[command]
+    make_parser, run = _command(command)
     try:
         import threading
 
@@ -243,7 +220,7 @@ def _main(argv):
             warnings.showwarning = _show_warning
             _check_utf8(argv)
             if command == "analyze" and argv and argv[0] in ("help", "-help"):
-                return _print_help(argv[1:], parsers)
+                return _print_help(argv[1:])
             if command == "analyze" and argv:
                 mistyped = _mistyped_command(argv)
                 if mistyped is not None:

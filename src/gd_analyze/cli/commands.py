@@ -1,17 +1,22 @@
 """The commands of the command line: each runs a workflow, writes its files and prints a summary.
 
-``_cmd_<command>(args)`` takes the parsed arguments of :mod:`gd_analyze.cli.parsing` and returns
-the exit status; bad input raises :class:`gd_analyze.errors.InputError`, which
+``cmd_<command>(args)`` (``cmd_analyze`` for the main job) takes the parsed arguments of
+:mod:`gd_analyze.cli.parsing` (``<command>_parser``) and returns the exit status: ``analyze``,
+``plan``, ``evaluate``, ``compare``, ``control``, ``sweep`` (many trajectories on dask, the
+merged model) and ``identify`` (recordings -> identification.h5 and identified_robot.toml);
+bad input raises :class:`gd_analyze.errors.InputError`, which
 :func:`gd_analyze.cli.main` prints as one line with exit status 2.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import json
 import math
 import os
+import re
 import shlex
 import sys
 import warnings
@@ -26,28 +31,47 @@ from ..certify.region import RegionLimits, joint_region
 from ..dynamics.compare import compare_report, format_compare
 from ..errors import InputError, InputWarning
 from ..estimation.estimate import RANK_TOL
+from ..estimation.preprocess import most_samples
 from ..files import file_sha256
 from ..jobs.analyze import progress_bar
 from ..jobs.control import CONTROL_FILE, DEFAULT_GRID_POINTS, run_control
 from ..jobs.evaluate import coverage, evaluate, gate
+from ..jobs.identify import IdentifyOptions, identify
 from ..jobs.options import AnalysisOptions, SimplifyOptions
+from ..jobs.payload import sweep_payloads
 from ..jobs.run import Payload, run_analysis
+from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
+from ..jobs.sweep_merged import merged_model, with_budget_model, with_model_cost
 from ..model.limits import LIMITS, acceleration_limits, exact_text, first_beyond
 from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
-from ..model.robots import load_robot
+from ..model.robot_file import robot_toml
+from ..model.robots import is_urdf, load_robot
+from ..model.urdf_writer import robot_urdf
 from ..ranking.labels import joint_torque_units, joint_units_text
 from ..report.control import dataset_verdict, write_control_report
+from ..report.identify import write_identify_report
 from ..report.main import write_report
 from ..report.main_context import effort_rows
 from ..report.numbers import count
-from ..simplify.deploy import robot_region
+from ..report.sweep import write_sweep_report
+from ..simplify.deploy import guarantee_region, robot_region
 from ..simplify.simplified import json_safe
 from ..store import control_dataset as control_file
 from ..store.datasets import joint_units
-from ..store.model_file import load_model
+from ..store.model_file import load_model, save_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
+from ..store.schema import write_dataset
 from ..store.staging import check_free_space, check_output_file, safe_name, staged_output, writing
+from ..store.stored_identification import (
+    identification_size,
+    identification_tree,
+    recordings_json,
+    write_identification,
+)
+from ..store.sweep_guarantee import merged_guarantee
+from ..store.sweep_view import StoredSweep, beyond_the_floor, sweep_size, with_more_tasks
+from ..symbolic.safe_text import c_prefix
 from ..trajectory.excitation import DEFAULT_HARMONICS, OBJECTIVE_SAMPLES, plan_excitation
 from ..trajectory.planning import (
     DEFAULT_SETPOINTS,
@@ -57,9 +81,11 @@ from ..trajectory.planning import (
     provenance_path,
     quintic_min_durations,
     quintic_plan,
+    random_trajectories,
     user_positions,
     write_provenance,
 )
+from ..trajectory.recording import read_recording
 from ..trajectory.trajectory import (
     JointLimitWarning,
     check_joint_limits,
@@ -442,11 +468,8 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     robot, trajectory = _load(args)
     bar.reset(total=trajectory.n_setpoints)
     bar.update(trajectory.n_setpoints)
-    with warnings.catch_warnings():     # beyond the joint limits: one warning line each
-        warnings.simplefilter("ignore", JointLimitWarning)
-        messages = check_joint_limits(robot, trajectory)
-    for msg in messages:
-        print(f"{PROG}: warning: {msg}", file=sys.stderr)
+    warnings.simplefilter("always", JointLimitWarning)    # beyond the joint limits: a line each
+    check_joint_limits(robot, trajectory)
     report = None
     if not args.no_report:
         def report(results, folder, progress):
@@ -947,5 +970,350 @@ def cmd_control(args: argparse.Namespace) -> int:
                   + f"   integrator noise of tau diff ({how}), \u2261 0 at or below")
         print(judged["verdict"])
         _print_coverage(summary["guarantee"])
+        print(wrote_line(written, outdir, args.verbose))
+    return EXIT_OK
+
+
+def _identify_options(args):
+    if args.current and args.drive_gains is None:
+        raise InputError("--current needs --drive-gains K1,.. (tau = K i)", column="--current")
+    if args.drive_gains is not None and not args.current:
+        raise InputError("--drive-gains applies to currents: give --current",
+                         column="--drive-gains")
+    return IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
+
+
+def _comments(result, args):
+    lines = [f"identified by gd-analyze {result.version}: {command_line(args)}",
+             f"prior: {result.prior.source} (SHA-256 {result.prior.sha256})"]
+    lines += [f"recording: {f} (SHA-256 {h})" for f, h in result.inputs.items()
+              if f != str(result.prior.source)]
+    lines.append(f"standard parameters: {result.standard_method}")
+    if result.settings.get("robot_file_note"):
+        lines.append(str(result.settings["robot_file_note"]))
+    return lines
+
+
+def _summary(result, outdir, written, args):
+    p = result.parameters
+    lines = [f"identified {result.prior.name} from {sum(f.role == 'train' for f in result.recordings)}"
+             f" recording(s): {len(p.names)} parameters, rank {result.rank}, condition number "
+             f"{result.condition_number:.4g} (column-scaled, weighted regressor)"]
+    unident = p.unidentifiable
+    if unident:
+        lines.append(f"not identifiable on these data (kept at the robot file's value): "
+                     f"{', '.join(unident)}")
+    bad = [str(k + 1) for k, ok in enumerate(result.consistent) if not ok]
+    lines.append("standard parameters: every link physically consistent" if not bad else
+                 f"standard parameters: link(s) {', '.join(bad)} not physically consistent "
+                 f"(pseudo-inertia not >= 0)")
+    width = max([len("recording")] + [len(f.name) for f in result.recordings])
+    simplified = any(f.tau_simplified is not None for f in result.recordings)
+    head = f"{'recording':<{width}}  {'role':<8}  {'identified':>10}  {'robot file':>10}"
+    if simplified:
+        head += f"  {'simplified':>10}"
+    lines += [head + "   total relative torque error ||E||_F / ||T||_F"]
+    for f in result.recordings:
+        row = (f"{f.name:<{width}}  {f.role:<8}  {f.errors()[2]:>10.2%}  "
+               f"{f.errors('prior')[2]:>10.2%}")
+        if f.tau_simplified is not None:
+            row += f"  {f.errors('simplified')[2]:>10.2%}"
+        lines.append(row)
+    if simplified and result.settings.get("simplified_guarantee"):
+        lines.append(f"simplified model: {result.settings['simplified_guarantee']}")
+    lines.append(wrote_line(written, outdir, args.verbose))
+    return lines
+
+
+def cmd_identify(args: argparse.Namespace) -> int:
+    """``identify``: identify the robot from recordings, write the store and the robot file.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :func:`gd_analyze.cli.parsing.identify_parser`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok.
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
+    robot = load_robot_arg(args)
+    options = _identify_options(args)
+    outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
+    train, valid = ([read_recording(path, n_joints=robot.n, current=options.current)
+                     for path in paths] for paths in (args.recordings, args.validate))
+    size = identification_size([most_samples(r.t, resampled=options.cutoff is not None)
+                                for r in train + valid], robot.n)
+    check_free_space(outdir, size, "identification.h5")    # before the identification
+    result = identify(robot, train, validate=valid, options=options)
+    with staged_output(outdir, command="identify") as stage, writing(outdir, stage):
+        # and again before writing: the disk may have filled since
+        check_free_space(outdir, size, "identification.h5")
+        written = [write_identification(result, stage / "identification.h5")]
+        toml = stage / "identified_robot.toml"
+        toml.write_text(robot_toml(result.identified, _comments(result, args)),
+                        encoding="utf-8")
+        written.append(toml)
+        if isinstance(args.robot, str) and is_urdf(args.robot):
+            urdf = stage / "identified_robot.urdf"
+            urdf.write_text(robot_urdf(result.identified, _comments(result, args) + [
+                "the drives (armature, viscous and Coulomb friction, torque offsets) are in "
+                "identified_robot.toml only: a URDF holds none that gd-analyze reads"]),
+                encoding="utf-8")
+            written.append(urdf)
+        if not args.no_report:
+            tree = identification_tree(result)
+            root = tree.pop("/")
+            written += write_identify_report(root, tree, stage, paper=args.paper,
+                                             latex=args.latex)
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if args.json:
+        print(json.dumps(recordings_json(result)))
+    elif not args.quiet:
+        print("\n".join(_summary(result, outdir, written, args)))
+    return EXIT_OK
+
+
+def _model_settings(args, settings, limits):
+    """The keyword arguments of the budget rule's merged model
+    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`)."""
+    return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
+            "provenance": {"gd_analyze_version": __version__, **settings},
+            "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
+            "region": limits}
+
+
+def _sweep_model(robot, model, args, outdir, ds):
+    """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
+    region or on every swept trajectory (``--guarantee``), measured
+    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`).
+
+    Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
+    with this model's errors)."""
+
+    ds = with_budget_model(ds, model)
+    model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
+    written = [outdir / "merged_model.json"]
+    save_model(model, written[0])
+    for name, text in model.sources(MERGED_STEM, c_prefix(robot.name) + "merged_").items():
+        (outdir / name).write_text(text, encoding="utf-8")
+        written.append(outdir / name)
+    if not args.quiet:
+        print("\n".join(_model_lines(model, ds, args)))
+    return written, ds
+
+
+def _model_lines(model, ds, args):
+    """What the command prints of the merged model: its cost, its worst error where its
+    guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
+    as the model states it (:meth:`gd_analyze.simplify.guarantee.Guarantee.statement`)."""
+    import numpy as np
+
+
+    v = model.validation
+    eps = args.tolerance
+    said = merged_guarantee(ds)
+    region = said["kind"] == "region"
+    worst = said["worst"]
+    floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
+        "peak |tau_i|"
+    scale = "s_i over the joint-limit region" if region else f"each trajectory's {floor}"
+    held_err = None
+    if v["held_out"]:   # relative to max(peak |tau_i|, TAU) over them all, or to s_i over R
+        h = v["held_out"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            held_err = np.asarray(h["peak_abs_error"], float) / (
+                np.asarray(model.guarantee.scale, float) if region else
+                np.maximum(np.asarray(h["peak_tau"], float), args.torque_floor))
+    claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) or np.isnan(worst) else \
+        f"ABOVE the guarantee {eps:g}: please report this bug"
+    beyond = beyond_the_floor(ds)
+    caveat = ""
+    if beyond is not None:
+        rel, j, over = beyond
+        caveat = (f"; relative to peak |tau_i| itself, where it is below "
+                  f"{args.torque_floor:g} N m, not guaranteed: up to {rel:.2e} (joint {j}; "
+                  f"above {eps:g} on joint{'s' if len(over) > 1 else ''} "
+                  f"{', '.join(map(str, over))})")
+    outside = said["outside"]
+    inside = v["trajectories"] - len(outside)
+    where = (f"on the {v['trajectories']} swept trajectories" if not outside else
+             f"on the {inside} of {v['trajectories']} swept trajectories inside the region")
+    error = (f"worst error {where} {worst:.2e} of {scale} ({claim}){caveat}" if inside else
+             f"none of the {v['trajectories']} swept trajectories lies inside the region")
+    if outside:
+        error += (f"; on the {len(outside)} outside it (not covered by the proof) "
+                  f"{max(w for _, _, w in outside):.2e}")
+    if held_err is not None:
+        covered = ("not guaranteed" if not region else
+                   f"measured; {said['held_out_inside']} of them inside the region, where "
+                   "the bound is proved")
+        error += (f", on {v['held_out_trajectories']} held-out {np.nanmax(held_err):.2e} of "
+                  f"{'s_i' if region else 'their ' + floor} ({covered})")
+    others = "; ".join(f"{name}: {c['multiplications'] + c['additions']:,}" for name, c in
+                       model.costs.items() if name in ("exact recursive", "explicit, full"))
+    lines = [f"merged model (budget rule, EPS = {eps:g}, {model.form} form): "
+             f"{model.cost['multiplications'] + model.cost['additions']:,} operations "
+             f"({model.cost['multiplications']} mult + {model.cost['additions']} add; "
+             f"{others}); {error}"]
+    if outside:
+        lines.append(f"not covered by the region guarantee ({len(outside)} swept "
+                     f"trajector{'y' if len(outside) == 1 else 'ies'} outside the region): "
+                     + "; ".join(f"{src}: {why}" for src, why, _ in outside[:5])
+                     + ("" if len(outside) <= 5 else f"; and {len(outside) - 5} more "
+                        "(merged_covered in sweep.h5)"))
+    region = getattr(model.guarantee, "region", None)
+    lines += [] if region is None else region.lines()
+    lines.append(f"guarantee: {said['statement']}")
+    return lines
+
+
+#: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
+MERGED_STEM = "merged_model"
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """``sweep``: the ranking over many trajectories on dask, and the merged model.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed arguments of :mod:`gd_analyze.cli.parsing`.
+
+    Returns
+    -------
+    int
+        The exit status: 0 ok, 1 verification failed, 2 bad input, 3 evaluate gate, 4 internal
+        error (:mod:`gd_analyze.cli.parsing`).
+
+    Raises
+    ------
+    gd_analyze.errors.InputError
+        On bad input; the command line prints it as one line and exits 2.
+    """
+    from ..jobs.dask_cluster import dask_client
+    from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX, WorkerErrors, run_sweep
+
+    robot = load_robot_arg(args)
+    if (args.random is None) == (not args.csv):
+        raise InputError("give either --random K or trajectory CSV files")
+    if args.scheduler is not None:
+        if not re.fullmatch(r"((tcp|tls|ws|wss|ucx)://)?[^\s/:]+:[0-9]{1,5}/?", args.scheduler):
+            raise InputError("not a dask scheduler address (e.g. tcp://10.0.0.5:8786)",
+                             column="--scheduler")
+    check_rule_options(args)
+    if args.csv:
+        trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
+    else:
+        warn_if(check_velocity_limits(robot))               # random plans need them
+        trajectories = random_trajectories(robot, args.random, seed=args.seed)
+    masses = payload_mass_list(args)
+    loaded = apply_payload(robot, args)
+    outdir = output_folder(args.outdir, robot.name, "sweep")
+    settings = {"command": command_line(args),
+                "payload_mass": float(args.payload or 0.0), **chain_settings(args),
+                **mounting_settings(args, robot)}
+    if args.random is not None:
+        settings["seed"] = args.seed
+        try:
+            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
+        except ValueError as exc:
+            raise InputError(str(exc), robot.source) from None
+
+    limits = region_limits(args, loaded)
+    settings.update({} if limits is None else limits.settings())
+    # over the region the merge needs no per-trajectory peaks of the recursive model
+    proved = guarantee_region(loaded, args.guarantee, limits)[2]
+    budget = args.rule == "budget"
+    size = sweep_size(len(trajectories), robot.n, 0 if masses is None else len(masses))
+    check_free_space(outdir, size, "sweep.h5")      # before the sweep, which may take hours
+    # the held-out trajectories of the budget rule's merged model (--held-out, at least 0)
+    held = random_trajectories(loaded, args.held_out, seed=args.seed + 1_000_003) \
+        if budget and args.held_out else []
+    prepared = {}
+
+    def region_model():
+        # over the region the merged model does not depend on the ranking: it is built here
+        # while the workers rank
+        prepared["model"] = budget_region_model(loaded, trajectories,
+                                                **_model_settings(args, settings, limits))
+
+    model = None
+    # a small sweep with no cluster asked for is ranked here: a LocalCluster's start and its
+    # workers' warm-up would cost more than the ranking
+    local = args.scheduler is None and args.workers is None and \
+        sum(len(t.q) for t in trajectories) <= IN_PROCESS_SETPOINTS_MAX
+    with contextlib.ExitStack() as stack:
+        client = cluster = None
+        try:                            # only the connection: the sweep's errors are its own
+            if not local:
+                client, cluster = stack.enter_context(dask_client(args.scheduler,
+                                                                  args.workers))
+        except (OSError, ValueError, TypeError) as exc:
+            if args.scheduler is None:
+                raise InputError(f"cannot start a local dask cluster: {exc}") from None
+            raise InputError(f"cannot reach the dask scheduler: {exc}",
+                             args.scheduler) from None
+        ds = run_sweep(loaded, trajectories, args.dominance, args.negligible, client=client,
+                       settings=settings, progress=not args.quiet and sys.stderr.isatty(),
+                       recursive_peaks=budget and not proved, cluster=cluster,
+                       chapter_errors=not budget,
+                       meanwhile=region_model if budget and proved else None,
+                       in_process=local)
+        payload = None if masses is None else sweep_payloads(
+            robot, trajectories, masses, args.payload_com, args.payload_inertia,
+            args.dominance, args.negligible, client=client, in_process=local)
+        if budget:                      # measured on every trajectory (by the workers)
+            errors = None if client is None else WorkerErrors(client)  # one task per worker
+            model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
+                                       prepared=prepared.get("model"), errors=errors,
+                                       **_model_settings(args, settings, limits))
+            if errors is not None:
+                ds = with_more_tasks(ds, errors.tasks)
+
+    with staged_output(outdir, command="sweep") as stage, writing(outdir, stage):
+        # and again before writing: the disk may have filled since
+        check_free_space(outdir, size, "sweep.h5")
+        written = [stage / "sweep.h5"]
+        if model is not None:
+            files, ds = _sweep_model(loaded, model, args, stage, ds)
+        else:
+            files = [stage / "merged_model.json"]
+            model = merged_model(loaded, ds)
+            ds = with_model_cost(ds, model)
+            save_model(model, files[0])
+            if not args.quiet:
+                print("merged model (chapter rule): a part is dropped only where every "
+                      "trajectory's share-based model drops it; no error bound")
+        write_dataset(ds, written[0])
+        written += files
+        if payload is not None:
+            written.append(stage / "payload_sweep.h5")
+            write_dataset(payload, written[-1])
+        if not args.no_report:
+            written += list(write_sweep_report(written[0], stage, payload=payload,
+                                               paper=args.paper, latex=args.latex))
+    written = [outdir / Path(p).relative_to(stage) for p in written]
+    if not args.quiet:
+        run = StoredSweep.of(ds)
+        s = run.settings
+        w, k = int(s.n_workers), run.trajectories
+        where = (f"on {w} dask worker{'s' * (w > 1)} ({s.scheduler_address})"
+                 if w else "in this process (no dask cluster)")
+        print(f"{robot.name}: {k} trajector{'ies' if k > 1 else 'y'} in "
+              f"{float(s.elapsed_s):.1f} s {where}")
+        print(f"{'element':<8}" + "".join(f"{c[:5]:>7}" for c in run.classes)
+              + f"{'min':>8}{'median':>8}{'max':>8}  merged")
+        for k, lab in enumerate(run.elements):      # no share (NaN): round-off everywhere
+            shares = (run.share_min[k], run.share_median[k], run.share_max[k])
+            print(f"{lab:<8}" + "".join(f"{v:>7.3f}" for v in run.class_fraction[k])
+                  + "".join(f"{v:>8.3f}" if math.isfinite(v) else f"{'≡ 0':>8}" for v in shares)
+                  + f"  {run.merged.choice[k]}")
         print(wrote_line(written, outdir, args.verbose))
     return EXIT_OK

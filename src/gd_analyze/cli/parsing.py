@@ -286,10 +286,9 @@ def _add_region_arguments(p, what="the region over which the bound is proved (--
                    help=_REGION_HELP["qdd"].format(DEFAULT_QDD_PER_QD))
 
 
-def _add_budget_arguments(p, rule=True, where=None, form=True,
-                          guarantee="the trajectory only"):
-    """The simplified model's options; ``form``: also --explicit and --form; ``guarantee``:
-    also --guarantee, its second choice in these words (None: no --guarantee)."""
+def _add_budget_arguments(p, where=None, guarantee="the trajectory only"):
+    """The simplified model's options; ``guarantee``: the second choice of --guarantee in these
+    words."""
     g = p.add_argument_group("simplified model (error budget)")
     if where is None:
         where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
@@ -303,27 +302,24 @@ def _add_budget_arguments(p, rule=True, where=None, form=True,
                    type=_fraction(0, MAXIMA["torque_floor"], "--torque-floor", "[]"),
                    help=f"least scale of a joint torque [N m] (default "
                         f"{defaults['torque_floor']:g})")
-    if rule:
-        g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
-                       help="budget: by torque contribution within EPS (default); chapter: "
-                            "the share-based classes of Sec. 3.4.1 (no bound)")
-    if guarantee:
-        g.add_argument("--guarantee", choices=("region", "trajectory"),
-                       default=defaults["guarantee"],
-                       help="where the bound must hold: proved over the robot's joint-limit "
-                            "region (default when the robot gives position and velocity limits "
-                            f"for every joint) or on {guarantee}")
-    if rule and form:
-        g.add_argument("--explicit", choices=("auto", "always", "never"),
-                       default=defaults["explicit"],
-                       help="derive the explicit G-D model too: auto (default) where its "
-                            "estimated size is cheap and it may be deployed (not with --form "
-                            "recursive), always, or never (not with --rule chapter)")
-        g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
-                       default=defaults["form"],
-                       help="the simplified model written: the cheaper of the pruned recursive "
-                            "and explicit models (default), or that form (explicit: derived "
-                            "whatever --explicit says; --rule chapter writes no recursive)")
+    g.add_argument("--rule", choices=("budget", "chapter"), default=defaults["rule"],
+                   help="budget: by torque contribution within EPS (default); chapter: "
+                        "the share-based classes of Sec. 3.4.1 (no bound)")
+    g.add_argument("--guarantee", choices=("region", "trajectory"),
+                   default=defaults["guarantee"],
+                   help="where the bound must hold: proved over the robot's joint-limit "
+                        "region (default when the robot gives position and velocity limits "
+                        f"for every joint) or on {guarantee}")
+    g.add_argument("--explicit", choices=("auto", "always", "never"),
+                   default=defaults["explicit"],
+                   help="derive the explicit G-D model too: auto (default) where its "
+                        "estimated size is cheap and it may be deployed (not with --form "
+                        "recursive), always, or never (not with --rule chapter)")
+    g.add_argument("--form", choices=("cheapest", "recursive", "explicit"),
+                   default=defaults["form"],
+                   help="the simplified model written: the cheaper of the pruned recursive "
+                        "and explicit models (default), or that form (explicit: derived "
+                        "whatever --explicit says; --rule chapter writes no recursive)")
 
 
 def _add_threshold_arguments(p, dominance="default {}", negligible="default {}"):
