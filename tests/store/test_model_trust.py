@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, golden_run
 
 import gd_analyze
 from gd_analyze.certify.region import Region
@@ -369,19 +369,18 @@ def test_honest_trees_do_not_save_a_lowered_bound(models, monkeypatch):
 def panda_doc():
     """The Panda's region model at EPS 0.01 (its bound from the decomposition: the branch and
     bound on the first links' pairs plus the final boxes' bound of the rest), as its file's
-    dict, with its robot."""
+    dict, with its robot: the model file of the Panda's main job on its shipped trajectory
+    without report, its golden case (tests/golden/freeze.py), run once a session and shared
+    with tests/test_golden.py and tests/report/test_region_bound_ways.py (read only). Its
+    region and so its bound's proof do not depend on the trajectory."""
     from gd_analyze import load_robot
-    from gd_analyze.certify.region import joint_region
-    from gd_analyze.model.limits import acceleration_limits
-    from gd_analyze.simplify.deploy import build_recursive
 
-    robot = load_robot("panda")
-    region = joint_region(robot, acceleration_limits(robot)[0])
-    q = np.random.default_rng(3).uniform(region.q_min, region.q_max, (20, robot.n))
-    built, _ = build_recursive(robot, q, 0 * q, 0 * q, tolerance=0.01, region=region)
-    g = built.guarantee
-    assert g.kind == "region" and built.recursive.dropped.any()
-    return json.loads(json.dumps(built.to_dict())), robot
+    doc = json.loads((golden_run("panda")[0][0] / "panda" / "simplified_model.json")
+                     .read_text())
+    g = doc["guarantee"]
+    assert g["kind"] == "region" and any(doc["recursive"]["dropped"])
+    assert g["decomposed_tilings"] and "decomposition" in g["bound_method"]
+    return doc, load_robot("panda")
 
 
 def _panda_model(doc, robot):
