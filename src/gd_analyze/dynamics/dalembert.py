@@ -289,8 +289,9 @@ def gd_terms(robot, q, qd, out=None, constants=None):
     Raises
     ------
     InputError
-        If q or qd does not have shape (N, n) or they disagree on N
-        (:func:`~gd_analyze.model.kinematics.as_states`), or ``out`` is not a GDTerms (a qdd
+        If q or qd does not have shape (N, n), they disagree on N, or one holds NaN or inf
+        (named with its first such set point and joint:
+        :func:`~gd_analyze.model.kinematics.as_states`), or ``out`` is not a GDTerms (a qdd
         given as a fourth argument); a ValueError if ``out`` does not fit.
 
     Notes
