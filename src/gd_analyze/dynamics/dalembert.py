@@ -220,8 +220,7 @@ def allocate_terms(N: int, n: int) -> GDTerms:
     GDTerms
         Uninitialised arrays: D_tran, D_rot (N, n, n), h_tran, h_rot, c (N, n).
     """
-    return GDTerms(np.empty((N, n, n)), np.empty((N, n, n)), np.empty((N, n)),
-                   np.empty((N, n)), np.empty((N, n)))
+    return GDTerms(*(np.empty(shape) for shape in [(N, n, n)] * 2 + [(N, n)] * 3))
 
 
 def kernel_arguments(robot: Robot) -> tuple[Any, ...]:
