@@ -2,7 +2,7 @@
 main job with its report (HTML, PDF and the figure files).
 
     python analysis/memory_million.py [--setpoints N] [--no-terms] [--joints n] [--src DIR]
-                                      [--read-only] [--blank-end]
+                                      [--read-only] [--blank-end] [--space-end]
 
 Each measurement runs in a fresh Python process that prints its own peak resident set size
 (ru_maxrss), so the figures do not mix. The main job runs as a user runs it, in one process.
@@ -16,7 +16,7 @@ gd_terms-only process is run (its (N, n, n) arrays are what the job avoids), and
 every process on another checkout's ``src`` (first on PYTHONPATH), to measure the code before
 a change. A process that only reads the CSV (``read_trajectory``) gives the reading's own peak;
 ``--read-only`` runs that one alone (no job). ``--blank-end`` ends the CSV with an empty line
-(as many recorded files do). Prints one JSON line.
+(as many recorded files do), ``--space-end`` with lines of spaces and tabs (LF and CRLF). Prints one JSON line.
 """
 
 from __future__ import annotations
@@ -59,6 +59,8 @@ def main(argv=None):
     p.add_argument("--src", default="", help="another checkout's src folder")
     p.add_argument("--read-only", action="store_true", help="measure the CSV's reading alone")
     p.add_argument("--blank-end", action="store_true", help="end the CSV with an empty line")
+    p.add_argument("--space-end", action="store_true",
+                   help="end the CSV with lines of spaces and tabs")
     args = p.parse_args(argv)
     N = args.setpoints
     if args.src:
@@ -88,16 +90,17 @@ def main(argv=None):
                     f"tr = plan_quintic(r, np.radians(DEFAULT_START_DEG), "
                     f"np.radians(DEFAULT_GOAL_DEG), {N});")
             run(plan + f"write_trajectory(tr, {str(csv)!r}); " + PEAK)
-        if args.blank_end:
+        if args.blank_end or args.space_end:
             with open(csv, "ab") as fh:
-                fh.write(b"\n")
+                fh.write(b" \t\r\n\t\n  \n" if args.space_end else b"\n")
         rss_read, t_read = run("from gd_analyze.trajectory.trajectory import read_trajectory; "
                                f"tr = read_trajectory({str(csv)!r}); " + PEAK)
         csv_size = csv.stat().st_size
         if args.read_only:
             print(json.dumps({"setpoints": N, "joints": args.joints or 6,
                               "src": args.src or None, "load_average": os.getloadavg(),
-                              "blank_end": args.blank_end, "read_csv_peak_rss_mib": rss_read, "read_csv_s": t_read,
+                              "blank_end": args.blank_end, "space_end": args.space_end,
+                              "read_csv_peak_rss_mib": rss_read, "read_csv_s": t_read,
                               "csv_mib": csv_size / 2**20}))
             return 0
         rss_terms, t_terms = (None, None) if args.no_terms or args.joints else run(

@@ -97,7 +97,7 @@ def gd_terms_numpy(robot, q, qd, chunk=8192):
 
 def part_regressor_numpy(robot, columns, q, qd, qdd):
     """:func:`part_regressor` as array code: the three parts by :func:`regressor_columns`."""
-    q, qd, qdd = as_states(robot, q, qd, qdd)
+    q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     z, g0 = np.zeros_like(q), np.zeros(3)
     parts = (regressor_columns(robot, columns, q, z, qdd, gravity=g0),
              regressor_columns(robot, columns, q, qd, z, gravity=g0),
@@ -116,7 +116,7 @@ def contribution_peaks_numpy(robot, base, q, qd, qdd):
     points."""
     n, b = robot.n, base.rank
     tau_peak, peak, whole_peak = np.zeros(n), np.zeros((b, 3, n)), np.zeros((b, n))
-    q, qd, qdd = as_states(robot, q, qd, qdd)
+    q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     block = regressor_kernels.BLOCK
     for a in range(0, q.shape[0], block):
         sl = slice(a, a + block)

@@ -198,3 +198,23 @@ def test_complex_and_text_arrays_are_refused(bad, kind):
     want = pin.rnea(pinocchio_model(robot), pinocchio_model(robot).createData(),
                     np.zeros(robot.n), np.zeros(robot.n), np.zeros(robot.n))
     np.testing.assert_allclose(gd.gd_terms(robot, ints, ints).c[0], want, rtol=1e-12)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_nan_and_inf_states_are_refused_naming_the_first(bad):
+    """gd_terms and regressor returned NaN terms silently for a NaN (or inf) in q, qd or qdd:
+    each now raises a ValueError on one line naming the array, the first set point (counted
+    from 0, as the array is indexed) and the joint (from 1) that holds one."""
+    robot = gd.load_robot("two-link")
+    q, qd, qdd = _random_states(robot, 5, seed=4)
+    states = {"q": q, "qd": qd, "qdd": qdd}
+    for name in states:
+        spoilt = {k: v.copy() for k, v in states.items()}
+        spoilt[name][3, 1] = spoilt[name][4, 0] = bad      # the first: set point 3, joint 2
+        said = rf"^{name}: {bad} at set point 3, joint 2: must be finite$"
+        calls = [lambda: gd.regressor(robot, spoilt["q"], spoilt["qd"], spoilt["qdd"])]
+        if name != "qdd":
+            calls.append(lambda: gd.gd_terms(robot, spoilt["q"], spoilt["qd"]))
+        for call in calls:
+            with pytest.raises(ValueError, match=said):
+                call()

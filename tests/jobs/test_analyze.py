@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import SHIPPED
+from conftest import ROOT, SHIPPED
 
 from gd_analyze.jobs.analyze import analyze, analyze_to_file, verify
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
@@ -265,3 +265,35 @@ def test_the_chapters_own_model_is_measured_on_its_puma_only(shipped_dataset, pu
     np.testing.assert_allclose(got, want, rtol=1e-8, atol=1e-10)
     assert want.max() > 0.01                  # the chapter's model does drop real parts
     assert "chapter_model_error_relative_peak" not in shipped_dataset("ur5").variables
+
+
+def test_an_arm_without_mass_and_inertia_is_refused(tmp_path, capsys):
+    """A robot file whose links all have zero mass and zero inertia (every mass and inertia 0
+    in TOML, a URDF without any <inertial>) ran the whole main job to a ranking of zeros:
+    now one line naming the file, exit 2, no output folder; the Python API raises the same."""
+    from gd_analyze import InputError, load_robot
+    from gd_analyze.cli import main
+
+    text = (ROOT / "src" / "gd_analyze" / "data" / "two-link.toml").read_text()
+    toml = tmp_path / "zero.toml"
+    toml.write_text(text.replace("mass = 1.0", "mass = 0.0").replace(
+        "inertia = [0.0, 0.08333333333333333, 0.08333333333333333]", "inertia = [0.0, 0.0, 0.0]"))
+    joints = "".join(
+        f'<link name="l{i}"/><joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+        f'<child link="l{i}"/><origin xyz="0.2 0 0" rpy="0 {0.3 * i} 0"/><axis xyz="0 0 1"/>'
+        '<limit lower="-2" upper="2" effort="10" velocity="2"/></joint>' for i in (1, 2))
+    urdf = tmp_path / "zero.urdf"
+    urdf.write_text(f'<robot name="zero"><link name="l0"/>{joints}</robot>')
+    t = np.linspace(0.0, 1.0, 11)
+    csv = tmp_path / "two.csv"
+    csv.write_text("t,q1,q2\n" + "".join(f"{a},{0.3 * a},{-0.2 * a}\n" for a in t))
+    for robot in (toml, urdf):
+        assert not load_robot(str(robot)).mass.any()
+        out = tmp_path / f"out-{robot.suffix[1:]}"
+        assert main([str(robot), str(csv), "-o", str(out), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == [f"gd-analyze: error: {robot}: every link has zero mass and inertia: "
+                       "no dynamics"]
+        assert not out.exists()
+        with pytest.raises(InputError, match="every link has zero mass and inertia"):
+            analyze(load_robot(str(robot)), read_trajectory(csv, n_joints=2))

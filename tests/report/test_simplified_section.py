@@ -132,7 +132,10 @@ def test_region_table_and_whether_this_trajectory_lies_in_it():
     assert [r[3] for r in tab["rows"]] == ["40", "40"]
     assert [r[4] for r in tab["rows"]] == ["360", "360"]           # the robot's, given
     assert [r[5] for r in tab["rows"]] == ["given", "given"]
-    assert "This trajectory leaves the region: joint 1 qd reaches" in text
+    # qd, qdd set as q with a dot, as the coverage clause sets them (they printed "qd")
+    assert "This trajectory leaves the region: joint 1 q\u0307 reaches" in text
+    assert [h.split(" [")[0] for h in tab["header"][3:]] == ["q\u0307 max", "q\u0308 max",
+                                                            "q\u0308 max"]
     assert "it does not cover it" in text
     inside = gd.analyze(robot, (t, 0.1 * q), options)
     assert "Every set point of this trajectory lies in the region." in region_table(inside)[1]

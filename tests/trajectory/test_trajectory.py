@@ -173,12 +173,13 @@ def test_joint_limit_warning_shows_a_narrow_range(tmp_path, two_link):
 @pytest.mark.parametrize("defect, row, column", [
     (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
     ("time", 3002, "t")])
-@pytest.mark.parametrize("end, blank", [("\n", ""), ("\n", "\n"), ("\r\n", "\r\n\r\n")])
+@pytest.mark.parametrize("end, blank", [("\n", ""), ("\n", "\n"), ("\r\n", "\r\n\r\n"),
+                                        ("\n", " \t\n\t\n  "), ("\r\n", "  \r\n\t \r\n")])
 def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, monkeypatch, defect, row,
                                                       column, end, blank):
-    """Files above FAST_PARSE_BYTES go through pandas, also with LF or CRLF line ends and empty
-    lines at the end (as many recorded files have): the cell-by-cell parser is not called; a
-    fault is still located exactly (by that parser)."""
+    """Files above FAST_PARSE_BYTES go through pandas, also with LF or CRLF line ends and blank
+    lines at the end, empty or of spaces and tabs (as many recorded files have): the
+    cell-by-cell parser is not called; a fault is still located exactly (by that parser)."""
     import hashlib
 
     import gd_analyze.trajectory.trajectory as trajectory

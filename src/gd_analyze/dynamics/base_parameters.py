@@ -161,7 +161,8 @@ def regressor(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n).
+        If the arrays are not of shape (N, n), or one holds NaN or inf (named with its first
+        such set point and joint: :func:`~gd_analyze.model.kinematics.as_states`).
 
     Notes
     -----
@@ -462,7 +463,9 @@ def base_regressor(robot: Robot, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike,
     Raises
     ------
     ValueError
-        If the arrays are not of shape (N, n) or (n,).
+        If the arrays are not of shape (N, n) or (n,), or one holds NaN or inf: one line
+        naming the array and its first such set point and joint
+        (:func:`~gd_analyze.model.kinematics.as_states`).
 
     Notes
     -----

@@ -220,8 +220,7 @@ def allocate_terms(N: int, n: int) -> GDTerms:
     GDTerms
         Uninitialised arrays: D_tran, D_rot (N, n, n), h_tran, h_rot, c (N, n).
     """
-    return GDTerms(np.empty((N, n, n)), np.empty((N, n, n)), np.empty((N, n)),
-                   np.empty((N, n)), np.empty((N, n)))
+    return GDTerms(*(np.empty(shape) for shape in [(N, n, n)] * 2 + [(N, n)] * 3))
 
 
 def kernel_arguments(robot: Robot) -> tuple[Any, ...]:
@@ -289,8 +288,9 @@ def gd_terms(robot, q, qd, out=None, constants=None):
     Raises
     ------
     InputError
-        If q or qd does not have shape (N, n) or they disagree on N
-        (:func:`~gd_analyze.model.kinematics.as_states`), or ``out`` is not a GDTerms (a qdd
+        If q or qd does not have shape (N, n), they disagree on N, or one holds NaN or inf
+        (named with its first such set point and joint:
+        :func:`~gd_analyze.model.kinematics.as_states`), or ``out`` is not a GDTerms (a qdd
         given as a fourth argument); a ValueError if ``out`` does not fit.
 
     Notes

@@ -177,8 +177,7 @@ def relative_error(value: ArrayLike, reference: ArrayLike) -> float:
     float
         ``max|value - reference| / max(max|reference|, tiny)``; 0 for empty arrays.
     """
-    value = np.asarray(value, dtype=float)
-    reference = np.asarray(reference, dtype=float)
+    value, reference = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
     if value.size == 0:
         return 0.0
     scale = max(float(np.max(np.abs(reference))), np.finfo(float).tiny)
@@ -274,8 +273,7 @@ def natural_relative_error(value: ArrayLike, reference: ArrayLike, scale: ArrayL
 
 
 def _relative(value, reference, scale, floor, past_floor):
-    value = np.asarray(value, dtype=float)
-    reference = np.asarray(reference, dtype=float)
+    value, reference = np.asarray(value, dtype=float), np.asarray(reference, dtype=float)
     if value.size == 0:
         return 0.0
     diff = np.max(np.abs(value - reference), axis=0)                 # NaN propagates

@@ -211,7 +211,7 @@ def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
     (1, 2, 2)
     """
     columns = _checked_columns(robot, columns)
-    q, qd, qdd = as_states(robot, q, qd, qdd)
+    q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     g = np.asarray(robot.gravity if gravity is None else gravity, float).reshape(3)
     link, param, back = _sorted(columns)
     N = q.shape[0]
@@ -310,8 +310,9 @@ def link_channels(robot, columns, q):
 
 
 def _arguments(robot, columns, beta, q, qd, qdd):
-    """The kernel's arguments but the outputs, with the states checked."""
-    q, qd, qdd = as_states(robot, q, qd, qdd)
+    """The kernel's arguments but the outputs, with the states checked (a NaN state kept:
+    the peak kernels pass over it)."""
+    q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     columns = np.asarray(columns, np.int64).reshape(-1)
     c = np.ascontiguousarray
     return (c(q, float), c(qd, float), c(qdd, float), c(robot.rotation, float),
@@ -360,9 +361,12 @@ def part_regressor(robot, columns, q, qd, qdd):
     ((1, 3, 2, 2), True)
     """
     columns = _checked_columns(robot, columns)
-    args = _arguments(robot, columns, np.ones(columns.size), q, qd, qdd)
-    N, n = args[0].shape
-    m = columns.size
+    return _contributions(_arguments(robot, columns, np.ones(columns.size), q, qd, qdd))
+
+
+def _contributions(args):
+    """The compiled kernel's contributions, shape (N, 3, n, m), on :func:`_arguments`."""
+    (N, n), m = args[0].shape, args[-1].size
     out = np.empty((N, 3, n, m))
     from .regressor_compiled import _contributions_kernel
 
@@ -411,16 +415,8 @@ def part_contributions(robot, base, q, qd, qdd):
     >>> part_contributions(robot, base, z, z, z).shape == (3, 4, 2, base.rank)
     True
     """
-    args = _arguments(robot, np.flatnonzero(base.independent.reshape(-1)), base.beta, q, qd,
-                      qdd)
-    N, n = args[0].shape
-    b = base.rank
-    out = np.empty((N, 3, n, b))
-    from .regressor_compiled import _contributions_kernel
-
-    _contributions_kernel(*args, True, out, np.zeros(n), np.zeros((b, 3, n)),
-                          np.zeros((b, n)))
-    return out.transpose(1, 0, 2, 3)
+    columns = np.flatnonzero(base.independent.reshape(-1))
+    return _contributions(_arguments(robot, columns, base.beta, q, qd, qdd)).transpose(1, 0, 2, 3)
 
 
 def contribution_peaks(robot, base, q, qd, qdd, out=None):
@@ -519,7 +515,7 @@ def stacked_contribution_peaks(robot, base, q, qd, qdd, lengths):
     K, n, b = lengths.size, robot.n, base.rank
     tau_peak, peak = np.zeros((K, n)), np.zeros((K, b, 3, n))
     whole_peak = np.zeros((K, b, n))
-    q, qd, qdd = as_states(robot, q, qd, qdd)
+    q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     for k in range(K):
         sl = slice(starts[k], starts[k + 1])
         contribution_peaks(robot, base, q[sl], qd[sl], qdd[sl],

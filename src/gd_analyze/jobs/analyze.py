@@ -30,6 +30,7 @@ from .._version import VERSION as __version__
 from ..dynamics import pinocchio as reference
 from ..dynamics.compare import FORMULATIONS_MAX_SETPOINTS, formulations_dataset
 from ..dynamics.dalembert import GDTerms, allocate_terms, gd_terms
+from ..errors import InputError
 from ..files import atomic_path
 from ..model.limits import check_finite
 from ..ranking.chapter_comparison import CHAPTER_CHOICES, S_VALUES, agreement_against_s, block_leads
@@ -300,12 +301,15 @@ def analysis_pass(robot: Robot, trajectory: Trajectory, options: AnalysisOptions
     Raises
     ------
     ValueError
-        If the trajectory does not fit the robot or the thresholds are out of range.
+        If the trajectory does not fit the robot or the thresholds are out of range; an
+        InputError naming the robot's file if every link has zero mass and zero inertia (no
+        dynamics: every element would rank as negligible, every torque 0).
 
     Notes
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    _check_masses(robot)
     chunk = stream_chunk(robot.n) if chunk is None else chunk
     options = AnalysisOptions() if options is None else options
     args = (robot, trajectory, options, provenance, chunk, writer, progress, None)
@@ -357,12 +361,14 @@ def analysis_passes(robot: Robot, trajectories: Sequence[Trajectory], options: A
     ------
     ValueError
         If there are no trajectories, one has no set points, the options ask for a check, a
-        comparison or a model, or the thresholds are out of range.
+        comparison or a model, or the thresholds are out of range; an InputError as for
+        :func:`analysis_pass` for an arm without mass and inertia.
 
     Notes
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987); terms from Eqs. (3.4-24) to (3.4-28).
     """
+    _check_masses(robot)
     if options.verify or options.formulations or options.simplify is not None:
         raise ValueError("analysis_passes ranks only: no verify, formulations or simplify")
     motion, ends = stacked(trajectories)
@@ -389,6 +395,13 @@ def stacked(trajectories: Sequence[Trajectory]) -> tuple[SimpleNamespace, NDArra
     motion = SimpleNamespace(**{k: np.concatenate([getattr(tr, k) for tr in trajectories],
                                                   dtype=float) for k in ("q", "qd", "qdd")})
     return motion, np.cumsum([len(tr.q) for tr in trajectories])
+
+
+def _check_masses(robot):
+    """Refuse an arm whose links all have zero mass and inertia (a file's typo, or a URDF
+    without any <inertial>): its terms are 0, its ranking meaningless."""
+    if not (robot.mass.any() or robot.inertia.any()):
+        raise InputError("every link has zero mass and inertia: no dynamics", robot.source)
 
 
 def _other_update(other, errors, q, qd, qdd, tau):

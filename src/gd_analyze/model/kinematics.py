@@ -27,8 +27,8 @@ __all__ = ["as_states", "transforms_core", "joint_frames", "joint_transforms", "
            "link_matrices", "frames", "centres_of_mass"]
 
 
-def as_states(robot: Robot, *arrays: ArrayLike,
-              names: Sequence[str] | None = None) -> tuple[np.ndarray, ...]:
+def as_states(robot: Robot, *arrays: ArrayLike, names: Sequence[str] | None = None,
+              finite: bool = True) -> tuple[np.ndarray, ...]:
     """Check joint arrays against the robot and give them a leading set-point axis.
 
     Parameters
@@ -40,6 +40,9 @@ def as_states(robot: Robot, *arrays: ArrayLike,
         m/s^2].
     names : sequence of str, optional
         The arrays' names for the messages (default ``q``, ``qd``, ``qdd`` in order).
+    finite : bool, optional
+        Refuse NaN and inf (default); False for a kernel that keeps a NaN state out of its
+        peaks (:func:`gd_analyze.dynamics.regressor_kernels.contribution_peaks`).
 
     Returns
     -------
@@ -51,8 +54,10 @@ def as_states(robot: Robot, *arrays: ArrayLike,
     InputError
         If ``robot`` is not a :class:`~gd_analyze.model.robot.Robot`, an array's last axis is
         not n, it has more than two axes, the arrays do not all have the same number of set
-        points N, or an array holds complex or non-numeric values
-        (:func:`~gd_analyze.model.limits.real_values`): one line naming the argument.
+        points N, an array holds complex or non-numeric values
+        (:func:`~gd_analyze.model.limits.real_values`), or NaN or inf (``finite``): one line
+        naming the argument, and for NaN or inf the first set point k (counted from 0) and
+        joint j (from 1) that holds one.
     """
     expect(robot, Robot, "robot", "a Robot (from load_robot)")
     out = []
@@ -62,6 +67,10 @@ def as_states(robot: Robot, *arrays: ArrayLike,
         x = x[None, :] if x.ndim == 1 else x            # one state: one set point
         if x.ndim != 2 or x.shape[1] != robot.n:
             raise InputError(f"{name}: expected shape (N, {robot.n}) for {robot.name}, got {x.shape}")
+        # a finite sum: every value finite (one pass, no temporary array); else look closer
+        if finite and not (np.isfinite(x.sum()) or np.isfinite(x).all()):
+            k, j = np.argwhere(~np.isfinite(x))[0]
+            raise InputError(f"{name}: {x[k, j]} at set point {k}, joint {j + 1}: must be finite")
         out.append(x)
     if len({x.shape[0] for x in out}) > 1:
         raise InputError("arrays disagree on the number of set points: " + ", ".join(

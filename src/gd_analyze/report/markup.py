@@ -109,7 +109,8 @@ _STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s|qdd|qd)\b")
 def scope(statement: str) -> str:
     """A statement of the core (plain text: a guarantee's, a screen's, a proof's) as the
     reports write it: ``s_i`` as s with subscript i, ``D_s``, ``h_s``, ``c_s`` and ``tau_s``
-    as D, h, c and tau with subscript s; qd and qdd as q with one or two dots.
+    as D, h, c and tau with subscript s; qd and qdd as q with one or two dots; a space
+    before % as a non-breaking one (no line break between "1" and "%").
 
     Parameters
     ----------
@@ -123,7 +124,7 @@ def scope(statement: str) -> str:
 
     Examples
     --------
-    >>> scope("within 1 % of s_i") == "within 1 % of s" + sub("i")
+    >>> scope("within 1 % of s_i") == "within 1\u00a0% of s" + sub("i")
     True
     >>> scope("the proof that D_s is positive definite") == (
     ...     "the proof that D" + sub("s") + " is positive definite")
@@ -134,7 +135,7 @@ def scope(statement: str) -> str:
     def symbol(m: re.Match[str]) -> str:
         letter, _, index = m.group(1).partition("_")
         return {"qd": "q\u0307", "qdd": "q\u0308", "tau": "\u03c4"}.get(letter, letter) + sub(index)
-    return _STATEMENT_SYMBOLS.sub(symbol, statement)
+    return _STATEMENT_SYMBOLS.sub(symbol, statement).replace(" %", "\u00a0%")
 
 
 def powers(text: str) -> str:

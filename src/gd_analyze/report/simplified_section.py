@@ -806,12 +806,13 @@ def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | No
         rows.append([str(j + 1), unit, q, _num(conv(r["qd_max"][j])),
                      _num(conv(r["qdd_max"][j])),
                      "assumed" if r["qdd_max_assumed"][j] else "given"])
-    tab = table(["joint", "units of q", "q range", "qd max [/s]", "qdd max [/s²]",
-                 "qdd max"], rows, align=["left", "left", "left", "right", "right", "left"])
+    tab = table(["joint", "units of q", "q range", *map(scope_markup, ["qd max [/s]",
+                 "qdd max [/s²]", "qdd max"])], rows, align=["left"] * 3 + ["right"] * 2 + ["left"])
     lines = r["lines"]
     note = lines[-1].partition(" (")[2].partition(")")[0] if "(assumed" in lines[-1] else ""
     text = say("region_text", source=s.region_source, assumed=note, notes=s.region_notes,
-               covered=r["covered"], coverage=r["coverage"], region=s.guarantee_kind == "region")
+               covered=r["covered"], coverage=scope_markup(r["coverage"]),
+               region=s.guarantee_kind == "region")
     return tab, powers(text)               # s^-1, deg/s^2 as superscripts
 
 

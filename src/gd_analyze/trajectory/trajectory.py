@@ -140,8 +140,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     """Read and validate a trajectory CSV file.
 
     One reader for every size: a file is parsed by pandas when it is regular (every line has
-    the header's number of fields, only the bytes of plain numbers, no quotes; LF or CRLF, empty
-    lines only at its end), and cell by cell otherwise, or whenever pandas' result fails a
+    the header's number of fields, only the bytes of plain numbers, no quotes; LF or CRLF, blank
+    lines (empty, or spaces and tabs) only at its end), and cell by cell otherwise, or whenever pandas' result fails a
     check; the cell-by-cell parse then names the first faulty row and column. Both accept exactly the same files and give the same values.
     pandas reads a large file a piece at a time, so its bytes are never held whole: the memory
     is that of the values (and of the whole file's bytes only when it is irregular).
@@ -545,8 +545,8 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     -------
     (values, names, sha256) or None
         values, shape (N, len(names)): the N rows after the header, every one finite; sha256:
-        that of the file's bytes, BOM and the empty lines that end it included (those are no
-        rows). None if anything is off (a header refused or longer than :data:`HEADER_BYTES`, a
+        that of the file's bytes, BOM and the blank lines that end it (empty, or spaces and
+        tabs) included (those are no rows). None if anything is off (a header refused or longer than :data:`HEADER_BYTES`, a
         quote, a byte other than those of plain numbers, a blank line before the last row, a
         line with other fields than the header, a lone carriage return, a value pandas cannot
         parse or that is not finite, fewer than 2 rows): then the caller parses the whole file
@@ -559,7 +559,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
 
     Notes
     -----
-    Two passes over the file (after a look at its last 4 KiB for empty lines that end it): the
+    Two passes over the file (after a look at its last 4 KiB for blank lines that end it): the
     first counts its lines (the values' rows), the second hashes, checks and parses each piece
     of about :data:`PARSE_PIECE` bytes (whole lines), on :data:`PARSE_THREADS` threads (pandas'
     parser releases the GIL). At no time are the file's bytes held whole: the memory is the
@@ -595,11 +595,12 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         names = header(head.decode("utf-8").rstrip("\r\n").split(","))
     except UnicodeDecodeError:
         return None
-    # the empty lines that end the file (within its last 4 KiB) are no rows: not parsed
+    # the blank lines that end the file (within its last 4 KiB: empty, or spaces and tabs)
+    # are no rows: not parsed; the last row is parsed to its newline
     start = fh.tell()
     fh.seek(max(start, fh.seek(0, os.SEEK_END) - 4096))
-    last = _read(fh, path)
-    end = fh.tell() - len(last) + len(last.rstrip(b"\r\n"))
+    last = _read(fh, path) + b"\n"
+    end = fh.tell() + 2 - len(last) + last.find(b"\n", len(last.rstrip(b" \t\r\n")))
     fh.seek(start)
     if names is None or (lines := _line_count(fh, path, end)) < 2:
         return None
@@ -643,7 +644,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         pool.shutdown(wait=True, cancel_futures=True)
     if row != lines or not np.isfinite(values).all():
         return None
-    digest.update(_read(fh, path))      # the empty lines at the end
+    digest.update(_read(fh, path))      # the blank lines at the end
     return values, names, digest.hexdigest()
 
 
