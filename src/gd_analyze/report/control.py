@@ -62,8 +62,8 @@ from .main_provenance import DERIVATIVES, command_row, gravity_row, run_row, sof
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
+from .numbers import decade_formatter, label_axes, set_ticks, time_origin
 from .sections import Outline
-from .ticks import decade_formatter, label_axes, set_ticks, time_origin
 from .typeset import check_paper
 
 if TYPE_CHECKING:

@@ -55,11 +55,10 @@ from .main_figures import (
 )
 from .main_figures import RC as FIG_RC
 from .markup import code, element, sub
-from .numbers import decade_label
+from .numbers import decade_formatter, decade_label, scaled_formatter
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .sections import Outline
 from .simplified_section import budget_makers, error_figure
-from .ticks import decade_formatter, scaled_formatter
 from .typeset import check_paper
 
 if TYPE_CHECKING:

@@ -62,10 +62,9 @@ from .main_text import (
 from .markup import element, tau
 from .markup import element as _el
 from .markup import scope as _scope
-from .numbers import pct
+from .numbers import pct, time_origin
 from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
-from .ticks import time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -846,7 +845,7 @@ def ranking_table(results: Results) -> dict[str, Any]:
 
 def _stamp(v, t):
     """A time stamp of the series t [s] in 6 significant digits, or, where the series' first
-    stamp is far from 0 against its span (:func:`gd_analyze.report.ticks.time_origin`: Unix
+    stamp is far from 0 against its span (:func:`gd_analyze.report.numbers.time_origin`: Unix
     time stamps), in as many decimals as give its span 6 significant digits."""
     origin, _ = time_origin(t)
     if not origin:

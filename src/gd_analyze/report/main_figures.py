@@ -36,9 +36,8 @@ from ..ranking.ranking import (
 from .common import joint_style, say, units_text
 from .figure_style import element_markevery, grid_boxes, joint_key, joint_lines, new_figure
 from .markup import label as _math
-from .numbers import decade_label
+from .numbers import decade_label, label_axes, set_ticks, time_origin
 from .plot_data import PlotData, plot_data
-from .ticks import label_axes, set_ticks, time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -108,7 +107,7 @@ MAX_ROWS = {"page": 5, "column": 8}
 
 def _y_axis(ax, nbins, *arrays):
     """y limits around the arrays (:func:`_limits`), round ticks within the data's range,
-    labelled by the figure (:func:`gd_analyze.report.ticks.label_axes`)."""
+    labelled by the figure (:func:`gd_analyze.report.numbers.label_axes`)."""
     lo, hi = _limits(*arrays)
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
@@ -170,7 +169,7 @@ def _time_axis(ax, x, labels, nbins=3):
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
     element; y ticks placed, labelled by the figure
-    (:func:`gd_analyze.report.ticks.label_axes`: one notation per figure)."""
+    (:func:`gd_analyze.report.numbers.label_axes`: one notation per figure)."""
     for part, y in parts.items():
         _plot(ax, x, y, part, enveloped, len(parts))
     _y_axis(ax, nbins, *parts.values())

@@ -80,10 +80,9 @@ from .markup import element as _el
 from .markup import label as _math
 from .markup import scope as scope_markup
 from .markup import sub as _sub
-from .numbers import decade_label
+from .numbers import decade_formatter, decade_label, joint_ticks
 from .sections import Outline
 from .simplified_section import region_pruning
-from .ticks import decade_formatter, joint_ticks
 from .typeset import MIN_PRINTED_PT, TABLE_COLOURS, check_paper, printed_scale
 
 if TYPE_CHECKING:
