@@ -229,8 +229,7 @@ def test_a_time_axis_counts_from_its_first_stamp_only_where_ticks_would_be_long(
 def test_the_trajectory_figure_on_unix_time_stamps_has_short_time_ticks():
     """Fig. 1 of the main report on a trajectory stamped in Unix time: ticks of ten digits
     ran into each other; the axis now counts from a whole second and says so."""
-    from gd_analyze.report.main_figures import fig_joints
-    from gd_analyze.report.plot_data import PlotData
+    from gd_analyze.report.main_figures import PlotData, fig_joints
 
     M = 31
     x = 1.7e9 + 0.25 + np.linspace(0.0, 4.2, M)

@@ -48,6 +48,7 @@ from .common import fmt_columns as _columns
 from .common import pct_columns as _pct_columns
 from .common import share as _share
 from .common import table as _table
+from .main_figures import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .main_provenance import DERIVATIVES as _DERIVATIVES
 from .main_provenance import provenance_rows
 from .main_text import (
@@ -63,7 +64,6 @@ from .markup import element, tau
 from .markup import element as _el
 from .markup import scope as _scope
 from .numbers import pct, time_origin
-from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
 
 if TYPE_CHECKING:

@@ -24,7 +24,6 @@ from .figure_style import grid_boxes, markevery, new_figure
 from .markup import powers, sub
 from .markup import scope as scope_markup
 from .numbers import joint_ticks, label_axes, set_ticks, tick_label_width, time_origin
-from .plot_data import PlotData
 from .typeset import MIN_PRINTED_PT, printed_scale
 
 if TYPE_CHECKING:
@@ -35,7 +34,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from ..store.results_view import Results
-    from .plot_data import PlotData
+    from .main_figures import PlotData
 
 __all__ = ["budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
@@ -568,7 +567,7 @@ def budget_makers(results: Results, data: PlotData) -> dict[str, Callable[..., F
     results : Results
         The main job's results (:class:`gd_analyze.store.results_view.Results`).
     data : PlotData
-        Its series (:func:`gd_analyze.report.plot_data.plot_data`).
+        Its series (:func:`gd_analyze.report.main_figures.plot_data`).
 
     Returns
     -------
