@@ -31,8 +31,7 @@ SHARED_REPORTS = {"report.common", "report.typeset", "report.drawing",
 REPORT_CORE = {"ranking.ranking", "ranking.labels"}
 
 # the one section list of the three reports and what it is built with
-SHARED_REPORTS |= {"report.markup", "report.sections", "report.units", "report.figure_style",
-                   "report.main_provenance", "report.table_export"}     # every report's tables as CSV and LaTeX
+SHARED_REPORTS |= {"report.markup", "report.sections", "report.figure_style"}
 
 
 def _module_name(path):

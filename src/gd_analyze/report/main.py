@@ -463,7 +463,7 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
         ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
         (:data:`FIGURE_FILES`), then every table of the report as
         ``outdir/tables/table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
-        :func:`gd_analyze.report.table_export.table_files`).
+        :func:`gd_analyze.report.drawing.table_files`).
 
     Raises
     ------

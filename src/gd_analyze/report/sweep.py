@@ -72,9 +72,9 @@ from .common import pct as _pct
 from .common import share as _share_text
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
+from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import payload_figure
-from .main_provenance import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import label as _math
@@ -1008,7 +1008,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
 
 def _settings(w, inputs, version):
     """The settings and provenance of the sweep, each once and in words
-    (:mod:`gd_analyze.report.main_provenance` rows for the software, the run and gravity)."""
+    (:mod:`gd_analyze.report.main_context` rows for the software, the run and gravity)."""
     st, m, setpoints, durations = w.settings, w.merged, w.setpoints, w.duration
     K = w.trajectories
     s, e = _thresholds(w)
@@ -1367,7 +1367,7 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``), then
         every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``, then every table of
         the report as ``outdir/tables/sweep_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
-        :func:`gd_analyze.report.table_export.table_files`).
+        :func:`gd_analyze.report.drawing.table_files`).
 
     Raises
     ------
