@@ -23,16 +23,15 @@ DOMAIN = LAYERS[:7]
 LEAVES = {"errors", "files", "_version", "config", "cache"}
 # the shared report modules, and the main report's own parts (figures and sentences) and the
 # PDF typesetter and tick labels of all three
-SHARED_REPORTS = {"report.common", "report.figures", "report.typeset", "report.drawing",
-                  "report.ticks", "report.main_figures", "report.main_text",
-                  "report.simplified_section", "report.main_context", "report.plot_data",
+SHARED_REPORTS = {"report.common", "report.typeset", "report.drawing",
+                  "report.main_figures", "report.main_text",
+                  "report.simplified_section", "report.main_context", "report.main_figures",
                   "report.numbers"}
 # the domain modules a report may read: names and labels of the ranking's classes and elements
 REPORT_CORE = {"ranking.ranking", "ranking.labels"}
 
 # the one section list of the three reports and what it is built with
-SHARED_REPORTS |= {"report.markup", "report.sections", "report.units", "report.figure_style",
-                   "report.main_provenance", "report.table_export"}     # every report's tables as CSV and LaTeX
+SHARED_REPORTS |= {"report.markup", "report.sections", "report.figure_style"}
 
 
 def _module_name(path):

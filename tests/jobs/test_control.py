@@ -359,7 +359,7 @@ def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
     other controllers' errors are drawn, on axes that start at the noise floor, in the units
     of the stored joint types (all revolute: rad, N m)."""
     from gd_analyze.ranking.ranking import is_round_off
-    from gd_analyze.report.control import make_control_figures
+    from gd_analyze.report.control import control_figures
 
     ds = control_dataset(result)
     assert list(ds["joint_type"].values) == ["revolute"] * 6
@@ -369,7 +369,7 @@ def test_integrator_noise_is_not_drawn_and_units_follow_joint_types(result):
     scale = np.maximum(np.ptp(q_d, axis=0), np.abs(q_d).max(axis=0))
     full = np.abs(ds["error"].sel(controller="full").values).max(axis=0)
     assert is_round_off(full, scale, rtol).all()           # the physics: noise, per joint
-    fig = make_control_figures(ds)["error"]
+    fig = control_figures(ds)["error"]
     labels = {"computed torque, full model", "computed torque, simplified model",
               "PD + gravity"}
     for j, ax in enumerate(a for a in fig.axes if a.get_visible()):
@@ -392,11 +392,10 @@ def test_control_figures_label_without_scripts_at_print_size(result):
         COLUMN_WIDTH,
         FIGURE_RC,
         control_figures,
-        make_control_figures,
     )
 
     ds = control_dataset(result)
-    figs = {**make_control_figures(ds),
+    figs = {**control_figures(ds),
             **{f"{k}_column": f for k, f in control_figures(ds, COLUMN_WIDTH).items()}}
     check_print_ready(figs, FIGURE_RC)
     labels = [ax.get_ylabel() for ax in figs["error"].axes if ax.get_visible()]

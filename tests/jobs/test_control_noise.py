@@ -77,10 +77,10 @@ def test_case_shows_the_ripple(dense):
 def test_no_drawn_point_of_the_torque_difference_is_integrator_noise(dense):
     """(a) Every point drawn in Fig. 2, page and column width, is above the joint's stored
     floor and above the integrator noise measured against the reference runs."""
-    from gd_analyze.report.control import COLUMN_WIDTH, control_figures, make_control_figures
+    from gd_analyze.report.control import COLUMN_WIDTH, control_figures
 
     _, ds, _, noise = dense
-    drawn = [_drawn(make_control_figures(ds)["tau_difference"]),
+    drawn = [_drawn(control_figures(ds)["tau_difference"]),
              _drawn(control_figures(ds, COLUMN_WIDTH)["tau_difference"])]
     for panels in drawn:
         assert sorted(panels) == list(range(6))
@@ -112,10 +112,10 @@ def test_a_real_difference_is_still_drawn(dense):
     report's difference is then above 3 times the noise, above its floor of about 2), the
     report draws it: the floor hides noise, not data (a bound of rtol times the gains,
     about 1.5e-5 N m, would hide joint 1's whole 5e-6 N m difference)."""
-    from gd_analyze.report.control import make_control_figures
+    from gd_analyze.report.control import control_figures
 
     result, ds, true_diff, noise = dense
-    drawn = _drawn(make_control_figures(ds)["tau_difference"])
+    drawn = _drawn(control_figures(ds)["tau_difference"])
     is_set = result.is_setpoint
     for j in range(6):
         real = np.abs(true_diff[is_set, j]) > 4 * noise[j]

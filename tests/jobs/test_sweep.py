@@ -304,7 +304,7 @@ def chapter_html(sweep, tmp_path_factory):
 def test_sweep_report(sweep, puma, shipped, tmp_path, chapter_html):
     from matplotlib.figure import Figure
 
-    from gd_analyze.report.figures import payload_figure
+    from gd_analyze.report.main_figures import payload_figure
     from gd_analyze.report.sweep import write_sweep_report
 
     path = tmp_path / "sweep.h5"

@@ -14,7 +14,7 @@ from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.report.common import strings
 from gd_analyze.report.drawing import figure_svg
 from gd_analyze.report.main import FIG_RC
-from gd_analyze.report.plot_data import plot_data
+from gd_analyze.report.main_figures import plot_data
 from gd_analyze.report.sections import Outline
 from gd_analyze.report.simplified_section import (
     CONTRIBUTIONS,

@@ -279,13 +279,13 @@ def test_the_error_caption_names_only_the_controllers_drawn(tmp_path):
     """Oracle: the curves Fig. 1 draws (their labels). A controller whose tracking error is
     integrator noise on every joint has no curve and no markers, so its caption does not give
     its first marker (the full-model controller without an initial offset was listed)."""
-    from gd_analyze.report.control import CONTROL_LABELS, control_figures
+    from gd_analyze.report.control import CONTROLLER_LABELS, control_figures
 
     ds = two_link_control(tmp_path, 200)
     figure = control_figures(ds)["error"]
     drawn = {line.get_label() for ax in figure.axes for line in ax.get_lines()
              if not line.get_label().startswith("_")}
-    assert drawn and drawn < set(CONTROL_LABELS.values())   # some controller is not drawn
+    assert drawn and drawn < set(CONTROLLER_LABELS.values())   # some controller is not drawn
     text = _text((tmp_path / "control" / "control_report.html").read_text())
     caption = text[text.index("Figure 1."):text.index("Figure 2.")]
     named = set(re.findall(r"set point[s]? (?:\d+, |\d+ and )*?\d+ \(([^)]+)\)", caption)) | set(

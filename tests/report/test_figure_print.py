@@ -284,7 +284,7 @@ def test_figures_letter_mathematics_not_code_names(figures):
 @pytest.fixture(scope="module", params=ROBOTS)
 def payload_figures(request):
     from gd_analyze.jobs.payload import payload_sweep
-    from gd_analyze.report.figures import COLUMN_WIDTH, payload_figure
+    from gd_analyze.report.main_figures import COLUMN_WIDTH, payload_figure
 
     name = request.param
     robot = load_robot(name)

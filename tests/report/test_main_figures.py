@@ -8,9 +8,8 @@ from conftest import SHIPPED
 
 from gd_analyze.report import main as report
 from gd_analyze.report.main_context import zero_mask
-from gd_analyze.report.main_figures import PART_STYLE
+from gd_analyze.report.main_figures import PART_STYLE, plot_data
 from gd_analyze.report.markup import label as shown
-from gd_analyze.report.plot_data import plot_data
 
 
 def _panel_sizes(fig):

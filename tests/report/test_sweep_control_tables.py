@@ -20,7 +20,7 @@ from table_checks import csv_matches_html, number, reads_back
 from table_checks import tables as _tables
 
 from gd_analyze.cli import main
-from gd_analyze.report.control import control_context, make_control_figures
+from gd_analyze.report.control import control_context, control_figures
 from gd_analyze.report.markup import plain
 from gd_analyze.report.sweep import sweep_context, write_sweep_report
 from gd_analyze.store.schema import open_results, open_sweep
@@ -158,7 +158,7 @@ def test_fig3_markers_of_the_controllers_never_coincide(runs):
     controllers put a marker at the same set point, each has markers, and the caption names
     the set points where they start."""
     ds = runs["control"]
-    fig = make_control_figures(ds)["tau"]
+    fig = control_figures(ds)["tau"]
     starts = set()
     panels = 0
     for ax in fig.axes:

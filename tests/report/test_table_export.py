@@ -8,8 +8,8 @@ import re
 from table_checks import csv_matches_html
 
 from gd_analyze.report import markup
+from gd_analyze.report.drawing import csv_cell, latex_text, table_files
 from gd_analyze.report.sections import Outline
-from gd_analyze.report.table_export import csv_cell, latex_text, table_files
 
 #: Robot and joint names a file may hold: formulas a spreadsheet would run, LaTeX commands.
 HOSTILE = ['=HYPERLINK("http://x","y")', "+cmd|' /C calc'!A0", "-2+3", "@SUM(A1)",

@@ -19,7 +19,7 @@ import pytest
 from pdf_checks import font_types, info, text, words
 
 from gd_analyze.report import markup
-from gd_analyze.report.main_provenance import command_row
+from gd_analyze.report.main_context import command_row
 from gd_analyze.report.sections import Outline
 from gd_analyze.report.typeset import MARGINS, NEAR_EMPTY, document_data, write_pdf
 

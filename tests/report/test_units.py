@@ -263,7 +263,7 @@ def test_payload_figure_gives_n_for_the_prismatic_joint():
     joint is which."""
     from gd_analyze import load_robot
     from gd_analyze.jobs.payload import payload_sweep
-    from gd_analyze.report.figures import payload_figure
+    from gd_analyze.report.main_figures import payload_figure
     from gd_analyze.trajectory.trajectory import read_trajectory
 
     robot = load_robot("stanford")

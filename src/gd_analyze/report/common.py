@@ -2,10 +2,12 @@
 and :mod:`gd_analyze.report.control`).
 
 Reading a dataset's strings and attributes, the table dictionaries the Jinja2 templates and the
-PDF writers read, and the rendering of a report's template. The number formats
-(:mod:`gd_analyze.report.numbers`), the units by joint type (:mod:`gd_analyze.report.units`)
-and the figure style (:mod:`gd_analyze.report.figure_style`) are re-exported here. Private:
-the reports' output is the interface, not these functions.
+PDF writers read, the rendering of a report's template, and the units by joint type: a
+revolute joint's torque in N m and its D elements in kg m², a prismatic joint's force in N and
+its elements in kg m or kg; units in headings kept on one line. The number formats
+(:mod:`gd_analyze.report.numbers`) and the figure style
+(:mod:`gd_analyze.report.figure_style`) are re-exported here. Private: the reports' output is
+the interface, not these functions.
 """
 
 from __future__ import annotations
@@ -20,8 +22,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ..ranking.ranking import ROUND_OFF_CLAUSE
+from ..ranking.ranking import ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
+from ..store.results_view import Results
 from ..store.schema import EvaluatorCosts, strings
+from ..store.sweep_view import MergedModel
 from . import markup
 from .figure_style import (
     BASE_RC,
@@ -35,20 +39,18 @@ from .figure_style import (
 )
 from .markup import clean, marked, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
-from .units import keep_units, prismatic_joints, torque_units, units_said_once, units_text
 
 if TYPE_CHECKING:
+    import numpy.typing as npt
     import xarray as xr
 
-__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now",
-           "keep_units",
-           "strings", "fmt", "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns", "attr_text", "check", "table",
-           "grid_shape", "joint_style", "JOINT_STYLES", "MAX_MARKERS",
-           "panel_markevery",
-           "gridspec", "render_template", "say", "check_formats",
-           "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
-           "units_text", "units_said_once", "cost_table", "settings_table", "other_rows",
-           "or_default", "joints_text"]
+__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now", "keep_units", "strings", "fmt",
+           "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
+           "pct_columns", "attr_text", "check", "table", "grid_shape", "joint_style",
+           "JOINT_STYLES", "MAX_MARKERS", "panel_markevery", "gridspec", "render_template",
+           "say", "check_formats", "prismatic_joints", "torque_units", "FORMULATION_NAMES",
+           "FORMULATION_ABBR", "units_text", "units_said_once", "cost_table", "settings_table",
+           "other_rows", "or_default", "joints_text"]
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
@@ -162,7 +164,6 @@ def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:
                          + ", ".join(missing))
 
 
-
 #: How the report names each formulation and implementation of the stored comparison (the
 #: key is the name in the dataset), in full and abbreviated.
 FORMULATION_NAMES = {"lagrange-euler": "Lagrange-Euler", "newton-euler": "Newton-Euler",
@@ -210,7 +211,6 @@ def table(header: Sequence[str], rows: Sequence[Sequence[Any]],
     return {"header": header, "rows": [[cells(str(c)) for c in row] for row in rows],
             "align": list(align or ["left"] * len(header)),
             "widths": list(widths or [1] * len(header)), "colour_cols": list(colour_cols)}
-
 
 
 def settings_table(rows: Iterable[Sequence[Any]], *, widths: Sequence[float] | None = None,
@@ -412,3 +412,111 @@ def check_formats(formats: str | Sequence[str], allowed: tuple[str, ...]) -> lis
     if not formats or any(f not in allowed for f in formats):
         raise ValueError(f"report formats must be among {allowed}, got {formats}")
     return list(dict.fromkeys(formats))
+
+
+# --------------------------------------------------------------------------------------------
+# Units by joint type
+# --------------------------------------------------------------------------------------------
+#: Units in brackets in a column heading: kept on one line (no-break spaces).
+_UNITS = re.compile(r"\[[^\]\n]{1,16}\]")
+
+
+def keep_units(text: object) -> str:
+    """Text with the spaces inside its bracketed units made no-break: "[N m]" is never split
+    over two lines.
+
+    Parameters
+    ----------
+    text : object
+        Converted with ``str``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> keep_units("peak error [N m]") == "peak error [N\u00a0m]"
+    True
+    """
+    return _UNITS.sub(lambda m: m.group().replace(" ", "\u00a0"), str(text))
+
+
+def prismatic_joints(ds: Results | MergedModel | xr.Dataset) -> npt.NDArray[np.bool_]:
+    """Which joints are prismatic (q in m), from the stored ``joint_type`` (all revolute in a
+    dataset without it).
+
+    Parameters
+    ----------
+    ds : Results, MergedModel or xarray.Dataset
+        A stored analysis or sweep, typed (:class:`gd_analyze.store.results_view.Results`,
+        :class:`gd_analyze.store.sweep_view.MergedModel`) or not.
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    if isinstance(ds, (Results, MergedModel)):
+        return np.array(ds.prismatic, dtype=bool)
+    if "joint_type" not in ds.variables:
+        return np.zeros(ds.sizes["joint"], dtype=bool)
+    return np.array([t == "prismatic" for t in strings(ds["joint_type"].values)])
+
+
+def units_text(u: str) -> str:
+    """Stored units as printed: ``"kg m2"`` -> ``"kg m²"``, ``"s-2"`` -> ``"s⁻²"``.
+
+    Parameters
+    ----------
+    u : str
+
+    Returns
+    -------
+    str
+    """
+    return (str(u).replace("m2", "m\u00b2").replace("s-2", "s\u207b\u00b2")
+            .replace("s-1", "s\u207b\u00b9"))
+
+
+def torque_units(ds: Results | MergedModel | xr.Dataset) -> list[str]:
+    """The printed units of tau_i, h_i and c_i per joint: N m, or N for a prismatic joint.
+
+    Parameters
+    ----------
+    ds : Results, MergedModel or xarray.Dataset
+
+    Returns
+    -------
+    list of str, length n
+        From :func:`gd_analyze.ranking.labels.joint_torque_units`.
+    """
+    return [joint_torque_units(p) for p in prismatic_joints(ds)]
+
+
+def units_said_once(ds: Results | xr.Dataset, kind: str) -> str:
+    """The units of every D_ij or every tau_i in words, for captions and keys.
+
+    Parameters
+    ----------
+    ds : Results or xarray.Dataset
+    kind : str
+        ``"D"`` or ``"tau"``.
+
+    Returns
+    -------
+    str
+        ``"kg m²"`` or ``"N m"`` for an all-revolute arm; for a mixed one, each unit with where
+        it holds (``"N m (joints 1, 2), N (joint 3)"``; ``"kg m² where joints i and j are both
+        revolute, kg m where one is prismatic, kg where both are"``).
+    """
+    if kind != "D":
+        return joint_units_text(torque_units(ds))
+    prismatic = prismatic_joints(ds)
+    where = {"kg m\u00b2": "kg m\u00b2 where joints i and j are both revolute",
+             "kg m": "kg m where one of them is prismatic", "kg": "kg where both are"}
+    n = len(prismatic)
+    found = {["kg m\u00b2", "kg m", "kg"][int(prismatic[i]) + int(prismatic[j])]
+             for i in range(n) for j in range(i, n)}
+    if len(found) == 1:
+        return found.pop()
+    return ", ".join(where[u] for u in where if u in found)

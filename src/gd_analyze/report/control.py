@@ -58,12 +58,12 @@ from .common import or_default as _or
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_axes, markevery
-from .main_provenance import DERIVATIVES, command_row, gravity_row, run_row, software_row
+from .main_context import DERIVATIVES, command_row, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence
 from .markup import scope as scope_markup
 from .markup import sub
+from .numbers import decade_formatter, label_axes, set_ticks, time_origin
 from .sections import Outline
-from .ticks import decade_formatter, label_axes, set_ticks, time_origin
 from .typeset import check_paper
 
 if TYPE_CHECKING:
@@ -77,7 +77,7 @@ __all__ = ["VERDICT_TOLERANCE", "control_verdict", "control_figures", "noise_sca
            "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns", "CONTROLLER_LABELS",
            "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words",
            "control_context", "dataset_verdict", "REQUIRED_VARIABLES",
-           "make_control_figures", "write_control_report"]
+           "write_control_report"]
 
 # Numbers in e-notation outside [1e-3, 1e5), 3 significant digits unless told; attributes
 # with 6 digits, arrays without parentheses, booleans as 0/1.
@@ -217,7 +217,7 @@ CONTROLLER_STYLES = {"full": ("-", 1.6, "o"), "simplified": ((0, (4.0, 2.0)), 1.
 #: A band within +-floor is in the key only where it shows: at least this share of a panel's
 #: y range (a thinner one is invisible at print size).
 _VISIBLE_BAND = 0.01
-CONTROLLER_LABELS = CONTROL_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
+CONTROLLER_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
 _MAX_LINE_POINTS = 600
 #: Axis labels ({u}: the joint's units) without subscripts: q_d (desired), tau_s and tau_f
@@ -310,7 +310,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                 yj = np.where(yj > 0.0, yj, np.nan)
             ls, lw, marker = CONTROLLER_STYLES.get(name, ("-", 1.0, "o"))
             kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": ls, "linewidth": lw,
-                  "label": CONTROL_LABELS.get(name, name), "zorder": 2 + order}
+                  "label": CONTROLLER_LABELS.get(name, name), "zorder": 2 + order}
             ax.plot(t[keep], yj[keep], **kw)
             handles.setdefault(kw["label"], Line2D(
                 [], [], marker=marker, markersize=3.5, mfc="none", markeredgewidth=0.8, **kw))
@@ -347,7 +347,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                    bbox_to_anchor=(0.5, 0.0))
     # the curves said as noise (their digits are not data), wrapped by the width drawn (at the
     # size it prints at, 8 pt)
-    quiet_said = [(CONTROL_LABELS.get(name, name), "every joint" if len(where) == n else
+    quiet_said = [(CONTROLLER_LABELS.get(name, name), "every joint" if len(where) == n else
                    joints_text([j + 1 for j, _ in where])) for name, where in quiet.items()]
     note = "" if floor is None else textwrap.fill(say(
         "control_noise_note", rule=noise_words(s, which, figure=True), quiet=quiet_said),
@@ -478,7 +478,7 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
     k = marker_stride(ds, count)
     starts = [str(s + 1) for s in marker_starts(k, count)]
     if names is not None:
-        starts = [f"{s} ({CONTROL_LABELS.get(c, c)})" for s, c in zip(starts, names)
+        starts = [f"{s} ({CONTROLLER_LABELS.get(c, c)})" for s, c in zip(starts, names)
                   if drawn is None or c in drawn]
         if not starts:
             return "no curve drawn"
@@ -625,7 +625,7 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                          s.error_peak_grid[c]) for c in names}
     rule = {k: noise_words(s, k) for k in ("q", "tau")}     # the rules, said everywhere
     quiet = {c: not peaks[c].any() for c in names}   # every joint's error is noise: not data
-    summary = "; ".join(f"{CONTROL_LABELS.get(c, c)}: peak |e| "
+    summary = "; ".join(f"{CONTROLLER_LABELS.get(c, c)}: peak |e| "
                         + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
@@ -682,7 +682,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
-        ["controllers", "; ".join(CONTROL_LABELS.get(c, d) for c, d in zip(names, desc))
+        ["controllers", "; ".join(CONTROLLER_LABELS.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
         ["desired motion", stored_text(st.interpolation).replace(
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
@@ -935,7 +935,7 @@ _PROVENANCE = (("trajectory path", "trajectory_path"),
 def _provenance(s, version):
     """The provenance rows, each setting once and in words: the software, the command line as
     :func:`gd_analyze.cli.main` was given it (stored by the command line; an older file has
-    none), the run as the main report says them (:mod:`gd_analyze.report.main_provenance`),
+    none), the run as the main report says them (:mod:`gd_analyze.report.main_context`),
     gravity, the files, the verdict's tolerance."""
     st = s.settings
     rows = [software_row(s.run, version),
@@ -961,10 +961,6 @@ def _provenance(s, version):
              + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
         rows.append(("verdict tolerance", ", ".join(said)))
     return rows
-
-
-#: The report's figures (:func:`gd_analyze.report.control.control_figures`).
-make_control_figures = control_figures
 
 
 _FIGURE_FILES = {"error": "fig_control_tracking_error",

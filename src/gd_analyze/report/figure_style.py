@@ -479,12 +479,12 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
     -------
     matplotlib.figure.Figure
         1.6 in a row of panels, round y ticks labelled in one notation for the figure
-        (:func:`gd_analyze.report.ticks.label_axes`), time on the lowest panel of each column.
+        (:func:`gd_analyze.report.numbers.label_axes`), time on the lowest panel of each column.
     """
     import numpy as np
     from matplotlib.lines import Line2D
 
-    from .ticks import label_axes, set_ticks, time_origin
+    from .numbers import label_axes, set_ticks, time_origin
 
     n = len(titles)
     rows, cols = grid_shape(n, cols)

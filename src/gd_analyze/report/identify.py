@@ -49,7 +49,7 @@ if TYPE_CHECKING:
 __all__ = ["identify_figures", "shown_recordings", "role_of", "figure_key", "PAGE_WIDTH",
            "MAX_POINTS", "MODEL_STYLES", "FIGURE_RC", "stride", "short", "TITLE_CHARS",
            "identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
-           "plain_table", "IDENTIFY_REPORT_FILES", "write_identify_report", "identify_outline"]
+           "plain_table", "write_identify_report", "identify_outline"]
 
 #: Figure width [in]: the text of a page.
 PAGE_WIDTH = 7.2
@@ -474,9 +474,6 @@ def identify_context(root: StoredIdentification | xr.Dataset,
         "keywords": f"identification; robot {robot}; condition number {fmt(cond, 4)}",
     }
 
-
-#: Names of the report files written into the output folder.
-IDENTIFY_REPORT_FILES = ("report.html", "report.pdf")
 
 
 def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:

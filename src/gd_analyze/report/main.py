@@ -20,7 +20,7 @@ embedded from their SVG (:mod:`gd_analyze.report.typeset`), both from one outlin
 
 Long trajectories are drawn from series read in chunks and reduced, past
 :data:`ENVELOPE_THRESHOLD` points, to their min/max envelope
-(:func:`gd_analyze.report.plot_data.plot_data`), one pair per pixel column of the panel at
+(:func:`gd_analyze.report.main_figures.plot_data`), one pair per pixel column of the panel at
 300 dpi and at most :data:`ENVELOPE_COLUMNS` columns, without markers, so
 the figures, and the HTML, stay small whatever the number of set points (about 0.7 MB of HTML
 for 100,000 set points of a 6-joint arm).
@@ -40,10 +40,11 @@ from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, say
 from .drawing import draw_each, write_report_files
-from .figures import payload_figure
 from .main_context import report_context, zero_mask
 from .main_figures import (
     COLUMN_WIDTH,
+    ENVELOPE_COLUMNS,
+    ENVELOPE_THRESHOLD,
     PAGE_WIDTH,
     d_panels,
     element_parts,
@@ -51,22 +52,21 @@ from .main_figures import (
     fig_h,
     fig_joints,
     fig_torque,
+    payload_figure,
     plot_data,
 )
 from .main_figures import RC as FIG_RC
 from .markup import code, element, sub
-from .numbers import decade_label
-from .plot_data import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
+from .numbers import decade_formatter, decade_label, scaled_formatter
 from .sections import Outline
 from .simplified_section import budget_makers, error_figure
-from .ticks import decade_formatter, scaled_formatter
 from .typeset import check_paper
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-    from .plot_data import PlotData
+    from .main_figures import PlotData
 
 __all__ = ["main_outline", "RANKING_TEXT", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
            "ENVELOPE_COLUMNS", "FIGURE_FILES", "COLUMN_FIGURES", "FIGURE_PARTS",
@@ -463,7 +463,7 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
         ``formats``), then ``outdir/figures/<name>.pdf`` and ``.svg`` per figure
         (:data:`FIGURE_FILES`), then every table of the report as
         ``outdir/tables/table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
-        :func:`gd_analyze.report.table_export.table_files`).
+        :func:`gd_analyze.report.drawing.table_files`).
 
     Raises
     ------

@@ -11,7 +11,9 @@ dataset and never recompute the dynamics.
   against time, in reading order on panels at least 1.1 in wide: the analogue of Fig. 3.10
   of Fu, Gonzalez & Lee (1987), Sec. 3.4.1;
 - ``h``: the n elements h_i the same way, on panels of the same size (Fig. 3.11);
-- ``torque``: tau and tau_s against time per joint.
+- ``torque``: tau and tau_s against time per joint;
+- ``payload`` (:func:`payload_figure`): a payload sweep, which the main report
+  (``--payload-sweep``) and the sweep report both show.
 
 An element whose parts are all zero to rounding (:func:`identically_zero`) is not drawn: a note
 below the panels names it ("≡ 0"); its share_tran is rounding noise.
@@ -20,7 +22,10 @@ below the panels names it ("≡ 0"); its share_tran is rounding noise.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+import operator
+import textwrap
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -33,23 +38,24 @@ from ..ranking.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from .common import joint_style, say, units_text
+from ..store.names import Var
+from ..store.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
+from ..store.sweep_view import PayloadSweep
+from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style, say, units_text
 from .figure_style import element_markevery, grid_boxes, joint_key, joint_lines, new_figure
 from .markup import label as _math
-from .numbers import decade_label
-from .plot_data import PlotData, plot_data
-from .ticks import label_axes, set_ticks, time_origin
+from .numbers import decade_label, label_axes, set_ticks, time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
+    import xarray as xr
     from matplotlib.figure import Figure
-
-    from .plot_data import PlotData
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
            "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
            "fig_torque", "d_panels", "panel_grid", "element_parts", "MIN_PANEL_W", "MAX_ROWS",
-           "RC"]
+           "RC", "payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "DERIVED", "OPTIONAL",
+           "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "READ_CHUNK"]
 
 #: Width of a figure spanning the text of a page [in] (two-column journals: 7.0-7.3).
 PAGE_WIDTH = 7.2
@@ -108,7 +114,7 @@ MAX_ROWS = {"page": 5, "column": 8}
 
 def _y_axis(ax, nbins, *arrays):
     """y limits around the arrays (:func:`_limits`), round ticks within the data's range,
-    labelled by the figure (:func:`gd_analyze.report.ticks.label_axes`)."""
+    labelled by the figure (:func:`gd_analyze.report.numbers.label_axes`)."""
     lo, hi = _limits(*arrays)
     ax.set_ylim(lo, hi)
     pad = (hi - lo) / 1.2 * 0.1
@@ -170,7 +176,7 @@ def _time_axis(ax, x, labels, nbins=3):
 def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
     """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
     element; y ticks placed, labelled by the figure
-    (:func:`gd_analyze.report.ticks.label_axes`: one notation per figure)."""
+    (:func:`gd_analyze.report.numbers.label_axes`: one notation per figure)."""
     for part, y in parts.items():
         _plot(ax, x, y, part, enveloped, len(parts))
     _y_axis(ax, nbins, *parts.values())
@@ -512,3 +518,282 @@ def fig_torque(data: PlotData, rel_error: npt.NDArray[np.float64],
                        [f"joint {i + 1}: peak error {rel[i]}" for i in range(n)],
                        [_math("\u03c4" + str(i + 1)) + f" [{units[i]}]" for i in range(n)],
                        PAGE_WIDTH, 3)
+
+
+# --------------------------------------------------------------------------------------------
+# The payload sweep, shown by the main report (``--payload-sweep``) and the sweep report
+# --------------------------------------------------------------------------------------------
+#: The variables :func:`payload_figure` reads.
+PAYLOAD_REQUIRED = _PAYLOAD_REQUIRED
+
+#: One letter per dominance class, drawn in the heat map's cells.
+CLASS_LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
+
+
+def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> Figure:
+    """Translational share and dominance class of every element vs payload, and peak |tau| vs
+    payload.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A payload sweep from :func:`gd_analyze.jobs.payload.payload_sweep`: coordinate ``payload``
+        (P,) [kg]; ``share_tran`` and ``dominance`` (payload, element); ``tau_peak``
+        (payload, joint) [N m].
+    width : float, optional
+        :data:`PAGE_WIDTH` (payload down, elements across) or :data:`COLUMN_WIDTH` [in]
+        (elements down, payload across: a row of 7-pt element labels per element).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``width`` wide, type of at least 7 pt. Top: a heat map of the translational share
+        over (payload, element) from rotational (0, orange) through 0.5 (white) to
+        translational (1, blue), each cell marked with its class (T, R, B or N) and with a
+        bold frame where the class differs from that at the first payload; grey where the
+        element is round-off in every part (``round_off``: its share is noise); elements
+        written D(1,2) (:func:`gd_analyze.report.markup.label`: no subscript under 8 pt).
+        Bottom: peak |tau| per joint vs payload [N m, N for a prismatic joint]. A plain
+        Figure (no pyplot state).
+
+    Raises
+    ------
+    InputError
+        If a variable the figure needs is missing.
+
+    Notes
+    -----
+    The dominance of Sec. 3.4.1 of Fu, Gonzalez & Lee (1987) depends on the load the arm
+    carries through link n's inertial parameters.
+    """
+    from matplotlib.colors import LinearSegmentedColormap
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    part = PayloadSweep.of(ds)
+    column = width < PAGE_WIDTH
+    import matplotlib
+
+    with matplotlib.rc_context(SUPTITLE_RC):  # type: ignore[arg-type]  # keys typed as literals
+        masses = part.masses
+        labels = [_math(lab) for lab in part.elements]
+        share = part.share_tran
+        if part.round_off is not None:         # a share of round-off is noise: not drawn
+            share = np.where(part.round_off, np.nan, share)
+        dom = part.dominance.reshape(share.shape)
+        P, M = share.shape
+        n = len(part.prismatic)
+        W = width
+        s, e = (float(np.nan if v is None else v)
+                for v in (part.dominance_threshold, part.negligible_threshold))
+        title = (f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
+                 "T/R/B/N = translational/rotational/both/negligible; framed: class "
+                 "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
+                 "share drawn")
+        if column:          # bold 8 pt: about 44 characters a line; elements down, 7 pt a row
+            title = textwrap.fill(title.replace("\n", "; "), 44)
+            heat_h, top, left = 0.15 * M, 0.22 + 0.15 * (title.count("\n") + 1), 0.5
+            tau_h, legend_h = 1.5, 0.2 + 0.16 * -(-n // 3)
+            H = top + heat_h + 0.5 + tau_h + 0.42 + legend_h
+            heat_w = W - left - 1.0
+        else:
+            heat_h, top, left = max(1.4, 0.3 * P), 0.75, 0.9
+            tau_h = 2.6
+            H = heat_h + 4.6
+            heat_w = W - 2.0
+        fig = Figure(figsize=(W, H))
+        ax = fig.add_axes((left / W, (H - top - heat_h) / H, heat_w / W, heat_h / H))
+        cmap = LinearSegmentedColormap.from_list(
+            "rot_tran", [CLASS_COLOURS["rotational"], "#FFFFFF",
+                         CLASS_COLOURS["translational"]]).with_extremes(bad="0.8")
+        grid = share.T if column else share
+        im = ax.imshow(np.ma.masked_invalid(grid), aspect="auto", cmap=cmap, vmin=0, vmax=1,
+                       interpolation="nearest")
+        for p in range(P):
+            for k in range(M):
+                v = share[p, k]
+                dark = np.isfinite(v) and abs(v - 0.5) > 0.33
+                x, y = (p, k) if column else (k, p)
+                ax.text(x, y, CLASS_LETTER.get(dom[p, k], "?"), ha="center", va="center",
+                        fontsize=7, color="white" if dark else "black")
+                if dom[p, k] != dom[0, k]:
+                    ax.add_patch(Rectangle((x - 0.5, y - 0.5), 1, 1, fill=False, lw=1.4,
+                                           ec="black"))
+        mass_ticks = [f"{m:g}" for m in masses]
+        if column:
+            ax.set_yticks(np.arange(M), labels, fontsize=7)
+            ax.set_xticks(np.arange(P), mass_ticks, fontsize=7)
+            ax.set_xlabel("payload [kg]", labelpad=1.0)
+        else:
+            ax.set_xticks(np.arange(M), labels, rotation=90, fontsize=7)
+            ax.set_yticks(np.arange(P), mass_ticks, fontsize=7)
+            ax.set_ylabel("payload [kg]")
+        ax.tick_params(length=2.0, pad=1.5)
+        ax.grid(False)
+        cax = fig.add_axes(((left + heat_w + 0.12 if column else W - 0.95) / W,
+                            (H - top - heat_h) / H, 0.12 / W, heat_h / H))
+        cb = fig.colorbar(im, cax=cax)
+        cb.set_label("translational share [1]")
+        cb.ax.tick_params(labelsize=7)
+        cb.ax.grid(False)                   # no grid lines across the colour scale
+        bottom = 0.42 + legend_h if column else 0.6
+        tau = part.tau_peak
+        units = [joint_torque_units(p) for p in part.prismatic]
+        kinds = list(dict.fromkeys(units))  # one panel per unit: never N m and N on one axis
+        gap = 0.3
+        each = (tau_h - gap * (len(kinds) - 1)) / len(kinds)
+        for k, unit in enumerate(kinds):
+            y0 = bottom + (len(kinds) - 1 - k) * (each + gap)
+            bx = fig.add_axes((left / W, y0 / H, (heat_w if column else W - 2.0) / W, each / H))
+            for j in (j for j in range(n) if units[j] == unit):    # style and marker differ
+                bx.plot(masses, tau[:, j], label=f"joint {j + 1}", linewidth=0.9,
+                        **joint_style(j, len(masses), sum(u == unit for u in units)))
+            if k == len(kinds) - 1:
+                bx.set_xlabel("payload [kg]", labelpad=1.0)
+            else:
+                bx.tick_params(labelbottom=False)
+            bx.set_ylabel(f"peak |\u03c4| [{unit}]")
+            bx.tick_params(labelsize=7)
+        handles, names = joint_key(fig.axes[2:])      # the heat map and its colour bar first
+        if column:
+            fig.legend(handles, names, loc="upper center", ncol=3, frameon=False, fontsize=7,
+                       handlelength=2.6, bbox_to_anchor=(0.5, legend_h / H))
+        else:
+            fig.legend(handles, names, loc="center left", frameon=False, fontsize=7,
+                       bbox_to_anchor=((W - 1.05) / W, (bottom + tau_h / 2) / H))
+        fig.suptitle(title, y=1 - 0.08 / H, va="top", fontsize=8 if column else 8.5)
+        return fig
+
+
+# --------------------------------------------------------------------------------------------
+# The series the figures draw, read from the stored results file
+# --------------------------------------------------------------------------------------------
+#: Series longer than this are read and drawn as a min/max envelope per column.
+ENVELOPE_THRESHOLD = 2000
+#: Columns of the envelope of a long series (about 300 dpi on a panel).
+ENVELOPE_COLUMNS = 400
+#: Set points read per chunk when a long series is reduced.
+READ_CHUNK = 32768
+
+
+@dataclass(frozen=True)
+class PlotData:
+    """The series the figures draw, as stored or reduced to their envelope.
+
+    Attributes
+    ----------
+    x : ndarray, shape (M,)
+        Time [s] of each plotted point (M = N, or two points per envelope column).
+    enveloped : bool
+        True if the series are min/max envelopes (no markers are drawn).
+    series : dict of str to ndarray
+        ``q``, ``qd``, ``qdd``, ``h_tran``, ``h_rot``, ``h``, ``c``, ``tau``,
+        ``tau_simplified``, ``tau_error``, ``D_tran_qdd``, ``D_rot_qdd`` (M, n) and
+        ``D_tran``, ``D_rot``, ``D`` (M, n, n).
+    N : int
+        Set points stored.
+    """
+
+    x: np.ndarray
+    enveloped: bool
+    series: dict
+    N: int
+
+
+def _read(var, a, b):
+    return np.asarray(var[a:b].values, dtype=float)
+
+
+def _times_qdd(D, qdd):
+    return np.einsum("tij,tj->ti", D, qdd)
+
+
+#: Series computed from stored ones as they are read, per chunk: name -> (stored variables,
+#: function of their chunks). ``tau_error`` = tau_s - tau; ``D_tran_qdd`` and ``D_rot_qdd``
+#: = D^tran qdd and D^rot qdd (N, n), the inertial contributions to tau (Eq. (3.4-25)).
+DERIVED = {"tau_error": (("tau_simplified", "tau"), operator.sub),
+           "D_tran_qdd": (("D_tran", "qdd"), _times_qdd),
+           "D_rot_qdd": (("D_rot", "qdd"), _times_qdd)}
+#: Series read only if the dataset holds what they need (the torque contributions' figure).
+OPTIONAL = ("c", "D_tran_qdd", "D_rot_qdd")
+
+
+def _chunk(ds, v, a, b):
+    if v in DERIVED:
+        inputs, f = DERIVED[v]
+        return f(*(_read(ds[k], a, b) for k in inputs))
+    return _read(ds[v], a, b)
+
+
+def _held(ds, v):
+    return all(k in ds.variables for k in (DERIVED[v][0] if v in DERIVED else (v,)))
+
+
+def plot_data(ds: xr.Dataset,
+              names: Sequence[str] = ("q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau", "tau_simplified", "tau_error", *OPTIONAL),
+              columns: int = ENVELOPE_COLUMNS, threshold: int = ENVELOPE_THRESHOLD,
+              chunk: int = READ_CHUNK, progress: Callable[[int], object] | None = None) -> PlotData:
+    """Read the series to plot from a stored analysis, reduced if long.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        An opened results file (lazily loaded: only chunks are read) with ``t`` (N,) [s] and
+        the variables ``names`` with first dimension ``setpoint``.
+    names : sequence of str, optional
+        The variables to read; ``tau_error``, ``D_tran_qdd`` and ``D_rot_qdd`` are derived
+        from stored ones (:data:`DERIVED`), per chunk before the envelope; those of
+        :data:`OPTIONAL` are left out if the dataset lacks what they need.
+    columns : int, optional
+        Columns of the envelope of a long series.
+    threshold : int, optional
+        Up to this many set points the series are read whole.
+    chunk : int, optional
+        Set points read at a time.
+    progress : callable, optional
+        Called with the number of set points read, per chunk (for a progress bar).
+
+    Returns
+    -------
+    PlotData
+        For N > threshold: per column of equal time, the minimum and the maximum of each series
+        at the column's mid-time, in time order (2 * columns points); memory stays a few chunks
+        whatever N is.
+    """
+    names = [v for v in names if v not in OPTIONAL or _held(ds, v)]
+    t = np.asarray(ds[Var.T].values, dtype=float)
+    N = t.size
+    if N <= threshold:
+        series = {v: _chunk(ds, v, 0, N) for v in names}
+        if progress:
+            progress(N)
+        return PlotData(x=t, enveloped=False, series=series, N=N)
+    t0, t1 = float(t[0]), float(t[-1])
+    if t1 > t0:
+        col = np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
+    else:
+        col = (np.arange(N) * columns) // N
+    lo: dict[str, Any] = {v: None for v in names}
+    hi: dict[str, Any] = {v: None for v in names}
+    for a in range(0, N, chunk):
+        b = min(N, a + chunk)
+        c = col[a:b]
+        starts = np.flatnonzero(np.r_[True, c[1:] != c[:-1]])
+        cols = c[starts]
+        for v in names:
+            y = _chunk(ds, v, a, b)
+            if lo[v] is None:
+                lo[v] = np.full((columns,) + y.shape[1:], np.nan)
+                hi[v] = np.full((columns,) + y.shape[1:], np.nan)
+            with np.errstate(invalid="ignore"):
+                lo[v][cols] = np.fmin(lo[v][cols], np.fmin.reduceat(y, starts, axis=0))
+                hi[v][cols] = np.fmax(hi[v][cols], np.fmax.reduceat(y, starts, axis=0))
+        if progress:
+            progress(b - a)
+    used = np.unique(col)
+    edges = np.linspace(t0, t1, columns + 1) if t1 > t0 else np.arange(columns + 1.0)
+    mid = 0.5 * (edges[used] + edges[used + 1])
+    x = np.repeat(mid, 2)
+    series = {v: np.stack([lo[v][used], hi[v][used]], axis=1)      # (C, 2, ...): lo, hi
+              .reshape((2 * used.size,) + lo[v].shape[1:]) for v in names}
+    return PlotData(x=x, enveloped=True, series=series, N=N)

@@ -14,9 +14,9 @@ import numpy as np
 
 from .common import say
 from .figure_style import element_markevery
+from .main_figures import ENVELOPE_COLUMNS
 from .markup import element
 from .numbers import share as _share
-from .plot_data import ENVELOPE_COLUMNS
 
 if TYPE_CHECKING:
     import numpy.typing as npt

@@ -23,8 +23,7 @@ from .common import count, fmt, joints_text, pct, pct_column, say, table, torque
 from .figure_style import grid_boxes, markevery, new_figure
 from .markup import powers, sub
 from .markup import scope as scope_markup
-from .plot_data import PlotData
-from .ticks import joint_ticks, label_axes, set_ticks, tick_label_width, time_origin
+from .numbers import joint_ticks, label_axes, set_ticks, tick_label_width, time_origin
 from .typeset import MIN_PRINTED_PT, printed_scale
 
 if TYPE_CHECKING:
@@ -35,7 +34,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from ..store.results_view import Results
-    from .plot_data import PlotData
+    from .main_figures import PlotData
 
 __all__ = ["budget_caption",
            "joint_sum_lower", "CONTRIBUTIONS", "fig_torque_contributions", "fig_error_budget",
@@ -91,8 +90,8 @@ def contribution_series(data: PlotData, drives: bool = False) -> dict[str, npt.N
 def _time_panel(ax, i, t, y, nbins, t_label="t [s]", **xlabel):
     """Joint i's panel against time: t from t[0] to t[1] (a second long where they meet), y
     from y[0] to y[1] with 8 % of their span added each side, round ticks (the y ones labelled
-    by the figure: :func:`gd_analyze.report.ticks.label_axes`), its title and t label
-    (:func:`gd_analyze.report.ticks.time_origin`)."""
+    by the figure: :func:`gd_analyze.report.numbers.label_axes`), its title and t label
+    (:func:`gd_analyze.report.numbers.time_origin`)."""
     (lo, hi), (t0, t1) = y, t
     pad = 0.08 * (hi - lo)
     ax.set_ylim(lo - pad, hi + pad)
@@ -568,7 +567,7 @@ def budget_makers(results: Results, data: PlotData) -> dict[str, Callable[..., F
     results : Results
         The main job's results (:class:`gd_analyze.store.results_view.Results`).
     data : PlotData
-        Its series (:func:`gd_analyze.report.plot_data.plot_data`).
+        Its series (:func:`gd_analyze.report.main_figures.plot_data`).
 
     Returns
     -------
@@ -951,7 +950,7 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         One panel per joint whose difference is not round-off, on a fixed grid (no layout
         engine: the margins are set for the 7-pt tick labels, the 8-pt axis labels and the
         panel titles; no figure title, which the numbered caption gives); ticks placed once,
-        in one notation for the figure (:func:`gd_analyze.report.ticks.label_axes`), every y
+        in one notation for the figure (:func:`gd_analyze.report.numbers.label_axes`), every y
         range padded so that neither the error nor the bound touches the frame; the legend
         above the panels, clear of every curve. The joints whose difference and bound are
         round-off (:func:`_round_off`, :data:`gd_analyze.ranking.ranking.ROUND_OFF`)

@@ -17,7 +17,7 @@ attributes. The report has these parts:
    and its operations per set point against the exact recursive model, the full explicit
    model and Newton-Euler;
 6. optionally, a payload sweep (:func:`gd_analyze.jobs.payload.payload_sweep`): share_tran and class
-   of every element vs payload (:func:`gd_analyze.report.figures.payload_figure`).
+   of every element vs payload (:func:`gd_analyze.report.main_figures.payload_figure`).
 
 One module for the report's figures (:func:`make_sweep_figures`), its words and tables
 (:func:`sweep_context`) and what it says of the merged model (:func:`merged_claim`).
@@ -72,18 +72,17 @@ from .common import pct as _pct
 from .common import share as _share_text
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
-from .figures import CLASS_LETTER as _LETTER
-from .figures import payload_figure
-from .main_provenance import command_row, gravity_row, guarantee_row, run_row, software_row
+from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
+from .main_figures import CLASS_LETTER as _LETTER
+from .main_figures import payload_figure
 from .main_text import gravity_clause, model_sentence
 from .markup import element as _el
 from .markup import label as _math
 from .markup import scope as scope_markup
 from .markup import sub as _sub
-from .numbers import decade_label
+from .numbers import decade_formatter, decade_label, joint_ticks
 from .sections import Outline
 from .simplified_section import region_pruning
-from .ticks import decade_formatter, joint_ticks
 from .typeset import MIN_PRINTED_PT, TABLE_COLOURS, check_paper, printed_scale
 
 if TYPE_CHECKING:
@@ -1009,7 +1008,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
 
 def _settings(w, inputs, version):
     """The settings and provenance of the sweep, each once and in words
-    (:mod:`gd_analyze.report.main_provenance` rows for the software, the run and gravity)."""
+    (:mod:`gd_analyze.report.main_context` rows for the software, the run and gravity)."""
     st, m, setpoints, durations = w.settings, w.merged, w.setpoints, w.duration
     K = w.trajectories
     s, e = _thresholds(w)
@@ -1354,7 +1353,7 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     payload : str or os.PathLike or xarray.Dataset, optional
         A payload sweep (file written by :func:`gd_analyze.store.schema.write_dataset`, or the dataset
         of :func:`gd_analyze.jobs.payload.payload_sweep`); adds its section and
-        :func:`~gd_analyze.report.figures.payload_figure`.
+        :func:`~gd_analyze.report.main_figures.payload_figure`.
     formats : sequence of str, optional
         Any of ``"html"`` and ``"pdf"``.
     paper : {"a4", "letter"}, optional
@@ -1368,7 +1367,7 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         The files written (``outdir/sweep_report.html``, ``outdir/sweep_report.pdf``), then
         every figure as ``outdir/figures/fig_sweep_*.pdf`` and ``.svg``, then every table of
         the report as ``outdir/tables/sweep_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``:
-        :func:`gd_analyze.report.table_export.table_files`).
+        :func:`gd_analyze.report.drawing.table_files`).
 
     Raises
     ------

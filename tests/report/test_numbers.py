@@ -1,4 +1,4 @@
-"""Tick labels never misstate a tick (gd_analyze.report.ticks).
+"""Tick labels never misstate a tick (gd_analyze.report.numbers).
 
 Oracle: the ticks' own positions. Every label, read as a number and multiplied by the power of
 ten its axis label states, gives back its tick; labels of one axis are distinct; negative
@@ -13,7 +13,7 @@ from figure_checks import tick_texts
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gd_analyze.report.ticks import (
+from gd_analyze.report.numbers import (
     decade_formatter,
     label_axes,
     nice_ticks,
@@ -214,7 +214,7 @@ def test_a_time_axis_counts_from_its_first_stamp_only_where_ticks_would_be_long(
     """The origin a time axis counts from (time_origin): 0 unless the first stamp lies beyond
     10^4 spans from 0; else a time at most 10^4 spans before the first stamp, which the axis
     label gives back exactly."""
-    from gd_analyze.report.ticks import time_origin
+    from gd_analyze.report.numbers import time_origin
 
     t = np.array([t0, t0 + span])
     origin, label = time_origin(t)
@@ -229,8 +229,7 @@ def test_a_time_axis_counts_from_its_first_stamp_only_where_ticks_would_be_long(
 def test_the_trajectory_figure_on_unix_time_stamps_has_short_time_ticks():
     """Fig. 1 of the main report on a trajectory stamped in Unix time: ticks of ten digits
     ran into each other; the axis now counts from a whole second and says so."""
-    from gd_analyze.report.main_figures import fig_joints
-    from gd_analyze.report.plot_data import PlotData
+    from gd_analyze.report.main_figures import PlotData, fig_joints
 
     M = 31
     x = 1.7e9 + 0.25 + np.linspace(0.0, 4.2, M)
