@@ -171,3 +171,21 @@ def test_the_payload_note_lists_below_only_the_elements_that_change():
     assert rows == 1 and "1 of 2 elements changes class with the load; it is listed below." in text
     rows, text = note([["both", "rotational"], ["rotational", "translational"]])
     assert rows == 2 and "2 of 2 elements change class with the load; they are listed below." in text
+
+
+def test_the_summary_sets_the_units_of_a_trajectory_leaving_the_region_with_powers():
+    """The summary's coverage clause gives the limit in deg/s with a superscript, as the region
+    section does, never "deg/s^2" with a caret (the summary printed the core's plain text)."""
+    import gd_analyze as gd
+    from gd_analyze.report.markup import html
+
+    robot = gd.load_robot("two-link")
+    t = np.linspace(0.0, 1.0, 21)
+    q = np.column_stack([np.radians(50) * t ** 2, 0.1 * t])      # joint 1 at 100 deg/s^2
+    region = gd.RegionLimits(q_limits=((np.radians(-30), np.radians(60)), (-np.pi, np.pi)),
+                             qd_max=(np.radians(400),), qdd_max=(np.radians(40),))
+    options = gd.AnalysisOptions(formulations=False, verify=False,
+                                 simplify=gd.SimplifyOptions(region=region))
+    summary = html(report_context(gd.analyze(robot, (t, q), options))["summary"])
+    assert "it leaves the region (joint 1 q\u0308 reaches" in summary
+    assert "deg/s<sup>2</sup>" in summary and "^" not in summary

@@ -472,3 +472,19 @@ def test_a_last_section_begun_low_that_leaves_a_few_rows_starts_a_page(tmp_path,
     _, h, ws = words(path)[0]
     lowest = max(y1 for *_, y1 in ws if y1 < h - 72 * MARGINS[2])
     assert lowest - 72 * MARGINS[1] > 0.5 * (h - 72 * (MARGINS[1] + MARGINS[2]))
+
+
+def test_a_rate_unit_is_never_split_from_its_slash_or_its_power(tmp_path):
+    """ "deg/s", "rad/s" and "m/s", with or without a power, stay on one line: a line never
+    ends with the slash or with "deg/s" before its superscript (the region sentence printed
+    "1281 deg/" and "s²" on two lines). Line breaks fall where the paragraph's words put them,
+    so the numbers vary to shift the units along the lines."""
+    o = Outline("Report")
+    for p in range(12):
+        o.paragraph(" ".join(markup.powers(f"joint {k} reaches {37 * k} {u}/s^2 > {k} {u}/s,")
+                             for k in range(10 * p + 1, 10 * p + 8) for u in ("deg", "rad", "m")))
+    path, _ = _write(tmp_path, o)
+    lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
+    assert sum(ln.count("/s") for ln in lines) == 12 * 7 * 3 * 2        # every unit printed
+    assert not any(ln.endswith("/") for ln in lines)
+    assert not any(a.endswith("/s") and b[:1] == "2" for a, b in zip(lines, lines[1:]))

@@ -68,7 +68,7 @@ from .main_text import (
     shared_causes,
     simplified_intro,
 )
-from .markup import code, element, tau
+from .markup import code, element, powers, tau
 from .markup import element as _el
 from .markup import scope as _scope
 from .numbers import pct, time_origin
@@ -954,7 +954,7 @@ def _report_context_base(results):
                          errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
                          recursive=_recursive_facts(results) if form == "recursive" else None,
                          gravity=_gravity_fact(results, form), units=tau_units,
-                         scope=_scope(_statement(ds)),
+                         scope=powers(_scope(_statement(ds))),
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
