@@ -86,7 +86,7 @@ def test_trajectory_outside_the_region_is_flagged_stored_and_not_covered(tmp_pat
 
     text = html_text((tmp_path / "out" / "report.html").read_text(), nbsp=True)
     assert "this trajectory is not covered: it leaves the region (joint 1 q\u0307 reaches 2x" in text
-    assert "This trajectory leaves the region: joint 1 qd reaches 2x its limit" in text
+    assert "This trajectory leaves the region: joint 1 q\u0307 reaches 2x its limit" in text
     assert text.count("any angle (full turn)") >= 2
 
 
