@@ -21,7 +21,7 @@ from gd_analyze.jobs.sweep_budget import budget_region_model, budget_sweep_model
 from gd_analyze.jobs.sweep_merged import with_budget_model
 from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.simplify.sweep_model import per_trajectory_errors, sweep_validation
-from gd_analyze.store.sweep_guarantee import merged_guarantee
+from gd_analyze.store.sweep_view import merged_guarantee
 from gd_analyze.trajectory.planning import random_trajectories
 
 

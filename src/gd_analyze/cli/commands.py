@@ -69,8 +69,13 @@ from ..store.stored_identification import (
     recordings_json,
     write_identification,
 )
-from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import StoredSweep, beyond_the_floor, sweep_size, with_more_tasks
+from ..store.sweep_view import (
+    StoredSweep,
+    beyond_the_floor,
+    merged_guarantee,
+    sweep_size,
+    with_more_tasks,
+)
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.excitation import DEFAULT_HARMONICS, OBJECTIVE_SAMPLES, plan_excitation
 from ..trajectory.planning import (
