@@ -563,7 +563,7 @@ def embed_pair_peaks(ds: xr.Dataset, names: Sequence[str], tau_peak: np.ndarray,
     xarray.Dataset
         A copy with ``pair_tau_peak``, ``pair_peak`` and ``parameter_peak``, coordinates
         ``base_parameter`` and ``part`` (inertial, velocity, gravity): what the budget rule's
-        merge prunes on (:mod:`gd_analyze.jobs.sweep_budget`, which removes them again).
+        merge prunes on (:mod:`gd_analyze.jobs.sweep_merged`, which removes them again).
 
     Raises
     ------
