@@ -95,10 +95,10 @@ from ..trajectory.planning import (
     user_positions,
     write_provenance,
 )
-from ..trajectory.recording import read_recording
 from ..trajectory.trajectory import (
     JointLimitWarning,
     check_joint_limits,
+    read_recording,
     read_trajectory,
     write_trajectory_chunks,
 )
