@@ -32,8 +32,7 @@ from pathlib import Path
 from gd_analyze import load_robot
 from gd_analyze.files import file_sha256
 from gd_analyze.jobs.analyze import analyze
-from gd_analyze.jobs.control import CONTROL_FILE, run_control
-from gd_analyze.jobs.tracking import DEFAULT_WN, DEFAULT_ZETA
+from gd_analyze.jobs.control import CONTROL_FILE, DEFAULT_WN, DEFAULT_ZETA, run_control
 from gd_analyze.store.control_dataset import write_control_dataset
 from gd_analyze.store.model_file import save_model
 from gd_analyze.trajectory.trajectory import read_trajectory

@@ -46,7 +46,7 @@ from gd_analyze import load_robot  # noqa: E402
 from gd_analyze.dynamics.base_parameters import base_parameters, base_regressor, random_states
 from gd_analyze.jobs.identify import IdentifyOptions, identify  # noqa: E402
 from gd_analyze.model.robots import builtin_robots  # noqa: E402
-from gd_analyze.trajectory.recording import recording_from_arrays  # noqa: E402
+from gd_analyze.trajectory.trajectory import recording_from_arrays  # noqa: E402
 
 URDF_BUILTINS = {"panda", "ur5"}
 REPEATS = 3
@@ -137,7 +137,7 @@ import json, resource, sys, time
 import numpy as np
 sys.path.insert(0, {tests!r})
 from gd_analyze import load_robot
-from gd_analyze.trajectory.recording import read_recording
+from gd_analyze.trajectory.trajectory import read_recording
 from gd_analyze.jobs.identify import identify
 kind, path = sys.argv[1], sys.argv[2]
 robot = load_robot("panda")

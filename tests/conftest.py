@@ -42,7 +42,7 @@ def one_joint_urdf(tmp_path):
 def cluster():
     """A dask LocalCluster of 2 worker processes and its client, for the sweep tests: started
     once a session per xdist worker (its start and its workers' warm-up cost seconds), shared
-    by the modules that sweep on it (tests/jobs/test_sweep.py, test_sweep_budget.py,
+    by the modules that sweep on it (tests/jobs/test_sweep.py, test_sweep_merged.py,
     test_sweep_budget_region.py, test_dask_cluster.py). Tests must not stop it or its
     workers (a test that kills a worker starts a cluster of its own). The client is not made
     dask's default: a later test of the same xdist worker that writes through xarray would

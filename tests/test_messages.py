@@ -158,7 +158,7 @@ def test_pd_gravity_rate_is_the_linearised_loop():
     """The rate against the eigenvalues of the closed loop built here from Pinocchio's D."""
     from gd_analyze import load_robot
     from gd_analyze.dynamics.pinocchio import pinocchio_model
-    from gd_analyze.jobs.tracking import closed_loop_rates, control_gains
+    from gd_analyze.jobs.control import closed_loop_rates, control_gains
 
     robot = load_robot("puma560")
     q = np.array([[0.3, -0.5, 0.8, 0.1, 0.7, -0.2]])

@@ -38,7 +38,7 @@ _LAZY = {
     "SimplifyOptions": ("jobs.options", "SimplifyOptions"),
     "RegionLimits": ("certify.region", "RegionLimits"),
     "identify": ("jobs.identify", "identify"),
-    "read_recording": ("trajectory.recording", "read_recording"),
+    "read_recording": ("trajectory.trajectory", "read_recording"),
     "IdentifyOptions": ("jobs.identify", "IdentifyOptions"),
 }
 

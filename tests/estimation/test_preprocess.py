@@ -244,7 +244,7 @@ def test_a_real_recording_and_a_friction_square_wave_are_not_clipped():
     three wrist joints at exactly 0 most of the time), and a Pinocchio PUMA 560 whose Coulomb
     friction is 100 times the true arm's, with noise (its wrist's torques square waves of the
     joints' directions): nothing is clipped."""
-    from gd_analyze.trajectory.recording import read_recording
+    from gd_analyze.trajectory.trajectory import read_recording
 
     tiago = Path(__file__).resolve().parents[2] / "data" / "tiago"
     for path in sorted(tiago.glob("*.csv")):

@@ -21,8 +21,7 @@ from gd_analyze.dynamics.opcount import count_operations
 from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.errors import InputError
 from gd_analyze.files import file_sha256
-from gd_analyze.jobs.control import run_control
-from gd_analyze.jobs.tracking import CONTROLLERS
+from gd_analyze.jobs.control import CONTROLLERS, run_control
 from gd_analyze.ranking.ranking import element_labels
 from gd_analyze.report.control import write_control_report
 from gd_analyze.simplify.simplified import SimplifiedModel, full_choices
@@ -418,7 +417,7 @@ def test_gains_beyond_the_command_lines_ranges_are_refused_without_overflow(name
     import warnings
 
     from gd_analyze.cli.parsing import control_parser
-    from gd_analyze.jobs.tracking import GAIN_RANGES
+    from gd_analyze.jobs.control import GAIN_RANGES
     from gd_analyze.trajectory.planning import default_motion, plan_quintic
 
     two = load_robot("two-link")

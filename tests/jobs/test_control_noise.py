@@ -9,7 +9,7 @@ of a 5e-6 N m difference, where rtol times the full-model controller's peak |tau
 before this fix) is 1.3e-8 N m.
 
 Oracle: the same two closed-loop runs integrated independently at rtol / 1000 and
-atol / 1000 (:func:`gd_analyze.jobs.tracking.track`). DOP853's global error follows its
+atol / 1000 (:func:`gd_analyze.jobs.control.track`). DOP853's global error follows its
 tolerance, so their torque difference is the true one to within 1e-3 of the report's noise,
 and |(tau_s - tau_f)(rtol) - (tau_s - tau_f)(rtol / 1000)| is the report's integrator noise.
 The report measures its floor at rtol / 100, never at rtol / 1000.
@@ -24,8 +24,7 @@ import numpy as np
 import pytest
 from conftest import SHIPPED
 
-from gd_analyze.jobs.control import run_control
-from gd_analyze.jobs.tracking import desired_motion, track
+from gd_analyze.jobs.control import desired_motion, run_control, track
 from gd_analyze.store.control_dataset import control_dataset
 from gd_analyze.trajectory.planning import default_motion, plan_quintic
 from gd_analyze.trajectory.trajectory import read_trajectory

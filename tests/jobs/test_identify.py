@@ -26,8 +26,7 @@ from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.model.robot_file import robot_toml
 from gd_analyze.ranking.labels import element_labels
 from gd_analyze.symbolic.recursive_model import recursive_model
-from gd_analyze.trajectory.recording import recording_from_arrays
-from gd_analyze.trajectory.trajectory import JointLimitWarning, as_trajectory
+from gd_analyze.trajectory.trajectory import JointLimitWarning, as_trajectory, recording_from_arrays
 
 ARMS = [("puma560", None), ("panda", "panda"), ("xarm7", XARM7)]
 

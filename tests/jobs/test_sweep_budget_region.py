@@ -17,11 +17,10 @@ from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions, SimplifyOptions
 from gd_analyze.jobs.sweep import ERRORS_SETPOINTS_MAX, WorkerErrors, run_sweep
-from gd_analyze.jobs.sweep_budget import budget_region_model, budget_sweep_model
-from gd_analyze.jobs.sweep_merged import with_budget_model
+from gd_analyze.jobs.sweep_merged import budget_region_model, budget_sweep_model, with_budget_model
 from gd_analyze.model.limits import acceleration_limits
 from gd_analyze.simplify.sweep_model import per_trajectory_errors, sweep_validation
-from gd_analyze.store.sweep_guarantee import merged_guarantee
+from gd_analyze.store.sweep_view import merged_guarantee
 from gd_analyze.trajectory.planning import random_trajectories
 
 

@@ -16,7 +16,7 @@ from gd_analyze.store.stored_identification import (
     recordings_json,
     write_identification,
 )
-from gd_analyze.trajectory.recording import recording_from_arrays
+from gd_analyze.trajectory.trajectory import recording_from_arrays
 
 
 def test_group_names_are_safe_and_unique():

@@ -40,8 +40,13 @@ from ..jobs.identify import IdentifyOptions, identify
 from ..jobs.options import AnalysisOptions, SimplifyOptions
 from ..jobs.payload import sweep_payloads
 from ..jobs.run import Payload, run_analysis
-from ..jobs.sweep_budget import budget_region_model, budget_sweep_model
-from ..jobs.sweep_merged import merged_model, with_budget_model, with_model_cost
+from ..jobs.sweep_merged import (
+    budget_region_model,
+    budget_sweep_model,
+    merged_model,
+    with_budget_model,
+    with_model_cost,
+)
 from ..model.limits import LIMITS, acceleration_limits, exact_text, first_beyond
 from ..model.mounting import mounting_of, with_mounting
 from ..model.robot import Robot, with_payload
@@ -69,8 +74,13 @@ from ..store.stored_identification import (
     recordings_json,
     write_identification,
 )
-from ..store.sweep_guarantee import merged_guarantee
-from ..store.sweep_view import StoredSweep, beyond_the_floor, sweep_size, with_more_tasks
+from ..store.sweep_view import (
+    StoredSweep,
+    beyond_the_floor,
+    merged_guarantee,
+    sweep_size,
+    with_more_tasks,
+)
 from ..symbolic.safe_text import c_prefix
 from ..trajectory.excitation import DEFAULT_HARMONICS, OBJECTIVE_SAMPLES, plan_excitation
 from ..trajectory.planning import (
@@ -85,10 +95,10 @@ from ..trajectory.planning import (
     user_positions,
     write_provenance,
 )
-from ..trajectory.recording import read_recording
 from ..trajectory.trajectory import (
     JointLimitWarning,
     check_joint_limits,
+    read_recording,
     read_trajectory,
     write_trajectory_chunks,
 )
@@ -1082,7 +1092,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 def _model_settings(args, settings, limits):
     """The keyword arguments of the budget rule's merged model
-    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`)."""
+    (:func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`)."""
     return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
             "provenance": {"gd_analyze_version": __version__, **settings},
             "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
@@ -1092,7 +1102,7 @@ def _model_settings(args, settings, limits):
 def _sweep_model(robot, model, args, outdir, ds):
     """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
     region or on every swept trajectory (``--guarantee``), measured
-    (:func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`).
+    (:func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`).
 
     Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
     with this model's errors)."""

@@ -15,9 +15,9 @@ from .._version import VERSION as __version__
 from ..config import MAXIMA, defaults
 from ..errors import InputError
 from ..estimation.regressor import DRIVE_KINDS
+from ..jobs.control import DEFAULT_WN, DEFAULT_ZETA, GAIN_RANGES
 from ..jobs.identify import DEFAULT_DRIVES
 from ..jobs.sweep import IN_PROCESS_SETPOINTS_MAX
-from ..jobs.tracking import DEFAULT_WN, DEFAULT_ZETA, GAIN_RANGES
 from ..model.limits import DEFAULT_QDD_PER_QD, LIMITS
 from ..model.robots import robots_text
 from ..model.urdf import URDF_BUILTIN

@@ -1,6 +1,6 @@
 """The identification job: recordings -> identified robot (``gd-analyze identify``).
 
-:func:`identify` reads and preprocesses the recordings (:mod:`gd_analyze.trajectory.recording`,
+:func:`identify` reads and preprocesses the recordings (:mod:`gd_analyze.trajectory.trajectory`,
 :mod:`gd_analyze.estimation.preprocess`), stacks the identification regressor of the
 training recordings (:mod:`gd_analyze.estimation.regressor`), estimates by ordinary then
 weighted least squares (:mod:`gd_analyze.estimation.estimate`), chooses the standard
@@ -39,8 +39,12 @@ from ..store.stored_identification import (
     RecordingFit,
     group_names,
 )
-from ..trajectory.recording import Recording, read_recording
-from ..trajectory.trajectory import check_joint_limits, trajectory_from_arrays
+from ..trajectory.trajectory import (
+    Recording,
+    check_joint_limits,
+    read_recording,
+    trajectory_from_arrays,
+)
 from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
@@ -216,7 +220,7 @@ def identify(robot: Robot | str | Path,
         The robot file (the prior): a :class:`~gd_analyze.model.robot.Robot`, a built-in
         name or a TOML or URDF file.
     recordings : sequence of str, os.PathLike or Recording
-        The training recordings (:func:`~gd_analyze.trajectory.recording.read_recording`);
+        The training recordings (:func:`~gd_analyze.trajectory.trajectory.read_recording`);
         one given alone is one recording.
     validate : sequence of str, os.PathLike or Recording, optional
         Recordings not used for fitting, on which the errors are reported (one alone, too).

@@ -10,7 +10,7 @@ trajectories and reports, per ranked element (``"D11"`` .. ``"Dnn"``, ``"h1"`` .
 - the fraction of trajectories in which each class (translational, rotational, both,
   negligible) holds;
 - one merged simplified model for the whole sweep. By default (budget rule) it is the model
-  of :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`: where the robot gives its
+  of :func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`: where the robot gives its
   limits, the main job's model proved within EPS x s_i over its joint-limit region, checked on
   every swept trajectory; else (or with ``guarantee="trajectory"``) the cheaper of the pruned
   recursive and explicit models, pruned on the peaks the workers compute per trajectory
@@ -278,7 +278,7 @@ class WorkerErrors:
 
     Notes
     -----
-    Pass it as ``errors`` to :func:`gd_analyze.jobs.sweep_budget.budget_sweep_model`
+    Pass it as ``errors`` to :func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`
     (:func:`gd_analyze.simplify.sweep_model.sweep_validation`). Each task carries the model,
     its reference and its batch, so that a task whose worker is lost runs again on another;
     a failure of the cluster raises :class:`~.dask_cluster.ClusterLost`.
@@ -385,7 +385,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     recursive_peaks : bool, optional
         Also compute, in the workers, each trajectory's peaks of the recursive model's
         (base parameter, part) contributions (:func:`gd_analyze.symbolic.pruning.stacked_peaks`),
-        for the budget rule's merge (:mod:`gd_analyze.jobs.sweep_budget`): variables
+        for the budget rule's merge (:mod:`gd_analyze.jobs.sweep_merged`): variables
         ``pair_tau_peak`` (trajectory, joint), ``pair_peak`` (trajectory, base_parameter, part,
         joint) and ``parameter_peak`` (trajectory, base_parameter, joint) [N m or N]
         (:func:`gd_analyze.store.sweep_view.embed_pair_peaks`). The chapter merge's error is
@@ -398,7 +398,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     meanwhile : callable, optional
         Called without arguments in this process once the ranking's tasks are submitted,
         while the workers run them (work that does not depend on the ranking, e.g. the
-        merged model over a region, :func:`gd_analyze.jobs.sweep_budget.budget_region_model`);
+        merged model over a region, :func:`gd_analyze.jobs.sweep_merged.budget_region_model`);
         its errors pass unchanged, the tasks then dropped.
     in_process : bool, optional
         Rank in this process, without a dask cluster (``client``, ``scheduler`` and

@@ -687,7 +687,7 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
 
 def coverage(ds: MergedModel | xr.Dataset) -> str:
     """Which swept trajectories a region model's proof covers, and its largest measured error
-    there, as a clause (:func:`gd_analyze.store.sweep_guarantee.merged_guarantee`); the ones
+    there, as a clause (:func:`gd_analyze.store.sweep_view.merged_guarantee`); the ones
     outside the region are named, at most five, with why.
 
     Parameters

@@ -18,6 +18,13 @@ its costs and its error on the held-out trajectories
 :func:`gd_analyze.jobs.sweep_merged.with_model_cost`). :class:`PayloadSweep` is a payload
 sweep (the ranking against the load on the last link). :func:`with_more_tasks` counts
 tasks the run added after the sweep itself (the workers' error measurement).
+
+:func:`merged_guarantee` reads back the merged model's guarantee that
+:func:`gd_analyze.jobs.sweep_merged.with_budget_model` stores (``merged_guarantee_kind``,
+``merged_guarantee_statement``: the one sentence of
+:meth:`gd_analyze.simplify.guarantee.Guarantee.statement`) and, for a model proved over the
+joint-limit region, whether each swept trajectory lies in that region (``merged_covered``,
+``merged_coverage``), so that the command line and the sweep report say the same.
 """
 
 from __future__ import annotations
@@ -62,7 +69,6 @@ from .schema import (
     texts,
     var,
 )
-from .sweep_guarantee import merged_guarantee
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -74,7 +80,8 @@ if TYPE_CHECKING:                       # for the type hints only
 __all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks", "inputs_attributes", "sweep_dataset",
            "payload_dataset", "sweep_payloads_dataset", "embed_payload", "payload_part",
-           "beyond_the_floor", "embed_pair_peaks", "merged_error_variables", "sweep_size"]
+           "beyond_the_floor", "merged_guarantee", "embed_pair_peaks", "merged_error_variables",
+           "sweep_size"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -556,7 +563,7 @@ def embed_pair_peaks(ds: xr.Dataset, names: Sequence[str], tau_peak: np.ndarray,
     xarray.Dataset
         A copy with ``pair_tau_peak``, ``pair_peak`` and ``parameter_peak``, coordinates
         ``base_parameter`` and ``part`` (inertial, velocity, gravity): what the budget rule's
-        merge prunes on (:mod:`gd_analyze.jobs.sweep_budget`, which removes them again).
+        merge prunes on (:mod:`gd_analyze.jobs.sweep_merged`, which removes them again).
 
     Raises
     ------
@@ -664,6 +671,51 @@ def beyond_the_floor(ds: xr.Dataset) -> tuple[float, int, list[int]] | None:
     j = int(np.argmax(rel))
     return float(rel[j]), j + 1, [int(k) + 1 for k in over]
 
+
+def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
+    """The merged model's guarantee and the swept trajectories it covers.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep dataset (K trajectories, n joints) with the budget rule's merged model.
+
+    Returns
+    -------
+    dict or None
+        None without a stored guarantee (chapter rule, older files); else ``kind``
+        (``"region"`` or ``"trajectory"``), ``statement`` (str), ``covered`` (ndarray of bool,
+        shape (K,): a trajectory-kind guarantee covers every swept trajectory, a region one
+        those lying in its region), ``outside`` (list of (source, reason, worst peak
+        |tau_merged - tau| / s_i [1]) of the trajectories not covered), ``worst`` (the
+        largest peak |tau_merged - tau| / scale_i over the covered trajectories [1], NaN if
+        none; ``merged_tau_error_relative_peak``), ``held_out`` and ``held_out_inside`` (the
+        held-out trajectories, and how many lie in the region; None when not stored).
+    """
+    a = ds.attrs
+    if "merged_guarantee_statement" not in a:
+        return None
+    kind = str(a.get("merged_guarantee_kind", "none"))
+    rel = np.asarray(ds[SV.MERGED_TAU_ERROR_RELATIVE_PEAK].values, float)
+    K = rel.shape[0]
+    if kind == "region" and SV.MERGED_COVERED in ds.variables:
+        covered = np.asarray(ds[SV.MERGED_COVERED].values).astype(bool)
+        reasons = strings(ds[SV.MERGED_COVERAGE].values)
+    else:
+        covered, reasons = np.ones(K, bool), [""] * K
+    worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
+    sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
+        [str(k) for k in range(K)]
+    held = a.get("held_out_trajectories")
+    inside = a.get("held_out_inside_region")
+    return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
+            "covered": covered,
+            "outside": [(sources[k], reasons[k], float(worst[k])) for k in range(K)
+                        if not covered[k]],
+            "worst": float(worst[covered].max()) if covered.any() else float("nan"),
+            "held_out": None if held is None else int(held),
+            "held_out_inside": None if inside is None else int(inside)}
+
 #: The variables of a payload sweep the report reads.
 PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 
@@ -700,7 +752,7 @@ class MergedModel(View):
     guarantee_statement : object
         The guarantee as the model states it (None where not stored).
     guarantee : dict or None
-        :func:`gd_analyze.store.sweep_guarantee.merged_guarantee`: the guarantee and the swept
+        :func:`merged_guarantee`: the guarantee and the swept
         trajectories it covers.
     bound_method : tuple of str, length n
         A region model's way of proving each joint's bound

@@ -270,7 +270,7 @@ def state_function(program: Program) -> Callable[..., Any]:
         for a prismatic joint] to a list of n floats [N m; N]; the same operations as
         :func:`python_function` in the same order (:func:`emit_state_python`), without numpy's
         per-call cost on one set point (the closed loop's right-hand side,
-        :mod:`gd_analyze.jobs.tracking`). A sine or cosine of an infinite angle raises
+        :mod:`gd_analyze.jobs.control`). A sine or cosine of an infinite angle raises
         ``ValueError`` (Python's ``math``).
     """
     return program._state_function

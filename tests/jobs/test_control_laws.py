@@ -1,10 +1,11 @@
-"""The control laws' pieces: the desired motion through the set points and the gains."""
+"""The control laws' pieces (gd_analyze.jobs.control): the desired motion through the set points
+and the gains."""
 
 import numpy as np
 import pytest
 
 from gd_analyze import gd_terms
-from gd_analyze.jobs.tracking import (
+from gd_analyze.jobs.control import (
     GAIN_RANGES,
     Gains,
     closed_loop_rates,
@@ -55,7 +56,7 @@ def test_the_stacked_motion_is_exactly_the_desired_motion_and_its_derivatives():
     """The closed loop evaluates q_d, qd_d and qdd_d as one piecewise polynomial: its values
     are bit for bit those of the desired motion and its two derivatives (the padded leading
     zeros add exactly), which interpolate the set points (the oracle)."""
-    from gd_analyze.jobs.tracking import _stacked
+    from gd_analyze.jobs.control import _stacked
 
     t = np.array([0.0, 0.4, 1.0, 1.7])
     q = np.array([[0.0, 1.0], [0.3, 0.8], [0.2, 0.1], [-0.4, 0.0]])
@@ -75,7 +76,7 @@ def test_the_closed_loop_on_one_state_floats_is_the_closed_loop_on_the_batch_mod
     floats (torque_at), equals the run with the batch numpy model (an object without
     torque_at) bit for bit: the same operations in the same order. The model is the PUMA 560's
     pruned recursive one, with sines, cosines and products of every kind."""
-    from gd_analyze.jobs.tracking import track
+    from gd_analyze.jobs.control import track
 
     model = puma_analysis.model         # the session's analysis (default options), read only
 
@@ -98,16 +99,16 @@ def test_a_run_stopped_on_a_dense_trajectory_says_how_many_set_points(puma, monk
     """The integrator's evaluations grow with the set points the desired motion passes
     through (C2 joins): a run stopped by the bound on a dense trajectory says their number
     and spacing; on a sparse one it does not."""
-    from gd_analyze.jobs import tracking
+    from gd_analyze.jobs import control
     from gd_analyze.trajectory.planning import plan_quintic
 
-    monkeypatch.setattr(tracking, "MAX_RHS_EVALS", 200)
+    monkeypatch.setattr(control, "MAX_RHS_EVALS", 200)
     start, goal = np.radians([-60, 20, -150, -80, -60, -120]), np.radians([60, 110, -60, 80,
                                                                           60, 120])
-    for n_setpoints, dense in ((31, False), (tracking.DENSE_SETPOINTS + 1, True)):
+    for n_setpoints, dense in ((31, False), (control.DENSE_SETPOINTS + 1, True)):
         traj = plan_quintic(puma, start, goal, n_setpoints=n_setpoints)
         with pytest.raises(ValueError, match="within 200 evaluations") as err:
-            tracking.track(puma, "full", control_gains(puma, traj.q[0]), desired_motion(traj),
+            control.track(puma, "full", control_gains(puma, traj.q[0]), desired_motion(traj),
                            traj.t)
         said = str(err.value)
         assert "too stiff" in said
@@ -121,7 +122,7 @@ def test_a_run_on_unix_time_stamps_is_the_run_from_zero(puma, shipped):
     """The closed loop is time-invariant: the same trajectory stamped 1.7e9 s later (Unix time,
     as a ROS log writes it) gives the same run. The stamps are 2.4e-7 s apart there, so a run
     integrated on them took steps at that resolution and stopped at the evaluation bound."""
-    from gd_analyze.jobs.tracking import track
+    from gd_analyze.jobs.control import track
 
     late = Trajectory(t=shipped.t + 1.7e9, q=shipped.q, qd=shipped.qd, qdd=shipped.qdd,
                       source="late")
@@ -162,7 +163,7 @@ def test_a_run_on_an_arm_with_coulomb_friction_finishes_and_its_plant_is_regular
     tau_f) with tau_f's sign(qd) linear within the band (physical identity: the run's
     acceleration, by finite differences of qd, against the forward dynamics at its states)."""
     from gd_analyze import load_robot
-    from gd_analyze.jobs.tracking import track
+    from gd_analyze.jobs.control import track
     from gd_analyze.model.drives import COULOMB_BAND, friction_torque
 
     robot = load_robot("puma560-drives")
