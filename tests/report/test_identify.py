@@ -252,7 +252,8 @@ def test_the_preprocessing_notes_are_sentences_with_s_i_typeset():
     groups = {"run": _recording(rng, 0.0, 300, "train", "run", joints)}
     said = identify_context(root, groups)["preprocessing"]
     assert said == ["Low-pass cutoff 2 Hz.",
-                    "Simplified model of the identified robot: within 1 % of s" + sub("i") + "."]
+                    "Simplified model of the identified robot: within 1\u00a0% of s" + sub("i")
+                    + "."]                                      # no line break before %
 
 
 def test_six_joints_are_drawn_three_a_row_at_page_width():
