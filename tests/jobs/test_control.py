@@ -317,7 +317,7 @@ def test_control_dataset_round_trips_through_hdf5(result, model_file, tmp_path):
 def test_control_report_is_written(result, tmp_path):
     path = tmp_path / "control.h5"
     write_control_dataset(result, path)
-    written = write_control_report(path, tmp_path / "out")
+    written = write_control_report(path, tmp_path / "out", column_figures=True)
     html_path, pdf_path = written[:2]
     assert [p.name for p in written[2:] if p.parent.name == "figures"] == [
         f"fig_control_{name}{width}.{ext}" for width in ("", "_column")

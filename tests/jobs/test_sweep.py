@@ -315,7 +315,8 @@ def test_sweep_report(sweep, puma, shipped, tmp_path, chapter_html):
     marked = sweep.copy()
     marked.attrs["command"] = "marker-7f3a"
     write_sweep(marked, path)
-    out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5")
+    out = write_sweep_report(path, tmp_path / "report", payload=tmp_path / "payload.h5",
+                             column_figures=True)
     html_path, pdf_path = out[:2]
     assert html_path.name == "sweep_report.html" and pdf_path.name == "sweep_report.pdf"
     page = ("sweep_share_D", "sweep_share_h", "payload_dominance", "sweep_class_fractions",
@@ -433,6 +434,8 @@ def test_sweep_command_rule_budget_by_default_and_chapter_says_no_bound(tmp_path
     # the printed figure is the guaranteed quantity (relative to max(peak, floor)), and true
     line = next(x for x in printed.splitlines() if x.startswith("merged model (budget"))
     assert f"{worst:.2e}" in line and "(guaranteed <= 0.01)" in line
+    figures = {p.name for p in (out_b / "figures").iterdir()}   # no column twin unasked
+    assert "fig_sweep_share_D.svg" in figures and not any("_column" in f for f in figures)
     html = (out_b / "sweep_report.html").read_text(encoding="utf-8")
     assert re.search("guaranteed within \u03b5\u00b7s<sub>i</sub>[^.]{0,160}on every swept "
                      "trajectory", html) and "\u03b5 = 0.01" in html

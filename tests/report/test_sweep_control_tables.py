@@ -203,3 +203,17 @@ def test_control_and_sweep_tables_are_written_as_csv(runs, tmp_path):
     tex = sorted(p.name for p in written if p.suffix == ".tex")
     assert tex and tex == sorted(p.name.replace(".csv", ".tex") for p in written
                                  if p.suffix == ".csv")
+
+
+def test_the_control_command_writes_no_column_twin_unasked(runs):
+    """Column-width figures are made only with --column-figures, as for the main job: the
+    control run's figures folder holds the page-width figures only (the twins' own test is
+    tests/jobs/test_control.py's, with ``column_figures=True``)."""
+    from gd_analyze.cli.parsing import control_parser, sweep_parser
+
+    names = {p.name for p in (runs["folder"] / "control" / "figures").iterdir()}
+    assert "fig_control_tracking_error.svg" in names
+    assert not any("_column" in n for n in names), names
+    for parser, argv in ((control_parser, ["m.json", "t.csv"]), (sweep_parser, ["puma560"])):
+        assert parser().parse_args(argv).column_figures is False
+        assert parser().parse_args([*argv, "--column-figures"]).column_figures is True

@@ -243,9 +243,11 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
     assert {k for k in six if k[0] in "Dhc"} == {"D", "h", "classes"}
     assert len(six["D"].axes) == 21                       # the triangle (its key a text)
     elements = [str(v) for v in ds["element"].values]
+    counts = {}
     for key, kind in (("D", "D"), ("h", "h"), ("classes", "")):
         parts = [figs[key]] + [figs[f"{key}_{p}"] for p in range(2, 13) if f"{key}_{p}" in figs]
         assert len(parts) > 1, key
+        counts[key] = len(parts)
         if kind:                                          # panel titles "D(3,12): keeps both"
             drawn = [plain(ax.get_title()).split(":")[0] for f in parts for ax in f.axes]
             want = [lab for lab in elements if lab.startswith(kind)]
@@ -262,10 +264,12 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
     path = tmp_path / "sweep.h5"
     write_dataset(ds, path)
     written = sweep.write_sweep_report(path, tmp_path / "out")
-    names = {p.name for p in written}
-    assert {"fig_sweep_share_D_part8.pdf", "fig_sweep_class_fractions_part4.svg"} <= names
+    names = {p.name for p in written}           # the parts drawn above, each a file
+    d, c = counts["D"], counts["classes"]
+    assert {f"fig_sweep_share_D_part{d}.pdf", f"fig_sweep_class_fractions_part{c}.svg"} <= names
+    assert f"fig_sweep_share_D_part{d + 1}.pdf" not in names
     html = (tmp_path / "out" / "sweep_report.html").read_text(encoding="utf-8")
-    assert "Part 1 of 8." in html and "Part 8 of 8." in html and "Part 4 of 4." in html
+    assert f"Part 1 of {d}." in html and f"Part {d} of {d}." in html and f"Part {c} of {c}." in html
     # in the PDF each section starts after the last part of the figure before it (Sec. 3
     # was set on page 2, its figures on pages 10-11, D's parts floating past it); the pages'
     # text as poppler's pdftotext gives it (a form feed after each page): pypdf's extraction

@@ -955,7 +955,8 @@ def cmd_control(args: argparse.Namespace) -> int:
         written = [path]
         if not args.no_report:
             written += list(write_control_report(path, stage, paper=args.paper,
-                                                 latex=args.latex))
+                                                 latex=args.latex,
+                                                 column_figures=args.column_figures))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     summary = result.summary()
     if args.json:
@@ -1308,7 +1309,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             write_dataset(payload, written[-1])
         if not args.no_report:
             written += list(write_sweep_report(written[0], stage, payload=payload,
-                                               paper=args.paper, latex=args.latex))
+                                               paper=args.paper, latex=args.latex,
+                                               column_figures=args.column_figures))
     written = [outdir / Path(p).relative_to(stage) for p in written]
     if not args.quiet:
         run = StoredSweep.of(ds)

@@ -338,10 +338,20 @@ def _add_verbose_argument(p, quiet="print nothing but errors",
     g.add_argument("-v", "--verbose", action="store_true", help="list every file written" + default)
 
 
-def _add_print_arguments(p, skip=None):
-    """--paper and --latex (with ``skip``, the report's files: --no-report before them)."""
+def _add_column_argument(p):
+    """--column-figures."""
+    p.add_argument("--column-figures", action="store_true",
+                   help="also write every report figure 3.5 in wide (one column) as "
+                        "figures/<name>_column.pdf and .svg (default: page width only)")
+
+
+def _add_print_arguments(p, skip=None, column=False):
+    """--paper and --latex (with ``skip``, the report's files: --no-report before them; with
+    ``column``, --column-figures after it)."""
     if skip:
         p.add_argument("--no-report", action="store_true", help=f"skip {skip}")
+    if column:
+        _add_column_argument(p)
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
     p.add_argument("--latex", action="store_true",
@@ -382,9 +392,7 @@ def analyze_parser() -> argparse.ArgumentParser:
     _add_budget_arguments(p)
     _add_region_arguments(p)
     p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
-    p.add_argument("--column-figures", action="store_true",
-                   help="also write every report figure 3.5 in wide (one column) as "
-                        "figures/<name>_column.pdf and .svg (default: page width only)")
+    _add_column_argument(p)
     p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
                    help="prefix of the emitted model's C symbols and CasADi functions, a C "
                         "identifier (default: the robot's name made one, plus _, e.g. "
@@ -560,7 +568,7 @@ def control_parser() -> argparse.ArgumentParser:
                         "controller's, on every revolute joint [rad] and prismatic joint [m], "
                         "and the model's region guarantee covers the run "
                         f"(default {rad:g},{metre:g}; one number for both)")
-    _add_print_arguments(p, "the HTML and PDF report")
+    _add_print_arguments(p, "the HTML and PDF report", column=True)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     _add_verbose_argument(p)
     _add_mounting_arguments(p, "the controlled arm (the plant, and the full-model and PD + "
@@ -613,7 +621,7 @@ def sweep_parser() -> argparse.ArgumentParser:
     p.add_argument("--held-out", metavar="K", type=_whole("--held-out", 0, 10**6), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
                         "budget rule on, not guaranteed (default 20)")
-    _add_print_arguments(p, "the HTML and PDF report")
+    _add_print_arguments(p, "the HTML and PDF report", column=True)
     _add_verbose_argument(p)
     _add_chain_arguments(p)
     _add_mounting_arguments(p)

@@ -967,7 +967,7 @@ _FIGURE_FILES = {"error": "fig_control_tracking_error",
                  "tau_difference": "fig_control_torque_difference",
                  "tau": "fig_control_applied_torque"}
 #: Each figure also 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg`` (not in the
-#: report).
+#: report), with ``column_figures``.
 _FIGURE_FILES.update({f"{k}_column": f"{v}_column" for k, v in list(_FIGURE_FILES.items())})
 
 
@@ -1024,7 +1024,8 @@ def _outline(ctx, figures):
 
 
 def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
-                         paper: str = "a4", latex: bool = False) -> list[Path]:
+                         paper: str = "a4", latex: bool = False,
+                         column_figures: bool = False) -> list[Path]:
     """Write control_report.html and control_report.pdf for a stored control dataset.
 
     Parameters
@@ -1038,12 +1039,15 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
         Page size of the PDF.
     latex : bool, optional
         Also write every table as LaTeX, ``outdir/tables/control_table_<section>_<k>.tex``.
+    column_figures : bool, optional
+        Also write every figure 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg``.
 
     Returns
     -------
     list of pathlib.Path
         ``outdir/control_report.html`` and ``outdir/control_report.pdf``, then every figure as
-        ``outdir/figures/fig_control_*.pdf`` and ``.svg``, then every table of the report as
+        ``outdir/figures/fig_control_*.pdf`` and ``.svg`` (with ``column_figures``, each
+        followed by its column twin), then every table of the report as
         ``outdir/tables/control_table_<section>_<k>.csv`` (and ``.tex`` with ``latex``).
 
     Raises
@@ -1062,7 +1066,8 @@ def write_control_report(control_path: str | os.PathLike[str], outdir: str | os.
     check_paper(paper)
     s = StoredControl.from_dataset(open_results(str(control_path)), str(control_path))
     ctx = control_context(s)
-    column = {f"{k}_column": f for k, f in control_figures(s, COLUMN_WIDTH).items()}
+    column = {f"{k}_column": f for k, f in control_figures(s, COLUMN_WIDTH).items()
+              } if column_figures else {}
     drawn = draw_figures({**control_figures(s), **column}, FIGURE_RC)
     return write_report_files(
         outdir, ctx, drawn, _FIGURE_FILES, _outline, "control_report.html.j2",

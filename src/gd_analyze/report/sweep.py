@@ -1340,7 +1340,8 @@ def _keywords(ctx):
 def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.PathLike[str],
                        payload: str | os.PathLike[str] | xr.Dataset | None = None,
                        formats: Sequence[str] = SWEEP_REPORT_FORMATS,
-                       paper: str = "a4", latex: bool = False) -> list[Path]:
+                       paper: str = "a4", latex: bool = False,
+                       column_figures: bool = False) -> list[Path]:
     """Write sweep_report.html and sweep_report.pdf for a stored sweep.
 
     Parameters
@@ -1360,6 +1361,9 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
         Page size of the PDF.
     latex : bool, optional
         Also write every table as LaTeX, ``outdir/tables/sweep_table_<section>_<k>.tex``.
+    column_figures : bool, optional
+        Also write every figure 3.5 in wide, as ``figures/<name>_column.pdf`` and ``.svg``
+        (:func:`make_sweep_figures`' ``column``).
 
     Returns
     -------
@@ -1392,7 +1396,7 @@ def write_sweep_report(sweep_path: str | os.PathLike[str], outdir: str | os.Path
     stored = StoredSweep.of(open_sweep(sweep_path, "sweep"))
     part = None if payload is None else PayloadSweep.of(payload)  # type: ignore[arg-type]
     ctx = sweep_context(stored, part)
-    drawn = draw_figures(make_sweep_figures(stored, part, column=True), _RC)
+    drawn = draw_figures(make_sweep_figures(stored, part, column=column_figures), _RC)
     return write_report_files(
         outdir, ctx, drawn, _FIGURE_FILES, _outline, "sweep_report.html.j2",
         "Dominance of the translational and rotational G-D terms over a sweep of trajectories "
