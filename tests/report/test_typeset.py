@@ -488,3 +488,17 @@ def test_a_rate_unit_is_never_split_from_its_slash_or_its_power(tmp_path):
     assert sum(ln.count("/s") for ln in lines) == 12 * 7 * 3 * 2        # every unit printed
     assert not any(ln.endswith("/") for ln in lines)
     assert not any(a.endswith("/s") and b[:1] == "2" for a, b in zip(lines, lines[1:]))
+
+
+def test_an_absolute_value_is_never_split_after_its_opening_bar(tmp_path):
+    """ "|τs − τ|" stays on one line: a line never ends with the opening bar of an absolute
+    value (Table 5.3's heading "measured peak |τs − τ|" broke after its "|", which Unicode
+    lets a line break follow). The numbers vary to shift the bars along the lines."""
+    o = Outline("Report")
+    for p in range(12):
+        o.paragraph(" ".join(f"joint {k} peaks at {37 * k + p} with |\u03c4\u00a0\u2212\u00a0"
+                             f"{k}| and |q{k}|," for k in range(10 * p + 1, 10 * p + 9)))
+    path, _ = _write(tmp_path, o)
+    lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
+    assert sum(ln.count("|") for ln in lines) == 12 * 8 * 4                # every bar printed
+    assert all(ln.count("|") % 2 == 0 for ln in lines), [ln for ln in lines if ln.count("|") % 2]
