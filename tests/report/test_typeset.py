@@ -502,3 +502,17 @@ def test_an_absolute_value_is_never_split_after_its_opening_bar(tmp_path):
     lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
     assert sum(ln.count("|") for ln in lines) == 12 * 8 * 4                # every bar printed
     assert all(ln.count("|") % 2 == 0 for ln in lines), [ln for ln in lines if ln.count("|") % 2]
+
+
+def test_a_percentage_is_never_split_from_its_sign(tmp_path):
+    """ "0.557 %" (a number, a space, a per cent sign, as the tables and sentences write a
+    percentage) stays on one line: no line starts with "%". The numbers vary to shift the
+    signs along the lines."""
+    o = Outline("Report")
+    for p in range(12):
+        o.paragraph(" ".join(f"joint {k} errs by {k / 7 + p:.3f} % of its scale,"
+                             for k in range(10 * p + 1, 10 * p + 13)))
+    path, _ = _write(tmp_path, o)
+    lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
+    assert sum(ln.count("%") for ln in lines) == 12 * 12                 # every sign printed
+    assert not any(ln.startswith("%") for ln in lines), [ln for ln in lines if ln[:1] == "%"]
