@@ -24,6 +24,7 @@ from gd_analyze.jobs.control import run_control
 from gd_analyze.report.control import write_control_report
 from gd_analyze.store.control_dataset import write_control_dataset
 from gd_analyze.store.model_file import load_model
+from gd_analyze.symbolic.recursive_model import PART_NAMES
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
@@ -99,6 +100,37 @@ def test_control_report_states_the_model_as_the_main_report_does(built):
     assert ("guaranteed" in model_sec) == (rule == "budget")
     assert not name.startswith("gravity-dropped") or not whole      # the case is exercised
     assert not name == "budget-recursive" or whole
+
+
+def test_sec5_of_a_model_built_without_gravity_says_so_once_and_counts_no_gravity_part(
+        shared_main):
+    """A model built with ``--gravity 0,0,0``: Pinocchio's generalized gravity of its arm is 0,
+    so no gravity part of a base parameter acts (none is among the contributing pairs): Sec. 5
+    counts the inertial and velocity parts, says once that there is no gravity, and never
+    that a gravity part is kept or dropped."""
+    run = shared_main("puma560", SHIPPED, "--gravity", "0,0,0")    # shared: test_text_truth
+
+    def build(folder):
+        path = run / "simplified_model.json"
+        result = run_control(load_model(path), read_trajectory(SHIPPED, n_joints=6),
+                             controllers=("full",), grid_points=31, model_path=path)
+        write_control_dataset(result, folder / "control.h5")
+        write_control_report(folder / "control.h5", folder / "control")
+    folder = built_once("control-text-no-gravity", build)
+    model = load_model(run / "simplified_model.json")
+    with xr.open_dataset(run / "results.h5") as ds:
+        q = ds["q"].values
+    assert not np.any(reference_terms(model.robot, q, np.zeros_like(q)).c)    # c = 0
+    contributing = model.recursive.contributing()
+    assert not contributing[:, PART_NAMES.index("gravity")].any() and contributing.any()
+    control = _text((folder / "control" / "control_report.html").read_text())
+    sec5 = control[control.index("5. Simplified model"):control.index("6. Provenance")]
+    said = (f"of the {int(contributing.sum())} inertial and velocity parts of their "
+            "contributions that act on")
+    assert said in sec5, sec5
+    assert control.count("The model was built without gravity (g = 0), so c \u2261 0.") == 1
+    assert not re.search(r"keeps c whole|gravity parts? (of|is)|drops the gravity|terms of c",
+                         control), sec5
 
 
 def test_control_verdict_keeps_revolute_and_prismatic_joints_apart():

@@ -10,14 +10,19 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import SHIPPED
 from html_checks import html_table as _table
 from html_checks import html_text as _text
 
 from gd_analyze import __version__
 from gd_analyze.cli import main
+from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.report.sweep import write_sweep_report
+from gd_analyze.store.model_file import load_model
 from gd_analyze.store.names import SweepAttr
 from gd_analyze.store.schema import write_dataset
+from gd_analyze.symbolic.recursive_model import PART_NAMES
+from gd_analyze.trajectory.trajectory import read_trajectory
 
 #: Over 5 s on an idle machine (the module's fixtures): run on one interpreter in CI.
 pytestmark = pytest.mark.slow
@@ -102,6 +107,27 @@ def test_counts_are_the_merged_choices_in_the_tables_words(swept):
     words = ("tran", "rot", "both", "none") + (("pruned",) if "pruned" in choice else ())
     assert said == {c: choice.count(c) for c in words}, said
     assert sum(said.values()) == len(choice)          # every element counted once
+
+
+def test_a_merged_model_built_without_gravity_is_said_once_to_have_none(shared_main):
+    """A sweep with ``--gravity 0,0,0``: Pinocchio's generalized gravity is 0 on the swept
+    trajectory, so no gravity part of a base parameter acts: the report counts the inertial and
+    velocity parts, says once that there is no gravity, and never that terms or parts of c are
+    kept or dropped (the summary included)."""
+    out = shared_main("sweep", "puma560", SHIPPED, SHIPPED, "--held-out", "0",
+                      "--gravity", "0,0,0")
+    model = load_model(out / "merged_model.json")
+    q = read_trajectory(SHIPPED, n_joints=6).q
+    assert not np.any(reference_terms(model.robot, q, np.zeros_like(q)).c)      # c = 0
+    contributing = model.recursive.contributing()
+    assert not contributing[:, PART_NAMES.index("gravity")].any() and contributing.any()
+    text = _text((out / "sweep_report.html").read_text(), nbsp=True)
+    sec5 = text[text.index("5. Merged model"):text.index("5.1 Open-loop torque error")]
+    assert (f"of the {int(contributing.sum())} inertial and velocity parts of their "
+            "contributions that act on") in sec5, sec5
+    assert text.count("The model was built without gravity (g = 0), so c \u2261 0.") == 1
+    assert not re.search(r"keeps c whole|gravity parts? (of|is)|drops the gravity|terms of c",
+                         text), text
 
 
 def test_merged_model_cost_and_gravity_said_against_the_models(swept):

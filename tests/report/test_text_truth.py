@@ -22,6 +22,7 @@ from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions
 from gd_analyze.report import main as report
+from gd_analyze.store.model_file import load_model
 from gd_analyze.store.schema import write_dataset
 from gd_analyze.trajectory.planning import plan_quintic
 
@@ -151,6 +152,29 @@ def test_verification_says_how_many_set_points_it_checked(tmp_path):
     report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
     text = _text((tmp_path / "out" / "report.html").read_text())
     assert f"passed on {checked:,} of 2,101 set points" in text
+
+
+#: What a report may not say of a model built without gravity, whose c is identically 0:
+#: that gravity parts or terms of c are kept, dropped or counted among those that act.
+GRAVITY_CLAIMS = ("keeps c whole", "gravity part is dropped", "drops the gravity part",
+                  "terms of c", "gravity parts of their", "gravity c unchanged")
+NO_GRAVITY = "The model was built without gravity (g = 0), so c \u2261 0."
+
+
+def test_a_model_built_without_gravity_is_said_once_to_have_none(shared_main):
+    """``--gravity 0,0,0``: Pinocchio's generalized gravity is 0 along the trajectory, so no
+    gravity part acts; the report says once that there is no gravity, counts the inertial and
+    velocity parts only, and says nothing of gravity parts kept, dropped or compared."""
+    run = shared_main("puma560", SHIPPED, "--gravity", "0,0,0")  # shared: test_control_text
+    model = load_model(run / "simplified_model.json")
+    with xr.open_dataset(run / "results.h5") as ds:
+        q = ds["q"].values
+    assert not np.any(reference_terms(model.robot, q, np.zeros_like(q)).c)    # c = 0
+    text = _text((run / "report.html").read_text())
+    assert text.count(NO_GRAVITY) == 1
+    pairs = model.recursive.stated_facts()["pairs"]
+    assert f"of the {pairs} inertial and velocity parts of their contributions" in _summary(text)
+    assert [c for c in GRAVITY_CLAIMS if c in text] == []
 
 
 def test_no_statement_of_gravity_kept_whole_without_a_check():

@@ -818,11 +818,12 @@ def model_facts(model: SimplifiedModel) -> dict[str, Any]:
         and ``c_terms`` (its terms of c and the full model's; -1 when the full model is not
         derived); ``scope``, the model's guarantee in one sentence
         (:meth:`~gd_analyze.simplify.simplified.SimplifiedModel.scope`), and
-        ``guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``). Sources: Fu,
+        ``guarantee_kind`` (``"region"``, ``"trajectory"`` or ``"none"``); ``gravity``, that
+        of the arm the model was built for, in its base frame [m/s^2]. Sources: Fu,
         Gonzalez & Lee (1987), Sec. 3.4.1 and Eq. (3.4-24).
     """
     out = {"form": model.form, "rule": str(model.rule), "tolerance": float(model.tolerance),
-           "scope": model.scope(),
+           "scope": model.scope(), "gravity": [float(v) for v in model.robot.gravity],
            "guarantee_kind": "none" if model.guarantee is None else model.guarantee.kind,
            "base_parameters": -1, "pairs": -1, "pairs_dropped": -1, "dropped_pairs": "",
            "gravity_dropped": "", "pairs_known": 0, "c_terms_kept": -1, "c_terms": -1}

@@ -59,7 +59,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import joint_axes, markevery
 from .main_context import DERIVATIVES, command_row, gravity_row, run_row, software_row
-from .main_text import gravity_clause, model_sentence
+from .main_text import gravity_clause, model_sentence, weightless
 from .markup import scope as scope_markup
 from .markup import sub
 from .numbers import decade_formatter, label_axes, set_ticks, time_origin
@@ -815,6 +815,7 @@ def _model_note(s):
         return ("The control dataset does not record what the simplified model keeps.",
                 False)
     recursive, own = form == "recursive", str(st.trajectory_is_models) == "1"
+    no_gravity = weightless(m.gravity)          # the model's own gravity, not the plant's
     if recursive:
         dropped_g = [v for v in str(_or(m.gravity_dropped, "")).split(", ") if v]
         gravity = gravity_clause(rule, gravity_dropped=dropped_g)
@@ -826,13 +827,14 @@ def _model_note(s):
         if str(_or(m.pairs_known, "1")) == "0":
             where += (" (or are structurally 0: the model file does not record which pairs "
                       "act)")
-        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where)
+        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where,
+                              weightless=no_gravity)
         if facts[1]:
             text += f" The dropped pairs: {_or(m.dropped_pairs, '')}."
     else:
         kept, full = int(_or(m.c_terms_kept, -1)), int(_or(m.c_terms, -1))
         gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-        text = model_sentence(choice=list(s.choice), gravity=gravity)
+        text = model_sentence(choice=list(s.choice), gravity=gravity, weightless=no_gravity)
     eps = float(_or(m.tolerance, np.nan))
     if m.scope is not None:             # the scope stored from the model itself
         return text + " " + scope_sentences(m, eps), recursive

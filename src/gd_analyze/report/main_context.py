@@ -67,6 +67,7 @@ from .main_text import (
     prismatic_count_note,
     shared_causes,
     simplified_intro,
+    weightless,
 )
 from .markup import code, element, powers, tau
 from .markup import element as _el
@@ -156,7 +157,7 @@ def _agreement(grid: ArrayLike, agree: ArrayLike, compared: int, s: float) -> st
 
 
 def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: ArrayLike,
-               where: str) -> str:
+               where: str, weightless: bool) -> str:
     err = np.asarray(error, dtype=float)
     off = np.asarray(off, dtype=bool)
     shown = np.where(off | ~np.isfinite(err), 0.0, err)
@@ -165,13 +166,13 @@ def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: Ar
                           for k in range(err.size))
     mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built, dtype=float))
     return say("chapter_model", where=where, worst=pct(shown[worst]), joint=worst + 1,
-               per_joint=per_joint, mine=pct(float(mine.max(initial=0.0))))
+               per_joint=per_joint, mine=pct(float(mine.max(initial=0.0))), weightless=weightless)
 
 
 def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: ArrayLike,
                         compared: int, n: int, s: float, chapter_error: ArrayLike,
                         chapter_off: ArrayLike, built_error: ArrayLike, built_off: ArrayLike,
-                        where: str = "this trajectory") -> list[str]:
+                        where: str = "this trajectory", weightless: bool = False) -> list[str]:
     """The chapter's conclusions on its PUMA 560, each as this run measured it.
 
     Parameters
@@ -197,6 +198,9 @@ def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: Ar
         The same for the model the run built.
     where : str, optional
         The motion the errors were measured on.
+    weightless : bool, optional
+        The arm has no gravity (:func:`gd_analyze.report.main_text.weightless`): the chapter's
+        model is not said to keep c, which is identically 0.
 
     Returns
     -------
@@ -211,7 +215,7 @@ def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: Ar
     return [_leads(blocks["arm"], blocks["arm_translation"], blocks["wrist"],
                    blocks["wrist_rotation"], n),
             _agreement(grid, agree, compared, s),
-            _own_model(chapter_error, chapter_off, built_error, built_off, where)]
+            _own_model(chapter_error, chapter_off, built_error, built_off, where, weightless)]
 
 
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
@@ -877,6 +881,7 @@ def _report_context_base(results):
     tau_units = list(results.joint_units["tau"])
     s, e = results.dominance_threshold, results.negligible_threshold
     robot_name = _text(results.robot, "robot")
+    no_gravity = weightless(results.robot_record.gravity)    # c is then 0: said once
     now = utc_now()
 
     # 1. robot and trajectory
@@ -933,7 +938,7 @@ def _report_context_base(results):
             ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
             ch.model_error_relative_peak, ch.model_error_round_off,
             errors.column("relative_peak"), err_off,
-            where=f"this trajectory ({count(N)} set points)")
+            where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
     note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
@@ -958,7 +963,7 @@ def _report_context_base(results):
                          where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
                              "kind") == "region" else "this trajectory", shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
-                         round_off=err_off)
+                         round_off=err_off, weightless=no_gravity)
     facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -973,7 +978,7 @@ def _report_context_base(results):
         "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
-        "simplified_intro": (simplified_intro(form, _gravity_fact(results, form))
+        "simplified_intro": (simplified_intro(form, _gravity_fact(results, form), no_gravity)
                              + zero_parameters(results)),
         "choices_heading": _CHOICES_HEADING[form],
         "choices_note": base_note(results) if form == "recursive" else "",

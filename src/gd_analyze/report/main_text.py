@@ -21,7 +21,7 @@ from .numbers import share as _share
 if TYPE_CHECKING:
     import numpy.typing as npt
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "disagreement_cause", "shared_causes", "captions",
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "weightless", "disagreement_cause", "shared_causes", "captions",
            "prismatic_count_note", "alike_sentence"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -68,7 +68,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                units: Sequence[str] | None = None, scope: str | None = None,
                where: str = "this trajectory", shown: Mapping[str, Sequence[str]] | None = None,
                placeholder_inertia: bool = False,
-               round_off: npt.ArrayLike | None = None) -> str:
+               round_off: npt.ArrayLike | None = None, weightless: bool = False) -> str:
     """The report's conclusion in three sentences.
 
     Parameters
@@ -100,6 +100,9 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
     gravity : str, optional
         What the model does with the gravity loading c, as a clause (``"keeps c whole"``,
         ``"drops terms of c ..."``); the sentence on the model ends with it.
+    weightless : bool, optional
+        The model was built without gravity (:func:`weightless`): the sentence on the model
+        says so in place of ``gravity``.
     units : list of str, optional
         Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
     where : str, optional
@@ -145,7 +148,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                        "k_most": max(len(by[c]) for c in ("translational", "rotational", "both"))})
     first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
-                            trajectory=where)
+                            trajectory=where, weightless=weightless)
     rel = np.asarray(rel_peak, float)
     said = f" Its guarantee: {scope}." if scope else ""
     if not np.any(np.isfinite(rel)):
@@ -187,7 +190,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
 
 def model_sentence(recursive: tuple[int, int, int] | None = None,
                    choice: Sequence[str] | None = None, gravity: str | None = None,
-                   trajectory: str = "this trajectory") -> str:
+                   trajectory: str = "this trajectory", weightless: bool = False) -> str:
     """The sentence on what the simplified model keeps, the same in every report.
 
     Parameters
@@ -203,6 +206,9 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
         :func:`gravity_clause` of the model; the sentence ends with it.
     trajectory : str, optional
         The trajectories the model was built on, as the sentence names them.
+    weightless : bool, optional
+        The model was built without gravity (:func:`weightless`): c is identically 0, so the
+        sentence names no gravity part and says once that there is no gravity.
 
     Returns
     -------
@@ -216,17 +222,23 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     ' on this trajectory, it drops 4, and keeps c whole (no gravity part is dropped).'
     >>> model_sentence(recursive=(36, 0, 40))[-51:]     # parts that are identically 0 do not act
     'act on this trajectory, it drops none: it is exact.'
+    >>> text = model_sentence(recursive=(36, 4, 30), gravity="keeps c whole", weightless=True)
+    >>> text[80:117]
+    'of the 30 inertial and velocity parts'
+    >>> text[-66:]
+    'it drops 4. The model was built without gravity (g = 0), so c \u2261 0.'
     """
     if recursive is not None:
         b, dropped, pairs = recursive
         return say("recursive_model", b=b, dropped=dropped, pairs=pairs, gravity=gravity,
-                   trajectory=trajectory)
+                   trajectory=trajectory, weightless=weightless)
     choice = list(choice or [])
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
-    return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity)
+    return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity,
+               weightless=weightless)
 
 
-def simplified_intro(form: str, gravity: str | None = None) -> str:
+def simplified_intro(form: str, gravity: str | None = None, weightless: bool = False) -> str:
     """Section 5's opening sentence: the deployed model's form and what its rule leaves out.
 
     Parameters
@@ -236,6 +248,9 @@ def simplified_intro(form: str, gravity: str | None = None) -> str:
     gravity : str, optional
         :func:`gravity_clause` of the model: an explicit model's sentence names c among what is
         left out only when the model drops terms of c (the chapter rule never does).
+    weightless : bool, optional
+        The model was built without gravity (:func:`weightless`): c is identically 0, and the
+        explicit model's equation has no c.
 
     Returns
     -------
@@ -247,7 +262,31 @@ def simplified_intro(form: str, gravity: str | None = None) -> str:
     >>> plain(simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1])
     'it keeps c whole: τs = Ds q̈ + hs + c.'
     """
-    return say("simplified_intro", form=form, gravity=gravity)
+    return say("simplified_intro", form=form, gravity=gravity, weightless=weightless)
+
+
+def weightless(gravity: npt.ArrayLike | None) -> bool:
+    """Whether the arm a model was built for has no gravity, so that its gravity loading c is
+    identically 0 (Eq. (3.4-24): c is linear in g), read from the gravity vector stored with
+    the model's run.
+
+    Parameters
+    ----------
+    gravity : array_like, shape (3,), or None
+        Gravity in the arm's base frame [m/s^2], as stored (the results' and the sweep's
+        ``gravity``, the control run's ``model_gravity``); None where not stored.
+
+    Returns
+    -------
+    bool
+        True when every component is 0; False where it is not stored.
+
+    Examples
+    --------
+    >>> weightless([0.0, 0.0, 0.0]), weightless([9.81, 0.0, 0.0]), weightless(None)
+    (True, False, False)
+    """
+    return gravity is not None and not np.any(np.asarray(gravity, float))
 
 
 def gravity_clause(rule: str, gravity_dropped: Sequence[str] | None = None,

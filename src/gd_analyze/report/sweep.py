@@ -75,7 +75,7 @@ from .drawing import draw_figures, write_report_files
 from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import payload_figure
-from .main_text import gravity_clause, model_sentence
+from .main_text import gravity_clause, model_sentence, weightless
 from .markup import element as _el
 from .markup import label as _math
 from .markup import scope as scope_markup
@@ -734,9 +734,10 @@ def _region_rule(m):
                if m.form == "recursive" and dropped else "")
 
 
-def _merged_rule(m):
+def _merged_rule(m, no_gravity):
     """The merged model's rule, the heading of its section and its description, in words that
-    follow the rule: a bound only for the budget rule."""
+    follow the rule: a bound only for the budget rule; ``no_gravity``: the arm has none
+    (:func:`gd_analyze.report.main_text.weightless`)."""
     rule, recursive, after = m.rule, m.form == "recursive", ""
     if rule == "budget" and m.region:
         said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m)
@@ -747,9 +748,9 @@ def _merged_rule(m):
         after = "" if recursive else (" The budget weighs single terms too, so a part it keeps "
                                       "may lose some of its terms.")
     else:
-        said, text = "chapter rule, no error bound", say("merged_chapter")
+        said, text = "chapter rule, no error bound", say("merged_chapter", weightless=no_gravity)
     return rule, f"5. Merged model ({said}) and its torque error", (
-        f"{text} {_keeps(m)}{after} {_cost_sentence(m, table=True)}")
+        f"{text} {_keeps(m, no_gravity)}{after} {_cost_sentence(m, table=True)}")
 
 
 def _eps(m):
@@ -757,20 +758,20 @@ def _eps(m):
     return f"{float(m.tolerance):g}"
 
 
-def _keeps(m):
+def _keeps(m, no_gravity):
     """What the merged model keeps of D, h and c, in the words of the main and the control
     reports (:func:`gd_analyze.report.main_text.model_sentence`), from the stored choices and
     counts of its terms of c (:func:`gd_analyze.jobs.sweep_merged.with_model_cost`)."""
     rule = m.rule
     if m.form == "recursive":
         text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
-                              trajectory=_acts_on(m))
+                              trajectory=_acts_on(m), weightless=no_gravity)
         pruned = [lab for lab, c in zip(m.elements, m.choice) if c == "pruned"]
         return text.replace("The simplified model", "The merged model", 1) + say(
             "merged_keeps", pruned=pruned)
     kept, full = m.c_terms_kept, m.c_terms
     gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-    text = model_sentence(choice=list(m.choice), gravity=gravity)
+    text = model_sentence(choice=list(m.choice), gravity=gravity, weightless=no_gravity)
     return text.replace("The simplified model", "The merged model", 1)
 
 
@@ -955,7 +956,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
               + (("pruned",) if "pruned" in merged else ())}
     worst = _worst_cases(w, labels)
-    rule, heading, merged_text = _merged_rule(m)
+    no_gravity = weightless(w.run.gravity)          # c is then 0: said once, in Sec. 5
+    rule, heading, merged_text = _merged_rule(m, no_gravity)
     claim: str | tuple[str, int] | tuple[()]
     if rule == "budget":
         claim = merged_claim(m)
@@ -968,7 +970,8 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
                       "explicit_kept", both=counts['both'], one=counts['tran'] + counts['rot'],
                       dropped=counts['none']),
                   claim=claim,
-                  rest=f"{_held_out(m)}{_gravity(m)}{_cost_sentence(m)}{_own_sentence(w)}"
+                  rest=f"{_held_out(m)}{'' if no_gravity else _gravity(m)}{_cost_sentence(m)}"
+                       f"{_own_sentence(w)}"
                   ).strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} "
                                                 f"trajector{'y' if K == 1 else 'ies'}",

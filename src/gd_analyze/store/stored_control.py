@@ -89,7 +89,7 @@ class ControlSettings(Record, namedtuple("ControlSettings", """
 class ModelFacts(Record, namedtuple("ModelFacts", """
         rule tolerance form base_parameters pairs pairs_dropped pairs_known dropped_pairs
         gravity_dropped c_terms c_terms_kept scope guarantee_kind guarantee_covered
-        guarantee_coverage""")):
+        guarantee_coverage gravity""")):
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
     them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
     missing.
@@ -108,6 +108,9 @@ class ModelFacts(Record, namedtuple("ModelFacts", """
         An explicit model's terms of c: all and kept.
     scope, guarantee_kind, guarantee_covered, guarantee_coverage : object
         The model's scope, its guarantee's kind, whether it covers the tracked motion and why.
+    gravity : object
+        Gravity in the base frame of the arm the model was built for [m/s^2], shape (3,): the
+        model's own, which the controlled arm's (``--gravity``) need not equal.
     """
 
 
