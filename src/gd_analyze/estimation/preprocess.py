@@ -698,7 +698,6 @@ def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
     >>> model_clipped(t[:, None], tau[:, None], np.sin(3 * t)[:, None], np.array([0.02])).any()
     np.False_
     """
-    q, tau, predicted = (np.asarray(x, float) for x in (q, tau, predicted))
     out = np.zeros(tau.shape, bool)
     half = 0.5 * np.nan_to_num(_resolution(tau)[0].min(axis=0, initial=np.inf), posinf=0.0)
     dq = np.diff(q, axis=0, prepend=q[:1])

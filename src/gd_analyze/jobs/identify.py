@@ -286,9 +286,8 @@ def identify(robot: Robot | str | Path,
     pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes)
             for k, (r, name) in enumerate(zip(train + valid, names))]
     for k, found in enumerate(_model_clipped(prior, train, names, cutoff, options)):
-        if found.any():     # left out, and the fit below repeated without them
-            pres[k] = _prepared(train[k], cutoff, options, names[k], prior.prismatic, True,
-                                notes, extra=found)
+        pres[k] = _prepared(train[k], cutoff, options, names[k], prior.prismatic, True, notes,
+                            extra=found)      # left out, and the fit below repeated without them
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)
@@ -344,7 +343,11 @@ def identify(robot: Robot | str | Path,
 def _model_clipped(prior, train, names, cutoff, options):
     """Yields, per training recording, the samples clipped against a model fitted without the
     samples at each torque's extreme levels (:func:`gd_analyze.estimation.preprocess.model_clipped`),
-    its prediction interpolated onto the recording's clock; nothing where that fit fails."""
+    its prediction interpolated onto the recording's clock; nothing where that fit fails or no
+    torque holds its extreme levels over
+    :data:`~gd_analyze.estimation.preprocess.CLIP_RUN` samples."""
+    if all(prep.extreme_samples(r.tau).sum(axis=0).max() < prep.CLIP_RUN for r in train):
+        return      # no torque at its extremes for a run's samples (unquantised): nothing to judge
     firsts = [_prepared(r, cutoff, options, name, prior.prismatic, True, None,
                         extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)]
     try:
