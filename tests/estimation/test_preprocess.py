@@ -10,6 +10,7 @@ from scipy import signal
 
 from gd_analyze import load_robot
 from gd_analyze.estimation.preprocess import (
+    CLIP_COARSE,
     CLIP_REACH,
     clipped_samples,
     default_cutoff,
@@ -312,3 +313,19 @@ def test_spikes_are_replaced_not_steps_slopes_or_noise():
     for honest in (tau, np.round(tau / 1e-2) * 1e-2, noisy):
         clean, spikes = despiked(honest)
         assert not spikes.any() and np.array_equal(clean, honest)
+
+
+@pytest.mark.parametrize("levels", [10, 19, 20, 200])
+def test_only_a_torque_of_fewer_than_clip_coarse_levels_is_judged_against_the_model(levels):
+    """A sinusoid quantised to ``levels`` values holds its extreme levels over runs either way;
+    only below CLIP_COARSE levels are they the samples a fitted model judges (a finer torque
+    is left to the model-free rule, and its own error would set what goes beyond a level)."""
+    t = np.linspace(0.0, 4.0, 2000)
+    step = 2.0 / (levels - 1)
+    tau = (np.round((np.sin(3.0 * t) + 1.0) / step) * step - 1.0)[:, None]    # -1 ... 1
+    assert len(np.unique(tau)) == levels
+    found = extreme_samples(tau)[:, 0]
+    assert found.any() == (levels < CLIP_COARSE)
+    clip = np.clip(tau, -1.0 + 2 * step, 1.0 - 2 * step)              # two steps deep
+    clipped = model_clipped(t[:, None], clip, np.sin(3.0 * t)[:, None], np.array([step / 4]))
+    assert clipped.any() == (len(np.unique(clip)) < CLIP_COARSE)       # its own levels

@@ -45,7 +45,7 @@ import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
            "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
-           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "CLIP_SIGMAS", "SPIKE_SIGMAS",
+           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE", "SPIKE_SIGMAS",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
            "FILTER_BLOCK", "extreme_samples", "model_clipped"]
 
@@ -71,6 +71,11 @@ CLIP_RUN = 3
 #: the half step already bounds, and the prediction's own error, from thousands of rows for a
 #: few dozen parameters, is a small part of it; 3 would ask for a clip deeper than a step.
 CLIP_SIGMAS = 1.0
+#: A torque is judged against a fitted model (:func:`model_clipped`) only with fewer levels than
+#: this: there a shallow clip and an honest peak hold the top level alike, so that
+#: :func:`clipped_samples` is blind (analysis/clip_levels.py), while on a finer torque it finds
+#: clips itself and the model's own error, not the step, would set what goes beyond a level.
+CLIP_COARSE = 20
 #: The fewest steps between a torque's values in which clipping is looked for.
 CLIP_LEVELS = 4
 #: A torque's resolution for clipping is at least this many noise standard deviations.
@@ -631,8 +636,8 @@ def _runs(mask):
 
 
 def extreme_samples(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
-    """The samples at a torque's extreme levels: within half its quantum of its largest or
-    smallest value.
+    """The samples at a coarsely quantised torque's extreme levels: within half its quantum of
+    its largest or smallest value, where it takes fewer than :data:`CLIP_COARSE` values.
 
     A clip holds the torque at one of these levels; fitted, they pull the model towards it, so
     a fit that is to judge them (:func:`model_clipped`) leaves them out.
@@ -646,15 +651,17 @@ def extreme_samples(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
     -------
     ndarray of bool, shape (N, n)
         True within q_0 / 2 of each column's maximum or minimum, q_0 the smallest step between
-        its values (only the extreme samples of an unquantised torque; none of a constant one).
+        its values (none of a constant torque, nor of one of :data:`CLIP_COARSE` values or more).
 
     Examples
     --------
     >>> extreme_samples(np.array([[0.0], [0.5], [1.0], [1.0], [0.5]]))[:, 0].tolist()
     [True, False, True, True, False]
     """
-    half = 0.5 * np.nan_to_num(_resolution(tau)[0].min(axis=0, initial=np.inf), posinf=0.0)
-    return (tau > tau.max(axis=0) - half) | (tau < tau.min(axis=0) + half)
+    steps = _resolution(tau)[0]
+    half = 0.5 * np.nan_to_num(steps.min(axis=0, initial=np.inf), posinf=0.0)
+    coarse = np.isfinite(steps).sum(axis=0) + 1 < CLIP_COARSE
+    return ((tau > tau.max(axis=0) - half) | (tau < tau.min(axis=0) + half)) & coarse
 
 
 def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
@@ -666,10 +673,11 @@ def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
     extreme level over runs of samples (:func:`clipped_samples` cannot tell them apart); the
     model tells them apart: an honest torque at the level v lies within q_0 / 2 of it (q_0 its
     quantum), and so does the model's, while under a clip the model's torque goes on beyond.
-    Per joint and extreme, a run of samples at the extreme level (:func:`extreme_samples`) is
-    clipped when it holds :data:`CLIP_RUN` samples in a row, during which the joint's position
-    changes, at which the predicted torque lies beyond v by more than q_0 / 2 +
-    :data:`CLIP_SIGMAS` x the joint's residual standard deviation.
+    Per joint of fewer than :data:`CLIP_COARSE` levels and per extreme, a run of samples at the
+    extreme level (:func:`extreme_samples`) is clipped when it holds :data:`CLIP_RUN` samples
+    in a row, during which the joint's position changes, at which the predicted torque lies
+    beyond v by more than q_0 / 2 + :data:`CLIP_SIGMAS` x the joint's residual standard
+    deviation.
 
     Parameters
     ----------
@@ -703,7 +711,7 @@ def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
     dq = np.diff(q, axis=0, prepend=q[:1])
     for x, y in ((tau, predicted), (-tau, -predicted)):
         v = x.max(axis=0)
-        at = x > v - half
+        at = (x > v - half) & extreme_samples(tau)
         beyond = at & (y > v + half + CLIP_SIGMAS * np.asarray(spread, float))
         for j in range(tau.shape[1]):
             hits = [a for a, b in _runs(beyond[:, j]) if b - a >= CLIP_RUN and dq[a + 1:b, j].any()]
