@@ -6,7 +6,9 @@ a slow multi-sine inside the joint limits; the torque from Pinocchio's ``rnea`` 
 and Coulomb friction and noise) is written once as CSV. Each round runs, in a fresh process
 each and in alternating order, ``python -m gd_analyze.cli identify panda REC.csv -o OUT
 --no-report`` on this checkout's ``src`` and on ``--compare DIR`` (another checkout's
-``src``), each first on ``PYTHONPATH``, and reads the child's wall time, CPU time and peak
+``src``), each first on ``PYTHONPATH`` (with ``--levels L`` the torques quantised to L
+levels over their ranges, which identify's check of clipping against the model fits twice
+for), and reads the child's wall time, CPU time and peak
 resident memory (``os.wait4``). Prints the load averages, then one JSON line per length and
 side: median [min, max] of the rounds' wall and CPU time [s] and peak RSS [MiB], and the
 ratio of this side's wall time to the other side's in the same round.
@@ -14,7 +16,7 @@ ratio of this side's wall time to the other side's in the same round.
 Usage::
 
     python analysis/identify_memory.py [--samples 30000,100000,300000] [--rounds 2]
-        [--compare DIR]
+        [--compare DIR] [--levels L]
 """
 
 from __future__ import annotations
@@ -33,8 +35,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent.parent / "src"
 
 
-def write_recording(N: int, path: Path) -> None:
-    """A recording of N samples at 1 kHz, written as ``t,q1..q7,tau1..tau7``."""
+def write_recording(N: int, path: Path, levels: int | None = None) -> None:
+    """A recording of N samples at 1 kHz, written as ``t,q1..q7,tau1..tau7``; with ``levels``,
+    each torque rounded to that many levels over its range (an ADC)."""
     import pinocchio as pin
 
     import gd_analyze as gd
@@ -54,6 +57,9 @@ def write_recording(N: int, path: Path) -> None:
     tau = np.array([pin.rnea(model, data, *x) for x in zip(q, qd, qdd)])
     rng = np.random.default_rng(0)
     tau += 0.5 * qd + 0.8 * np.sign(qd) + 0.05 * rng.standard_normal(tau.shape)
+    if levels:
+        step = np.ptp(tau, axis=0) / (levels - 1)
+        tau = tau.min(axis=0) + np.round((tau - tau.min(axis=0)) / step) * step
     header = ",".join(["t"] + [f"q{j + 1}" for j in range(n)] + [f"tau{j + 1}" for j in range(n)])
     np.savetxt(path, np.column_stack([t, q + 1e-5 * rng.standard_normal(q.shape), tau]),
                delimiter=",", header=header, comments="", fmt="%.9g")
@@ -86,13 +92,15 @@ def main() -> None:
     parser.add_argument("--samples", default="30000,100000,300000")
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--compare", type=Path, default=None)
+    parser.add_argument("--levels", type=int, default=None,
+                        help="quantise each torque to this many levels over its range")
     args = parser.parse_args()
     print("load averages at the start:", " ".join(f"{x:.2f}" for x in os.getloadavg()))
     sides = {"this": HERE} | ({"other": args.compare.resolve()} if args.compare else {})
     with tempfile.TemporaryDirectory() as tmp:
         for N in (int(x) for x in args.samples.split(",")):
             recording = Path(tmp) / f"panda-{N}.csv"
-            write_recording(N, recording)
+            write_recording(N, recording, args.levels)
             got: dict[str, list[dict]] = {k: [] for k in sides}
             for r in range(args.rounds):
                 order = list(sides) if r % 2 == 0 else list(sides)[::-1]

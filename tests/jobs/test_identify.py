@@ -292,8 +292,8 @@ def test_a_clipped_torque_is_warned_about_and_left_out_of_the_fit(monkeypatch):
     torque clipped at 85 % of its peak (a drive's limit): one warning line naming the file's
     column, the joint, the value and the share of samples; the identified model's torque on a
     held-out recording (noise-free) is within 0.5 % of Pinocchio's, as from the recording
-    unclipped, where the clipped samples fitted (the detection switched off: the code before)
-    give more than 2 %."""
+    unclipped, where the clipped samples fitted (the detection switched off, against the model
+    too: the code before) give more than 2 %."""
     from gd_analyze.jobs import identify as job
 
     robot = _robot("puma560")
@@ -322,6 +322,7 @@ def test_a_clipped_torque_is_warned_about_and_left_out_of_the_fit(monkeypatch):
         plain = error(identify(robot, [clean], validate=[held]))
     excluded = error(result)
     monkeypatch.setattr(job.prep, "clipped_samples", lambda q, tau: np.zeros(tau.shape, bool))
+    monkeypatch.setattr(job.prep, "model_clipped", lambda q, tau, *a: np.zeros(tau.shape, bool))
     fitted = error(identify(robot, [clipped], validate=[held]))
     assert plain < 0.005 and excluded < 0.005 and fitted > 0.02, (plain, excluded, fitted)
 
@@ -352,6 +353,106 @@ def test_a_clipped_torque_with_noise_after_the_clip_is_left_out_of_the_fit(monke
     monkeypatch.setattr(job.prep, "clipped_samples", lambda q, tau: np.zeros(tau.shape, bool))
     fitted = identify(robot, [noisy], validate=[held]).recordings[1].errors()[2]
     assert excluded < 0.005 and fitted > 0.02, (excluded, fitted)
+
+
+def _adc(x, levels):
+    """x, shape (N, n), rounded to ``levels`` values per column over its recorded range."""
+    lo, step = x.min(axis=0), np.ptp(x, axis=0) / (levels - 1)
+    return lo + np.round((x - lo) / step) * step
+
+
+def _coarse_clip(name, joint, levels, monkeypatch):
+    """identify on a recording (Pinocchio, 25 s) with ``joint``'s torque clipped at 85 % of its
+    peak and every torque quantised to ``levels`` levels, validated on a noise-free 10 s one:
+    the warning lines, the share of the clipped samples found against the fitted model, the
+    held-out errors of the clipped recording, of the same without the model's check (the code
+    before; inf where that fit fails) and of the recording unclipped, quantised alike (no
+    warning line)."""
+    from gd_analyze.jobs import identify as job
+
+    robot = _robot(name)
+    truth = truth_for(robot, seed=4)
+    clean, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    tau = clean.tau.copy()
+    limit = 0.85 * np.abs(tau[:, joint]).max()
+    tau[:, joint] = np.clip(tau[:, joint], -limit, limit)
+    clipped = recording_from_arrays(clean.t, clean.q, _adc(tau, levels), source="clipped")
+    marks = []
+    model_clipped = getattr(job.prep, "model_clipped", None)      # None in the code before
+    monkeypatch.setattr(job.prep, "model_clipped", lambda *a: marks.append(model_clipped(*a))
+                        or marks[-1], raising=False)
+    with pytest.warns(InputWarning) as caught:
+        result = identify(robot, [clipped], validate=[held])
+    lines = [str(w.message) for w in caught if "column tau" in str(w.message)]
+    share = marks[0][np.abs(clean.tau[:, joint]) >= limit, joint].mean() if marks else 0.0
+    honest = recording_from_arrays(clean.t, clean.q, _adc(clean.tau, levels), source="honest")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        plain = identify(robot, [honest], validate=[held]).recordings[1].errors()[2]
+    monkeypatch.setattr(job.prep, "model_clipped", lambda q, tau, *a: np.zeros(tau.shape, bool),
+                        raising=False)
+    try:
+        fitted = identify(robot, [clipped], validate=[held]).recordings[1].errors()[2]
+    except InputError as exc:       # no consistent parameters fit the clipped samples
+        assert "physically consistent" in str(exc)
+        fitted = np.inf
+    return lines, share, result.recordings[1].errors()[2], fitted, plain
+
+
+@pytest.mark.parametrize("levels", [10, 12, 14, 17])
+def test_a_coarsely_quantised_clip_is_found_against_the_fitted_model(levels, monkeypatch):
+    """Two-link (Pinocchio), joint 1's torque clipped at 85 % of its peak and quantised to 10 to
+    17 levels, which the model-free check misses: one warning line, found against the fitted
+    model, at least 90 % of the clipped samples left out, and the held-out error within 1 % of
+    the unclipped recording's (which gets no warning line), below the clipped samples' fitted.
+    Honest, quantised alike with 100 x the true arm's Coulomb friction (torques flat along the
+    strokes): no warning line."""
+    lines, share, excluded, fitted, plain = _coarse_clip("two-link", 0, levels, monkeypatch)
+    assert len(lines) == 1 and lines[0].startswith(
+        "clipped: column tau1: joint 1's torque is clipped at "), lines
+    assert "flat at its extreme where the fitted model goes beyond, a drive's limit" in lines[0]
+    assert share >= 0.9 and excluded < plain + 0.01 and excluded < fitted, (
+        share, excluded, plain, fitted)
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    truth.coulomb = truth.coulomb * 100.0
+    rec, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            identify(robot, [recording_from_arrays(rec.t, rec.q, _adc(rec.tau, levels))])
+        except InputError as exc:       # no consistent parameters for so much friction, as before
+            assert "physically consistent" in str(exc)
+    assert not [w for w in caught if "column tau" in str(w.message)]
+
+
+@pytest.mark.slow
+def test_a_coarsely_quantised_clip_of_the_puma_is_found_against_the_fitted_model(monkeypatch):
+    """PUMA 560 (Pinocchio), joint 2's torque clipped at 85 % of its peak and quantised to 10
+    levels (the model-free check finds none of it): as the two-link's."""
+    lines, share, excluded, fitted, plain = _coarse_clip("puma560", 1, 10, monkeypatch)
+    assert len(lines) == 1 and lines[0].startswith(
+        "clipped: column tau2: joint 2's torque is clipped at "), lines
+    assert share >= 0.9 and excluded < plain + 0.01 and excluded < fitted, (
+        share, excluded, plain, fitted)
+
+
+@pytest.mark.slow
+def test_the_tiago_recordings_are_not_clipped():
+    """The TIAGo recording shipped in data/tiago (its torso's effort flat along the lift's
+    strokes, three wrist joints at 0 most of the time) with example-robot-data's URDF: no
+    warning line of clipping, neither model-free nor against the fitted model."""
+    from pathlib import Path
+
+    from identify_recordings import ERD
+
+    robot = load_robot(str(ERD / "tiago_description/robots/tiago.urdf"), tip="arm_7_link")
+    data = Path(__file__).resolve().parents[2] / "data" / "tiago"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        identify(robot, [data / "tiago_fit.csv"], validate=[data / "tiago_validate.csv"])
+    assert not [w for w in caught if "column tau" in str(w.message)]
 
 
 def _held_recording(truth, n, seconds, seed, held, noise=0.0):

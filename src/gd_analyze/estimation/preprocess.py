@@ -30,7 +30,8 @@ a term the model holds but the filter smooths (Coulomb friction's step at a reve
 alike on both sides of tau = Y theta.
 
 The default cutoff is chosen from the data (:func:`default_cutoff`). The rows of a clipped
-torque (:func:`clipped_samples`) are marked on the output's clock, to be left out of the fit.
+torque (:func:`clipped_samples`; on a coarsely quantised torque, :func:`model_clipped`, against a
+fitted model) are marked on the output's clock, to be left out of the fit.
 """
 
 from __future__ import annotations
@@ -44,9 +45,9 @@ import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
            "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
-           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "SPIKE_SIGMAS",
+           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE", "SPIKE_SIGMAS",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
-           "FILTER_BLOCK"]
+           "FILTER_BLOCK", "extreme_samples", "model_clipped"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -65,6 +66,16 @@ STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
 #: The fewest samples in a row at a torque's extreme that are taken for clipping
 #: (:func:`clipped_samples`).
 CLIP_RUN = 3
+#: Residual standard deviations of a fit by which the model's torque goes beyond a clipped level
+#: (:func:`model_clipped`): the residual is mostly the recording's quantisation and noise, which
+#: the half step already bounds, and the prediction's own error, from thousands of rows for a
+#: few dozen parameters, is a small part of it; 3 would ask for a clip deeper than a step.
+CLIP_SIGMAS = 1.0
+#: A torque is judged against a fitted model (:func:`model_clipped`) only with fewer levels than
+#: this: there a shallow clip and an honest peak hold the top level alike, so that
+#: :func:`clipped_samples` is blind (analysis/clip_levels.py), while on a finer torque it finds
+#: clips itself and the model's own error, not the step, would set what goes beyond a level.
+CLIP_COARSE = 20
 #: The fewest steps between a torque's values in which clipping is looked for.
 CLIP_LEVELS = 4
 #: A torque's resolution for clipping is at least this many noise standard deviations.
@@ -613,7 +624,97 @@ def clipped_samples(q: npt.NDArray[np.float64],
             if (np.count_nonzero(near) <= CLIP_RATIO * np.count_nonzero((y > v - 1.5 * wv) & (y <= v - wv / 2))
                     or np.count_nonzero(at & way) > CLIP_SHARE * np.count_nonzero(way)):
                 continue
-            edges = np.flatnonzero(np.diff(np.concatenate([[0], at.view(np.int8), [0]])))
-            if any(b - a >= CLIP_RUN and dq[a + 1:b].any() for a, b in zip(edges[::2], edges[1::2])):
+            if any(b - a >= CLIP_RUN and dq[a + 1:b].any() for a, b in _runs(at)):
                 out[at, j] = True
+    return out
+
+
+def _runs(mask):
+    """The runs of True in a boolean array, shape (N,): (start, stop) pairs."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.view(np.int8), [0]])))
+    return list(zip(edges[::2], edges[1::2]))
+
+
+def extreme_samples(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+    """The samples at a coarsely quantised torque's extreme levels: within half its quantum of
+    its largest or smallest value, where it takes fewer than :data:`CLIP_COARSE` values.
+
+    A clip holds the torque at one of these levels; fitted, they pull the model towards it, so
+    a fit that is to judge them (:func:`model_clipped`) leaves them out.
+
+    Parameters
+    ----------
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]).
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True within q_0 / 2 of each column's maximum or minimum, q_0 the smallest step between
+        its values (none of a constant torque, nor of one of :data:`CLIP_COARSE` values or more).
+
+    Examples
+    --------
+    >>> extreme_samples(np.array([[0.0], [0.5], [1.0], [1.0], [0.5]]))[:, 0].tolist()
+    [True, False, True, True, False]
+    """
+    steps = _resolution(tau)[0]
+    half = 0.5 * np.nan_to_num(steps.min(axis=0, initial=np.inf), posinf=0.0)
+    coarse = np.isfinite(steps).sum(axis=0) + 1 < CLIP_COARSE
+    return ((tau > tau.max(axis=0) - half) | (tau < tau.min(axis=0) + half)) & coarse
+
+
+def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
+                  predicted: npt.NDArray[np.float64],
+                  spread: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+    """The samples at which a joint's torque is clipped, found against a fitted model.
+
+    On a torque quantised to a few levels a shallow clip and an honest peak both hold the
+    extreme level over runs of samples (:func:`clipped_samples` cannot tell them apart); the
+    model tells them apart: an honest torque at the level v lies within q_0 / 2 of it (q_0 its
+    quantum), and so does the model's, while under a clip the model's torque goes on beyond.
+    Per joint of fewer than :data:`CLIP_COARSE` levels and per extreme, a run of samples at the
+    extreme level (:func:`extreme_samples`) is clipped when it holds :data:`CLIP_RUN` samples
+    in a row, during which the joint's position changes, at which the predicted torque lies
+    beyond v by more than q_0 / 2 + :data:`CLIP_SIGMAS` x the joint's residual standard
+    deviation.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, n)
+        Positions [rad or m], sorted by time.
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N].
+    predicted : ndarray, shape (N, n)
+        The fitted model's torque at the same samples [N m or N], from a fit without the
+        extreme samples; NaN where not predicted (never clipped).
+    spread : ndarray, shape (n,)
+        The fit's residual standard deviation per joint [N m or N].
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        True at the samples of the clipped runs.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 4, 400)
+    >>> tau = np.round(5 * np.sin(3 * t)) / 5
+    >>> clip = np.clip(tau, -0.8, 0.8)[:, None]
+    >>> model_clipped(t[:, None], clip, np.sin(3 * t)[:, None], np.array([0.02]))[:, 0].any()
+    np.True_
+    >>> model_clipped(t[:, None], tau[:, None], np.sin(3 * t)[:, None], np.array([0.02])).any()
+    np.False_
+    """
+    out = np.zeros(tau.shape, bool)
+    half = 0.5 * np.nan_to_num(_resolution(tau)[0].min(axis=0, initial=np.inf), posinf=0.0)
+    dq = np.diff(q, axis=0, prepend=q[:1])
+    for x, y in ((tau, predicted), (-tau, -predicted)):
+        v = x.max(axis=0)
+        at = (x > v - half) & extreme_samples(tau)
+        beyond = at & (y > v + half + CLIP_SIGMAS * np.asarray(spread, float))
+        for j in range(tau.shape[1]):
+            hits = [a for a, b in _runs(beyond[:, j]) if b - a >= CLIP_RUN and dq[a + 1:b, j].any()]
+            for a, b in _runs(at[:, j]):
+                out[a:b, j] |= any(a <= c < b for c in hits)
     return out

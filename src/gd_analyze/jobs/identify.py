@@ -181,23 +181,28 @@ def _recording(item, n, options):
     return rec
 
 
-def _prepared(rec, cutoff, options, label, prismatic, train, notes):
+def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None):
+    """A recording preprocessed, its clipped samples (and ``extra``'s) left out of the fit; one
+    warning line per joint clipped (found against the fitted model where ``extra`` is given;
+    none where ``notes`` is None)."""
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
-    clipped = prep.clipped_samples(rec.q, rec.tau)     # one warning line per clipped joint
-    for j in np.flatnonzero(clipped.any(axis=0)):
-        x, mid = rec.tau[clipped[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
+    clipped = prep.clipped_samples(rec.q, rec.tau)
+    new = clipped if extra is None else extra & ~clipped
+    for j in np.flatnonzero(new.any(axis=0)) if notes is not None else ():
+        x, mid = rec.tau[new[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
         at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
         notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
                      f"{'current' if options.current else 'torque'} is clipped at {at} "
                      f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at its "
-                     f"extreme, a drive's limit or a sensor's range?) on "
-                     f"{clipped[:, j].mean():.1%} of the samples: "
+                     f"extreme{'' if extra is None else ' where the fitted model goes beyond'}"
+                     f", a drive's limit or a sensor's range?) on "
+                     f"{new[:, j].mean():.1%} of the samples: "
                      + ("left out of the fit" if train else "they count in its errors"))
         warnings.warn(notes[-1], InputWarning, stacklevel=3)
     try:
         return prep.preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
-                               decimate=int(options.decimate), label=label,
-                               prismatic=prismatic, clipped=clipped)
+                               decimate=int(options.decimate), label=label, prismatic=prismatic,
+                               clipped=clipped if extra is None else clipped | extra)
     except ValueError as exc:
         if options.cutoff == "auto" and cutoff is not None and not train:   # chosen elsewhere
             raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
@@ -280,6 +285,9 @@ def identify(robot: Robot | str | Path,
                      f"bandwidth holding 99% of the positions' power), used for every recording")
     pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes)
             for k, (r, name) in enumerate(zip(train + valid, names))]
+    for k, found in enumerate(_model_clipped(prior, train, names, cutoff, options)):
+        pres[k] = _prepared(train[k], cutoff, options, names[k], prior.prismatic, True, notes,
+                            extra=found)      # left out, and the fit below repeated without them
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)
@@ -330,6 +338,27 @@ def identify(robot: Robot | str | Path,
         consistent=fit.consistent, standard_method=fit.method, recordings=tuple(fits),
         settings=settings, preprocessing=tuple(notes), version=VERSION, noise_std=est.noise_std)
 
+
+
+def _model_clipped(prior, train, names, cutoff, options):
+    """Yields, per training recording, the samples clipped against a model fitted without the
+    samples at each torque's extreme levels (:func:`gd_analyze.estimation.preprocess.model_clipped`),
+    its prediction interpolated onto the recording's clock; nothing where that fit fails or no
+    torque holds its extreme levels over
+    :data:`~gd_analyze.estimation.preprocess.CLIP_RUN` samples."""
+    if all(prep.extreme_samples(r.tau).sum(axis=0).max() < prep.CLIP_RUN for r in train):
+        return      # no torque at its extremes for a run's samples (unquantised): nothing to judge
+    firsts = [_prepared(r, cutoff, options, name, prior.prismatic, True, None,
+                        extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)]
+    try:
+        fit, rows = fit_robot(prior, firsts, options.drives)
+    except (FitFailure, SolverFailure):
+        return
+    for r, p, src in zip(train, firsts, rows):
+        predicted = [np.interp(r.t, p.t[p.keep], c, left=np.nan, right=np.nan)
+                     for c in src.times(fit.estimate.value[:, None])[..., 0].T]
+        tau = r.tau * np.asarray(options.drive_gains) if options.current else r.tau
+        yield prep.model_clipped(r.q, tau, np.column_stack(predicted), fit.estimate.noise_std)
 
 
 def _simplified_model(identified, pres, n_train, options):
