@@ -33,11 +33,12 @@ def table_rows(table, nbsp=False, cell=r"t[dh]"):
                                                          flags=re.S)]
 
 
-def html_table(html, start, cell=r"t[dh]"):
+def html_table(html, start, cell=r"t[dh]", nbsp=False):
     """Rows of cells, the header row first, of the first table at or after the text ``start``
-    (a caption's first words, or ``id="..."`` of the table's section)."""
+    (a caption's first words, or ``id="..."`` of the table's section); no-break spaces made
+    plain spaces if ``nbsp``."""
     rest = html[html.index(start):]
-    return table_rows(rest[:rest.index("</table>")], cell=cell)
+    return table_rows(rest[:rest.index("</table>")], nbsp, cell=cell)
 
 
 def html_tables(html):

@@ -115,7 +115,7 @@ def test_files_and_the_errors_shown_are_the_datasets(report):
     # every table also as CSV, with the HTML table's numbers
     assert {f.parent.name for f in files[2:]} == {"figures", "tables"}
     assert csv_matches_html(folder / "tables", "table_", html) > 10
-    rows = html_table(html, "Total relative torque error")
+    rows = html_table(html, "Total relative torque error", nbsp=True)
     assert rows[0] == ["recording", "role", "samples", "duration [s]", "identified model",
                        "robot file as shipped"]
     for row, ds in zip(rows[1:], groups.values()):
@@ -123,12 +123,12 @@ def test_files_and_the_errors_shown_are_the_datasets(report):
         total = np.linalg.norm(M - ds["tau_predicted"].values) / np.linalg.norm(M)
         assert row[4] == pct(total) and row[5] == pct(np.linalg.norm(M - P) / np.linalg.norm(M))
         assert row[2] == f"{ds.sizes['t']:,}"
-    lead = html_text(html)
+    lead = html_text(html, nbsp=True)
     held = groups["held_out"]
     assert (f"the identified model's total relative torque error ||E||_F / ||T||_F is "
             f"{pct(held.attrs['total_relative_error'])}") in lead
     assert "the robot file's as shipped, 30.00 %" in lead          # tau_prior = 1.3 tau
-    joint_rows = html_table(html, "Errors per joint on /data/fit.csv")
+    joint_rows = html_table(html, "Errors per joint on /data/fit.csv", nbsp=True)
     E = groups["fit"]["tau_measured"].values - groups["fit"]["tau_predicted"].values
     rel = np.linalg.norm(E, axis=0) / np.linalg.norm(groups["fit"]["tau_measured"].values,
                                                      axis=0)
@@ -139,7 +139,7 @@ def test_files_and_the_errors_shown_are_the_datasets(report):
 def test_parameter_table_std_percent_and_identifiability(report):
     root, _, folder, _ = report
     html = (folder / "report.html").read_text(encoding="utf-8")
-    rows = html_table(html, "Identified parameters")
+    rows = html_table(html, "Identified parameters", nbsp=True)
     assert rows[0] == ["parameter", "units", "value", "std", "std [%]", "robot file",
                        "identifiable"]
     assert [r[0] for r in rows[1:]] == list(NAMES)

@@ -164,3 +164,17 @@ def test_prismatic_q_in_one_unit_in_table_and_figure(reports):
 def test_no_robot_file_key_in_plain_type(reports, which):
     for text in (_html_text(reports, which), _pdf_text(reports, which)):
         assert not re.search(r"\btau_max\b|<limit effort>", text)
+
+
+@pytest.mark.parametrize("which", ["puma", "stanford", "ur5", "sweep", "control"])
+def test_a_percentage_keeps_its_sign_on_the_numbers_line(reports, which):
+    """In the HTML, the space between a number and its "%" does not break ("1.23" at a line's
+    end, "% of s_i" starting the next): it is a no-break space, in the text and the tables
+    (the PDF template keeps them together by its own rule, tests/report/test_typeset.py)."""
+    folder, stem = reports[which]
+    html = (folder / f"{stem}.html").read_text(encoding="utf-8")
+    html = re.sub(r"<(svg|style|script)\b.*?</\1>", "", html, flags=re.S)
+    text = unescape(re.sub(r"<[^>]+>", "", html))
+    kept = re.findall(r"\d\u00a0%", text)
+    broken = re.findall(r"[^\n]{0,30}\d[ \t\n]+%[^\n]{0,10}", text)
+    assert kept and not broken, broken[:5]

@@ -288,6 +288,11 @@ def cost_table(ds: EvaluatorCosts | xr.Dataset | None) -> dict[str, Any] | None:
                  widths=[2.2, 1, 1, 1, 1.2])          # the evaluators' names on one line
 
 
+#: A number's space before its percent sign, in the text and tables (not in the drawings,
+#: given as markup): a line may not break there in the HTML (the PDF template's rule likewise).
+_PERCENT = re.compile(r"(?<=\d) (?=%)")
+
+
 def render_template(name: str, context: Mapping[str, Any],
                     env_globals: Mapping[str, Any] | None = None) -> str:
     """Render one of the package's Jinja2 templates (autoescape on, strict undefined).
@@ -310,6 +315,8 @@ def render_template(name: str, context: Mapping[str, Any],
     from markupsafe import Markup
 
     def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
+        if isinstance(value, str) and not isinstance(value, Markup):
+            value = _PERCENT.sub("\u00a0", value)          # "1.23 %" kept on one line
         if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
                                                                 markup.CODE)):
             return markup.html(value)
