@@ -44,3 +44,13 @@ def html_table(html, start, cell=r"t[dh]", nbsp=False):
 def html_tables(html):
     """Every ``<table>`` of the document as rows of cell texts."""
     return [table_rows(t) for t in re.findall(r"<table.*?</table>", html, flags=re.S)]
+
+
+def context_texts(value):
+    """Every text of a report's context (the dict its HTML and PDF are rendered from), in
+    order: its strings, those of its lists, tuples and dicts at any depth."""
+    if isinstance(value, str):
+        return [value]
+    items = value.values() if isinstance(value, dict) else value if isinstance(
+        value, (list, tuple)) else []
+    return [s for v in items for s in context_texts(v)]

@@ -15,12 +15,13 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import SHIPPED, built_once, two_link_control
-from html_checks import html_text
+from html_checks import context_texts, html_text
 
 from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import reference_terms
 from gd_analyze.jobs.control import run_control
+from gd_analyze.model.mounting import with_mounting
 from gd_analyze.report.control import write_control_report
 from gd_analyze.store.control_dataset import write_control_dataset
 from gd_analyze.store.model_file import load_model
@@ -341,3 +342,126 @@ def test_a_joint_type_whose_torque_difference_is_noise_reads_as_the_table(tmp_pa
     for said in (judged["summary"], judged["verdict"]):
         said = said.replace("\u00a0", " ")
         assert ", \u2261 0 N" in said and ", 0 N" not in said, said
+
+
+#: The sentence of Sec. 5 on a model built without gravity (tests/report/test_text_truth.py).
+NO_GRAVITY = "The model was built without gravity (g = 0), so c \u2261 0."
+#: The two-link arm's gravity in its robot file, in the world [m/s^2].
+TWO_LINK_G = (0.0, -9.8062, 0.0)
+
+
+def _gravity_runs(folder):
+    """Two-link models (11 set points) built with the robot file's gravity and without
+    (``--gravity 0,0,0``, the recursive form), each under control of an arm with its gravity
+    and of one with the other (the control command's own ``--gravity``), as
+    ``<model>-<arm>.h5``; the weightless model's file made an older one (no ``round_off``:
+    which pairs act not recorded) and controlled, ``older.h5``; and what the control command
+    printed for the weightless model on a weightless arm."""
+    import contextlib
+    import io
+    import json
+
+    csv = folder / "two.csv"
+    assert main(["plan", "two-link", "-o", str(csv), "--setpoints", "11"]) == 0
+    for model, options in (("with", []), ("none", ["--gravity", "0,0,0", "--form", "recursive"])):
+        assert main(["two-link", str(csv), "-o", str(folder / model), "--guarantee", "trajectory",
+                     "--no-report", "-q", *options]) == 0
+    spec = json.loads((folder / "none" / "simplified_model.json").read_text())
+    for key in ("round_off", "dropped_round_off"):
+        del spec["recursive"][key]
+    (folder / "older.json").write_text(json.dumps(spec))
+    trajectory = read_trajectory(csv, n_joints=2)
+    for model, arm in (("with", "with"), ("with", "none"), ("none", "with"), ("older", "none")):
+        path = folder / ("older.json" if model == "older" else f"{model}/simplified_model.json")
+        loaded = load_model(path)
+        plant = with_mounting(loaded.robot, gravity=TWO_LINK_G if arm == "with" else (0, 0, 0))
+        result = run_control(loaded, trajectory, controllers=("full", "simplified", "pd_gravity"),
+                             grid_points=31, cost=False, model_path=path, plant=plant)
+        write_control_dataset(result, folder / f"{model}-{arm}.h5")
+    printed = io.StringIO()                 # the command itself, on its own model's arm
+    with contextlib.redirect_stdout(printed):
+        assert main(["control", str(folder / "none" / "simplified_model.json"), str(csv),
+                     "-o", str(folder / "control"), "--no-report"]) == 0
+    (folder / "printed.txt").write_text(printed.getvalue(), encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def gravity_runs():
+    return built_once("control-text-gravity-runs", _gravity_runs)
+
+
+def _weightless(robot, q):
+    """Pinocchio's oracle: the arm's generalized gravity is 0 along q."""
+    return not np.any(reference_terms(robot, q, np.zeros_like(q)).c)
+
+
+@pytest.mark.parametrize("model, arm", [("with", "with"), ("with", "none"), ("none", "with"),
+                                        ("none", "none")])
+def test_pd_controller_and_model_are_said_with_the_gravity_of_their_own_arm(
+        gravity_runs, model, arm):
+    """The PD controller adds the controlled arm's gravity loading c, the simplified model
+    its own (the control command's ``--gravity`` need not be the model's). Oracle: Pinocchio's
+    generalized gravity of each arm along the run. Where the controlled arm's is 0 the PD
+    controller is plain PD, named so in the report's every text and in control.h5, its law
+    without c, said once; where the model's is 0, Sec. 5 says so once, whatever the arm."""
+    from gd_analyze.report.control import control_context
+
+    path = gravity_runs / ("control/control.h5" if (model, arm) == ("none", "none")
+                           else f"{model}-{arm}.h5")
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    q = ds["q_d"].values
+    plant = load_robot("two-link")
+    plant_without = _weightless(with_mounting(plant, gravity=(0.0, 0.0, 0.0)), q)
+    assert plant_without and not _weightless(plant, q)           # the oracle tells them apart
+    pd_free = _weightless(plant if arm == "with" else with_mounting(plant, gravity=(0, 0, 0)), q)
+    model_free = _weightless(load_model(gravity_runs / model / "simplified_model.json").robot, q)
+    assert (pd_free, model_free) == (arm == "none", model == "none")
+    ctx = control_context(ds)
+    said = "\n".join(context_texts(ctx)).replace("\u00a0", " ")
+    name = "PD" if pd_free else "PD + gravity"
+    assert f"{name}: peak |e|" in ctx["summary"] and f", {name} " in ctx["verdict"]
+    assert (f"{name}:" in ctx["gains_note"]) and (" \u0117 + c " in ctx["gains_note"]) != pd_free
+    assert ("PD + gravity" in said) != pd_free and ("gravity compensation" in said) != pd_free
+    assert said.count("the controlled arm has no gravity (g = 0)") == int(pd_free)
+    law = str(ds["controller_description"].sel(controller="pd_gravity").values)
+    assert law.startswith(name) and law.endswith(" + c") != pd_free, law
+    assert ds["Kp_pd"].attrs["long_name"].startswith(f"{name} position gain")
+    assert f"; {name}: Kp_pd" in ds.attrs["gains"]
+    assert said.count(NO_GRAVITY) == int(model_free) and (NO_GRAVITY in ctx["model_note"]) \
+        == model_free, ctx["model_note"]
+
+
+def test_the_control_command_prints_plain_pd_on_an_arm_without_gravity(gravity_runs):
+    """The printed rows and verdict name the controllers as the report does: plain PD where
+    the controlled arm's generalized gravity (Pinocchio) is 0; the key ``pd_gravity`` stays in
+    control.h5 and ``--json``."""
+    printed = (gravity_runs / "printed.txt").read_text(encoding="utf-8")
+    with xr.open_dataset(gravity_runs / "control" / "control.h5") as ds:
+        q, keys = ds["q_d"].values, [str(c) for c in ds["controller"].values]
+    arm = with_mounting(load_robot("two-link"), gravity=(0.0, 0.0, 0.0))
+    assert _weightless(arm, q) and "pd_gravity" in keys
+    rows = [line.split()[0] for line in printed.splitlines()[2:5]]
+    assert rows == ["full", "simplified", "pd"], printed
+    assert "PD + gravity" not in printed and "pd_gravity" not in printed
+    assert ", PD " in printed.replace("\u00a0", " ")
+
+
+def test_an_older_model_file_counts_no_gravity_part_of_a_weightless_arm(gravity_runs):
+    """A model file that does not record which pairs act (no ``round_off``, an older file)
+    counted every (parameter, part) pair, the gravity parts of an arm without gravity too:
+    "of the 12 inertial and velocity parts" of 4 base parameters. Oracle: Pinocchio's
+    generalized gravity of the model's arm is 0, so no gravity part exists; the count is
+    every inertial and velocity pair (the file records no more), with the caveat."""
+    from gd_analyze.report.control import control_context
+
+    older = load_model(gravity_runs / "older.json")
+    with xr.open_dataset(gravity_runs / "older-none.h5") as ds:
+        ds = ds.load()
+    assert _weightless(older.robot, ds["q_d"].values)
+    assert older.recursive.round_off is None              # the case: an older file
+    b = len(older.recursive.names)
+    note = control_context(ds)["model_note"].replace("\u00a0", " ")
+    assert re.search(f"of the {2 * b} inertial and velocity parts of their contributions that "
+                     r"act on [\w ]+ \(or are structurally 0", note), note
+    assert NO_GRAVITY in note

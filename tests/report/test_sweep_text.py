@@ -130,6 +130,32 @@ def test_a_merged_model_built_without_gravity_is_said_once_to_have_none(shared_m
                          text), text
 
 
+def test_a_chapter_rule_merged_model_without_gravity_is_said_once_to_have_none(tmp_path):
+    """``sweep ... --rule chapter --gravity 0,0,0`` (the two-link arm, one 11-set-point
+    trajectory twice): Pinocchio's generalized gravity of the merged model's arm is 0 along
+    it, so c has no term: the rule is said to drop parts of D and h only, without an equation
+    that adds c, the model's parts of D and h are counted and the absence of gravity said
+    once, and nothing says that c is kept."""
+    from gd_analyze.report.sweep import sweep_context
+
+    csv = tmp_path / "two.csv"
+    assert main(["plan", "two-link", "-o", str(csv), "--setpoints", "11"]) == 0
+    assert main(["sweep", "two-link", str(csv), str(csv), "--held-out", "0", "--rule", "chapter",
+                 "--gravity", "0,0,0", "--no-report", "-q", "-o", str(tmp_path / "s")]) == 0
+    model = load_model(tmp_path / "s" / "merged_model.json")
+    q = read_trajectory(csv, n_joints=2).q
+    assert not np.any(reference_terms(model.robot, q, np.zeros_like(q)).c)      # c = 0
+    with xr.open_dataset(tmp_path / "s" / "sweep.h5") as ds:
+        ctx = sweep_context(ds.load())
+    said = [ctx["summary"], ctx["merged_heading"], ctx["merged_text"]]
+    text = "\n".join(said)
+    no_gravity = "The model was built without gravity (g = 0), so c \u2261 0."
+    assert text.count(no_gravity) == 1
+    assert "The chapter rule drops parts of D and h only. This rule has no error bound" in text
+    assert re.search(r"of the \d+ parts of D and h\. " + re.escape(no_gravity), text), text
+    assert not re.search(r"keeps c whole|never a term of gravity|\+ c\b|terms of c", text), text
+
+
 def test_merged_model_cost_and_gravity_said_against_the_models(swept):
     # what the model keeps of c, and its cost against the exact recursive
     # model, the full explicit model and Newton-Euler, from the model written beside the report

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 import xarray as xr
 from conftest import ROOT, SHIPPED
-from html_checks import html_table
+from html_checks import context_texts, html_table
 from html_checks import html_text as _text
 
 from gd_analyze import load_robot
@@ -175,6 +175,34 @@ def test_a_model_built_without_gravity_is_said_once_to_have_none(shared_main):
     pairs = model.recursive.stated_facts()["pairs"]
     assert f"of the {pairs} inertial and velocity parts of their contributions" in _summary(text)
     assert [c for c in GRAVITY_CLAIMS if c in text] == []
+
+
+def test_an_explicit_model_built_without_gravity_is_said_once_to_have_none():
+    """``--form explicit`` on an arm without gravity (the two-link arm, 11 set points):
+    Pinocchio's generalized gravity is 0 along the trajectory, so the explicit model has no
+    term of c. The summary counts the parts of D and h and says once that there is no
+    gravity, Sec. 3's equation has no c, and nothing says that terms of c are kept or
+    dropped."""
+    from gd_analyze.jobs.options import SimplifyOptions
+    from gd_analyze.model.mounting import with_mounting
+    from gd_analyze.report.main_context import report_context
+
+    robot = with_mounting(load_robot("two-link"), gravity=(0.0, 0.0, 0.0))
+    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=11)
+    options = AnalysisOptions(formulations=False, verify=False, simplify=SimplifyOptions(
+        form="explicit", guarantee="trajectory"))
+    ds = analyze(robot, trajectory, options).dataset
+    q = ds["q"].values
+    assert not np.any(reference_terms(robot, q, np.zeros_like(q)).c)       # c = 0
+    assert str(ds.attrs["simplified_form"]) == "explicit"
+    ctx = report_context(ds)
+    said = "\n".join(context_texts(ctx))
+    assert said.count(NO_GRAVITY) == 1
+    parts = 2 * ds.sizes["element"]
+    assert f"of the {parts} parts of D and h. {NO_GRAVITY}" in ctx["summary"], ctx["summary"]
+    intro = ctx["simplified_intro"]
+    assert "(c \u2261 0)" in intro and "+ c" not in intro, intro
+    assert [c for c in GRAVITY_CLAIMS if c in said] == []
 
 
 def test_no_statement_of_gravity_kept_whole_without_a_check():

@@ -16,6 +16,7 @@ from symbolic_helpers import rnea, robot, states
 from gd_analyze.dynamics.base_parameters import PARAMETER_NAMES, base_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.errors import InputError
+from gd_analyze.model.mounting import with_mounting
 from gd_analyze.symbolic.emit import python_function
 from gd_analyze.symbolic.recursive_model import (
     BOUND_PARTS,
@@ -134,6 +135,38 @@ def test_stated_facts_leave_out_structurally_zero_pairs_and_survive_the_file():
     assert back.stated_facts() == facts
     old = {k: v for k, v in model.to_dict().items() if k != "round_off"}   # an older file
     assert not RecursiveModel.from_dict(old, arm).stated_facts()["known"]
+
+
+@pytest.mark.parametrize("gravity", [None, (0.0, 0.0, 0.0)])
+def test_an_older_file_counts_no_pair_its_arm_makes_zero(gravity):
+    """A model file without ``round_off`` (an older one) does not record which pairs act; it
+    counted every pair, the gravity parts of an arm without gravity too. Read back, it leaves
+    out the pairs its own arm makes identically 0: the gravity part of every second moment,
+    and every gravity part where gravity is 0. Oracles: Pinocchio's generalized gravity (rnea
+    at rest: 0 on the weightless arm), and the pairs' own peaks on the trajectory (a pair left
+    out never acts)."""
+    arm = robot("stanford")
+    if gravity is not None:
+        arm = with_mounting(arm, gravity=gravity)
+    q, qd, qdd = states(arm, 40, 5)
+    q[:, arm.prismatic] *= 0.2
+    rest = np.zeros_like(q)
+    weightless = not np.any(rnea(arm, q, rest, rest))
+    assert weightless == (gravity is not None)
+    model = recursive_model(arm, q, qd, qdd, 0.01)
+    old = {k: v for k, v in model.to_dict().items() if k not in ("round_off", "dropped_round_off")}
+    back = RecursiveModel.from_dict(old, arm)
+    live, acts = back.contributing(), model.contributing()
+    assert not (acts & ~live).any()                     # nothing that acts is left out
+    g = list(PART_NAMES).index("gravity")
+    second = [k for k, name in enumerate(back.names) if name[:2] in PARAMETER_NAMES[:6]]
+    assert second and not live[second, g].any()
+    assert live[:, g].any() != weightless
+    facts = back.stated_facts()
+    assert not facts["known"] and facts["pairs"] == int(live.sum())
+    b = len(back.names)
+    assert facts["pairs"] == 2 * b + (0 if weightless else b - len(second))
+    assert not weightless or facts["gravity_dropped"] == []
 
 
 def test_model_file_names_the_dropped_pairs_the_reports_name():

@@ -969,8 +969,12 @@ def cmd_control(args: argparse.Namespace) -> int:
         print(f"{'controller':<12}" + "".join(f"{'joint ' + str(j + 1):>11}"
                                                for j in range(model_robot.n)))
         units = {w: joint_units_text(joint_units(model_robot.prismatic, w)) for w in ("q", "tau")}
+        # the PD controller's row, as the report names it: plain "pd" on an arm without gravity
+        rows = {"pd_gravity": control_file.pd_name(result.robot.gravity).lower().replace(
+            " + ", "_")}
         for name, fig in summary["tracking"].items():
-            print(_peak_row(name, fig["peak_grid"], q_floor, f"peak |e| [{units['q']}]"))
+            print(_peak_row(rows.get(name, name), fig["peak_grid"], q_floor,
+                            f"peak |e| [{units['q']}]"))
         if summary["tau_difference"]:
             floor = result.tau_noise_floor
             assert floor is not None      # None without a measured integrator noise

@@ -543,7 +543,7 @@ def control_parser() -> argparse.ArgumentParser:
                 description="Simulate computed-torque control of the full-model arm along a "
                             "trajectory with three controllers: one built on the full G-D "
                             "model, one on the simplified model, and PD with gravity "
-                            "compensation; write control.h5 and control_report.html/.pdf.")
+                            "compensation (plain PD on an arm without gravity); write control.h5 and control_report.html/.pdf.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",

@@ -15,7 +15,8 @@ side and collected: :func:`run_control`):
   tau = D_s(q) v + h_s(q, qd) + c_s(q) (c_s = c where the model keeps gravity whole), evaluated
   in its explicit form
   (:meth:`gd_analyze.simplify.simplified.SimplifiedModel.torque`: only the kept terms are computed);
-- ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q);
+- ``"pd_gravity"``: PD control with gravity compensation, tau = Kp_pd e + Kv_pd ed + c(q)
+  (on a controlled arm without gravity, c = 0: plain PD, and named so, :func:`control_law`);
 
 where e = q_d - q, ed = qd_d - qd and v = qdd_d + Kv ed + Kp e. With the full model the
 closed loop is exactly e'' + Kv e' + Kp e = 0, so the error starting on the trajectory stays at
@@ -91,7 +92,7 @@ from ..ranking.ranking import ROUND_OFF
 from ..simplify.explicit_model import full_program
 from ..simplify.simplified import choice_masks, json_safe
 from ..store import explicit_cache
-from ..store.control_dataset import peak_rms
+from ..store.control_dataset import pd_name, peak_rms
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
@@ -108,7 +109,8 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
     from ..simplify.simplified import SimplifiedModel
 
-__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "DEFAULT_WN", "DEFAULT_ZETA", "GAIN_RANGES",
+__all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "PD_WITHOUT_GRAVITY", "control_law",
+           "DEFAULT_WN", "DEFAULT_ZETA", "GAIN_RANGES",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
            "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates",
            "singular_inertia", "Gains", "control_gains", "desired_motion",
@@ -127,6 +129,33 @@ CONTROLLER_DESCRIPTIONS = {
     "simplified": "computed torque, simplified model: D_s v + h_s + c",
     "pd_gravity": "PD + gravity compensation: Kp_pd e + Kv_pd ed + c",
 }
+
+
+#: The PD controller's line where the controlled arm has no gravity: c is then identically 0
+#: (linear in g, Eq. (3.4-24)), and the law plain PD (:func:`control_law`).
+PD_WITHOUT_GRAVITY = "PD without gravity term (g = 0, so c = 0): Kp_pd e + Kv_pd ed"
+
+
+def control_law(controller: str, robot: Robot) -> str:
+    """One controller's law in one line, true of the arm it controls.
+
+    Parameters
+    ----------
+    controller : {"full", "simplified", "pd_gravity"}
+        The controller.
+    robot : Robot
+        The controlled arm (the plant, whose gravity loading c the PD controller adds).
+
+    Returns
+    -------
+    str
+        :data:`CONTROLLER_DESCRIPTIONS`' line; for ``"pd_gravity"`` on an arm without gravity
+        (every component of its gravity 0), :data:`PD_WITHOUT_GRAVITY`, named as
+        :func:`gd_analyze.store.control_dataset.pd_name` names it.
+    """
+    if controller == "pd_gravity" and pd_name(robot.gravity) == "PD":
+        return PD_WITHOUT_GRAVITY
+    return CONTROLLER_DESCRIPTIONS[controller]
 
 
 #: Default undamped natural frequency of the error dynamics [rad/s].
@@ -669,13 +698,13 @@ class ControlResult:
     @property
     def descriptions(self) -> dict[str, str]:
         """dict: controller name -> its control law in one line
-        (:data:`CONTROLLER_DESCRIPTIONS`), the simplified model's
+        (:func:`control_law`: plain PD on an arm without gravity), the simplified model's
         gravity term c_s where the model drops part of c (its ``gravity_dropped`` parameters,
         or fewer ``c_terms_kept`` than ``c_terms``), else c; the computed-torque laws with the
         drives' friction tau_f where the arm has it."""
         m = self.provenance.get("model", {})
         part = bool(m.get("gravity_dropped")) or -1 < m.get("c_terms_kept", -1) != m.get("c_terms")
-        return {c: CONTROLLER_DESCRIPTIONS[c] + "_s" * (c == "simplified" and part)
+        return {c: control_law(c, self.robot) + "_s" * (c == "simplified" and part)
                 + " + tau_f" * (c != "pd_gravity" and self.robot.has_friction) for c in self.runs}
 
     @property
@@ -965,7 +994,7 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory,
         if steps > most:
             raise ValueError(
                 f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
-                f"{CONTROLLER_DESCRIPTIONS[name].split(':')[0]} loop ({name}) too "
+                f"{control_law(name, robot).split(':')[0]} loop ({name}) too "
                 f"stiff: its fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} "
                 f"integrator steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()

@@ -36,7 +36,7 @@ from ..ranking.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from ..store.control_dataset import gain_units
+from ..store.control_dataset import gain_units, pd_name
 from ..store.names import ControlVar as V
 from ..store.schema import from_attrs, open_results
 from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
@@ -75,6 +75,7 @@ if TYPE_CHECKING:
 
 __all__ = ["VERDICT_TOLERANCE", "control_verdict", "control_figures", "noise_scales",
            "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns", "CONTROLLER_LABELS",
+           "controller_labels",
            "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words",
            "control_context", "dataset_verdict", "REQUIRED_VARIABLES",
            "write_control_report"]
@@ -131,7 +132,7 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                     tau_difference: np.ndarray | None = None,
                     tolerance: tuple[float, float] = VERDICT_TOLERANCE,
                     quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None,
-                    covered: bool | None = None) -> str:
+                    covered: bool | None = None, pd: str = "PD + gravity") -> str:
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -161,6 +162,9 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
         guarantee holds at the trajectory's set points only, never at the closed loop's
         states); where not, a run within the tolerance is said to be within it in this run
         only, never "good enough"; None (an older file): not said.
+    pd : str, optional
+        The PD controller's name (:func:`controller_labels`): ``"PD"`` where the controlled
+        arm has no gravity.
 
     Returns
     -------
@@ -179,7 +183,7 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     full, simp = peaks.get("full"), peaks.get("simplified")
     if full is None or simp is None:
         return "Verdict: not available (the run lacks the full or the simplified controller)."
-    pd, quiet = peaks.get("pd_gravity"), quiet or {}
+    pd_peaks, quiet = peaks.get("pd_gravity"), quiet or {}
 
     def said(c, values):
         return NOISE if quiet.get(c) else by_type_text(values, prismatic, "q")
@@ -189,13 +193,13 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     kinds = [u != joint_motion_units(False)[0] for u, _, _ in groups["full"]]
     bounds = [max(2.0 * f, tol[kind]) for (_, f, _), kind in zip(groups["full"], kinds)]
     holds = all(s <= b for (_, s, _), b in zip(groups["simplified"], bounds))
-    beats_pd = pd is not None and all(s < p for (_, s, _), (_, p, _) in
+    beats_pd = pd_peaks is not None and all(s < p for (_, s, _), (_, p, _) in
                                       zip(groups["simplified"], groups["pd_gravity"]))
     units = [u for u, _, _ in groups["full"]]      # each joint type apart
     verdict = ("holds" if covered in (None, True) else "measured") if holds else \
         "beats_pd" if beats_pd else "fails"
     return say("control_verdict", verdict=verdict, types=_joint_types(prismatic),
-               simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd) if pd is not None else "",
+               simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd_peaks) if pd_peaks is not None else "", pd_name=pd,
                bounds=[(fmt_number(b), u, "prismatic" if kind else "revolute")
                        for b, u, kind in zip(bounds, units, kinds)],
                tols=[f"{tol[kind]:g} {u}" for u, kind in zip(units, kinds)],
@@ -219,6 +223,28 @@ CONTROLLER_STYLES = {"full": ("-", 1.6, "o"), "simplified": ((0, (4.0, 2.0)), 1.
 _VISIBLE_BAND = 0.01
 CONTROLLER_LABELS = {"full": "computed torque, full model", "simplified": "computed torque, simplified "
            "model", "pd_gravity": "PD + gravity"}
+
+
+def controller_labels(ds: StoredControl | xr.Dataset, short: bool = False) -> dict[str, str]:
+    """The controllers' names in a report, true of the run's controlled arm.
+
+    Parameters
+    ----------
+    ds : StoredControl or xarray.Dataset
+        A stored control run, or its dataset (its ``gravity``: the controlled arm's).
+    short : bool, optional
+        The names of a table's rows (``"full model"``) rather than of the figures' keys
+        (:data:`CONTROLLER_LABELS`).
+
+    Returns
+    -------
+    dict of str to str
+        Controller key -> name; the PD controller's
+        (:func:`gd_analyze.store.control_dataset.pd_name`) is ``"PD"`` where the controlled
+        arm has no gravity, so that its law adds no gravity term.
+    """
+    return {**(_SHORT if short else CONTROLLER_LABELS),
+            "pd_gravity": pd_name(StoredControl.of(ds).run.gravity)}
 _MAX_LINE_POINTS = 600
 #: Axis labels ({u}: the joint's units) without subscripts: q_d (desired), tau_s and tau_f
 #: (the simplified- and the full-model controller) have subscripts that Unicode has no
@@ -291,6 +317,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     keep = is_set | (np.arange(t.size) % markevery(t.size, _MAX_LINE_POINTS) == 0)
     every = marker_stride(s, len(values))
     handles = {}
+    labels = controller_labels(s)
     quiet = {}                          # controller -> [(joint, peak)] of noise-only curves
     linear = []
     for j, ax in enumerate(axes):
@@ -310,7 +337,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                 yj = np.where(yj > 0.0, yj, np.nan)
             ls, lw, marker = CONTROLLER_STYLES.get(name, ("-", 1.0, "o"))
             kw = {"color": _COLOURS.get(name, "#0072B2"), "linestyle": ls, "linewidth": lw,
-                  "label": CONTROLLER_LABELS.get(name, name), "zorder": 2 + order}
+                  "label": labels.get(name, name), "zorder": 2 + order}
             ax.plot(t[keep], yj[keep], **kw)
             handles.setdefault(kw["label"], Line2D(
                 [], [], marker=marker, markersize=3.5, mfc="none", markeredgewidth=0.8, **kw))
@@ -347,7 +374,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                    bbox_to_anchor=(0.5, 0.0))
     # the curves said as noise (their digits are not data), wrapped by the width drawn (at the
     # size it prints at, 8 pt)
-    quiet_said = [(CONTROLLER_LABELS.get(name, name), "every joint" if len(where) == n else
+    quiet_said = [(labels.get(name, name), "every joint" if len(where) == n else
                    joints_text([j + 1 for j, _ in where])) for name, where in quiet.items()]
     note = "" if floor is None else textwrap.fill(say(
         "control_noise_note", rule=noise_words(s, which, figure=True), quiet=quiet_said),
@@ -460,7 +487,7 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
         A stored control run, or its dataset.
     lines : int or sequence of str
         Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
-        the order they are drawn (:data:`CONTROLLER_LABELS` names them).
+        the order they are drawn (:func:`controller_labels` names them).
     drawn : sequence of str, optional
         Of those controllers, the ones drawn on some panel: only they are named (a curve
         that is integrator noise on every joint is not drawn). Default all.
@@ -478,7 +505,8 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
     k = marker_stride(ds, count)
     starts = [str(s + 1) for s in marker_starts(k, count)]
     if names is not None:
-        starts = [f"{s} ({CONTROLLER_LABELS.get(c, c)})" for s, c in zip(starts, names)
+        labels = controller_labels(ds)
+        starts = [f"{s} ({labels.get(c, c)})" for s, c in zip(starts, names)
                   if drawn is None or c in drawn]
         if not starts:
             return "no curve drawn"
@@ -625,7 +653,8 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                          s.error_peak_grid[c]) for c in names}
     rule = {k: noise_words(s, k) for k in ("q", "tau")}     # the rules, said everywhere
     quiet = {c: not peaks[c].any() for c in names}   # every joint's error is noise: not data
-    summary = "; ".join(f"{CONTROLLER_LABELS.get(c, c)}: peak |e| "
+    labels = controller_labels(s)
+    summary = "; ".join(f"{labels.get(c, c)}: peak |e| "
                         + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
                         for c in names)
     summary = summary[:1].upper() + summary[1:]
@@ -646,7 +675,7 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         str(c) == "1" and str(s.model.guarantee_kind) == "region")  # its set points only
     verdict = control_verdict(peaks, prismatic, diff,
                               tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
-                              quiet, rule["tau"], covered)
+                              quiet, rule["tau"], covered, labels["pd_gravity"])
     return {"verdict": verdict, "summary": summary, "rule": rule,
             "floors": (q_floor, tau_floor)}
 
@@ -674,6 +703,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     q_units = joint_units_of(s, "q")
     judged = dataset_verdict(s)
     rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
+    labels, short = controller_labels(s), controller_labels(s, short=True)
     files = {"robot": (st.robot, st.robot_sha256),         # the inputs, each with its SHA-256
              "trajectory": (st.trajectory_file, st.trajectory_sha256),
              "model": (st.model_file, st.model_sha256)}
@@ -682,7 +712,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
-        ["controllers", "; ".join(CONTROLLER_LABELS.get(c, d) for c, d in zip(names, desc))
+        ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, desc))
          + " (control laws below)"],
         ["desired motion", stored_text(st.interpolation).replace(
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
@@ -704,7 +734,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     gains = _gains_table(s, joints)
     # each row: its leading cells, its numbers per joint, and which are integrator noise (at
     # or below the joint's noise floor: not data)
-    error_rows = [([_SHORT.get(c, c), where, fig], v[c], is_round_off(peaks[c], q_floor, 1.0))
+    error_rows = [([short.get(c, c), where, fig], v[c], is_round_off(peaks[c], q_floor, 1.0))
                   for c in names
                   for where, peaks, rms in (
                       ("set points", s.error_peak_setpoints, s.error_rms_setpoints),
@@ -720,7 +750,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                       ("RMS, set points", s.tau_difference_rms_setpoints, at)]
         diff = [([fig], value, is_round_off(peak, tau_floor, 1.0)) for fig, value, peak in pairs]
         diff.append((["noise floor (\u2261 0 at or below)"], tau_floor, np.zeros(n, bool)))
-    applied = [([_SHORT.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
+    applied = [([short.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
                if s.tau_peak is not None and s.tau_rms is not None
                for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms))]
     tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
@@ -755,8 +785,8 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         "summary": judged["summary"], "verdict": judged["verdict"],
         "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
                      eps=f"{float(_or(s.model.tolerance, np.nan)):g}", created=created,
-                     version=__version__),
-        "setup": setup, "gains": gains, "gains_note": say("gains_note"),
+                     version=__version__, pd=labels["pd_gravity"]),
+        "setup": setup, "gains": gains, "gains_note": say("gains_note", pd=labels["pd_gravity"]),
         "errors": errors, "noise_rule": rule, "captions": captions, "tau_diff": tau_diff,
         "tau_table": tau_table, "cost": cost_table(s.costs),
         "choices": choices, "model_note": model_note, "provenance": prov,
@@ -920,7 +950,8 @@ def _plant(settings):
         + f"; {rest}" * bool(rest))
 
 
-#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``).
+#: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``;
+#: a run's own: :func:`controller_labels`).
 _SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
 
 #: The provenance rows of the control report: (item, attribute), each setting once (the gains

@@ -26,7 +26,33 @@ if TYPE_CHECKING:                       # for the type hints only
 
     import xarray as xr
 
-__all__ = ["control_dataset", "write_control_dataset", "control_size", "peak_rms"]
+__all__ = ["control_dataset", "write_control_dataset", "control_size", "peak_rms", "pd_name"]
+
+
+def pd_name(gravity: ArrayLike | None) -> str:
+    """The name of the PD controller (``pd_gravity``) of a run, true of its controlled arm.
+
+    Parameters
+    ----------
+    gravity : array_like, shape (3,), or None
+        Gravity in the controlled arm's base frame [m/s^2] (the control dataset's ``gravity``);
+        None where not stored.
+
+    Returns
+    -------
+    str
+        ``"PD + gravity"``: PD control plus the arm's gravity loading c(q); ``"PD"`` where
+        every component of gravity is 0, since c is linear in g (Fu, Gonzalez & Lee 1987,
+        Eq. (3.4-24)) and so identically 0: the law is plain PD. The controller's key,
+        ``pd_gravity``, and the gains' names stay the same.
+
+    Examples
+    --------
+    >>> pd_name([0.0, 0.0, -9.81]), pd_name([0.0, 0.0, 0.0]), pd_name(None)
+    ('PD + gravity', 'PD', 'PD + gravity')
+    """
+    return "PD" if gravity is not None and not np.any(np.asarray(gravity, float)) else \
+        "PD + gravity"
 
 
 def control_size(samples: int, n: int, controllers: int = 3) -> int:
@@ -127,6 +153,7 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
 
 
     robot, g, prov = result.robot, result.gains, result.provenance
+    pd = pd_name(robot.gravity)         # the controlled arm's: "PD" where it has no gravity
     n = robot.n
     names = result.controllers
     runs = [result.runs[c] for c in names]
@@ -170,9 +197,9 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
         V.INERTIA_SCALE: var((V.JOINT,), g.inertia_scale, U["inertia_scale"],
                               "diagonal of D at the start of the motion, scales the PD gains"),
         V.KP_PD: var((V.JOINT,), g.Kp_pd, U["Kp_pd"],
-                      "PD + gravity position gain, D_ii(q_d(0)) wn^2"),
+                      f"{pd} position gain, D_ii(q_d(0)) wn^2"),
         V.KV_PD: var((V.JOINT,), g.Kv_pd, U["Kv_pd"],
-                      "PD + gravity velocity gain, D_ii(q_d(0)) 2 zeta wn"),
+                      f"{pd} velocity gain, D_ii(q_d(0)) 2 zeta wn"),
         V.JOINT_TYPE: joint_type_var(robot),
         V.Q0_OFFSET: var((V.JOINT,), np.asarray(prov.get("q0_offset", np.zeros(n)), float),
                           U["q"], "initial position error q(0) - q_d(0)"),
@@ -248,7 +275,7 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
                                     and prov.get("model_trajectory_sha256")
                                     == prov.get("trajectory_sha256")),
         "wn": g.wn, "wn_units": "rad s-1", "zeta": g.zeta,
-        "gains": "computed torque: Kp = wn^2, Kv = 2 zeta wn per joint; PD + gravity: "
+        "gains": f"computed torque: Kp = wn^2, Kv = 2 zeta wn per joint; {pd}: "
                  "Kp_pd = diag(D(q_d(0))) wn^2, Kv_pd = diag(D(q_d(0))) 2 zeta wn",
         "control_laws": "; ".join(f"{c}: {result.descriptions[c]}" for c in names)
                         + "; v = qdd_d + Kv (qd_d - qd) + Kp (q_d - q), e = q_d - q",

@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from .codegen import Program
 
 __all__ = ["RecursiveModel", "recursive_model", "sweep_recursive_model", "PART_NAMES", "BOUND_PARTS",
-           "AGREEMENT"]
+           "AGREEMENT", "structural_zeros"]
 
 #: What each part of a base parameter's contribution is, in the order of :data:`.recursive.PARTS`.
 PART_NAMES = ("inertial", "velocity", "gravity")
@@ -71,6 +71,9 @@ class RecursiveModel:
     round_off : ndarray of bool, shape (b, 3), optional
         For a model read from a file: the pairs whose contribution was round-off on the
         trajectories the model was built on (stored as ``round_off``); None if not stored.
+    structural_zero : ndarray of bool, shape (b, 3), optional
+        For a model read from a file that does not store ``round_off``: the pairs that are
+        identically 0 for its robot (:func:`structural_zeros`); None otherwise.
 
     Notes
     -----
@@ -87,6 +90,7 @@ class RecursiveModel:
     bound_by_part: np.ndarray
     relative_peak: np.ndarray | None = None
     round_off: np.ndarray | None = None
+    structural_zero: np.ndarray | None = None
 
     def contributing(self) -> np.ndarray:
         """Which (parameter, part) pairs contribute on the trajectories the model was built on.
@@ -97,12 +101,15 @@ class RecursiveModel:
             True where the pair's peak contribution is at least
             :data:`gd_analyze.config.ROUND_OFF` of the joint's scale (a pair
             below it, e.g. the gravity part of a product of inertia, is structurally 0 and
-            neither kept nor dropped); all True when the model does not know.
+            neither kept nor dropped); where the model does not know, every pair but those
+            identically 0 for its robot (:attr:`structural_zero`).
         """
         if self.relative_peak is not None:
             return np.asarray(self.relative_peak) >= ROUND_OFF
         if self.round_off is not None:
             return ~np.asarray(self.round_off, bool)
+        if self.structural_zero is not None:
+            return ~np.asarray(self.structural_zero, bool)
         return np.ones(np.shape(self.dropped), bool)
 
     def stated_facts(self) -> dict[str, Any]:
@@ -115,7 +122,8 @@ class RecursiveModel:
             ``dropped_pairs``: list of (parameter name, part name) dropped and contributing;
             ``gravity_dropped``: names of the parameters whose contributing gravity part
             (a term of c, Eq. (3.4-24)) is dropped; ``known``: False for a model read from a
-            file that does not record which pairs contribute (every pair then counts).
+            file that does not record which pairs contribute (every pair then counts but
+            those identically 0 for its robot, :func:`structural_zeros`).
         """
         live = self.contributing()
         gone = np.asarray(self.dropped, bool) & live
@@ -281,9 +289,44 @@ class RecursiveModel:
             raise InputError(f"expected {len(BOUND_PARTS)} lists of {n} numbers", path,
                              column=f"{where}.bound_by_part")
         by_part = np.array(lists, float)
+        # an older file, which does not record which pairs act: those its robot makes 0
+        zero = None if "round_off" in masks else structural_zeros(names, robot.gravity)
         return cls(names=names, beta=base.beta, dropped=dropped, scale=arrays["scale"],
                    bound=arrays["bound"], bound_by_part=by_part,
-                   round_off=masks.get("round_off"))
+                   round_off=masks.get("round_off"), structural_zero=zero)
+
+
+def structural_zeros(names: Sequence[str], gravity: ArrayLike) -> np.ndarray:
+    """The (base parameter, part) pairs whose contribution is identically 0 for any motion of
+    an arm, from its base parameters and gravity alone.
+
+    Parameters
+    ----------
+    names : sequence of str, length b
+        The base parameters (:meth:`gd_analyze.dynamics.base_parameters.BaseParameters.names`).
+    gravity : array_like, shape (3,)
+        Gravity in the arm's base frame [m/s^2].
+
+    Returns
+    -------
+    ndarray of bool, shape (b, 3)
+        True for the gravity part of a second moment (XX .. ZZ: gravity enters the
+        Newton-Euler recursion as a linear acceleration of the base, which no inertia tensor
+        multiplies), and for every gravity part where gravity is 0 (c is linear in g, Fu,
+        Gonzalez & Lee 1987, Eq. (3.4-24)); other pairs are not decided here (False).
+
+    Examples
+    --------
+    >>> structural_zeros(["ZZ1", "MX2", "M2"], [0.0, 0.0, -9.81])[:, 2].tolist()
+    [True, False, False]
+    >>> structural_zeros(["ZZ1", "MX2", "M2"], [0.0, 0.0, 0.0])[:, 2].tolist()
+    [True, True, True]
+    """
+    out = np.zeros((len(names), len(PART_NAMES)), bool)
+    weightless = not np.any(np.asarray(gravity, float))
+    out[:, PART_NAMES.index("gravity")] = [weightless or str(name)[:2] in PARAMETER_NAMES[:6]
+                                           for name in names]
+    return out
 
 
 def recursive_model(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, tolerance: float,
