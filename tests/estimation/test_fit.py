@@ -64,3 +64,25 @@ def test_outlier_rows_are_left_out_and_the_fit_repeated():
     assert (moving[:, 0] & ~fit.used[0][:, 0]).sum() >= 5     # the five, at least
     tau_true = truth.torque(q, qd, qdd)[pre.keep]
     assert np.abs(_stacked(regressors[0]) @ fit.theta - tau_true).max() < 1e-2 * np.abs(tau_true).max()
+
+
+def test_the_least_squares_alone_give_the_true_torques_without_the_standard_parameters(
+        monkeypatch):
+    """fit_columns: the same least squares as fit_robot without the standard parameters (the
+    clip check's first fit only predicts), so that a failure there cannot stop it: with the
+    standard parameters' solvers made to fail, the noise-free PUMA 560's torque (Pinocchio) and
+    its drives are found, as fit_robot's."""
+    from gd_analyze.estimation import fit as fit_module
+
+    def failed(*args, **kwargs):
+        raise AssertionError("the standard parameters are not needed")
+    monkeypatch.setattr(fit_module, "closest_standard", failed)
+    monkeypatch.setattr(fit_module, "consistent_standard", failed)
+    robot = load_robot("puma560")
+    truth = truth_for(robot)
+    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=3)
+    est, regressors = fit_module.fit_columns(robot, [pre], ("viscous", "coulomb", "offset"))
+    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    scale = np.abs(tau_true).max()
+    assert np.abs(_stacked(regressors[0]) @ est.value - tau_true).max() < 1e-8 * scale
+    np.testing.assert_allclose(est.value[-robot.n:], truth.offset, rtol=0, atol=1e-8 * scale)

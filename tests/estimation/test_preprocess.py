@@ -13,6 +13,8 @@ from gd_analyze.estimation.preprocess import (
     CLIP_COARSE,
     CLIP_REACH,
     clipped_samples,
+    coarse_columns,
+    confirmed_clips,
     default_cutoff,
     despiked,
     extreme_samples,
@@ -289,6 +291,39 @@ def test_a_coarse_clip_is_found_against_the_model_not_an_honest_peak(levels):
     for x, honest in ((q, _adc(tau, levels)), (q, _adc(tau, levels, wide)),
                       (q_f, _adc(tau_f, levels))):
         assert not model_clipped(x, honest, tau_f if x is q_f else tau, np.zeros(2)).any()
+
+
+def test_a_flat_topped_honest_peak_of_a_coarse_torque_is_not_confirmed_a_clip_by_the_model():
+    """PUMA 560 (Pinocchio): joint 5's torque has two maxima 0.12 N m apart near its peak, the
+    dip between them within a step of an ADC over twice its range, centred, at 20 levels (9
+    used): its top level, held over both maxima, outnumbers the level below about 3 times, so
+    that clipped_samples marks it as a clip. The exact model (Pinocchio's unquantised torque)
+    does not go beyond the level by half a step: confirmed_clips drops the samples. Joint 1's
+    torque clipped at 70 % of its peak, then quantised alike (the limit 1.6 steps below the
+    peak: visible after rounding, unlike a clip within half a step of the peak, which leaves the
+    same levels as the honest torque): the samples the model goes beyond are kept. A finer
+    torque's are kept as they are."""
+    q, tau = _pinocchio_torque("puma560")
+    mid, half = 0.5 * (tau.max(axis=0) + tau.min(axis=0)), np.ptp(tau, axis=0)
+
+    def adc(x):
+        step = 2 * half / 19
+        return mid - half + np.round((x - mid + half) / step) * step
+    honest = adc(tau)
+    assert coarse_columns(honest).all()
+    marked = clipped_samples(q, honest)
+    assert marked[:, 4].mean() > 0.1                        # what the model is for
+    assert not confirmed_clips(q, honest, marked, tau).any()
+    limit = 0.7 * np.abs(tau[:, 0]).max()
+    clipped = tau.copy()
+    clipped[:, 0] = np.clip(tau[:, 0], -limit, limit)
+    coarse = adc(clipped)
+    marked = clipped_samples(q, coarse)
+    kept = confirmed_clips(q, coarse, marked, tau)
+    beyond = np.abs(tau[:, 0]) >= limit
+    assert kept[beyond, 0].mean() == marked[beyond, 0].mean() > 0.5
+    assert (kept <= marked).all()
+    assert np.array_equal(confirmed_clips(q, tau, marked, np.zeros_like(tau)), marked)   # fine
 
 
 def test_spikes_are_replaced_not_steps_slopes_or_noise():

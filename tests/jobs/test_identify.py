@@ -448,6 +448,70 @@ def test_a_coarsely_quantised_clip_of_the_puma_is_found_against_the_fitted_model
         assert excluded < plain + 0.01 and excluded < fitted, (excluded, plain, fitted)
 
 
+def test_an_honest_flat_topped_torque_over_a_wide_adc_is_not_clipped():
+    """PUMA 560 (Pinocchio, the true arm: no torque clipped), every torque quantised by an ADC
+    over twice its range, centred, at 20 levels (9 or 10 used). Joint 5's torque has two maxima
+    0.12 N m apart, the dip between them within a step: its top level outnumbers the level
+    below about 3 times, which the model-free rule took for a clip (19.5 % of its samples left
+    out); against the fitted model it is honest: no warning line, nothing left out."""
+    robot = _robot("puma560")
+    clean, _ = _record(truth_for(robot, seed=4), robot.n, 25, seed=2, derivatives=False)
+    tau = clean.tau
+    mid, half = 0.5 * (tau.max(axis=0) + tau.min(axis=0)), np.ptp(tau, axis=0)
+    step = 2 * half / 19
+    wide = mid - half + np.round((tau - mid + half) / step) * step
+    assert max(len(np.unique(c)) for c in wide.T) < 19       # few levels used
+    honest = recording_from_arrays(clean.t, clean.q, wide, source="honest")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            identify(robot, [honest], options={"consistent": False})
+        except InputError as exc:       # the clip check comes before the fit's standard step
+            assert "physically consistent" in str(exc)
+    assert not [str(w.message) for w in caught if "column tau" in str(w.message)]
+
+
+def test_a_clip_check_whose_first_fit_fails_says_so_in_one_line(monkeypatch):
+    """Two-link (Pinocchio), each torque recorded as two levels only (its sign): every sample
+    is at an extreme level, so that the fit without them, the model's clip check's first, has
+    no rows. The check is skipped with one warning line saying so and why (before the fit of
+    these signs, for which no physically consistent parameters are found). The same first fit
+    made to fail on the torques quantised to 12 levels: the line is kept among the
+    preprocessing notes, and the identification goes on."""
+    from gd_analyze.estimation.fit import FitFailure
+    from gd_analyze.jobs import identify as job
+
+    robot = _robot("two-link")
+    clean, _ = _record(truth_for(robot, seed=4), robot.n, 25, seed=2, derivatives=False)
+    start = ("the clip check of the torques of fewer than 20 levels (tau1, tau2) against the "
+             "fitted model is skipped: the fit without the samples at their extreme levels "
+             "failed (")
+
+    def skipped(tau, source):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                notes = identify(robot, [recording_from_arrays(clean.t, clean.q, tau,
+                                                               source=source)]).preprocessing
+            except InputError as exc:
+                assert "physically consistent" in str(exc)
+                notes = None
+        lines = [w for w in caught if "skipped" in str(w.message)]
+        assert len(lines) == 1 and str(lines[0].message).startswith(start), lines
+        assert issubclass(lines[0].category, InputWarning)
+        assert str(lines[0].message).endswith("; their clips are judged by the model-free rule "
+                                              "alone")
+        return str(lines[0].message), notes
+    line, _ = skipped(np.where(clean.tau > clean.tau.mean(axis=0), 1.0, -1.0), "signs")
+    assert "(0 rows enter the fit" in line, line
+
+    def failed(*args, **kwargs):
+        raise FitFailure("a failure made by the test")
+    monkeypatch.setattr(job, "fit_columns", failed, raising=False)
+    line, notes = skipped(_adc(clean.tau, 12), "coarse")
+    assert "(a failure made by the test)" in line and line in notes
+
+
 @pytest.mark.slow
 def test_the_tiago_recordings_are_not_clipped():
     """The TIAGo recording shipped in data/tiago (its torso's effort flat along the lift's

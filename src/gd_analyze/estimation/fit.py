@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
     from .preprocess import Preprocessed
 
-__all__ = ["OUTLIER_SIGMAS", "Fit", "FitFailure", "fit_robot"]
+__all__ = ["OUTLIER_SIGMAS", "Fit", "FitFailure", "fit_robot", "fit_columns"]
 
 #: A training row whose residual exceeds this many noise standard deviations is an outlier.
 OUTLIER_SIGMAS = 5.0
@@ -204,42 +204,44 @@ class RegressorRows:
             self._kept = kept
 
 
-def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequence[str],
-              consistent: bool = False) -> tuple[Fit, list[RegressorRows]]:
-    """Identify a robot's base parameters and drive terms from its training recordings.
+def fit_columns(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequence[str]
+                ) -> tuple[Estimate, list[RegressorRows]]:
+    """The least-squares fit of :func:`fit_robot` alone, without the standard parameters.
+
+    For a fit that only predicts the recordings' torque (the clip check against a fitted
+    model): the same estimate as :func:`fit_robot`'s ``estimate``, without the standard
+    parameters' least-norm or consistent solution, which such a fit needs not and which may
+    fail (``SolverFailure``) where the least squares do not.
 
     Parameters
     ----------
     prior : Robot
         The robot file's arm, with n joints.
     train : sequence of Preprocessed
-        The training recordings, filtered and differentiated (:func:`.preprocess.preprocess`).
+        The training recordings (:func:`.preprocess.preprocess`).
     drive_columns : sequence of str
         The drive columns, among ``armature``, ``viscous``, ``coulomb``, ``offset``.
-    consistent : bool, optional
-        Physically consistent standard parameters (every pseudo-inertia positive
-        semidefinite, armature and friction >= 0).
 
     Returns
     -------
-    fit : Fit
+    estimate : Estimate
+        The weighted least-squares fit, the outlier rows left out (values of the p columns,
+        the residual standard deviation per joint [N m or N]).
     regressors : list of RegressorRows
-        Each training recording's filtered regressor at its kept samples, block by block,
-        for its prediction.
+        Each training recording's filtered regressor at its kept samples.
 
     Raises
     ------
     FitFailure
         If the least-squares fit cannot be made (e.g. no rows).
-    gd_analyze.estimation.consistent.SolverFailure
-        If the consistent parameters are needed and neither solver finds them.
-
-    Notes
-    -----
-    Source: weighted least squares on the base-parameter regressor (Gautier & Khalil 1990;
-    Swevers, Verdonck & De Schutter 2007), physical consistency by the pseudo-inertia
-    (Wensing, Kim & Slotine 2018).
     """
+    *_, rows, est, _ = _least_squares(prior, train, drive_columns)
+    return est, rows
+
+
+def _least_squares(prior, train, drive_columns):
+    """The least squares of :func:`fit_robot`: (base, kinds, column names, column kinds,
+    columns, prior values, rest thresholds, notes, regressor rows, estimate, rows used)."""
     n = prior.n
     base = base_parameters(prior)
     kinds = tuple(k for k in DRIVE_KINDS if k in drive_columns)     # the columns' order
@@ -279,6 +281,49 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                          f"joint's noise standard deviation) left out and the fit repeated")
     except ValueError as exc:
         raise FitFailure(str(exc)) from None
+    return (base, kinds, col_names, col_kinds, columns, theta0, threshold, notes, rows, est,
+            fit_rows)
+
+
+def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequence[str],
+              consistent: bool = False) -> tuple[Fit, list[RegressorRows]]:
+    """Identify a robot's base parameters and drive terms from its training recordings.
+
+    Parameters
+    ----------
+    prior : Robot
+        The robot file's arm, with n joints.
+    train : sequence of Preprocessed
+        The training recordings, filtered and differentiated (:func:`.preprocess.preprocess`).
+    drive_columns : sequence of str
+        The drive columns, among ``armature``, ``viscous``, ``coulomb``, ``offset``.
+    consistent : bool, optional
+        Physically consistent standard parameters (every pseudo-inertia positive
+        semidefinite, armature and friction >= 0).
+
+    Returns
+    -------
+    fit : Fit
+    regressors : list of RegressorRows
+        Each training recording's filtered regressor at its kept samples, block by block,
+        for its prediction.
+
+    Raises
+    ------
+    FitFailure
+        If the least-squares fit cannot be made (e.g. no rows).
+    gd_analyze.estimation.consistent.SolverFailure
+        If the consistent parameters are needed and neither solver finds them.
+
+    Notes
+    -----
+    Source: weighted least squares on the base-parameter regressor (Gautier & Khalil 1990;
+    Swevers, Verdonck & De Schutter 2007), physical consistency by the pseudo-inertia
+    (Wensing, Kim & Slotine 2018).
+    """
+    n = prior.n
+    base, kinds, col_names, col_kinds, columns, theta0, threshold, notes, rows, est, fit_rows = \
+        _least_squares(prior, train, drive_columns)
     phi0, b, theta = base.standard, base.rank, est.value
     drive_kind = col_kinds[b:]
     nonneg = np.array([k != "offset" for k in drive_kind], bool)

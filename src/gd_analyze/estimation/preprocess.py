@@ -31,7 +31,8 @@ alike on both sides of tau = Y theta.
 
 The default cutoff is chosen from the data (:func:`default_cutoff`). The rows of a clipped
 torque (:func:`clipped_samples`; on a coarsely quantised torque, :func:`model_clipped`, against a
-fitted model) are marked on the output's clock, to be left out of the fit.
+fitted model, which also confirms or rejects the runs :func:`clipped_samples` finds there,
+:func:`confirmed_clips`) are marked on the output's clock, to be left out of the fit.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge
            "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
            "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE", "SPIKE_SIGMAS",
            "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
-           "FILTER_BLOCK", "extreme_samples", "model_clipped"]
+           "FILTER_BLOCK", "extreme_samples", "model_clipped", "coarse_columns", "confirmed_clips"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -660,8 +661,97 @@ def extreme_samples(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
     """
     steps = _resolution(tau)[0]
     half = 0.5 * np.nan_to_num(steps.min(axis=0, initial=np.inf), posinf=0.0)
-    coarse = np.isfinite(steps).sum(axis=0) + 1 < CLIP_COARSE
-    return ((tau > tau.max(axis=0) - half) | (tau < tau.min(axis=0) + half)) & coarse
+    return (((tau > tau.max(axis=0) - half) | (tau < tau.min(axis=0) + half))
+            & coarse_columns(tau))
+
+
+def coarse_columns(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+    """The torques quantised to fewer than :data:`CLIP_COARSE` values, which a fitted model
+    judges for clipping (:func:`model_clipped`, :func:`confirmed_clips`).
+
+    Parameters
+    ----------
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]).
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+        True where a column takes fewer than CLIP_COARSE distinct values (steps below 1e-9 of
+        its range not counted as steps).
+
+    Examples
+    --------
+    >>> coarse_columns(np.column_stack([np.arange(30) % 3, np.arange(30)])).tolist()
+    [True, False]
+    """
+    return np.asarray(np.isfinite(_resolution(np.asarray(tau, float))[0]).sum(axis=0) + 1
+                      < CLIP_COARSE, bool)
+
+
+def confirmed_clips(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
+                    clipped: npt.NDArray[np.bool_],
+                    predicted: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+    """:func:`clipped_samples`' samples on a coarsely quantised torque, kept only at an extreme
+    which a fitted model goes beyond.
+
+    On a torque of fewer than :data:`CLIP_COARSE` levels, a flat-topped honest peak (two
+    maxima within a step of each other, the dip between them rounded to the same level) holds
+    its extreme level as long, against the level below, as a clip does (analysis/clip_levels.py:
+    the PUMA 560's joint 5 over an ADC twice its range, 20 % of its samples), so that
+    :func:`clipped_samples` cannot tell them apart; the model can: an honest peak rounds to within
+    half a step of its level, and the model predicts it so. Per column of fewer than
+    CLIP_COARSE levels and per extreme (the clipped samples above, then below, the column's
+    mean), with v the median of the clipped samples there and q_0 the quantum: the extreme's
+    clipped samples are kept where the predicted torque lies beyond v by more than q_0 / 2 at
+    :data:`CLIP_RUN` of them in a row during which the joint's position changes (a limit holds
+    every run at its level, also those whose own excess the rounding hides); otherwise none is.
+    A finer torque's clipped samples are kept as they are.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N, n)
+        Positions [rad or m], sorted by time.
+    tau : ndarray, shape (N, n)
+        Recorded torques [N m or N] (or currents [A]).
+    clipped : ndarray of bool, shape (N, n)
+        :func:`clipped_samples` of the recording.
+    predicted : ndarray, shape (N, n)
+        A fitted model's torque at the same samples [N m or N], from a fit without the
+        samples at the extreme levels; NaN where not predicted (never beyond).
+
+    Returns
+    -------
+    ndarray of bool, shape (N, n)
+        The clipped samples kept.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 4, 400)
+    >>> honest = (np.round(5 * np.sin(3 * t)) / 5)[:, None]
+    >>> clipped = np.abs(honest) == 1.0        # the top and bottom levels, taken for a clip
+    >>> confirmed_clips(t[:, None], honest, clipped, np.sin(3 * t)[:, None]).any()
+    np.False_
+    >>> kept = confirmed_clips(t[:, None], honest, clipped, 1.3 * np.sin(3 * t)[:, None])
+    >>> bool(np.array_equal(kept, clipped))    # a model beyond the levels: a clip
+    True
+    """
+    out = np.array(clipped, bool)
+    tau, predicted = np.asarray(tau, float), np.asarray(predicted, float)
+    half = 0.5 * np.nan_to_num(_resolution(tau)[0].min(axis=0, initial=np.inf), posinf=0.0)
+    dq = np.diff(q, axis=0, prepend=q[:1])
+    for j in np.flatnonzero(coarse_columns(tau)):
+        top = tau[:, j] > tau[:, j].mean()
+        for side, sign in ((top, 1.0), (~top, -1.0)):
+            at = out[:, j] & side
+            if not at.any():
+                continue
+            v = np.median(sign * tau[at, j])
+            with np.errstate(invalid="ignore"):
+                beyond = at & (sign * predicted[:, j] > v + half[j])
+            out[side, j] &= any(b - a >= CLIP_RUN and dq[a + 1:b, j].any()
+                                for a, b in _runs(beyond))
+    return out
 
 
 def model_clipped(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],

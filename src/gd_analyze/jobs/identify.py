@@ -28,7 +28,7 @@ from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError, InputWarning, check_flags, expect, is_number
 from ..estimation import preprocess as prep
 from ..estimation.consistent import SolverFailure
-from ..estimation.fit import FitFailure, RegressorRows, fit_robot
+from ..estimation.fit import FitFailure, RegressorRows, fit_columns, fit_robot
 from ..estimation.regressor import DRIVE_KINDS
 from ..model.drives import friction_torque
 from ..model.robot import Robot
@@ -181,28 +181,36 @@ def _recording(item, n, options):
     return rec
 
 
-def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None):
+def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, predicted=None):
     """A recording preprocessed, its clipped samples (and ``extra``'s) left out of the fit; one
-    warning line per joint clipped (found against the fitted model where ``extra`` is given;
-    none where ``notes`` is None)."""
+    warning line per joint clipped, model-free and where ``extra`` (found against the fitted
+    model) adds to it (none where ``notes`` is None). With ``predicted`` (the fitted model's
+    torque on the recording's clock), a coarsely quantised torque keeps the model-free rule's
+    samples only at an extreme the model goes beyond
+    (:func:`gd_analyze.estimation.preprocess.confirmed_clips`)."""
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     clipped = prep.clipped_samples(rec.q, rec.tau)
-    new = clipped if extra is None else extra & ~clipped
-    for j in np.flatnonzero(new.any(axis=0)) if notes is not None else ():
-        x, mid = rec.tau[new[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
-        at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
-        notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
-                     f"{'current' if options.current else 'torque'} is clipped at {at} "
-                     f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at its "
-                     f"extreme{'' if extra is None else ' where the fitted model goes beyond'}"
-                     f", a drive's limit or a sensor's range?) on "
-                     f"{new[:, j].mean():.1%} of the samples: "
-                     + ("left out of the fit" if train else "they count in its errors"))
-        warnings.warn(notes[-1], InputWarning, stacklevel=3)
+    if predicted is not None:
+        clipped = prep.confirmed_clips(rec.q, tau, clipped, predicted)
+    found = [(clipped, "")] + ([] if extra is None else
+                               [(extra & ~clipped, " where the fitted model goes beyond")])
+    for new, where in found if notes is not None else ():
+        for j in np.flatnonzero(new.any(axis=0)):
+            x, mid = rec.tau[new[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
+            at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
+            notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
+                         f"{'current' if options.current else 'torque'} is clipped at {at} "
+                         f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at "
+                         f"its extreme{where}, a drive's limit or a sensor's range?) on "
+                         f"{new[:, j].mean():.1%} of the samples: "
+                         + ("left out of the fit" if train else "they count in its errors"))
+            warnings.warn(notes[-1], InputWarning, stacklevel=3)
+    if extra is not None:
+        clipped = clipped | extra
     try:
         return prep.preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
                                decimate=int(options.decimate), label=label, prismatic=prismatic,
-                               clipped=clipped if extra is None else clipped | extra)
+                               clipped=clipped)
     except ValueError as exc:
         if options.cutoff == "auto" and cutoff is not None and not train:   # chosen elsewhere
             raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
@@ -283,11 +291,10 @@ def identify(robot: Robot | str | Path,
         cutoff = max(prep.default_cutoff(r.t, r.q, prior.prismatic) for r in train)
         notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
                      f"bandwidth holding 99% of the positions' power), used for every recording")
-    pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes)
+    judged = list(_model_clipped(prior, train, names, cutoff, options, notes))   # or none
+    pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes,
+                      *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
-    for k, found in enumerate(_model_clipped(prior, train, names, cutoff, options)):
-        pres[k] = _prepared(train[k], cutoff, options, names[k], prior.prismatic, True, notes,
-                            extra=found)      # left out, and the fit below repeated without them
     try:
         fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
                                     options.consistent)
@@ -340,25 +347,33 @@ def identify(robot: Robot | str | Path,
 
 
 
-def _model_clipped(prior, train, names, cutoff, options):
+def _model_clipped(prior, train, names, cutoff, options, notes):
     """Yields, per training recording, the samples clipped against a model fitted without the
     samples at each torque's extreme levels (:func:`gd_analyze.estimation.preprocess.model_clipped`),
-    its prediction interpolated onto the recording's clock; nothing where that fit fails or no
-    torque holds its extreme levels over
-    :data:`~gd_analyze.estimation.preprocess.CLIP_RUN` samples."""
+    and that model's torque interpolated onto the recording's clock; nothing where no
+    torque holds its extreme levels over :data:`~gd_analyze.estimation.preprocess.CLIP_RUN`
+    samples, nor where that fit fails (one warning line in ``notes``: the model-free rule then
+    judges alone)."""
     if all(prep.extreme_samples(r.tau).sum(axis=0).max() < prep.CLIP_RUN for r in train):
         return      # no torque at its extremes for a run's samples (unquantised): nothing to judge
     firsts = [_prepared(r, cutoff, options, name, prior.prismatic, True, None,
                         extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)]
     try:
-        fit, rows = fit_robot(prior, firsts, options.drives)
-    except (FitFailure, SolverFailure):
+        est, rows = fit_columns(prior, firsts, options.drives)
+    except FitFailure as exc:
+        coarse = sorted({f"tau{j + 1}" for r in train
+                         for j in np.flatnonzero(prep.coarse_columns(r.tau))})
+        notes.append(f"the clip check of the torques of fewer than {prep.CLIP_COARSE} levels "
+                     f"({', '.join(coarse)}) against the fitted model is skipped: the fit without "
+                     f"the samples at their extreme levels failed ({exc}); their clips are "
+                     f"judged by the model-free rule alone")
+        warnings.warn(notes[-1], InputWarning, stacklevel=3)
         return
     for r, p, src in zip(train, firsts, rows):
-        predicted = [np.interp(r.t, p.t[p.keep], c, left=np.nan, right=np.nan)
-                     for c in src.times(fit.estimate.value[:, None])[..., 0].T]
+        predicted = np.column_stack([np.interp(r.t, p.t[p.keep], c, left=np.nan, right=np.nan)
+                                     for c in src.times(est.value[:, None])[..., 0].T])
         tau = r.tau * np.asarray(options.drive_gains) if options.current else r.tau
-        yield prep.model_clipped(r.q, tau, np.column_stack(predicted), fit.estimate.noise_std)
+        yield prep.model_clipped(r.q, tau, predicted, est.noise_std), predicted
 
 
 def _simplified_model(identified, pres, n_train, options):
