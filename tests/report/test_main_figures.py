@@ -171,3 +171,136 @@ def test_a_part_of_fig_2_fits_under_its_heading_and_lead(n, paper, tmp_path):
     write_pdf(o, {"D": (svg, size)}, tmp_path / "doc.pdf", paper)
     first = " ".join(text(tmp_path / "doc.pdf").split("\f")[0].split())
     assert "One panel per element" in first and "Figure 1. Elements of D" in first, size
+
+
+def _touching_other_panels(fig, gap_pt):
+    """Texts of a drawn figure closer than ``gap_pt`` [pt] to the frame of a panel they do
+    not belong to: (text, panel index, gap [pt]); measured with the renderer's extents."""
+    from figure_checks import texts
+
+    renderer = fig.canvas.get_renderer()
+    pt = fig.dpi / 72.0
+    frames = [(k, ax, ax.get_window_extent(renderer)) for k, ax in enumerate(fig.axes)
+              if ax.get_visible()]
+    found = []
+    for owner, t in texts(fig):
+        a = t.get_window_extent(renderer)
+        for k, ax, b in frames:
+            if ax is owner:
+                continue
+            dx = max(b.x0 - a.x1, a.x0 - b.x1, 0.0)
+            dy = max(b.y0 - a.y1, a.y0 - b.y1, 0.0)
+            if max(dx, dy) < gap_pt * pt:
+                found.append((t.get_text(), k, round(max(dx, dy) / pt, 2)))
+    return found
+
+
+@pytest.mark.parametrize("width", ["page", "column"])
+@pytest.mark.parametrize("n, prismatic", [(2, ()), (7, ()), (10, ()), (10, (2, 5)), (15, ())])
+def test_joint_motion_labels_stand_clear_of_the_next_panel(n, prismatic, width):
+    """Fig. 1 drawn as the report draws it (its text raised to the printed minimum): every
+    text at least 1 pt from the frame of every panel it does not belong to. A 10-joint arm's
+    accelerations of about 3,400 deg/s² ("−2000" tick labels, Unitree G1's right arm) set
+    the q̈ panel's label against the q̇ panel's frame."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from gd_analyze.report.drawing import figure_svg
+    from gd_analyze.report.main_figures import COLUMN_WIDTH, PAGE_WIDTH, RC, PlotData, fig_joints
+
+    t = np.linspace(0.0, 0.5, 31)
+    k = np.arange(1, n + 1)
+    w = 2 * np.pi / 0.5
+    q = 1.5 * np.sin(w * t[:, None] / k + k)            # [rad]: about +-86 deg
+    data = PlotData(x=t, enveloped=False, N=t.size,
+                    series={"q": q, "qd": 0.4 * w * np.cos(w * t[:, None] + k),
+                            "qdd": -0.4 * w**2 * np.sin(w * t[:, None] + k)})
+    kinds = np.isin(np.arange(n), prismatic)
+    with matplotlib.rc_context(RC):
+        fig = fig_joints(data, kinds, PAGE_WIDTH if width == "page" else COLUMN_WIDTH)
+        figure_svg(fig)
+        FigureCanvasAgg(fig).draw()
+    peak = float(np.degrees(np.abs(data.series["qdd"]).max()))
+    assert peak > 3000.0
+    bad = _touching_other_panels(fig, 1.0)
+    assert not bad, bad
+
+
+@pytest.mark.parametrize("n, paper, filler", [(10, "a4", 7), (10, "letter", 5), (15, "a4", 9)])
+def test_the_first_part_of_fig_2_fills_the_foot_of_its_page(n, paper, filler, tmp_path):
+    """A D figure in parts whose first part does not fit under the text citing it: drawn
+    again as the room reported by Typst and part_rows say, that part stands on the page of
+    its lead, filling its foot to within a row, and every later part's page but the last is
+    at least three quarters full (Unitree G1's right arm: the page of Sec. 2's heading and
+    lead stood 40 % empty, the whole first part moved on)."""
+    import matplotlib
+    from pdf_checks import words
+
+    from gd_analyze.ranking.ranking import element_label
+    from gd_analyze.report.drawing import figure_svg
+    from gd_analyze.report.main_figures import (
+        RC,
+        PlotData,
+        element_parts,
+        element_row,
+        fig_D,
+        part_rows,
+    )
+    from gd_analyze.report.sections import Outline
+    from gd_analyze.report.typeset import (
+        MARGINS,
+        body_height,
+        figure_rooms,
+        printed_width,
+        write_pdf,
+    )
+
+    rng = np.random.default_rng(n)
+    D = rng.standard_normal((21, n, n))
+    data = PlotData(x=np.linspace(0.0, 2.0, 21), enveloped=False, N=21,
+                    series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D})
+    labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    classes = {lab: "both" for lab in labels}
+
+    def drawn(first=None, rows=None):
+        out = {}
+        with matplotlib.rc_context(RC):
+            for k in range(len(element_parts(labels, first_rows=first, rows=rows))):
+                fig = fig_D(data, classes, {}, 0.9, 0.01, part=k, first_rows=first, rows=rows)
+                out["D" if k == 0 else f"D_{k + 1}"] = (figure_svg(fig),
+                                                        tuple(fig.get_size_inches()))
+        return out
+
+    def outline(figures):
+        o = Outline("Report", figures=set(figures))
+        o.section("1", "Robot")
+        for k in range(filler):
+            o.paragraph(" ".join(["word"] * 42) + f" filler{k}.")
+        o.section("2", "Acceleration-related elements of D")
+        o.paragraph("One panel per element of the inertia matrix, in reading order. " * 6)
+        for key in figures:
+            o.figure(key, "Elements of D against time, split into their parts. " * 4)
+        o.section("3", "What follows", flush=True)
+        o.paragraph("The text after the figure.")
+        return o
+
+    first = drawn()
+    assert len(first) > 1
+    room, need = figure_rooms(outline(first), first, paper)["D"]
+    size = first["D"][1]
+    scale = printed_width(size, paper) / size[0]
+    rows = part_rows(len(labels), room, need, scale, body_height(paper))
+    assert rows is not None, (room, need)
+    parts = drawn(*rows)
+    path = tmp_path / "doc.pdf"
+    write_pdf(outline(parts), parts, path, paper)
+    pages = words(path)
+    lead = next(k for k, (_, _, ws) in enumerate(pages) if any(w[0] == "One" for w in ws))
+    row = element_row(len(labels)) * scale * 72                        # [pt]
+    body = 72 * body_height(paper)
+    for k, (_, height, ws) in enumerate(pages[lead:-1], lead):
+        foot = height - 72 * MARGINS[2]
+        lowest = max(w[4] for w in ws if w[4] < foot)
+        assert any(w[0] == "Figure" for w in ws), f"page {k + 1} holds no part"
+        # the lead's page filled to within a row, each later one to within a quarter
+        assert foot - lowest < (row if k == lead else body / 4), (k + 1, foot - lowest, row)

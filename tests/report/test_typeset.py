@@ -516,3 +516,62 @@ def test_a_percentage_is_never_split_from_its_sign(tmp_path):
     lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
     assert sum(ln.count("%") for ln in lines) == 12 * 12                 # every sign printed
     assert not any(ln.startswith("%") for ln in lines), [ln for ln in lines if ln[:1] == "%"]
+
+
+@pytest.mark.parametrize("paper", ["a4", "letter"])
+def test_figure_rooms_name_a_figure_moved_on_with_the_room_it_lacked(tmp_path, paper):
+    """figure_rooms names the figure that goes to the next page's top, with the room under its
+    lead and its height there: the room is what the words of the lead's page leave above
+    the footer (pdftotext's word boxes), the height the figure's printed size and more (its
+    caption); a figure that fits under its lead is not named."""
+    from gd_analyze.report.typeset import body_height, figure_rooms, printed_width
+
+    o = Outline("Report", figures={"a", "b"})
+    o.section("1", "Filler")
+    o.paragraph("Lead of the short figure.")
+    o.figure("b", "the short figure")
+    for k in range(5):
+        o.paragraph(" ".join(["word"] * 42) + f" filler{k}.")
+    o.paragraph("Lead paragraph: what Figure 2 shows.")
+    o.figure("a", "the tall figure")
+    figures = {"a": (_svg(6, 7), (6, 7)), "b": (_svg(6, 1), (6, 1))}
+    rooms = figure_rooms(o, figures, paper)
+    assert set(rooms) == {"a"}
+    room, need = rooms["a"]
+    assert need > room > 0.0
+    assert need > 7 * printed_width((6, 7), paper) / 6
+    path = tmp_path / "doc.pdf"
+    write_pdf(o, figures, path, paper)
+    _, height, ws = words(path)[0]
+    lead = max(w[4] for w in ws if w[0] == "what")             # the lead's last line [pt]
+    foot = height - 72 * MARGINS[2]
+    assert abs((foot - lead) / 72 - room) < 0.3, ((foot - lead) / 72, room)
+    assert room < body_height(paper)
+
+
+def test_figure_rooms_give_a_waiting_figure_the_room_under_the_one_it_follows(tmp_path):
+    """A figure that waits for an earlier one moved on (the figures keep their order) is named
+    with the room that one leaves on the page it heads: a figure just short of that room is
+    set on that page, under it; one just over it goes to the next."""
+    from gd_analyze.report.typeset import figure_rooms, printed_width
+
+    def outline():
+        o = Outline("Report", figures={"a", "b"})
+        o.section("1", "Filler")
+        for k in range(8):
+            o.paragraph(" ".join(["word"] * 42) + f" filler{k}.")
+        o.paragraph("Lead of figure a.")
+        o.figure("a", "the first figure")
+        o.paragraph("Lead of figure b.")
+        o.figure("b", "the second figure")
+        return o
+
+    figures = {"a": (_svg(6, 5), (6, 5)), "b": (_svg(6, 1), (6, 1))}
+    rooms = figure_rooms(outline(), figures)
+    room, need = rooms["b"]
+    scale = printed_width((6, 1), "a4") / 6
+    caption = need - 1.0 * scale                            # b's caption and gap [in]
+    for spare, same in ((0.15, True), (-0.4, False)):
+        h = (room - caption - spare) / scale
+        path, _ = _write(tmp_path, outline(), {**figures, "b": (_svg(6, h), (6, h))})
+        assert (_page_of(path, "the second figure") == _page_of(path, "the first figure")) is same

@@ -25,7 +25,8 @@ if TYPE_CHECKING:
 __all__ = ["BASE_RC", "SUPTITLE_RC", "grid_shape", "joint_style",
            "JOINT_STYLES", "MAX_MARKERS", "MIN_MARKERS", "markevery", "panel_markevery",
            "MARK_EVERY_POINT", "element_markevery",
-           "gridspec", "joint_axes", "joint_key", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent"]
+           "gridspec", "joint_axes", "joint_key", "joint_lines", "new_figure", "grid_boxes", "raise_small_text", "text_extent",
+           "COLUMN_PAD", "columns_apart"]
 
 #: matplotlib settings every report uses; each adds its own to them.
 BASE_RC = {
@@ -381,6 +382,65 @@ def grid_boxes(fig: Figure, n: int, cols: int, at: tuple[float, float],
     cells = [divmod(k, cols) for k in range(n)]          # (row, column) of each panel
     return [((x0 + c * (w + gx)) / W, 1 - (y0 + r * (h + gy) + h) / H, w / W, h / H)
             for r, c in cells]
+
+
+#: Least room between a panel's frame and the y-axis labels of the panel to its right [in]
+#: (:func:`columns_apart`): 4 pt.
+COLUMN_PAD = 4 / 72
+
+
+def columns_apart(fig: Figure, columns: Sequence[Sequence[Axes]], left: float,
+                  right: float, pad: float = COLUMN_PAD) -> None:
+    """Lay out columns of panels when the figure is drawn, so that each column's y-axis
+    labels (tick labels and axis label, measured at the size they are drawn at) stand at
+    least ``pad`` from the frame of the panel to their left and within the figure.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, given a layout engine that runs before each drawing (after
+        :func:`raise_small_text` has set the text at its printed size).
+    columns : sequence of sequences of matplotlib.axes.Axes
+        The panels of each column, left to right; the columns share one width.
+    left, right : float
+        The least margin left of the first column's frames, and the margin right of the last
+        column's frames [in].
+    pad : float, optional
+        Least room between a frame and the labels to its right [in], and between the first
+        column's labels and the figure's left edge.
+
+    Notes
+    -----
+    Only the panels' x positions and widths change: the rows stay where they were put.
+    """
+    from matplotlib.layout_engine import LayoutEngine
+
+    class _Apart(LayoutEngine):
+        _adjust_compatible = False
+        _colorbar_gridspec = False
+
+        def execute(self, fig: Figure) -> None:
+            renderer = fig._get_renderer()              # type: ignore[attr-defined]
+            dpi, W = fig.dpi, float(fig.get_size_inches()[0])
+            need = []                   # room each column's y labels take left of its frames
+            for column in columns:
+                room = 0.0
+                for ax in column:
+                    frame = ax.get_window_extent(renderer)
+                    labels = ax.yaxis.get_tightbbox(renderer)
+                    if labels is not None:
+                        room = max(room, (frame.x0 - labels.x0) / dpi)
+                need.append(room)
+            x0 = max(left, need[0] + pad)
+            gaps = [n + pad for n in need[1:]]
+            w = (W - x0 - right - sum(gaps)) / len(columns)
+            for c, column in enumerate(columns):
+                x = x0 + c * w + sum(gaps[:c])
+                for ax in column:
+                    box = ax.get_position()
+                    ax.set_position((x / W, box.y0, w / W, box.height))
+
+    fig.set_layout_engine(_Apart())
 
 
 def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom: float,

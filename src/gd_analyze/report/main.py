@@ -52,6 +52,7 @@ from .main_figures import (
     fig_h,
     fig_joints,
     fig_torque,
+    part_rows,
     payload_figure,
     plot_data,
 )
@@ -60,7 +61,7 @@ from .markup import code, element, sub
 from .numbers import decade_formatter, decade_label, scaled_formatter
 from .sections import Outline
 from .simplified_section import budget_makers, error_figure
-from .typeset import check_paper
+from .typeset import body_height, check_paper, figure_rooms, printed_width
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -145,7 +146,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.section("2", "Acceleration-related elements of D (analogue of Fig. 3.10)", "D")
     o.paragraph(ctx["D_text"], "note")
     o.figure("D", caps["D"])
-    for part in range(2, 6):            # the panels that did not fit on one page
+    for part in range(2, _MOST_PARTS + 1):      # the panels that did not fit on one page
         o.figure(f"D_{part}", f"{caps['D']} (Part {part}.)")
     o.section("3", "Coriolis and centrifugal elements of h (analogue of Fig. 3.11)", "h")
     o.figure("h", caps["h"])
@@ -245,9 +246,13 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 #: Further parts of the D and h figures when their panels fill more than a page
 #: (:func:`gd_analyze.report.main_figures.element_parts`): ``D_2`` is
 #: ``fig_3_10_D_part2``, ...
-FIGURE_PARTS = tuple(f"{k}_{p}" for k in ("D", "h") for p in range(2, 6))
+#: ``fig_3_10_D_part2``, ...: up to :data:`_MOST_PARTS` parts of D (a 15-joint arm's 120
+#: panels, a first part of two rows under the text citing it: seven), five of h.
+_MOST_PARTS = 12
+_D_PARTS = tuple(f"D_{p}" for p in range(2, _MOST_PARTS + 1))
+FIGURE_PARTS = _D_PARTS + tuple(f"h_{p}" for p in range(2, 6))
 FIGURE_FILES.update({k: f"{FIGURE_FILES[k[0]]}_part{k[2:]}" for k in FIGURE_PARTS})
-_FIGURE_ORDER = ("joints", "D", *FIGURE_PARTS[:4], "h", *FIGURE_PARTS[4:], "contributions",
+_FIGURE_ORDER = ("joints", "D", *_D_PARTS, "h", *FIGURE_PARTS[len(_D_PARTS):], "contributions",
                  "torque", "budget", "cost_ladder", "payload", "formulations")
 #: Figures also made 3.5 in wide for a one-column layout when asked for
 #: (``--column-figures``), as ``<key>_column``, written to ``figures/<name>_column.pdf`` and
@@ -303,8 +308,9 @@ def make_figures(ds: Results | xr.Dataset, data: PlotData | None = None,
 
 
 def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
-                  keys: Collection[str] | None = None,
-                  column: bool = False) -> dict[str, Callable[[], Figure]]:
+                  keys: Collection[str] | None = None, column: bool = False,
+                  first_rows: int | None = None,
+                  rows: Sequence[int] | None = None) -> dict[str, Callable[[], Figure]]:
     """The report's figures as makers, in file order: each figure made when it is called.
 
     A caller that draws each figure as soon as it is made (:func:`_write`) holds one figure
@@ -314,6 +320,10 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     ----------
     ds, data, keys, column
         As for :func:`make_figures`.
+    first_rows, rows : int, optional
+        Rows of panels of the first part of the D figure, when its panels go in parts (the
+        rows that fit under the text citing it), and of each later part (those a page holds):
+        :func:`gd_analyze.report.main_figures.element_parts`.
 
     Returns
     -------
@@ -343,7 +353,8 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
     wanted = set(order if keys is None else keys)
     arm = results.robot_record.armature
     prismatic = prismatic_joints(results)
-    D = functools.partial(fig_D, data, dom, zero, s, e, prismatic, armature=arm)
+    D = functools.partial(fig_D, data, dom, zero, s, e, prismatic, armature=arm,
+                          first_rows=first_rows, rows=rows)
     page: dict[str, Callable[..., Figure]] = {
         "joints": functools.partial(fig_joints, data, prismatic), "D": D,
         "h": functools.partial(fig_h, data, dom, zero, prismatic),
@@ -352,10 +363,12 @@ def figure_makers(ds: Results | xr.Dataset, data: PlotData | None = None,
         page["payload"] = functools.partial(payload_figure, results.payload)
     if results.formulations is not None:
         page["formulations"] = functools.partial(_fig_formulations, results.formulations)
-    makers = {**page, **{f"{k}_column": functools.partial(make, width=COLUMN_WIDTH)
+    makers = {**page, **{f"{k}_column": functools.partial(make, width=COLUMN_WIDTH,
+                                                          **({"first_rows": None} if k == "D"
+                                                             else {}))
                          for k, make in page.items()}}
     d_labels = [p[0] for p in d_panels(data, dom, zero, prismatic, arm)[0]]
-    for k in range(1, len(element_parts(d_labels))):
+    for k in range(1, len(element_parts(d_labels, first_rows=first_rows, rows=rows))):
         makers[f"D_{k + 1}"] = functools.partial(D, part=k)
     makers.update(budget_makers(results, data))
     return {k: functools.partial(_made, makers[k]) for k in order
@@ -498,6 +511,8 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     data = plot_data(ds, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
+    if "pdf" in formats and "D_2" in drawn:
+        drawn = _fit_first_part(results, data, ctx, drawn, paper)
     return write_report_files(
         outdir, ctx, drawn, FIGURE_FILES, main_outline, "report.html.j2",
         "Translational and rotational dominance of the generalized d'Alembert dynamics (Fu, "
@@ -505,3 +520,32 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
         f"{ctx['robot_name']}, {ctx['N']:,} set points",
         env_globals={"class_colours": _CLASS_COLOURS}, created=ctx["created"],
         formats=formats, paper=paper, latex=latex, shown=_FIGURE_ORDER)
+
+
+#: Height of Sec. 3's heading and of the caption of its figure [in], beside the figure.
+_AFTER_H = 1.2
+
+
+def _fit_first_part(results, data, ctx, drawn, paper):
+    """The D figure in parts drawn again to fill its pages
+    (:func:`gd_analyze.report.main_figures.part_rows`), if as set its first part goes to the
+    next page's top for want of room under the text citing it; ``drawn`` as it is otherwise."""
+    shown = [k for k in _FIGURE_ORDER if k in drawn]
+    room, need = figure_rooms(main_outline(ctx, shown),
+                              {k: (drawn[k][0], drawn[k][2]) for k in shown},
+                              paper).get("D", (0.0, 0.0))
+    if need <= 0.0:
+        return drawn
+    size = drawn["D"][2]
+    panels = d_panels(data, {}, dict(zip(*zero_mask(results))), prismatic_joints(results),
+                      results.robot_record.armature)[0]
+    h = drawn["h"][2] if "h" in drawn else None     # what follows: Sec. 3's heading, Fig. 3
+    rows = part_rows(len(panels), room, need, printed_width(size, paper) / size[0],
+                     body_height(paper),
+                     0.0 if h is None else h[1] * printed_width(h, paper) / h[0] + _AFTER_H)
+    if rows is None:
+        return drawn
+    keys = ["D", *_D_PARTS]
+    again = draw_each(figure_makers(results, data, keys=keys, first_rows=rows[0],
+                                    rows=rows[1]), FIG_RC, ctx["created"])
+    return {**again, **{k: d for k, d in drawn.items() if k not in keys}}

@@ -42,7 +42,14 @@ from ..store.names import Var
 from ..store.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
 from ..store.sweep_view import PayloadSweep
 from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style, say, units_text
-from .figure_style import element_markevery, grid_boxes, joint_key, joint_lines, new_figure
+from .figure_style import (
+    columns_apart,
+    element_markevery,
+    grid_boxes,
+    joint_key,
+    joint_lines,
+    new_figure,
+)
 from .markup import label as _math
 from .numbers import decade_label, label_axes, set_ticks, time_origin
 
@@ -53,7 +60,8 @@ if TYPE_CHECKING:
 
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
            "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
-           "fig_torque", "d_panels", "panel_grid", "element_parts", "MIN_PANEL_W", "MAX_ROWS",
+           "fig_torque", "d_panels", "panel_grid", "element_parts", "element_row",
+           "part_rows", "LEAST_FIRST_ROWS", "MIN_PANEL_W", "MAX_ROWS",
            "RC", "payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "DERIVED", "OPTIONAL",
            "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "READ_CHUNK"]
 
@@ -222,7 +230,9 @@ def panel_grid(count: int, width: float = PAGE_WIDTH) -> tuple[int, float, float
     return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
 
 
-def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH) -> list[list[str]]:
+def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH,
+                  first_rows: int | None = None,
+                  rows: Sequence[int] | None = None) -> list[list[str]]:
     """The panels of a D or h figure split into parts of at most :data:`MAX_ROWS` rows.
 
     Parameters
@@ -231,24 +241,132 @@ def element_parts(labels: Sequence[str], width: float = PAGE_WIDTH) -> list[list
         The elements drawn, in reading order.
     width : float, optional
         Figure width [in].
+    first_rows : int, optional
+        Rows of the first part: those that fit under the text citing the figure
+        (:func:`gd_analyze.report.typeset.figure_rooms`, :func:`part_rows`).
+    rows : sequence of int, optional
+        Rows of each part after a first part of ``first_rows``, the last part holding the
+        rest (:data:`MAX_ROWS` each if not given).
 
     Returns
     -------
     list of list of str
-        One list per figure part (one part if all fit; ``[[]]`` for none), the parts as
-        few as the rows allow and of about one size, in whole rows.
+        One list per figure part (one part if all fit; ``[[]]`` for none), in whole rows;
+        without ``first_rows`` the parts as few as :data:`MAX_ROWS` allows and of about one
+        size.
 
     Examples
     --------
     >>> [len(p) for p in element_parts([f"D{k}" for k in range(30)])]
     [16, 14]
+    >>> [len(p) for p in element_parts([f"D{k}" for k in range(30)], first_rows=1, rows=[6])]
+    [4, 26]
     """
     cols = panel_grid(len(labels), width)[0]
     most = cols * MAX_ROWS["page" if width >= PAGE_WIDTH else "column"]
     labels = list(labels)
+    if first_rows is not None and 0 < first_rows * cols < len(labels):
+        out, at = [labels[:first_rows * cols]], first_rows * cols
+        for k in range(len(labels)):
+            if at >= len(labels):
+                break
+            size = len(labels) if rows is not None and k == len(rows) - 1 else cols * (
+                rows[k] if rows is not None and k < len(rows) else most // cols)
+            out.append(labels[at:at + size])
+            at += size
+        return out
     parts = max(1, -(-len(labels) // most))
     per = cols * max(1, -(-len(labels) // (parts * cols)))     # balanced, in whole rows
     return [labels[k:k + per] for k in range(0, len(labels), per)] or [[]]
+
+
+def element_row(count: int, width: float = PAGE_WIDTH) -> float:
+    """The height a row of panels adds to a D or h figure [in]: a panel and the gap under it.
+
+    Parameters
+    ----------
+    count : int
+        Panels of the figure (all its parts).
+    width : float, optional
+        Figure width [in].
+
+    Returns
+    -------
+    float
+        As :func:`_element_figure` lays the panels out (:func:`panel_grid`).
+    """
+    return panel_grid(count, width)[2] + _HGAP
+
+
+#: Fewest rows of panels a first part is drawn with to stand under the text citing it
+#: (:func:`part_rows`): one row, its legend, key and caption (3 in on A4) fill the foot of a
+#: page that a whole part left 4.1 in empty (Unitree G1's right arm).
+LEAST_FIRST_ROWS = 1
+#: Room kept spare when a part is fitted to a page or under the text citing it [in].
+_SPARE = 0.1
+
+
+def part_rows(count: int, room: float, need: float, scale: float, body: float,
+              after: float = 0.0) -> tuple[int, tuple[int, ...]] | None:
+    """How a D figure in parts fills its pages, when its first part (:func:`element_parts`)
+    does not fit under the text citing it: the rows of a first part that fits that room, then
+    of each later part.
+
+    Parameters
+    ----------
+    count : int
+        Panels of the figure, all parts, at page width.
+    room : float
+        Room left on the page under the text citing the figure [in]
+        (:func:`gd_analyze.report.typeset.figure_rooms`).
+    need : float
+        Height the first part needs there, printed with its caption [in].
+    scale : float
+        Printed size / drawn size of the parts (:func:`gd_analyze.report.typeset.printed_width`).
+    body : float
+        Height of a page's text area [in] (:func:`gd_analyze.report.typeset.body_height`).
+    after : float, optional
+        Height of what follows the last part (the next section's heading and figure) [in]:
+        on the last part's page if it fits there.
+
+    Returns
+    -------
+    (int, tuple of int) or None
+        Rows of the first part (at least :data:`LEAST_FIRST_ROWS`) and of each later part,
+        one page each; None if fewer than :data:`LEAST_FIRST_ROWS` rows fit the room. The
+        later parts are as few as a page's rows allow (at least :data:`MAX_ROWS` a page):
+        each page filled and the rest last, or the rows spread evenly, whichever leaves the
+        least room empty on the emptiest page (what follows counted on the last part's page).
+
+    Examples
+    --------
+    >>> part_rows(55, 4.11, 7.82, 0.94, 10.14, 5.7)    # a 10-joint arm (Unitree G1), A4
+    (1, (6, 6, 1))
+    >>> part_rows(55, 4.11, 7.82, 0.94, 10.14, 8.0)    # what follows does not fit beside it
+    (1, (5, 4, 4))
+    >>> part_rows(55, 2.5, 7.82, 0.94, 10.14)          # no row fits: the part moves on whole
+    """
+    cols, _, _ = panel_grid(count)
+    row = element_row(count) * scale                       # printed [in]
+    shown = -(-len(element_parts([str(k) for k in range(count)])[0]) // cols)
+    first = shown - math.ceil((need - room + _SPARE) / row)
+    if first < LEAST_FIRST_ROWS:
+        return None
+    rest = need - shown * row                   # a part's caption, legend, key and note
+    page = max(MAX_ROWS["page"], int((body - rest - _SPARE) / row))
+    left = -(-count // cols) - first
+    parts = -(-left // page)
+    filled = (page,) * (left // page) + ((left % page,) if left % page else ())
+    base, extra = divmod(left, parts)
+    even = (base + 1,) * extra + (base,) * (parts - extra)
+
+    def emptiest(rows: tuple[int, ...]) -> float:
+        empty = [body - rest - r * row for r in rows]
+        if empty[-1] >= after + _SPARE:     # what follows stands under the last part
+            empty[-1] -= after
+        return max(empty)
+
+    return first, min((filled, even), key=emptiest)
 
 
 def _title_key(fig, y, W, H):
@@ -345,7 +463,8 @@ def d_panels(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bo
 
 def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool], s: float,
           e: float, prismatic: npt.NDArray[np.bool_] | None = None, width: float = PAGE_WIDTH,
-          armature: npt.NDArray[np.float64] | None = None, part: int = 0) -> Figure:
+          armature: npt.NDArray[np.float64] | None = None, part: int = 0,
+          first_rows: int | None = None, rows: Sequence[int] | None = None) -> Figure:
     """The analogue of Fig. 3.10: one panel per D_ij, i <= j, that is not ≡ 0.
 
     Parameters
@@ -370,6 +489,8 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
         nonzero, above the combined curve (which includes it).
     part : int, optional
         Which part of :func:`element_parts` to draw (0: the first).
+    first_rows, rows : int, optional
+        Rows of the first part and of each later part (:func:`element_parts`).
 
     Returns
     -------
@@ -381,7 +502,7 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
         elements.
     """
     panels, zeros = d_panels(data, dominance, zero, prismatic, armature)
-    chunks = element_parts([p[0] for p in panels], width)
+    chunks = element_parts([p[0] for p in panels], width, first_rows, rows)
     drawn = [p for p in panels if p[0] in set(chunks[part])]
     arm = any("arm" in p[1] for p in panels)
     key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm, tiny=_TINY,
@@ -483,6 +604,9 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
         ax.set_xlabel(t_label, labelpad=1.0)
         ax.set_ylabel(f"{symbols[k]} [{units[k]}]", labelpad=1.0)
     label_axes([ax.yaxis for ax in fig.axes])
+    # each column's y labels clear of the panel to their left, measured where the figure is
+    # drawn (its text raised to the printed size: a q̈ axis's "−2000" needs more room)
+    columns_apart(fig, [fig.axes[c::per_row] for c in range(per_row)], left, 0.1)
     fig.legend(*joint_key(list(first.values())), loc="upper center",
                ncol=min(n, 3 if column else 7), frameon=False, handlelength=3.0,
                columnspacing=1.2, bbox_to_anchor=(0.5, 1.0), fontsize=7 if column else 8)

@@ -45,7 +45,9 @@ if TYPE_CHECKING:
     from .sections import Outline
 
 __all__ = ["PAPER", "check_paper", "MIN_PRINTED_PT", "NEAR_EMPTY", "printed_scale", "TABLE_COLOURS",
-           "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_pdfs", "fonts_loaded"]
+           "PARAGRAPH_STYLES", "document_data", "write_pdf", "figure_rooms", "printed_width",
+           "body_height", "FLOAT_GAP",
+           "figure_pdfs", "fonts_loaded"]
 
 #: Page sizes [in] and their Typst names.
 PAPER = {"a4": (210 / 25.4, 297 / 25.4), "letter": (8.5, 11.0)}
@@ -143,13 +145,43 @@ def _caption(caption):
     return m.groups()
 
 
-def _figure_width(size, paper):
-    """The width [in] a figure is set at: its own, or less so that it and its caption fit the
-    text area."""
+def body_height(paper: str) -> float:
+    """The height of a page's text area, between the top and the bottom margins [in].
+
+    Parameters
+    ----------
+    paper : {"a4", "letter"}
+        The page size.
+
+    Returns
+    -------
+    float
+        [in]
+    """
+    return PAPER[paper][1] - MARGINS[1] - MARGINS[2]
+
+
+def printed_width(size: tuple[float, float], paper: str) -> float:
+    """The width a figure is set at in a PDF report: its own, or less so that it and its
+    caption fit the text area.
+
+    Parameters
+    ----------
+    size : (float, float)
+        The figure's width and height [in].
+    paper : {"a4", "letter"}
+        The page size.
+
+    Returns
+    -------
+    float
+        [in]; the figure keeps its aspect.
+    """
     w, h = size
     width = PAPER[paper][0] - 2 * MARGINS[0]
     height = PAPER[paper][1] - MARGINS[1] - MARGINS[2] - _CAPTION_ROOM
     return w * min(1.0, width / w, height / h)
+
 
 
 #: A last page whose text fills less than this share of its body is "near-empty": the report
@@ -172,9 +204,9 @@ def printed_scale(size: tuple[float, float]) -> float:
     Returns
     -------
     float
-        Printed size / drawn size, at most 1 (:func:`_figure_width` over the drawn width).
+        Printed size / drawn size, at most 1 (:func:`printed_width` over the drawn width).
     """
-    return min(_figure_width(size, paper) / float(size[0]) for paper in PAPER)
+    return min(printed_width(size, paper) / float(size[0]) for paper in PAPER)
 
 
 def _block(b, paper, sizes):
@@ -192,7 +224,7 @@ def _block(b, paper, sizes):
                 "rows": [[_runs(c) for c in row] for row in t["rows"]],
                 "align": list(t["align"]), "colour": [int(k) for k in t.get("colour_cols", [])]}
     return {"kind": "figure", "number": number, "caption": _runs(caption), "key": b.content,
-            "width": _figure_width(sizes[b.content], paper)}
+            "width": printed_width(sizes[b.content], paper)}
 
 
 def document_data(outline: Outline, sizes: Mapping[str, tuple[float, float]], paper: str = "a4",
@@ -322,6 +354,55 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
     with open(path, "wb") as fh:
         fh.write(pdf)
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
+
+
+#: Room kept between two figures at a page's top [in]: Typst's clearance of a float (1.5 em
+#: of 10 pt text, 0.21 in) and some more.
+FLOAT_GAP = 0.3
+
+
+def figure_rooms(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, float]]],
+                 paper: str = "a4") -> dict[str, tuple[float, float]]:
+    """The figures that go to the top of a later page than the text citing them, for want of
+    room under that text, as the report is first set (:func:`write_pdf`).
+
+    Parameters
+    ----------
+    outline : gd_analyze.report.sections.Outline
+        The report's sections.
+    figures : dict of str to (str, (float, float))
+        Each figure of the outline: its SVG text and its size [in].
+    paper : {"a4", "letter"}, optional
+        The page size.
+
+    Returns
+    -------
+    dict of str to (float, float)
+        By figure key: the room left on the page under the text citing it and the height the
+        figure needs there with its caption [in], the figure set at its printed width
+        (:func:`printed_width`). A figure that waits for an earlier one (the figures keep
+        their order) gets the room that one leaves on the page it heads, less
+        :data:`FLOAT_GAP`.
+
+    Raises
+    ------
+    ValueError
+        If ``paper`` is unknown.
+    RuntimeError
+        If Typst fails.
+    """
+    data = document_data(outline, {k: size for k, (_, size) in figures.items()}, paper)
+    inputs = {"gd-data": json.dumps({**data, "rooms": True}, ensure_ascii=False),
+              **{f"gd-figure-{k}": svg for k, (svg, _) in figures.items()}}
+    end = _compile("report.typ", inputs, None, end=True)[1]
+    rooms: dict[str, tuple[float, float]] = {}
+    for r in end["rooms"]:
+        if r["after"] is None:
+            rooms[r["key"]] = (float(r["room"]), float(r["need"]))
+        elif r["after"] in rooms:       # under the figure it waits for, at a page's top
+            rooms[r["key"]] = (body_height(paper) - rooms[r["after"]][1] - FLOAT_GAP,
+                               float(r["need"]))
+    return rooms
 
 
 def figure_pdfs(figures: Mapping[str, tuple[str, tuple[float, float]]],
