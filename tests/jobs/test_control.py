@@ -248,6 +248,22 @@ def test_run_control_rejects_bad_input(model, shipped):
         load_model("/nonexistent/simplified_model.json")
 
 
+
+@pytest.mark.parametrize("gravity, loop", [((0.0, 0.0, -9.81), "PD + gravity"),
+                                           ((0.0, 0.0, 0.0), "PD")])
+def test_a_stiff_pd_loop_is_named_for_the_gravity_of_its_arm(model, shipped, gravity, loop):
+    """wn = 5000 makes the PD loop too stiff (its fastest mode runs through D^-1 diag(D)); the
+    refusal names the loop as the controller is named for its plant: plain PD where the
+    plant has g = 0, since c is linear in g (Eq. (3.4-24)) and so identically 0."""
+    plant = replace(model.robot, gravity=np.asarray(gravity))
+    with pytest.raises(ValueError, match="too stiff") as err:
+        run_control(model, shipped, wn=5000.0, controllers=("pd_gravity",), cost=False,
+                    plant=plant)
+    said = str(err.value)
+    assert f"make the {loop} loop (pd_gravity) too stiff" in said, said
+    assert "gravity term" not in said and "compensation" not in said
+
+
 # --------------------------------------------------------------------------------------------
 # The model's counted cost
 # --------------------------------------------------------------------------------------------
