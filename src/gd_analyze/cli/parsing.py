@@ -565,8 +565,10 @@ def control_parser() -> argparse.ArgumentParser:
                    default=tuple(defaults["verdict_tolerance"]),
                    help="the report's verdict: the simplified-model controller is good enough "
                         "if its peak tracking error is within this, or twice the full-model "
-                        "controller's, on every revolute joint [rad] and prismatic joint [m], "
-                        "and the model's region guarantee covers the run "
+                        "controller's (from an --offset: if its loop departs from the "
+                        "full-model controller's by at most this), on every revolute joint "
+                        "[rad] and prismatic joint [m], and the model's region guarantee "
+                        "covers the run "
                         f"(default {rad:g},{metre:g}; one number for both)")
     _add_print_arguments(p, "the HTML and PDF report", column=True)
     p.add_argument("--json", action="store_true", help="print the figures as one JSON object")

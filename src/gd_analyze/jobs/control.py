@@ -992,11 +992,11 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory,
                 else MAX_RHS_EVALS // RHS_PER_STEP)
         steps = rates[name] * float(t[-1] - t[0]) / 3.0
         if steps > most:
-            loop = (pd_name(robot.gravity) if name == "pd_gravity"
-                    else control_law(name, robot).split(":")[0])
+            law = (pd_name(robot.gravity) if name == "pd_gravity"
+                   else control_law(name, robot).split(":")[0])
             raise ValueError(
                 f"wn = {np.max(gains.wn):g} rad/s and zeta = {np.max(gains.zeta):g} make the "
-                f"{loop} loop ({name}) too "
+                f"{law} loop ({name}) too "
                 f"stiff: its fastest mode, {rates[name]:.3g} rad/s, needs about {steps:.3g} "
                 f"integrator steps over {t[-1] - t[0]:g} s (at most {most}); lower wn or zeta")
     offset = np.broadcast_to(np.asarray(q0_offset, dtype=float), (robot.n,)).copy()

@@ -132,7 +132,8 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                     tau_difference: np.ndarray | None = None,
                     tolerance: tuple[float, float] = VERDICT_TOLERANCE,
                     quiet: Mapping[str, bool] | None = None, noise_rule: str | None = None,
-                    covered: bool | None = None, pd: str = "PD + gravity") -> str:
+                    covered: bool | None = None, pd: str = "PD + gravity",
+                    departure: Mapping[str, np.ndarray] | None = None) -> str:
     """One sentence: does the simplified model control the arm as well as the full one?
 
     Parameters
@@ -165,13 +166,20 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     pd : str, optional
         The PD controller's name (:func:`controller_labels`): ``"PD"`` where the controlled
         arm has no gravity.
+    departure : dict of str to ndarray, shape (n,), optional
+        Where the run starts off the trajectory (an initial offset q(0) - q_d(0)): per
+        controller (``"simplified"``, ``"pd_gravity"``), each joint's peak departure of its
+        closed loop from the full-model controller's, |q - q_full| over the run [rad, or m
+        for a prismatic joint] (0 where integrator noise). Every controller's peak tracking
+        error is then the offset's own, so the verdict judges the departure instead.
 
     Returns
     -------
     str
         The verdict: the simplified model holds if, for every joint type, its largest peak
-        error is within the larger of the tolerance and twice the full model's. Errors of
-        revolute and prismatic joints are stated apart, each in its unit.
+        error is within the larger of the tolerance and twice the full model's; from an
+        initial offset, if its largest departure is within the tolerance. Values of revolute
+        and prismatic joints are stated apart, each in its unit.
 
     Examples
     --------
@@ -191,10 +199,15 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     groups = {k: _by_type(v, prismatic, "q") for k, v in peaks.items()}
     tol = {False: tolerance[0], True: tolerance[1]}
     kinds = [u != joint_motion_units(False)[0] for u, _, _ in groups["full"]]
-    bounds = [max(2.0 * f, tol[kind]) for (_, f, _), kind in zip(groups["full"], kinds)]
-    holds = all(s <= b for (_, s, _), b in zip(groups["simplified"], bounds))
+    judged = groups             # from an offset: the loops' departure from the full one's
+    if departure is not None:
+        judged = {k: _by_type(v, prismatic, "q") for k, v in departure.items()}
+        bounds = [tol[kind] for kind in kinds]
+    else:
+        bounds = [max(2.0 * f, tol[kind]) for (_, f, _), kind in zip(groups["full"], kinds)]
+    holds = all(s <= b for (_, s, _), b in zip(judged["simplified"], bounds))
     beats_pd = pd_peaks is not None and all(s < p for (_, s, _), (_, p, _) in
-                                      zip(groups["simplified"], groups["pd_gravity"]))
+                                      zip(judged["simplified"], judged["pd_gravity"]))
     units = [u for u, _, _ in groups["full"]]      # each joint type apart
     verdict = ("holds" if covered in (None, True) else "measured") if holds else \
         "beats_pd" if beats_pd else "fails"
@@ -205,7 +218,12 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                tols=[f"{tol[kind]:g} {u}" for u, kind in zip(units, kinds)],
                difference="" if tau_difference is None else (
                    NOISE if quiet.get("tau_difference") else
-                   by_type_text(tau_difference, prismatic, 'tau')), noise_rule=noise_rule)
+                   by_type_text(tau_difference, prismatic, 'tau')), noise_rule=noise_rule,
+               departure=None if departure is None else NOISE if not np.any(
+                   departure["simplified"]) else by_type_text(departure["simplified"],
+                                                              prismatic, "q"),
+               pd_departure=by_type_text(departure["pd_gravity"], prismatic, "q")
+               if departure is not None and "pd_gravity" in departure else "")
 
 
 #: Figure widths [in]: the text of a page, one column.
@@ -673,9 +691,14 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                           VERDICT_TOLERANCE))
     covered = None if (c := s.model.guarantee_covered) is None else (    # a trajectory kind:
         str(c) == "1" and str(s.model.guarantee_kind) == "region")  # its set points only
+    departure = None            # from an offset, every loop's peak error is the offset's
+    if s.q0_offset is not None and np.any(s.q0_offset) and {"full", "simplified"} <= set(names):
+        departure = {c: np.where(is_round_off(d := np.max(np.abs(s.error[c] - s.error["full"]),
+                                                          axis=0), q_floor, 1.0), 0.0, d)
+                     for c in names if c != "full"}
     verdict = control_verdict(peaks, prismatic, diff,
                               tolerance,  # type: ignore[arg-type]  # (revolute, prismatic)
-                              quiet, rule["tau"], covered, labels["pd_gravity"])
+                              quiet, rule["tau"], covered, labels["pd_gravity"], departure)
     return {"verdict": verdict, "summary": summary, "rule": rule,
             "floors": (q_floor, tau_floor)}
 
