@@ -69,8 +69,7 @@ from .main_text import (
     simplified_intro,
     weightless,
 )
-from .markup import code, element, powers, tau
-from .markup import element as _el
+from .markup import code, element, marked, powers, tau
 from .markup import scope as _scope
 from .numbers import pct, time_origin
 from .simplified_section import ROUND_OFF, budget_caption, simplified_caption, simplified_context
@@ -136,15 +135,11 @@ def effort_rows(results: Results) -> list[EffortRow]:
             for j in kept]
 
 
-def _names(labels: list[str]) -> str:
-    return ", ".join(element(k[0], k[1:]) for k in labels)
-
-
 def _leads(arm: list[str], arm_t: list[str], wrist: list[str], wrist_r: list[str],
            n: int) -> str:
     missed = [k for k in arm if k not in arm_t] + [k for k in wrist if k not in wrist_r]
     return say("chapter_leads", arm=len(arm), arm_t=len(arm_t), wrist=len(wrist),
-               wrist_r=len(wrist_r), n=n, missed=_names(missed))
+               wrist_r=len(wrist_r), n=n, missed=", ".join(map(marked, missed)))
 
 
 def _agreement(grid: ArrayLike, agree: ArrayLike, compared: int, s: float) -> str:
@@ -371,7 +366,7 @@ def armature_columns(results: Results, labels: Sequence[str],
     diag = _diagonal(arm.size)
     rows = [[("\u2261 0" if zero[k] else _share(share[k])) if lab in diag else "\u2014",
              "." if lab in diag else "\u2014"] for k, lab in enumerate(labels)]
-    return {"header": ["armature share", f"peak |{_el('X', '', 'arm')}|"], "rows": rows,
+    return {"header": ["armature share", f"peak |{element('X', '', 'arm')}|"], "rows": rows,
             "peak": [arm[diag[lab]] for lab in labels if lab in diag]}
 
 
@@ -843,7 +838,7 @@ def ranking_table(results: Results) -> dict[str, Any]:
         elif r.kind != "peak":                  # the label, a class: as stored
             cells[c.field] = [str(v) for v in table.column(c.field)]
     reports = [r for _, r in shown]
-    return _table([r.header.format(X=_el("X", "", r.part) if r.part else "X")
+    return _table([r.header.format(X=element("X", "", r.part) if r.part else "X")
                    for r in reports],
                   [[cells[c.field][k] for c, _ in shown] for k in range(len(labels))],
                   align=["left" if r.kind in ("label", "class", "units") else "right"
@@ -1000,7 +995,7 @@ def _report_context_base(results):
 def _quantity(name):
     """A verified quantity's name as mathematics: "D_tran" -> D^tran, "h" -> h."""
     symbol, _, part = name.partition("_")
-    return _el(symbol, "", part) if part in ("tran", "rot") else name
+    return element(symbol, "", part) if part in ("tran", "rot") else name
 
 
 def _verification(check, N):

@@ -15,7 +15,7 @@ import numpy as np
 from .common import say
 from .figure_style import element_markevery
 from .main_figures import ENVELOPE_COLUMNS
-from .markup import element
+from .markup import marked
 from .numbers import share as _share
 
 if TYPE_CHECKING:
@@ -27,18 +27,12 @@ __all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro",
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
 
-def _math(label):
-    """An element's label as mathematics, its index a subscript: "D12" -> D with 12 marked."""
-
-    return element(label[0], label[1:])
-
-
 def _names(labels):
     if not labels:
         return "none"
     if len(labels) <= 6:
-        return ", ".join(map(_math, labels))
-    return ", ".join(map(_math, labels[:5])) + f" and {len(labels) - 5} more"
+        return ", ".join(map(marked, labels))
+    return ", ".join(map(marked, labels[:5])) + f" and {len(labels) - 5} more"
 
 
 def _qty(value, unit):
@@ -137,8 +131,8 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         by = {c: [labels[k] for k in ks if dominance[k] == c and not zero[k]] for c in _CLASSES}
         z = [labels[k] for k in ks if zero[k]]
         # "≡ 0" is kept with its last element on one line (no-break spaces)
-        negl = [", ".join(map(_math, by["negligible"])),
-                ", ".join(map(_math, z)) + "\u00a0\u2261\u00a00" if z else ""]
+        negl = [", ".join(map(marked, by["negligible"])),
+                ", ".join(map(marked, z)) + "\u00a0\u2261\u00a00" if z else ""]
         groups.append({"name": name, "m": len(ks), "k_tran": len(by["translational"]),
                        "tran": _names(by["translational"]), "k_rot": len(by["rotational"]),
                        "rot": _names(by["rotational"]), "k_both": len(by["both"]),

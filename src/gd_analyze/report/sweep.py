@@ -76,7 +76,6 @@ from .main_context import command_row, gravity_row, guarantee_row, run_row, soft
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import payload_figure
 from .main_text import gravity_clause, model_sentence, weightless
-from .markup import element as _el
 from .markup import label as _math
 from .markup import scope as scope_markup
 from .markup import sub as _sub
@@ -982,7 +981,10 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "envelope": envelope, "error": err, "cost": cost_table(m.costs),
            "error_text": _error_text(m),
            "captions": _captions(m),
-           "figure_text": _figure_text(w, zero, counts),
+           # each figure's sentence without its subject ("shows ..."): the report writes
+           # "Fig. 2 " before it, with the number the outline gives the figure
+           "figure_text": {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
+                           "classes": _classes_sentence(w, counts), "error": _error_sentence(w)},
            "counts": counts, "s": f"{s:g}", "e": f"{e:g}",
            "payload": None}
     if payload is not None:
@@ -1102,7 +1104,7 @@ def _worst_cases(w, labels):
     spread = w.share_max - w.share_min
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k]) and _ranges(w, k)]
-    elems = [f"{_element(labels[k])} ({_share_text(w.share_min[k])}\u2013"
+    elems = [f"{markup.marked(labels[k])} ({_share_text(w.share_min[k])}\u2013"
              f"{_share_text(w.share_max[k])})" for k in top]
     return say("worst_cases", cases=parts, elements=elems, round_off=bool(off.all()))
 
@@ -1112,11 +1114,6 @@ def _ranges(w, k):
     largest differ in the digits the report gives (a difference below them is rounding)."""
     return _share_text(w.share_min[k]) != _share_text(w.share_max[k])
 
-
-def _element(label):
-    """An element's label ("D14", "h2", "D1,10") as mathematics: D with its index as a
-    subscript."""
-    return _el(label[0], label[1:])
 
 
 def _own_sentence(w):
@@ -1161,7 +1158,7 @@ _NAMED = 6
 def _names(labels):
     """Elements as mathematics, at most :data:`_NAMED` of them named ("D11, D12 and 3
     more")."""
-    said = [_element(lab) for lab in labels[:_NAMED]]
+    said = [markup.marked(lab) for lab in labels[:_NAMED]]
     more = len(labels) - len(said)
     if more:
         return ", ".join(said) + f" and {count(more)} more"
@@ -1191,8 +1188,8 @@ def _share_sentence(w, symbol, zero):
     box = None                  # the widest box: (element, from, to), () if none is wider
     if K > 1 and ranged:
         k = max(ranged, key=lambda k: spread[k])
-        box = ((_element(labels[k]), _share_text(w.share_min[k]), _share_text(w.share_max[k]))
-               if _ranges(w, k) else ())
+        box = ((markup.marked(labels[k]), _share_text(w.share_min[k]),
+                _share_text(w.share_max[k])) if _ranges(w, k) else ())
     return say("share_shows", symbol=symbol, m=len(mine), K=K,
                held=[f"{count(len(ks))} {c}" for c, ks in steady.items() if ks],
                n_held=sum(len(ks) for ks in steady.values()), n_varying=len(varying),
@@ -1229,13 +1226,6 @@ def _error_sentence(w):
              if not (np.isfinite(merged[:, j]) & (merged[:, j] > ERROR_FLOOR)).any()]
     return say("error_shows", merged=largest(merged), own=largest(own),
                quiet=joints_text(quiet) if quiet and len(quiet) < w.joints else "")
-
-
-def _figure_text(w, zero, counts):
-    """Each figure's sentence, by key, without its subject ("shows ..."): the report writes
-    "Fig. 2 " before it, with the number the outline gives the figure."""
-    return {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
-            "classes": _classes_sentence(w, counts), "error": _error_sentence(w)}
 
 
 #: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
