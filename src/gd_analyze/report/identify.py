@@ -207,8 +207,7 @@ def identify_figures(root: StoredIdentification | xr.Dataset,
         for k, name in enumerate(shown_recordings(ident.recordings)):
             rec = ident.recordings[name]
             t = rec.t
-            n = rec.n
-            joints = _joints(n, rec.joint, ident.joint)
+            joints = _joints(rec.n, rec.joint, ident.joint)
             curves = {v: rec.torques[v] for v in MODEL_STYLES if v in rec.torques}
             prismatic = (np.asarray(ident.prismatic, bool) if ident.prismatic is not None
                          else None)
@@ -564,8 +563,6 @@ def write_identify_report(root: xr.Dataset, groups: dict[str, xr.Dataset],
     check_paper(paper)
     stored = StoredIdentification.from_dataset(root, groups)
     ctx = identify_context(stored)
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
     drawn = draw_figures(identify_figures(stored), FIGURE_RC)
     return write_report_files(
         folder, ctx, drawn, {k: f"fig_identify_{k}" for k in drawn}, identify_outline,

@@ -171,8 +171,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     if sm:
         o.section(*ctx["model_heading"].split(" ", 1))
         o.paragraph(sm["text"], "note")
-        if sm.get("screen_note"):
-            o.paragraph(sm["screen_note"], "note")
+        o.paragraph(sm["screen_note"], "note")
         o.table(sm["bound"], say("main_outline", key="bound"))
         if sm.get("region"):
             o.paragraph(sm["region_text"], "note")
@@ -181,8 +180,7 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
         if sm["costs"]:
             o.section("5.4", "Cost per set point (counted)")
             o.table(sm["costs"], "Operations per set point, counted on each model's code.")
-            if sm["form_note"]:
-                o.paragraph(sm["form_note"], "note")
+            o.paragraph(sm["form_note"], "note")
             o.figure("cost_ladder", say("budget_caption", key="cost_ladder"))
         if sm["ladder"] or sm["ladder_note"]:
             o.section(*sm["ladder_heading"].split(" ", 1))
@@ -507,7 +505,6 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
 def _write(results, outdir, formats, paper, progress, column=False, latex=False):
     ds = results.dataset
     ctx = report_context(results)       # fails early on a dataset that is not ours
-    (outdir / "figures").mkdir(parents=True, exist_ok=True)
     data = plot_data(ds, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
