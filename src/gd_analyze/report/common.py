@@ -315,16 +315,15 @@ def render_template(name: str, context: Mapping[str, Any],
     from markupsafe import Markup
 
     def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
-        if isinstance(value, str) and not isinstance(value, Markup):
+        if not isinstance(value, str):
+            return value
+        if not isinstance(value, Markup):
             value = _PERCENT.sub("\u00a0", value)          # "1.23 %" kept on one line
-        if isinstance(value, str) and any(m in value for m in (markup.SUB, markup.SUP,
-                                                                markup.CODE)):
+        if any(m in value for m in (markup.SUB, markup.SUP, markup.CODE)):
             return markup.html(value)
-        if isinstance(value, str):      # format characters (bidi controls) made visible
-            shown = markup.visible(value)
-            return value if shown == value else (
-                Markup(shown) if isinstance(value, Markup) else shown)
-        return value
+        shown = markup.visible(value)   # format characters (bidi controls) made visible
+        return value if shown == value else (
+            Markup(shown) if isinstance(value, Markup) else shown)
 
     env = jinja2.Environment(loader=jinja2.PackageLoader("gd_analyze.report"), autoescape=True,
                              undefined=jinja2.StrictUndefined, finalize=finalize,

@@ -275,14 +275,8 @@ def html(text: str) -> Markup:
     """
     from markupsafe import Markup, escape
 
-    out, pos = [], 0
-    for m in _MARKS.finditer(text):
-        out.append(str(escape(text[pos:m.start()])))
-        tag = _KIND[m.group(1)]
-        out.append(f"<{tag}>{escape(m.group(2))}</{tag}>")
-        pos = m.end()
-    out.append(str(escape(text[pos:])))
-    return Markup(clean("".join(out)))
+    return Markup("".join(f"<{tag}>{escape(t)}</{tag}>" if tag else str(escape(t))
+                          for t, tag in spans(text)))
 
 
 def unicode(text: str) -> str:

@@ -620,9 +620,8 @@ def _int(v):
     return count(v) if np.isfinite(float(v)) else "\u2014"
 
 
-def _num(v, digits=4):
-    v = float(v)
-    return "\u2014" if not np.isfinite(v) else fmt(v, digits)
+def _num(v):
+    return fmt(v) if np.isfinite(float(v)) else "\u2014"
 
 
 def inertia_check_text(check: InertiaCheck | Mapping[str, Any] | None) -> str:
@@ -677,7 +676,6 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
     n = s.n
     rule, eps = s.rule, s.tolerance
     floor = s.torque_floor
-    files = list(s.files)
     choice = s.choice
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
     form = s.form
@@ -750,15 +748,14 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
                        align=["right"] * (4 + has_bound))
     skipped = s.ladder_skipped if ladder is None else ""
     region_rows, region_text = region_table(s)
-    ladder_form = s.ladder_form
-    return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": files,
+    return {"text": text, "bound": bound, "costs": costs, "ladder": ladder, "files": list(s.files),
             "prefix": s.c_prefix,
             "region": region_rows, "region_text": region_text,
             "rule": rule, "tolerance": eps,
             "form_note": s.form_note,
             "screen_note": _screen_note(s.region_screen, s.region_screen_proved),
             "ladder_heading": "5.5 Tolerance ladder" + (
-                f" of the {ladder_form} form" if ladder is not None else ""),
+                f" of the {s.ladder_form} form" if ladder is not None else ""),
             "ladder_note": f"Tolerance ladder {skipped}." if skipped else ""}
 
 
