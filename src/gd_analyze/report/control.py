@@ -495,7 +495,7 @@ def marker_starts(every: int, lines: int) -> list[int]:
     return [i * every // max(1, lines) for i in range(max(1, lines))]
 
 
-def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
+def markers_words(ds: StoredControl | xr.Dataset, lines: Sequence[str],
                   drawn: Sequence[str] | None = None) -> str:
     """What a figure's markers are, in words.
 
@@ -503,9 +503,9 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
     ----------
     ds : StoredControl or xarray.Dataset
         A stored control run, or its dataset.
-    lines : int or sequence of str
-        Lines with markers on each panel (:func:`marker_stride`), or the controllers drawn, in
-        the order they are drawn (:func:`controller_labels` names them).
+    lines : sequence of str
+        The controllers drawn, in the order they are drawn (:func:`controller_labels` names
+        them): the lines with markers on each panel (:func:`marker_stride`).
     drawn : sequence of str, optional
         Of those controllers, the ones drawn on some panel: only they are named (a curve
         that is integrator noise on every joint is not drawn). Default all.
@@ -518,17 +518,14 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: int | Sequence[str],
         mark the same one; the first at set point 1 (computed torque, full model), 3 (...) and
         6 (...)" (:func:`marker_starts`).
     """
-    names = None if isinstance(lines, int) else [str(c) for c in lines]
-    count = len(names) if names is not None else int(lines)  # type: ignore[arg-type]  # an int
-    k = marker_stride(ds, count)
-    starts = [str(s + 1) for s in marker_starts(k, count)]
-    if names is not None:
-        labels = controller_labels(ds)
-        starts = [f"{s} ({labels.get(c, c)})" for s, c in zip(starts, names)
-                  if drawn is None or c in drawn]
-        if not starts:
-            return "no curve drawn"
-    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts, lines=count)
+    names = [str(c) for c in lines]
+    k = marker_stride(ds, len(names))
+    labels = controller_labels(ds)
+    starts = [f"{s + 1} ({labels.get(c, c)})" for s, c in zip(marker_starts(k, len(names)), names)
+              if drawn is None or c in drawn]
+    if not starts:
+        return "no curve drawn"
+    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts, lines=len(names))
 
 
 def _ordinal(k):

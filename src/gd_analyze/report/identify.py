@@ -427,7 +427,7 @@ def identify_context(root: StoredIdentification | xr.Dataset,
     recordings = stored.recordings
     robot = clean(str("the robot" if stored.robot is None else stored.robot))
     cond = stored.condition_number
-    validate = [k for k, rec in recordings.items() if role_of(rec) == "validate"]
+    validated = [rec for rec in recordings.values() if role_of(rec) == "validate"]
     shown = shown_recordings(recordings)
     parameters, n_unident, names = _parameter_table(stored)
 
@@ -436,8 +436,7 @@ def identify_context(root: StoredIdentification | xr.Dataset,
 
     lead = say("identify_lead", validated=[
         (_file_of(rec), pct(rec.total_relative_error), said(rec.prior_total_relative_error),
-         said(rec.simplified_total_relative_error))
-        for rec in recordings.values() if role_of(rec) == "validate"])
+         said(rec.simplified_total_relative_error)) for rec in validated])
     unident = _json(stored.unidentifiable, [])
     which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
              and unident else "")
@@ -456,7 +455,7 @@ def identify_context(root: StoredIdentification | xr.Dataset,
         "files": {name: _file_of(rec) for name, rec in recordings.items()},
         "roles": {name: role_of(rec) for name, rec in recordings.items()},
         "shown": shown,
-        "shown_note": say("identify_outline", key="shown", validated=bool(validate),
+        "shown_note": say("identify_outline", key="shown", validated=bool(validated),
                           most=MAX_POINTS, drawn=drawn),
         "parameters": parameters,
         "parameter_note": say("identify_outline", key="parameters"),

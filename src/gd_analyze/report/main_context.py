@@ -1058,10 +1058,9 @@ def _formulations_context(f):
                 mul, add = f.arm[0][j], f.arm[1][j]
             else:
                 mul, add = f.multiplications[k, j], f.additions[k, j]
-            bm = f.multiplications_table_3_5[k, j]
-            ba = f.additions_table_3_5[k, j]
             rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
-                         count(bm), count(ba)])
+                         count(f.multiplications_table_3_5[k, j]),
+                         count(f.additions_table_3_5[k, j])])
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")

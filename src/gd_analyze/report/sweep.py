@@ -916,9 +916,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     w = StoredSweep.of(ds)
     m, st = w.merged, w.settings
     K = w.trajectories
-    n = w.joints
     labels = list(w.elements)
-    frac = w.class_fraction
     merged = list(m.choice)
     s, e = _thresholds(w)
     robot = _text(st.robot)
@@ -930,7 +928,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
-        [[lab, *(f"{f:.3f}" for f in frac[k]),
+        [[lab, *(f"{f:.3f}" for f in w.class_fraction[k]),
           *(_share(spread[k], zero[k]) for spread in (w.share_min, w.share_median,
                                                       w.share_max)),
           merged[k]] for k, lab in enumerate(labels)],
@@ -950,7 +948,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         [[str(j + 1), tau_peak[j]]
          + (["\u2261 0 (round-off)"] * 2 + ["\u2261 0"] * 2 if merged_off[j] else
             [peak[j], rms[j], rel_peak[j], rel_rms[j]])
-         + [own_worst[j], units[j]] for j in range(n)],
+         + [own_worst[j], units[j]] for j in range(w.joints)],
         align=["left"] + ["right"] * 6 + ["left"])
     counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
               + (("pruned",) if "pruned" in merged else ())}
