@@ -456,18 +456,15 @@ def controller_torque(controller: str, robot: Robot, gains: Gains, q_d: np.ndarr
     if controller not in CONTROLLERS:
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
     e, ed = q_d - q, qd_d - qd
-    if controller == "pd_gravity":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return gains.Kp_pd * e + gains.Kv_pd * ed + terms.c
     v = qdd_d + gains.Kv * ed + gains.Kp * e
-    if controller == "full":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return terms.tau(v)
-    if choices is None or not hasattr(choices, "torque"):
-        raise ValueError("the simplified controller needs the simplified model")
-    return (model_torque or choices.torque)(q, qd, v)
+    if controller == "simplified":
+        if choices is None or not hasattr(choices, "torque"):
+            raise ValueError("the simplified controller needs the simplified model")
+        return (model_torque or choices.torque)(q, qd, v)
+    terms = gd_terms(robot, q, qd) if terms is None else terms
+    if controller == "pd_gravity":
+        return gains.Kp_pd * e + gains.Kv_pd * ed + terms.c
+    return terms.tau(v)
 
 
 @dataclass(frozen=True, eq=False)
@@ -1103,12 +1100,11 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
             tight[name] = track(robot, name, gains, desired, t, q0_offset=q0_offset,
                                 choices=model, rtol=rtol / NOISE_TIGHTEN,
                                 atol=atol / NOISE_TIGHTEN, method=method)
+            if not tight[name].success:
+                raise ValueError(f"the {name} controller's run failed: {tight[name].message}")
         except ValueError as err:
             raise ValueError(f"measuring the integrator noise (rtol = "
                              f"{rtol / NOISE_TIGHTEN:g}): {err}") from None
-        if not tight[name].success:
-            raise ValueError(f"measuring the integrator noise (rtol = {rtol / NOISE_TIGHTEN:g})"
-                             f": the {name} controller's run failed: {tight[name].message}")
     loose, fine = (r["simplified"].tau - r["full"].tau for r in (runs, tight))
     return (np.nanmax(np.abs(loose - fine), axis=0),
             int(tight["full"].nfev + tight["simplified"].nfev))
