@@ -1128,9 +1128,6 @@ def _model_lines(model, ds, args):
     """What the command prints of the merged model: its cost, its worst error where its
     guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
     as the model states it (:meth:`gd_analyze.simplify.guarantee.Guarantee.statement`)."""
-    import numpy as np
-
-
     v = model.validation
     eps = args.tolerance
     said = merged_guarantee(ds)

@@ -117,14 +117,6 @@ def progress_bar(enabled: bool = True, desc: str = "reading") -> tqdm:
                 desc=desc, delay=PROGRESS_DELAY, leave=False)
 
 
-def _check_finite(terms, tau):
-    """Every computed array must be finite (inputs within LIMITS guarantee it)."""
-
-    for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):
-        check_finite(name, getattr(terms, name))
-    check_finite("tau", tau)
-
-
 def _subsample(N, max_setpoints):
     return np.unique(np.linspace(0, N - 1, min(N, max_setpoints)).round().astype(int))
 
@@ -445,7 +437,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
         terms = gd_terms(robot, q[a:b], qd[a:b], out=buf)
         D, h = terms.D, terms.h                 # formed once: for tau and the file
         tau = terms.tau(qdd[a:b], D=D, h=h)
-        _check_finite(terms, tau)
+        for name in ("D_tran", "D_rot", "h_tran", "h_rot", "c"):   # finite: inputs within LIMITS
+            check_finite(name, getattr(terms, name))
+        check_finite("tau", tau)
         ranker.update(terms, tau, qdd[a:b], at=a)
         if parts is not None:
             parts.update(terms.D_tran, terms.D_rot, terms.h_tran, terms.h_rot, qdd[a:b], tau)

@@ -77,7 +77,7 @@ import hashlib
 import json
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -96,6 +96,7 @@ from ..store.control_dataset import pd_name, peak_rms
 from ..symbolic.drive_regressor import with_drives
 from ..symbolic.explicit_estimate import is_expensive
 from ..symbolic.recursive import recursive_program
+from ..trajectory.planning import joint_title
 from ..trajectory.trajectory import Trajectory
 from .evaluate import coverage, coverages, model_torque
 
@@ -239,10 +240,8 @@ def singular_inertia(robot: Robot, D: np.ndarray, rtol: float = 1e-12) -> str | 
         return None
     k = int(bad[0])
     j = int(np.argmax(np.abs(v[k, :, 0])))
-    names = robot.metadata.get("urdf_joints") or ()
-    name = f"joint {j + 1}" + (f" ({str(names[j])!r})" if j < len(names) else "")
     units = element_units("D", j, j, robot.prismatic)
-    return (f"the inertia matrix D is singular at set point {k + 1}: {name} has "
+    return (f"the inertia matrix D is singular at set point {k + 1}: {joint_title(robot, j)} has "
             f"D_{j + 1}{j + 1} = {float(D[k, j, j]):.3g} {units.replace('m2', 'm^2')} (of "
             f"largest eigenvalue {float(big[k]):.3g}): no inertia moves with it, so the arm "
             "cannot be simulated; give that link a mass or inertia (or the joint an armature)")
@@ -317,16 +316,6 @@ class Gains:
     inertia_scale: np.ndarray
     Kp_pd: np.ndarray
     Kv_pd: np.ndarray
-
-    def to_dict(self) -> dict[str, Any]:
-        """The gains as lists of floats.
-
-        Returns
-        -------
-        dict
-            ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
-        """
-        return {f.name: [float(v) for v in getattr(self, f.name)] for f in fields(self)}
 
 
 def control_gains(robot: Robot, q_ref: ArrayLike, wn: float | ArrayLike = DEFAULT_WN,
@@ -456,18 +445,15 @@ def controller_torque(controller: str, robot: Robot, gains: Gains, q_d: np.ndarr
     if controller not in CONTROLLERS:
         raise ValueError(f"controller must be one of {CONTROLLERS}, got {controller!r}")
     e, ed = q_d - q, qd_d - qd
-    if controller == "pd_gravity":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return gains.Kp_pd * e + gains.Kv_pd * ed + terms.c
     v = qdd_d + gains.Kv * ed + gains.Kp * e
-    if controller == "full":
-        if terms is None:
-            terms = gd_terms(robot, q, qd)
-        return terms.tau(v)
-    if choices is None or not hasattr(choices, "torque"):
-        raise ValueError("the simplified controller needs the simplified model")
-    return (model_torque or choices.torque)(q, qd, v)
+    if controller == "simplified":
+        if choices is None or not hasattr(choices, "torque"):
+            raise ValueError("the simplified controller needs the simplified model")
+        return (model_torque or choices.torque)(q, qd, v)
+    terms = gd_terms(robot, q, qd) if terms is None else terms
+    if controller == "pd_gravity":
+        return gains.Kp_pd * e + gains.Kv_pd * ed + terms.c
+    return terms.tau(v)
 
 
 @dataclass(frozen=True, eq=False)
@@ -1103,12 +1089,11 @@ def difference_noise(robot: Robot, model: SimplifiedModel, gains: Gains, desired
             tight[name] = track(robot, name, gains, desired, t, q0_offset=q0_offset,
                                 choices=model, rtol=rtol / NOISE_TIGHTEN,
                                 atol=atol / NOISE_TIGHTEN, method=method)
+            if not tight[name].success:
+                raise ValueError(f"the {name} controller's run failed: {tight[name].message}")
         except ValueError as err:
             raise ValueError(f"measuring the integrator noise (rtol = "
                              f"{rtol / NOISE_TIGHTEN:g}): {err}") from None
-        if not tight[name].success:
-            raise ValueError(f"measuring the integrator noise (rtol = {rtol / NOISE_TIGHTEN:g})"
-                             f": the {name} controller's run failed: {tight[name].message}")
     loose, fine = (r["simplified"].tau - r["full"].tau for r in (runs, tight))
     return (np.nanmax(np.abs(loose - fine), axis=0),
             int(tight["full"].nfev + tight["simplified"].nfev))

@@ -206,8 +206,14 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
             yield client, how
         except BaseException:
             # interrupted or failed: close without waiting on the workers' graceful exit (it
-            # took 44 s after a SIGTERM); the nanny processes are ended by their cluster
-            _close_quickly(client, cluster)
+            # took 44 s after a SIGTERM); the nanny processes are ended by their cluster. The
+            # client, then the cluster, each within CLOSE_TIMEOUT s; their errors give way to
+            # the one being raised
+            with contextlib.suppress(Exception):
+                client.close(timeout=CLOSE_TIMEOUT)
+            if cluster is not None:
+                with contextlib.suppress(Exception):
+                    cluster.close(timeout=CLOSE_TIMEOUT)
             raise
         client.close()
         if cluster is not None:
@@ -275,16 +281,6 @@ def _client_logs_quiet():
         yield
     finally:
         logger.setLevel(level)
-
-
-def _close_quickly(client, cluster):
-    """Close the client, then the cluster, within :data:`CLOSE_TIMEOUT` seconds each; their
-    errors give way to the one being raised."""
-    with contextlib.suppress(Exception):
-        client.close(timeout=CLOSE_TIMEOUT)
-    if cluster is not None:
-        with contextlib.suppress(Exception):
-            cluster.close(timeout=CLOSE_TIMEOUT)
 
 
 @contextlib.contextmanager

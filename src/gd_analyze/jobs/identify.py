@@ -19,12 +19,10 @@ import warnings
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._version import VERSION
-from ..dynamics.base_parameters import base_regressor
 from ..errors import InputError, InputWarning, check_flags, expect, is_number
 from ..estimation import preprocess as prep
 from ..estimation.consistent import SolverFailure
@@ -49,10 +47,7 @@ from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
 
-if TYPE_CHECKING:
-    from ..dynamics.base_parameters import BaseParameters
-
-__all__ = ["IdentifyOptions", "identify", "model_torque", "DEFAULT_DRIVES"]
+__all__ = ["IdentifyOptions", "identify", "DEFAULT_DRIVES"]
 
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
@@ -131,27 +126,6 @@ class IdentifyOptions:
                 [float(k) for k in self.drive_gains],
                 "consistent": bool(self.consistent), "simplify": bool(self.simplify),
                 "coulomb_model": "sign(qd)"}
-
-
-def model_torque(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                 base: BaseParameters | None = None) -> np.ndarray:
-    """The torque of a robot with its drives (armature, friction and torque offsets).
-
-    Parameters
-    ----------
-    robot : Robot
-        The arm (rigid links, armature, viscous and Coulomb friction, torque offsets).
-    q, qd, qdd : ndarray, shape (N, n)
-        [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-    base : BaseParameters, optional
-
-    Returns
-    -------
-    ndarray, shape (N, n)
-        Y_b beta + Ia qdd + F_v qd + F_c sign(qd) + tau_0 [N m or N].
-    """
-    Y, beta = base_regressor(robot, q, qd, qdd, base)
-    return Y @ beta + _drive_torque(robot, qd, qdd)
 
 
 def _drive_torque(robot, qd, qdd):

@@ -181,7 +181,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
                        other: SimplifiedModel | None = None,
                        ladder_rows: Sequence[Mapping[str, Any]] | None = None,
                        cost_table: Mapping[str, tuple[float, ...]] | None = None,
-                       files: tuple[str, ...] = artefact_names(SOURCE_STEM),
                        other_error: Mapping[str, Any] | None = None,
                        full_terms: Term | None = None) -> xr.Dataset:
     """The variables the report's "Simplified model" section reads.
@@ -195,8 +194,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     ladder_rows : list of dict, optional
     cost_table : dict, optional
         From :func:`cost_rows`.
-    files : tuple of str, optional
-        The emitted source files.
     other_error : dict, optional
         The other model's error along the trajectory
         (:func:`~gd_analyze.simplify.explicit_model.validate`).
@@ -310,7 +307,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     ds.attrs.update({
         "simplified_rule": model.rule, "simplified_tolerance": model.tolerance,
         "simplified_torque_floor": model.torque_floor,
-        "simplified_files": ", ".join(files),
+        "simplified_files": ", ".join(artefact_names(SOURCE_STEM)),
         "simplified_form": model.form,
         "simplified_terms_kept":
             -1 if model.terms is None else len(model.terms),

@@ -553,12 +553,10 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     ds = sweep_ds.assign_coords(evaluator=(SV.EVALUATOR, np.array(names, dtype=str),
                                            {"long_name": "evaluator of tau at one set point",
                                             "units": "1"}))
-    ds[SV.MULTIPLICATIONS] = ((SV.EVALUATOR,), np.array(cost["multiplications"], np.int64),
-                             {"units": "1", "long_name": "multiplications per set point "
-                                                         "(counted)"})
-    ds[SV.ADDITIONS] = ((SV.EVALUATOR,), np.array(cost["additions"], np.int64),
-                       {"units": "1", "long_name": "additions and subtractions per set point "
-                                                   "(counted)"})
+    for name, what in ((SV.MULTIPLICATIONS, "multiplications"),
+                       (SV.ADDITIONS, "additions and subtractions")):
+        ds[name] = ((SV.EVALUATOR,), np.array(cost[name], np.int64),
+                    {"units": "1", "long_name": f"{what} per set point (counted)"})
     ds.attrs.update({SA.MERGED_FORM: str(facts["form"]),
                      SA.MERGED_C_TERMS_KEPT: int(facts["c_terms_kept"]),
                      SA.MERGED_C_TERMS: int(facts["c_terms"])})

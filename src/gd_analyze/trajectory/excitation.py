@@ -411,15 +411,11 @@ def _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, b, pullback, slop
     # the drive columns: d(qdd_j)/d(qdd_j) = 1, d(qd_j)/d(qd_j) = 1, tanh' or 0 for Coulomb
     col = b
     for c, kind in enumerate(columns.drives):
-        for j in range(n):
-            if not columns.drive_kept[j, c]:
-                continue
+        for j in np.flatnonzero(columns.drive_kept[:, c]):
             if kind == "armature":
                 grads[2][:, j] += G[:, j, col]
-            elif kind == "viscous":
-                grads[1][:, j] += G[:, j, col]
-            elif kind == "coulomb":
-                grads[1][:, j] += G[:, j, col] * slope[:, j]
+            elif kind in ("viscous", "coulomb"):
+                grads[1][:, j] += G[:, j, col] * (slope[:, j] if kind == "coulomb" else 1.0)
             col += 1
     gX = sum(P.T @ gd for P, gd in zip(basis.P, grads))        # (2K - 1, n)
     return gX.T.reshape(-1)
@@ -592,9 +588,6 @@ class Excitation(SampledMotion):
         SLSQP's messages of each start, its stages joined by "; ".
     """
 
-    duration: float
-    n_setpoints: int
-    source: str
     series: FourierSeries
     columns: IdentificationColumns
     condition: float

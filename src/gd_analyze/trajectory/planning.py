@@ -226,6 +226,7 @@ def user_positions(robot: Robot, values: ArrayLike) -> np.ndarray:
 CHUNK_SETPOINTS = 2**19
 
 
+@dataclasses.dataclass(frozen=True)
 class SampledMotion:
     """A motion over [0, T] sampled on demand at N set points evenly spaced in time, piece by
     piece (:class:`QuinticPlan`, :class:`~gd_analyze.trajectory.excitation.Excitation`).
@@ -236,10 +237,13 @@ class SampledMotion:
         T [s], > 0.
     n_setpoints : int
         N >= 2, both ends included.
+    source : str
+        How the motion was made.
     """
 
     duration: float
     n_setpoints: int
+    source: str
 
     def times(self, start: int, stop: int) -> np.ndarray:
         """Times of set points start to stop - 1, bit for bit ``numpy.linspace(0, T, N)[start:stop]``.
@@ -317,9 +321,6 @@ class QuinticPlan(SampledMotion):
 
     q_start: np.ndarray
     q_goal: np.ndarray
-    duration: float
-    n_setpoints: int
-    source: str
 
     def rows(self, start: int, stop: int) -> Trajectory:
         """Set points start to stop - 1, bit for bit those of the whole motion sampled at once.
