@@ -55,11 +55,12 @@ import shutil
 import signal
 import stat
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 from .._version import VERSION as __version__
 from ..errors import InputError
+from ..files import current_umask
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
 from .signals import Terminated, without_teardown
 
@@ -312,12 +313,6 @@ def _signals_held():
             signal.raise_signal(sig)
 
 
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 def _chmod_folder(folder, mode):
     fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
     try:
@@ -443,8 +438,7 @@ def _in_place(real):
 
 
 @contextlib.contextmanager
-def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
-                  command: str = "output") -> Iterator[Path]:
+def staged_output(target: str | os.PathLike[str], command: str = "output") -> Iterator[Path]:
     """Write a run's files aside and put them into ``target`` as one set.
 
     Parameters
@@ -452,9 +446,6 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
     target : str or os.PathLike
         The output folder; created (with its parents) if missing. A symbolic link to a folder
         names that folder.
-    outputs : iterable of str, optional
-        The names of the files and folders the command can write. Kept for callers; the
-        command's manifest, not this list, says which files the run replaces.
     command : str, optional
         The command writing the folder (``analyze``, ``control``, ``sweep``): its manifest
         ``.gd-analyze-manifest-<command>.json`` lists the run's files; the run replaces the
@@ -474,7 +465,6 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
         a new file would replace another command's file, or the set cannot be moved in. Then
         the folder is as it was, and the lock file and the staging folder are removed.
     """
-    del outputs
     manifest_name(command)                  # a plain command name, or ValueError
     target = Path(target)
     for a in [target, *target.parents]:     # never create folders through a dangling link
@@ -563,7 +553,7 @@ def _new_temporary(where, prefix, record, kind, target):
 def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
-    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
+    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~current_umask()
     _chmod_folder(stage, mode)
     with _signals_held():
         if not real.is_dir():

@@ -33,11 +33,10 @@ _STRUCTURE = (Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMO
               Attr.OTHER_RULE_COEFFICIENTS)
 
 
-def _structure(attrs: Mapping[str, Any]) -> tuple[int, int, int, int] | None:
+def _structure(attrs: Mapping[str, Any]) -> tuple[int, ...] | None:
     if not all(k in attrs for k in _STRUCTURE):
         return None
-    fh, fc, oh, oc = (int(attrs[k]) for k in _STRUCTURE)
-    return fh, fc, oh, oc
+    return tuple(int(attrs[k]) for k in _STRUCTURE)
 
 
 @dataclass(frozen=True)
