@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
            "element_coords", "joint_coordinate", "text_coordinate", "joint_type_var", "strings",
-           "stored_prismatic",
+           "stored_prismatic", "stored_has_drives",
            "Record", "stored_name", "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
@@ -325,6 +325,24 @@ def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
     if Var.JOINT_TYPE not in ds.variables:
         return (False,) * int(ds.sizes[Var.JOINT])
     return tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
+
+
+def stored_has_drives(ds: xr.Dataset) -> bool:
+    """Whether the stored robot has drives: armature, friction or a torque offset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset, with or without the variables ``D_arm``, ``viscous``,
+        ``coulomb`` and ``torque_offset`` (each shape (n,)).
+
+    Returns
+    -------
+    bool
+        True where one of them is stored and nonzero.
+    """
+    return any(k in ds.variables and bool(np.any(np.asarray(ds[k].values, float) != 0))
+               for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))
 
 _R = TypeVar("_R", bound="Record")
 

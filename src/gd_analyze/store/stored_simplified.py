@@ -21,7 +21,7 @@ import numpy as np
 
 from .datasets import joint_units, stored_guarantee, stored_region
 from .names import Attr, Var
-from .schema import View, derived, stored, stored_prismatic, texts
+from .schema import View, derived, stored, stored_has_drives, stored_prismatic, texts
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -304,9 +304,7 @@ class StoredSimplified(View):
     region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
     guarantee: dict | None = derived(stored_guarantee)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-    has_drives: bool = derived(lambda ds: bool(any(
-        k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
-        for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))))
+    has_drives: bool = derived(stored_has_drives)
     dataset: xr.Dataset = derived(lambda ds: ds)
 
     @classmethod
