@@ -62,7 +62,7 @@ from .._version import VERSION as __version__
 from ..errors import InputError
 from ..files import current_umask
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
-from .signals import Terminated, without_teardown
+from .signals import SIGNALS, Terminated, without_teardown
 
 __all__ = ["safe_name", "staged_output", "writing", "write_error", "full_disk_error", "is_inside", "check_free_space", "check_output_file",
            "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
@@ -301,8 +301,8 @@ def _signals_held():
         yield
         return
     got, old = [], {}
-    for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
-        if sig is not None and signal.getsignal(sig) is not None:
+    for sig in SIGNALS:
+        if signal.getsignal(sig) is not None:
             old[sig] = signal.signal(sig, lambda signum, frame: got.append(signum))
     try:
         yield
