@@ -400,33 +400,6 @@ def sibling_stem(parent: Path, name: str) -> str:
     return f"{head}-{digest}"
 
 
-def _stale_names(record, name):
-    """The temporaries a killed run registered: beside the target, and inside it."""
-    beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
-    return (record.stale("beside", beside), record.stale("prev", beside),
-            record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}"))
-
-
-def _restore_prev(parent, real, prev_names):
-    """A run killed between its two renames (no ``renameat2``): put the old set back."""
-    for prev in prev_names:
-        p = parent / prev
-        if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
-            os.rename(p, real)
-
-
-def _remove_stale(parent, real, stale, record):
-    """Remove the temporaries a killed run registered in its lock record (called with the lock
-    held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
-    beside, prev, inside = stale
-    for folder, names in ((parent, [*beside, *prev]), (real, inside)):
-        for n in names:
-            p = folder / n
-            if p.is_dir() and not p.is_symlink():
-                shutil.rmtree(p, ignore_errors=True)
-    record.pending = False
-
-
 def _in_place(real):
     """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
     if os.path.ismount(real):
@@ -490,13 +463,23 @@ def staged_output(target: str | os.PathLike[str], command: str = "output") -> It
         stem = sibling_stem(parent, name)
         lock = real / LOCK_SUFFIX if mount else parent / f".{stem}{LOCK_SUFFIX}"
         with _lock(lock, target) as record:
-            stale = _stale_names(record, stem)
-            with writing(target):
-                _restore_prev(parent, real, stale[1])
-            skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
+            # the temporaries a killed run registered: beside the target, and inside it
+            temporary = re.escape(f".{stem}{TMP_MARK}") + r"[0-9a-f]{16}"
+            beside, prev = record.stale("beside", temporary), record.stale("prev", temporary)
+            inside = record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}")
+            with writing(target):   # a run killed between its two renames: the old set back
+                for p in (parent / n for n in prev):
+                    if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
+                        os.rename(p, real)
+            skip = {*inside, *([LOCK_SUFFIX] if mount else [])}
             folder_owners(real, command, target, skip, defer=True)   # refuse before the run computes
+            # they go after the folder's check (no live run owns them, and a refused run
+            # removes nothing), with the lock held
             with writing(target):
-                _remove_stale(parent, real, stale, record)
+                for p in [*(parent / n for n in [*beside, *prev]), *(real / n for n in inside)]:
+                    if p.is_dir() and not p.is_symlink():
+                        shutil.rmtree(p, ignore_errors=True)
+                record.pending = False
             with _staged(real, target, command, mount, record) as stage:
                 yield stage
     except BaseException:
