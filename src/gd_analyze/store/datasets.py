@@ -44,7 +44,6 @@ from .schema import (
     element_coords,
     flag,
     global_attributes,
-    joint_coordinate,
     joint_type_var,
     text_coordinate,
     var,
@@ -504,7 +503,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                             "in every part: round-off (shown as \u2261 0), no "
                                             "share")
     coords = element_coords(n, prismatic)
-    coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
+    coords[Var.JOINT] = text_coordinate("joint", robot.joint_names(), "joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
         coords[name] = text_coordinate("joint", joint_units(prismatic, which), long_name)
     coords[Var.XYZ] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
@@ -596,8 +595,8 @@ def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
     # one merge for all of them (a merge per variable took most of the function's time)
     ds = ds.assign({name: var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
                     for name, (dims, _, long_name) in made})
-    return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
-                                                     "joint (column of D)"))
+    return ds.assign_coords(joint_k=text_coordinate("joint_k", robot.joint_names(),
+                                                    "joint (column of D)"))
 
 
 class SetpointWriter:
@@ -642,7 +641,7 @@ class SetpointWriter:
         rows = max(1, min(int(chunk), N))
         names = [f"joint{i}" for i in range(1, n + 1)] if joints is None else joints
         for dim, long_name in (("joint", "joint (row of D)"), ("joint_k", "joint (column of D)")):
-            _, values, attrs = joint_coordinate(names, dim, long_name)
+            _, values, attrs = text_coordinate(dim, names, long_name)
             v = f.create_variable(dim, (dim,), dtype=h5py.string_dtype())
             v[:] = values.astype(object)
             v.attrs.update(attrs)
