@@ -2,11 +2,12 @@
 "the modules a result depends on"; model/kinematics.py was in none of them)."""
 
 import hashlib
+import os
 import shutil
 from pathlib import Path
 
 import gd_analyze
-from gd_analyze.files import package_sha256, sources_sha256
+from gd_analyze.files import current_umask, package_sha256, sources_sha256
 
 PACKAGE = Path(gd_analyze.__file__).resolve().parent
 
@@ -50,3 +51,12 @@ def test_every_cache_key_carries_the_package_sha256(puma):
     assert cache_key(puma)["code"]["sha256"] == code
     assert certification_key(puma, region, {})["code"]["sha256"] == code
     assert search_key(puma, region, 0.01, 0.0, 8)["code"]["sha256"] == code
+
+
+def test_current_umask_reads_the_mask_and_leaves_it():
+    old = os.umask(0o027)
+    try:
+        assert current_umask() == 0o027
+        assert current_umask() == 0o027         # reading it did not change it
+    finally:
+        os.umask(old)

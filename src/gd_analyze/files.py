@@ -16,8 +16,8 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "file_sha256", "read_regular", "TooLarge", "sources_sha256",
-           "package_sha256"]
+__all__ = ["atomic_path", "current_umask", "file_sha256", "read_regular", "TooLarge",
+           "sources_sha256", "package_sha256"]
 
 
 def file_sha256(path: str | os.PathLike[str]) -> str:
@@ -142,6 +142,20 @@ def read_regular(path: str | os.PathLike[str], limit: int, follow: bool = True) 
     return data
 
 
+def current_umask() -> int:
+    """The process's file mode creation mask, left as it is.
+
+    Returns
+    -------
+    int
+        The umask (read by setting it and setting it back: POSIX has no call that only reads
+        it), e.g. ``0o022``.
+    """
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike[str], create: bool = True) -> Iterator[str]:
     """Yield a temporary file name beside ``path``; rename it to ``path`` on success.
@@ -175,10 +189,8 @@ def atomic_path(path: str | os.PathLike[str], create: bool = True) -> Iterator[s
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.gd-tmp-", suffix=".tmp",
                                dir=path.parent or ".")
     try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.fchmod(fd, 0o666 & ~umask)   # mkstemp makes 0600; the usual mode, set on the file
-    finally:                            # itself: a name swapped meanwhile is never followed
+        os.fchmod(fd, 0o666 & ~current_umask())     # mkstemp makes 0600; the usual mode,
+    finally:            # set on the file itself: a name swapped meanwhile is never followed
         os.close(fd)
     if not create:
         os.remove(tmp)                  # the writer creates it new (O_EXCL) or fails

@@ -99,7 +99,7 @@ def test_joints_alike_are_found_in_blocks_as_on_the_whole_motion(shipped_dataset
     blocks = StoredTrajectory.motion_blocks
     monkeypatch.setattr(StoredTrajectory, "motion_blocks", lambda self, rows: blocks(self, 4))
     results = Results.from_dataset(ds)
-    series = results.trajectory.motion
+    series = [results.dataset[v].values for v in ("q", "qd", "qdd")]
 
     def alike(i, j):
         return all(np.max(np.abs(x[:, i] - x[:, j])) <= ALIKE * max(

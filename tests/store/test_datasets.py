@@ -7,6 +7,7 @@ from conftest import SHIPPED
 from gd_analyze.files import atomic_path
 from gd_analyze.jobs.analyze import analyze
 from gd_analyze.jobs.options import AnalysisOptions
+from gd_analyze.store.datasets import units_by_type
 from gd_analyze.store.schema import write_dataset
 from gd_analyze.trajectory.trajectory import read_trajectory
 
@@ -218,3 +219,12 @@ def test_a_dataset_is_written_as_to_netcdf_writes_it_without_importing_distribut
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True)
     assert done.stdout.split() == ["False"], done.stdout + done.stderr
+
+
+def test_units_by_type_name_one_unit_or_both_and_where_to_read_them():
+    # closed forms: a revolute joint's torque is in N m, a prismatic joint's in N
+    assert units_by_type([False, False], "tau") == "N m"
+    assert units_by_type([True], "q") == "m"
+    assert units_by_type([False, True], "tau") == "N m or N by joint type (per joint: tau_units)"
+    assert (units_by_type([True, False], "qd", "joint_type")
+            == "m s-1 or rad s-1 by joint type (per joint: joint_type)")

@@ -16,15 +16,20 @@ import pytest
 from conftest import SHIPPED
 
 from gd_analyze import load_robot
-from gd_analyze.cache import checksum
+from gd_analyze.cache import checksum, entry_path
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.model.robot import with_payload
-from gd_analyze.store.explicit_cache import CacheWarning, cache_path, explicit_terms
+from gd_analyze.store.explicit_cache import CacheWarning, cache_key, explicit_terms
 from gd_analyze.symbolic.explicit import derive, model_terms
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
+
+
+def cache_path(robot):
+    """The robot's entry in the cache folder (None: caching disabled)."""
+    return entry_path(cache_key(robot))
 
 
 @pytest.fixture(scope="module")

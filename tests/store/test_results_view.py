@@ -145,7 +145,7 @@ def test_the_trajectory_is_read_on_demand_from_the_dataset(shipped_dataset):
     traj = Results.from_dataset(ds).trajectory
     got = read_trajectory(ROOT / "data" / "puma560_trajectory.csv", 6)
     np.testing.assert_allclose(traj.t, got.t, rtol=0, atol=0)
-    for stored, read in zip(traj.motion, (got.q, got.qd, got.qdd)):
+    for stored, read in zip(next(traj.motion_blocks(len(got.t))), (got.q, got.qd, got.qdd)):
         np.testing.assert_allclose(stored, read, rtol=0, atol=0)
     assert traj.tau_f is None                                   # no drives, no friction
 
@@ -177,7 +177,7 @@ def test_motion_blocks_are_the_motion_in_order(shipped_dataset):
     """Read block by block (the report's tables of a long trajectory), the motion is the whole
     motion, in order, in blocks of at most the rows asked for."""
     traj = Results.from_dataset(shipped_dataset("puma560")).trajectory
-    whole = traj.motion
+    whole = [traj.dataset[v].values for v in ("q", "qd", "qdd")]
     for rows in (1, 7, 31, 1000):
         blocks = list(traj.motion_blocks(rows))
         assert [b[0].shape[0] for b in blocks] == [min(rows, 31 - a) for a in range(0, 31, rows)]

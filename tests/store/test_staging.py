@@ -34,12 +34,12 @@ def test_case6_safe_name(name, expect):
 
 def test_the_set_is_moved_in_together_and_old_files_go(tmp_path):
     target = tmp_path / "out"
-    with staged_output(target, ("a.txt", "b.txt")) as stage:
+    with staged_output(target) as stage:
         (stage / "a.txt").write_text("1")
         (stage / "b.txt").write_text("1")
         assert not target.exists()                 # nothing visible before the run succeeds
     assert sorted(os.listdir(target)) == [manifest_name("output"), "a.txt", "b.txt"]
-    with staged_output(target, ("a.txt", "b.txt")) as stage:
+    with staged_output(target) as stage:
         (stage / "a.txt").write_text("2")          # this run writes no b.txt: ours, it goes
     assert visible(target) == {"a.txt": b"2"}
     assert leftovers(tmp_path) == []
@@ -55,7 +55,7 @@ def test_case2_a_users_files_are_never_touched(tmp_path, ours):
     """A folder holding files no manifest lists is refused, untouched."""
     target = tmp_path / "out"
     if ours:                                       # a folder a run wrote, then the user's files
-        with staged_output(target, ("report.html", "figures"), command="analyze") as stage:
+        with staged_output(target, command="analyze") as stage:
             (stage / "figures").mkdir()
             (stage / "figures" / "fig.svg").write_text("ours")
             (stage / "report.html").write_text("ours")
@@ -65,7 +65,7 @@ def test_case2_a_users_files_are_never_touched(tmp_path, ours):
     before = tree(target)
     entered = []
     with pytest.raises(InputError) as err:
-        with staged_output(target, ("report.html", "figures"), command="analyze") as stage:
+        with staged_output(target, command="analyze") as stage:
             entered.append(stage)                  # refused before the run computes
     assert str(err.value) == _foreign_message(target, ["figures/thesis_fig1.png",
                                                        "report.html"])
@@ -121,10 +121,10 @@ def test_case2_a_command_never_replaces_another_commands_file(tmp_path, path):
 
 def test_case3_a_failed_run_leaves_the_old_set_and_nothing_else(tmp_path):
     target = tmp_path / "out"
-    with staged_output(target, ("a.txt",)) as stage:
+    with staged_output(target) as stage:
         (stage / "a.txt").write_text("old")
     with pytest.raises(RuntimeError):
-        with staged_output(target, ("a.txt",)) as stage:
+        with staged_output(target) as stage:
             (stage / "a.txt").write_text("new")
             raise RuntimeError("interrupted")
     assert (target / "a.txt").read_text() == "old"

@@ -32,7 +32,7 @@ def _writer_script(target, hold):
         from gd_analyze.store.signals import install
         from gd_analyze.store.staging import staged_output
         install()
-        with staged_output({str(target)!r}, ("big.bin",)) as stage:
+        with staged_output({str(target)!r}) as stage:
             (stage / "big.bin").write_bytes(b"x" * 100000)
             print("staged", flush=True)
             for _ in range(int({hold} / {NAP})):
@@ -67,7 +67,7 @@ def test_case8_a_killed_run_is_cleaned_by_the_next(tmp_path):
     proc.kill()                                      # SIGKILL: no clean-up possible
     proc.wait(timeout=EXIT_WAIT)
     assert any(TMP_MARK in n for n in leftovers(tmp_path))
-    with staged_output(target, ("big.bin",)) as stage:        # the lock is free again
+    with staged_output(target) as stage:        # the lock is free again
         (stage / "big.bin").write_text("ok")
     assert leftovers(tmp_path) == []
     assert sorted(os.listdir(target)) == [manifest_name("output"), "big.bin"]
@@ -106,7 +106,7 @@ def _mover_script(target, hold, mount=False):
         os.replace, os.rename = pause(os.replace), pause(os.rename)
         if hasattr(staging, "_renameat2"):
             staging._renameat2 = pause(staging._renameat2)
-        with staged_output(target, ("a.txt", "b.txt", "figures")) as stage:
+        with staged_output(target) as stage:
             for path, text in {NEW!r}.items():
                 (stage / path).parent.mkdir(parents=True, exist_ok=True)
                 (stage / path).write_text(text)
@@ -125,7 +125,7 @@ def _old_set(target, monkeypatch, mount):
         ismount = os.path.ismount
         monkeypatch.setattr(os.path, "ismount",
                             lambda p: Path(p).resolve() == target.resolve() or ismount(p))
-    with staged_output(target, ("a.txt", "b.txt", "figures")) as stage:
+    with staged_output(target) as stage:
         for path, text in OLD.items():
             (stage / path).parent.mkdir(parents=True, exist_ok=True)
             (stage / path).write_text(text)
@@ -141,7 +141,7 @@ def test_case8_an_interrupted_move_leaves_one_whole_set(tmp_path, sig, mount, mo
     proc.send_signal(sig)
     proc.wait(timeout=EXIT_WAIT)
     assert _set(target) in (OLD, NEW)
-    with staged_output(target, ("a.txt",)) as stage:          # the next run cleans up
+    with staged_output(target) as stage:          # the next run cleans up
         (stage / "a.txt").write_text("next")
     assert _set(target) == {"a.txt": "next"}
     assert leftovers(tmp_path) == [] and not any(TMP_MARK in n for n in os.listdir(target))
@@ -181,7 +181,7 @@ def test_case8_a_mount_point_is_written_inside(tmp_path, monkeypatch):
     target.mkdir()
     _refuse_renaming(monkeypatch, target)
     for text in ("1", "2"):
-        with staged_output(target, ("a.txt", "figures")) as stage:
+        with staged_output(target) as stage:
             (stage / "a.txt").write_text(text)
             (stage / "figures").mkdir()
             (stage / "figures" / f"f{text}.svg").write_text(text)
@@ -195,7 +195,7 @@ def test_case8_the_current_folder_is_kept(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     inode = os.stat(tmp_path).st_ino
     for text in ("1", "2"):
-        with staged_output(".", ("a.txt",)) as stage:
+        with staged_output(".") as stage:
             (stage / "a.txt").write_text(text)
     assert os.stat(tmp_path).st_ino == inode and _set(tmp_path) == {"a.txt": "2"}
 
@@ -238,7 +238,7 @@ def test_case8_a_mount_point_killed_mid_exchange_is_replaced_whole_by_the_next_r
     proc.kill()
     proc.wait(timeout=EXIT_WAIT)
     assert set(_set(target)) == set(OLD)                 # every file there, old or new
-    with staged_output(target, ("a.txt",)) as stage:
+    with staged_output(target) as stage:
         (stage / "a.txt").write_text("next")
     assert _set(target) == {"a.txt": "next"}
     assert not any(TMP_MARK in n for n in os.listdir(target))

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 from gd_analyze.errors import InputError
-from gd_analyze.store.schema import View, derived, stored, texts
+from gd_analyze.store.schema import View, derived, stored, stored_has_drives, texts
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,3 +59,15 @@ def test_a_missing_required_variable_is_one_line_naming_it():
 def test_a_field_without_default_must_be_stored():
     with pytest.raises(KeyError):
         _Probe.read(_dataset(a=True))
+
+
+def test_drives_are_stored_where_one_of_their_variables_is_nonzero():
+    # closed form: an arm has drives iff its armature, friction or torque offset is not 0
+    assert not stored_has_drives(xr.Dataset())
+    zero = xr.Dataset({name: ("joint", np.zeros(3))
+                       for name in ("D_arm", "viscous", "coulomb", "torque_offset")})
+    assert not stored_has_drives(zero)
+    for name in zero.data_vars:
+        one = zero.copy(deep=True)
+        one[name].values[1] = 0.5
+        assert stored_has_drives(one), name

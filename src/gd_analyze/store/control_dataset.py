@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 from ..model.drives import COULOMB_BAND
 from ..ranking.labels import element_units, joint_gain_units
 from ..ranking.ranking import element_labels
-from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute
+from .datasets import JOINT_UNIT_COORDS, joint_units, units_attribute, units_by_type
 from .names import ControlVar as V
 from .schema import flag, global_attributes, joint_type_var, text_coordinate, var, write_dataset
 
@@ -163,8 +163,7 @@ def control_dataset(result: Any, settings: Mapping[str, str | float | int] | Non
     tau_pk, tau_rm = zip(*(peak_rms(r.tau) for r in runs))
     CTJ, CJ = (V.CONTROLLER, V.TIME, V.JOINT), (V.CONTROLLER, V.JOINT)
     prismatic = np.asarray(robot.prismatic, bool)
-    U = {k: units_attribute(joint_units(prismatic, k), f"{k}_units")
-         for k in ("q", "qd", "qdd", "tau")}
+    U = {k: units_by_type(prismatic, k) for k in ("q", "qd", "qdd", "tau")}
     per_joint = gain_units(prismatic)
     U.update({k: units_attribute(v, f"{k}_units") for k, v in per_joint.items()})
     data_vars = {

@@ -44,7 +44,6 @@ from .schema import (
     element_coords,
     flag,
     global_attributes,
-    joint_coordinate,
     joint_type_var,
     text_coordinate,
     var,
@@ -58,8 +57,8 @@ if TYPE_CHECKING:
 
 __all__ = ["summary_dataset", "with_setpoints", "SetpointWriter", "SETPOINT_DIM",
            "SETPOINT_VARIABLES", "setpoint_units", "joint_units", "units_attribute",
-           "TORQUE_ERRORS", "error_variables", "guarantee_fields", "stored_guarantee",
-           "region_fields", "stored_region"]
+           "units_by_type", "TORQUE_ERRORS", "error_variables", "guarantee_fields",
+           "stored_guarantee", "region_fields", "stored_region"]
 
 
 #: The set points' dimension; its coordinate variable is the time t [s].
@@ -214,25 +213,23 @@ def region_fields(region: Region | None) -> tuple[dict[str, Any], dict[str, Any]
     """
     if region is None:
         return {}, {}
-    pris = region.is_prismatic
     full = region.full_turn
-
-    def units(which):
-        return units_attribute(joint_units(pris, which), f"{which}_units")
+    q_units, qd_units, qdd_units = (units_by_type(region.is_prismatic, which)
+                                    for which in ("q", "qd", "qdd"))
 
     J = ("joint",)
     out = {
-        Var.REGION_Q_MIN: var(J, np.where(full, np.nan, region.q_min), units("q"), "lower "
+        Var.REGION_Q_MIN: var(J, np.where(full, np.nan, region.q_min), q_units, "lower "
                               "position limit of the guarantee's region (NaN: any angle, full "
                               "turn)"),
-        Var.REGION_Q_MAX: var(J, np.where(full, np.nan, region.q_max), units("q"), "upper "
+        Var.REGION_Q_MAX: var(J, np.where(full, np.nan, region.q_max), q_units, "upper "
                               "position limit of the guarantee's region (NaN: any angle, full "
                               "turn)"),
         Var.REGION_Q_FULL_TURN: flag(J, full, "1: a revolute joint at any angle (its region "
                                      "spans a full turn)", "range full_turn"),
-        Var.REGION_QD_MAX: var(J, np.asarray(region.qd_max, float), units("qd"),
+        Var.REGION_QD_MAX: var(J, np.asarray(region.qd_max, float), qd_units,
                                "velocity limit of the guarantee's region"),
-        Var.REGION_QDD_MAX: var(J, np.asarray(region.qdd_max, float), units("qdd"),
+        Var.REGION_QDD_MAX: var(J, np.asarray(region.qdd_max, float), qdd_units,
                                 "acceleration limit of the guarantee's region"),
         Var.REGION_QDD_MAX_ASSUMED: flag(J, region.assumed, "1: the acceleration limit is "
                                          f"assumed ({region.qdd_rule or 'not given'}): the "
@@ -356,6 +353,26 @@ def units_attribute(units: Sequence[str], coord: str) -> str:
     return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
 
 
+def units_by_type(prismatic: Sequence[bool] | np.ndarray, which: str, coord: str = "") -> str:
+    """The ``units`` attribute of a per-joint variable of one quantity.
+
+    Parameters
+    ----------
+    prismatic : sequence of bool, length n
+        Which joints are prismatic.
+    which : str
+        The quantity, as :func:`joint_units` takes it (``"q"``, ``"tau"``, ``"armature"`` ...).
+    coord : str, optional
+        The variable that gives the units one by one; ``<which>_units`` by default.
+
+    Returns
+    -------
+    str
+        :func:`units_attribute` of the joints' :func:`joint_units`.
+    """
+    return units_attribute(joint_units(prismatic, which), coord or f"{which}_units")
+
+
 def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = None) -> str:
     """The ``units`` attribute of a variable of :data:`SETPOINT_VARIABLES` for an arm.
 
@@ -383,14 +400,14 @@ def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = No
     if prismatic is None or not np.any(prismatic):
         return base
     if name in ("q", "qd", "qdd"):
-        return units_attribute(joint_units(prismatic, name), f"{name}_units")
+        return units_by_type(prismatic, name)
     if name.startswith("D"):
         n = len(prismatic)
         units = [element_units("D", i, j, prismatic) for i in range(n) for j in range(i, n)]
         return units_attribute(units, "element_units")
     if name == Var.T:
         return base
-    return units_attribute(joint_units(prismatic, "tau"), "tau_units")
+    return units_by_type(prismatic, "tau")
 
 
 
@@ -428,10 +445,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     labels = list(ranking.labels)
     puma = is_chapter_puma(robot.name, n)
     prismatic = np.asarray(robot.prismatic, bool)
-    torque = units_attribute(joint_units(prismatic, "tau"), "tau_units")
-
-    def by_type(which, coord):
-        return units_attribute(joint_units(prismatic, which), coord)
+    torque = units_by_type(prismatic, "tau")
+    drive = {w: units_by_type(prismatic, w, "joint_type") for w in ("armature", "viscous")}
 
     # an element zero in every part has no share: its ratio of round-off is not data (NaN)
     zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
@@ -465,18 +480,18 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         Var.LINK_COM: var(("joint", "xyz"), robot.com, "m", "centre of mass in link frame"),
         Var.LINK_INERTIA: var(("joint", "xyz", "xyz_k"), robot.inertia, "kg m2",
                              "inertia tensor about the centre of mass, link-frame axes"),
-        Var.Q_MIN: var(("joint",), robot.q_min, by_type("q", "q_units"),
+        Var.Q_MIN: var(("joint",), robot.q_min, units_by_type(prismatic, "q"),
                      "lower joint position limit"),
-        Var.Q_MAX: var(("joint",), robot.q_max, by_type("q", "q_units"),
+        Var.Q_MAX: var(("joint",), robot.q_max, units_by_type(prismatic, "q"),
                      "upper joint position limit"),
-        Var.QD_MAX: var(("joint",), robot.qd_max, by_type("qd", "qd_units"),
+        Var.QD_MAX: var(("joint",), robot.qd_max, units_by_type(prismatic, "qd"),
                       "joint velocity limit"),
-        Var.QDD_MAX: var(("joint",), robot.qdd_max, by_type("qdd", "qdd_units"),
+        Var.QDD_MAX: var(("joint",), robot.qdd_max, units_by_type(prismatic, "qdd"),
                        "joint acceleration limit"),
-        Var.D_ARM: var(("joint",), robot.armature, by_type("armature", "joint_type"),
+        Var.D_ARM: var(("joint",), robot.armature, drive["armature"],
                      "armature part of D: its diagonal, the drive's reflected rotor inertia "
                      "rotor_inertia * gear_ratio^2 (D_arm = diag of this)"),
-        Var.VISCOUS: var(("joint",), robot.viscous, by_type("viscous", "joint_type"),
+        Var.VISCOUS: var(("joint",), robot.viscous, drive["viscous"],
                        "viscous friction coefficient (N m s rad-1 revolute, N s m-1 "
                        "prismatic)"),
         Var.COULOMB: var(("joint",), robot.coulomb, torque, "Coulomb friction torque"),
@@ -488,7 +503,7 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
                                             "in every part: round-off (shown as \u2261 0), no "
                                             "share")
     coords = element_coords(n, prismatic)
-    coords[Var.JOINT] = joint_coordinate(robot.joint_names(), long_name="joint (row of D)")
+    coords[Var.JOINT] = text_coordinate("joint", robot.joint_names(), "joint (row of D)")
     for name, (which, long_name) in JOINT_UNIT_COORDS.items():
         coords[name] = text_coordinate("joint", joint_units(prismatic, which), long_name)
     coords[Var.XYZ] = ("xyz", np.array(["x", "y", "z"]), {"long_name": "axis", "units": "1"})
@@ -580,8 +595,8 @@ def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):
     # one merge for all of them (a merge per variable took most of the function's time)
     ds = ds.assign({name: var(dims, arrays[name], setpoint_units(name, prismatic), long_name)
                     for name, (dims, _, long_name) in made})
-    return ds.assign_coords(joint_k=joint_coordinate(robot.joint_names(), "joint_k",
-                                                     "joint (column of D)"))
+    return ds.assign_coords(joint_k=text_coordinate("joint_k", robot.joint_names(),
+                                                    "joint (column of D)"))
 
 
 class SetpointWriter:
@@ -626,7 +641,7 @@ class SetpointWriter:
         rows = max(1, min(int(chunk), N))
         names = [f"joint{i}" for i in range(1, n + 1)] if joints is None else joints
         for dim, long_name in (("joint", "joint (row of D)"), ("joint_k", "joint (column of D)")):
-            _, values, attrs = joint_coordinate(names, dim, long_name)
+            _, values, attrs = text_coordinate(dim, names, long_name)
             v = f.create_variable(dim, (dim,), dtype=h5py.string_dtype())
             v[:] = values.astype(object)
             v.attrs.update(attrs)

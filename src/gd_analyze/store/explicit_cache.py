@@ -24,12 +24,11 @@ folder is silent: the model is derived each time.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..cache import CacheWarning, cache_dir, entry_path, lookup, store
+from ..cache import CacheWarning, lookup, store
 from ..cache import cache_key as _key
 from ..symbolic.explicit import Term, derive, model_terms
 from ..symbolic.explicit_check import terms_disagreement
@@ -38,8 +37,7 @@ from .certification_cache import robot_inputs
 if TYPE_CHECKING:
     from ..model.robot import Robot
 
-__all__ = ["cache_dir", "cache_path", "cache_key", "explicit_terms", "CacheWarning",
-           "SELF_CHECK_TOLERANCE"]
+__all__ = ["cache_key", "explicit_terms", "CacheWarning", "SELF_CHECK_TOLERANCE"]
 
 _FIELDS = ("kind", "part", "i", "j", "k", "K", "S", "C")
 #: Layout of an entry (its arrays and the stored key).
@@ -68,30 +66,10 @@ def cache_key(robot: Robot) -> dict[str, Any]:
                              "offsets_in": "placements", "fields": list(_FIELDS)})
 
 
-def cache_path(robot: Robot) -> Path | None:
-    """The robot's entry in the cache folder, or None when caching is disabled.
-
-    Parameters
-    ----------
-    robot : Robot
-
-    Returns
-    -------
-    pathlib.Path or None
-        ``<folder>/explicit-<first 40 hex digits of the key's SHA-256>.npz``.
-    """
-    return None if cache_dir() is None else entry_path(cache_key(robot))
-
-
 #: The dtype of each stored array.
 _DTYPES = {"kind": np.dtype("<U1"), "part": np.dtype("<U4"), "i": np.dtype("<i8"),
            "j": np.dtype("<i8"), "k": np.dtype("<i8"), "K": np.dtype("<i8"),
            "S": np.dtype(bool), "C": np.dtype("<f8")}
-
-
-def _arrays(terms):
-    """The Term's fields as the plain arrays an entry stores (fixed dtypes)."""
-    return {f: np.asarray(getattr(terms, f), _DTYPES[f]) for f in _FIELDS}
 
 
 def _checked(robot, arrays):
@@ -145,5 +123,5 @@ def explicit_terms(robot: Robot) -> tuple[Term, float]:
     t0 = time.perf_counter()
     terms = model_terms(derive(robot))
     seconds = time.perf_counter() - t0
-    store(key, _arrays(terms))
+    store(key, {f: np.asarray(getattr(terms, f), _DTYPES[f]) for f in _FIELDS})
     return terms, seconds

@@ -110,19 +110,14 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
                             sha256=rob["sha256"] or None)
     robot = _recorded_mounting(robot, spec, path)
-    _check_region_first(robot, spec, path)
+    # a guarantee's region and scale, checked against the robot (model_trust.check_region)
+    # before the model's program is built and sampled
+    if isinstance(guarantee := spec.get("guarantee"), dict):
+        g = Guarantee.from_dict(guarantee, robot.n, float(spec.get("tolerance", "nan")), path)
+        check_region(robot, g, float(spec.get("torque_floor", 0.0)), path)
     model = SimplifiedModel.from_dict(spec, robot, path)
     check_guarantee(model, path)
     return model
-
-
-def _check_region_first(robot, spec, path):
-    """The region guarantee's region and scale checked against the robot
-    (:func:`.model_trust.check_region`) before the model's program is built and sampled."""
-    if not isinstance(spec.get("guarantee"), dict):
-        return
-    g = Guarantee.from_dict(spec["guarantee"], robot.n, float(spec.get("tolerance", "nan")), path)
-    check_region(robot, g, float(spec.get("torque_floor", 0.0)), path)
 
 
 def _recorded_mounting(robot, spec, path):

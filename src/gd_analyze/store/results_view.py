@@ -43,6 +43,7 @@ from .schema import (
     derived,
     open_results,
     stored,
+    stored_has_drives,
     stored_name,
     stored_prismatic,
     strings,
@@ -182,6 +183,8 @@ class StoredRobot(View):
         before they were stored.
     placeholder_inertia : bool
         The robot file gave no inertia: placeholders were used.
+    has_drives : bool
+        Any armature, friction or torque offset is stored nonzero.
     """
 
     description: Any = stored(Attr.ROBOT_DESCRIPTION, default=None, attr=True)
@@ -203,6 +206,7 @@ class StoredRobot(View):
     torque_offset: np.ndarray | None = stored(Var.TORQUE_OFFSET, default=None)
     effort_limit: np.ndarray | None = stored(Var.TAU_MAX, default=None)
     placeholder_inertia: bool = stored(Attr.ROBOT_PLACEHOLDER_INERTIA, bool, False, attr=True)
+    has_drives: bool = derived(stored_has_drives)
 
     @property
     def drives(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -210,12 +214,6 @@ class StoredRobot(View):
         if self.armature is None or self.viscous is None or self.coulomb is None:
             return None
         return self.armature, self.viscous, self.coulomb
-
-    @property
-    def has_drives(self) -> bool:
-        """bool: any armature, friction or torque offset is stored nonzero."""
-        return any(v is not None and bool(np.any(np.asarray(v, float) != 0))
-                   for v in (self.armature, self.viscous, self.coulomb, self.torque_offset))
 
 
 @dataclass(frozen=True, eq=False)
@@ -245,16 +243,9 @@ class StoredTrajectory(View):
         """ndarray, shape (N,): the time of each set point [s]."""
         return self.dataset[Var.T].values
 
-    @property
-    def motion(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(q, q̇, q̈), each ndarray of shape (N, n): joint positions [rad or m], velocities
-        [rad/s or m/s] and accelerations [rad/s^2 or m/s^2]."""
-        return (self.dataset[Var.Q].values, self.dataset[Var.QD].values,
-                self.dataset[Var.QDD].values)
-
     def motion_blocks(self, rows: int = 65536
                       ) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """:attr:`motion` in consecutive blocks of set points, read one block at a time.
+        """The motion (q, q̇, q̈) in consecutive blocks of set points, read one block at a time.
 
         Parameters
         ----------
@@ -264,8 +255,9 @@ class StoredTrajectory(View):
         Yields
         ------
         (ndarray, ndarray, ndarray)
-            q, q̇ and q̈ of the next block, each of shape (k, n), k <= ``rows``, in the units
-            of :attr:`motion`; memory stays a block whatever N is.
+            q, q̇ and q̈ of the next block, each of shape (k, n), k <= ``rows``: joint positions
+            [rad or m], velocities [rad/s or m/s] and accelerations [rad/s^2 or m/s^2]; memory
+            stays a block whatever N is.
         """
         q, qd, qdd = (self.dataset[v] for v in (Var.Q, Var.QD, Var.QDD))
         step = max(1, int(rows))

@@ -34,8 +34,8 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
-           "element_coords", "joint_coordinate", "text_coordinate", "joint_type_var", "strings",
-           "stored_prismatic",
+           "element_coords", "text_coordinate", "joint_type_var", "strings",
+           "stored_prismatic", "stored_has_drives",
            "Record", "stored_name", "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
@@ -168,34 +168,6 @@ def global_attributes(robot: Robot, title: str,
     return attrs
 
 
-def joint_coordinate(names: Sequence[str], dim: str = "joint",
-                     long_name: str = "joint") -> tuple[Any, ...]:
-    """The coordinate of a joint dimension: the joints' names.
-
-    Parameters
-    ----------
-    names : sequence of str, length n
-        The joints' names (:meth:`gd_analyze.model.robot.Robot.joint_names`: a URDF's
-        own, else ``"joint1"`` .. ``"jointn"``).
-    dim : str, optional
-        The dimension (``"joint"``, or ``"joint_k"`` for the columns of D).
-    long_name : str, optional
-        Its ``long_name``.
-
-    Returns
-    -------
-    tuple
-        ``(dim, values, attrs)`` as xarray takes it, the names as str (stored as netCDF4
-        strings).
-
-    Examples
-    --------
-    >>> joint_coordinate(["joint1", "joint2"])[1].tolist()
-    ['joint1', 'joint2']
-    """
-    return text_coordinate(dim, names, long_name)
-
-
 def text_coordinate(dim: str, values: Sequence[object], long_name: str) -> tuple[Any, ...]:
     """A coordinate of names (the joints', the elements', the controllers', the classes').
 
@@ -242,7 +214,8 @@ def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
         name -> (dims, values, attrs): the M = n (n + 1) / 2 + n ranked element labels
         ``"D11"`` .. ``"hn"``, their units from the joint types
         (:func:`gd_analyze.ranking.labels.element_units`: kg m2, kg m or kg for D; N m or N for
-        h) and the joints (:func:`joint_coordinate`).
+        h) and the joints' names (``joints``, else ``"joint1"`` .. ``"jointn"``: a
+        :func:`text_coordinate`).
     """
 
     labels = element_labels(n)
@@ -250,8 +223,8 @@ def element_coords(n: int, prismatic: Sequence[bool] | np.ndarray | None = None,
     return {
         Var.ELEMENT: text_coordinate("element", labels, "ranked element of D (i <= j) or h"),
         Var.ELEMENT_UNITS: text_coordinate("element", units, "units of the element"),
-        Var.JOINT: joint_coordinate(joints if joints is not None else
-                                  [f"joint{i}" for i in range(1, n + 1)]),
+        Var.JOINT: text_coordinate("joint", joints if joints is not None else
+                                   [f"joint{i}" for i in range(1, n + 1)], "joint"),
     }
 
 
@@ -325,6 +298,24 @@ def stored_prismatic(ds: xr.Dataset) -> tuple[bool, ...]:
     if Var.JOINT_TYPE not in ds.variables:
         return (False,) * int(ds.sizes[Var.JOINT])
     return tuple(t == "prismatic" for t in strings(ds[Var.JOINT_TYPE].values))
+
+
+def stored_has_drives(ds: xr.Dataset) -> bool:
+    """Whether the stored robot has drives: armature, friction or a torque offset.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A results dataset, with or without the variables ``D_arm``, ``viscous``,
+        ``coulomb`` and ``torque_offset`` (each shape (n,)).
+
+    Returns
+    -------
+    bool
+        True where one of them is stored and nonzero.
+    """
+    return any(k in ds.variables and bool(np.any(np.asarray(ds[k].values, float) != 0))
+               for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))
 
 _R = TypeVar("_R", bound="Record")
 

@@ -59,10 +59,6 @@ class Terminated(BaseException):
     """Raised in the main thread on SIGTERM (or SIGHUP), so that clean-up code runs."""
 
 
-def _exception(signum):
-    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
-
-
 def _in_interpreter_callback(frame):
     """Whether the interrupted code runs inside a gc callback or a ``__del__`` method, where
     an exception would be reported as ignored and the signal lost."""
@@ -88,7 +84,7 @@ def _on_signal(signum, frame):
     if _in_interpreter_callback(frame):
         _deliver_later(signum)
         return
-    exc = _exception(signum)
+    exc = KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
     _RAISED[:] = [(exc, signum)]
     raise exc
 

@@ -55,13 +55,14 @@ import shutil
 import signal
 import stat
 import sys
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 
 from .._version import VERSION as __version__
 from ..errors import InputError
+from ..files import current_umask
 from .manifest import folder_owners, manifest_name, write_manifest, write_transition
-from .signals import Terminated, without_teardown
+from .signals import SIGNALS, Terminated, without_teardown
 
 __all__ = ["safe_name", "staged_output", "writing", "write_error", "full_disk_error", "is_inside", "check_free_space", "check_output_file",
            "Terminated", "LOCK_SUFFIX", "TMP_MARK"]
@@ -300,8 +301,8 @@ def _signals_held():
         yield
         return
     got, old = [], {}
-    for sig in (signal.SIGINT, signal.SIGTERM, getattr(signal, "SIGHUP", None)):
-        if sig is not None and signal.getsignal(sig) is not None:
+    for sig in SIGNALS:
+        if signal.getsignal(sig) is not None:
             old[sig] = signal.signal(sig, lambda signum, frame: got.append(signum))
     try:
         yield
@@ -310,12 +311,6 @@ def _signals_held():
             signal.signal(sig, handler)
         for sig in got[:1]:
             signal.raise_signal(sig)
-
-
-def _umask():
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def _chmod_folder(folder, mode):
@@ -405,33 +400,6 @@ def sibling_stem(parent: Path, name: str) -> str:
     return f"{head}-{digest}"
 
 
-def _stale_names(record, name):
-    """The temporaries a killed run registered: beside the target, and inside it."""
-    beside = re.escape(f".{name}{TMP_MARK}") + r"[0-9a-f]{16}"
-    return (record.stale("beside", beside), record.stale("prev", beside),
-            record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}"))
-
-
-def _restore_prev(parent, real, prev_names):
-    """A run killed between its two renames (no ``renameat2``): put the old set back."""
-    for prev in prev_names:
-        p = parent / prev
-        if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
-            os.rename(p, real)
-
-
-def _remove_stale(parent, real, stale, record):
-    """Remove the temporaries a killed run registered in its lock record (called with the lock
-    held, after the folder's check: no live run owns them, and a refused run removes nothing)."""
-    beside, prev, inside = stale
-    for folder, names in ((parent, [*beside, *prev]), (real, inside)):
-        for n in names:
-            p = folder / n
-            if p.is_dir() and not p.is_symlink():
-                shutil.rmtree(p, ignore_errors=True)
-    record.pending = False
-
-
 def _in_place(real):
     """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
     if os.path.ismount(real):
@@ -443,8 +411,7 @@ def _in_place(real):
 
 
 @contextlib.contextmanager
-def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
-                  command: str = "output") -> Iterator[Path]:
+def staged_output(target: str | os.PathLike[str], command: str = "output") -> Iterator[Path]:
     """Write a run's files aside and put them into ``target`` as one set.
 
     Parameters
@@ -452,9 +419,6 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
     target : str or os.PathLike
         The output folder; created (with its parents) if missing. A symbolic link to a folder
         names that folder.
-    outputs : iterable of str, optional
-        The names of the files and folders the command can write. Kept for callers; the
-        command's manifest, not this list, says which files the run replaces.
     command : str, optional
         The command writing the folder (``analyze``, ``control``, ``sweep``): its manifest
         ``.gd-analyze-manifest-<command>.json`` lists the run's files; the run replaces the
@@ -474,7 +438,6 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
         a new file would replace another command's file, or the set cannot be moved in. Then
         the folder is as it was, and the lock file and the staging folder are removed.
     """
-    del outputs
     manifest_name(command)                  # a plain command name, or ValueError
     target = Path(target)
     for a in [target, *target.parents]:     # never create folders through a dangling link
@@ -500,13 +463,23 @@ def staged_output(target: str | os.PathLike[str], outputs: Iterable[str] = (),
         stem = sibling_stem(parent, name)
         lock = real / LOCK_SUFFIX if mount else parent / f".{stem}{LOCK_SUFFIX}"
         with _lock(lock, target) as record:
-            stale = _stale_names(record, stem)
-            with writing(target):
-                _restore_prev(parent, real, stale[1])
-            skip = {*stale[2], *([LOCK_SUFFIX] if mount else [])}
+            # the temporaries a killed run registered: beside the target, and inside it
+            temporary = re.escape(f".{stem}{TMP_MARK}") + r"[0-9a-f]{16}"
+            beside, prev = record.stale("beside", temporary), record.stale("prev", temporary)
+            inside = record.stale("inside", re.escape(TMP_MARK) + r"[0-9a-f]{16}")
+            with writing(target):   # a run killed between its two renames: the old set back
+                for p in (parent / n for n in prev):
+                    if p.is_dir() and not p.is_symlink() and not os.path.lexists(real):
+                        os.rename(p, real)
+            skip = {*inside, *([LOCK_SUFFIX] if mount else [])}
             folder_owners(real, command, target, skip, defer=True)   # refuse before the run computes
+            # they go after the folder's check (no live run owns them, and a refused run
+            # removes nothing), with the lock held
             with writing(target):
-                _remove_stale(parent, real, stale, record)
+                for p in [*(parent / n for n in [*beside, *prev]), *(real / n for n in inside)]:
+                    if p.is_dir() and not p.is_symlink():
+                        shutil.rmtree(p, ignore_errors=True)
+                record.pending = False
             with _staged(real, target, command, mount, record) as stage:
                 yield stage
     except BaseException:
@@ -563,7 +536,7 @@ def _new_temporary(where, prefix, record, kind, target):
 def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
-    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~_umask()
+    mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~current_umask()
     _chmod_folder(stage, mode)
     with _signals_held():
         if not real.is_dir():

@@ -494,10 +494,6 @@ def _number(ds: xr.Dataset, key: str) -> float:
         return math.nan
 
 
-def _joint(ds: xr.Dataset) -> np.ndarray | None:
-    return ds["joint"].values if "joint" in ds.coords else None
-
-
 @dataclass(frozen=True, eq=False)
 class StoredRecording(View):
     """One recording's group of ``identification.h5``: its file, role, torques and errors.
@@ -539,7 +535,7 @@ class StoredRecording(View):
     t: np.ndarray = stored("t", lambda v: np.asarray(v, float))
     torques: Mapping[str, np.ndarray] = derived(lambda ds: {
         v: ds[v].values for v in TORQUES if v in ds.variables})
-    joint: np.ndarray | None = derived(lambda ds: _joint(ds))
+    joint: np.ndarray | None = stored("joint", default=None)
     rms_error: np.ndarray | None = stored("rms_error", default=None)
     relative_error: np.ndarray | None = stored("relative_error", default=None)
     prior_relative_error: np.ndarray | None = stored("prior_relative_error", default=None)
@@ -653,7 +649,7 @@ class StoredIdentification(View):
     pseudo_inertia_min_eigenvalue: np.ndarray | None = stored("pseudo_inertia_min_eigenvalue",
                                                               default=None)
     noise_std: np.ndarray | None = stored("noise_std", default=None)
-    joint: np.ndarray | None = derived(lambda ds: _joint(ds))
+    joint: np.ndarray | None = stored("joint", default=None)
     prismatic: np.ndarray | None = stored("prismatic", default=None)
 
     @classmethod

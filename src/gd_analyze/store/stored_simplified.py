@@ -21,7 +21,7 @@ import numpy as np
 
 from .datasets import joint_units, stored_guarantee, stored_region
 from .names import Attr, Var
-from .schema import View, derived, stored, stored_prismatic, texts
+from .schema import View, derived, stored, stored_has_drives, stored_prismatic, texts
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -33,11 +33,10 @@ _STRUCTURE = (Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMO
               Attr.OTHER_RULE_COEFFICIENTS)
 
 
-def _structure(attrs: Mapping[str, Any]) -> tuple[int, int, int, int] | None:
+def _structure(attrs: Mapping[str, Any]) -> tuple[int, ...] | None:
     if not all(k in attrs for k in _STRUCTURE):
         return None
-    fh, fc, oh, oc = (int(attrs[k]) for k in _STRUCTURE)
-    return fh, fc, oh, oc
+    return tuple(int(attrs[k]) for k in _STRUCTURE)
 
 
 @dataclass(frozen=True)
@@ -305,9 +304,7 @@ class StoredSimplified(View):
     region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
     guarantee: dict | None = derived(stored_guarantee)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-    has_drives: bool = derived(lambda ds: bool(any(
-        k in ds.variables and np.any(np.asarray(ds[k].values, float) != 0)
-        for k in (Var.D_ARM, Var.VISCOUS, Var.COULOMB, Var.TORQUE_OFFSET))))
+    has_drives: bool = derived(stored_has_drives)
     dataset: xr.Dataset = derived(lambda ds: ds)
 
     @classmethod

@@ -726,9 +726,6 @@ REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION, SV.T
             SV.MERGED_TAU_ERROR_RELATIVE_PEAK, SV.MERGED_ERROR_PEAK, SV.MERGED_ERROR_RMS,
             SV.MERGED_ERROR_TAU_PEAK, SV.MERGED_ERROR_RELATIVE_PEAK,
             SV.MERGED_ERROR_RELATIVE_RMS)
-#: Attributes the report says in rows of their own (or elsewhere), or that are results: any
-#: other attribute is a setting added later, in :attr:`SweepSettings.others`.
-SAID = SWEEP_ATTRIBUTES
 
 
 @dataclass(frozen=True, eq=False)
@@ -843,7 +840,9 @@ class SweepSettings(Record, namedtuple("SweepSettings", """
     cluster, n_workers, scheduler_address, batch_size, n_tasks, elapsed_s, compute_s : object
         Where and how it ran, and how long [s].
     others : tuple of (str, object)
-        Every other attribute (not in :data:`SAID`), sorted by name.
+        Every other attribute (not in :data:`gd_analyze.store.names.SWEEP_ATTRIBUTES`, the
+        ones the report says in rows of their own or that are results): a setting added
+        later. Sorted by name.
     """
 
 
@@ -921,7 +920,7 @@ class StoredSweep(View):
     merged_error_relative_rms: np.ndarray = stored(SV.MERGED_ERROR_RELATIVE_RMS)
     merged: MergedModel = derived(MergedModel.read)
     settings: SweepSettings = derived(lambda ds: SweepSettings.from_attrs(ds.attrs, others=tuple(
-        (k, ds.attrs[k]) for k in sorted(set(ds.attrs) - SAID))))
+        (k, ds.attrs[k]) for k in sorted(set(ds.attrs) - SWEEP_ATTRIBUTES))))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
 
 
