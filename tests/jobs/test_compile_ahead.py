@@ -3,8 +3,9 @@
 The oracle is numba's own account: its ``numba:compile`` events say which kernels a process
 compiled, and its cache index (read by numba) whether a kernel is cached. A first main job on a
 copy of the package with an empty numba cache must compile none of the kernels the second
-process compiles, and write the same model file as this test process's own job, whose kernels
-were compiled or loaded without a second process.
+process compiles, and write the same model file as the same command run in a test process on
+the package itself (golden case puma560's run, shared with tests/test_golden.py, read only),
+whose numba cache is not that copy's.
 """
 
 import json
@@ -16,10 +17,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import golden_run
 
 import gd_analyze
 from gd_analyze.certify.regressor_bounds import BEFORE_KERNEL, channel_enclosures, inertia_enclosure
-from gd_analyze.cli import main
 from gd_analyze.jobs import compile_ahead
 from gd_analyze.model.robots import load_robot
 
@@ -80,9 +81,10 @@ def test_a_first_main_job_compiles_none_of_the_kernels_compiled_ahead(tmp_path):
     # the job itself compiled its analysis kernels (the cache was cold), but none of these
     assert "gd_kernel" in first["compiled"]
     assert not names & set(first["compiled"])
-    # the model of this process's job, whose kernels were compiled or loaded here
-    assert main(["puma560", str(csv), "-q", "--no-report", "-o", str(tmp_path / "here")]) == 0
-    a, b = ((tmp_path / d / "simplified_model.json").read_text() for d in ("first", "here"))
+    # the model of the same command run on the package itself: golden case puma560's run
+    # (tests/golden/freeze.py), once a session
+    here = golden_run("puma560")[0][0] / "puma560"
+    a, b = ((d / "simplified_model.json").read_text() for d in (tmp_path / "first", here))
     a, b = (json.loads(x) for x in (a, b))
     for d in (a, b):
         d.pop("provenance", None)
