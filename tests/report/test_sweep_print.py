@@ -220,12 +220,14 @@ def _tiled_sweep(n):
     return out.assign_coords(element=new, joint=[f"j{k + 1}" for k in range(n)])
 
 
-def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
+def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path, monkeypatch):
     """The sweep report of a 15-joint arm drew D's 120 panels in one triangle 15.8 in tall
     (at its printed size every title ran into the next) and its class bars 20.4 in tall:
     each share and class figure now goes in parts no taller than MOST_HEIGHT, every element
     in exactly one, with no collision at the printed size; the report captions each part.
-    The PUMA 560's keep one figure each, D in the layout of Fig. 3.10."""
+    The PUMA 560's keep one figure each, D in the layout of Fig. 3.10. The 15-joint figures
+    checked are those the report made and drew (make_sweep_figures watched), not a second
+    making of them."""
     import matplotlib
     from figure_checks import collisions
 
@@ -237,9 +239,18 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
     from gd_analyze.store.schema import write_dataset
 
     ds = _tiled_sweep(15)
+    path = tmp_path / "sweep.h5"
+    write_dataset(ds, path)
+    make, made = sweep.make_sweep_figures, []
+
+    def watched(*args, **kwargs):
+        made.append(make(*args, **kwargs))
+        return made[-1]
+    monkeypatch.setattr(sweep, "make_sweep_figures", watched)
+    written = sweep.write_sweep_report(path, tmp_path / "out")
+    (figs,) = made
     with matplotlib.rc_context(SUPTITLE_RC):
-        figs = sweep.make_sweep_figures(ds)
-        six = sweep.make_sweep_figures(_tiled_sweep(6))
+        six = make(_tiled_sweep(6))
     assert {k for k in six if k[0] in "Dhc"} == {"D", "h", "classes"}
     assert len(six["D"].axes) == 21                       # the triangle (its key a text)
     elements = [str(v) for v in ds["element"].values]
@@ -261,9 +272,6 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path):
             raise_small_text(fig, MIN_PRINTED_PT / printed_scale(fig.get_size_inches()))
             found = [c for c in collisions(fig, SUPTITLE_RC) if "figure's edge" not in c]
             assert not found, (key, k, found[:3])
-    path = tmp_path / "sweep.h5"
-    write_dataset(ds, path)
-    written = sweep.write_sweep_report(path, tmp_path / "out")
     names = {p.name for p in written}           # the parts drawn above, each a file
     d, c = counts["D"], counts["classes"]
     assert {f"fig_sweep_share_D_part{d}.pdf", f"fig_sweep_class_fractions_part{c}.svg"} <= names
