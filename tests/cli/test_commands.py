@@ -18,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import xarray as xr
+from conftest import SHIPPED
 from identify_recordings import fourier, irregular_clock, truth_for, write_recording
 from robot_files import toml_without_limits
 from staging_checks import refused_by_the_limit, run_limited
@@ -560,6 +561,30 @@ def test_evaluate_reads_the_merged_model_and_pinocchio_agrees(swept, tmp_path, c
     err = np.abs(model.torque(tr.q, tr.qd, tr.qdd) - ref).max(axis=0)
     got = np.array(said["peak_abs_error"], float)
     np.testing.assert_allclose(got, err, rtol=1e-6, atol=1e-9 * np.abs(ref).max())
+
+
+def test_the_main_job_s_report_runs_without_the_kept_certifications(tmp_path, capsys,
+                                                                     monkeypatch):
+    """The command line's main job builds one model, so what its process keeps for a later
+    model of the arm (the region's certification with its samples' channel values: about
+    300 MB for 12 joints) is released before its report, on a trajectory held in memory too
+    (``run_analysis`` called as a library keeps them then). Oracle: no PairBounds alive in
+    the process when the report starts."""
+    import gc
+
+    from gd_analyze.certify.certify import PairBounds
+    from gd_analyze.cli import commands
+
+    alive = []
+
+    def report(results, folder, **options):
+        gc.collect()
+        alive.append(sum(isinstance(o, PairBounds) for o in gc.get_objects()))
+        return []
+    monkeypatch.setattr(commands, "write_report", report)
+    code, out, err = _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "out", "-q")
+    assert code == 0, err
+    assert alive == [0]
 
 
 def _sweep(args, capsys):

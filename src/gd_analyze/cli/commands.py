@@ -61,8 +61,10 @@ from ..report.main_context import effort_rows
 from ..report.numbers import count
 from ..report.sweep import write_sweep_report
 from ..simplify.deploy import guarantee_region, robot_region
+from ..simplify.deploy import release as release_searches
 from ..simplify.simplified import json_safe
 from ..store import control_dataset as control_file
+from ..store import model_trust
 from ..store.datasets import joint_units
 from ..store.model_file import load_model, save_model
 from ..store.results_view import ZERO_MARK, Results, torque_table_header
@@ -483,6 +485,10 @@ def cmd_analyze(args: argparse.Namespace) -> int:
     report = None
     if not args.no_report:
         def report(results, folder, progress):
+            # the command's one model is built: what the process kept for a later model of
+            # the arm (a 12-joint arm's certification, about 300 MB) goes before the report
+            release_searches()
+            model_trust.release()
             bar.reset(total=trajectory.n_setpoints)
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,

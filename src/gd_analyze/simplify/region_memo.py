@@ -65,8 +65,9 @@ def release() -> None:
 
     A later model of the same arm derives them again (or reads them from the derivation
     cache). :func:`gd_analyze.simplify.deploy.release` calls it: the main job releases them
-    before the report of a long trajectory, as the samples' channel values of a 15-joint arm
-    are about 415 MB, which would sit beside the report's own memory.
+    before the report of a long trajectory (the command line's before every report), as the
+    samples' channel values of a 15-joint arm are about 415 MB, which would sit beside the
+    report's own memory.
 
     Examples
     --------

@@ -371,9 +371,9 @@ def release() -> None:
     """Forget the certifications kept in this process (:func:`remember`).
 
     A later check of a model derives its region's certification again, or reads it from the
-    derivation cache. The main job releases them before the report of a long trajectory: a
-    15-joint arm's certification holds about 530 MB (its samples' channel values and the joint
-    sums).
+    derivation cache. The main job releases them before the report of a long trajectory (the
+    command line's before every report): a 15-joint arm's certification holds about 530 MB
+    (its samples' channel values and the joint sums).
 
     Examples
     --------
