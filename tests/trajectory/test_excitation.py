@@ -12,8 +12,9 @@ import sys
 import numpy as np
 import pinocchio as pin
 import pytest
+import scipy.optimize
 from conftest import built_once
-from scipy.optimize import check_grad
+from scipy.optimize import check_grad, minimize
 from threadpoolctl import threadpool_limits
 
 from gd_analyze.dynamics.pinocchio import pinocchio_model
@@ -297,6 +298,76 @@ def test_limit_bounds_bound_the_formula_and_can_be_exceeded():
     assert bounds.within(bounds.q_low, bounds.q_high, bounds.qd_peak, bounds.qdd_peak)
     assert not bounds.within(bounds.q_low, bounds.q_high, bounds.qd_peak * np.nan,
                              bounds.qdd_peak)
+
+
+class _Quadratic:
+    """0.5 ||z - target||^2: strictly convex, one minimiser under linear constraints."""
+
+    def __init__(self, target):
+        self.target = target
+
+    def value(self, z):
+        return 0.5 * float(np.sum((z - self.target) ** 2))
+
+    def gradient(self, z):
+        return z - self.target
+
+
+def test_the_optimiser_given_the_rows_near_their_bound_finds_slsqps_minimum_under_all(
+        monkeypatch):
+    """On the dense grid's limits of two joints, the minimum of a convex function outside
+    them found with only the rows near their bound given to SLSQP (started again as rows are
+    violated) is SLSQP's with every row, and within every row."""
+    runs = []
+
+    def counted(*args, constraints=(), **kwargs):
+        result = minimize(*args, constraints=constraints, **kwargs)
+        runs.append((sum(len(k["fun"](args[1])) for k in constraints), result.status))
+        return result
+
+    monkeypatch.setattr(scipy.optimize, "minimize", counted)
+    K, wf = 3, 2 * math.pi / 10
+    lo, hi = np.array([-1.0, 0.2]), np.array([1.5, 0.9])
+    qd, qdd = np.array([0.8, 0.3]), np.array([2.0, 0.5])
+    basis = ex_module._Basis(K, wf, np.arange(60) * (2 * math.pi / wf / 60))
+    A, c = ex_module._constraints(basis, 2, lo, hi, qd, qdd)
+    room = np.concatenate([np.repeat([hi[j] - lo[j]] * 2 + [2 * qd[j]] * 2 + [2 * qdd[j]] * 2,
+                                     60) for j in range(2)])
+    z0 = np.zeros(2 * basis.size)
+    z0[[0, basis.size]] = (lo + hi) / 2                 # at rest in the middle: feasible
+    for seed in range(3):
+        target = np.random.default_rng(seed).normal(scale=3.0, size=z0.size)
+        fun = _Quadratic(target)
+        runs.clear()
+        ours = ex_module._constrained_minimum(fun, z0, A, c, room, 200)
+        full = minimize(fun.value, z0, jac=fun.gradient, method="SLSQP",
+                        constraints=[{"type": "ineq", "fun": lambda z: c - A @ z,
+                                      "jac": lambda z: -A}],
+                        options={"maxiter": 200, "ftol": 1e-12})
+        assert full.success and ours.success
+        assert runs[-1][0] < c.size and len(runs) >= 2     # rows left out, a run stopped
+        assert (c - A @ ours.x >= -1e-9 * room).all()
+        assert (c - A @ full.x >= -1e-9 * room).all()
+        np.testing.assert_allclose(ours.x, full.x, atol=1e-5)
+
+
+def test_the_objective_keeps_values_and_gradients_by_point():
+    """The optimiser's objective asked again at earlier points (as a run started again asks)
+    gives the values and gradients of :func:`_log_condition` evaluated afresh there."""
+    robot = load_robot("two-link")
+    cols = identification_columns(robot)
+    series = random_excitation(robot, 3, 2 * math.pi / 6, 4)
+    basis = ex_module._Basis(3, series.wf, ex_module._middles(series.period, 30))
+    D = np.linspace(0.5, 2.0, robot.n * basis.size)
+    z = [ex_module._variables(random_excitation(robot, 3, series.wf, s)) / D for s in (4, 5)]
+    fun = ex_module._ScaledObjective(D, robot, cols, basis, None)
+    asked = [fun.value(z[0]), fun.value(z[1]), fun.gradient(z[0]), fun.value(z[0]),
+             fun.gradient(z[1]), fun.gradient(z[0]), fun.value(z[1])]
+    fresh = [_log_condition_and_gradient(zk * D, robot, cols, basis) for zk in z]
+    for got, (k, part) in zip(asked, [(0, 0), (1, 0), (0, 1), (0, 0), (1, 1), (0, 1),
+                                      (1, 0)]):
+        np.testing.assert_allclose(got, fresh[k][0] if part == 0 else fresh[k][1] * D,
+                                   rtol=1e-12, atol=0)
 
 
 def test_random_excitation_starts_at_rest_and_fits_its_limits():

@@ -17,7 +17,8 @@ the optimiser varies q_i0 and the other 2 (K - 1) coefficients (:class:`FourierS
 The coefficients minimise the condition number of the column-scaled identification regressor
 (the base regressor with the drive columns, :mod:`gd_analyze.symbolic.drive_regressor`)
 stacked over one period, with SciPy's SLSQP from several starts, under the position, velocity
-and acceleration limits on a dense grid (they are linear in the coefficients), in stages
+and acceleration limits on a dense grid (they are linear in the coefficients; SLSQP is given
+those near their bound, every iterate checked against all of them), in stages
 (:data:`STAGES`): the Coulomb columns first replaced by smooth surrogates, then as they are,
 and the objective first the A-optimality criterion, then ever closer to the log condition
 number. The result is
@@ -340,19 +341,18 @@ def _kept_drives(columns, qd, qdd, coulomb_scale=None):
 
 
 def _singular(Ws):
-    """All singular values of Ws, descending, and the singular vectors: U (rows, p), V (p, p).
+    """All singular values of Ws, descending, and the right singular vectors V (p, p).
 
-    From the eigenvalues of the p x p Gram matrix (summed without BLAS: a threaded SVD of the
-    tall matrix is hundreds of times slower on a loaded machine), by the SVD itself when the
-    Gram matrix is too ill-conditioned for that (cond(Ws) > 1e6).
+    From the eigenvalues of the p x p Gram matrix Ws^T Ws (a product on one BLAS thread in
+    :func:`plan_excitation`: a threaded SVD of the tall matrix is hundreds of times slower on a
+    loaded machine), by the SVD itself when the Gram matrix is too ill-conditioned for that
+    (cond(Ws) > 1e6). The left ones, Ws V / s, are not formed: only the gradient needs them.
     """
-    gram = np.einsum("ka,kb->ab", Ws, Ws)
-    lam, V = np.linalg.eigh(gram)
+    lam, V = np.linalg.eigh(Ws.T @ Ws)
     if lam[0] > 1e-12 * lam[-1]:
-        s, V = np.sqrt(lam[::-1]), V[:, ::-1]
-        return s, Ws @ V / s, V
-    U, s, Vt = np.linalg.svd(Ws, full_matrices=False)
-    return s, U, Vt.T
+        return np.sqrt(lam[::-1]), V[:, ::-1]
+    s, Vt = np.linalg.svd(Ws, full_matrices=False)[1:]
+    return s, Vt.T
 
 
 #: Exponent P of the smooth objective: log of the ratio of the P-norm of the singular values
@@ -370,7 +370,8 @@ def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
     (1/2) log p + (1/2) log trace((Ws^T Ws)^-1), Ws the regressor with unit-norm columns
     (sum sigma_i^2 = p): the A-optimality criterion. With d value / d sigma_i = c_i and sigma_i =
     u_i^T W S v_i (S = diag(1 / ||W_c||)), the gradient with respect to column c of W is
-    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T and w_c = s_c W_c; that gradient is
+    s_c (m_c - (m_c . w_c) w_c) with m = U diag(c) V^T = Ws V diag(c / sigma) V^T and w_c =
+    s_c W_c; that gradient is
     carried to the states by the regressor recursion's reverse-mode derivative
     (:func:`~gd_analyze.dynamics.regressor_kernels.regressor_columns_pullback`, about three
     evaluations of the regressor whatever n is) and by the drive columns' exact derivatives,
@@ -389,22 +390,22 @@ def _log_condition(x, robot, columns, basis, coulomb_scale=None, power=None):
     if not np.all(norms > 0):
         return math.inf, lambda: np.zeros_like(x)
     Ws = W / norms
-    s, U, V = _singular(Ws)
+    s, V = _singular(Ws)
     if not s[-1] > 0:
         return math.inf, lambda: np.zeros_like(x)
     P = SMOOTH_POWER if power is None else float(power)
     up, down = (s / s[0]) ** P, (s[-1] / s) ** P
     value = math.log(s[0] / s[-1]) + (math.log(up.sum()) + math.log(down.sum())) / P
-    return value, lambda: _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, Yb.shape[2],
+    return value, lambda: _gradient(x, columns, basis, s, V, up, down, Ws, norms, Yb.shape[2],
                                     pullback, slope)
 
 
-def _gradient(x, columns, basis, s, U, V, up, down, Ws, norms, b, pullback, slope):
+def _gradient(x, columns, basis, s, V, up, down, Ws, norms, b, pullback, slope):
     """:func:`_log_condition`'s gradient with respect to x, from its evaluation's parts."""
     M, n = slope.shape
     p = Ws.shape[1]
     c = up / (s * up.sum()) - down / (s * down.sum())        # d value / d sigma_i
-    Mg = (U * c) @ V.T                                          # d value / d Ws
+    Mg = Ws @ ((V * (c / s)) @ V.T)                      # d value / d Ws = U diag(c) V^T
     G = (Mg - np.einsum("kc,kc->c", Mg, Ws) * Ws) / norms
     G = G.reshape(M, n, p)
     grads = list(pullback(G[:, :, :b]))
@@ -632,21 +633,30 @@ def _variable_scales(K, wf, lo, hi, qd, qdd):
 class _ScaledObjective:
     """:func:`_log_condition` at x = D z (``value``) and its gradient with respect to z
     (``gradient``), the gradient computed from the last value's evaluation when z is the same
-    (SLSQP's line searches ask for values alone)."""
+    (SLSQP's line searches ask for values alone). Values and gradients are kept by z: a run
+    started again from the same point (:func:`_constrained_minimum`) retraces its iterates."""
 
     def __init__(self, D, robot, columns, basis, coulomb_scale, power=None):
         self.D, self.args = D, (robot, columns, basis, coulomb_scale, power)
-        self.z, self.gradient_at = None, None
+        self.known, self.last, self.gradient_at = {}, None, None
+
+    def _entry(self, z):
+        key = np.asarray(z, float).tobytes()
+        if key not in self.known:
+            value, self.gradient_at = _log_condition(z * self.D, *self.args)
+            self.known[key], self.last = [value, None], key
+        return key, self.known[key]
 
     def value(self, z):
-        value, self.gradient_at = _log_condition(z * self.D, *self.args)
-        self.z = np.array(z, float)
-        return value
+        return self._entry(z)[1][0]
 
     def gradient(self, z):
-        if self.z is None or not np.array_equal(z, self.z):
-            self.value(z)
-        return self.gradient_at() * self.D
+        key, entry = self._entry(z)
+        if entry[1] is None:
+            if key != self.last:        # the value is kept, not its evaluation's parts
+                self.gradient_at, self.last = _log_condition(z * self.D, *self.args)[1], key
+            entry[1] = self.gradient_at() * self.D
+        return entry[1]
 
 
 def _constraints(basis, n, lo, hi, qd, qdd):
@@ -662,6 +672,43 @@ def _constraints(basis, n, lo, hi, qd, qdd):
         A[rows, m * j:m * (j + 1)] = block
         c[rows] = np.repeat([hi[j], -lo[j], qd[j], qd[j], qdd[j], qdd[j]], G)
     return A, c
+
+
+#: Rows of the limits given to SLSQP: those whose slack is at most this fraction of their
+#: room (:func:`_constrained_minimum`).
+WORKING_SLACK = 0.3
+
+
+def _constrained_minimum(fun, z, A, c, room, maxiter):
+    """SLSQP from z for fun under A z <= c, the rows given to it only those near their bound.
+
+    SLSQP's step costs of the order of rows x variables^2 (its quadratic subproblem is
+    transformed by the quasi-Newton factor), and most of the dense grid's rows are far from
+    their limit. It is given the rows whose slack at z is at most ``WORKING_SLACK`` of their
+    room; each iterate is checked against every row, and at the first that violates one the
+    run is stopped and started again from z, with the rows violated and those near their
+    bound there added. The result is that of a whole run whose every iterate was within
+    every row it was not given (at worst every row is given, as without the selection).
+    """
+    from scipy.optimize import minimize
+
+    given = (c - A @ z) <= WORKING_SLACK * room
+    while True:
+        Ag, cg = A[given], c[given]
+
+        def check(intermediate_result):         # the run stops at (returns) this iterate
+            if np.any(~given & (A @ intermediate_result.x > c)):
+                raise StopIteration
+
+        result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP",
+                          constraints=[{"type": "ineq", "fun": lambda v: cg - Ag @ v,
+                                        "jac": lambda v: -Ag}] if cg.size else [],
+                          callback=check, options={"maxiter": maxiter, "ftol": 1e-8})
+        slack = c - A @ result.x
+        violated = ~given & (slack < 0)
+        if not violated.any():
+            return result
+        given |= violated | (slack <= WORKING_SLACK * room)
 
 
 def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int = DEFAULT_HARMONICS,
@@ -723,7 +770,9 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     then as they are; P first 2 (the A-optimality criterion, the trace of the inverse
     information matrix), then growing to 64 (log cond within (2/64) log p), a continuation
     that leaves fewer starts in poor local minima than P = 16 throughout. The limits hold on a grid of
-    ``CONSTRAINT_POINTS_PER_HARMONIC * K`` points per period with the margin, then the bounds
+    ``CONSTRAINT_POINTS_PER_HARMONIC * K`` points per period with the margin (SLSQP, whose
+    step costs about rows x variables^2, is given the rows near their bound, and run again
+    with more whenever an iterate violates one it was not given), then the bounds
     of :func:`limit_bounds` are checked against the limits themselves and the oscillation
     shrunk joint by joint where one is exceeded.
     """
@@ -761,8 +810,6 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
 def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, columns, margin,
                clock):
     """plan_excitation's work, with its arguments checked."""
-    from scipy.optimize import minimize
-
     n = robot.n
     lo, hi, qd, qdd, qdd_source = _limits(robot, qdd_max)
     inner = _margined(lo, hi, qd, qdd, margin)
@@ -770,11 +817,13 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, colu
     objective = _Basis(K, wf, _middles(period, OBJECTIVE_SAMPLES))
     G = CONSTRAINT_POINTS_PER_HARMONIC * K
     A, c = _constraints(_Basis(K, wf, np.arange(G) * (period / G)), n, *inner)
+    # each row's room: its limit's interval (hi - lo, 2 qd_max, 2 qdd_max), the sum of the
+    # bounds of its pair (the rows of each joint and derivative, + then -, G each)
+    room = np.repeat(c.reshape(n, 3, 2, G).sum(2), 2, axis=1).reshape(-1)
     # the variables scaled to their ranges (SLSQP's quasi-Newton starts from the identity):
     # q0 by half its range, a_il and b_il by the largest amplitude the limits allow
     D = _variable_scales(K, wf, *inner)
     AD = A * D
-    constraint = {"type": "ineq", "fun": lambda z: c - AD @ z, "jac": lambda z: -AD}
     coulomb = "coulomb" in columns.drives and bool(
         columns.drive_kept[:, columns.drives.index("coulomb")].any())
     stages = [(None if v is None or not coulomb else v * inner[2], power)
@@ -786,8 +835,7 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, colu
         z, said = _variables(start) / D, []
         for scale, power in stages:
             fun = _ScaledObjective(D, robot, columns, objective, scale, power)
-            result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP", constraints=[constraint],
-                              options={"maxiter": int(maxiter), "ftol": 1e-8})
+            result = _constrained_minimum(fun, z, AD, c, room, int(maxiter))
             z = result.x
             said.append(f"{result.message} ({result.nit} iterations)")
         messages.append("; ".join(said))
