@@ -396,11 +396,6 @@ def _check_masses(robot):
         raise InputError("every link has zero mass and inertia: no dynamics", robot.source)
 
 
-def _other_update(other, errors, q, qd, qdd, tau):
-    """Add the other rule's model's torque error on one chunk to its accumulator."""
-    errors.update(other.torque(q, qd, qdd), tau)
-
-
 def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progress, ends,
                    background):
     """:func:`analysis_pass` with the simplification's peak passes started (``background``):
@@ -498,8 +493,9 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             if side is not None:
                 if pending is not None:
                     pending.result()
-                pending = side.submit(_other_update, other, other_errors, q[a:b], qd[a:b],
-                                      qdd[a:b], tau)
+                # the other rule's model's torque error on this chunk, beside the next step
+                pending = side.submit(lambda x, tau: other_errors.update(other.torque(*x), tau),
+                                      (q[a:b], qd[a:b], qdd[a:b]), tau)
             tau_s = simplified_torque(terms, each_choices, qdd[a:b], ends, at=a) \
                 if model is None else model.torque(q[a:b], qd[a:b], qdd[a:b])
             errors.update(tau_s, tau, ends, at=a)

@@ -336,11 +336,6 @@ class WorkerErrors:
         return [trajectories[a:b] for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
-def _auto_batch(k, n_workers):
-    per_task = math.ceil(k / (_TASKS_PER_WORKER * max(1, n_workers)))
-    return int(min(DEFAULT_BATCH_MAX, max(1, per_task)))
-
-
 def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
               dominance: float = DEFAULT_DOMINANCE, negligible: float = DEFAULT_NEGLIGIBLE,
               client: Client | None = None, scheduler: str | None = None,
@@ -519,7 +514,8 @@ def _on_dask(robot, trajectories, dominance, negligible, client, cluster, schedu
                                   str(client.scheduler.address)) from None
             address = str(client.scheduler.address)
             n_w = len(client.scheduler_info().get("workers", {}))
-            size = int(batch) if batch is not None else _auto_batch(len(trajectories), n_w)
+            size = int(batch) if batch is not None else int(min(DEFAULT_BATCH_MAX, max(
+                1, math.ceil(len(trajectories) / (_TASKS_PER_WORKER * max(1, n_w))))))
             batches = [trajectories[a:a + size] for a in range(0, len(trajectories), size)]
             t_compute = time.perf_counter()
             bar = tqdm(total=passes * len(batches), unit="task", disable=not progress,
