@@ -151,11 +151,6 @@ def _matvec(M, v):
                 TrigPoly.zero(v[0].n, v[0].lin)) for r in range(3)]
 
 
-def _rot_T_vec(R, v):
-    """R^T v."""
-    return _matvec([[R[c][r] for c in range(3)] for r in range(3)], v)
-
-
 def derive(robot: Robot) -> ExplicitModel:
     """Derive the explicit G-D model of a robot.
 
@@ -251,7 +246,7 @@ def derive(robot: Robot) -> ExplicitModel:
         v = ez
         u[(i, i)] = v
         for s in range(i + 1, n):
-            v = _rot_T_vec(R[s], v)
+            v = _matvec([[R[s][c][r] for c in range(3)] for r in range(3)], v)    # R_s^T v
             u[(s, i)] = v
     for i in range(n):
         for j in range(i, n):

@@ -29,6 +29,7 @@ limit.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from collections.abc import Sequence
@@ -696,15 +697,20 @@ def _constrained_minimum(fun, z, A, c, room, maxiter):
     while True:
         Ag, cg = A[given], c[given]
 
-        def check(intermediate_result):         # the run stops at (returns) this iterate
-            if np.any(~given & (A @ intermediate_result.x > c)):
+        stopped = []
+
+        def check(x):                           # the run stops at this iterate x
+            if np.any(~given & (A @ x > c)):
+                stopped.append(x)
                 raise StopIteration
 
-        result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP",
-                          constraints=[{"type": "ineq", "fun": lambda v: cg - Ag @ v,
-                                        "jac": lambda v: -Ag}] if cg.size else [],
-                          callback=check, options={"maxiter": maxiter, "ftol": 1e-8})
-        slack = c - A @ result.x
+        # SciPy 1.17 ends the run there; 1.15's SLSQP passes StopIteration on
+        with contextlib.suppress(StopIteration):
+            result = minimize(fun.value, z, jac=fun.gradient, method="SLSQP",
+                              constraints=[{"type": "ineq", "fun": lambda v: cg - Ag @ v,
+                                            "jac": lambda v: -Ag}] if cg.size else [],
+                              callback=check, options={"maxiter": maxiter, "ftol": 1e-8})
+        slack = c - A @ (stopped[-1] if stopped else result.x)
         violated = ~given & (slack < 0)
         if not violated.any():
             return result
