@@ -249,12 +249,14 @@ def test_case9_messages(cwd, capsys):
     line = _refused(["compre", "two-link", traj], capsys, cwd, "did you mean 'compare'")
     assert "unknown command 'compre'" in line
     # the URDF built-ins are robots, not mistyped commands ('panda' is close to 'plan')
-    from gd_analyze.cli import _mistyped_command
+    from gd_analyze.cli import _check_command
     from gd_analyze.model.robots import builtin_robots
 
     assert {"panda", "ur5"} <= set(builtin_robots())
-    assert all(_mistyped_command([name]) is None for name in builtin_robots())
-    assert _mistyped_command(["plann"]) is not None
+    for name in builtin_robots():
+        _check_command([name])          # no error
+    with pytest.raises(InputError, match="did you mean 'plan'"):
+        _check_command(["plann"])
     line = _refused(["plan", "two-link"], capsys, cwd, "plan: the following arguments")
     assert line.startswith("gd-analyze: error: plan:")
     _refused(["two-link", cwd], capsys, cwd, "is a folder, not a CSV file")

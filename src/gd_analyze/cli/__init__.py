@@ -81,24 +81,23 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"{PROG}: {kind}: {message}", file=sys.stderr)
 
 
-def _mistyped_command(argv):
-    """A 'did you mean' error for a first word that is neither a built-in robot nor a file: an
-    unknown robot when the second argument looks like a trajectory file (a file, or a name
-    ending in .csv: ``gd-analyze pand traj.csv``), else a mistyped command when one is close; None otherwise."""
+def _check_command(argv):
+    """Raise a 'did you mean' error for a first word that is neither a built-in robot nor a
+    file: an unknown robot when the second argument looks like a trajectory file (a file, or a
+    name ending in .csv: ``gd-analyze pand traj.csv``), else a mistyped command when one is
+    close; nothing otherwise."""
     import difflib
-
 
     word = argv[0]
     if (word.startswith("-") or word in builtin_robots() or os.path.exists(word)
             or is_urdf_text(word)):
-        return None
+        return
     if len(argv) > 1 and (argv[1].lower().endswith(".csv") or os.path.isfile(argv[1])):
-        return unknown_robot(word)
+        raise unknown_robot(word)
     close = difflib.get_close_matches(word, COMMANDS, n=1, cutoff=0.6)
-    if not close:
-        return None
-    return InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
-                      f"{', '.join(COMMANDS)}; or a robot for the main job)")
+    if close:
+        raise InputError(f"unknown command {word!r}: did you mean '{close[0]}'? (commands: "
+                         f"{', '.join(COMMANDS)}; or a robot for the main job)")
 
 
 def _check_utf8(argv):
@@ -174,8 +173,7 @@ def _without(module: str) -> None:
     that the sweep dataset's numpy arrays are not dask arrays; its local cluster's forked
     workers inherit the same. Nothing is done if the module is imported already.
     """
-    if module not in sys.modules:
-        sys.modules[module] = None  # type: ignore[assignment]
+    sys.modules.setdefault(module, None)  # type: ignore[arg-type]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -222,9 +220,7 @@ def _main(argv):
             if command == "analyze" and argv and argv[0] in ("help", "-help"):
                 return _print_help(argv[1:])
             if command == "analyze" and argv:
-                mistyped = _mistyped_command(argv)
-                if mistyped is not None:
-                    raise mistyped
+                _check_command(argv)
             args = make_parser().parse_intermixed_args(argv)
             args.given_argv = given      # the provenance records what main() was given
             return run(args)

@@ -133,13 +133,8 @@ def load_robot_arg(args: argparse.Namespace) -> Robot:
         If the robot cannot be read (:func:`gd_analyze.model.robots.load_robot`).
     """
 
-    return _apply_mounting(load_robot(args.robot, args.base, args.tip), args)
-
-
-def _apply_mounting(robot, args):
-    """The robot with --gravity and --base-rpy applied (the same robot without them)."""
-
-    return with_mounting(robot, getattr(args, "gravity", None), getattr(args, "base_rpy", None))
+    return with_mounting(load_robot(args.robot, args.base, args.tip),
+                         getattr(args, "gravity", None), getattr(args, "base_rpy", None))
 
 
 def model_mounting(model_robot: Robot, args: argparse.Namespace,
@@ -154,7 +149,7 @@ def model_mounting(model_robot: Robot, args: argparse.Namespace,
             warnings.warn(f"{opt} {','.join(f'{float(v):g}' for v in own)} is the mounting "
                           f"{path} was built with (recorded in it): applied once, not again",
                           InputWarning)
-    return _apply_mounting(model_robot, args)
+    return with_mounting(model_robot, args.gravity, args.base_rpy)
 
 
 def mounting_settings(args: argparse.Namespace, robot: Robot) -> dict[str, list[float]]:
@@ -167,10 +162,12 @@ def mounting_settings(args: argparse.Namespace, robot: Robot) -> dict[str, list[
     return out
 
 
-def chain_settings(args: argparse.Namespace) -> dict[str, str]:
-    """The URDF chain options and the mounting, for the provenance of a run's outputs."""
-    return {k: v for k, v in (("robot_base", getattr(args, "base", None)),
-                              ("robot_tip", getattr(args, "tip", None))) if v}
+def run_settings(args: argparse.Namespace, robot: Robot, /, **extra: object
+                 ) -> dict[str, object]:
+    """The provenance of a run's outputs: the command (:func:`command_line`), ``extra``, the
+    URDF chain options given and the mounting (:func:`mounting_settings`)."""
+    chain = {k: v for k, v in (("robot_base", args.base), ("robot_tip", args.tip)) if v}
+    return {"command": command_line(args), **extra, **chain, **mounting_settings(args, robot)}
 
 
 def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
@@ -432,18 +429,6 @@ def check_rule_options(args: argparse.Namespace) -> None:
                          else "--explicit") from None
 
 
-def _options(args, robot=None):
-    """The main job's settings from its arguments (``robot``: for the region's options)."""
-
-    return AnalysisOptions(
-        dominance=args.dominance, negligible=args.negligible, verify=not args.no_verify,
-        compress=args.compress,
-        simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
-                                 torque_floor=args.torque_floor, explicit=args.explicit,
-                                 form=args.form, guarantee=args.guarantee,
-                                 region=None if robot is None else region_limits(args, robot)))
-
-
 def _payload(args):
     """The --payload options as a Payload, or None; InputError for a shape without a mass."""
 
@@ -493,11 +478,17 @@ def cmd_analyze(args: argparse.Namespace) -> int:
             bar.set_description("report")
             return write_report(results, folder, paper=args.paper, progress=bar.update,
                                 column_figures=args.column_figures, latex=args.latex)
+    options = AnalysisOptions(
+        dominance=args.dominance, negligible=args.negligible, verify=not args.no_verify,
+        compress=args.compress,
+        simplify=SimplifyOptions(tolerance=args.tolerance, rule=args.rule,
+                                 torque_floor=args.torque_floor, explicit=args.explicit,
+                                 form=args.form, guarantee=args.guarantee,
+                                 region=region_limits(args, robot)))
     outputs = run_analysis(
-        robot, trajectory, _options(args, robot), output_folder(args.outdir, robot.name,
-                                                   Path(args.trajectory).stem),
-        report=report, settings={"command": command_line(args), **chain_settings(args),
-                                 **mounting_settings(args, robot)},
+        robot, trajectory, options, output_folder(args.outdir, robot.name,
+                                                  Path(args.trajectory).stem),
+        report=report, settings=run_settings(args, robot),
         payload=_payload(args), payload_masses=payload_mass_list(args), progress=bar,
         prefix=args.prefix)
     bar.close()
@@ -677,9 +668,9 @@ def _write_plan(args, robot, pieces, advice, record, summary):
         return EXIT_OK
     try:
         side = write_provenance(output, {
-            "tool": "gd-analyze", "version": __version__, "command": command_line(args),
-            "robot": robot.name, "robot_source": robot.source, "robot_sha256": robot.sha256,
-            **chain_settings(args), **mounting_settings(args, robot), **record})
+            "tool": "gd-analyze", "version": __version__, **run_settings(
+                args, robot, robot=robot.name, robot_source=robot.source,
+                robot_sha256=robot.sha256), **record})
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          output) from None
@@ -1110,26 +1101,6 @@ def _model_settings(args, settings, limits):
             "region": limits}
 
 
-def _sweep_model(robot, model, args, outdir, ds):
-    """The sweep's merged model of the budget rule, within EPS x s_i over the joint-limit
-    region or on every swept trajectory (``--guarantee``), measured
-    (:func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`).
-
-    Writes merged_model.json and its emitted files (prefix ROBOT_merged_) into outdir; returns (written paths, the sweep dataset
-    with this model's errors)."""
-
-    ds = with_budget_model(ds, model)
-    model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
-    written = [outdir / "merged_model.json"]
-    save_model(model, written[0])
-    for name, text in model.sources(MERGED_STEM, c_prefix(robot.name) + "merged_").items():
-        (outdir / name).write_text(text, encoding="utf-8")
-        written.append(outdir / name)
-    if not args.quiet:
-        print("\n".join(_model_lines(model, ds, args)))
-    return written, ds
-
-
 def _model_lines(model, ds, args):
     """What the command prints of the merged model: its cost, its worst error where its
     guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
@@ -1142,13 +1113,6 @@ def _model_lines(model, ds, args):
     floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
         "peak |tau_i|"
     scale = "s_i over the joint-limit region" if region else f"each trajectory's {floor}"
-    held_err = None
-    if v["held_out"]:   # relative to max(peak |tau_i|, TAU) over them all, or to s_i over R
-        h = v["held_out"]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            held_err = np.asarray(h["peak_abs_error"], float) / (
-                np.asarray(model.guarantee.scale, float) if region else
-                np.maximum(np.asarray(h["peak_tau"], float), args.torque_floor))
     claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) or np.isnan(worst) else \
         f"ABOVE the guarantee {eps:g}: please report this bug"
     beyond = beyond_the_floor(ds)
@@ -1168,7 +1132,12 @@ def _model_lines(model, ds, args):
     if outside:
         error += (f"; on the {len(outside)} outside it (not covered by the proof) "
                   f"{max(w for _, _, w in outside):.2e}")
-    if held_err is not None:
+    if v["held_out"]:   # relative to max(peak |tau_i|, TAU) over them all, or to s_i over R
+        h = v["held_out"]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            held_err = np.asarray(h["peak_abs_error"], float) / (
+                np.asarray(model.guarantee.scale, float) if region else
+                np.maximum(np.asarray(h["peak_tau"], float), args.torque_floor))
         covered = ("not guaranteed" if not region else
                    f"measured; {said['held_out_inside']} of them inside the region, where "
                    "the bound is proved")
@@ -1190,10 +1159,6 @@ def _model_lines(model, ds, args):
     lines += [] if region is None else region.lines()
     lines.append(f"guarantee: {said['statement']}")
     return lines
-
-
-#: The stem of the merged model's emitted files (merged_model.h, .c, .py, _casadi.py).
-MERGED_STEM = "merged_model"
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -1234,9 +1199,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     masses = payload_mass_list(args)
     loaded = apply_payload(robot, args)
     outdir = output_folder(args.outdir, robot.name, "sweep")
-    settings = {"command": command_line(args),
-                "payload_mass": float(args.payload or 0.0), **chain_settings(args),
-                **mounting_settings(args, robot)}
+    settings = run_settings(args, robot, payload_mass=float(args.payload or 0.0))
     if args.random is not None:
         settings["seed"] = args.seed
         try:
@@ -1298,19 +1261,25 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     with staged_output(outdir, command="sweep") as stage, writing(outdir, stage):
         # and again before writing: the disk may have filled since
         check_free_space(outdir, size, "sweep.h5")
-        written = [stage / "sweep.h5"]
-        if model is not None:
-            files, ds = _sweep_model(loaded, model, args, stage, ds)
-        else:
-            files = [stage / "merged_model.json"]
+        written = [stage / "sweep.h5", stage / "merged_model.json"]
+        if model is None:               # the chapter rule's
             model = merged_model(loaded, ds)
             ds = with_model_cost(ds, model)
-            save_model(model, files[0])
-            if not args.quiet:
-                print("merged model (chapter rule): a part is dropped only where every "
-                      "trajectory's share-based model drops it; no error bound")
+            said = ["merged model (chapter rule): a part is dropped only where every "
+                    "trajectory's share-based model drops it; no error bound"]
+        else:       # the budget rule's, within EPS x s_i over the region or on every trajectory
+            ds = with_budget_model(ds, model)
+            model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
+            said = _model_lines(model, ds, args)
+            # its emitted sources: merged_model.h, .c, .py, _casadi.py (prefix ROBOT_merged_)
+            for name, text in model.sources("merged_model",
+                                            c_prefix(loaded.name) + "merged_").items():
+                (stage / name).write_text(text, encoding="utf-8")
+                written.append(stage / name)
+        save_model(model, written[1])
+        if not args.quiet:
+            print("\n".join(said))
         write_dataset(ds, written[0])
-        written += files
         if payload is not None:
             written.append(stage / "payload_sweep.h5")
             write_dataset(payload, written[-1])

@@ -257,43 +257,36 @@ def _positive_list(name):
     return _numbers(lambda v: min(v) >= least, f"{name} limits must be at least {least:g}")
 
 
-#: What the region options say, for the main job, sweep and plan.
-_REGION_HELP = {
-    "q": "position range of the region [deg; m for a prismatic joint], LO:HI for all joints "
-         "or LO:HI,LO:HI,... one per joint (default: the robot's limits; a revolute joint "
-         "spanning 360 deg or more is any angle, a full turn). Beyond the robot's own limits a "
-         "range is clipped to them, with a warning",
-    "qd": "velocity limits of the region [deg/s; m/s for a prismatic joint], one for all "
-          "joints or one per joint (default: the robot's; above the robot's clipped to it, "
-          "with a warning)",
-    "qdd": "acceleration limits of the region [deg/s^2; m/s^2 for a prismatic joint], one for "
-           "all joints or one per joint (default: the robot's; where it has none, as in a "
-           "URDF, assumed {0:g} s^-1 times the velocity limit, i.e. full speed in 1/{0:g} s, "
-           "which the printed region says)",
-}
-
-
 def _add_region_arguments(p, what="the region over which the bound is proved (--guarantee "
                                   "region) and the analysed trajectory is checked"):
     """--q-limits, --qd-max, --qdd-max: the user's region (in degrees as the other options)."""
 
     g = p.add_argument_group(f"region ({what})")
     g.add_argument("--q-limits", metavar="LO:HI[,...]", type=_q_ranges,
-                   help=_REGION_HELP["q"])
+                   help="position range of the region [deg; m for a prismatic joint], LO:HI for "
+                        "all joints or LO:HI,LO:HI,... one per joint (default: the robot's "
+                        "limits; a revolute joint spanning 360 deg or more is any angle, a full "
+                        "turn). Beyond the robot's own limits a range is clipped to them, with a "
+                        "warning")
     g.add_argument("--qd-max", metavar="V[,...]", type=_positive_list("--qd-max"),
-                   help=_REGION_HELP["qd"])
+                   help="velocity limits of the region [deg/s; m/s for a prismatic joint], one "
+                        "for all joints or one per joint (default: the robot's; above the "
+                        "robot's clipped to it, with a warning)")
     g.add_argument("--qdd-max", metavar="A[,...]", type=_positive_list("--qdd-max"),
-                   help=_REGION_HELP["qdd"].format(DEFAULT_QDD_PER_QD))
+                   help="acceleration limits of the region [deg/s^2; m/s^2 for a prismatic "
+                        "joint], one for all joints or one per joint (default: the robot's; "
+                        f"where it has none, as in a URDF, assumed {DEFAULT_QDD_PER_QD:g} s^-1 "
+                        "times the velocity limit, i.e. full speed in "
+                        f"1/{DEFAULT_QDD_PER_QD:g} s, which the printed region says)")
 
 
-def _add_budget_arguments(p, where=None, guarantee="the trajectory only"):
-    """The simplified model's options; ``guarantee``: the second choice of --guarantee in these
-    words."""
+def _add_budget_arguments(p, where="s_i: by default the largest |tau_i| over the region (see "
+                          "--guarantee and --q-limits), with --guarantee trajectory max(peak "
+                          "|tau_i| on the analysed trajectory, TAU)",
+                          guarantee="the trajectory only"):
+    """The simplified model's options; ``where``: the scale of the budget in these words;
+    ``guarantee``: the second choice of --guarantee in these words."""
     g = p.add_argument_group("simplified model (error budget)")
-    if where is None:
-        where = ("s_i: by default the largest |tau_i| over the region (see --guarantee and "
-                 "--q-limits), with --guarantee trajectory max(peak |tau_i| on the analysed "
-                 "trajectory, TAU)")
     g.add_argument("--tolerance", metavar="EPS", default=defaults["tolerance"],
                    type=_fraction(0.0, MAXIMA["tolerance"], "--tolerance", "[]"),
                    help="error budget: every joint's simplified torque stays within EPS times "
