@@ -1270,7 +1270,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         else:       # the budget rule's, within EPS x s_i over the region or on every trajectory
             ds = with_budget_model(ds, model)
             model.validation.pop("per_trajectory")          # in sweep.h5; K x n lists
-            said = _model_lines(model, ds, args)
+            said = [] if args.quiet else _model_lines(model, ds, args)
             # its emitted sources: merged_model.h, .c, .py, _casadi.py (prefix ROBOT_merged_)
             for name, text in model.sources("merged_model",
                                             c_prefix(loaded.name) + "merged_").items():
