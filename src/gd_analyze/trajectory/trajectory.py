@@ -126,8 +126,7 @@ def _parse_header(header, path):
     if not names or names[0] != "t":
         raise InputError(f"the header must start with 't', got {names[0]!r}" if names else
                          "empty header", path, row=1, column=names[0] if names else None)
-    qs = [c for c in names if c.startswith("q") and c[1:].isdigit()]
-    n = len(qs)
+    n = sum(c.startswith("q") and c[1:].isdigit() for c in names)
     if n == 0:
         raise InputError("no joint position columns q1..qn in the header", path, row=1)
     expected = trajectory_columns(n, len(names) > n + 1)     # with derivatives, or without
