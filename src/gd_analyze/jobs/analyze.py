@@ -471,14 +471,11 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
     tau_s_all = []
     # the recursive ladder's rungs, measured against this pass's tau and the deployed model's
     meter = deployed.meter() if simplify is not None else None
-    with contextlib.ExitStack() as stack:
-        # the other rule's model and the ladder's rungs run chunk by chunk on threads of their
-        # own beside the deployed model (numpy releases the GIL in its loops); their chunks
-        # keep their order, one in flight each
-        side = None if other is None else stack.enter_context(
-            ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-other"))
-        rungs = None if meter is None else stack.enter_context(
-            ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder"))
+    # the other rule's model and the ladder's rungs run chunk by chunk on threads of their own
+    # beside the deployed model (numpy releases the GIL in its loops); their chunks keep their
+    # order, one in flight each (a pool starts its thread with its first job: none if unused)
+    with (ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-other") as side,
+          ThreadPoolExecutor(max_workers=1, thread_name_prefix="gd-ladder") as rungs):
         pending = measuring = None
         for k, (a, b) in enumerate(ranges):
             if hold:
@@ -490,7 +487,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
                     robot.armature if np.any(robot.armature) else None,
                     writer.read("tau_f", a, b) if "tau_f" in writer.variables else None)
                 tau = writer.read("tau", a, b)
-            if side is not None:
+            if other is not None:
                 if pending is not None:
                     pending.result()
                 # the other rule's model's torque error on this chunk, beside the next step
@@ -499,7 +496,7 @@ def _analysis_pass(robot, trajectory, options, provenance, chunk, writer, progre
             tau_s = simplified_torque(terms, each_choices, qdd[a:b], ends, at=a) \
                 if model is None else model.torque(q[a:b], qd[a:b], qdd[a:b])
             errors.update(tau_s, tau, ends, at=a)
-            if rungs is not None:
+            if meter is not None:
                 if measuring is not None:
                     measuring.result()
                 measuring = rungs.submit(meter.update, q[a:b], qd[a:b], qdd[a:b], tau, tau_s)

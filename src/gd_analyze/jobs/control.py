@@ -390,11 +390,8 @@ def desired_motion(trajectory: Trajectory) -> PPoly:
     t = np.asarray(trajectory.t, dtype=float)
     if t.shape[0] < 2 or not (np.diff(t) > 0).all():
         raise ValueError("the desired motion needs >= 2 set points with increasing times")
-    coeffs = []
-    for j in range(trajectory.q.shape[1]):
-        yi = np.column_stack([trajectory.q[:, j], trajectory.qd[:, j], trajectory.qdd[:, j]])
-        coeffs.append(PPoly.from_bernstein_basis(BPoly.from_derivatives(t, yi)).c)
-    return PPoly(np.stack(coeffs, axis=-1), t)
+    ends = np.stack([trajectory.q, trajectory.qd, trajectory.qdd], axis=1)     # (N, 3, n)
+    return PPoly.from_bernstein_basis(BPoly.from_derivatives(t, ends))
 
 
 def controller_torque(controller: str, robot: Robot, gains: Gains, q_d: np.ndarray,

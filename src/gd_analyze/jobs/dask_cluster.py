@@ -330,10 +330,7 @@ def _safe_path_children():
     None
     """
     before = os.environ.get("PYTHONSAFEPATH")
-    if before:
-        yield
-        return
-    os.environ["PYTHONSAFEPATH"] = "1"
+    os.environ["PYTHONSAFEPATH"] = before or "1"        # a value set already is kept
     try:
         yield
     finally:

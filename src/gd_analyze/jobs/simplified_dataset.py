@@ -79,10 +79,8 @@ def cost_rows(n: int, model: SimplifiedModel, other: SimplifiedModel | None = No
         rows[f"recursive N-E, budget{eps_m}"
              + (" (this model)" if model.form == "recursive" else "")] = \
             row(rec["recursive, budget"])
-    if model.full_cost:
-        rows["explicit, full"] = row(model.full_cost)
-    elif "explicit, full" in rec:
-        rows["explicit, full"] = row(rec["explicit, full"])
+    if full := model.full_cost or rec.get("explicit, full"):     # the model's, else its record's
+        rows["explicit, full"] = row(full)
     same = {row(model.full_cost)} if model.full_cost else set()     # a rung that is the full
     if model.form == "explicit" and model.rule == "budget":          # model or this one is
         same.add(row(model.cost))                                    # listed once, as such

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import collections
 import csv
-import functools
 import hashlib
 import io
 import math
@@ -127,8 +126,7 @@ def _parse_header(header, path):
     if not names or names[0] != "t":
         raise InputError(f"the header must start with 't', got {names[0]!r}" if names else
                          "empty header", path, row=1, column=names[0] if names else None)
-    qs = [c for c in names if c.startswith("q") and c[1:].isdigit()]
-    n = len(qs)
+    n = sum(c.startswith("q") and c[1:].isdigit() for c in names)
     if n == 0:
         raise InputError("no joint position columns q1..qn in the header", path, row=1)
     expected = trajectory_columns(n, len(names) > n + 1)     # with derivatives, or without
@@ -188,10 +186,7 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     path = _csv_path(path, n_joints)
 
     def header(fields):
-        try:
-            names, n = _parse_header(fields, path)
-        except InputError:
-            return None
+        names, n = _parse_header(fields, path)
         return names if n_joints is None or n == n_joints else None
 
     values, names, rows, sha256 = _read_csv(path, header,
@@ -455,29 +450,6 @@ def _numbered_rows(raw, path, long_cell=False):
     return numbered
 
 
-def _open(path):
-    """The file opened for reading bytes; an InputError if it is not a readable regular file."""
-    if not os.path.exists(path):
-        raise InputError("no such file", path)
-    if os.path.isdir(path):
-        raise InputError("is a folder, not a CSV file", path)
-    if not os.path.isfile(path):
-        raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
-                         path)
-    try:
-        return open(path, "rb")
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-
-
-def _read(fh, path, size=-1):
-    """``fh.read(size)``, an OSError as an InputError naming the file."""
-    try:
-        return fh.read(size)
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
-
-
 def check_magnitudes(values: np.ndarray, names: list[str], columns: Mapping[str, list[int]],
                      path: str, rows: np.ndarray, limits: Mapping[str, float] = LIMITS) -> None:
     """Raise for the first value of a CSV file beyond its kind's supported magnitude.
@@ -511,31 +483,33 @@ def check_magnitudes(values: np.ndarray, names: list[str], columns: Mapping[str,
                              row=int(rows[bad[0]]), column=names[j])
 
 
-@functools.lru_cache(maxsize=1)
-def _exact_floats():
-    """read_csv options for correctly rounded floats, as Python's float() gives them: pandas
-    before 3.0 parses with its own, not always correctly rounded, routine by default."""
-    import pandas as pd
-
-    return {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
-
-
 def _read_csv(path, header, cells):
     """(values, names, row numbers, sha256) of a CSV file of numbers: a large, regular one
     streamed by :func:`streamed_values` (``header`` as there), any other read whole and parsed
     by ``cells`` (its bytes, without a byte-order mark, to (values, names, row numbers)); an
-    InputNote where a UTF-8 byte-order mark was stripped."""
-    with _open(path) as fh:
-        if _read(fh, path, len(_BOM)) == _BOM:
-            warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the file",
-                          InputNote, stacklevel=3)
-        fh.seek(0)
-        if (os.fstat(fh.fileno()).st_size > FAST_PARSE_BYTES
-                and (parsed := streamed_values(fh, path, header)) is not None):
-            values, names, sha256 = parsed
-            return values, names, np.arange(2, values.shape[0] + 2), sha256
-        fh.seek(0)
-        raw = _read(fh, path)
+    InputNote where a UTF-8 byte-order mark was stripped; an InputError if the file is not a
+    readable regular file."""
+    if not os.path.exists(path):
+        raise InputError("no such file", path)
+    if os.path.isdir(path):
+        raise InputError("is a folder, not a CSV file", path)
+    if not os.path.isfile(path):
+        raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
+                         path)
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(len(_BOM)) == _BOM:
+                warnings.warn(f"{path}: stripped the UTF-8 byte-order mark at the start of the "
+                              "file", InputNote, stacklevel=3)
+            fh.seek(0)
+            if (os.fstat(fh.fileno()).st_size > FAST_PARSE_BYTES
+                    and (parsed := streamed_values(fh, path, header)) is not None):
+                values, names, sha256 = parsed
+                return values, names, np.arange(2, values.shape[0] + 2), sha256
+            fh.seek(0)
+            raw = fh.read()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror or exc}", path) from None
     return (*cells(raw.removeprefix(_BOM)), hashlib.sha256(raw).hexdigest())  # of the BOM too
 
 
@@ -551,7 +525,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         Its name, for messages.
     header : callable
         Takes the header's fields (str, split at commas) and gives the column names, or None
-        to refuse the file.
+        (or raises :class:`~gd_analyze.errors.InputError`) to refuse the file.
 
     Returns
     -------
@@ -566,7 +540,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
 
     Raises
     ------
-    InputError
+    OSError
         If the file cannot be read.
 
     Notes
@@ -593,8 +567,11 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     """
     import pandas as pd
 
+    # correctly rounded floats, as Python's float() parses them: pandas before 3.0 parses with
+    # its own, not always correctly rounded, routine by default
+    exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
     digest = hashlib.sha256()
-    head = _read(fh, path, HEADER_BYTES)
+    head = fh.read(HEADER_BYTES)
     head = head[:head.find(b"\n") + 1]
     if not head:
         return None
@@ -605,16 +582,16 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         return None
     try:
         names = header(head.decode("utf-8").rstrip("\r\n").split(","))
-    except UnicodeDecodeError:
+    except (UnicodeDecodeError, InputError):
         return None
     # the blank lines that end the file (within its last 4 KiB: empty, or spaces and tabs)
     # are no rows: not parsed; the last row is parsed to its newline
     start = fh.tell()
     fh.seek(max(start, fh.seek(0, os.SEEK_END) - 4096))
-    last = _read(fh, path) + b"\n"
+    last = fh.read() + b"\n"
     end = fh.tell() + 2 - len(last) + last.find(b"\n", len(last.rstrip(b" \t\r\n")))
     fh.seek(start)
-    if names is None or (lines := _line_count(fh, path, end)) < 2:
+    if names is None or (lines := _line_count(fh, end)) < 2:
         return None
     fields = len(names)
 
@@ -624,7 +601,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
             frame = pd.read_csv(_PieceReader(memoryview(piece)), header=None,
                                 names=list(range(fields)), dtype=float, engine="c",
                                 skipinitialspace=True, skip_blank_lines=False, index_col=False,
-                                **_exact_floats())
+                                **exact)
         return frame.to_numpy()
 
     values = np.empty((lines, fields))
@@ -632,7 +609,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
     pending: collections.deque = collections.deque()
     pool = ThreadPoolExecutor(max_workers=PARSE_THREADS, thread_name_prefix="gd-csv-parse")
     try:
-        for piece in _pieces(fh, path, end):
+        for piece in _pieces(fh, end):
             digest.update(piece)
             # only the bytes of plain numbers; every line with the header's fields: pandas
             # then refuses a line with more fields than the first, the shape check a first
@@ -656,7 +633,7 @@ def streamed_values(fh: BinaryIO, path: str, header: Callable[[list[str]], list[
         pool.shutdown(wait=True, cancel_futures=True)
     if row != lines or not np.isfinite(values).all():
         return None
-    digest.update(_read(fh, path))      # the blank lines at the end
+    digest.update(fh.read())      # the blank lines at the end
     return values, names, digest.hexdigest()
 
 
@@ -673,23 +650,23 @@ def _put_piece(values, row, piece):
     return row + piece.shape[0]
 
 
-def _line_count(fh, path, end):
+def _line_count(fh, end):
     """The lines from ``fh``'s position to byte ``end`` (the last may lack its newline),
     counted block by block; ``fh`` is put back where it was."""
     at, lines, last = fh.tell(), 0, b"\n"
-    while block := _read(fh, path, min(PARSE_PIECE, end - fh.tell())):
+    while block := fh.read(min(PARSE_PIECE, end - fh.tell())):
         lines += _byte_count(block, b"\n")
         last = block[-1:]
     fh.seek(at)
     return lines + (last != b"\n")
 
 
-def _pieces(fh, path, end):
+def _pieces(fh, end):
     """The file up to byte ``end`` in pieces of whole lines, each about :data:`PARSE_PIECE`
     bytes (longer where a line is); the last piece may lack its final newline. ValueError if a
     line is longer than :data:`HEADER_BYTES` plus a piece (no regular file has one)."""
     carry = b""
-    while block := _read(fh, path, min(PARSE_PIECE, end - fh.tell())):
+    while block := fh.read(min(PARSE_PIECE, end - fh.tell())):
         data = carry + block
         cut = data.rfind(b"\n") + 1
         if cut == 0:
@@ -1131,23 +1108,16 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     """
     path = _csv_path(path, n_joints)
     check_flags(current=current)
-    found = {}
-
-    def header(fields):
-        try:
-            names, found["cols"], _ = _columns(fields, path, n_joints, current)
-        except InputError:
-            return None
-        return names
 
     def cells(raw):
         """Cell by cell, naming the row and column of the first fault."""
         (_, header_cells), *data = _numbered_rows(raw, path)
-        names, found["cols"], _ = _columns(header_cells, path, n_joints, current)
+        names = _columns(header_cells, path, n_joints, current)[0]
         return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
 
-    values, names, rows, sha256 = _read_csv(path, header, cells)
-    cols = found["cols"]
+    values, names, rows, sha256 = _read_csv(
+        path, lambda fields: _columns(fields, path, n_joints, current)[0], cells)
+    cols = _columns(names, path, n_joints, current)[1]
     check_magnitudes(values, names, cols, path, rows, _LIMITS)
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
