@@ -294,17 +294,22 @@ def write_figure_files(stack: contextlib.ExitStack, drawn: Mapping[str, Drawn], 
     list of pathlib.Path
         The files, PDF then SVG of each figure in turn.
     """
-
-    folder.mkdir(parents=True, exist_ok=True)
-    files = []
+    files = {}
     for key, (svg_text, pdf_bytes, _) in drawn.items():
         assert pdf_bytes is not None            # drawn with pdf=True
-        for ext, data in (("pdf", pdf_bytes), ("svg", svg_text.encode("utf-8"))):
-            dest = folder / f"{names[key]}.{ext}"
-            with open(stack.enter_context(atomic_path(dest)), "wb") as fh:
-                fh.write(data)
-            files.append(dest)
-    return files
+        files.update({f"{names[key]}.pdf": pdf_bytes,
+                      f"{names[key]}.svg": svg_text.encode("utf-8")})
+    return _write_staged(stack, folder, files)
+
+
+def _write_staged(stack, folder, files):
+    """Write ``files`` ({name: bytes}) into ``folder`` (made if missing), each under a
+    temporary name renamed when ``stack`` closes without an exception
+    (:func:`gd_analyze.files.atomic_path`); their paths, in order."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, data in files.items():
+        Path(stack.enter_context(atomic_path(folder / name))).write_bytes(data)
+    return [folder / name for name in files]
 
 
 def prefix_ids(svg: str, prefix: str) -> str:
@@ -596,9 +601,6 @@ def table_latex(table: dict, number: str, caption: str, label: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-_CAPTION = re.compile(r"^Table ([0-9]+(?:\.[0-9]+)?): (.*)$", re.S)
-
-
 def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict[str, str]:
     """Every table of a report's outline as file text, by file name.
 
@@ -623,10 +625,7 @@ def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict
         for b in section.blocks:
             if b.kind != "table":
                 continue
-            m = _CAPTION.match(b.caption)
-            if m is None:
-                raise ValueError(f"a table caption without its number: {b.caption[:60]!r}")
-            number, caption = m.groups()
+            number, caption = b.number, b.text
             name = (prefix + "_" if prefix else "") + "table_" + number.replace(".", "_")
             out[name + ".csv"] = table_csv(b.content)
             if latex:
@@ -661,18 +660,8 @@ def write_tables(stack: contextlib.ExitStack, outline: Outline,
 
     Raises
     ------
-    ValueError
-        If a table's caption carries no number.
     OSError
         If a file cannot be written.
     """
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    out = []
-    for name, text in table_files(outline, latex, prefix).items():
-        path = folder / name
-        with open(stack.enter_context(atomic_path(path)), "w", encoding="utf-8",
-                  newline="") as fh:
-            fh.write(text)
-        out.append(path)
-    return out
+    return _write_staged(stack, Path(folder), {name: text.encode("utf-8") for name, text in
+                                               table_files(outline, latex, prefix).items()})
