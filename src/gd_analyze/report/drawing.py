@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 __all__ = ["figure_svg", "kept_in_the_draw", "svg_size", "draw_figures", "draw_each",
            "write_figure_files", "prefix_ids", "html_document", "write_documents",
            "write_report_files", "csv_cell", "latex_text", "table_csv", "table_latex",
-           "table_files", "write_tables"]
+           "table_files"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
 Drawn = tuple[str, bytes | None, tuple[float, float]]
@@ -391,7 +391,8 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
     paper : {"a4", "letter"}, optional
         The PDF's page size.
     latex, prefix
-        As for :func:`gd_analyze.report.drawing.write_tables`.
+        As for :func:`gd_analyze.report.drawing.table_files`: every table is also written
+        as ``folder/tables/[<prefix>_]table_<section>_<k>.csv`` (and ``.tex``).
     shown : sequence of str, optional
         The figures the report shows, in order; those of ``drawn`` not ending in ``_column``
         if not given.
@@ -429,7 +430,9 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
                 if path.suffix == ".html":
                     Path(staged[path]).write_text(html(sections, drawn), encoding="utf-8")
             files = write_figure_files(stack, every, folder / "figures", names)
-            tables = write_tables(stack, sections, folder / "tables", latex, prefix)
+            tables = _write_staged(stack, folder / "tables", {
+                name: text.encode("utf-8")
+                for name, text in table_files(sections, latex, prefix).items()})
             for done in typeset:
                 done.result()
     return docs + files + tables
@@ -631,37 +634,3 @@ def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict
             if latex:
                 out[name + ".tex"] = table_latex(b.content, number, caption, prefix)
     return out
-
-
-def write_tables(stack: contextlib.ExitStack, outline: Outline,
-                 folder: str | os.PathLike[str], latex: bool = False,
-                 prefix: str = "") -> list[Path]:
-    """Write every table of a report's outline to ``folder``, staged with the report's files.
-
-    Parameters
-    ----------
-    stack : contextlib.ExitStack
-        The report's stack of staged files: each table is written under a temporary name
-        (:func:`gd_analyze.files.atomic_path`) and renamed when the stack closes without error,
-        with the report it belongs to.
-    outline : gd_analyze.report.sections.Outline
-        The report's sections (:func:`table_files`).
-    folder : str or os.PathLike
-        The tables' folder (``tables/`` beside the report); made if missing.
-    latex : bool, optional
-        Also each table as LaTeX.
-    prefix : str, optional
-        The report's name heading the files' names (:func:`table_files`).
-
-    Returns
-    -------
-    list of pathlib.Path
-        ``folder/[<prefix>_]table_<section>_<k>.csv`` (and ``.tex``), in the report's order.
-
-    Raises
-    ------
-    OSError
-        If a file cannot be written.
-    """
-    return _write_staged(stack, Path(folder), {name: text.encode("utf-8") for name, text in
-                                               table_files(outline, latex, prefix).items()})

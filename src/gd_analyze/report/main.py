@@ -482,9 +482,8 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
 
 
 def _write(results, outdir, formats, paper, progress, column=False, latex=False):
-    ds = results.dataset
     ctx = report_context(results)       # fails early on a dataset that is not ours
-    data = plot_data(ds, progress=progress)
+    data = plot_data(results.dataset, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
     if "pdf" in formats and "D_2" in drawn:

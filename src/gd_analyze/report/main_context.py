@@ -472,14 +472,12 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
         ("robot file SHA-256", _text(robot.sha256)), ("joints n", str(n)),
         ("gravity g [m/s\u00b2]", _text(robot.gravity)),
     ])
-    com = robot.link_com
-    inertia = robot.link_inertia
     dh, placements = _robot_geometry(results)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        _rows(range(1, n + 1), robot.link_mass, *com.T,
-              *(inertia[:, i, i] for i in range(3))),
+        _rows(range(1, n + 1), robot.link_mass, *robot.link_com.T,
+              *(robot.link_inertia[:, i, i] for i in range(3))),
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
     drives = _drives_context(results, labels)
     derivatives = traj.derivatives

@@ -757,7 +757,6 @@ def _keeps(m, no_gravity):
     """What the merged model keeps of D, h and c, in the words of the main and the control
     reports (:func:`gd_analyze.report.main_text.model_sentence`), from the stored choices and
     counts of its terms of c (:func:`gd_analyze.jobs.sweep_merged.with_model_cost`)."""
-    rule = m.rule
     if m.form == "recursive":
         text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
                               trajectory=_acts_on(m), weightless=no_gravity)
@@ -765,7 +764,7 @@ def _keeps(m, no_gravity):
         return text.replace("The simplified model", "The merged model", 1) + say(
             "merged_keeps", pruned=pruned)
     kept, full = m.c_terms_kept, m.c_terms
-    gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+    gravity = gravity_clause(m.rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=list(m.choice), gravity=gravity, weightless=no_gravity)
     return text.replace("The simplified model", "The merged model", 1)
 
