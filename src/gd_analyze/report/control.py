@@ -1009,10 +1009,8 @@ def _next_figure(o):
 def _outline(ctx, figures):
     """The control report's sections, once, for the HTML and the PDF
     (:class:`gd_analyze.report.sections.Outline`)."""
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["verdict"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["verdict"], "lead"), (ctx["summary"], "summary"),
+                                        (ctx["intro"], "note")])
     o.section("1", "Set-up and gains", "setup")
     o.table(ctx["setup"], "The closed-loop run.", kv=True)
     o.paragraph(ctx["gains_note"], "note")

@@ -452,10 +452,9 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     -------
     Outline
     """
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["lead"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(say("identify_outline", key="created", version=ctx["version"]), "note")
+    o = Outline(ctx["title"], figures, [
+        (ctx["lead"], "lead"), (ctx["summary"], "summary"),
+        (say("identify_outline", key="created", version=ctx["version"]), "note")])
     o.section("1", "Torque errors", "errors")
     o.table(ctx["recordings"], say("identify_outline", key="recordings"))
     for name, joint_table in ctx["joint_tables"].items():

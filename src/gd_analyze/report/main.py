@@ -96,10 +96,8 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     (1987).
     """
     caps = ctx["captions"]
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["facts"], "body")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["summary"], "summary"), (ctx["facts"], "body"),
+                                        (ctx["intro"], "note")])
 
     o.section("1", "Robot and trajectory", "robot")
     o.section("1.1", "Robot")

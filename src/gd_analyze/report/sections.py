@@ -11,7 +11,7 @@ hold the sub-, superscript and code marks of :mod:`gd_analyze.report.markup`.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -100,6 +100,8 @@ class Outline:
     figures : collection of str
         The keys of the figures that were drawn; a figure block for any other key is left out,
         so that HTML and PDF number the same figures.
+    opening : iterable of (str, str), optional
+        The paragraphs under the title, each (text, style) as :meth:`paragraph` takes them.
 
     Examples
     --------
@@ -113,12 +115,15 @@ class Outline:
     ['Table 1.1: joint placements', 'Figure 1. elements of D']
     """
 
-    def __init__(self, title: str, figures: Collection[str] = ()) -> None:
+    def __init__(self, title: str, figures: Collection[str] = (),
+                 opening: Iterable[tuple[str, str]] = ()) -> None:
         self.title = title
         self.available = set(figures)
         self.sections = [Section("", title, 0, "top")]
         self._tables: dict[str, int] = {}
         self.n_figures = 0
+        for text, style in opening:
+            self.paragraph(text, style)
 
     def section(self, number: str, title: str, anchor: str | None = None,
                 level: int | None = None, flush: bool = False) -> None:

@@ -1253,10 +1253,8 @@ def _outline(ctx, figures):
     (:class:`gd_analyze.report.sections.Outline`): each figure right under the paragraph
     citing it ("Fig. 2 shows ..."), its table after it; Sec. 5.1's table, which its paragraph
     describes first, comes before its figure."""
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["worst"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["worst"], "lead"), (ctx["summary"], "summary"),
+                                        (ctx["intro"], "note")])
     o.section("1", "Settings and provenance", "settings")
     o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
             size=7)
