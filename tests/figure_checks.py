@@ -201,7 +201,7 @@ def sweep_figure(ds, key):
     import matplotlib
 
     from gd_analyze.report import sweep
-    from gd_analyze.report.common import SUPTITLE_RC
+    from gd_analyze.report.figure_style import SUPTITLE_RC
 
     w = sweep.StoredSweep.of(ds)
     with matplotlib.rc_context(SUPTITLE_RC):

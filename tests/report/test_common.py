@@ -6,6 +6,7 @@ import xarray as xr
 
 from gd_analyze.errors import InputError
 from gd_analyze.report import common as rp
+from gd_analyze.report import figure_style
 from gd_analyze.report.control import fmt_number as control_fmt
 from gd_analyze.report.control import stored_text as control_text
 
@@ -107,9 +108,9 @@ def test_check_and_formats():
 
 
 def test_grid_shape():
-    assert rp.grid_shape(1, 2) == (1, 1)
-    assert rp.grid_shape(6, 2) == (3, 2)
-    assert rp.grid_shape(5, 3) == (2, 3)
+    assert figure_style.grid_shape(1, 2) == (1, 1)
+    assert figure_style.grid_shape(6, 2) == (3, 2)
+    assert figure_style.grid_shape(5, 3) == (2, 3)
 
 
 def test_svg_ids_prefixed_and_still_resolved():
@@ -123,7 +124,7 @@ def test_svg_ids_prefixed_and_still_resolved():
 
     fig = Figure(figsize=(2, 1))
     fig.add_subplot().plot([0, 1], [0, 1])
-    plain = figure_svg(fig, rp.BASE_RC)
+    plain = figure_svg(fig, figure_style.BASE_RC)
     prefixed = prefix_ids(plain, "fig-a")
     assert plain.startswith("<svg") and prefixed.startswith("<svg")
     ids = re.findall(r'\bid="([^"]+)"', prefixed)

@@ -25,7 +25,7 @@ from figure_checks import collisions as _collisions
 from gd_analyze import load_robot
 from gd_analyze.ranking.ranking import ROUND_OFF, is_round_off
 from gd_analyze.report import main as report
-from gd_analyze.report.common import JOINT_STYLES, MAX_MARKERS, joint_style
+from gd_analyze.report.figure_style import JOINT_STYLES, MAX_MARKERS, joint_style
 from gd_analyze.report.main_figures import plot_data
 from gd_analyze.trajectory.trajectory import read_trajectory
 

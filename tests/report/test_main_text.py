@@ -68,15 +68,16 @@ def test_round_off_threshold_is_written_as_a_power_of_ten():
     import math
 
     from gd_analyze.ranking.ranking import ROUND_OFF
-    from gd_analyze.report.main import RANKING_TEXT
+    from gd_analyze.report.common import say
     from gd_analyze.report.markup import unicode
 
     k = round(math.log10(ROUND_OFF))
     power = "10" + "".join("\u207b" if c == "-" else "\u2070\u00b9\u00b2\u00b3\u2074\u2075"
                            "\u2076\u2077\u2078\u2079"[int(c)] for c in str(k))
-    text = unicode(RANKING_TEXT)
-    assert f"below {power} of its scale" in text, text
-    assert not re.search(r"\de-?\d", text), text
+    for arm in (False, True):
+        text = unicode(say("ranking_text", s="0.9", e="0.01", arm=arm))
+        assert f"below {power} of its scale" in text, text
+        assert not re.search(r"\de-?\d", text), text
 
 
 def test_chapter_disagreement_causes_state_true_inequalities():
@@ -225,3 +226,20 @@ def test_none_of_the_elements_takes_the_verb_of_their_count():
     three = said(["D11", "D12", "D22", "h1"], ["both", "rotational", "both", "translational"])
     assert "in D, 0 of 3 elements are dominated" in three
     assert "in h, 1 of 1 element is dominated" in three
+
+
+def test_fig_1_names_the_joints_that_move_alike_and_sec_5_keeps_c_whole():
+    """Fig. 1's caption says which joints' curves coincide, one sentence per group; the
+    intro of Sec. 5 of an explicit chapter-rule model says it keeps c whole."""
+    from gd_analyze.report.common import say
+    from gd_analyze.report.main_text import gravity_clause
+    from gd_analyze.report.markup import plain
+
+    assert say("alike_sentence", groups=[]) == ""
+    assert (say("alike_sentence", groups=[[1, 5]])
+            == " Joints 1 and 5 move alike: their curves coincide.")
+    assert (say("alike_sentence", groups=[[1, 3, 6]])
+            == " Joints 1, 3 and 6 move alike: their curves coincide.")
+    intro = say("simplified_intro", form="explicit", gravity=gravity_clause("chapter"),
+                weightless=False)
+    assert plain(intro.split("; ")[-1]) == "it keeps c whole: \u03c4s = Ds q\u0308 + hs + c."

@@ -172,8 +172,7 @@ def test_the_error_figures_joint_labels_and_notes_never_touch(n, width, monkeypa
     from figure_checks import collisions
 
     from gd_analyze.report import sweep
-    from gd_analyze.report.common import SUPTITLE_RC
-    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.figure_style import SUPTITLE_RC, raise_small_text
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
     from gd_analyze.store.schema import open_sweep
 
@@ -232,8 +231,7 @@ def test_a_sweep_of_15_joints_is_drawn_in_parts_that_fit_a_page(tmp_path, monkey
     from figure_checks import collisions
 
     from gd_analyze.report import sweep
-    from gd_analyze.report.common import SUPTITLE_RC
-    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.figure_style import SUPTITLE_RC, raise_small_text
     from gd_analyze.report.markup import plain
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
     from gd_analyze.store.schema import write_dataset
@@ -311,8 +309,7 @@ def test_the_share_figures_of_six_joints_have_no_collision_at_their_printed_size
     from figure_checks import collisions
 
     from gd_analyze.report import sweep
-    from gd_analyze.report.common import SUPTITLE_RC
-    from gd_analyze.report.figure_style import raise_small_text
+    from gd_analyze.report.figure_style import SUPTITLE_RC, raise_small_text
     from gd_analyze.report.typeset import MIN_PRINTED_PT, printed_scale
 
     ds = _tiled_sweep(6)

@@ -5,8 +5,8 @@ Reading a dataset's strings and attributes, the table dictionaries the Jinja2 te
 PDF writers read, the rendering of a report's template, and the units by joint type: a
 revolute joint's torque in N m and its D elements in kg m², a prismatic joint's force in N and
 its elements in kg m or kg; units in headings kept on one line. The number formats
-(:mod:`gd_analyze.report.numbers`) and the figure style
-(:mod:`gd_analyze.report.figure_style`) are re-exported here. Private: the reports' output is
+(:mod:`gd_analyze.report.numbers`) are re-exported here; the figure style is
+:mod:`gd_analyze.report.figure_style`. Private: the reports' output is
 the interface, not these functions.
 """
 
@@ -22,35 +22,25 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ..ranking.ranking import ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
+from ..ranking.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
 from ..store.results_view import Results
 from ..store.schema import EvaluatorCosts, strings
 from ..store.sweep_view import MergedModel
 from . import markup
-from .figure_style import (
-    BASE_RC,
-    JOINT_STYLES,
-    MAX_MARKERS,
-    SUPTITLE_RC,
-    grid_shape,
-    gridspec,
-    joint_style,
-    panel_markevery,
-)
 from .markup import clean, marked, powers
 from .numbers import count, fmt, fmt_column, fmt_columns, given, pct, pct_column, pct_columns, share
+from .numbers import decade_label as _decade_label
 
 if TYPE_CHECKING:
     import numpy.typing as npt
     import xarray as xr
 
-__all__ = ["CLASS_COLOURS", "BASE_RC", "SUPTITLE_RC", "utc_now", "keep_units", "strings", "fmt",
-           "fmt_column", "fmt_columns", "given", "count", "share", "pct", "pct_column",
-           "pct_columns", "attr_text", "check", "table", "grid_shape", "joint_style",
-           "JOINT_STYLES", "MAX_MARKERS", "panel_markevery", "gridspec", "render_template",
-           "say", "check_formats", "prismatic_joints", "torque_units", "FORMULATION_NAMES",
-           "FORMULATION_ABBR", "units_text", "units_said_once", "cost_table", "settings_table",
-           "other_rows", "or_default", "joints_text"]
+__all__ = ["CLASS_COLOURS", "utc_now", "keep_units", "strings", "fmt", "fmt_column",
+           "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns",
+           "attr_text", "check", "table", "render_template", "say", "check_formats",
+           "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
+           "units_text", "units_said_once", "cost_table", "settings_table", "other_rows",
+           "or_default", "joints_text"]
 
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
@@ -385,7 +375,8 @@ def _passage(name: str) -> Callable[..., Any]:
     source, passages = _passages()[name], _passages()
     env = jinja2.Environment(undefined=jinja2.StrictUndefined, autoescape=False)
     env.globals.update(sub=markup.sub, sup=markup.sup, code=markup.code,
-                       element=markup.element, tau=markup.tau, round_off=ROUND_OFF_CLAUSE)
+                       element=markup.element, tau=markup.tau, round_off=ROUND_OFF_CLAUSE,
+                       tiny=_decade_label(ROUND_OFF))
     env.globals.update({m: _passage(m) for m in set(re.findall(r"\w+", source)) & passages.keys()
                         if m != name})
     env.filters.update(count=count)

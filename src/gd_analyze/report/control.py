@@ -41,15 +41,12 @@ from ..store.names import ControlVar as V
 from ..store.schema import from_attrs, open_results
 from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
 from .common import (
-    BASE_RC,
     attr_text,
     cost_table,
     fmt,
     fmt_column,
     fmt_columns,
-    grid_shape,
     joints_text,
-    panel_markevery,
     say,
     settings_table,
     utc_now,
@@ -57,7 +54,7 @@ from .common import (
 from .common import or_default as _or
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
-from .figure_style import joint_axes, markevery
+from .figure_style import BASE_RC, grid_shape, joint_axes, markevery, panel_markevery
 from .main_context import DERIVATIVES, command_row, gravity_row, run_row, software_row
 from .main_text import gravity_clause, model_sentence, weightless
 from .markup import scope as scope_markup
@@ -74,7 +71,7 @@ if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
 __all__ = ["VERDICT_TOLERANCE", "control_verdict", "control_figures", "noise_scales",
-           "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "page_columns", "CONTROLLER_LABELS",
+           "noise_floors", "PAGE_WIDTH", "COLUMN_WIDTH", "CONTROLLER_LABELS",
            "controller_labels",
            "CONTROLLER_STYLES", "marker_starts", "marker_stride", "markers_words", "noise_words",
            "control_context", "dataset_verdict", "REQUIRED_VARIABLES",
@@ -289,22 +286,6 @@ _WSPACE = {1: 0.3, 2: 0.3, 3: 0.5}
 _NOTE_CHARS, _NOTE_LINE = 110, 0.15
 
 
-def page_columns(n: int) -> int:
-    """Panels a row at page width: two for up to four joints, else three.
-
-    Parameters
-    ----------
-    n : int
-        Number of joints (panels).
-
-    Returns
-    -------
-    int
-        2 or 3: a six-joint arm's figure has two rows, not three.
-    """
-    return 2 if n <= 4 else 3
-
-
 def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
                   width=PAGE_WIDTH):
     """A figure with one panel per joint; values: name -> (M, n) array along the stored
@@ -324,7 +305,8 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     n = s.n
     units = joint_units_of(s, which)
     column = width < PAGE_WIDTH
-    rows, cols = grid_shape(n, 1 if column else page_columns(n))
+    # a page's row: two panels for up to four joints, else three (six joints in two rows)
+    rows, cols = grid_shape(n, 1 if column else 2 if n <= 4 else 3)
     top = (0.5 if floor is None else 0.72) + ((0.25 if floor is None else 0.54) if column
                                               else 0.0)     # column: a note of 3 lines
     bottom = 0.62 + 0.14 * len(values) if column else 0.85     # the key, one entry a line
@@ -525,13 +507,8 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: Sequence[str],
               if drawn is None or c in drawn]
     if not starts:
         return "no curve drawn"
-    return say("markers_words", k=k, ordinal=_ordinal(k), starts=starts, lines=len(names))
-
-
-def _ordinal(k):
-    """1st, 2nd, 3rd, 8th, 11th ..."""
     suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
-    return f"{k}{suffix}"
+    return say("markers_words", k=k, ordinal=f"{k}{suffix}", starts=starts, lines=len(names))
 
 
 def joint_units_of(ds: StoredControl | xr.Dataset, which: str) -> list[str]:
@@ -607,7 +584,7 @@ def control_figures(ds: StoredControl | xr.Dataset, width: float = PAGE_WIDTH
         A stored control run (:class:`gd_analyze.store.stored_control.StoredControl`), or a
         control dataset (:func:`gd_analyze.store.control_dataset.control_dataset`).
     width : float, optional
-        :data:`PAGE_WIDTH` (two or three panels a row: :func:`page_columns`) or
+        :data:`PAGE_WIDTH` (two panels a row up to four joints, else three) or
         :data:`COLUMN_WIDTH` [in] (one a row).
 
     Returns
@@ -1032,10 +1009,8 @@ def _next_figure(o):
 def _outline(ctx, figures):
     """The control report's sections, once, for the HTML and the PDF
     (:class:`gd_analyze.report.sections.Outline`)."""
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["verdict"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["verdict"], "lead"), (ctx["summary"], "summary"),
+                                        (ctx["intro"], "note")])
     o.section("1", "Set-up and gains", "setup")
     o.table(ctx["setup"], "The closed-loop run.", kv=True)
     o.paragraph(ctx["gains_note"], "note")

@@ -46,7 +46,7 @@ if TYPE_CHECKING:
 __all__ = ["figure_svg", "kept_in_the_draw", "svg_size", "draw_figures", "draw_each",
            "write_figure_files", "prefix_ids", "html_document", "write_documents",
            "write_report_files", "csv_cell", "latex_text", "table_csv", "table_latex",
-           "table_files", "write_tables"]
+           "table_files"]
 
 #: A drawn figure: its SVG text, its PDF (None if not typeset) and its size [in].
 Drawn = tuple[str, bytes | None, tuple[float, float]]
@@ -294,17 +294,22 @@ def write_figure_files(stack: contextlib.ExitStack, drawn: Mapping[str, Drawn], 
     list of pathlib.Path
         The files, PDF then SVG of each figure in turn.
     """
-
-    folder.mkdir(parents=True, exist_ok=True)
-    files = []
+    files = {}
     for key, (svg_text, pdf_bytes, _) in drawn.items():
         assert pdf_bytes is not None            # drawn with pdf=True
-        for ext, data in (("pdf", pdf_bytes), ("svg", svg_text.encode("utf-8"))):
-            dest = folder / f"{names[key]}.{ext}"
-            with open(stack.enter_context(atomic_path(dest)), "wb") as fh:
-                fh.write(data)
-            files.append(dest)
-    return files
+        files.update({f"{names[key]}.pdf": pdf_bytes,
+                      f"{names[key]}.svg": svg_text.encode("utf-8")})
+    return _write_staged(stack, folder, files)
+
+
+def _write_staged(stack, folder, files):
+    """Write ``files`` ({name: bytes}) into ``folder`` (made if missing), each under a
+    temporary name renamed when ``stack`` closes without an exception
+    (:func:`gd_analyze.files.atomic_path`); their paths, in order."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, data in files.items():
+        Path(stack.enter_context(atomic_path(folder / name))).write_bytes(data)
+    return [folder / name for name in files]
 
 
 def prefix_ids(svg: str, prefix: str) -> str:
@@ -386,7 +391,8 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
     paper : {"a4", "letter"}, optional
         The PDF's page size.
     latex, prefix
-        As for :func:`gd_analyze.report.drawing.write_tables`.
+        As for :func:`gd_analyze.report.drawing.table_files`: every table is also written
+        as ``folder/tables/[<prefix>_]table_<section>_<k>.csv`` (and ``.tex``).
     shown : sequence of str, optional
         The figures the report shows, in order; those of ``drawn`` not ending in ``_column``
         if not given.
@@ -424,7 +430,9 @@ def write_documents(folder: Path, drawn: Mapping[str, Drawn], names: Mapping[str
                 if path.suffix == ".html":
                     Path(staged[path]).write_text(html(sections, drawn), encoding="utf-8")
             files = write_figure_files(stack, every, folder / "figures", names)
-            tables = write_tables(stack, sections, folder / "tables", latex, prefix)
+            tables = _write_staged(stack, folder / "tables", {
+                name: text.encode("utf-8")
+                for name, text in table_files(sections, latex, prefix).items()})
             for done in typeset:
                 done.result()
     return docs + files + tables
@@ -596,9 +604,6 @@ def table_latex(table: dict, number: str, caption: str, label: str = "") -> str:
     return "\n".join(lines) + "\n"
 
 
-_CAPTION = re.compile(r"^Table ([0-9]+(?:\.[0-9]+)?): (.*)$", re.S)
-
-
 def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict[str, str]:
     """Every table of a report's outline as file text, by file name.
 
@@ -623,56 +628,9 @@ def table_files(outline: Outline, latex: bool = False, prefix: str = "") -> dict
         for b in section.blocks:
             if b.kind != "table":
                 continue
-            m = _CAPTION.match(b.caption)
-            if m is None:
-                raise ValueError(f"a table caption without its number: {b.caption[:60]!r}")
-            number, caption = m.groups()
+            number, caption = b.number, b.text
             name = (prefix + "_" if prefix else "") + "table_" + number.replace(".", "_")
             out[name + ".csv"] = table_csv(b.content)
             if latex:
                 out[name + ".tex"] = table_latex(b.content, number, caption, prefix)
-    return out
-
-
-def write_tables(stack: contextlib.ExitStack, outline: Outline,
-                 folder: str | os.PathLike[str], latex: bool = False,
-                 prefix: str = "") -> list[Path]:
-    """Write every table of a report's outline to ``folder``, staged with the report's files.
-
-    Parameters
-    ----------
-    stack : contextlib.ExitStack
-        The report's stack of staged files: each table is written under a temporary name
-        (:func:`gd_analyze.files.atomic_path`) and renamed when the stack closes without error,
-        with the report it belongs to.
-    outline : gd_analyze.report.sections.Outline
-        The report's sections (:func:`table_files`).
-    folder : str or os.PathLike
-        The tables' folder (``tables/`` beside the report); made if missing.
-    latex : bool, optional
-        Also each table as LaTeX.
-    prefix : str, optional
-        The report's name heading the files' names (:func:`table_files`).
-
-    Returns
-    -------
-    list of pathlib.Path
-        ``folder/[<prefix>_]table_<section>_<k>.csv`` (and ``.tex``), in the report's order.
-
-    Raises
-    ------
-    ValueError
-        If a table's caption carries no number.
-    OSError
-        If a file cannot be written.
-    """
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    out = []
-    for name, text in table_files(outline, latex, prefix).items():
-        path = folder / name
-        with open(stack.enter_context(atomic_path(path)), "w", encoding="utf-8",
-                  newline="") as fh:
-            fh.write(text)
-        out.append(path)
     return out

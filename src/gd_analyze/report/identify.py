@@ -28,15 +28,16 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..store.schema import strings
 from ..store.stored_identification import (
     REQUIRED_RECORDING,
     REQUIRED_ROOT,
     StoredIdentification,
     StoredRecording,
 )
-from .common import BASE_RC, say, settings_table, table, utc_now
+from .common import say, settings_table, table, utc_now
 from .drawing import draw_figures, write_report_files
-from .figure_style import joint_lines, markevery
+from .figure_style import BASE_RC, joint_lines, markevery
 from .markup import clean, scope
 from .numbers import fmt, pct
 from .sections import Outline
@@ -46,8 +47,8 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-__all__ = ["identify_figures", "shown_recordings", "role_of", "figure_key", "PAGE_WIDTH",
-           "MAX_POINTS", "MODEL_STYLES", "FIGURE_RC", "stride", "short", "TITLE_CHARS",
+__all__ = ["identify_figures", "shown_recordings", "role_of", "PAGE_WIDTH",
+           "MAX_POINTS", "MODEL_STYLES", "FIGURE_RC", "short", "TITLE_CHARS",
            "identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
            "plain_table", "write_identify_report", "identify_outline"]
 
@@ -102,23 +103,6 @@ def role_of(rec: StoredRecording) -> str:
     return "train" if rec.role is None else clean(str(rec.role))
 
 
-def figure_key(kind: str, k: int) -> str:
-    """The key of a figure: ``"torque_2"`` for the torque figure of the third recording shown.
-
-    Parameters
-    ----------
-    kind : {"torque", "residual"}
-    k : int
-        The recording's position among :func:`shown_recordings`, from 0.
-
-    Returns
-    -------
-    str
-        Never holds a file or joint name.
-    """
-    return f"{kind}_{k}"
-
-
 #: The most characters of a joint's name in a panel title (a longer one is cut, with "...";
 #: the tables give it whole).
 TITLE_CHARS = 36
@@ -145,22 +129,6 @@ def short(name: str) -> str:
     return name if len(name) <= TITLE_CHARS else name[:TITLE_CHARS - 1] + "\u2026"
 
 
-def stride(m: int) -> int:
-    """Every how many samples a line of m samples is drawn.
-
-    Parameters
-    ----------
-    m : int
-        Samples of the recording.
-
-    Returns
-    -------
-    int
-        k >= 1: every k-th sample is drawn, at most :data:`MAX_POINTS` of them.
-    """
-    return markevery(m, MAX_POINTS)
-
-
 def _panels(t, curves, joints, ylabel, width, prismatic=None):
     """One panel per joint, three a row at page width from five joints on (two a row
     otherwise, and in a column), the curves (name -> (N, n)) over t, a key below; each
@@ -171,7 +139,7 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
                        [f"joint {j + 1}: {short(name)}" for j, name in enumerate(joints)],
                        [f"{ylabel} [{u}]" for u in units], width,
                        cols=3 if len(joints) >= 5 and width >= PAGE_WIDTH else 2,
-                       step=stride(len(t)))
+                       step=markevery(len(t), MAX_POINTS))
 
 
 def identify_figures(root: StoredIdentification | xr.Dataset,
@@ -209,13 +177,10 @@ def identify_figures(root: StoredIdentification | xr.Dataset,
             t = rec.t
             joints = _joints(rec.n, rec.joint, ident.joint)
             curves = {v: rec.torques[v] for v in MODEL_STYLES if v in rec.torques}
-            prismatic = (np.asarray(ident.prismatic, bool) if ident.prismatic is not None
-                         else None)
-            out[figure_key("torque", k)] = _panels(t, curves, joints, "\u03c4", width,
-                                                   prismatic)
+            out[f"torque_{k}"] = _panels(t, curves, joints, "\u03c4", width, ident.prismatic)
             residual = rec.torques["tau_measured"] - rec.torques["tau_predicted"]
-            out[figure_key("residual", k)] = _panels(
-                t, {"residual": residual}, joints, "\u03c4 residual", width, prismatic)
+            out[f"residual_{k}"] = _panels(
+                t, {"residual": residual}, joints, "\u03c4 residual", width, ident.prismatic)
     return out
 
 
@@ -292,8 +257,7 @@ def _json(text, default):
 
 
 def _strings(values):
-    return [clean(v.decode() if isinstance(v, bytes) else str(v))
-            for v in np.asarray(values).reshape(-1)]
+    return [clean(v) for v in strings(values)]
 
 
 def _file_of(rec):
@@ -443,7 +407,7 @@ def identify_context(root: StoredIdentification | xr.Dataset,
     summary = say("identify_summary", parameters=len(names), unidentifiable=n_unident,
                   which=which, condition=fmt(cond, 4),
                   recordings=sum(role_of(rec) == 'train' for rec in recordings.values()))
-    strides = {name: stride(int(recordings[name].t.size)) for name in shown}
+    strides = {name: markevery(int(recordings[name].t.size), MAX_POINTS) for name in shown}
     drawn = "; ".join(f"{_file_of(recordings[name])}: one sample in {k}"
                       for name, k in strides.items() if k > 1)
     return {
@@ -488,10 +452,9 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     -------
     Outline
     """
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["lead"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(say("identify_outline", key="created", version=ctx["version"]), "note")
+    o = Outline(ctx["title"], figures, [
+        (ctx["lead"], "lead"), (ctx["summary"], "summary"),
+        (say("identify_outline", key="created", version=ctx["version"]), "note")])
     o.section("1", "Torque errors", "errors")
     o.table(ctx["recordings"], say("identify_outline", key="recordings"))
     for name, joint_table in ctx["joint_tables"].items():
@@ -501,7 +464,7 @@ def identify_outline(ctx: dict, figures: Collection[str]) -> Outline:
     o.paragraph(ctx["shown_note"], "note")
     for k, name in enumerate(ctx["shown"]):
         for kind in ("torque", "residual"):
-            o.figure(figure_key(kind, k), say("identify_outline", key=kind,
+            o.figure(f"{kind}_{k}", say("identify_outline", key=kind,
                                               file=ctx["files"][name], role=ctx["roles"][name]))
     o.section("3", "Parameters", "parameters")
     o.paragraph(ctx["parameter_note"], "note")

@@ -34,7 +34,6 @@ from collections.abc import Callable, Collection, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ..ranking.ranking import ROUND_OFF
 from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
@@ -57,8 +56,8 @@ from .main_figures import (
     plot_data,
 )
 from .main_figures import RC as FIG_RC
-from .markup import code, element, sub
-from .numbers import decade_formatter, decade_label, scaled_formatter
+from .markup import code
+from .numbers import decade_formatter, scaled_formatter
 from .sections import Outline
 from .simplified_section import budget_makers, error_figure
 from .typeset import body_height, check_paper, figure_rooms, printed_width
@@ -69,31 +68,11 @@ if TYPE_CHECKING:
 
     from .main_figures import PlotData
 
-__all__ = ["main_outline", "RANKING_TEXT", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
+__all__ = ["main_outline", "REPORT_FORMATS", "ENVELOPE_THRESHOLD",
            "ENVELOPE_COLUMNS", "FIGURE_FILES", "COLUMN_FIGURES", "FIGURE_PARTS",
            "make_figures", "figure_makers", "write_report"]
 
-_X = "X"
-#: The ranking's rule in words (Sec. 3.4.1 of Fu, Gonzalez & Lee 1987, with the negligible
-#: class of this tool); ``{s}`` and ``{e}`` are the thresholds.
-RANKING_TEXT = (
-    "For each element X (" + element("D", "ij") + " or " + element("h", "i") + "), the "
-    "translational share is \u03a3|" + element(_X, "", "tran") + "| / (\u03a3|"
-    + element(_X, "", "tran") + "| + \u03a3|" + element(_X, "", "rot") + "{arm}|) over the set "
-    "points{arm_said}. An element is negligible if its peak |" + element(_X, "", "tran") + " + "
-    + element(_X, "", "rot") + "{arm}| is below e = {e} times its scale (peak \u221a("
-    + element("D", "ii") + " " + element("D", "jj") + ") for " + element("D", "ij")
-    + ", peak |\u03c4" + sub("i") + "| for " + element("h", "i") + "); otherwise "
-    "translational if its share is at least s = {s}, rotational if at most 1 \u2212 s, and "
-    "both in between. \u2261 0: zero in every part (below " + decade_label(ROUND_OFF)
-    + " of its scale); its share is "
-    "rounding noise and is not shown.")
-#: The armature's term in :data:`RANKING_TEXT`, for an arm with drives (Table 1.4).
-_ARMATURE_TERMS = {"arm": " + " + element(_X, "", "arm"),
-                   "arm_said": ", the drives' armature " + element(_X, "", "arm") + " (on "
-                   + element("D", "ii") + " only) counted on the rotational side; the armature "
-                   "share \u03a3|" + element(_X, "", "arm") + "| over the same sum is its own "
-                   "column"}
+
 def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     """The main report's sections.
 
@@ -117,10 +96,8 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     (1987).
     """
     caps = ctx["captions"]
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["facts"], "body")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["summary"], "summary"), (ctx["facts"], "body"),
+                                        (ctx["intro"], "note")])
 
     o.section("1", "Robot and trajectory", "robot")
     o.section("1.1", "Robot")
@@ -152,8 +129,8 @@ def main_outline(ctx: Mapping[str, Any], figures: Collection[str]) -> Outline:
     o.figure("h", caps["h"])
 
     o.section("4", "Dominance ranking", "ranking")
-    o.paragraph(RANKING_TEXT.format(s=ctx["s"], e=ctx["e"], **(
-        _ARMATURE_TERMS if ctx.get("armature") else dict.fromkeys(_ARMATURE_TERMS, ""))), "note")
+    o.paragraph(say("ranking_text", s=ctx["s"], e=ctx["e"], arm=bool(ctx.get("armature"))),
+                "note")
     o.counts(ctx["counts"])
     o.table(ctx["ranking"], say("main_outline", key="ranking"))
 
@@ -503,9 +480,8 @@ def write_report(results: Results | str | os.PathLike[str], outdir: str | os.Pat
 
 
 def _write(results, outdir, formats, paper, progress, column=False, latex=False):
-    ds = results.dataset
     ctx = report_context(results)       # fails early on a dataset that is not ours
-    data = plot_data(ds, progress=progress)
+    data = plot_data(results.dataset, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
     drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
     if "pdf" in formats and "D_2" in drawn:

@@ -66,7 +66,6 @@ from .main_text import (
     gravity_clause,
     prismatic_count_note,
     shared_causes,
-    simplified_intro,
     weightless,
 )
 from .markup import code, element, marked, powers, tau
@@ -82,7 +81,7 @@ if TYPE_CHECKING:
 
 __all__ = ["EffortRow", "effort_rows", "EXCEEDED", "WITHIN", "chapter_conclusions",
            "choice_table", "base_parameter_table", "base_note", "zero_parameters",
-           "armature_columns", "has_armature", "d_text", "robot_section", "alike_joints",
+           "armature_columns", "has_armature", "robot_section", "alike_joints",
            "ALIKE", "prismatic_joints", "zero_mask", "report_context", "DERIVATIVES",
            "provenance_rows", "software_row", "command_row", "run_row", "gravity_row",
            "guarantee_row"]
@@ -391,27 +390,6 @@ def has_armature(results: Results) -> bool:
     return arm is not None and bool(np.any(arm > 0))
 
 
-def d_text(results: Results, s: float, e: float, enveloped: bool) -> str:
-    """Fig. 2's lead-in: the parts drawn and what the combined curve sums.
-
-    Parameters
-    ----------
-    results : Results
-        The results (their joint types, for the units of D, and the armature).
-    s, e : float
-        The thresholds.
-    enveloped : bool
-        The series are drawn as envelopes (no markers).
-
-    Returns
-    -------
-    str
-        Marked up (:mod:`gd_analyze.report.markup`).
-    """
-    return say("d_text", enveloped=enveloped, armature=has_armature(results), s=f"{s:g}",
-               e=f"{e:g}", units=units_said_once(results, "D"))
-
-
 #: Two joints move alike when q, q\u0307 and q\u0308 differ by at most this fraction of their
 #: scale (the larger peak of the two): round-off, their curves drawn one over the other.
 ALIKE = 1e-12
@@ -494,14 +472,12 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
         ("robot file SHA-256", _text(robot.sha256)), ("joints n", str(n)),
         ("gravity g [m/s\u00b2]", _text(robot.gravity)),
     ])
-    com = robot.link_com
-    inertia = robot.link_inertia
     dh, placements = _robot_geometry(results)
     link = _table(
         ["joint", "mass [kg]", "com x [m]", "com y [m]", "com z [m]", "Ixx [kg m\u00b2]",
          "Iyy [kg m\u00b2]", "Izz [kg m\u00b2]"],
-        _rows(range(1, n + 1), robot.link_mass, *com.T,
-              *(inertia[:, i, i] for i in range(3))),
+        _rows(range(1, n + 1), robot.link_mass, *robot.link_com.T,
+              *(robot.link_inertia[:, i, i] for i in range(3))),
         align=["left"] + ["right"] * 7, widths=[0.7] + [1] * 7)
     drives = _drives_context(results, labels)
     derivatives = traj.derivatives
@@ -781,13 +757,141 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
         If a variable the report needs is missing.
     """
     results = Results.of(results)
-    ctx = _report_context_base(results)
+    ds = results.dataset
+    _check(ds, _REQUIRED, "results")
+    n = len(results.prismatic)
+    t = results.trajectory.t
+    N = t.size
+    table = results.ranking                     # the view the command line prints too
+    labels = [str(v) for v in table.column("label")]
+    dominance = [str(v) for v in table.column("dominance")]
+    chapter = [str(v) for v in table.column("chapter_dominance")]
+    choice = [str(v) for v in table.column("choice")]
+    share, zero = table.column("share_tran"), table.column("round_off")
+    share_cells = _share_cells(table)
+    tau_units = list(results.joint_units["tau"])
+    s, e = results.dominance_threshold, results.negligible_threshold
+    robot_name = _text(results.robot, "robot")
+    no_gravity = weightless(results.robot_record.gravity)    # c is then 0: said once
+    now = utc_now()
+
+    # 1. robot and trajectory
+    robot = robot_section(results, robot_name)
+    sha_in = _text(results.trajectory.input_sha256, "")
+
+    # 4. ranking: the round-off marks as stored at analysis
+    ranking = ranking_table(results)
+    counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
+
+    # 5. simplified model and torque error
+    built = results.provenance.simplified_form
+    form = "explicit" if built is None else str(built)
+    if form == "recursive":
+        choices = base_parameter_table(results)
+    else:
+        choices = choice_table(results, labels, dominance, choice)
+    errors = results.torque_error               # the view the command line prints too
+    err_off = errors.column("round_off")        # as stored at analysis
+    rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
+                                      errors.column("relative_rms")],   # for both
+                                     off=[err_off, err_off])
+    # the errors and peak |tau| are one quantity [N m or N]: one format
+    err_peak, err_rms, tau_peak = _columns(
+        [errors.column(v) for v in ("peak", "rms", "peak_tau")],
+        off=[err_off, err_off, None])
+    said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
+    err = _table(
+        ["joint", f"peak |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
+         f"RMS |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
+         "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
+        [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
+                         [err_peak[k], err_rms[k]])
+         + [tau_peak[k], rel_peak[k], rel_rms[k], tau_units[k]]
+         for k in range(n)],
+        align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
+
+    # 6. comparison with the chapter
+    applicable = n == 6 and is_chapter_puma(robot_name)
+    n_compared = sum(bool(c) for c in chapter)          # the elements the chapter classes
+    n_agree = sum(ours == c for ours, c in zip(dominance, chapter) if c)
+    compare_rows = [[lab, ours, theirs, "yes" if ours == theirs else "no", share_cells[k],
+                     disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
+                    if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
+                    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
+    n_rigid = None
+    if applicable and results.rigid_dominance is not None:
+        n_rigid = sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
+    conclusions = []
+    ch = results.chapter
+    if applicable and ch is not None:
+        conclusions = chapter_conclusions(
+            ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
+            ch.model_error_relative_peak, ch.model_error_round_off,
+            errors.column("relative_peak"), err_off,
+            where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
+    causes, said_once = shared_causes([row[-1] for row in compare_rows])
+    compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
+    note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
+               n_compared=n_compared, n_rigid=n_rigid, shared=said_once)
+    compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
+                      "cause"],
+                     compare_rows, align=["left"] * 4 + ["right", "left"],
+                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
+
+    # 7. provenance
+    verified, verification = _verification(results.verification, N)
+    prov = provenance_rows(results, now.isoformat(), __version__, verification)
+
+    formulations = _formulations_context(results.formulations)
+    payload = _payload_context(results)
+    title = f"G-D dominance analysis: {robot_name} along {_text(results.trajectory.input_file)}"
+    summary = conclusion(labels, dominance, zero, choice, errors.column("relative_peak"),
+                         errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
+                         recursive=_recursive_facts(results) if form == "recursive" else None,
+                         gravity=_gravity_fact(results, form), units=tau_units,
+                         scope=powers(_scope(_statement(ds))),
+                         where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
+                             "kind") == "region" else "this trajectory", shown=said,
+                         placeholder_inertia=results.robot_record.placeholder_inertia,
+                         round_off=err_off, weightless=no_gravity)
+    facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
+             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
+             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
+             + f". Verification against Pinocchio: {verified}.")
+    enveloped = N > ENVELOPE_THRESHOLD
     simplified = results.simplified
-    ctx["simplified_model"] = None if simplified is None else simplified_context(simplified)
-    if simplified is not None and ctx["simplified_model"]:
-        ctx["captions"] = {**ctx["captions"], "torque": simplified_caption(simplified),
-                           "budget": budget_caption(simplified)}
-    return ctx
+    model = None if simplified is None else simplified_context(simplified)
+    caps = captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
+                    alike=alike_joints(results))
+    if model and simplified is not None:
+        caps.update(torque=simplified_caption(simplified), budget=budget_caption(simplified))
+    return {
+        "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
+        "facts": facts, "intro": say("main_intro", created=now.isoformat(), version=__version__),
+        "captions": caps, "simplified_model": model,
+        "D_text": say("d_text", enveloped=enveloped, armature=has_armature(results), s=f"{s:g}",
+                      e=f"{e:g}", units=units_said_once(results, "D")),   # Fig. 2's lead-in
+        "armature": has_armature(results),
+        "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
+        **robot,
+        "ranking": ranking, "counts": counts, "choices": choices, "error": err,
+        "simplified_intro": (say("simplified_intro", form=form, weightless=no_gravity,
+                                 gravity=_gravity_fact(results, form)) + zero_parameters(results)),
+        "choices_heading": _CHOICES_HEADING[form],
+        "choices_note": base_note(results) if form == "recursive" else "",
+        "model_heading": _MODEL_HEADING[form],
+        "compare": {"applicable": applicable, "note": note, "table": compare,
+                    "conclusions": conclusions,
+                    "n_agree": n_agree, "n_compared": n_compared},
+        "provenance": _kv(prov),
+        "formulations": formulations, "payload": payload,
+        "envelope_note": (say("envelope_note", N=N, columns=ENVELOPE_COLUMNS)
+                          if enveloped else ""),
+        "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
+                     f"input {_text(results.trajectory.input_file)} sha256 {sha_in or '-'}; "
+                     f"robot sha256 {_text(results.robot_record.sha256)}; s={s:g}; e={e:g}; "
+                     f"verification {verified}"),
+    }
 
 
 #: The kinds of Sec. 4's columns shown only for an arm with drives.
@@ -856,140 +960,6 @@ def _stamp(v, t):
         return _fmt(v, 6)
     span = float(t[-1] - t[0])
     return f"{float(v):.{max(0, 5 - math.floor(math.log10(span)))}f}"
-
-
-def _report_context_base(results):
-    """Everything both reports print, as strings and tables (no figures)."""
-
-    ds = results.dataset
-    _check(ds, _REQUIRED, "results")
-    n = len(results.prismatic)
-    t = results.trajectory.t
-    N = t.size
-    table = results.ranking                     # the view the command line prints too
-    labels = [str(v) for v in table.column("label")]
-    dominance = [str(v) for v in table.column("dominance")]
-    chapter = [str(v) for v in table.column("chapter_dominance")]
-    choice = [str(v) for v in table.column("choice")]
-    share, zero = table.column("share_tran"), table.column("round_off")
-    share_cells = _share_cells(table)
-    tau_units = list(results.joint_units["tau"])
-    s, e = results.dominance_threshold, results.negligible_threshold
-    robot_name = _text(results.robot, "robot")
-    no_gravity = weightless(results.robot_record.gravity)    # c is then 0: said once
-    now = utc_now()
-
-    # 1. robot and trajectory
-    robot = robot_section(results, robot_name)
-    sha_in = _text(results.trajectory.input_sha256, "")
-
-    # 4. ranking: the round-off marks as stored at analysis
-    ranking = ranking_table(results)
-    counts = {c: dominance.count(c) for c in _CLASS_COLOURS}
-
-    # 5. simplified model and torque error
-    built = results.provenance.simplified_form
-    form = "explicit" if built is None else str(built)
-    if form == "recursive":
-        choices = base_parameter_table(results)
-    else:
-        choices = choice_table(results, labels, dominance, choice)
-    errors = results.torque_error               # the view the command line prints too
-    err_off = errors.column("round_off")        # as stored at analysis
-    rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
-                                      errors.column("relative_rms")],   # for both
-                                     off=[err_off, err_off])
-    # the errors and peak |tau| are one quantity [N m or N]: one format
-    err_peak, err_rms, tau_peak = _columns(
-        [errors.column(v) for v in ("peak", "rms", "peak_tau")],
-        off=[err_off, err_off, None])
-    said = {"rel": rel_peak, "abs": err_peak, "tau": tau_peak}   # the summary quotes them
-    err = _table(
-        ["joint", f"peak |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
-         f"RMS |{tau(simplified=True)}\u00a0\u2212\u00a0\u03c4|",
-         "peak |\u03c4|", "peak error / peak |\u03c4|", "RMS error / peak |\u03c4|", "units"],
-        [[str(k + 1)] + (["\u2261 0 (round-off)"] * 2 if err_off[k] else
-                         [err_peak[k], err_rms[k]])
-         + [tau_peak[k], rel_peak[k], rel_rms[k], tau_units[k]]
-         for k in range(n)],
-        align=["left"] + ["right"] * 5 + ["left"], widths=[0.6, 1.2, 1.2, 1, 1.2, 1.2, 0.6])
-    rel_peak = errors.column("relative_peak")
-
-    # 6. comparison with the chapter
-    applicable = n == 6 and is_chapter_puma(robot_name)
-    n_compared = sum(bool(c) for c in chapter)          # the elements the chapter classes
-    n_agree = sum(ours == c for ours, c in zip(dominance, chapter) if c)
-    compare_rows = [[lab, ours, theirs, "yes" if ours == theirs else "no", share_cells[k],
-                     disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
-                    if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
-                    for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
-    n_rigid = None
-    if applicable and results.rigid_dominance is not None:
-        n_rigid = sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
-    conclusions = []
-    ch = results.chapter
-    if applicable and ch is not None:
-        conclusions = chapter_conclusions(
-            ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
-            ch.model_error_relative_peak, ch.model_error_round_off,
-            errors.column("relative_peak"), err_off,
-            where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
-    causes, said_once = shared_causes([row[-1] for row in compare_rows])
-    compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
-    note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
-               n_compared=n_compared, n_rigid=n_rigid, shared=said_once)
-    compare = _table(["element", "our class", "chapter's class", "agree", "translational share",
-                      "cause"],
-                     compare_rows, align=["left"] * 4 + ["right", "left"],
-                     widths=[0.6, 1.05, 1.05, 0.45, 0.85, 4.0], colour_cols=[1, 2, 3])
-
-    # 7. provenance
-    verified, verification = _verification(results.verification, N)
-    prov = provenance_rows(results, now.isoformat(), __version__, verification)
-
-    formulations = _formulations_context(results.formulations)
-    payload = _payload_context(results)
-    title = f"G-D dominance analysis: {robot_name} along {_text(results.trajectory.input_file)}"
-    summary = conclusion(labels, dominance, zero, choice, rel_peak,
-                         errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
-                         recursive=_recursive_facts(results) if form == "recursive" else None,
-                         gravity=_gravity_fact(results, form), units=tau_units,
-                         scope=powers(_scope(_statement(ds))),
-                         where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
-                             "kind") == "region" else "this trajectory", shown=said,
-                         placeholder_inertia=results.robot_record.placeholder_inertia,
-                         round_off=err_off, weightless=no_gravity)
-    facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
-             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
-             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
-             + f". Verification against Pinocchio: {verified}.")
-    enveloped = N > ENVELOPE_THRESHOLD
-    return {
-        "version": __version__, "title": title, "summary": summary, "robot_name": robot_name,
-        "facts": facts, "intro": say("main_intro", created=now.isoformat(), version=__version__),
-        "captions": captions(enveloped, N, f"{s:g}", f"{e:g}", units=_caption_units(ds),
-                             alike=alike_joints(results)),
-        "D_text": d_text(results, s, e, enveloped), "armature": has_armature(results),
-        "n": n, "N": N, "s": f"{s:g}", "e": f"{e:g}", "created": now.isoformat(),
-        **robot,
-        "ranking": ranking, "counts": counts, "choices": choices, "error": err,
-        "simplified_intro": (simplified_intro(form, _gravity_fact(results, form), no_gravity)
-                             + zero_parameters(results)),
-        "choices_heading": _CHOICES_HEADING[form],
-        "choices_note": base_note(results) if form == "recursive" else "",
-        "model_heading": _MODEL_HEADING[form],
-        "compare": {"applicable": applicable, "note": note, "table": compare,
-                    "conclusions": conclusions,
-                    "n_agree": n_agree, "n_compared": n_compared},
-        "provenance": _kv(prov),
-        "formulations": formulations, "payload": payload,
-        "envelope_note": (say("envelope_note", N=N, columns=ENVELOPE_COLUMNS)
-                          if enveloped else ""),
-        "keywords": (f"generalized d'Alembert; G-D dynamics; dominance; {robot_name}; "
-                     f"input {_text(results.trajectory.input_file)} sha256 {sha_in or '-'}; "
-                     f"robot sha256 {_text(results.robot_record.sha256)}; s={s:g}; e={e:g}; "
-                     f"verification {verified}"),
-    }
 
 
 def _quantity(name):
@@ -1073,13 +1043,6 @@ def _formulations_context(f):
 # --------------------------------------------------------------------------------------------
 # The provenance: each setting of the analysis once, in words
 # --------------------------------------------------------------------------------------------
-def _no_floor(results):
-    """The torque floor 0, said with what each joint's scale s_i then is: its peak on the
-    trajectory, or over the region (the rigid links' alone where the robot has drives)."""
-    return say("no_floor", region=results.guarantee_kind == "region",
-               drives=results.robot_record.has_drives)
-
-
 #: How a trajectory's velocities and accelerations were obtained, in words (the stored
 #: ``derivatives`` setting).
 DERIVATIVES = {
@@ -1202,7 +1165,8 @@ def provenance_rows(results: Results, created: str, version: str,
     for k, (label, asked, built) in enumerate(_settings(p)):
         value = _setting(asked, built)
         if value is not None and k == 2:                    # the torque floor
-            value = (_no_floor(results) if value == "0" else
+            value = (say("no_floor", region=results.guarantee_kind == "region",
+                         drives=results.robot_record.has_drives) if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if any(results.prismatic) else ""))
         # the explicit model, the guarantee asked for: in words

@@ -39,19 +39,20 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from ..store.names import Var
-from ..store.sweep_view import PAYLOAD_REQUIRED as _PAYLOAD_REQUIRED
-from ..store.sweep_view import PayloadSweep
-from .common import CLASS_COLOURS, SUPTITLE_RC, joint_style, say, units_text
+from ..store.sweep_view import PAYLOAD_REQUIRED, PayloadSweep
+from .common import CLASS_COLOURS, say, units_text
 from .figure_style import (
+    SUPTITLE_RC,
     columns_apart,
     element_markevery,
     grid_boxes,
     joint_key,
     joint_lines,
+    joint_style,
     new_figure,
 )
 from .markup import label as _math
-from .numbers import decade_label, label_axes, set_ticks, time_origin
+from .numbers import label_axes, set_ticks, time_origin
 
 if TYPE_CHECKING:
     import numpy.typing as npt
@@ -72,8 +73,6 @@ COLUMN_WIDTH = 3.5
 #: An element is identically zero if all its parts stay below this fraction of its scale
 #: (:data:`gd_analyze.ranking.ranking.ROUND_OFF`).
 ZERO_TOL = ROUND_OFF
-#: The round-off threshold as the figures' keys write it (10⁻¹², not 1e-12).
-_TINY = decade_label(ROUND_OFF)
 
 #: matplotlib settings: 7 pt ticks, 8 pt titles and labels at print size.
 RC = {
@@ -193,9 +192,8 @@ def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
 
 
 def _legend_order(ax):
-    handles, labels = ax.get_legend_handles_labels()
-    order = [PART_STYLE[p]["label"] for p in ("tran", "rot", "total", "arm")]
-    pairs = sorted(zip(handles, labels), key=lambda p: order.index(p[1]))
+    order = [style["label"] for style in PART_STYLE.values()]     # tran, rot, total, arm
+    pairs = sorted(zip(*ax.get_legend_handles_labels()), key=lambda p: order.index(p[1]))
     return [p[0] for p in pairs], [p[1] for p in pairs]
 
 
@@ -505,7 +503,7 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
     chunks = element_parts([p[0] for p in panels], width, first_rows, rows)
     drawn = [p for p in panels if p[0] in set(chunks[part])]
     arm = any("arm" in p[1] for p in panels)
-    key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm, tiny=_TINY,
+    key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm,
               zeros=", ".join(map(_math, zeros)), part=part + 1, parts=len(chunks))
     return _element_figure(data.x, drawn, data.enveloped, width, key)
 
@@ -540,7 +538,7 @@ def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
             continue
         panels.append((label, {"tran": ht[:, i], "rot": hr[:, i], "total": hh[:, i]},
                        dominance.get(label, ""), element_units("h", i, None, prismatic)))
-    key = say("element_key", symbol="h", tiny=_TINY, zeros=", ".join(map(_math, zeros)))
+    key = say("element_key", symbol="h", zeros=", ".join(map(_math, zeros)))
     return _element_figure(data.x, panels, data.enveloped, width, key)
 
 
@@ -563,7 +561,7 @@ def fig_joints(data: PlotData, prismatic: npt.NDArray[np.bool_] | None = None,
     -------
     matplotlib.figure.Figure
         One line per joint, told apart by colour, line style and marker (distinct for up to 7
-        joints, :func:`gd_analyze.report.common.joint_style`), legend on top; an arm with
+        joints, :func:`gd_analyze.report.figure_style.joint_style`), legend on top; an arm with
         both joint types gets panels for its revolute joints [deg, deg/s, deg/s^2] and panels
         for its prismatic ones [mm, mm/s, mm/s^2]
         (:func:`gd_analyze.ranking.labels.joint_motion_units`), never two units on one axis.
@@ -647,9 +645,6 @@ def fig_torque(data: PlotData, rel_error: npt.NDArray[np.float64],
 # --------------------------------------------------------------------------------------------
 # The payload sweep, shown by the main report (``--payload-sweep``) and the sweep report
 # --------------------------------------------------------------------------------------------
-#: The variables :func:`payload_figure` reads.
-PAYLOAD_REQUIRED = _PAYLOAD_REQUIRED
-
 #: One letter per dominance class, drawn in the heat map's cells.
 CLASS_LETTER = {"translational": "T", "rotational": "R", "both": "B", "negligible": "N"}
 

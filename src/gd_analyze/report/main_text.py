@@ -21,8 +21,8 @@ from .numbers import share as _share
 if TYPE_CHECKING:
     import numpy.typing as npt
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "simplified_intro", "weightless", "disagreement_cause", "shared_causes", "captions",
-           "prismatic_count_note", "alike_sentence"]
+__all__ = ["conclusion", "model_sentence", "gravity_clause", "weightless", "disagreement_cause", "shared_causes", "captions",
+           "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
 
@@ -39,11 +39,6 @@ def _qty(value, unit):
     """A number and its unit joined by no-break spaces ("4.9\u00a0N\u00a0m"): a line never
     ends between them (the Stanford summary broke "4.9 N" / "m")."""
     return f"{value:.3g}\u00a0" + str(unit).replace(" ", "\u00a0")
-
-
-def _qty_text(text, unit):
-    """A number already formatted and its unit, joined as :func:`_qty` joins them."""
-    return f"{text}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
 def _leaders(by: Mapping[str, Sequence[str]]) -> list[str]:
@@ -154,7 +149,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         if shown is None:
             return _qty(value, u)
         text = str(shown[kind][k])
-        return text.replace(" ", "\u00a0") if kind == "rel" else _qty_text(text, u)
+        return text.replace(" ", "\u00a0") if kind == "rel" else f"{text}\u00a0" + str(u).replace(" ", "\u00a0")
 
     noise = (np.zeros(rel.size, bool) if round_off is None
              else np.asarray(round_off, bool).reshape(rel.size))
@@ -230,33 +225,6 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
     return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity,
                weightless=weightless)
-
-
-def simplified_intro(form: str, gravity: str | None = None, weightless: bool = False) -> str:
-    """Section 5's opening sentence: the deployed model's form and what its rule leaves out.
-
-    Parameters
-    ----------
-    form : str
-        ``"explicit"`` or ``"recursive"``.
-    gravity : str, optional
-        :func:`gravity_clause` of the model: an explicit model's sentence names c among what is
-        left out only when the model drops terms of c (the chapter rule never does).
-    weightless : bool, optional
-        The model was built without gravity (:func:`weightless`): c is identically 0, and the
-        explicit model's equation has no c.
-
-    Returns
-    -------
-    str
-
-    Examples
-    --------
-    >>> from gd_analyze.report.markup import plain
-    >>> plain(simplified_intro("explicit", gravity_clause("chapter")).split("; ")[-1])
-    'it keeps c whole: τs = Ds q̈ + hs + c.'
-    """
-    return say("simplified_intro", form=form, gravity=gravity, weightless=weightless)
 
 
 def weightless(gravity: npt.ArrayLike | None) -> bool:
@@ -436,29 +404,6 @@ def captions(enveloped: bool, N: int, s: str, e: str, units: Mapping[str, str] |
     return {key: say("main_caption", key=key, enveloped=enveloped, N=N, k=k, most=-(-N // k),
                      columns=ENVELOPE_COLUMNS, s=s, e=e, u=u, alike=alike)
             for key in ("joints", "D", "h", "torque", "payload", "formulations")}
-
-
-def alike_sentence(groups: Sequence[Sequence[int]]) -> str:
-    """The sentence of Fig. 1's caption naming the joints whose curves coincide.
-
-    Parameters
-    ----------
-    groups : sequence of sequence of int
-        Groups of joints (1-based) that move alike.
-
-    Returns
-    -------
-    str
-        Empty without a group; else, with a leading space, one sentence per group.
-
-    Examples
-    --------
-    >>> alike_sentence([[1, 5]])
-    ' Joints 1 and 5 move alike: their curves coincide.'
-    >>> alike_sentence([[1, 3, 6]])
-    ' Joints 1, 3 and 6 move alike: their curves coincide.'
-    """
-    return say("alike_sentence", groups=groups)
 
 
 def prismatic_count_note(types: str) -> str:

@@ -334,20 +334,6 @@ def spans(text: str) -> list[tuple[str, str | None]]:
     return [(t, k) for t, k in out if t]
 
 
-def plain(text: str) -> str:
-    """The marked string without its marks.
-
-    Parameters
-    ----------
-    text : str
-
-    Returns
-    -------
-    str
-    """
-    return clean(text)
-
-
 def clean(text: str) -> str:
     """Text without the marks of this module: what a name read from a file becomes before it
     reaches a report.
@@ -364,6 +350,8 @@ def clean(text: str) -> str:
 
 
 _DROP = dict.fromkeys(map(ord, SUB + SUP + END + CODE))
+#: The marked string without its marks: :func:`clean`, by the name the writers read.
+plain = clean
 
 
 def visible(text: str) -> str:

@@ -11,7 +11,7 @@ hold the sub-, superscript and code marks of :mod:`gd_analyze.report.markup`.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -34,8 +34,10 @@ class Block:
         the figure's key; the counts (dict class -> number).
     style : str
         Paragraph style (a key of :data:`PARAGRAPH_SIZE`); ``"kv"`` for an item/value table.
-    caption : str
-        A table's or figure's caption, numbered ("Table 5.2: ...", "Figure 3. ...").
+    number : str
+        A table's number within its top-level section ("5.2") or a figure's ("3").
+    text : str
+        What a table or figure shows: its caption without the number.
     size : float
         A table's type size in the PDF [pt].
     """
@@ -43,8 +45,16 @@ class Block:
     kind: str
     content: object
     style: str = "body"
-    caption: str = ""
+    number: str = ""
+    text: str = ""
     size: float = 7.5
+
+    @property
+    def caption(self) -> str:
+        """str: a table's or figure's caption, numbered ("Table 5.2: ...", "Figure 3. ...")."""
+        if self.kind == "table":
+            return f"Table {self.number}: {self.text}"
+        return f"Figure {self.number}. {self.text}" if self.kind == "figure" else ""
 
 
 @dataclass
@@ -90,6 +100,8 @@ class Outline:
     figures : collection of str
         The keys of the figures that were drawn; a figure block for any other key is left out,
         so that HTML and PDF number the same figures.
+    opening : iterable of (str, str), optional
+        The paragraphs under the title, each (text, style) as :meth:`paragraph` takes them.
 
     Examples
     --------
@@ -103,12 +115,15 @@ class Outline:
     ['Table 1.1: joint placements', 'Figure 1. elements of D']
     """
 
-    def __init__(self, title: str, figures: Collection[str] = ()) -> None:
+    def __init__(self, title: str, figures: Collection[str] = (),
+                 opening: Iterable[tuple[str, str]] = ()) -> None:
         self.title = title
         self.available = set(figures)
         self.sections = [Section("", title, 0, "top")]
         self._tables: dict[str, int] = {}
         self.n_figures = 0
+        for text, style in opening:
+            self.paragraph(text, style)
 
     def section(self, number: str, title: str, anchor: str | None = None,
                 level: int | None = None, flush: bool = False) -> None:
@@ -166,8 +181,7 @@ class Outline:
         top = next((s.number.split(".")[0] for s in reversed(self.sections) if s.level == 1),
                    "0")
         k = self._tables[top] = self._tables.get(top, 0) + 1
-        self._add(Block("table", table, "kv" if kv else "body",
-                        f"Table {top}.{k}: {caption}", size))
+        self._add(Block("table", table, "kv" if kv else "body", f"{top}.{k}", caption, size))
 
     def figure(self, key: str, caption: str) -> None:
         """A figure with its caption, numbered in document order.
@@ -181,7 +195,7 @@ class Outline:
         """
         if key in self.available:
             self.n_figures += 1
-            self._add(Block("figure", key, caption=f"Figure {self.n_figures}. {caption}"))
+            self._add(Block("figure", key, number=str(self.n_figures), text=caption))
 
     def counts(self, counts: Mapping[str, int]) -> None:
         """The number of elements per class, each in its class colour.

@@ -786,8 +786,6 @@ def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | No
         trajectory lies in the region (where not: the joint, the quantity and the amount, and
         that the guarantee does not cover it); "" without a region.
     """
-    import math
-
     s = StoredSimplified.of(ds)
     r = s.region
     if r is None:

@@ -49,7 +49,6 @@ from ..store.schema import open_sweep
 from ..store.sweep_view import MergedModel, PayloadSweep, StoredSweep
 from . import markup
 from .common import CLASS_COLOURS as _CLASS_COLOURS
-from .common import SUPTITLE_RC as _RC
 from .common import attr_text as _text
 from .common import (
     check_formats,
@@ -66,12 +65,13 @@ from .common import (
     utc_now,
 )
 from .common import fmt as _fmt
-from .common import gridspec as _gridspec
 from .common import or_default as _or
 from .common import pct as _pct
 from .common import share as _share_text
 from .common import table as _table
 from .drawing import draw_figures, write_report_files
+from .figure_style import SUPTITLE_RC as _RC
+from .figure_style import gridspec as _gridspec
 from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import payload_figure
@@ -283,12 +283,6 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
                   labelpad=1.5, color="0.15", linespacing=1.0)
 
 
-def _key_text(w, K):
-    s, e = _thresholds(w)
-    return say("sweep_key", K=K, s=f"{s:g}", e=f"{e:g}", pruned="pruned" in w.merged.choice,
-               round_off=ROUND_OFF_WORDS)
-
-
 #: Most joints whose D figure keeps the upper-triangle layout of Fig. 3.10 across a page
 #: (every shipped arm); beyond, its panels go in reading order, six a row, in parts.
 TRIANGLE_JOINTS = 7
@@ -403,7 +397,9 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
             ax.tick_params(labelleft=own)
         else:
             ax.set_ylabel("translational share [1]")
-    key = _key_text(w, w.trajectories).split()
+    s, e = _thresholds(w)
+    key = say("sweep_key", K=w.trajectories, s=f"{s:g}", e=f"{e:g}",
+              pruned="pruned" in w.merged.choice, round_off=ROUND_OFF_WORDS).split()
     if triangle and n > 1:      # its top at row n // 2's, clear of the diagonal's tick labels
         box = gs[n // 2:, :n // 2].get_position(fig)
         fig.text(box.x0, box.y0 + box.height,
@@ -761,7 +757,6 @@ def _keeps(m, no_gravity):
     """What the merged model keeps of D, h and c, in the words of the main and the control
     reports (:func:`gd_analyze.report.main_text.model_sentence`), from the stored choices and
     counts of its terms of c (:func:`gd_analyze.jobs.sweep_merged.with_model_cost`)."""
-    rule = m.rule
     if m.form == "recursive":
         text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
                               trajectory=_acts_on(m), weightless=no_gravity)
@@ -769,7 +764,7 @@ def _keeps(m, no_gravity):
         return text.replace("The simplified model", "The merged model", 1) + say(
             "merged_keeps", pruned=pruned)
     kept, full = m.c_terms_kept, m.c_terms
-    gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
+    gravity = gravity_clause(m.rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
     text = model_sentence(choice=list(m.choice), gravity=gravity, weightless=no_gravity)
     return text.replace("The simplified model", "The merged model", 1)
 
@@ -1226,9 +1221,6 @@ def _error_sentence(w):
                quiet=joints_text(quiet) if quiet and len(quiet) < w.joints else "")
 
 
-#: The round-off threshold as the text writes it (10⁻¹², not the code-like 1e-12).
-_TINY = decade_label(ROUND_OFF)
-
 __all__ = ["SWEEP_REPORT_FORMATS", "write_sweep_report"]
 
 #: The formats :func:`write_sweep_report` can write.
@@ -1261,10 +1253,8 @@ def _outline(ctx, figures):
     (:class:`gd_analyze.report.sections.Outline`): each figure right under the paragraph
     citing it ("Fig. 2 shows ..."), its table after it; Sec. 5.1's table, which its paragraph
     describes first, comes before its figure."""
-    o = Outline(ctx["title"], figures)
-    o.paragraph(ctx["worst"], "lead")
-    o.paragraph(ctx["summary"], "summary")
-    o.paragraph(ctx["intro"], "note")
+    o = Outline(ctx["title"], figures, [(ctx["worst"], "lead"), (ctx["summary"], "summary"),
+                                        (ctx["intro"], "note")])
     o.section("1", "Settings and provenance", "settings")
     o.table(ctx["settings"], "Settings of the sweep and its provenance, each once.", kv=True,
             size=7)
@@ -1279,14 +1269,14 @@ def _outline(ctx, figures):
     o.paragraph(say("sweep_outline", key="envelope") + " " + ctx["captions"]["none"] + " "
                 + _cites(o, ctx, "classes"), "note")
     _figure_parts(o, "classes", ctx["captions"]["classes"])
-    o.table(ctx["envelope"], say("sweep_outline", key="envelope_table", tiny=_TINY))
+    o.table(ctx["envelope"], say("sweep_outline", key="envelope_table"))
     number, title = ctx["merged_heading"].split(" ", 1)
     o.section(number.rstrip("."), title, "merged", flush="classes_2" in figures)
     o.paragraph(ctx["merged_text"], "note")
     o.counts(ctx["counts"])
     o.section("5.1", "Open-loop torque error over all trajectories")
     o.paragraph(ctx["error_text"] + " " + _cites(o, ctx, "error"), "note")
-    o.table(ctx["error"], say("sweep_outline", key="error_table", tiny=_TINY))
+    o.table(ctx["error"], say("sweep_outline", key="error_table"))
     o.figure("error", ctx["captions"]["error"])
     if ctx["cost"] is not None:
         o.section("5.2", "Evaluation cost of the merged model")

@@ -81,8 +81,6 @@ PARAGRAPH_STYLES = ("lead", "summary", "body", "note", "strong")
 #: Room kept under a figure for its caption [in]: a figure is scaled down to leave it.
 _CAPTION_ROOM = 0.9
 
-_CAPTION = re.compile(r"^(Table|Figure) ([0-9]+(?:\.[0-9]+)?)[:.] (.*)$", re.S)
-
 
 @functools.cache
 def fonts_loaded() -> Any:
@@ -137,14 +135,6 @@ def _runs(text):
     return [[t, k or ""] for t, k in markup.spans(str(text))]
 
 
-def _caption(caption):
-    """("Table", "5.2", rest) from "Table 5.2: rest" (the outline's numbered caption)."""
-    m = _CAPTION.match(caption)
-    if m is None:
-        raise ValueError(f"not a numbered caption: {caption[:40]!r}")
-    return m.groups()
-
-
 def body_height(paper: str) -> float:
     """The height of a page's text area, between the top and the bottom margins [in].
 
@@ -183,7 +173,6 @@ def printed_width(size: tuple[float, float], paper: str) -> float:
     return w * min(1.0, width / w, height / h)
 
 
-
 #: A last page whose text fills less than this share of its body is "near-empty": the report
 #: is set again with less space between lines, blocks and table rows, and that setting kept
 #: if it ends a page earlier.
@@ -215,7 +204,7 @@ def _block(b, paper, sizes):
                 "text": _runs(keep_units(b.content))}
     if b.kind == "counts":
         return {"kind": "counts", "counts": [[str(c), int(k)] for c, k in b.content.items()]}
-    what, number, caption = _caption(b.caption)
+    number, caption = b.number, b.text
     if b.kind == "table":
         t = b.content
         return {"kind": "table", "number": number, "caption": _runs(caption),
