@@ -304,3 +304,72 @@ def test_the_first_part_of_fig_2_fills_the_foot_of_its_page(n, paper, filler, tm
         assert any(w[0] == "Figure" for w in ws), f"page {k + 1} holds no part"
         # the lead's page filled to within a row, each later one to within a quarter
         assert foot - lowest < (row if k == lead else body / 4), (k + 1, foot - lowest, row)
+
+
+def test_the_parts_of_fig_2_are_drawn_once_when_the_first_is_fitted(tmp_path, monkeypatch):
+    """A 10-joint arm whose first part of Fig. 2 does not fit under the text citing it: the
+    report draws each part once, with the rows that fit (the room measured before D is
+    drawn); every part was drawn twice, as planned and then fitted."""
+    from model.test_chain import random_chain_spec
+
+    from gd_analyze.jobs.analyze import analyze
+    from gd_analyze.jobs.options import AnalysisOptions
+    from gd_analyze.model.robot_spec import robot_from_chain
+    from gd_analyze.report.drawing import svg_size
+    from gd_analyze.store.results_view import Results
+    from gd_analyze.trajectory.planning import plan_quintic
+
+    robot = robot_from_chain("chain10", random_chain_spec(10, 1), [0.0, 0.0, -9.81],
+                             source="<test>")
+    trajectory = plan_quintic(robot, np.zeros(10), np.full(10, 0.5), n_setpoints=21)
+    results = analyze(robot, trajectory, AnalysisOptions(verify=False, formulations=False,
+                                                         simplify=None))
+    made, fig_D = [], report.fig_D
+
+    def counted(*args, **kwargs):
+        fig = fig_D(*args, **kwargs)
+        made.append((kwargs.get("part", 0), kwargs.get("first_rows"), kwargs.get("rows"),
+                     tuple(fig.get_size_inches())))
+        return fig
+    monkeypatch.setattr(report, "fig_D", counted)
+    written = report.write_report(Results.of(results.dataset), tmp_path, ("pdf",))
+    svgs = [p for p in written if p.name.startswith("fig_3_10_D") and p.suffix == ".svg"]
+    assert len(svgs) > 1 and all(first is not None for _, first, _, _ in made), made
+    assert [part for part, *_ in made] == list(range(len(svgs)))
+    assert [svg_size(p.read_text(encoding="utf-8")) == pytest.approx(size)
+            for p, (*_, size) in zip(svgs, made)] == [True] * len(svgs)
+
+
+@pytest.mark.parametrize("first_rows, rows", [(None, None), (1, (6, 6, 1)), (2, (5,))])
+@pytest.mark.parametrize("width", ["page", "column"])
+def test_the_planned_size_of_a_part_of_fig_2_is_the_made_figure_s(width, first_rows, rows):
+    """d_size gives the size of the figure fig_D makes, part by part, elements ≡ 0 and the
+    drives' armature (its legend entry) included."""
+    import matplotlib
+
+    from gd_analyze.ranking.ranking import element_label
+    from gd_analyze.report.main_figures import (
+        COLUMN_WIDTH,
+        PAGE_WIDTH,
+        RC,
+        PlotData,
+        d_size,
+        element_parts,
+        fig_D,
+    )
+
+    n, W = 12, PAGE_WIDTH if width == "page" else COLUMN_WIDTH
+    D = np.random.default_rng(n).standard_normal((21, n, n))
+    data = PlotData(x=np.linspace(0.0, 2.0, 21), enveloped=False, N=21,
+                    series={"D_tran": D, "D_rot": 0.5 * D, "D": 1.5 * D})
+    labels = [element_label("D", i, j) for i in range(n) for j in range(i, n)]
+    zero = {lab: k % 5 == 1 for k, lab in enumerate(labels)}
+    args = (data, {}, zero, 0.9, 0.01)
+    kw = {"width": W, "armature": np.linspace(0.0, 0.1, n), "first_rows": first_rows,
+          "rows": rows}
+    parts = element_parts([lab for lab in labels if not zero[lab]], W, first_rows, rows)
+    assert len(parts) > 1
+    for k in range(len(parts)):
+        with matplotlib.rc_context(RC):
+            made = tuple(fig_D(*args, part=k, **kw).get_size_inches())
+        assert d_size(*args, part=k, **kw) == made

@@ -38,7 +38,7 @@ from ..store.results_view import Results
 from ..store.schema import open_results
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import check_formats, prismatic_joints, say
-from .drawing import draw_each, write_report_files
+from .drawing import draw_each, svg_size, write_report_files
 from .main_context import report_context, zero_mask
 from .main_figures import (
     COLUMN_WIDTH,
@@ -46,6 +46,7 @@ from .main_figures import (
     ENVELOPE_THRESHOLD,
     PAGE_WIDTH,
     d_panels,
+    d_size,
     element_parts,
     fig_D,
     fig_h,
@@ -225,6 +226,7 @@ FIGURE_FILES = {"joints": "fig_joints_q_qd_qdd", "D": "fig_3_10_D", "h": "fig_3_
 #: panels, a first part of two rows under the text citing it: seven), five of h.
 _MOST_PARTS = 12
 _D_PARTS = tuple(f"D_{p}" for p in range(2, _MOST_PARTS + 1))
+_D_GROUP = ("D", *_D_PARTS)
 FIGURE_PARTS = _D_PARTS + tuple(f"h_{p}" for p in range(2, 6))
 FIGURE_FILES.update({k: f"{FIGURE_FILES[k[0]]}_part{k[2:]}" for k in FIGURE_PARTS})
 _FIGURE_ORDER = ("joints", "D", *_D_PARTS, "h", *FIGURE_PARTS[len(_D_PARTS):], "contributions",
@@ -483,9 +485,14 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
     ctx = report_context(results)       # fails early on a dataset that is not ours
     data = plot_data(results.dataset, progress=progress)
     # one figure alive at a time, each typeset as PDF while the next is drawn
-    drawn = draw_each(figure_makers(results, data, column=column), FIG_RC, ctx["created"])
-    if "pdf" in formats and "D_2" in drawn:
-        drawn = _fit_first_part(results, data, ctx, drawn, paper)
+    makers = figure_makers(results, data, column=column)
+    fit = "pdf" in formats and "D_2" in makers      # D's parts drawn last, fitted first
+    drawn = draw_each({k: m for k, m in makers.items() if not fit or k not in _D_GROUP},
+                      FIG_RC, ctx["created"])
+    if fit:
+        drawn.update(draw_each(_fit_first_part(results, data, ctx, makers, drawn, paper),
+                               FIG_RC, ctx["created"]))
+        drawn = {k: drawn[k] for k in _FILE_ORDER if k in drawn}
     return write_report_files(
         outdir, ctx, drawn, FIGURE_FILES, main_outline, "report.html.j2",
         "Translational and rotational dominance of the generalized d'Alembert dynamics (Fu, "
@@ -499,26 +506,36 @@ def _write(results, outdir, formats, paper, progress, column=False, latex=False)
 _AFTER_H = 1.2
 
 
-def _fit_first_part(results, data, ctx, drawn, paper):
-    """The D figure in parts drawn again to fill its pages
-    (:func:`gd_analyze.report.main_figures.part_rows`), if as set its first part goes to the
-    next page's top for want of room under the text citing it; ``drawn`` as it is otherwise."""
-    shown = [k for k in _FIGURE_ORDER if k in drawn]
-    room, need = figure_rooms(main_outline(ctx, shown),
-                              {k: (drawn[k][0], drawn[k][2]) for k in shown},
-                              paper).get("D", (0.0, 0.0))
-    if need <= 0.0:
-        return drawn
-    size = drawn["D"][2]
-    panels = d_panels(data, {}, dict(zip(*zero_mask(results))), prismatic_joints(results),
-                      results.robot_record.armature)[0]
+def _fit_first_part(results, data, ctx, makers, drawn, paper):
+    """The makers of the D figure's parts: drawn with rows that fill their pages
+    (:func:`gd_analyze.report.main_figures.part_rows`) if as set its first part goes to the
+    next page's top for want of room under the text citing it, as set otherwise.
+
+    The room is measured with every other figure ``drawn`` and each D part a blank of its
+    planned size (:func:`gd_analyze.report.main_figures.d_size`): the size of its drawing
+    unless text sticks out of it (:func:`gd_analyze.report.drawing.figure_svg`)."""
+    zero = dict(zip(*zero_mask(results)))
+    prismatic, arm = prismatic_joints(results), results.robot_record.armature
+    planned = {k: d_size(data, {}, zero, results.dominance_threshold,
+                         results.negligible_threshold, prismatic, armature=arm, part=p)
+               for p, k in enumerate(k for k in makers if k in _D_GROUP)}
+    shown = [k for k in _FIGURE_ORDER if k in drawn or k in planned]
+    room, need = figure_rooms(main_outline(ctx, shown), {
+        k: _blank_svg(planned[k]) if k in planned else (drawn[k][0], drawn[k][2])
+        for k in shown}, paper).get("D", (0.0, 0.0))
+    size = planned["D"]
+    panels = d_panels(data, {}, zero, prismatic, arm)[0]
     h = drawn["h"][2] if "h" in drawn else None     # what follows: Sec. 3's heading, Fig. 3
-    rows = part_rows(len(panels), room, need, printed_width(size, paper) / size[0],
-                     body_height(paper),
-                     0.0 if h is None else h[1] * printed_width(h, paper) / h[0] + _AFTER_H)
+    rows = None if need <= 0.0 else part_rows(
+        len(panels), room, need, printed_width(size, paper) / size[0], body_height(paper),
+        0.0 if h is None else h[1] * printed_width(h, paper) / h[0] + _AFTER_H)
     if rows is None:
-        return drawn
-    keys = ["D", *_D_PARTS]
-    again = draw_each(figure_makers(results, data, keys=keys, first_rows=rows[0],
-                                    rows=rows[1]), FIG_RC, ctx["created"])
-    return {**again, **{k: d for k, d in drawn.items() if k not in keys}}
+        return {k: m for k, m in makers.items() if k in planned}
+    return figure_makers(results, data, keys=_D_GROUP, first_rows=rows[0], rows=rows[1])
+
+
+def _blank_svg(size):
+    """An empty SVG of a size [in] as matplotlib writes a figure's (in pt), and its size."""
+    w, h = (f"{72.0 * v:f}".rstrip("0").rstrip(".") for v in size)
+    svg = f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}pt" height="{h}pt" viewBox="0 0 {w} {h}"></svg>'
+    return svg, svg_size(svg)

@@ -62,7 +62,7 @@ if TYPE_CHECKING:
 __all__ = ["PAGE_WIDTH", "COLUMN_WIDTH", "ZERO_TOL", "PART_STYLE", "PART_ZORDER", "SHORT_CLASS",
            "PlotData", "plot_data", "identically_zero", "fig_D", "fig_h", "fig_joints",
            "fig_torque", "d_panels", "panel_grid", "element_parts", "element_row",
-           "part_rows", "LEAST_FIRST_ROWS", "MIN_PANEL_W", "MAX_ROWS",
+           "part_rows", "d_size", "LEAST_FIRST_ROWS", "MIN_PANEL_W", "MAX_ROWS",
            "RC", "payload_figure", "PAYLOAD_REQUIRED", "CLASS_LETTER", "DERIVED", "OPTIONAL",
            "ENVELOPE_THRESHOLD", "ENVELOPE_COLUMNS", "READ_CHUNK"]
 
@@ -382,22 +382,27 @@ def _title_key(fig, y, W, H):
                title_fontsize=7, bbox_to_anchor=(0.5, 1 - y / H))
 
 
-def _element_figure(x, panels, enveloped, width, key):
-    """Panels in reading order, the parts' legend, the title colours' key and a note below.
-
-    ``panels``: (label, parts dict, class, units) per panel drawn; ``key``: the note."""
-    import textwrap
-
-    cols, w, h = panel_grid(len(panels), width)
-    origin, t_label = time_origin(x)
-    x = np.asarray(x, dtype=float) - origin
+def _element_layout(panels, width, key):
+    """The wrapped note, the heights of the legend, the key and the panels, and the height
+    of :func:`_element_figure` [in]: its size planned without making it."""
+    cols, _, h = panel_grid(len(panels), width)
     rows = max(1, math.ceil(len(panels) / cols))
-    chars = max(30, int((width - 0.2) / (7.0 * 0.5 / 72)))
-    note = textwrap.fill(key, chars)
+    note = textwrap.fill(key, max(30, int((width - 0.2) / (7.0 * 0.5 / 72))))
     legend_h = 0.22 + 0.16 * (width < PAGE_WIDTH and any("arm" in p[1] for p in panels))
     title_h = 0.4 + 0.14 * (width < PAGE_WIDTH)     # the title colours' key: two rows
     panels_h = _TOP + rows * h + (rows - 1) * _HGAP + 0.3 if panels else 0.0
     H = panels_h + (legend_h + title_h if panels else 0.0) + 0.14 * (note.count("\n") + 1) + 0.12
+    return note, legend_h, title_h, panels_h, H
+
+
+def _element_figure(x, panels, enveloped, width, key):
+    """Panels in reading order, the parts' legend, the title colours' key and a note below.
+
+    ``panels``: (label, parts dict, class, units) per panel drawn; ``key``: the note."""
+    cols, w, h = panel_grid(len(panels), width)
+    origin, t_label = time_origin(x)
+    x = np.asarray(x, dtype=float) - origin
+    note, legend_h, title_h, panels_h, H = _element_layout(panels, width, key)
     fig = new_figure(width, H)
     first, ys = None, []
     boxes = grid_boxes(fig, len(panels), cols, (_LEFT, _TOP), (w, h), (_WGAP, _HGAP))
@@ -499,13 +504,40 @@ def fig_D(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool]
         below, the parts' legend, the key of the title colours and a note naming the ≡ 0
         elements.
     """
+    return _element_figure(data.x, *_d_part(data, dominance, zero, s, e, prismatic, width,
+                                            armature, part, first_rows, rows))
+
+
+def d_size(*args: Any, **kwargs: Any) -> tuple[float, float]:
+    """The size of a part of the D figure as :func:`fig_D` plans it, without making it.
+
+    Parameters
+    ----------
+    *args
+        As for :func:`fig_D` (``data``, ``dominance``, ``zero``, ``s``, ``e``, ...).
+    **kwargs
+        As for :func:`fig_D` (``width``, ``armature``, ``part``, ``first_rows``, ``rows``).
+
+    Returns
+    -------
+    (float, float)
+        Width and height [in]: those of the figure :func:`fig_D` makes
+        (``Figure.get_size_inches``).
+    """
+    panels, _, width, key = _d_part(*args, **kwargs)
+    return width, _element_layout(panels, width, key)[-1]
+
+
+def _d_part(data, dominance, zero, s, e, prismatic=None, width=PAGE_WIDTH, armature=None,
+            part=0, first_rows=None, rows=None):
+    """The panels of a part of :func:`fig_D`, the enveloped flag, the width and the key."""
     panels, zeros = d_panels(data, dominance, zero, prismatic, armature)
     chunks = element_parts([p[0] for p in panels], width, first_rows, rows)
     drawn = [p for p in panels if p[0] in set(chunks[part])]
     arm = any("arm" in p[1] for p in panels)
     key = say("element_key", symbol="D", s=f"{s:g}", e=f"{e:g}", arm=arm,
               zeros=", ".join(map(_math, zeros)), part=part + 1, parts=len(chunks))
-    return _element_figure(data.x, drawn, data.enveloped, width, key)
+    return drawn, data.enveloped, width, key
 
 
 def fig_h(data: PlotData, dominance: Mapping[str, str], zero: Mapping[str, bool],
