@@ -51,6 +51,7 @@ import errno
 import functools
 import os
 import re
+import secrets
 import shutil
 import signal
 import stat
@@ -255,12 +256,6 @@ class _Record:
     def stale(self, where, pattern):
         """The names the previous holder registered ``where`` that match ``pattern``."""
         return [n for w, n in self.before if w == where and re.fullmatch(pattern, n)]
-
-
-def _token():
-    import secrets
-
-    return secrets.token_hex(8)
 
 
 RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
@@ -521,7 +516,7 @@ def _staged(real, target, command, mount, record):
 def _new_temporary(where, prefix, record, kind, target):
     """Create the folder ``<prefix><random>`` (mode 0700) in ``where``, registered first."""
     for _ in range(16):
-        path = Path(where) / f"{prefix}{_token()}"
+        path = Path(where) / f"{prefix}{secrets.token_hex(8)}"
         try:
             record.register(kind, path.name)
             path.mkdir(mode=0o700)
@@ -543,7 +538,8 @@ def _swap_folder(real, stage, owners, command, record):
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{_token()}"
+            prev = (real.parent
+                    / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{secrets.token_hex(8)}")
             record.register("prev", prev.name)
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
             try:
