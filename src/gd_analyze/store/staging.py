@@ -316,23 +316,22 @@ def _chmod_folder(folder, mode):
         os.close(fd)
 
 
-def _conflicts(new, owners):
-    """The new paths that would replace a file of another command's manifest."""
-    taken = dict(owners.others)
-    dirs = {}
-    for path, cmd in owners.others.items():
+def _conflict(new, owners):
+    """The first new path that would replace a file of another command's manifest (the file,
+    a folder above it, or a file where the path has a folder), with that command; or None."""
+    taken, dirs = owners.others, {}
+    for path, cmd in taken.items():
         parts = path.split("/")
         for k in range(1, len(parts)):
             dirs.setdefault("/".join(parts[:k]), cmd)
-    out = []
     for path in new:
         parts = path.split("/")
         cmd = taken.get(path) or dirs.get(path) or next(
             (taken["/".join(parts[:k])] for k in range(1, len(parts))
              if "/".join(parts[:k]) in taken), None)
         if cmd is not None:
-            out.append((path, cmd))
-    return out
+            return path, cmd
+    return None
 
 
 def _carry(real, stage, owners, command, tops=None):
@@ -498,9 +497,9 @@ def _staged(real, target, command, mount, record):
         owners = folder_owners(real, command, target, skip)   # files added meanwhile
         with writing(target):
             new = write_manifest(stage, command, __version__)
-        clash = _conflicts(new, owners)
+        clash = _conflict(new, owners)
         if clash:
-            path, other = clash[0]
+            path, other = clash
             raise InputError(f"{target} holds {path} of gd-analyze {other}; a command never "
                              "replaces another command's files: use an empty or new folder")
         with writing(target):
