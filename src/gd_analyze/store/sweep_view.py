@@ -273,8 +273,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     if merged_stats is None:
         nan = np.full(robot.n, np.nan)
         merged_stats = [{"peak": nan, "peak_tau": nan, "sum_sq": nan, "count": 0}] * K
-    m_peak = np.array([s["peak"] for s in merged_stats])
-    m_tau = np.array([s["peak_tau"] for s in merged_stats])
+    m_peak, m_tau = (np.array([s[k] for s in merged_stats]) for k in ("peak", "peak_tau"))
     all_peak = m_peak.max(axis=0)
     all_tau = m_tau.max(axis=0)
     all_rms = np.sqrt(np.sum([s["sum_sq"] for s in merged_stats], axis=0)
