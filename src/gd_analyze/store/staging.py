@@ -308,14 +308,6 @@ def _signals_held():
             signal.raise_signal(sig)
 
 
-def _chmod_folder(folder, mode):
-    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
-    try:
-        os.fchmod(fd, mode)
-    finally:
-        os.close(fd)
-
-
 def _conflict(new, owners):
     """The first new path that would replace a file of another command's manifest (the file,
     a folder above it, or a file where the path has a folder), with that command; or None."""
@@ -392,16 +384,6 @@ def sibling_stem(parent: Path, name: str) -> str:
     digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
     head = os.fsencode(name)[:max(room - 17, 1)].decode(errors="ignore")
     return f"{head}-{digest}"
-
-
-def _in_place(real):
-    """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
-    if os.path.ismount(real):
-        return True
-    try:
-        return is_inside(os.path.realpath(os.getcwd()), real)
-    except OSError:
-        return False
 
 
 @contextlib.contextmanager
@@ -486,7 +468,11 @@ def staged_output(target: str | os.PathLike[str], command: str = "output") -> It
 @contextlib.contextmanager
 def _staged(real, target, command, mount, record):
     owner = os.getpid()
-    inside = real.is_dir() and (mount or _in_place(real))
+    try:                                    # the run's current folder, which a shell keeps open
+        holds_cwd = is_inside(os.path.realpath(os.getcwd()), real)
+    except OSError:                         # removed
+        holds_cwd = False
+    inside = real.is_dir() and (mount or holds_cwd)      # not exchanged whole: staged inside
     stage = _new_temporary(real if inside else real.parent,
                            TMP_MARK if inside else
                            f".{sibling_stem(real.parent, real.name)}{TMP_MARK}",
@@ -531,7 +517,11 @@ def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
     mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~current_umask()
-    _chmod_folder(stage, mode)
+    fd = os.open(stage, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)    # never a link
+    try:
+        os.fchmod(fd, mode)
+    finally:
+        os.close(fd)
     with _signals_held():
         if not real.is_dir():
             if not _renameat2(stage, real, RENAME_NOREPLACE):
