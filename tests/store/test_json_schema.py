@@ -228,8 +228,9 @@ def test_the_nesting_check_is_linear_on_1_mb(tmp_path, body):
 
 def test_the_nesting_check_s_memory_is_bounded_in_the_file_s_size(tmp_path):
     """The nesting check made its arrays over the whole text at once, 48 bytes a byte: a
-    50 MB model file took 2.4 GB. Scanned in pieces, its memory does not grow with the
-    file: 6 MB more of file costs less than six times that (the text, read and parsed)."""
+    50 MB model file took 2.4 GB. Counted on the parsed document, its memory does not grow
+    with the file: 6 MB more of file costs less than six times that (the text, read and
+    parsed)."""
     import tracemalloc
 
     peaks = []
@@ -243,31 +244,35 @@ def test_the_nesting_check_s_memory_is_bounded_in_the_file_s_size(tmp_path):
     assert peaks[1] - peaks[0] < 6 * (6 << 20), peaks
 
 
-@pytest.mark.parametrize("chunk", [1, 2, 3, 7])
-def test_the_nesting_check_carries_its_state_across_pieces(monkeypatch, chunk):
-    """Depth, string state and runs of backslashes cut at a piece's edge: the depth is that
-    of a character-by-character scan (a quote ends a string unless an odd run of
-    backslashes precedes it)."""
+@pytest.mark.parametrize("seed", [1, 2, 3, 7])
+def test_the_nesting_limit_counts_objects_and_lists_not_brackets_in_strings(tmp_path, seed):
+    """A document nested exactly MAX_DEPTH deep is read whole, one level deeper is refused:
+    objects and lists mixed, strings full of brackets, quotes and backslashes that are no
+    nesting, the levels built here (the oracle), not counted by the reader."""
     import random
 
-    from gd_analyze.store import json_schema
+    from gd_analyze.store.json_schema import MAX_DEPTH
 
-    def scan(text):
-        depth = deepest = run = 0
-        inside = False
-        for ch in text:
-            if ch == '"' and run % 2 == 0:
-                inside = not inside
-            elif not inside and ch in "[{":
-                depth += 1
-                deepest = max(deepest, depth)
-            elif not inside and ch in "]}":
-                depth -= 1
-            run = run + 1 if ch == "\\" else 0
-        return deepest
+    rng = random.Random(seed)
 
-    monkeypatch.setattr(json_schema, "DEPTH_CHUNK", chunk, raising=False)
-    rng = random.Random(chunk)
-    for _ in range(2000):
-        text = "".join(rng.choice('[]{}"\\\\a é') for _ in range(rng.randint(0, 30)))
-        assert max(json_schema._depth(text), 0) == scan(text), text
+    def text():
+        return "".join(rng.choice('[]{}"\\a é') for _ in range(rng.randint(0, 12)))
+
+    def nested(levels):
+        doc = text()
+        for k in range(levels):         # empty containers beside, but for the deepest
+            siblings = [text(), rng.random(), *([[], {}] if k else [])]
+            doc = ({text(): doc, **{f"{i}{text()}": v for i, v in enumerate(siblings)}}
+                   if rng.random() < 0.5
+                   else [*siblings[:rng.randint(0, 3)], doc])
+        return doc
+
+    for levels in (MAX_DEPTH - 1, MAX_DEPTH, MAX_DEPTH + 1, 3 * MAX_DEPTH):
+        doc = nested(levels)
+        path = tmp_path / f"d{levels}.json"
+        path.write_text(json.dumps(doc))
+        if levels <= MAX_DEPTH:
+            assert load_json(path) == doc
+        else:
+            with pytest.raises(InputError, match="nested too deeply"):
+                load_json(path)

@@ -38,7 +38,7 @@ from ..ranking.ranking import (
 )
 from ..store.control_dataset import gain_units, pd_name
 from ..store.names import ControlVar as V
-from ..store.schema import from_attrs, open_results
+from ..store.schema import open_results
 from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
 from .common import (
     attr_text,
@@ -898,7 +898,7 @@ def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
     ...                  "model_guarantee_coverage": "it is not the trajectory"}, 0.01)[-68:]
     'trajectory. The open-loop error along this motion is not guaranteed.'
     """
-    m = attrs if isinstance(attrs, ModelFacts) else from_attrs(ModelFacts, attrs, "model_")
+    m = attrs if isinstance(attrs, ModelFacts) else ModelFacts.from_attrs(attrs, "model_")
     return say("scope_sentences", rule=str(_or(m.rule, "")), kind=str(_or(m.guarantee_kind, "")),
                scope=scope_markup(str(_or(m.scope, ""))), eps=f"{eps:g}",
                covered=str(m.guarantee_covered) == "1",

@@ -106,11 +106,6 @@ SELF_CHECK_TOLERANCE = 1e-9
 _MAX_BYTES = 256 * 2**20
 
 
-def _floats(a):
-    """Exact text of floats (hex), for the key."""
-    return [float(x).hex() for x in np.asarray(a, float).reshape(-1)]
-
-
 def robot_inputs(robot: Robot) -> dict[str, Any]:
     """The robot's part of a cache key: its file's SHA-256, the SHA-256 of the parameters
     used (:func:`gd_analyze.simplify.simplified.parameters_sha256`), its joints.
@@ -152,7 +147,8 @@ def certification_key(robot: Robot, region: Region, settings: dict[str, Any],
     """
     return cache_key(kind, {
         "format": _FORMAT, **robot_inputs(robot),
-        "region": {name: _floats(getattr(region, name))
+        "region": {name: [float(x).hex()                 # exact text of the floats
+                          for x in np.asarray(getattr(region, name), float).ravel()]
                    for name in ("q_min", "q_max", "qd_max", "qdd_max")},
         "settings": {k: (float(v).hex() if isinstance(v, float) else v)
                      for k, v in settings.items()}})

@@ -397,7 +397,7 @@ def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = No
     """
 
     base = SETPOINT_VARIABLES[name][1]
-    if prismatic is None or not np.any(prismatic):
+    if prismatic is None or not np.any(prismatic) or name == Var.T:
         return base
     if name in ("q", "qd", "qdd"):
         return units_by_type(prismatic, name)
@@ -405,8 +405,6 @@ def setpoint_units(name: str, prismatic: Sequence[bool] | np.ndarray | None = No
         n = len(prismatic)
         units = [element_units("D", i, j, prismatic) for i in range(n) for j in range(i, n)]
         return units_attribute(units, "element_units")
-    if name == Var.T:
-        return base
     return units_by_type(prismatic, "tau")
 
 

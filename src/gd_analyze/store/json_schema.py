@@ -20,8 +20,6 @@ import os
 from importlib import resources
 from typing import Any
 
-import numpy as np
-
 from ..errors import InputError
 
 __all__ = ["Schema", "load_json", "MODEL_SCHEMA", "MAX_DEPTH"]
@@ -191,44 +189,17 @@ def _finite_float(text):
 MAX_DEPTH = 64
 
 
-#: Characters of text :func:`_depth` scans at once: its work arrays stay a few tens of MB
-#: whatever the file's size (the whole text at once took 48 bytes a byte: 2.4 GB for 50 MB).
-DEPTH_CHUNK = 1 << 20
+def _depth(document):
+    """The deepest nesting of objects and lists in a parsed document (0 for a scalar).
 
-
-def _depth(text):
-    """The deepest nesting of [ and { outside strings (an upper bound if the text is not JSON).
-
-    Linear in the text's length: a quote ends a string unless an odd run of backslashes
-    precedes it; no regular expression, whose backtracking over a run of escaped quotes with
-    no closing one is quadratic (48 KB took 30 s). The text is scanned in pieces of
-    :data:`DEPTH_CHUNK` characters, the state (inside a string or not, the backslashes
-    just before, the depth) carried from one to the next, so the memory is bounded.
+    Level by level, without recursion: its memory is a list of references of one level, and
+    its time linear in the document's values.
     """
-    deepest = depth = 0
-    inside = False
-    slashes = 0                                  # backslashes just before the piece
-    for start in range(0, len(text), DEPTH_CHUNK):
-        codes = np.frombuffer(text[start:start + DEPTH_CHUNK].encode("utf-8", "replace"),
-                              np.uint8)
-        index = np.arange(1, codes.size + 1)
-        slash = codes == 92
-        last_other = np.maximum.accumulate(np.where(slash, -slashes, index))
-        run = np.empty(codes.size, np.int64)     # backslashes just before each byte
-        run[0] = slashes
-        run[1:] = index[:-1] - last_other[:-1]
-        quote = (codes == 34) & (run % 2 == 0)
-        count = np.cumsum(quote)
-        within = (count - quote + inside) % 2 == 1       # within a string (its quotes: out)
-        outside = ~within & ~quote
-        steps = (outside & ((codes == 91) | (codes == 123))).astype(np.int64) \
-            - (outside & ((codes == 93) | (codes == 125)))
-        levels = depth + np.cumsum(steps)
-        deepest = max(deepest, int(levels.max()))
-        depth = int(levels[-1])
-        inside = bool((count[-1] + inside) % 2)
-        slashes = int(codes.size - last_other[-1])
-    return deepest
+    depth, level = 0, [document]
+    while level := [v for v in level if isinstance(v, (dict, list))]:
+        depth += 1
+        level = [x for v in level for x in (v.values() if isinstance(v, dict) else v)]
+    return depth
 
 
 def load_json(path: str | os.PathLike[str], what: str = "JSON") -> Any:
@@ -260,11 +231,11 @@ def load_json(path: str | os.PathLike[str], what: str = "JSON") -> Any:
         raise InputError(f"not a regular file: give a {what} file", path)
     try:
         with open(path, encoding="utf-8") as fh:
-            text = fh.read()
-        if _depth(text) > MAX_DEPTH:
+            document = json.loads(fh.read(), object_pairs_hook=_no_duplicates,
+                                  parse_constant=_refuse_constant, parse_float=_finite_float)
+        if _depth(document) > MAX_DEPTH:     # the parser's own limit is deeper, or none
             raise RecursionError
-        return json.loads(text, object_pairs_hook=_no_duplicates,
-                          parse_constant=_refuse_constant, parse_float=_finite_float)
+        return document
     except RecursionError:
         raise InputError(f"not a {what} file: nested too deeply", path) from None
     except UnicodeDecodeError:

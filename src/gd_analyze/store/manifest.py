@@ -151,7 +151,8 @@ def _read_manifest(folder, name):
         return None
     if not isinstance(data, dict) or data.get("tool") != "gd-analyze" \
             or not isinstance(data.get("files"), dict) \
-            or name != _manifest_name_or_none(data.get("command")):
+            or not _COMMAND.fullmatch(str(data.get("command"))) \
+            or name != manifest_name(data["command"]):
         return None
     good = {}
     for path, entry in data["files"].items():
@@ -163,13 +164,6 @@ def _read_manifest(folder, name):
             good[path] = {**entry, "also": [e for e in also if _valid(e)]
                           if isinstance(also, list) else []}
     return data["command"], good
-
-
-def _manifest_name_or_none(command):
-    try:
-        return manifest_name(command)
-    except ValueError:
-        return None
 
 
 def _valid(entry):
@@ -204,12 +198,9 @@ def _digest(path, st):
     known = _DIGESTS.get(key)
     if known is not None:
         return known
-    pending = _PENDING.get(key)
-    if pending is not None:                 # being hashed beside the run (_defer)
-        pending.result()
-        known = _DIGESTS.get(key)
-        if known is not None:
-            return known
+    pending = _PENDING.get(key)             # being hashed beside the run (_defer): its digest
+    if pending is not None and pending.exception() is None:     # of this very status, waited
+        return pending.result()
     settled = time.time_ns() - st.st_ctime_ns > SETTLED_NS
     digest = file_sha256(path)
     if settled:
@@ -245,20 +236,31 @@ def _defer(path, st):
             or key in _DIGESTS):
         return False
     if key not in _PENDING:
-        future: Future = Future()
+        _PENDING[key] = future = _hashing(path, "gd-analyze-digest", nice=True)
 
-        def work():
-            _yield_cpu()
-            try:
-                _remember(key, file_sha256(path))
-            except OSError:
-                pass                            # the second check hashes it and says why
-            finally:
-                _PENDING.pop(key, None)
-                future.set_result(None)
-        _PENDING[key] = future
-        threading.Thread(target=work, name="gd-analyze-digest", daemon=True).start()
+        def done(future):                   # a file it cannot read: the second check says why
+            if future.exception() is None:
+                _remember(key, future.result())
+            _PENDING.pop(key, None)
+        future.add_done_callback(done)
     return True
+
+
+def _hashing(path, name, nice=False):
+    """A Future of the file's SHA-256 (or of the OSError that stopped it), made on a thread
+    ``name`` of its own, which only reads and does not hold the process at exit; with
+    ``nice``, at the processor time the run leaves (:func:`_yield_cpu`)."""
+    future: Future = Future()
+
+    def work():
+        if nice:
+            _yield_cpu()
+        try:
+            future.set_result(file_sha256(path))
+        except OSError as exc:
+            future.set_exception(exc)
+    threading.Thread(target=work, name=name, daemon=True).start()
+    return future
 
 
 def _unchanged(folder, path, entry, st, defer=False):
@@ -410,15 +412,7 @@ def hash_beside(path: str | os.PathLike[str]) -> None:
         key = _key(os.stat(full))
     except OSError:
         return                                  # write_manifest reports it
-    future: Future = Future()
-
-    def work():
-        try:
-            future.set_result(file_sha256(full))
-        except OSError as exc:
-            future.set_exception(exc)
-    _STAGED[full] = (key, future)
-    threading.Thread(target=work, name="gd-analyze-digest-out", daemon=True).start()
+    _STAGED[full] = (key, _hashing(full, "gd-analyze-digest-out"))
 
 
 def _staged_digest(path, st):

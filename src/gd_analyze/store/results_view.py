@@ -259,12 +259,11 @@ class StoredTrajectory(View):
             [rad or m], velocities [rad/s or m/s] and accelerations [rad/s^2 or m/s^2]; memory
             stays a block whatever N is.
         """
-        q, qd, qdd = (self.dataset[v] for v in (Var.Q, Var.QD, Var.QDD))
+        series = [self.dataset[v] for v in (Var.Q, Var.QD, Var.QDD)]
         step = max(1, int(rows))
-        for a in range(0, q.shape[0], step):
-            b = a + step
-            yield (np.asarray(q[a:b].values, float), np.asarray(qd[a:b].values, float),
-                   np.asarray(qdd[a:b].values, float))
+        for a in range(0, series[0].shape[0], step):
+            q, qd, qdd = (np.asarray(s[a:a + step].values, float) for s in series)
+            yield q, qd, qdd
 
     @property
     def tau_f(self) -> np.ndarray | None:

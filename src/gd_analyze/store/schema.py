@@ -36,7 +36,7 @@ if TYPE_CHECKING:
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
            "element_coords", "text_coordinate", "joint_type_var", "strings",
            "stored_prismatic", "stored_has_drives",
-           "Record", "stored_name", "from_attrs", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
+           "Record", "stored_name", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
 CONVENTIONS = "CF-1.10"
@@ -374,27 +374,6 @@ def stored_name(name: str) -> str:
     """
     return getattr(Attr, name.upper(), name)
 
-
-def from_attrs(cls: type[_R], attrs: Mapping[str, Any], prefix: str = "", /,
-               **given: Any) -> _R:
-    """A record (:class:`Record`) of global attributes, as stored.
-
-    Parameters
-    ----------
-    cls : type
-        A :class:`Record`.
-    attrs : Mapping
-        The global attributes.
-    prefix : str, optional
-        Each field not given is the attribute ``prefix + field`` (None where missing).
-    **given
-        Fields given, not read.
-
-    Returns
-    -------
-    An instance of ``cls``.
-    """
-    return cls.from_attrs(attrs, prefix, **given)
 
 _V = TypeVar("_V", bound="View")
 #: The default of a :func:`stored` field that the dataset must hold.

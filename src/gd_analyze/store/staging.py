@@ -51,6 +51,7 @@ import errno
 import functools
 import os
 import re
+import secrets
 import shutil
 import signal
 import stat
@@ -257,12 +258,6 @@ class _Record:
         return [n for w, n in self.before if w == where and re.fullmatch(pattern, n)]
 
 
-def _token():
-    import secrets
-
-    return secrets.token_hex(8)
-
-
 RENAME_NOREPLACE, RENAME_EXCHANGE = 1, 2
 
 
@@ -313,31 +308,22 @@ def _signals_held():
             signal.raise_signal(sig)
 
 
-def _chmod_folder(folder, mode):
-    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
-    try:
-        os.fchmod(fd, mode)
-    finally:
-        os.close(fd)
-
-
-def _conflicts(new, owners):
-    """The new paths that would replace a file of another command's manifest."""
-    taken = dict(owners.others)
-    dirs = {}
-    for path, cmd in owners.others.items():
+def _conflict(new, owners):
+    """The first new path that would replace a file of another command's manifest (the file,
+    a folder above it, or a file where the path has a folder), with that command; or None."""
+    taken, dirs = owners.others, {}
+    for path, cmd in taken.items():
         parts = path.split("/")
         for k in range(1, len(parts)):
             dirs.setdefault("/".join(parts[:k]), cmd)
-    out = []
     for path in new:
         parts = path.split("/")
         cmd = taken.get(path) or dirs.get(path) or next(
             (taken["/".join(parts[:k])] for k in range(1, len(parts))
              if "/".join(parts[:k]) in taken), None)
         if cmd is not None:
-            out.append((path, cmd))
-    return out
+            return path, cmd
+    return None
 
 
 def _carry(real, stage, owners, command, tops=None):
@@ -398,16 +384,6 @@ def sibling_stem(parent: Path, name: str) -> str:
     digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:16]
     head = os.fsencode(name)[:max(room - 17, 1)].decode(errors="ignore")
     return f"{head}-{digest}"
-
-
-def _in_place(real):
-    """Whether the target cannot be exchanged whole: a mount point, or holds our own cwd."""
-    if os.path.ismount(real):
-        return True
-    try:
-        return is_inside(os.path.realpath(os.getcwd()), real)
-    except OSError:
-        return False
 
 
 @contextlib.contextmanager
@@ -492,7 +468,11 @@ def staged_output(target: str | os.PathLike[str], command: str = "output") -> It
 @contextlib.contextmanager
 def _staged(real, target, command, mount, record):
     owner = os.getpid()
-    inside = real.is_dir() and (mount or _in_place(real))
+    try:                                    # the run's current folder, which a shell keeps open
+        holds_cwd = is_inside(os.path.realpath(os.getcwd()), real)
+    except OSError:                         # removed
+        holds_cwd = False
+    inside = real.is_dir() and (mount or holds_cwd)      # not exchanged whole: staged inside
     stage = _new_temporary(real if inside else real.parent,
                            TMP_MARK if inside else
                            f".{sibling_stem(real.parent, real.name)}{TMP_MARK}",
@@ -503,9 +483,9 @@ def _staged(real, target, command, mount, record):
         owners = folder_owners(real, command, target, skip)   # files added meanwhile
         with writing(target):
             new = write_manifest(stage, command, __version__)
-        clash = _conflicts(new, owners)
+        clash = _conflict(new, owners)
         if clash:
-            path, other = clash[0]
+            path, other = clash
             raise InputError(f"{target} holds {path} of gd-analyze {other}; a command never "
                              "replaces another command's files: use an empty or new folder")
         with writing(target):
@@ -521,7 +501,7 @@ def _staged(real, target, command, mount, record):
 def _new_temporary(where, prefix, record, kind, target):
     """Create the folder ``<prefix><random>`` (mode 0700) in ``where``, registered first."""
     for _ in range(16):
-        path = Path(where) / f"{prefix}{_token()}"
+        path = Path(where) / f"{prefix}{secrets.token_hex(8)}"
         try:
             record.register(kind, path.name)
             path.mkdir(mode=0o700)
@@ -537,13 +517,18 @@ def _swap_folder(real, stage, owners, command, record):
     """Put the staged folder in the target's place in one exchange; the old set ends in stage."""
     _carry(real, stage, owners, command)
     mode = stat.S_IMODE(os.stat(real).st_mode) if real.is_dir() else 0o777 & ~current_umask()
-    _chmod_folder(stage, mode)
+    fd = os.open(stage, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)    # never a link
+    try:
+        os.fchmod(fd, mode)
+    finally:
+        os.close(fd)
     with _signals_held():
         if not real.is_dir():
             if not _renameat2(stage, real, RENAME_NOREPLACE):
                 os.rename(stage, real)      # fails on a folder created meanwhile, not empty
         elif not _renameat2(stage, real, RENAME_EXCHANGE):
-            prev = real.parent / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{_token()}"
+            prev = (real.parent
+                    / f".{sibling_stem(real.parent, real.name)}{TMP_MARK}{secrets.token_hex(8)}")
             record.register("prev", prev.name)
             os.rename(real, prev)           # no exchange here: two renames, undone if killed
             try:

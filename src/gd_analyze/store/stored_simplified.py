@@ -33,12 +33,6 @@ _STRUCTURE = (Attr.FULL_HARMONICS, Attr.FULL_COEFFICIENTS, Attr.OTHER_RULE_HARMO
               Attr.OTHER_RULE_COEFFICIENTS)
 
 
-def _structure(attrs: Mapping[str, Any]) -> tuple[int, ...] | None:
-    if not all(k in attrs for k in _STRUCTURE):
-        return None
-    return tuple(int(attrs[k]) for k in _STRUCTURE)
-
-
 @dataclass(frozen=True)
 class InertiaCheck:
     """The check that D_s, the simplified model's inertia matrix, is positive definite.
@@ -281,7 +275,9 @@ class StoredSimplified(View):
     other_rule_additions: Any = stored(Attr.OTHER_RULE_ADDITIONS, default=None, attr=True)
     other_rule_error_relative_peak: np.ndarray | None = stored(
         Var.OTHER_RULE_ERROR_RELATIVE_PEAK, default=None)
-    structure: tuple[int, int, int, int] | None = derived(lambda ds: _structure(ds.attrs))
+    structure: tuple[int, int, int, int] | None = derived(lambda ds: (
+        tuple(int(ds.attrs[k]) for k in _STRUCTURE) if all(k in ds.attrs for k in _STRUCTURE)
+        else None))
     scale: np.ndarray | None = stored(Var.SIMPLIFIED_SCALE, default=None)
     bound: np.ndarray = stored(Var.SIMPLIFIED_BOUND)
     bound_inertia: np.ndarray | None = stored(Var.SIMPLIFIED_BOUND_INERTIA, default=None)

@@ -43,11 +43,9 @@ from ..ranking.ranking import (
     CLASSES,
     arm_scales,
     element_labels,
-    element_units,
     is_round_off,
-    parse_element_label,
 )
-from .datasets import TORQUE_ERRORS, error_variables, joint_units, units_attribute
+from .datasets import TORQUE_ERRORS, error_variables, units_by_type
 from .names import SWEEP_ATTRIBUTES, Attr, Var
 from .names import SweepAttr as SA
 from .names import SweepVar as SV
@@ -142,8 +140,7 @@ def sweep_size(trajectories: int, n: int, masses: int = 0) -> int:
 def _torque_units(robot, which="tau"):
     """The ``units`` of a per-joint torque (``which="tau"``) or position (``"q"``) variable:
     N m, N (rad, m), or both with where to read them."""
-
-    return units_attribute(joint_units(robot.prismatic, which), "joint_type")
+    return units_by_type(robot.prismatic, which, "joint_type")
 
 
 def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
@@ -181,32 +178,6 @@ def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
                           "source and input_sha256)")
         attrs[SA.INPUT_FILES] = "; ".join(listed)
     return attrs
-
-
-def element_arm_scales(scale: ArrayLike, labels: Sequence[str],
-                       prismatic: Sequence[bool] | np.ndarray) -> np.ndarray:
-    """The arm's scale of every ranked element on every trajectory: the largest scale among the
-    elements of the same units on that trajectory
-    (:func:`gd_analyze.ranking.ranking.arm_scales`), so that the sweep tells round-off
-    from data by the same rule as the main report.
-
-    Parameters
-    ----------
-    scale : array_like, shape (K, M)
-        Each element's own scale per trajectory.
-    labels : sequence of str, shape (M,)
-        The element labels.
-    prismatic : sequence of bool, shape (n,)
-        The joint types.
-
-    Returns
-    -------
-    ndarray, shape (K, M)
-    """
-    n = len(prismatic)
-    units = [element_units(*parse_element_label(str(lab), n), prismatic)  # type: ignore[call-arg]  # (kind, i, j), prismatic
-             for lab in labels]
-    return np.array([arm_scales(row, units) for row in np.atleast_2d(scale)])
 
 
 #: The merged model's error over all the swept trajectories: its key in a torque error
@@ -302,8 +273,7 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     if merged_stats is None:
         nan = np.full(robot.n, np.nan)
         merged_stats = [{"peak": nan, "peak_tau": nan, "sum_sq": nan, "count": 0}] * K
-    m_peak = np.array([s["peak"] for s in merged_stats])
-    m_tau = np.array([s["peak_tau"] for s in merged_stats])
+    m_peak, m_tau = (np.array([s[k] for s in merged_stats]) for k in ("peak", "peak_tau"))
     all_peak = m_peak.max(axis=0)
     all_tau = m_tau.max(axis=0)
     all_rms = np.sqrt(np.sum([s["sum_sq"] for s in merged_stats], axis=0)
@@ -485,8 +455,7 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
              if all(len(p) > 5 for p in parts) else {})
     coords = element_coords(n, joints=robot.joint_names())
     del coords[Var.ELEMENT_UNITS]
-    coords[SV.CLASS] = (SV.CLASS, np.array(CLASSES, dtype=str),
-                       {"units": "1", "long_name": "dominance class"})
+    coords[SV.CLASS] = text_coordinate(SV.CLASS, CLASSES, "dominance class")
     return _by_payload(
         robot, masses, {"units": "kg", "long_name": "load mass on the last link"},
         {**extra,
@@ -515,7 +484,10 @@ def _ranking_vars(dims, results, labels, robot, kept, where):
     |tau|; with the peaks (each of shape (K, M)), the arm's scales and the round-off flags."""
     peaks = {k: np.array([r["peaks"][k] for r in results])
              for k in ("peak_tran", "peak_rot", "peak_total", "scale")}
-    arm = element_arm_scales(peaks["scale"], labels, robot.prismatic)
+    # each element's arm scale on each run: the largest scale of its units there, so that the
+    # sweep tells round-off from data by the main report's rule
+    units = element_coords(robot.n, robot.prismatic)[Var.ELEMENT_UNITS][1]
+    arm = np.array([arm_scales(row, units) for row in np.atleast_2d(peaks["scale"])])
     round_off = is_round_off(np.max([peaks[k] for k in ("peak_tran", "peak_rot", "peak_total")],
                                     axis=0), peaks["scale"], arm_scale=arm)
     return {
@@ -606,9 +578,8 @@ def embed_payload(payload: xr.Dataset) -> xr.Dataset:
         The same variables, each prefixed ``payload_``; the ``element_units`` coordinate and
         ``joint_type`` (already in the main analysis) dropped.
     """
-    renamed = payload.drop_vars([v for v in ("joint_type",) if v in payload.variables])
-    renamed = renamed.rename({v: f"payload_{v}" for v in renamed.data_vars})
-    return renamed.drop_vars([c for c in ("element_units",) if c in renamed.coords])
+    renamed = payload.drop_vars(["joint_type", "element_units"], errors="ignore")
+    return renamed.rename({v: f"payload_{v}" for v in renamed.data_vars})
 
 
 def payload_part(results: xr.Dataset) -> xr.Dataset:
