@@ -200,6 +200,13 @@ def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, 
     data = np.loadtxt(plan, delimiter=",", skiprows=1)
     assert data[0, 0] == 0 and data[-1, 0] == 2
     assert np.all(data[[0, -1], 3:] == 0)                      # qd, qdd at rest at both ends
+    # an excitation and a random sweep take no --ignore-limits: their refusals offer none
+    capsys.readouterr()
+    for args in (["plan", urdf, "--excitation", "-o", str(plan)],
+                 ["sweep", urdf, "--random", "1", "-o", str(tmp_path / "s")]):
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.rstrip().endswith("(<limit velocity> in a URDF)")
 
 
 @pytest.mark.parametrize("options, limits, column, kind", [

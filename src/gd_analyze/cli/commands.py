@@ -574,7 +574,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if getattr(args, name) is not None:
             raise InputError("only with --excitation", column=f"--{name.replace('_', '-')}")
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
-        warn_if(check_velocity_limits(robot))
+        warn_if(check_velocity_limits(robot, "give --duration with --ignore-limits"))
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
