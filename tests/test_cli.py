@@ -1,6 +1,7 @@
 import hashlib
 import json
 import os
+import pathlib
 import subprocess
 import sys
 
@@ -9,9 +10,11 @@ import pytest
 import xarray as xr
 from conftest import ROOT, SHIPPED, golden_run
 
+import gd_analyze
 from gd_analyze.cli import main, parse_range
 from gd_analyze.errors import InputError
 
+SRC = pathlib.Path(gd_analyze.__file__).resolve().parent
 GOOD_HEADER = "t," + ",".join(f"q{i}" for i in range(1, 7))
 
 
@@ -162,12 +165,16 @@ def test_evaluate_and_max_error_gate(tmp_path, capsys, shared_main):
     assert _run(["evaluate", model, other, "--max-error", str(worst / 2)], capsys)[0] == 3
 
 
-def test_real_process_no_traceback(tmp_path):
-    """The installed entry point: exit status 2 and one line, no traceback."""
+@pytest.mark.parametrize("module", ["gd_analyze.cli", "gd_analyze"])
+def test_real_process_no_traceback(tmp_path, module):
+    """A real process (``python -m gd_analyze.cli``, or ``python -m gd_analyze`` as a user
+    types it): exit status 2 and one line, no traceback."""
     bad = tmp_path / "bad.csv"
     bad.write_text(BAD["nan"])
-    proc = subprocess.run([sys.executable, "-m", "gd_analyze.cli", "puma560", str(bad)],
-                          capture_output=True, text=True, cwd=tmp_path)
+    here = os.pathsep.join([str(SRC.parent), os.environ.get("PYTHONPATH", "")])
+    proc = subprocess.run([sys.executable, "-m", module, "puma560", str(bad)],
+                          capture_output=True, text=True, cwd=tmp_path,
+                          env={**os.environ, "PYTHONPATH": here})
     assert proc.returncode == 2
     assert proc.stderr.strip().count("\n") == 0 and "Traceback" not in proc.stderr
     assert "row 3, column q3" in proc.stderr

@@ -200,6 +200,13 @@ def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, 
     data = np.loadtxt(plan, delimiter=",", skiprows=1)
     assert data[0, 0] == 0 and data[-1, 0] == 2
     assert np.all(data[[0, -1], 3:] == 0)                      # qd, qdd at rest at both ends
+    # an excitation and a random sweep take no --ignore-limits: their refusals offer none
+    capsys.readouterr()
+    for args in (["plan", urdf, "--excitation", "-o", str(plan)],
+                 ["sweep", urdf, "--random", "1", "-o", str(tmp_path / "s")]):
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.rstrip().endswith("(<limit velocity> in a URDF)")
 
 
 @pytest.mark.parametrize("options, limits, column, kind", [
@@ -685,6 +692,25 @@ def test_default_guarantee_region_with_limits_trajectory_without(tmp_path, capsy
         line = next(x for x in printed.splitlines() if "no velocity limit" in x)
         assert line == f"guarantee: {spec['guarantee']['statement']}"
         assert "on the 2 swept trajectories only" in line
+
+
+def test_a_sweep_of_an_arm_without_limits_skips_the_held_out_plans_in_one_line(tmp_path,
+                                                                             capsys):
+    """The default --held-out plans random trajectories, which an arm without velocity limits
+    cannot have: the sweep of its files still writes the trajectory merge (exit 0), and one
+    warning line says why no held-out trajectory was measured."""
+    free = toml_without_limits(tmp_path)
+    csvs = []
+    for k, tr in enumerate(random_trajectories(load_robot("two-link"), 2, seed=3)):
+        csvs.append(tmp_path / f"t{k}.csv")
+        write_trajectory(tr, csvs[-1])
+    code, printed = _sweep([free, *csvs, "--no-report", "-o", tmp_path / "out"], capsys)
+    assert code == 0, printed
+    spec = json.loads((tmp_path / "out" / "merged_model.json").read_text())
+    assert spec["guarantee"]["kind"] == "trajectory"
+    said = [x for x in printed.splitlines() if "held-out" in x]
+    assert len(said) == 1 and "no held-out trajectories" in said[0], printed
+    assert "neither an acceleration nor a finite velocity limit" in said[0]
 
 
 def test_a_swept_trajectory_outside_the_region_is_reported(tmp_path, capsys):

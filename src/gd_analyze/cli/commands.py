@@ -574,7 +574,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if getattr(args, name) is not None:
             raise InputError("only with --excitation", column=f"--{name.replace('_', '-')}")
     if args.duration is None or not args.ignore_limits:     # the plan needs the limits
-        warn_if(check_velocity_limits(robot))
+        warn_if(check_velocity_limits(robot, "give --duration with --ignore-limits"))
     start, goal = default_motion(robot)
     for name, vals in (("--start", args.start), ("--goal", args.goal)):
         if vals is not None and len(vals) != robot.n:
@@ -1214,9 +1214,16 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     budget = args.rule == "budget"
     size = sweep_size(len(trajectories), robot.n, 0 if masses is None else len(masses))
     check_free_space(outdir, size, "sweep.h5")      # before the sweep, which may take hours
-    # the held-out trajectories of the budget rule's merged model (--held-out, at least 0)
-    held = random_trajectories(loaded, args.held_out, seed=args.seed + 1_000_003) \
-        if budget and args.held_out else []
+    # the held-out trajectories of the budget rule's merged model (--held-out, at least 0):
+    # random plans, none on an arm without the limits to plan them (said in one line)
+    held = []
+    if budget and args.held_out:
+        try:
+            acceleration_limits(loaded)
+        except ValueError as exc:
+            warn_if(f"{robot.source}: no held-out trajectories (--held-out): {exc}")
+        else:
+            held = random_trajectories(loaded, args.held_out, seed=args.seed + 1_000_003)
     prepared = {}
 
     def region_model():

@@ -615,7 +615,8 @@ def sweep_parser() -> argparse.ArgumentParser:
                              "trajectories keep to the robot's")
     p.add_argument("--held-out", metavar="K", type=_whole("--held-out", 0, 10**6), default=20,
                    help="random trajectories (another seed) to measure the merged model of the "
-                        "budget rule on, not guaranteed (default 20)")
+                        "budget rule on, not guaranteed (default 20; none, said in one warning "
+                        "line, on an arm without the limits to plan them)")
     _add_print_arguments(p, "the HTML and PDF report", column=True)
     _add_verbose_argument(p)
     _add_chain_arguments(p)

@@ -67,13 +67,16 @@ def joint_title(robot: Robot, j: int | np.integer[Any]) -> str:
     return f"joint {j + 1} ({str(names[j])!r})" if j < len(names) else f"joint {j + 1}"
 
 
-def check_velocity_limits(robot: Robot) -> str | None:
+def check_velocity_limits(robot: Robot, instead: str = "") -> str | None:
     """Check that a robot has the velocity limits planning needs, and find placeholders.
 
     Parameters
     ----------
     robot : Robot
         The arm, with qd_max, shape (n,) [rad/s or m/s], NaN where not given.
+    instead : str, optional
+        What the command offers in place of the limit, ending the refusal (e.g. ``"give
+        --duration with --ignore-limits"``; nothing where it offers nothing).
 
     Returns
     -------
@@ -94,8 +97,7 @@ def check_velocity_limits(robot: Robot) -> str | None:
             key = ("<limit velocity> in a URDF" if robot.convention == "chain"
                    else "qd_max" if pris[j] else "qd_max_deg")
             raise InputError(f"{joint_title(robot, j)} has no velocity limit: planning needs "
-                             f"one ({key}), or give --duration with --ignore-limits",
-                             robot.source)
+                             f"one ({key})" + (instead and f", or {instead}"), robot.source)
     high = np.flatnonzero(qd > PLACEHOLDER_QD)
     if not high.size:
         return None
