@@ -22,7 +22,7 @@ import numpy as np
 from ..dynamics.regressor_kernels import link_channels
 from ..model.limits import LIMITS, real_values
 
-__all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "joint_region", "missing_limits", "sample_positions", "channel_values",
+__all__ = ["Region", "RegionLimits", "Excursion", "FULL_TURN", "VALUE_EPS", "beyond_limits", "joint_region", "missing_limits", "sample_positions", "channel_values",
            "packed_channel_count", "velocity_channels", "full_channels", "ChannelValues",
            "worst_states", "worst_above", "region_scale", "qd_vertices", "velocity_vertices", "region_samples",
            "sampled_error", "REFINE_JOINTS"]
@@ -354,6 +354,48 @@ class Excursion:
                 f"({show(self.value):.4g} {unit} > {show(self.limit):.4g} {unit})")
 
 
+#: Machine epsilons of its limit by which a value may pass it: the round-off of the data
+#: checked (a planner that ends exactly on a limit rounds a few times).
+VALUE_EPS = 4
+
+
+def beyond_limits(x: np.ndarray, lo: np.ndarray | None, hi: np.ndarray | None,
+                  round_off: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Where values pass their limits by more than their round-off: the one test of whether a
+    trajectory stays in a region (:meth:`Region.excursion`,
+    :meth:`gd_analyze.simplify.guarantee.Guarantee.covers`).
+
+    Parameters
+    ----------
+    x : ndarray, shape (N, n)
+        The values: q [rad, m], |qd| [rad/s, m/s] or |qdd| [rad/s^2, m/s^2].
+    lo, hi : ndarray, shape (n,), or None
+        Their lower and upper limits in x's unit; None: no limit on that side.
+    round_off : ndarray or float, broadcastable to (N, n), optional
+        A bound on |x - x_exact| [x's unit], the round-off of computing x (e.g.
+        :func:`gd_analyze.jobs.control.motion_round_off`); 0 for data as given.
+
+    Returns
+    -------
+    below, above : ndarray of bool, shape (N, n)
+        x < lo - a and x > hi + a, a = round_off + :data:`VALUE_EPS` eps |limit|; NaN (or a
+        round-off that is not finite) is both.
+
+    Examples
+    --------
+    >>> beyond_limits(np.array([[1.0 + 2e-16, 1.0 + 1e-9]]), None, np.ones(2))[1]
+    array([[False,  True]])
+    """
+    def allowance(limit):               # an infinite limit allows nothing more
+        size = np.abs(np.where(np.isfinite(limit), limit, 0.0))
+        a = np.asarray(round_off, float) + VALUE_EPS * np.finfo(float).eps * size
+        return np.where(np.isfinite(a), a, np.nan)
+    x = np.asarray(x, float)
+    above = np.zeros(x.shape, bool) if hi is None else ~(x <= hi + allowance(hi))
+    below = np.zeros(x.shape, bool) if lo is None else ~(x >= lo - allowance(lo))
+    return below, above
+
+
 def _extremes(q, full_turn):
     """min and max per column of a non-empty (N, n) array of joint positions, each taken
     modulo 2 pi into [-pi, pi) where ``full_turn`` (:meth:`Region._wrapped`, on those
@@ -469,15 +511,14 @@ class Region:
             return q
         return np.where(full, _wrap(q), q)
 
-    def excursion(self, q, qd, qdd, rtol=1e-9):
+    def excursion(self, q, qd, qdd):
         """Where a trajectory leaves the region the most, or None if it stays in it.
 
         Parameters
         ----------
         q, qd, qdd : ndarray, shape (N, n)
-            [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-        rtol : float, optional
-            Relative slack for limits reached exactly (a planner ending on a limit).
+            Set points [rad, rad/s, rad/s^2; m, m/s, m/s^2], judged as data
+            (:func:`beyond_limits`).
 
         Returns
         -------
@@ -486,10 +527,13 @@ class Region:
             |qdd| / qdd_max - 1, or for q the excess over its bound divided by the range.
             The value is the trajectory's true extreme (not its first set point outside).
         """
-        inside = self.contains(q, qd, qdd, rtol)
+        q = self._wrapped(q)
+        inside = ~np.stack([np.any(beyond_limits(q, self.q_min, self.q_max), axis=(0, 1))]
+                           + [beyond_limits(np.abs(np.atleast_2d(np.asarray(x, float))), None,
+                                            lim)[1].any(axis=0)
+                              for x, lim in ((qd, self.qd_max), (qdd, self.qdd_max))])
         if inside.all():
             return None
-        q = self._wrapped(q)
         pris = self.is_prismatic
         found = []
         span = np.maximum(self.q_max - self.q_min, 1e-300)

@@ -84,6 +84,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..certify.region import VALUE_EPS
 from ..dynamics.dalembert import gd_terms, one_state_terms, qdd_from_terms
 from ..dynamics.opcount import operation_counts
 from ..model.drives import COULOMB_BAND, friction_torque
@@ -114,7 +115,8 @@ __all__ = ["CONTROLLERS", "CONTROLLER_DESCRIPTIONS", "PD_WITHOUT_GRAVITY", "cont
            "DEFAULT_WN", "DEFAULT_ZETA", "GAIN_RANGES",
            "DEFAULT_RTOL", "DEFAULT_ATOL", "DEFAULT_METHOD", "MAX_STIFFNESS_STEPS",
            "MAX_RHS_EVALS", "DENSE_SETPOINTS", "RHS_PER_STEP", "closed_loop_rates",
-           "singular_inertia", "Gains", "control_gains", "desired_motion",
+           "singular_inertia", "Gains", "control_gains", "desired_motion", "motion_round_off",
+           "HERMITE_QUINTIC", "ROUNDINGS",
            "controller_torque", "TrackingRun", "track", "DEFAULT_GRID_POINTS", "CONTROL_FILE",
            "NOISE_TIGHTEN", "NOISE_FACTOR", "ControlResult", "run_control", "difference_noise",
            "model_cost", "model_facts"]
@@ -392,6 +394,78 @@ def desired_motion(trajectory: Trajectory) -> PPoly:
         raise ValueError("the desired motion needs >= 2 set points with increasing times")
     ends = np.stack([trajectory.q, trajectory.qd, trajectory.qdd], axis=1)     # (N, 3, n)
     return PPoly.from_bernstein_basis(BPoly.from_derivatives(t, ends))
+
+
+#: The quintic Hermite basis on s in [0, 1] in powers of s: row m holds the coefficients of
+#: s^m in the basis functions of q_0, h qd_0, h^2 qdd_0, q_1, h qd_1 and h^2 qdd_1 (h the step).
+HERMITE_QUINTIC = np.array([[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 0.5, 0, 0, 0],
+                            [-10, -6, -1.5, 10, -4, 0.5], [15, 8, 1.5, -15, 7, -1],
+                            [-6, -3, -0.5, 6, -3, 0.5]])
+#: Roundings counted on any path of :func:`motion_round_off`'s sums, more than occur: at most
+#: 13 in evaluating a term of a degree-5 power sum (x - x_i, five powers, two products, five
+#: additions), as many in a residual at x_i + h, 6 in the commanded acceleration.
+ROUNDINGS = 32
+#: gamma_K = K u / (1 - K u), u = eps / 2, K = :data:`ROUNDINGS` (Higham 2002, Lemma 3.1).
+_GAMMA = ROUNDINGS * np.finfo(float).eps / 2 / (1 - ROUNDINGS * np.finfo(float).eps / 2)
+
+
+def motion_round_off(motion: PPoly, trajectory: Trajectory, t: ArrayLike) -> np.ndarray:
+    """A bound on the round-off of the desired motion at given times: how far ``motion(t, k)``
+    may lie from the exact quintic Hermite interpolant Q of the set points.
+
+    Parameters
+    ----------
+    motion : scipy.interpolate.PPoly
+        :func:`desired_motion` of the trajectory.
+    trajectory : Trajectory
+        The set points, q, qd, qdd (N, n) [rad, rad/s, rad/s^2; m, m/s, m/s^2].
+    t : array_like, shape (M,)
+        Times within the set points' [s].
+
+    Returns
+    -------
+    ndarray, shape (3, M, n)
+        For k = 0, 1, 2 a bound on |motion(t, k) - Q^(k)(t)| [rad, rad/s, rad/s^2; m, m/s,
+        m/s^2].
+
+    Notes
+    -----
+    On an interval [x_i, x_i + h] the motion is P(x) = sum_m C_m (x - x_i)^m with the stored
+    coefficients C_m. P - Q is the quintic Hermite interpolant of P's residuals r_j at the
+    ends (its value and first two derivatives there minus the set point's), so
+    |P^(k) - Q^(k)| <= h^-k sum_j |B_j^(k)(s)| h^d_j |r_j|, s = (x - x_i) / h, d_j the
+    order of end condition j and B_j basis function j (column j of H =
+    :data:`HERMITE_QUINTIC`), evaluated with gamma_K sum_m m!/(m-k)! |H_mj| added. The
+    residuals are measured, not assumed: at x_i exactly (j! C_j), at x_i + h in floating point
+    plus gamma_K times the sum of the |terms|; each set point's value y adds
+    :data:`~gd_analyze.certify.region.VALUE_EPS` eps |y|,
+    the round-off it may carry (as where it is checked itself). Evaluating P^(k)(x) errs by at
+    most gamma_K sum_m m!/(m-k)! |C_m| |x - x_i|^(m-k) (Higham 2002, Sec. 3.1; K =
+    :data:`ROUNDINGS`), and the bound's own arithmetic by a factor 1 + gamma_K. The bound so
+    follows the magnitudes that entered the evaluation, about eps max|q| / h^k, not the limits.
+    """
+    from scipy.interpolate import PPoly
+
+    c, x = np.asarray(motion.c, float)[::-1], np.asarray(motion.x, float)   # C_m: power m
+    h = np.diff(x)[:, None]
+    y = np.stack([trajectory.q, trajectory.qd, trajectory.qdd]).astype(float)   # (3, N, n)
+    own = VALUE_EPS * np.finfo(float).eps * np.abs(y)
+    r = np.empty((6, *c.shape[1:]))
+    for d in range(3):
+        terms = np.stack([math.perm(m, d) * c[m] * h ** (m - d) for m in range(d, 6)])
+        r[d] = (np.abs(math.factorial(d) * c[d] - y[d, :-1]) + own[d, :-1]) * h ** d
+        r[3 + d] = (np.abs(terms.sum(0) - y[d, 1:]) + _GAMMA * np.abs(terms).sum(0)
+                    + own[d, 1:]) * h ** d
+    t = np.asarray(t, float)
+    i = np.clip(np.searchsorted(x, t, side="right") - 1, 0, len(h) - 1)   # scipy's interval
+    u = ((t - x[i]) / h[i, 0])[:, None] ** np.arange(6)                  # s^0 .. s^5
+    size = PPoly(np.abs(motion.c), x)
+    out = np.empty((3, t.size, c.shape[2]))
+    for k in range(3):          # row m - k: the coefficients of s^(m - k) in B_j^(k)
+        basis = np.array([math.perm(m, k) for m in range(k, 6)])[:, None] * HERMITE_QUINTIC[k:]
+        at = np.abs(u[:, :6 - k] @ basis) + _GAMMA * np.abs(basis).sum(0)  # (M, 6)
+        out[k] = np.einsum("mj,jmn->mn", at, r[:, i]) / h[i] ** k + _GAMMA * size(t, k)
+    return (1 + _GAMMA) * out
 
 
 def controller_torque(controller: str, robot: Robot, gains: Gains, q_d: np.ndarray,
@@ -987,14 +1061,19 @@ def run_control(model: SimplifiedModel, trajectory: Trajectory,
                                  choices=model, rtol=rtol, atol=atol, method=method)
             for name in CONTROLLERS if name in controllers}
     q_d, qd_d, qdd_d = desired(t), desired(t, 1), desired(t, 2)
-    states = [("desired motion between the set points", "|qdd|", q_d, qd_d, qdd_d)]
-    if (loop := runs.get("simplified")) is not None:     # its model's state: q, qd and v
-        states.append(("closed loop of the simplified-model controller", "commanded |qdd|", loop.q,
-                       loop.qd, qdd_d + gains.Kv * (qd_d - loop.qd) + gains.Kp * (q_d - loop.q)))
     if covers["covered"] and covers["kind"] == "region":    # a "yes" names what it checked
+        e = motion_round_off(desired, trajectory, t)    # what round-off may not take outside
+        states: list[tuple[str, str, tuple[Any, ...], tuple[Any, ...]]] = [
+            ("desired motion between the set points", "|qdd|", (q_d, qd_d, qdd_d), tuple(e))]
+        if (loop := runs.get("simplified")) is not None:     # its model's state: q, qd and v
+            terms = (qdd_d, gains.Kv * (qd_d - loop.qd), gains.Kp * (q_d - loop.q))
+            e_v = e[2] + gains.Kv * e[1] + gains.Kp * e[0] + _GAMMA * sum(map(np.abs, terms))
+            states.append(("closed loop of the simplified-model controller", "commanded |qdd|",
+                           (loop.q, loop.qd, sum(terms)), (0.0, 0.0, (1 + _GAMMA) * e_v)))
         covers["reason"] = f"every set point, and at the {t.size} output times " + " and ".join(
             f"the {w} (q, |qd|, {a})" for w, a, *_ in states) + ", lie in the model's region"
-        said = coverages(model, [Trajectory(t, *x) for _, _, *x in states], robot, model_file)
+        said = coverages(model, [Trajectory(t, *x) for _, _, x, _ in states], robot, model_file,
+                         round_off=[err for *_, err in states])
         covers = next(({**d, "reason": f"the {who} is " + d["reason"].replace("|qdd|", qdd)}
                        for (who, qdd, *_), d in zip(states, said) if not d["covered"]), covers)
     noise, unmeasured = None, ""

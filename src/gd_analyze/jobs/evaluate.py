@@ -224,7 +224,8 @@ def coverage(model: SimplifiedModel, trajectory: Trajectory, plant: Robot | None
 
 
 def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
-              plant: Robot | None = None, path: str = "<model>") -> list[dict[str, Any]]:
+              plant: Robot | None = None, path: str = "<model>",
+              round_off: Sequence[Sequence[ArrayLike]] | None = None) -> list[dict[str, Any]]:
     """:func:`coverage` of each of several trajectories, the model's claim checked once.
 
     Parameters
@@ -236,6 +237,10 @@ def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
         The reference arm, as :func:`coverage` takes it.
     path : str, optional
         The model file, for messages.
+    round_off : sequence of K sequences of 3 array_like, optional
+        Per trajectory, bounds on the round-off of its q, qd and qdd, each broadcastable to
+        (N_k, n) (:meth:`~gd_analyze.simplify.guarantee.Guarantee.covers`); default: the
+        set points are data, as given.
 
     Returns
     -------
@@ -270,10 +275,10 @@ def coverages(model: SimplifiedModel, trajectories: Sequence[Trajectory],
         continuous = ~np.asarray(robot.prismatic, bool) & (
             ~(np.isfinite(lo) & np.isfinite(hi)) | (hi - lo > 2 * np.pi))
     said = []
-    for trajectory in trajectories:
+    for trajectory, err in zip(trajectories, round_off or [(0.0, 0.0, 0.0)] * len(trajectories)):
         covered, reason = g.covers(trajectory.q, trajectory.qd, trajectory.qdd,
                                    trajectory_sha256=trajectory.sha256, continuous=continuous,
-                                   prismatic=robot.prismatic)
+                                   prismatic=robot.prismatic, round_off=err)
         if covered and g.kind == "trajectory":
             check_trajectory_claim(model, trajectory, path)
         said.append({**out, "covered": bool(covered), "reason": reason})

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..certify.region import Region
+from ..certify.region import Region, beyond_limits
 from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF_CLAUSE
@@ -275,8 +275,8 @@ class Guarantee:
         return f"within {eps} of s_i {where}; {tail}"
 
     def covers(self, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike, trajectory_sha256: str = "",
-               continuous: ArrayLike | None = None, prismatic: ArrayLike | None = None
-               ) -> tuple[bool, str]:
+               continuous: ArrayLike | None = None, prismatic: ArrayLike | None = None,
+               round_off: Sequence[ArrayLike] = (0.0, 0.0, 0.0)) -> tuple[bool, str]:
         """Whether the bound holds along a trajectory, and why.
 
         Parameters
@@ -290,13 +290,18 @@ class Guarantee:
             modulo 2 pi (the torque is periodic in it).
         prismatic : array_like of bool, shape (n,), optional
             The prismatic joints, for the units of the reason (default: all revolute).
+        round_off : sequence of 3 array_like, each broadcastable to (N, n), optional
+            Bounds on the round-off of q, qd and qdd where they were computed, not read
+            (:func:`gd_analyze.jobs.control.motion_round_off`) [rad, rad/s, rad/s^2; m, m/s,
+            m/s^2]; default 0: data as given.
 
         Returns
         -------
         covered : bool
-            Region kind: every set point lies in R (a state may exceed a limit by 4 machine
-            epsilons of it, the round-off of a planner that ends exactly on the limit);
-            trajectory kind: the file is one the model was built on (by SHA-256).
+            Region kind: every state lies in R up to its round-off
+            (:func:`gd_analyze.certify.region.beyond_limits`: ``round_off`` and 4 machine
+            epsilons of the limit, a planner's that ends exactly on it); trajectory kind: the
+            file is one the model was built on (by SHA-256).
         reason : str
             One clause saying why, naming the first joint and quantity outside R, its extreme
             and how far beyond its limit, in the joint's unit.
@@ -322,15 +327,12 @@ class Guarantee:
             span = np.asarray(self.q_max, float) - np.asarray(self.q_min, float)
             wrap |= np.asarray(self.region.full_turn, bool) & (span >= 2 * np.pi * (1 - 1e-12))
         q = np.where(wrap, np.mod(q + np.pi, 2 * np.pi) - np.pi, q)
-        slack = 4 * np.finfo(float).eps
         checks: tuple[tuple[str, np.ndarray, Any, Any], ...] = (
             ("q", q, self.q_min, self.q_max), ("|qd|", np.abs(qd), None, self.qd_max),
             ("|qdd|", np.abs(qdd), None, self.qdd_max))
-        for name, x, lo, hi in checks:
-            hi = np.asarray(hi, float)
-            above = ~(x <= hi + slack * np.abs(hi))
-            below = np.zeros_like(above) if lo is None else \
-                ~(x >= np.asarray(lo, float) - slack * np.abs(np.asarray(lo, float)))
+        for (name, x, lo, hi), err in zip(checks, round_off):
+            below, above = beyond_limits(x, None if lo is None else np.asarray(lo, float),
+                                         np.asarray(hi, float), np.asarray(err, float))
             for bad, which, limit in ((below, "below", lo), (above, "above", hi)):
                 if bad.any():
                     j = int(np.nonzero(bad)[1][0])
