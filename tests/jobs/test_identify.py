@@ -471,6 +471,37 @@ def test_an_honest_flat_topped_torque_over_a_wide_adc_is_not_clipped():
     assert not [str(w.message) for w in caught if "column tau" in str(w.message)]
 
 
+def test_a_current_of_few_levels_is_kept_with_a_line_saying_it_cannot_be_judged(monkeypatch):
+    """PUMA 560 (Pinocchio's rnea plus friction and offsets, no torque clipped) recorded as
+    integer currents through drive gains that give each joint 5 or 6 values (a coarse current
+    readout). The check against the model fitted without the extreme levels, which then hold
+    much of the samples, took joint 1's -2 A for clipped and left those samples out (the code
+    before). Now each line found says the current looks clipped but takes fewer than 10 values,
+    too few to tell a clip from a rounded peak, so the samples are kept: the parameters are
+    those identified with both clip checks switched off."""
+    from gd_analyze.jobs import identify as job
+
+    robot = _robot("puma560")
+    truth = truth_for(robot, seed=4)
+    clean, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    gain = np.ptp(clean.tau, axis=0) / 5
+    amps = recording_from_arrays(clean.t, clean.q, np.round(clean.tau / gain), source="amps")
+    assert max(len(np.unique(c)) for c in amps.tau.T) <= 6
+    held = recording_from_arrays(held.t, held.q, held.tau / gain, source="held")
+    options = IdentifyOptions(current=True, drive_gains=tuple(gain))
+    with pytest.warns(InputWarning) as caught:
+        result = identify(robot, [amps], validate=[held], options=options)
+    lines = [str(w.message) for w in caught if "column tau" in str(w.message)]
+    assert lines and all("current looks clipped at " in x and x.endswith(
+        "of the samples: it takes fewer than 10 values, too few to tell a clip from an honest "
+        "peak rounded to its level, so they are kept") for x in lines), lines
+    monkeypatch.setattr(job.prep, "clipped_samples", lambda q, tau: np.zeros(tau.shape, bool))
+    monkeypatch.setattr(job.prep, "model_clipped", lambda q, tau, *a: np.zeros(tau.shape, bool))
+    plain = identify(robot, [amps], validate=[held], options=options)
+    assert np.array_equal(result.parameters.value, plain.parameters.value)
+
+
 def test_a_clip_check_whose_first_fit_fails_says_so_in_one_line(monkeypatch):
     """Two-link (Pinocchio), each torque recorded as two levels only (its sign): every sample
     is at an extreme level, so that the fit without them, the model's clip check's first, has

@@ -46,9 +46,10 @@ import numpy.typing as npt
 
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
            "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
-           "CLIP_NOISE", "CLIP_RATIO", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE", "SPIKE_SIGMAS",
-           "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "EDGE_PERIODS", "STILL_SPAN",
-           "FILTER_BLOCK", "extreme_samples", "model_clipped", "coarse_columns", "confirmed_clips"]
+           "CLIP_NOISE", "CLIP_ORDER", "CLIP_APPROACH", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE",
+           "CLIP_FEW", "SPIKE_SIGMAS", "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY",
+           "EDGE_PERIODS", "STILL_SPAN", "FILTER_BLOCK", "extreme_samples", "model_clipped",
+           "coarse_columns", "confirmed_clips"]
 
 #: Order of the Butterworth low-pass filter (run forwards and backwards).
 ORDER = 4
@@ -77,13 +78,22 @@ CLIP_SIGMAS = 1.0
 #: :func:`clipped_samples` is blind (analysis/clip_levels.py), while on a finer torque it finds
 #: clips itself and the model's own error, not the step, would set what goes beyond a level.
 CLIP_COARSE = 20
+#: A torque of fewer values than this keeps the samples either clip check finds, its warning
+#: line saying so (:func:`coarse_columns`): fitted without the extreme levels, which then hold
+#: much of the samples, the model took a PUMA 560's honest integer currents of 4 to 8 values for
+#: clipped on up to 45 % of a joint's samples.
+CLIP_FEW = 10
 #: The fewest steps between a torque's values in which clipping is looked for.
 CLIP_LEVELS = 4
 #: A torque's resolution for clipping is at least this many noise standard deviations.
 CLIP_NOISE = 4.0
-#: The samples at a clipped extreme outnumber those just below it this many times
-#: (:func:`clipped_samples`; a smooth peak's at most 2.4 times).
-CLIP_RATIO = 3.0
+#: The flattest honest peak (:func:`clipped_samples`): a torque's depth below a smooth peak
+#: grows as |t - t_0|^p with p at most this (2 for a peak with curvature; 4 or 8 for flatter
+#: tops, as 1 - t^4 or a sum of harmonics in phase).
+CLIP_ORDER = 8
+#: The approach to a torque's extreme level is timed from depth b down to this many b below it
+#: (b half its noise band, :func:`clipped_samples`).
+CLIP_APPROACH = 5.0
 #: The largest share of a joint's samples moving one way that a clipped extreme holds.
 CLIP_SHARE = 0.7
 #: A sample off the mean of its neighbours by more than this many noise standard deviations
@@ -562,22 +572,36 @@ def clipped_samples(q: npt.NDArray[np.float64],
 
     A drive's torque limit or a sensor's range holds the recorded torque flat at its largest
     (or smallest) value over runs of samples, where the torque the model predicts goes on:
-    fitted, those samples bias the parameters. The torque may carry sensor noise added after
-    the clip, or be quantised to a few levels. Per joint whose torque takes more than
+    fitted, those samples bias the parameters. The torque may carry sensor noise added before
+    or after the clip, or be quantised. Per joint whose torque takes more than
     :data:`CLIP_LEVELS` values, with z the torque's running median over 5 samples (spikes and
     noise damped), q_0 its quantum (the smallest step between its values) and sigma its noise
-    standard deviation (the median absolute second difference x 1.4826 / sqrt 6), per extreme:
+    standard deviation (the median absolute second difference x 1.4826 / sqrt 6, the MAD's
+    consistency factor for a normal law: Rousseeuw & Croux, "Alternatives to the median
+    absolute deviation", J. Amer. Statist. Assoc. 88, 1993), per extreme:
 
-    - the level v: the median of the z within w / 2 of z's extreme, w the largest of q_0,
-      :data:`CLIP_NOISE` sigma and the median step of z between samples (so that a smooth peak
-      of a noise-free signal spans samples);
+    - a first level v: the median of the z within w / 2 of z's extreme, w the larger of q_0
+      and :data:`CLIP_NOISE` sigma (the recording's noise band);
     - the resolution u: the larger of q_0 and CLIP_NOISE x the noise near v (the median of the
-      second differences where z is within w / 2 of v: 0 on a clip without noise, whatever the
-      rest); w grows to u if smaller;
-    - the samples with z within w / 2 of v outnumber :data:`CLIP_RATIO` x those in the band of
-      width w just below. A smooth peak's values gather as the square root of the depth below
-      it, so that its top band holds at most 2.4 times the next (the top level of a quantised
-      peak, a sinusoid's natural peak); the joint's few levels of noise spread alike;
+      second differences where z is within w / 2 of v: 0 on a clip without noise or with the
+      noise before it, whatever the rest);
+    - the approach is cut: with b half the band (u / 2 where u < w / 2, a plateau flatter than
+      the recording's noise allows; else the larger of u and w, halved) and v taken again as
+      the median of the z within b of z's extreme, per stretch of z above v - K b that reaches
+      within b of v and ends inside the recording (K = :data:`CLIP_APPROACH`), T_1 the time z
+      spends within b of v and T_2 the time it spends between b and K b below v (z joined
+      linearly between samples, times in samples). A peak whose depth below its top grows as
+      |t - t_0|^p spends T_1 / T_2 = 1 / ((d_2 / d_1)^(1/p) - 1) there, d_1 and d_2 the band's
+      depths below the top (Laplace's method: the time a smooth function spends within d of
+      its maximum scales as d^(1/p), de Bruijn, "Asymptotic Methods in Analysis", 1958,
+      ch. 4). v lies at most b below the top, so that d_2 / d_1 >= (K + 1) / 2 and any peak
+      of order p up to :data:`CLIP_ORDER` gives T_1 / T_2 <= 1 / (((K + 1) / 2)^(1/CLIP_ORDER)
+      - 1) = 6.8, whatever its width, height or noise band. A clip of a torque passing its
+      limit with slope s gives (L s / b + 2) / (2 (K - 1)) for a plateau lasting L: its slope
+      does not go to zero before the plateau. The extreme is clipped where the stretch longest
+      within b of v has T_1 > 6.8 (T_2 + 1), one sample's allowance for the joining. A clip the
+      torque passes by a few noise deviations only approaches its level as slowly as an
+      honest peak of that order and is not told from one;
     - the clipped samples, those within u / 2 of v, hold at most :data:`CLIP_SHARE` of the
       samples in which the joint moves the way most of them move: a torque held flat through
       most of a stroke is Coulomb friction (a joint's torque a square wave of its velocity's
@@ -610,24 +634,43 @@ def clipped_samples(q: npt.NDArray[np.float64],
     q, tau = np.asarray(q, float), np.asarray(tau, float)
     out = np.zeros(tau.shape, bool)
     levels, noises = _resolution(tau)
+    bound = 1.0 / (((CLIP_APPROACH + 1.0) / 2.0) ** (1.0 / CLIP_ORDER) - 1.0)
     for j in range(tau.shape[1]):
         x, noise, steps = tau[:, j], noises[:, j], levels[np.isfinite(levels[:, j]), j]
         if steps.size < CLIP_LEVELS:
             continue
         dq, z = np.diff(q[:, j], prepend=q[0, j]), ndimage.median_filter(x, 5, mode="nearest")
-        w = max(steps.min(), CLIP_NOISE * np.median(noise), float(np.median(np.abs(np.diff(z)))))
+        w = max(steps.min(), CLIP_NOISE * np.median(noise))
         for y, sx in ((z, x), (-z, -x)):
             v = np.median(y[y > y.max() - w / 2])
             u = max(steps.min(), CLIP_NOISE * np.median(noise[np.abs(y - v) < w / 2]))
-            wv = max(w, u)                      # the resolutions from the noise near v
-            near, at = np.abs(y - v) < wv / 2, np.abs(sx - v) < u / 2
+            b = u / 2 if u < w / 2 else max(w, u) / 2
+            v = np.median(y[y > y.max() - b])
+            at = np.abs(sx - v) < u / 2
             way = dq > 0 if 2 * np.count_nonzero(dq[at] > 0) >= at.sum() else dq < 0
-            if (np.count_nonzero(near) <= CLIP_RATIO * np.count_nonzero((y > v - 1.5 * wv) & (y <= v - wv / 2))
+            top, below = _time_above(y, v, b, CLIP_APPROACH * b)
+            k = np.argmax(top) if top.size else 0       # the stretch longest near v
+            if (not top.size or top[k] <= bound * (below[k] + 1.0)
                     or np.count_nonzero(at & way) > CLIP_SHARE * np.count_nonzero(way)):
                 continue
             if any(b - a >= CLIP_RUN and dq[a + 1:b].any() for a, b in _runs(at)):
                 out[at, j] = True
     return out
+
+
+def _time_above(y, v, near, far):
+    """Per stretch of y, shape (N,), above v - far that reaches above v - near and ends inside
+    the recording: the time [samples] y, joined linearly between samples, spends above v - near,
+    and between v - far and v - near; two arrays, one value per stretch."""
+    times = []
+    for a, b in _runs(y > v - far):
+        if a > 0 and b < y.size and (y[a:b] > v - near).any():
+            lo, hi = np.minimum(y[a - 1:b], y[a:b + 1]), np.maximum(y[a - 1:b], y[a:b + 1])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                times.append([np.clip(np.where(hi > lo, (hi - v + d) / (hi - lo), hi > v - d),
+                                      0, 1).sum() for d in (near, far)])
+    top, both = np.reshape(times, (-1, 2)).T
+    return top, both - top
 
 
 def _runs(mask):
@@ -665,19 +708,23 @@ def extreme_samples(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
             & coarse_columns(tau))
 
 
-def coarse_columns(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
-    """The torques quantised to fewer than :data:`CLIP_COARSE` values, which a fitted model
-    judges for clipping (:func:`model_clipped`, :func:`confirmed_clips`).
+def coarse_columns(tau: npt.NDArray[np.float64],
+                   below: int = CLIP_COARSE) -> npt.NDArray[np.bool_]:
+    """The torques quantised to fewer than ``below`` values: by default :data:`CLIP_COARSE`,
+    those a fitted model judges for clipping (:func:`model_clipped`, :func:`confirmed_clips`);
+    below :data:`CLIP_FEW`, those too coarse for either judgement to leave samples out.
 
     Parameters
     ----------
     tau : ndarray, shape (N, n)
         Recorded torques [N m or N] (or currents [A]).
+    below : int
+        The fewest values of a column not counted.
 
     Returns
     -------
     ndarray of bool, shape (n,)
-        True where a column takes fewer than CLIP_COARSE distinct values (steps below 1e-9 of
+        True where a column takes fewer than ``below`` distinct values (steps below 1e-9 of
         its range not counted as steps).
 
     Examples
@@ -686,7 +733,7 @@ def coarse_columns(tau: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
     [True, False]
     """
     return np.asarray(np.isfinite(_resolution(np.asarray(tau, float))[0]).sum(axis=0) + 1
-                      < CLIP_COARSE, bool)
+                      < below, bool)
 
 
 def confirmed_clips(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
@@ -698,8 +745,9 @@ def confirmed_clips(q: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
     On a torque of fewer than :data:`CLIP_COARSE` levels, a flat-topped honest peak (two
     maxima within a step of each other, the dip between them rounded to the same level) holds
     its extreme level as long, against the level below, as a clip does (analysis/clip_levels.py:
-    the PUMA 560's joint 5 over an ADC twice its range, 20 % of its samples), so that
-    :func:`clipped_samples` cannot tell them apart; the model can: an honest peak rounds to within
+    the PUMA 560's joint 5 over an ADC twice its range, 20 % of its samples, taken for clipped by
+    a count of the samples at the level), so that a rule on the levels alone may not tell them
+    apart; the model can: an honest peak rounds to within
     half a step of its level, and the model predicts it so. Per column of fewer than
     CLIP_COARSE levels and per extreme (the clipped samples above, then below, the column's
     mean), with v the median of the clipped samples there and q_0 the quantum: the extreme's

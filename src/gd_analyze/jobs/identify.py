@@ -158,14 +158,18 @@ def _recording(item, n, options):
 def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, predicted=None):
     """A recording preprocessed, its clipped samples (and ``extra``'s) left out of the fit; one
     warning line per joint clipped, model-free and where ``extra`` (found against the fitted
-    model) adds to it (none where ``notes`` is None). With ``predicted`` (the fitted model's
-    torque on the recording's clock), a coarsely quantised torque keeps the model-free rule's
-    samples only at an extreme the model goes beyond
-    (:func:`gd_analyze.estimation.preprocess.confirmed_clips`)."""
+    model) adds to it (none where ``notes`` is None: the fit that judges the extreme levels,
+    which leaves out every sample marked). With ``predicted`` (the fitted model's torque on the
+    recording's clock), a coarsely quantised torque keeps the model-free rule's samples only at
+    an extreme the model goes beyond
+    (:func:`gd_analyze.estimation.preprocess.confirmed_clips`). A torque of fewer than
+    :data:`~gd_analyze.estimation.preprocess.CLIP_FEW` values keeps the samples either finds,
+    its warning line saying that so few levels cannot tell a clip from a rounded peak."""
     tau = rec.tau * np.asarray(options.drive_gains) if options.current else rec.tau
     clipped = prep.clipped_samples(rec.q, rec.tau)
     if predicted is not None:
         clipped = prep.confirmed_clips(rec.q, tau, clipped, predicted)
+    few = prep.coarse_columns(tau, prep.CLIP_FEW) & (notes is not None)
     found = [(clipped, "")] + ([] if extra is None else
                                [(extra & ~clipped, " where the fitted model goes beyond")])
     for new, where in found if notes is not None else ():
@@ -173,14 +177,17 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, 
             x, mid = rec.tau[new[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
             at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
             notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
-                         f"{'current' if options.current else 'torque'} is clipped at {at} "
+                         f"{'current' if options.current else 'torque'} "
+                         f"{'looks' if few[j] else 'is'} clipped at {at} "
                          f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at "
                          f"its extreme{where}, a drive's limit or a sensor's range?) on "
-                         f"{new[:, j].mean():.1%} of the samples: "
-                         + ("left out of the fit" if train else "they count in its errors"))
+                         f"{new[:, j].mean():.1%} of the samples: " + (
+                             f"it takes fewer than {prep.CLIP_FEW} values, too few to tell a "
+                             f"clip from an honest peak rounded to its level, so they are kept"
+                             if few[j] else "left out of the fit" if train
+                             else "they count in its errors"))
             warnings.warn(notes[-1], InputWarning, stacklevel=3)
-    if extra is not None:
-        clipped = clipped | extra
+    clipped = (clipped if extra is None else clipped | extra) & ~few
     try:
         return prep.preprocess(rec.t, rec.q, tau, rec.qd, rec.qdd, cutoff=cutoff,
                                decimate=int(options.decimate), label=label, prismatic=prismatic,
