@@ -264,7 +264,10 @@ def _least_squares(prior, train, drive_columns):
             for a, b, Y in src:
                 f = joint_factors(Y, tau[a:b], used[a:b])
                 factors = f if factors is None else combine_factors(factors, f)
-        return least_squares(factors, theta0)
+        counts = [int(used.sum()) for used in used_rows]   # over the rows' independent ones
+        correlation = sum(counts) / max(sum(c / p.correlation for c, p in zip(counts, train)),
+                                        1e-300)
+        return least_squares(factors, theta0, correlation)
     moving = [(moving_rows(p.qd[p.keep], threshold)[0] | np.asarray(p.held, bool))  # fitted
               & (True if p.clipped is None else ~p.clipped[p.keep]) for p in train]
     try:

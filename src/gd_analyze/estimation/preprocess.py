@@ -22,6 +22,8 @@ Steps, each stated in :attr:`Preprocessed.notes`:
 7. A joint held still (its kept positions span less than :data:`STILL_SPAN`) has qd and qdd
    set to 0: the differences of a held position are its noise and quantisation, which would
    otherwise enter sign(qd) and qd as motion (:func:`still_joints`).
+8. The kept samples' noise is correlated by the filter: :attr:`Preprocessed.correlation`
+   of them hold as much information as one, which the fit's standard deviations take in.
 
 The regressor built from the filtered states is filtered again by the same filter
 (:meth:`Preprocessed.filtered`) before the rows are kept, as the torque was: the *parallel
@@ -130,6 +132,13 @@ class Preprocessed:
         The rows (sample, joint) a clipped torque reaches (:func:`clipped_samples`, widened by
         the filter's reach, half a period of the cutoff): left out of the fit; None if none
         were given.
+    correlation : float
+        Kept samples per independent one of a white noise through the filter, at least 1
+        (1 without a filter): 1 / (decimate x mean |H|^4 over [0, Nyquist]), H the filter's
+        response. The zero-phase filter keeps the noise's power below the cutoff, where the
+        motion is, and divides its variance by 1 / mean |H|^4, so that the residual's
+        variance understates the noise the fit sees by that factor (Ljung, *System
+        Identification*, 2nd ed., 1999, Sec. 9.3).
     """
 
     t: np.ndarray
@@ -145,6 +154,7 @@ class Preprocessed:
     sos: np.ndarray | None = None
     held: np.ndarray | None = None
     clipped: np.ndarray | None = None
+    correlation: float = 1.0
 
     def filtered(self, x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """The same zero-phase filter on another signal of the same samples, segment by segment.
@@ -467,7 +477,9 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     segments = tuple((int(a), int(b)) for a, b in zip(np.concatenate([[0], stops[:-1]]), stops))
     return Preprocessed(t=cat["t"], q=cat["q"], qd=cat["qd"], qdd=cat["qdd"], tau=cat["tau"],
                         cutoff=cutoff, step=step, notes=tuple(notes), keep=cat["keep"],
-                        segments=segments, sos=sos, held=held, clipped=cat.get("clipped"))
+                        segments=segments, sos=sos, held=held, clipped=cat.get("clipped"),
+                        correlation=1.0 if sos is None else max(1.0, 1.0 / (int(decimate) * float(
+                            np.mean(np.abs(signal.sosfreqz(sos, worN=4096)[1]) ** 4)))))
 
 
 def still_joints(q: npt.NDArray[np.float64],
