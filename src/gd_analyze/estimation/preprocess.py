@@ -14,8 +14,9 @@ Steps, each stated in :attr:`Preprocessed.notes`:
    phase, effective order 2 x ORDER). The same filter on the torque, as is standard
    (Gautier & Poignet, "Extended Kalman filtering and weighted least squares dynamic
    identification of robot", Control Engineering Practice 9, 2001; Swevers et al. 1997).
-4. qd and qdd where absent: central differences (``numpy.gradient``, second order) of the
-   filtered q and qd.
+4. qd and qdd where absent: central differences of the filtered q and qd (on the uniform
+   clock five-point ones, of fourth order; without a filter ``numpy.gradient``'s, second
+   order, on the file's clock).
 5. The first and last :func:`edge_samples` samples of each segment are dropped (the filter's
    and the differences' start-up).
 6. Decimation: every k-th sample is kept (the low-pass is the anti-aliasing filter).
@@ -249,6 +250,18 @@ def _segment_blocks(sos, make, s0, s1, rows):
         yield a, b, y[::-1]
 
 
+def _derivative(x, spacing):
+    """d x / d t along axis 0: on a uniform clock (``spacing`` the step [s]) the five-point
+    central difference, of fourth order, inside (the ends second order, ``numpy.gradient``);
+    on the file's own clock (``spacing`` the time stamps) second-order differences. The
+    three-point difference's gain sin(w h) / (w h) took 0.4 % off qd and 0.8 % off qdd at
+    2.5 Hz sampled at 100 Hz, which biased the fit (a UR5's Coulomb friction by up to 28 %)."""
+    d = np.gradient(x, spacing, axis=0)
+    if np.ndim(spacing) == 0 and x.shape[0] > 4:
+        d[2:-2] = (x[:-4] - 8 * x[1:-3] + 8 * x[3:-1] - x[4:]) / (12 * spacing)
+    return d
+
+
 def _segments(t):
     """Index slices of the runs of t without a gap longer than GAP_STEPS median steps."""
     dt = np.diff(t)
@@ -443,7 +456,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
             d = {k: None if v is None else v[s] for k, v in {**given, "clipped": clipped}.items()}
             d["t"], spacing = ts, ts
         for k, x in (("qd", "q"), ("qdd", "qd")):    # differences where not given
-            d[k] = np.gradient(d[x], spacing, axis=0) if d[k] is None else d[k]
+            d[k] = _derivative(d[x], spacing) if d[k] is None else d[k]
         d["keep"] = np.zeros(d["t"].size, bool)
         d["keep"][slice(trim, d["t"].size - trim, int(decimate))] = True
         for k in out:
@@ -463,7 +476,8 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     derived = [k for k in ("qd", "qdd") if given[k] is None]
     if derived:
         notes.append(f"{label}: {' and '.join(derived)} by central differences of the "
-                     f"{'filtered ' if sos is not None else ''}signals")
+                     + ("filtered signals (five points, fourth order)" if sos is not None
+                        else "signals"))
     notes.append(f"{label}: {trim} samples dropped at each end of each segment"
                  + (f"; every {int(decimate)}th sample kept" if int(decimate) > 1 else ""))
     cat = {k: np.concatenate(v) for k, v in out.items() if k != "clipped" or clipped is not None}
