@@ -637,6 +637,24 @@ def test_recordings_without_torque_are_refused():
     identify(robot, [train, silent])        # one recording with torque is enough
 
 
+
+def test_a_joint_without_its_torque_is_refused_naming_its_column():
+    """A torque column of zeros while the arm moves (joint 2's effort not recorded; the true
+    arm's torque there is far from 0): one line naming the file and column, exit 2. Before,
+    the fit took the zeros for torque and failed in the consistency solver, with the advice to
+    excite the arm better (this PUMA 560, a UR5 alike)."""
+    robot = _robot("puma560")
+    truth = truth_for(robot, seed=4)
+    train, (t, q, qd, qdd, tau) = _record(truth, robot.n, 10, seed=2)
+    assert np.sqrt(np.mean(tau[:, 1] ** 2)) > 10.0    # the true torque is far from 0
+    silent = recording_from_arrays(t, q, np.column_stack([tau[:, 0], 0 * tau[:, 1], tau[:, 2:]]),
+                                   source="silent.csv")
+    with pytest.raises(InputError) as err:
+        identify(robot, [silent])
+    assert str(err.value) == ("silent.csv: row 1, column tau2: joint 2's torque is 0 in every "
+                              "row of the training recording: is it recorded? The fit would "
+                              "take the zeros for the joint's torque")
+
 def test_unix_time_stamps_identify_the_recording_as_stamps_from_zero(tmp_path):
     """The same recording stamped 1.7e9 s later (Unix time, as a ROS log writes it) is read
     (it was refused as beyond the supported magnitude of t) and identifies the same model:

@@ -253,6 +253,14 @@ def identify(robot: Robot | str | Path,
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
+    silent = [j for j in range(prior.n) if not any(np.any(r.tau[:, j]) for r in train)]
+    if silent:          # a joint without its torque: its zeros would be fitted as torque
+        what = "current" if options.current else "torque"
+        raise InputError(f"joint {silent[0] + 1}'s {what} is 0 in every row of "
+                         f"{'the' if len(train) == 1 else 'every'} training recording: is it "
+                         f"recorded? The fit would take the zeros for the joint's {what}",
+                         train[0].source if len(train) == 1 else None, row=1,
+                         column=f"{'i' if options.current else 'tau'}{silent[0] + 1}")
     if all(prep.still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
