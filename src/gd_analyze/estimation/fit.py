@@ -85,6 +85,9 @@ class Fit:
         How the standard parameters were chosen, in words.
     robot_file_note : str or None
         Why the robot file holds other parameters than ``standard``, or None.
+    file_theta : ndarray, shape (p,)
+        The columns of ``identified``'s parameters, the robot file's (``theta`` but for the
+        rounding where ``robot_file_note`` is None).
     notes : tuple of str
         What the fit left out, and why, in words.
     """
@@ -105,6 +108,7 @@ class Fit:
     consistent: np.ndarray
     method: str
     robot_file_note: str | None
+    file_theta: np.ndarray
     notes: tuple[str, ...]
 
 
@@ -371,5 +375,6 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
               threshold=threshold, estimate=est, theta=theta, used=tuple(fit_rows),
               standard=np.asarray(phi), identified=identified, offsets=per_kind["offset"],
               min_eigenvalue=eig, method=method, robot_file_note=file_note, notes=tuple(notes),
+              file_theta=np.concatenate([base_map(base) @ np.ravel(file_phi), file_drives]),
               consistent=eig >= -1e-10 * np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1)))
     return fit, rows

@@ -17,7 +17,7 @@ import os
 import tempfile
 import warnings
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -286,18 +286,17 @@ def identify(robot: Robot | str | Path,
         raise InputError(f"cannot find physically consistent parameters: {exc}" + (
             degrees or "; the recordings may not excite the arm enough (try plan --excitation)")
         ) from None
-    notes += fit.notes
     base, b, theta, est, columns = fit.base, fit.base.rank, fit.theta, fit.estimate, fit.columns
     simplified = _simplified_model(fit.identified, pres, len(train), options) \
         if options.simplify else None
-    fits = []
+    fits, filed = [], []
     pending = dict(enumerate(regressors))       # each freed once its recording is predicted
     rigid = np.concatenate([base.beta, np.zeros(theta.size - b)])   # the file's, no drives
     for k, (p, name, rec) in enumerate(zip(pres, names, train + valid)):
         is_train = k < len(train)
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
-        products = rows.times(np.column_stack([theta, rigid]))
+        products = rows.times(np.column_stack([theta, rigid, fit.file_theta]))
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
@@ -307,6 +306,12 @@ def identify(robot: Robot | str | Path,
             qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep],
             tau_predicted=products[..., 0], tau_prior=tau_prior, notes=(*rec.notes, *p.notes),
             used=fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)))
+        filed.append(f"{name} {replace(fits[-1], tau_predicted=products[..., 2]).errors()[2]:.2%}"
+                     f" ({fits[-1].errors()[2]:.2%})")
+    file_note = fit.robot_file_note and (   # what the robot file's parameters do on the data
+        f"{fit.robot_file_note}; their total relative torque error ||E||_F / ||T||_F: "
+        f"{', '.join(filed)} (in brackets the least-squares fit's)")
+    notes += [file_note or n if n == fit.robot_file_note else n for n in fit.notes]
     table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta, std=est.std,
                            ols_value=est.ols_value, prior=fit.prior, identifiable=est.identifiable)
     if table.unidentifiable:
@@ -317,7 +322,7 @@ def identify(robot: Robot | str | Path,
                      f"{names[simplified[2]]}): {simplified[1]}")
     settings = {**options.settings(), "cutoff_hz_used": cutoff,
                 "idle_threshold": fit.threshold.tolist(), "standard_method": fit.method,
-                "robot_file_note": fit.robot_file_note,
+                "robot_file_note": file_note,
                 "simplified_guarantee": None if simplified is None else simplified[1]}
     inputs = {**{r.source: r.sha256 for r in train + valid}, str(prior.source): prior.sha256}
     return IdentificationResult(
