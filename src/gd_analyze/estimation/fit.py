@@ -364,7 +364,8 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                          + ("" if sol.reproduces else ", which do not reproduce the identified "
                             "ones exactly"))
             notes.append(file_note)
-    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
+    per_kind = {k: np.array(getattr(prior, "torque_offset" if k == "offset" else k), float)
+                for k in DRIVE_KINDS}           # the file's, where not a column
     for k, kind in enumerate(drive_kind):
         per_kind[kind][k % n] = file_drives[k]
     identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],

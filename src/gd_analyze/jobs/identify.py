@@ -136,6 +136,15 @@ def _drive_torque(robot, qd, qdd):
     return tau if fr is None else tau + fr
 
 
+def _kept_torque(prior, drives, p):
+    """The robot file's drive torque of the kinds not among ``drives`` (not fitted, kept at
+    the file's values) at a preprocessed recording's samples, filtered as its torque, shape
+    (N, n) [N m or N]."""
+    terms = {"armature": prior.armature * p.qdd, "viscous": prior.viscous * p.qd,
+             "coulomb": prior.coulomb * np.sign(p.qd), "offset": prior.torque_offset + 0 * p.qd}
+    return p.filtered(sum((terms[k] for k in DRIVE_KINDS if k not in drives), 0 * p.qd))
+
+
 def _listed(items):
     """The recordings as a list: one file or Recording given alone is one recording, not a
     sequence of its name's characters."""
@@ -278,8 +287,9 @@ def identify(robot: Robot | str | Path,
                       *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
     try:
-        fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
-                                    options.consistent)
+        fit, regressors = fit_robot(prior, [replace(p, tau=p.tau - _kept_torque(
+            prior, options.drives, p)) for p in pres[:len(train)]], options.drives,
+            options.consistent)
     except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}{degrees}") from None
     except SolverFailure as exc:
@@ -297,6 +307,7 @@ def identify(robot: Robot | str | Path,
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
         products = rows.times(np.column_stack([theta, rigid, fit.file_theta]))
+        products[..., [0, 2]] += _kept_torque(prior, options.drives, p)[keep][..., None]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
