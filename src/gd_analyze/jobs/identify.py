@@ -139,10 +139,12 @@ def _drive_torque(robot, qd, qdd):
 def _kept_torque(prior, drives, p):
     """The robot file's drive torque of the kinds not among ``drives`` (not fitted, kept at
     the file's values) at a preprocessed recording's samples, filtered as its torque, shape
-    (N, n) [N m or N]."""
+    (N, n) [N m or N]; None where the file has none of them."""
+    kept = [k for k in DRIVE_KINDS if k not in drives
+            and np.any(getattr(prior, "torque_offset" if k == "offset" else k))]
     terms = {"armature": prior.armature * p.qdd, "viscous": prior.viscous * p.qd,
              "coulomb": prior.coulomb * np.sign(p.qd), "offset": prior.torque_offset + 0 * p.qd}
-    return p.filtered(sum((terms[k] for k in DRIVE_KINDS if k not in drives), 0 * p.qd))
+    return p.filtered(sum(terms[k] for k in kept)) if kept else None
 
 
 def _listed(items):
@@ -287,9 +289,10 @@ def identify(robot: Robot | str | Path,
                       *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
     try:
-        fit, regressors = fit_robot(prior, [replace(p, tau=p.tau - _kept_torque(
-            prior, options.drives, p)) for p in pres[:len(train)]], options.drives,
-            options.consistent)
+        kept = [_kept_torque(prior, options.drives, p) for p in pres[:len(train)]]
+        fit, regressors = fit_robot(prior, [p if d is None else replace(p, tau=p.tau - d)
+                                            for p, d in zip(pres, kept)], options.drives,
+                                    options.consistent)
     except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}{degrees}") from None
     except SolverFailure as exc:
@@ -307,7 +310,9 @@ def identify(robot: Robot | str | Path,
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
         products = rows.times(np.column_stack([theta, rigid, fit.file_theta]))
-        products[..., [0, 2]] += _kept_torque(prior, options.drives, p)[keep][..., None]
+        kept_k = kept[k] if is_train else _kept_torque(prior, options.drives, p)
+        if kept_k is not None:
+            products[..., [0, 2]] += kept_k[keep][..., None]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
