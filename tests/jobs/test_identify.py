@@ -560,6 +560,42 @@ def test_the_tiago_recordings_are_not_clipped():
     assert not [w for w in caught if "column tau" in str(w.message)]
 
 
+
+@pytest.mark.slow
+def test_the_robot_file_s_own_error_is_stated_where_it_does_not_reproduce_the_fit():
+    """On the real TIAGo recording the least-squares parameters are not physically realisable
+    and the consistent ones written to identified_robot.toml do not reproduce them: the fit
+    is 21.5 % off held out, the robot file about a third. The note (printed with the summary,
+    and in the file's header) said only 'do not reproduce the identified ones exactly'; it
+    now gives the file's error per recording (oracle: Pinocchio's rnea of the written robot
+    plus its drives at the recording's states; the note's error, of the filtered regressor,
+    differs from it by the filter's smoothing of the Coulomb steps)."""
+    import re
+    from pathlib import Path
+
+    from identify_recordings import ERD
+
+    robot = load_robot(str(ERD / "tiago_description/robots/tiago.urdf"), tip="arm_7_link")
+    data = Path(__file__).resolve().parents[2] / "data" / "tiago"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        result = identify(robot, [data / "tiago_fit.csv"], validate=[data / "tiago_validate.csv"])
+    note = result.settings["robot_file_note"]
+    assert "do not reproduce" in note
+    said, fitted = (float(x) / 100 for x in re.search(r"tiago_validate ([\d.]+)% \(([\d.]+)%\)",
+                                                      note).groups())
+    held = result.recordings[1]
+    assert fitted == pytest.approx(held.errors()[2], abs=1e-4)
+    filed = result.identified
+    model = pinocchio_model(filed)
+    data_ = model.createData()
+    tau = np.array([pin.rnea(model, data_, a, b, c) for a, b, c in zip(held.q, held.qd, held.qdd)])
+    tau += (filed.armature * held.qdd + filed.viscous * held.qd
+            + filed.coulomb * np.sign(held.qd) + filed.torque_offset)
+    truth = np.linalg.norm(tau - held.tau_measured) / np.linalg.norm(held.tau_measured)
+    assert abs(said - truth) < 0.01 and truth > fitted + 0.05, (said, truth, fitted)
+    assert note in result.preprocessing
+
 def _held_recording(truth, n, seconds, seed, held, noise=0.0):
     """A recording with the joints ``held`` still at 0.3 rad, positions read through a 17-bit
     encoder (quantised), no speeds given: the held joints' differences are quantisation."""
@@ -668,27 +704,42 @@ def test_recordings_without_torque_are_refused():
     identify(robot, [train, silent])        # one recording with torque is enough
 
 
-def test_unix_time_stamps_identify_the_recording_as_stamps_from_zero(tmp_path):
-    """The same recording stamped 1.7e9 s later (Unix time, as a ROS log writes it) is read
-    (it was refused as beyond the supported magnitude of t) and identifies the same model:
-    its torque on a held-out recording equals the first's to 1e-3 of the torque's peak. Not to
-    round-off: the stamps, 2.4e-7 s apart at 1.7e9 s, are rounded, which moves the resampled
-    clock, and rows near rest enter or leave the fit (Coulomb friction's sign)."""
-    robot = _robot("two-link")
+
+def test_a_joint_without_its_torque_is_refused_naming_its_column():
+    """A torque column of zeros while the arm moves (joint 2's effort not recorded; the true
+    arm's torque there is far from 0): one line naming the file and column, exit 2. Before,
+    the fit took the zeros for torque and failed in the consistency solver, with the advice to
+    excite the arm better (this PUMA 560, a UR5 alike)."""
+    robot = _robot("puma560")
     truth = truth_for(robot, seed=4)
-    train, _ = _record(truth, robot.n, 20, seed=2, noise=0.01)
-    held, (_, _, _, _, tau_true) = _record(truth, robot.n, 10, seed=5)
-    scale = np.abs(tau_true).max()
-    late = tmp_path / "late.csv"                    # read from a file, as the command does
-    n = robot.n
-    header = ["t"] + [f"{k}{j + 1}" for k in ("q", "tau", "qd", "qdd") for j in range(n)]
-    np.savetxt(late, np.column_stack([train.t + 1.7e9, train.q, train.tau, train.qd, train.qdd]),
-               fmt="%.17g", delimiter=",", header=",".join(header), comments="")
-    a, b = (identify(robot, [rec], validate=[held]) for rec in (train, late))
-    assert a.parameters.identifiable.all() and b.parameters.identifiable.all()
-    gap = np.abs(b.recordings[1].tau_predicted - a.recordings[1].tau_predicted).max() / scale
-    total = a.recordings[1].errors()[2]             # the fit itself is good: a model to compare
-    assert gap <= 1e-3 and total <= 0.02, (gap, total)
+    train, (t, q, qd, qdd, tau) = _record(truth, robot.n, 10, seed=2)
+    assert np.sqrt(np.mean(tau[:, 1] ** 2)) > 10.0    # the true torque is far from 0
+    silent = recording_from_arrays(t, q, np.column_stack([tau[:, 0], 0 * tau[:, 1], tau[:, 2:]]),
+                                   source="silent.csv")
+    with pytest.raises(InputError) as err:
+        identify(robot, [silent])
+    assert str(err.value) == ("silent.csv: row 1, column tau2: joint 2's torque is 0 in every "
+                              "row of the training recording: is it recorded? The fit would "
+                              "take the zeros for the joint's torque")
+
+
+def test_the_robot_file_s_drives_not_identified_are_kept():
+    """puma560-drives (the Robotics Toolbox's rotor inertias reflected to the links) identified
+    with the default drive columns, no armature among them: the file's armature is kept, taken
+    off the torque before the fit and written to the identified robot. It was dropped: the
+    identified robot's armature was 0 and the held-out error 5.2 % (oracle: the true arm, with
+    the file's armature and other inertial parameters, its torque by Pinocchio's rnea)."""
+    from identify_recordings import Truth
+
+    robot = load_robot("puma560-drives")
+    arm = truth_for(robot)
+    truth = Truth(arm.model, arm.ids, arm.viscous, arm.coulomb, arm.offset,
+                  armature=robot.armature)
+    train, _ = _record(truth, robot.n, 25, seed=2)
+    held, _ = _record(truth, robot.n, 10, seed=5)
+    result = identify(robot, [train], validate=[held])
+    assert np.array_equal(result.identified.armature, robot.armature)
+    assert result.recordings[1].errors()[2] < 0.005, result.recordings[1].errors()[2]
 
 
 def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cause():

@@ -334,6 +334,26 @@ def test_out_of_order_and_repeated_stamps_are_sorted_and_dropped(tmp_path):
     assert rec.qd is None and rec.qdd is None
 
 
+
+def test_a_recording_appended_to_another_is_refused_at_the_row_its_time_restarts(tmp_path):
+    """Two sessions in one file, the second's clock starting again at 0 (row 52): sorted by
+    time, their rows interleaved into one motion jumping between two poses at every sample,
+    and identify ended in the consistency solver's failure with the advice to excite the arm
+    better. A stamp out of order by a step or two is still sorted (above)."""
+    t = np.arange(50) * 0.01
+    q = np.sin(t)
+    rows = [(float(a), float(b), 2 * float(b)) for a, b in zip(t, q)]
+    rows += [(a, b + 1, c) for a, b, c in rows]
+    path = _write(tmp_path / "two.csv",
+                  "t,q1,tau1\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in rows))
+    with pytest.raises(InputError) as err:
+        read_recording(path)
+    assert str(err.value).startswith(f"{path}: row 52, column t: the time goes back from 0.49 s "
+                                     "to 0 s, 49 median steps (a recording appended to another?")
+    with pytest.raises(InputError, match="row 52, column t: the time goes back"):
+        recording_from_arrays(np.concatenate([t, t]), np.concatenate([q, q + 1])[:, None],
+                              np.zeros((100, 1)))
+
 def test_columns_in_any_order_with_derivatives(tmp_path):
     body = "".join(f"{0.01 * k},{k},{2 * k},{3 * k},{4 * k}\n" for k in range(12))
     rec = read_recording(_write(tmp_path / "r.csv", "t,tau1,q1,qdd1,qd1\n" + body))

@@ -1019,6 +1019,8 @@ def _summary(result, outdir, written, args):
     lines.append("standard parameters: every link physically consistent" if not bad else
                  f"standard parameters: link(s) {', '.join(bad)} not physically consistent "
                  f"(pseudo-inertia not >= 0)")
+    if result.settings.get("robot_file_note"):      # the robot file holds others
+        lines.append(str(result.settings["robot_file_note"]))
     width = max([len("recording")] + [len(f.name) for f in result.recordings])
     simplified = any(f.tau_simplified is not None for f in result.recordings)
     head = f"{'recording':<{width}}  {'role':<8}  {'identified':>10}  {'robot file':>10}"

@@ -14,7 +14,8 @@ w_i^2 ||R_i [x; -1]||^2):
 2. Ordinary least squares on the identifiable columns; the per-joint noise variance
    sigma_i^2 = ||r_i||^2 / (N_i (1 - p / M)) (M rows, p parameters).
 3. Weighted least squares with the rows of joint i divided by sigma_i (Gautier & Poignet 2001),
-   the covariance s^2 (A_w^T A_w)^-1 with s^2 = ||r_w||^2 / (M - p), and the standard
+   the covariance c s^2 (A_w^T A_w)^-1 with s^2 = ||r_w||^2 / (M - p) and c the rows per
+   independent noise sample (a filtered noise's samples are correlated), and the standard
    deviations its diagonal's square roots.
 4. The condition number of the column-scaled, weighted regressor: the ratio of its extreme
    singular values.
@@ -149,7 +150,7 @@ def combine_factors(a: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]],
 
 
 def least_squares(factors: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]],
-                  prior: npt.NDArray[np.float64]) -> Estimate:
+                  prior: npt.NDArray[np.float64], correlation: float = 1.0) -> Estimate:
     """Ordinary then weighted least squares (steps in the module docstring).
 
     Parameters
@@ -159,6 +160,10 @@ def least_squares(factors: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]
         :func:`combine_factors`).
     prior : ndarray, shape (p,)
         The prior values, kept for the columns the data do not identify.
+    correlation : float, optional
+        Rows per independent noise sample, c >= 1 (the filter's,
+        :attr:`.preprocess.Preprocessed.correlation`): the covariance is c times that of
+        independent rows.
 
     Returns
     -------
@@ -170,10 +175,10 @@ def least_squares(factors: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]
         If no more rows than identifiable parameters enter the fit.
     """
     with threadpool_limits(1, "blas"):     # small factors: threads only cost
-        return _least_squares(factors, prior)
+        return _least_squares(factors, prior, correlation)
 
 
-def _least_squares(factors, prior):
+def _least_squares(factors, prior, correlation):
     """:func:`least_squares`' work, on the calling thread's BLAS."""
     Rj, counts = factors
     n, p1, _ = Rj.shape
@@ -216,7 +221,7 @@ def _least_squares(factors, prior):
     Ru = Rw[:r, :r] / wscale
     x_scaled = linalg.solve_triangular(Ru, Rw[:r, r], check_finite=False)
     x_wls = x_scaled / wscale
-    s2 = float(Rw[r, r] ** 2) / (M - r)
+    s2 = correlation * float(Rw[r, r] ** 2) / (M - r)
     Rinv = linalg.solve_triangular(Ru, np.eye(r), check_finite=False)
     std = np.sqrt(s2 * np.sum(Rinv ** 2, axis=1)) / wscale
     sv = np.linalg.svd(Ru, compute_uv=False)

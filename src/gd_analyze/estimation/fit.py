@@ -85,6 +85,9 @@ class Fit:
         How the standard parameters were chosen, in words.
     robot_file_note : str or None
         Why the robot file holds other parameters than ``standard``, or None.
+    file_theta : ndarray, shape (p,)
+        The columns of ``identified``'s parameters, the robot file's (``theta`` but for the
+        rounding where ``robot_file_note`` is None).
     notes : tuple of str
         What the fit left out, and why, in words.
     """
@@ -105,6 +108,7 @@ class Fit:
     consistent: np.ndarray
     method: str
     robot_file_note: str | None
+    file_theta: np.ndarray
     notes: tuple[str, ...]
 
 
@@ -264,7 +268,10 @@ def _least_squares(prior, train, drive_columns):
             for a, b, Y in src:
                 f = joint_factors(Y, tau[a:b], used[a:b])
                 factors = f if factors is None else combine_factors(factors, f)
-        return least_squares(factors, theta0)
+        counts = [int(used.sum()) for used in used_rows]   # over the rows' independent ones
+        correlation = sum(counts) / max(sum(c / p.correlation for c, p in zip(counts, train)),
+                                        1e-300)
+        return least_squares(factors, theta0, correlation)
     moving = [(moving_rows(p.qd[p.keep], threshold)[0] | np.asarray(p.held, bool))  # fitted
               & (True if p.clipped is None else ~p.clipped[p.keep]) for p in train]
     try:
@@ -357,7 +364,8 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                          + ("" if sol.reproduces else ", which do not reproduce the identified "
                             "ones exactly"))
             notes.append(file_note)
-    per_kind = {k: np.zeros(n) for k in DRIVE_KINDS}
+    per_kind = {k: np.array(getattr(prior, "torque_offset" if k == "offset" else k), float)
+                for k in DRIVE_KINDS}           # the file's, where not a column
     for k, kind in enumerate(drive_kind):
         per_kind[kind][k % n] = file_drives[k]
     identified = robot_with_standard(prior, file_phi, armature=per_kind["armature"],
@@ -368,5 +376,6 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
               threshold=threshold, estimate=est, theta=theta, used=tuple(fit_rows),
               standard=np.asarray(phi), identified=identified, offsets=per_kind["offset"],
               min_eigenvalue=eig, method=method, robot_file_note=file_note, notes=tuple(notes),
+              file_theta=np.concatenate([base_map(base) @ np.ravel(file_phi), file_drives]),
               consistent=eig >= -1e-10 * np.maximum(1e-300, np.abs(phi[:, :6]).max(axis=1)))
     return fit, rows

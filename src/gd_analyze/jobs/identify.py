@@ -17,7 +17,7 @@ import os
 import tempfile
 import warnings
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -134,6 +134,17 @@ def _drive_torque(robot, qd, qdd):
     tau = np.asarray(robot.armature) * qdd
     fr = friction_torque(robot, qd)
     return tau if fr is None else tau + fr
+
+
+def _kept_torque(prior, drives, p):
+    """The robot file's drive torque of the kinds not among ``drives`` (not fitted, kept at
+    the file's values) at a preprocessed recording's samples, filtered as its torque, shape
+    (N, n) [N m or N]; None where the file has none of them."""
+    kept = [k for k in DRIVE_KINDS if k not in drives
+            and np.any(getattr(prior, "torque_offset" if k == "offset" else k))]
+    terms = {"armature": prior.armature * p.qdd, "viscous": prior.viscous * p.qd,
+             "coulomb": prior.coulomb * np.sign(p.qd), "offset": prior.torque_offset + 0 * p.qd}
+    return p.filtered(sum(terms[k] for k in kept)) if kept else None
 
 
 def _listed(items):
@@ -260,6 +271,14 @@ def identify(robot: Robot | str | Path,
         what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
+    silent = [j for j in range(prior.n) if not any(np.any(r.tau[:, j]) for r in train)]
+    if silent:          # a joint without its torque: its zeros would be fitted as torque
+        what = "current" if options.current else "torque"
+        raise InputError(f"joint {silent[0] + 1}'s {what} is 0 in every row of "
+                         f"{'the' if len(train) == 1 else 'every'} training recording: is it "
+                         f"recorded? The fit would take the zeros for the joint's {what}",
+                         train[0].source if len(train) == 1 else None, row=1,
+                         column=f"{'i' if options.current else 'tau'}{silent[0] + 1}")
     if all(prep.still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
@@ -277,7 +296,9 @@ def identify(robot: Robot | str | Path,
                       *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
     try:
-        fit, regressors = fit_robot(prior, pres[:len(train)], options.drives,
+        kept = [_kept_torque(prior, options.drives, p) for p in pres[:len(train)]]
+        fit, regressors = fit_robot(prior, [p if d is None else replace(p, tau=p.tau - d)
+                                            for p, d in zip(pres, kept)], options.drives,
                                     options.consistent)
     except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}{degrees}") from None
@@ -285,18 +306,20 @@ def identify(robot: Robot | str | Path,
         raise InputError(f"cannot find physically consistent parameters: {exc}" + (
             degrees or "; the recordings may not excite the arm enough (try plan --excitation)")
         ) from None
-    notes += fit.notes
     base, b, theta, est, columns = fit.base, fit.base.rank, fit.theta, fit.estimate, fit.columns
     simplified = _simplified_model(fit.identified, pres, len(train), options) \
         if options.simplify else None
-    fits = []
+    fits, filed = [], []
     pending = dict(enumerate(regressors))       # each freed once its recording is predicted
     rigid = np.concatenate([base.beta, np.zeros(theta.size - b)])   # the file's, no drives
     for k, (p, name, rec) in enumerate(zip(pres, names, train + valid)):
         is_train = k < len(train)
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
-        products = rows.times(np.column_stack([theta, rigid]))
+        products = rows.times(np.column_stack([theta, rigid, fit.file_theta]))
+        kept_k = kept[k] if is_train else _kept_torque(prior, options.drives, p)
+        if kept_k is not None:
+            products[..., [0, 2]] += kept_k[keep][..., None]
         tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
@@ -306,6 +329,12 @@ def identify(robot: Robot | str | Path,
             qd=p.qd[keep], qdd=p.qdd[keep], tau_measured=p.tau[keep],
             tau_predicted=products[..., 0], tau_prior=tau_prior, notes=(*rec.notes, *p.notes),
             used=fit.used[k] if is_train else np.zeros(p.q[keep].shape, bool)))
+        filed.append(f"{name} {replace(fits[-1], tau_predicted=products[..., 2]).errors()[2]:.2%}"
+                     f" ({fits[-1].errors()[2]:.2%})")
+    file_note = fit.robot_file_note and (   # what the robot file's parameters do on the data
+        f"{fit.robot_file_note}; their total relative torque error ||E||_F / ||T||_F: "
+        f"{', '.join(filed)} (in brackets the least-squares fit's)")
+    notes += [file_note or n if n == fit.robot_file_note else n for n in fit.notes]
     table = ParameterTable(names=fit.names, kinds=fit.kinds, value=theta, std=est.std,
                            ols_value=est.ols_value, prior=fit.prior, identifiable=est.identifiable)
     if table.unidentifiable:
@@ -316,7 +345,7 @@ def identify(robot: Robot | str | Path,
                      f"{names[simplified[2]]}): {simplified[1]}")
     settings = {**options.settings(), "cutoff_hz_used": cutoff,
                 "idle_threshold": fit.threshold.tolist(), "standard_method": fit.method,
-                "robot_file_note": fit.robot_file_note,
+                "robot_file_note": file_note,
                 "simplified_guarantee": None if simplified is None else simplified[1]}
     inputs = {**{r.source: r.sha256 for r in train + valid}, str(prior.source): prior.sha256}
     return IdentificationResult(

@@ -16,8 +16,10 @@ optional ``qd1..qdn`` and ``qdd1..qddn`` (the columns in any order), in [s], [ra
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
 sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
 so in :attr:`Recording.notes`. Everything else that cannot be used (a cell that is not a plain
-finite number, a missing or unknown column, a ragged row, fewer than 10 distinct time stamps)
-is refused with the file, the row (header = row 1) and the column.
+finite number, a missing or unknown column, a ragged row, fewer than 10 distinct time stamps,
+a time going back by more than :data:`BACK_STEPS` median steps: a recording appended to
+another, which sorting would interleave) is refused with the file, the row (header = row 1)
+and the column.
 """
 
 from __future__ import annotations
@@ -50,7 +52,7 @@ __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajector
            "trajectory_columns",
            "JointLimitWarning", "check_joint_limits", "check_magnitudes", "checked_arrays",
            "FAST_PARSE_BYTES", "MAX_CELL", "streamed_values", "Recording", "read_recording",
-           "recording_from_arrays", "MIN_SAMPLES"]
+           "recording_from_arrays", "MIN_SAMPLES", "BACK_STEPS"]
 
 #: Files larger than this [bytes] are parsed by pandas first when they are regular; the
 #: cell-by-cell parser runs on smaller ones, on irregular ones, and to locate an error.
@@ -1047,11 +1049,25 @@ def _columns(header, path, n_joints, current):
     return names, out, n
 
 
+#: A time stamp earlier than the row before by more than this many median steps starts another
+#: recording (a file appended to another), not a stamp out of order: refused.
+BACK_STEPS = 20
+
+
 def _ordered(t, arrays, rows, path):
     """Sort by time (stable), drop repeated stamps (keep the first), and say what was done."""
     notes = []
     order = np.argsort(t, kind="stable")
     back = np.flatnonzero(np.diff(t) < 0)          # a stamp earlier than the one before
+    steps = np.diff(t[order])
+    step = float(np.median(steps[steps > 0])) if (steps > 0).any() else 0.0
+    far = back[t[back] - t[back + 1] > BACK_STEPS * step] if back.size and step else back[:0]
+    if far.size:
+        k = int(far[0])
+        raise InputError(f"the time goes back from {t[k]:.9g} s to {t[k + 1]:.9g} s, "
+                         f"{(t[k] - t[k + 1]) / step:.3g} median steps (a recording appended to "
+                         f"another? Sorted by time, the two would interleave): give each "
+                         f"recording as its own file", path, row=int(rows[k + 1]), column="t")
     if back.size:
         notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
                      f"row {rows[back[0] + 1]}): rows sorted by time")
