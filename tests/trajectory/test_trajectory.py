@@ -24,6 +24,7 @@ from gd_analyze.trajectory.trajectory import (
     read_trajectory,
     recording_from_arrays,
     trajectory_columns,
+    trajectory_from_arrays,
     write_trajectory,
     write_trajectory_chunks,
 )
@@ -60,11 +61,32 @@ def test_positions_only_uses_a_cubic_spline(tmp_path, puma):
 HEADER = "t,q1,q2"
 
 
+@pytest.mark.parametrize("robot, csv, said", [
+    (1, "t,q1,q2\n0,1,2\n1,2,3\n", "the file has 2 joints, the robot has 1 joint"),
+    (2, "t,q1\n0,1\n1,2\n", "the file has 1 joint, the robot has 2 joints"),
+    (2, "t,q1,tau1\n0,1,2\n1,2,3\n",
+     "the file has 1 joint position column, the robot has 2 joints"),
+    (1, "t,q1,tau1,tau2\n0,1,2,3\n1,2,3,4\n", "column 'tau2' beyond the 1 joint"),
+])
+def test_a_count_of_one_is_singular(tmp_path, robot, csv, said):
+    """"the file has 1 joints": a count is singular when it is one, plural otherwise."""
+    path = tmp_path / "bad.csv"
+    path.write_text(csv)
+    read = read_recording if "tau1" in csv else read_trajectory
+    with pytest.raises(InputError) as e:
+        read(path, n_joints=robot)
+    assert said in str(e.value) and f"{said}s" not in str(e.value), str(e.value)
+    with pytest.raises(InputError, match="the arrays have 1 joint, the robot has 2 joints"):
+        trajectory_from_arrays(np.arange(2.0), np.zeros((2, 1)), n_joints=2)
+    with pytest.raises(InputError, match="the trajectory has 1 joint, the robot has 2 joints"):
+        as_trajectory(trajectory_from_arrays(np.arange(2.0), np.zeros((2, 1))), n_joints=2)
+
+
 @pytest.mark.parametrize("text, row, column, match", [
     ("", None, None, "empty file"),
     ("0,1,2\n1,2,3\n", 1, None, "no header"),
-    ("t,q1\n0,1\n1,2\n", 1, None, "has 1 joints, the robot has 2"),
-    ("t,q1,q2,q3\n0,1,2,3\n1,2,3,4\n", 1, None, "has 3 joints, the robot has 2"),
+    ("t,q1\n0,1\n1,2\n", 1, None, "has 1 joint, the robot has 2 joints"),
+    ("t,q1,q2,q3\n0,1,2,3\n1,2,3,4\n", 1, None, "has 3 joints, the robot has 2 joints"),
     ("t,q1,q2,qd1,qd2\n0,1,2,3,4\n1,2,3,4,5\n", 1, "qdd1", "missing column"),
     ("t,q1,q2,qd1,qd2,qdd1,qdd2,x\n" + "0,1,2,3,4,5,6,7\n" * 2, 1, "x", "extra column"),
     ("t,q1,q2\n0,1,2\n1,2\n", 3, None, "ragged row"),

@@ -350,8 +350,8 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
     t, arrays = checked_arrays({"t": t, "q": q, "qd": qd, "qdd": qdd}, ARRAYS, LIMITS, 2,
                                "set point")
     if n_joints is not None and arrays["q"].shape[1] != n_joints:
-        raise InputError(f"the arrays have {arrays['q'].shape[1]} joints, the robot has "
-                         f"{n_joints}", ARRAYS)
+        raise InputError(f"the arrays have {_joints(arrays['q'].shape[1])}, the robot has "
+                         f"{_joints(n_joints)}", ARRAYS)
     step = np.nonzero(np.diff(t) <= 0)[0]
     if step.size:
         k = int(step[0]) + 1
@@ -394,8 +394,8 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
     """
     if isinstance(value, Trajectory):
         if n_joints is not None and value.q.shape[1] != n_joints:
-            raise InputError(f"the trajectory has {value.q.shape[1]} joints, the robot has "
-                             f"{n_joints}", value.source or ARRAYS)
+            raise InputError(f"the trajectory has {_joints(value.q.shape[1])}, the robot has "
+                             f"{_joints(n_joints)}", value.source or ARRAYS)
         return value
     if isinstance(value, (str, os.PathLike)):
         return read_trajectory(value, n_joints=n_joints)
@@ -742,6 +742,11 @@ def _byte_count(raw, byte, block=COUNT_BLOCK):
     return total
 
 
+def _joints(n, noun="joint"):
+    """``n`` and the noun, plural unless ``n`` is 1 ("1 joint", "6 joints")."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
 def _validated_values(raw, path, n_joints):
     """Parse cell by cell: (values, names, row numbers); an InputError naming the row and
     column of the first fault."""
@@ -752,7 +757,7 @@ def _validated_values(raw, path, n_joints):
                          row=header_row)
     names, n = _parse_header(header, path)
     if n_joints is not None and n != n_joints:
-        raise InputError(f"the file has {n} joints, the robot has {n_joints}", path,
+        raise InputError(f"the file has {_joints(n)}, the robot has {_joints(n_joints)}", path,
                          row=header_row)
     data = numbered[1:]
     if len(data) < 2:
@@ -1030,8 +1035,8 @@ def _columns(header, path, n_joints, current):
         raise InputError(f"no {'time column t' if n else 'joint position columns q1..qn'} in "
                          f"the header", path, row=1, column="t" if n else "q1")
     if n_joints is not None and n != n_joints:
-        raise InputError(f"the file has {n} joint position columns, the robot has {n_joints} "
-                         f"joints", path, row=1, column="q")
+        raise InputError(f"the file has {_joints(n, 'joint position column')}, the robot "
+                         f"has {_joints(n_joints)}", path, row=1, column="q")
     out = {"t": [found["t"][1]]}
     for kind in ("q", "tau", "qd", "qdd"):
         slot = found.get(kind, {})
@@ -1042,7 +1047,7 @@ def _columns(header, path, n_joints, current):
                 column=f"{kind}{missing[0]}")
         extra = sorted(set(slot) - set(range(1, n + 1)))
         if extra:
-            raise InputError(f"column '{kind}{extra[0]}' beyond the {n} joints", path, row=1,
+            raise InputError(f"column '{kind}{extra[0]}' beyond the {_joints(n)}", path, row=1,
                              column=f"{kind}{extra[0]}")
         if slot:
             out[kind] = [slot[j] for j in range(1, n + 1)]
