@@ -742,6 +742,48 @@ def test_the_robot_file_s_drives_not_identified_are_kept():
     assert result.recordings[1].errors()[2] < 0.005, result.recordings[1].errors()[2]
 
 
+def test_the_clip_check_s_model_keeps_the_robot_file_s_drives(monkeypatch):
+    """puma560-drives (the true arm with the file's armature, Pinocchio's rnea), torques
+    quantised to few levels, where the clip check fits a model without the extreme levels: that
+    model, as the main fit, has the file's armature taken off the torque and added back. Left
+    in, it took joint 5's honest samples at 12 levels for clipped (13.6 %, one warning line),
+    and with joint 3 clipped at 85 % of its peak at 17 levels found 21 % of its clipped samples
+    and marked joint 5 too: now no line on the honest recording, one for tau3 and at least 60 %
+    of its clipped samples (80 %) on the clipped one."""
+    from identify_recordings import Truth
+
+    from gd_analyze.jobs import identify as job
+
+    robot = load_robot("puma560-drives")
+    arm = truth_for(robot, seed=4)
+    truth = Truth(arm.model, arm.ids, arm.viscous, arm.coulomb, arm.offset,
+                  armature=robot.armature)
+    clean, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    tau = clean.tau.copy()
+    limit = 0.85 * np.abs(tau[:, 2]).max()
+    tau[:, 2] = np.clip(tau[:, 2], -limit, limit)
+    marks = []
+    model_clipped = job.prep.model_clipped
+    monkeypatch.setattr(job.prep, "model_clipped",
+                        lambda *a: marks.append(model_clipped(*a)) or marks[-1])
+    lines = {}
+    for name, x, levels in (("honest", clean.tau, 12), ("clipped", tau, 17)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                identify(robot, [recording_from_arrays(clean.t, clean.q, _adc(x, levels),
+                                                       source=name)],
+                         options={"consistent": False})
+            except InputError as exc:   # the clip check comes before the fit's standard step
+                assert "physically consistent" in str(exc)
+        lines[name] = [str(w.message) for w in caught if "column tau" in str(w.message)]
+    assert not lines["honest"], lines["honest"]
+    assert len(lines["clipped"]) == 1 and lines["clipped"][0].startswith(
+        "clipped: column tau3: joint 3's torque is clipped at "), lines["clipped"]
+    share = marks[-1][np.abs(clean.tau[:, 2]) >= limit, 2].mean()
+    assert share >= 0.6, share
+
+
 def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cause():
     """Training time stamps in ms (1000 x the seconds): the cutoff chosen from them is far
     below what the validation recording, in seconds, can be filtered with. The one-line error

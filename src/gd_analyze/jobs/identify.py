@@ -147,6 +147,14 @@ def _kept_torque(prior, drives, p):
     return p.filtered(sum(terms[k] for k in kept)) if kept else None
 
 
+def _less_kept(prior, drives, pres):
+    """The preprocessed recordings with the robot file's kept drive torque
+    (:func:`_kept_torque`) taken off their torque, as a fit of the other columns needs, and
+    that torque per recording (None where the file has none)."""
+    kept = [_kept_torque(prior, drives, p) for p in pres]
+    return [p if d is None else replace(p, tau=p.tau - d) for p, d in zip(pres, kept)], kept
+
+
 def _listed(items):
     """The recordings as a list: one file or Recording given alone is one recording, not a
     sequence of its name's characters."""
@@ -296,10 +304,8 @@ def identify(robot: Robot | str | Path,
                       *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
     try:
-        kept = [_kept_torque(prior, options.drives, p) for p in pres[:len(train)]]
-        fit, regressors = fit_robot(prior, [p if d is None else replace(p, tau=p.tau - d)
-                                            for p, d in zip(pres, kept)], options.drives,
-                                    options.consistent)
+        fitted, kept = _less_kept(prior, options.drives, pres[:len(train)])
+        fit, regressors = fit_robot(prior, fitted, options.drives, options.consistent)
     except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}{degrees}") from None
     except SolverFailure as exc:
@@ -360,14 +366,16 @@ def identify(robot: Robot | str | Path,
 def _model_clipped(prior, train, names, cutoff, options, notes):
     """Yields, per training recording, the samples clipped against a model fitted without the
     samples at each torque's extreme levels (:func:`gd_analyze.estimation.preprocess.model_clipped`),
-    and that model's torque interpolated onto the recording's clock; nothing where no
+    and that model's torque (with the robot file's kept drive terms, :func:`_less_kept`, as the
+    main fit) interpolated onto the recording's clock; nothing where no
     torque holds its extreme levels over :data:`~gd_analyze.estimation.preprocess.CLIP_RUN`
     samples, nor where that fit fails (one warning line in ``notes``: the model-free rule then
     judges alone)."""
     if all(prep.extreme_samples(r.tau).sum(axis=0).max() < prep.CLIP_RUN for r in train):
         return      # no torque at its extremes for a run's samples (unquantised): nothing to judge
-    firsts = [_prepared(r, cutoff, options, name, prior.prismatic, True, None,
-                        extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)]
+    firsts, kept = _less_kept(prior, options.drives, [
+        _prepared(r, cutoff, options, name, prior.prismatic, True, None,
+                  extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)])
     try:
         est, rows = fit_columns(prior, firsts, options.drives)
     except FitFailure as exc:
@@ -379,9 +387,10 @@ def _model_clipped(prior, train, names, cutoff, options, notes):
                      f"judged by the model-free rule alone")
         warnings.warn(notes[-1], InputWarning, stacklevel=3)
         return
-    for r, p, src in zip(train, firsts, rows):
+    for r, p, src, d in zip(train, firsts, rows, kept):
+        model = src.times(est.value[:, None])[..., 0] + (0 if d is None else d[p.keep])
         predicted = np.column_stack([np.interp(r.t, p.t[p.keep], c, left=np.nan, right=np.nan)
-                                     for c in src.times(est.value[:, None])[..., 0].T])
+                                     for c in model.T])
         tau = r.tau * np.asarray(options.drive_gains) if options.current else r.tau
         yield prep.model_clipped(r.q, tau, predicted, est.noise_std), predicted
 
