@@ -188,3 +188,27 @@ def test_explicit_terms_out_of_canonical_form_are_refused(tmp_path, two_link, ro
     with pytest.raises(InputError, match="explicit_terms: .*canonical form") as err:
         load_model(path)
     assert "\n" not in str(err.value)
+
+
+def test_a_urdf_models_file_keeps_the_urdfs_joint_names(tmp_path):
+    """A model of a URDF arm read back names its joints as the URDF does (Pinocchio's
+    ``model.names``), as results.h5 and the emitted files do, not joint1 .. jointn: control.h5
+    of a UR10 model named its joints joint1 .. joint6. A count that is not one per joint is
+    refused, naming the key."""
+    import importlib.resources
+
+    import pinocchio as pin
+
+    from gd_analyze import load_robot
+
+    urdf = importlib.resources.files("gd_analyze") / "data" / "ur5.urdf"
+    robot = load_robot(str(urdf))
+    path = tmp_path / "m.json"
+    save_model(_model(robot, "both"), path)
+    names = list(pin.buildModelFromUrdf(str(urdf)).names)[1:]
+    assert load_model(path).robot.joint_names() == names
+    spec = json.loads(path.read_text())
+    spec["robot"]["joint_names"] = names[:-1]
+    path.write_text(json.dumps(spec))
+    with pytest.raises(InputError, match="robot.joint_names: 5 names for 6 joints"):
+        load_model(path)

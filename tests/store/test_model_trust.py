@@ -130,13 +130,14 @@ def test_region_guarantee_pasted_onto_other_dropped_pairs_is_refused(models, cap
     folder, region_doc, trajectory_doc = models
     forged = _copy(trajectory_doc)
     forged["guarantee"] = _copy(region_doc["guarantee"])
+    forged["bound"] = forged["recursive"]["bound"] = forged["guarantee"]["bound"]
     path = _write(folder, "pasted", forged)
     model = gd_analyze.load_model(path)
     g = model.guarantee
     reproved = reproved_bound(model, Region(g.q_min, g.q_max, g.qd_max, g.qdd_max))
     j = int(np.argmax(reproved / np.asarray(g.scale)))
     assert reproved[j] > 0
-    forged["guarantee"]["bound"][j] = 0.5 * reproved[j]
+    forged["guarantee"]["bound"][j] = 0.5 * reproved[j]     # the model's bounds with it
     path = _write(folder, "pasted_lowered", forged)
     out, line = _refused(capsys, ["evaluate", path, SHIPPED], "guarantee.bound")
     assert f"joint {j + 1}" in line
@@ -263,8 +264,10 @@ def test_a_guarantee_built_in_memory_is_checked_before_it_is_stated(models):
     traj = read_trajectory(SHIPPED, n_joints=6)
     assert coverage(model, traj)["covered"]
     g = model.guarantee
-    forged = dataclasses.replace(model, guarantee=dataclasses.replace(
-        g, scale=100 * np.asarray(g.scale), bound=100 * np.asarray(g.bound)))
+    bound = 100 * np.asarray(g.bound)
+    forged = dataclasses.replace(
+        model, guarantee=dataclasses.replace(g, scale=100 * np.asarray(g.scale), bound=bound),
+        bound=list(bound), recursive=dataclasses.replace(model.recursive, bound=bound))
     with pytest.raises(InputError, match="guarantee.scale"):
         coverage(forged, traj)
 
@@ -678,3 +681,33 @@ def test_an_eps_or_torque_floor_edited_upward_is_refused(models, capsys, edit, k
     assert "the model was built with" in line
     with pytest.raises(InputError, match=f"key {key}:"):
         gd_analyze.load_model(path)
+
+
+def test_a_bound_beside_the_region_guarantee_that_is_not_its_bound_is_refused(models, capsys):
+    """The model's ``bound`` and ``recursive.bound`` (``SimplifiedModel.bound``, "guaranteed
+    bound on |tau_s - tau|") halved, the guarantee's bound left honest: the file was read and
+    its model stated a bound that Pinocchio's torques break at states of the region. Refused,
+    naming the key."""
+    folder, region_doc, _ = models
+    g = region_doc["guarantee"]
+    robot = gd_analyze.load_model(folder / "region" / "simplified_model.json").robot
+    rng = np.random.default_rng(0)
+    lo, hi = np.asarray(g["q_min"]), np.asarray(g["q_max"])
+    q = rng.uniform(lo, hi, (200, robot.n))
+    qd, qdd = (np.asarray(g[k]) * rng.choice([-1.0, 1.0], (200, robot.n))
+               for k in ("qd_max", "qdd_max"))
+    model = gd_analyze.load_model(folder / "region" / "simplified_model.json")
+    error = np.abs(model.torque(q, qd, qdd) - _rnea(robot, q, qd, qdd)).max(axis=0)
+    halved = [b / 2 for b in g["bound"]]
+    round_off = 1e-12 * max(g["scale"])
+    assert (error > halved).any() and (error <= np.asarray(g["bound"]) + round_off).all()
+    for key in ("bound", "recursive.bound"):
+        forged = _copy(region_doc)
+        if key == "bound":
+            forged["bound"] = halved
+        else:
+            forged["recursive"]["bound"] = halved
+        path = _write(folder, "bound_beside", forged)
+        _refused(capsys, ["evaluate", path, SHIPPED], key)
+        with pytest.raises(InputError, match="is not guarantee.bound"):
+            gd_analyze.load_model(path)

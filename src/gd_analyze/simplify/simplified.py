@@ -440,7 +440,9 @@ class SimplifiedModel:
             "kind": "gd-analyze simplified model",
             "robot": {"name": self.robot.name, "sha256": self.robot.sha256,
                       "parameters_sha256": parameters_sha256(self.robot.to_dict()),
-                      "source": self.robot.source, "parameters": self.robot.to_dict()},
+                      "source": self.robot.source, "parameters": self.robot.to_dict(),
+                      **({"joint_names": self.robot.joint_names()}
+                         if self.robot.metadata.get("urdf_joints") else {})},
             "mounting": self._mounting(),
             "dominance_threshold": self.dominance_threshold,
             "negligible_threshold": self.negligible_threshold,

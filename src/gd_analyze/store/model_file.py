@@ -4,13 +4,16 @@
 <gd_analyze.simplify.simplified.SimplifiedModel.to_dict>` atomically; :func:`load_model`
 reads it back with strict JSON (:func:`gd_analyze.store.json_schema.load_json`), checks it against
 :data:`gd_analyze.store.json_schema.MODEL_SCHEMA`, rebuilds its robot from the stored parameters
-(:func:`gd_analyze.model.robot_spec.robot_from_dict`) and hands the rest to
+(:func:`gd_analyze.model.robot_spec.robot_from_dict`), with a URDF's joint names
+(``robot.joint_names``) where the file gives them, and hands the rest to
 :meth:`SimplifiedModel.from_dict <gd_analyze.simplify.simplified.SimplifiedModel.from_dict>`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import types
 from typing import TYPE_CHECKING
 
 from ..errors import InputError, expect, path_text
@@ -86,7 +89,8 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
         version, does not follow
         :data:`~gd_analyze.store.json_schema.MODEL_SCHEMA` (types, unknown keys, finite
         thresholds in range), its robot's parameters do not match
-        ``robot.parameters_sha256`` or fail validation, or its choices do not name exactly
+        ``robot.parameters_sha256`` or fail validation, its ``robot.joint_names`` (a URDF's,
+        optional) are not one per joint, or its choices do not name exactly
         the elements of an n-joint robot, or its region guarantee does not hold for its
         robot (:func:`gd_analyze.store.model_trust.check_guarantee`: the region within the
         robot's limits, s_i reached at its stored state, the bound proved again for the
@@ -109,6 +113,12 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
                          "the model was written?)", path, column="robot.parameters_sha256")
     robot = robot_from_dict(rob["parameters"], source=f"{path}#robot",
                             sha256=rob["sha256"] or None)
+    if "joint_names" in rob:            # a URDF's names, as results.h5 and the emitted files
+        if len(rob["joint_names"]) != robot.n:
+            raise InputError(f"{len(rob['joint_names'])} names for {robot.n} joints", path,
+                             column="robot.joint_names")
+        robot = dataclasses.replace(robot, metadata=types.MappingProxyType(
+            {**robot.metadata, "urdf_joints": list(rob["joint_names"])}))
     robot = _recorded_mounting(robot, spec, path)
     # a guarantee's region and scale, checked against the robot (model_trust.check_region)
     # before the model's program is built and sampled

@@ -25,6 +25,8 @@ claim fails, with one line naming the key:
   max(peak |tau_i| on the trajectories, torque floor), drives included): an s_i multiplied by
   100 loosens no gate. That the states are set points of the model's trajectory is checked
   where the trajectory is at hand (:func:`gd_analyze.jobs.evaluate.check_trajectory_claim`);
+- ``bound``, ``recursive.bound`` (beside a region guarantee): equal to ``guarantee.bound``,
+  so that the model's ``bound`` is the bound proved;
 - ``guarantee.bound``: the bound is proved again for the model's dropped (base parameter,
   part) pairs: first on the trees of boxes stored with it (``guarantee.tilings``, and the
   pairs of trees of the decomposition, ``guarantee.decomposed_tilings``: the first links'
@@ -166,7 +168,8 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         for a model without a recursive form to derive them on (``guarantee.bound_method``);
         a model of the chapter's rule whose terms are not every term of the parts its choices
         keep (``explicit_terms``); a ``tolerance`` or ``torque_floor`` that is not the
-        provenance's.
+        provenance's; beside a region guarantee, a ``bound`` or ``recursive.bound`` that is
+        not ``guarantee.bound``.
 
     Notes
     -----
@@ -182,6 +185,13 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
             chapter_terms(explicit_terms(model.robot)[0], model.choices), model.terms):
         raise InputError("are not the chapter's model of the file's choices (the terms of the "
                          "parts its classes keep, nothing pruned)", path, column="explicit_terms")
+    if g is not None and g.kind == "region":      # the bounds the file states beside it
+        for column, stated in (("bound", model.bound),
+                               ("recursive.bound", getattr(model.recursive, "bound", None))):
+            if stated is not None and len(stated) and not np.array_equal(
+                    np.asarray(stated, float), np.asarray(g.bound, float), equal_nan=True):
+                raise InputError("is not guarantee.bound, the bound proved over the region",
+                                 path, column=column)
     key = _claim_key(model) if g is not None and g.proved and model.recursive is not None else None
     if key in _PROVED_CLAIMS:
         return                              # the same claim, checked before in this process
