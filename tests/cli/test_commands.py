@@ -27,6 +27,7 @@ from gd_analyze import load_robot
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.estimation.estimate import RANK_TOL
+from gd_analyze.report.identify import identify_context
 from gd_analyze.store.model_file import load_model
 from gd_analyze.store.stored_identification import read_identification
 from gd_analyze.store.sweep_view import sweep_size
@@ -327,6 +328,10 @@ def test_the_summary_says_the_robot_file_holds_consistent_links_where_the_fit_ha
         assert np.linalg.eigvalsh(J).min() >= -1e-9 * np.abs(J).max()
     assert "standard parameters: link(s) 1, 2 not physically consistent" in said
     assert "identified_robot.toml holds the physically consistent parameters" in said
+    # the report's lead, which gives the least-squares fit's errors, says so too (it did not)
+    tree = read_identification(out / "identification.h5")
+    lead = identify_context(tree["/"], {k: v for k, v in tree.items() if k != "/"})["lead"]
+    assert "identified_robot.toml holds physically consistent parameters instead" in lead
 
 
 def test_json_and_files(recordings, tmp_path, capsys):

@@ -398,9 +398,11 @@ def identify_context(root: StoredIdentification | xr.Dataset,
     def said(error):                    # an error as a percentage; "" where there is none
         return pct(error) if math.isfinite(error) else ""
 
+    settings = _json(stored.settings, {})
     lead = say("identify_lead", validated=[
         (_file_of(rec), pct(rec.total_relative_error), said(rec.prior_total_relative_error),
-         said(rec.simplified_total_relative_error)) for rec in validated])
+         said(rec.simplified_total_relative_error)) for rec in validated],
+        inconsistent=isinstance(settings, dict) and bool(settings.get("robot_file_note")))
     unident = _json(stored.unidentifiable, [])
     which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
              and unident else "")
