@@ -238,6 +238,28 @@ def test_a_prismatic_joints_torque_is_in_newtons():
         assert labels[:2] == [f"{word} [N]", f"{word} [N m]"], labels
 
 
+def test_a_unit_is_said_where_it_changes_along_a_row_and_stays_beside_its_own_panel():
+    """A prismatic first joint (N) and seven revolute ones (N m), three a row, as the TIAGo's
+    arm: the unit is said on each row's first panel and on the panel where it changes (joint
+    2), not again on joint 3, whose label, said again, ran into joint 2's plot. Oracle: the
+    drawn extents, each label right of its left neighbour's plot."""
+    from figure_checks import draw
+
+    rng = np.random.default_rng(7)
+    joints = tuple(f"j{k}" for k in range(8))
+    root = _root(rng, joints).assign(prismatic=("joint", np.array([True] + [False] * 7)))
+    groups = {"run": _recording(rng, 0.0, 300, "validate", "run", joints)}
+    for fig in identify_figures(root, groups).values():
+        renderer = draw(fig)
+        axes = [ax for ax in fig.axes if ax.get_visible()]
+        said = [k for k, ax in enumerate(axes) if ax.get_ylabel()]
+        assert said == [0, 1, 3, 6], said
+        for k in said[1:]:
+            if k % 3:
+                left = axes[k - 1].get_window_extent(renderer)
+                assert axes[k].yaxis.label.get_window_extent(renderer).x0 >= left.x1
+
+
 def test_the_preprocessing_notes_are_sentences_with_s_i_typeset():
     """The job's notes are stored as clauses ("low-pass cutoff 2 Hz", "simplified model ...:
     within 1 % of s_i ..."); the report sets each as a sentence, capital first and a full

@@ -527,7 +527,8 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
         Each panel's title, set on its left and taken as plain text (no mathtext).
     ylabels : sequence of str, length n
         Each panel's y label, said on a row's first panel and on any panel whose label
-        differs from that panel's.
+        differs from the panel's on its left (a panel without one reads as its left
+        neighbour; said again on each, a label sits in the gap beside the neighbour's plot).
     width : float
         Figure width [in].
     cols : int, optional
@@ -549,7 +550,7 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
     n = len(titles)
     rows, cols = grid_shape(n, cols)
     origin, t_label = time_origin(t)
-    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.3, 0.45,
+    fig, axes = joint_axes(n, cols, (width, 1.6 * rows + 0.3 + 0.85), 0.3, 0.85, 0.4, 0.45,
                            t_label)
     t = np.asarray(t, float) - origin
     handles: dict[str, Line2D] = {}
@@ -561,7 +562,7 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
         ax.set_title(titles[j], loc="left", parse_math=False)
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
-        if j % cols == 0 or ylabels[j] != ylabels[j - j % cols]:
+        if j % cols == 0 or ylabels[j] != ylabels[j - 1]:
             ax.set_ylabel(ylabels[j])
     label_axes([ax.yaxis for ax in axes])
     fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),

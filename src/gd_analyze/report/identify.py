@@ -133,7 +133,8 @@ def _panels(t, curves, joints, ylabel, width, prismatic=None):
     """One panel per joint, three a row at page width from five joints on (two a row
     otherwise, and in a column), the curves (name -> (N, n)) over t, a key below; each
     panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
-    panel whose unit differs from it (:func:`gd_analyze.report.figure_style.joint_lines`)."""
+    panel whose unit differs from its left neighbour's
+    (:func:`gd_analyze.report.figure_style.joint_lines`)."""
     units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(len(joints))]
     return joint_lines(t, [(MODEL_STYLES.get(name, RESIDUAL_STYLE), y) for name, y in curves.items()],
                        [f"joint {j + 1}: {short(name)}" for j, name in enumerate(joints)],
