@@ -27,8 +27,8 @@ def test_each_panel_draws_its_joints_column_every_step_th_sample():
         assert (first.get_color(), second.get_linestyle()) == ("#000000", "--")
     # titles on the left, as given
     assert [ax.get_title(loc="left") for ax in axes] == titles
-    # the y label on a row's first panel, and where it differs from that panel's
-    assert [ax.get_ylabel() for ax in axes] == ["\u03c4 [N m]", "", "\u03c4 [N]",
+    # each panel's own y label
+    assert [ax.get_ylabel() for ax in axes] == ["\u03c4 [N m]", "\u03c4 [N m]", "\u03c4 [N]",
                                                 "\u03c4 [N m]"]
     legend, = fig.legends
     assert [text.get_text() for text in legend.get_texts()] == ["measured", "model"]

@@ -238,26 +238,42 @@ def test_a_prismatic_joints_torque_is_in_newtons():
         assert labels[:2] == [f"{word} [N]", f"{word} [N m]"], labels
 
 
-def test_a_unit_is_said_where_it_changes_along_a_row_and_stays_beside_its_own_panel():
-    """A prismatic first joint (N) and seven revolute ones (N m), three a row, as the TIAGo's
-    arm: the unit is said on each row's first panel and on the panel where it changes (joint
-    2), not again on joint 3, whose label, said again, ran into joint 2's plot. Oracle: the
-    drawn extents, each label right of its left neighbour's plot."""
-    from figure_checks import draw
+def test_every_panel_states_its_own_scaled_unit_beside_it_and_no_offset_text():
+    """A prismatic first joint (N) and seven revolute ones (N m), three a row, residuals of
+    0.8 to 0.004 as the TIAGo's: each panel says its quantity and its unit, scaled by the power
+    of ten its ticks are written in, in its own y label (before, a panel whose unit read as its
+    left neighbour's was unlabelled but for a bare "×10⁻¹" in place of a label, so that a
+    reader combined two conventions). Oracles: each drawn tick label times the label's power
+    is the tick's value; the labels stand clear of every other text and panel."""
+    from figure_checks import collisions, tick_texts
+
+    from gd_analyze.report.identify import FIGURE_RC
 
     rng = np.random.default_rng(7)
     joints = tuple(f"j{k}" for k in range(8))
-    root = _root(rng, joints).assign(prismatic=("joint", np.array([True] + [False] * 7)))
-    groups = {"run": _recording(rng, 0.0, 300, "validate", "run", joints)}
-    for fig in identify_figures(root, groups).values():
-        renderer = draw(fig)
+    prismatic = np.array([True] + [False] * 7)
+    root = _root(rng, joints).assign(prismatic=("joint", prismatic))
+    run = _recording(rng, 0.0, 300, "validate", "run", joints)
+    size = np.array([0.8, 0.15, 0.8, 0.25, 0.3, 0.02, 0.008, 0.004])
+    residual = size * np.sin(np.outer(run.t, np.arange(1, 9)))
+    run["tau_predicted"] = run.tau_measured - residual
+    digits = str.maketrans("⁻⁰¹²³⁴⁵⁶⁷⁸⁹", "-0123456789")
+    for key, fig in identify_figures(root, {"run": run}).items():
+        found = collisions(fig, FIGURE_RC)         # drawn: the tick labels are written
         axes = [ax for ax in fig.axes if ax.get_visible()]
-        said = [k for k, ax in enumerate(axes) if ax.get_ylabel()]
-        assert said == [0, 1, 3, 6], said
-        for k in said[1:]:
-            if k % 3:
-                left = axes[k - 1].get_window_extent(renderer)
-                assert axes[k].yaxis.label.get_window_extent(renderer).x0 >= left.x1
+        assert len(axes) == 8
+        for ax, p in zip(axes, prismatic):
+            said = re.fullmatch(r"τ( residual)? \[(?:10([⁻⁰-⁹¹²³]+) )?(N m|N)\]", ax.get_ylabel())
+            assert said and said[3] == ("N" if p else "N m"), (key, ax.get_ylabel())
+            offset = ax.yaxis.get_offset_text()
+            assert not (offset.get_visible() and offset.get_text().strip()), key
+            power = 10.0 ** int((said[2] or "0").translate(digits))
+            for at, label in tick_texts(ax):
+                written = float(label.get_text().replace("\u2212", "-"))
+                assert written * power == pytest.approx(at, rel=1e-6, abs=1e-12), (key, at)
+        scaled = [ax.get_ylabel() for ax in axes if "10" in ax.get_ylabel()]
+        assert key.startswith("torque") or len(scaled) == 8, scaled   # every residual < 1
+        assert not found, found[:4]
 
 
 def test_the_preprocessing_notes_are_sentences_with_s_i_typeset():

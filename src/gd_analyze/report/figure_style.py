@@ -526,9 +526,9 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
     titles : sequence of str, length n
         Each panel's title, set on its left and taken as plain text (no mathtext).
     ylabels : sequence of str, length n
-        Each panel's y label, said on a row's first panel and on any panel whose label
-        differs from the panel's on its left (a panel without one reads as its left
-        neighbour; said again on each, a label sits in the gap beside the neighbour's plot).
+        Each panel's y label, said on every panel, the power of ten its ticks are written in
+        put into its unit (:func:`gd_analyze.report.numbers.label_axes`): each panel states
+        its own scale in one place, with no offset text.
     width : float
         Figure width [in].
     cols : int, optional
@@ -562,8 +562,7 @@ def joint_lines(t: npt.ArrayLike, curves: Sequence[tuple[tuple[str, Any, float, 
         ax.set_title(titles[j], loc="left", parse_math=False)
         lo, hi = ax.get_ylim()
         set_ticks(ax.yaxis, lo, hi, 4, labels=False)
-        if j % cols == 0 or ylabels[j] != ylabels[j - 1]:
-            ax.set_ylabel(ylabels[j])
+        ax.set_ylabel(ylabels[j])
     label_axes([ax.yaxis for ax in axes])
     fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=len(handles),
                frameon=False, bbox_to_anchor=(0.5, 0.02))

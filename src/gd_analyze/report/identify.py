@@ -132,8 +132,7 @@ def short(name: str) -> str:
 def _panels(t, curves, joints, ylabel, width, prismatic=None):
     """One panel per joint, three a row at page width from five joints on (two a row
     otherwise, and in a column), the curves (name -> (N, n)) over t, a key below; each
-    panel's unit N m (revolute) or N (prismatic), said on the left panel of a row and on any
-    panel whose unit differs from its left neighbour's
+    panel's unit N m (revolute) or N (prismatic), scaled with its ticks, said on each panel
     (:func:`gd_analyze.report.figure_style.joint_lines`)."""
     units = ["N" if prismatic is not None and prismatic[j] else "N m" for j in range(len(joints))]
     return joint_lines(t, [(MODEL_STYLES.get(name, RESIDUAL_STYLE), y) for name, y in curves.items()],
