@@ -784,6 +784,33 @@ def test_the_clip_check_s_model_keeps_the_robot_file_s_drives(monkeypatch):
     assert share >= 0.6, share
 
 
+def test_the_kept_drive_torque_is_computed_once_per_recording(monkeypatch):
+    """puma560-drives (the true arm with the file's armature, Pinocchio's rnea), torques
+    quantised to 12 levels so that the clip check fits its model first: the file's kept drive
+    torque (the armature's, not fitted) depends on q, qd, qdd and the filter, which the check's
+    marks leave as they are, so it is computed once per recording, training and held out (it
+    was computed again for the main fit: 3 times for 2 recordings), and the identified robot
+    keeps the file's armature."""
+    from identify_recordings import Truth
+
+    from gd_analyze.jobs import identify as job
+
+    robot = load_robot("puma560-drives")
+    arm = truth_for(robot)
+    truth = Truth(arm.model, arm.ids, arm.viscous, arm.coulomb, arm.offset,
+                  armature=robot.armature)
+    clean, _ = _record(truth, robot.n, 25, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    calls = []
+    kept_torque = job._kept_torque
+    monkeypatch.setattr(job, "_kept_torque",
+                        lambda prior, drives, p: calls.append(drives) or kept_torque(prior, drives, p))
+    result = identify(robot, [recording_from_arrays(clean.t, clean.q, _adc(clean.tau, 12))],
+                      validate=[held])
+    assert calls.count(("viscous", "coulomb", "offset")) == 2, calls    # the fitted ones
+    assert np.array_equal(result.identified.armature, robot.armature)
+
+
 def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cause():
     """Training time stamps in ms (1000 x the seconds): the cutoff chosen from them is far
     below what the validation recording, in seconds, can be filtered with. The one-line error

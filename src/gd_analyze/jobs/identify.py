@@ -28,7 +28,6 @@ from ..estimation import preprocess as prep
 from ..estimation.consistent import SolverFailure
 from ..estimation.fit import FitFailure, RegressorRows, fit_columns, fit_robot
 from ..estimation.regressor import DRIVE_KINDS
-from ..model.drives import friction_torque
 from ..model.robot import Robot
 from ..model.robots import load_robot
 from ..store.stored_identification import (
@@ -128,18 +127,12 @@ class IdentifyOptions:
                 "coulomb_model": "sign(qd)"}
 
 
-def _drive_torque(robot, qd, qdd):
-    """Ia qdd + F_v qd + F_c sign(qd) + tau_0 of a robot's drives [N m or N]
-    (:func:`gd_analyze.model.drives.friction_torque`)."""
-    tau = np.asarray(robot.armature) * qdd
-    fr = friction_torque(robot, qd)
-    return tau if fr is None else tau + fr
-
-
 def _kept_torque(prior, drives, p):
-    """The robot file's drive torque of the kinds not among ``drives`` (not fitted, kept at
-    the file's values) at a preprocessed recording's samples, filtered as its torque, shape
-    (N, n) [N m or N]; None where the file has none of them."""
+    """The robot file's drive torque Ia qdd + F_v qd + F_c sign(qd) + tau_0
+    (:func:`gd_analyze.model.drives.friction_torque`, sign(0) = 0) of the kinds not among
+    ``drives`` (not fitted, kept at the file's values; every kind for ``()``) at a
+    preprocessed recording's samples, filtered as its torque, shape (N, n) [N m or N]; None
+    where the file has none of them."""
     kept = [k for k in DRIVE_KINDS if k not in drives
             and np.any(getattr(prior, "torque_offset" if k == "offset" else k))]
     terms = {"armature": prior.armature * p.qdd, "viscous": prior.viscous * p.qd,
@@ -147,12 +140,11 @@ def _kept_torque(prior, drives, p):
     return p.filtered(sum(terms[k] for k in kept)) if kept else None
 
 
-def _less_kept(prior, drives, pres):
+def _less_kept(pres, kept):
     """The preprocessed recordings with the robot file's kept drive torque
-    (:func:`_kept_torque`) taken off their torque, as a fit of the other columns needs, and
-    that torque per recording (None where the file has none)."""
-    kept = [_kept_torque(prior, drives, p) for p in pres]
-    return [p if d is None else replace(p, tau=p.tau - d) for p, d in zip(pres, kept)], kept
+    (:func:`_kept_torque`, None where the file has none) taken off their torque, as a fit of
+    the other columns needs."""
+    return [p if d is None else replace(p, tau=p.tau - d) for p, d in zip(pres, kept)]
 
 
 def _listed(items):
@@ -299,13 +291,14 @@ def identify(robot: Robot | str | Path,
         cutoff = max(prep.default_cutoff(r.t, r.q, prior.prismatic) for r in train)
         notes.append(f"low-pass cutoff {cutoff:.3g} Hz chosen from the training data (5 x the "
                      f"bandwidth holding 99% of the positions' power), used for every recording")
-    judged = list(_model_clipped(prior, train, names, cutoff, options, notes))   # or none
+    judged, kept = _model_clipped(prior, train, names, cutoff, options, notes)   # or none
     pres = [_prepared(r, cutoff, options, name, prior.prismatic, k < len(train), notes,
                       *(judged[k] if k < len(judged) else ()))
             for k, (r, name) in enumerate(zip(train + valid, names))]
+    kept += [_kept_torque(prior, options.drives, p) for p in pres[len(kept):]]
     try:
-        fitted, kept = _less_kept(prior, options.drives, pres[:len(train)])
-        fit, regressors = fit_robot(prior, fitted, options.drives, options.consistent)
+        fit, regressors = fit_robot(prior, _less_kept(pres[:len(train)], kept), options.drives,
+                                    options.consistent)
     except FitFailure as exc:
         raise InputError(f"cannot identify: {exc}{degrees}") from None
     except SolverFailure as exc:
@@ -323,10 +316,10 @@ def identify(robot: Robot | str | Path,
         keep = p.keep
         rows = pending.pop(k) if is_train else RegressorRows(prior, p, columns)
         products = rows.times(np.column_stack([theta, rigid, fit.file_theta]))
-        kept_k = kept[k] if is_train else _kept_torque(prior, options.drives, p)
-        if kept_k is not None:
-            products[..., [0, 2]] += kept_k[keep][..., None]
-        tau_prior = products[..., 1] + p.filtered(_drive_torque(prior, p.qd, p.qdd))[keep]
+        if kept[k] is not None:
+            products[..., [0, 2]] += kept[k][keep][..., None]
+        drives = _kept_torque(prior, (), p)         # the file's drives, all of them
+        tau_prior = products[..., 1] + (0 if drives is None else drives[keep])
         tau_s = None if simplified is None else p.filtered(
             simplified_torque(simplified[0], p.q, p.qd, p.qdd))[keep]
         fits.append(RecordingFit(
@@ -364,20 +357,22 @@ def identify(robot: Robot | str | Path,
 
 
 def _model_clipped(prior, train, names, cutoff, options, notes):
-    """Yields, per training recording, the samples clipped against a model fitted without the
+    """Per training recording, the samples clipped against a model fitted without the
     samples at each torque's extreme levels (:func:`gd_analyze.estimation.preprocess.model_clipped`),
     and that model's torque (with the robot file's kept drive terms, :func:`_less_kept`, as the
-    main fit) interpolated onto the recording's clock; nothing where no
+    main fit) interpolated onto the recording's clock; none where no
     torque holds its extreme levels over :data:`~gd_analyze.estimation.preprocess.CLIP_RUN`
     samples, nor where that fit fails (one warning line in ``notes``: the model-free rule then
-    judges alone)."""
+    judges alone). And the kept drive torque of each recording fitted (:func:`_kept_torque`;
+    none where none is fitted), the main fit's too: the marks change which samples are kept,
+    not q, qd, qdd nor the filter."""
     if all(prep.extreme_samples(r.tau).sum(axis=0).max() < prep.CLIP_RUN for r in train):
-        return      # no torque at its extremes for a run's samples (unquantised): nothing to judge
-    firsts, kept = _less_kept(prior, options.drives, [
-        _prepared(r, cutoff, options, name, prior.prismatic, True, None,
-                  extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)])
+        return [], []   # no torque at its extremes for a run's samples (unquantised): none judged
+    firsts = [_prepared(r, cutoff, options, name, prior.prismatic, True, None,
+                        extra=prep.extreme_samples(r.tau)) for r, name in zip(train, names)]
+    kept = [_kept_torque(prior, options.drives, p) for p in firsts]
     try:
-        est, rows = fit_columns(prior, firsts, options.drives)
+        est, rows = fit_columns(prior, _less_kept(firsts, kept), options.drives)
     except FitFailure as exc:
         coarse = sorted({f"tau{j + 1}" for r in train
                          for j in np.flatnonzero(prep.coarse_columns(r.tau))})
@@ -386,13 +381,15 @@ def _model_clipped(prior, train, names, cutoff, options, notes):
                      f"the samples at their extreme levels failed ({exc}); their clips are "
                      f"judged by the model-free rule alone")
         warnings.warn(notes[-1], InputWarning, stacklevel=3)
-        return
+        return [], kept
+    judged = []
     for r, p, src, d in zip(train, firsts, rows, kept):
         model = src.times(est.value[:, None])[..., 0] + (0 if d is None else d[p.keep])
         predicted = np.column_stack([np.interp(r.t, p.t[p.keep], c, left=np.nan, right=np.nan)
                                      for c in model.T])
         tau = r.tau * np.asarray(options.drive_gains) if options.current else r.tau
-        yield prep.model_clipped(r.q, tau, predicted, est.noise_std), predicted
+        judged.append((prep.model_clipped(r.q, tau, predicted, est.noise_std), predicted))
+    return judged, kept
 
 
 def _simplified_model(identified, pres, n_train, options):

@@ -164,8 +164,9 @@ COULOMB_BAND = 1e-3
 def friction_torque(robot: Robot, qd: np.ndarray, band: float = 0.0) -> np.ndarray | None:
     """Joint friction and offset tau_f = F_v qd + F_c sign(qd) + tau_0.
 
-    The one formula of the drives' velocity-dependent torque: every engine, the emitted
-    programs (:func:`gd_analyze.symbolic.drive_regressor.with_drives`) and identification use it.
+    The one formula of the drives' velocity-dependent torque: every engine and the emitted
+    programs (:func:`gd_analyze.symbolic.drive_regressor.with_drives`) use it; identification's
+    drive columns and its robot file's drive torque follow it (sign(0) = 0).
 
     Parameters
     ----------
