@@ -178,3 +178,35 @@ def test_region_model_covers_planned_motions_and_keeps_its_promise(ur10, tmp_pat
     code, out_text, _ = _run(capsys, "evaluate", model_path, fast, "--json")
     said = json.loads(out_text)["guarantee"]
     assert not said["covered"] and "outside the model's region" in said["reason"]
+
+
+def test_a_recording_with_measured_torques_is_evaluated_on_its_set_points(ur10, capsys,
+                                                                          tmp_path):
+    """A recording for identify along the UR10's second plan (t, q, tau and qd, qdd, in the
+    recordings' order), its torques measured: Pinocchio's rnea of the URDF plus viscous and
+    Coulomb friction and noise. evaluate compares the model with the full model, not with
+    measurements: it reads the set points, ignores the torques with a note, and gives the same
+    errors as on the trajectory (the oracle's, rnea on the URDF); with positions only, those
+    of the trajectory of positions only. It was refused ("expected column 'qd1', got 'tau1'")."""
+    model_path, _, other = ur10
+    traj = read_trajectory(other, n_joints=6)
+    err, tau, _ = _oracle_error(model_path, other)
+    rng = np.random.default_rng(3)
+    tau = tau + 0.8 * traj.qd + 0.5 * np.sign(traj.qd) + 0.01 * rng.normal(size=tau.shape)
+    names = ["t", *(f"{v}{j}" for v in ("q", "tau", "qd", "qdd") for j in range(1, 7))]
+    for cols, arrays in ((names, (traj.q, tau, traj.qd, traj.qdd)), (names[:13], (traj.q, tau))):
+        recorded, plain = tmp_path / f"rec{len(cols)}.csv", tmp_path / f"traj{len(cols)}.csv"
+        values = np.column_stack([traj.t, *arrays])
+        np.savetxt(recorded, values, delimiter=",", header=",".join(cols), comments="", fmt="%.17g")
+        keep = [k for k, c in enumerate(cols) if not c.startswith("tau")]
+        np.savetxt(plain, values[:, keep], delimiter=",", header=",".join(cols[k] for k in keep),
+                   comments="", fmt="%.17g")
+        said = [_run(capsys, "evaluate", model_path, f, "--json") for f in (recorded, plain)]
+        assert said[0][0] == said[1][0]
+        a, b = (json.loads(out) for _, out, _ in said)
+        for key in ("peak_abs_error", "rms_error", "relative_peak_error", "peak_tau"):
+            assert a[key] == b[key], key
+        assert a["setpoints"] == traj.n_setpoints
+        assert "its torques tau1..tau6 are ignored" in said[0][2], said[0][2]
+        if len(cols) == len(names):     # the planned set points: the oracle's errors
+            np.testing.assert_allclose(a["peak_abs_error"], err, rtol=1e-9, atol=1e-9)

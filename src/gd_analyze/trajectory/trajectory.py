@@ -163,7 +163,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     path : str or os.PathLike
         The CSV file: header ``t,q1..qn,qd1..qdn,qdd1..qddn`` or ``t,q1..qn`` in [s], [rad],
         [rad/s], [rad/s^2]. A UTF-8 byte-order mark (as Excel writes it) is stripped, with an
-        :class:`~gd_analyze.errors.InputNote`.
+        :class:`~gd_analyze.errors.InputNote`. A recording (torque columns ``tau1..taun``,
+        :func:`read_recording`) is read as one, its torques ignored, with an InputNote.
     n_joints : int, optional
         The robot's number of joints n; the file must have as many.
 
@@ -186,6 +187,17 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         message names the argument).
     """
     path = _csv_path(path, n_joints)
+    if _recorded(path):         # a recording for identify: its torques are no set point's
+        rec = read_recording(path, n_joints)
+        qd, qdd = (_spline(rec.t, rec.q, path, row_of=lambda k: int(np.asarray(rec.rows)[k]))
+                   if rec.qd is None or rec.qdd is None else (rec.qd, rec.qdd))
+        given = qd is rec.qd
+        for note in (*rec.notes, f"{path}: a recording: its torques tau1..tau{rec.n} are "
+                     f"ignored, its set points are t, q" + (", qd, qdd" if given else
+                     " (qd, qdd by a cubic spline through them, which amplifies their noise)")):
+            warnings.warn(note, InputNote, stacklevel=2)
+        return Trajectory(t=rec.t, q=rec.q, qd=qd, qdd=qdd, source=path, sha256=rec.sha256,
+                          derivatives="file" if given else "cubic-spline")
 
     def header(fields):
         names, n = _parse_header(fields, path)
@@ -209,6 +221,15 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
                else _spline(t, q, path, row_of=lambda k: k + 2))
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
+
+
+def _recorded(path):
+    """True where ``path`` is a regular file whose header names a torque column ``tau1``...
+    (a recording, :func:`read_recording`)."""
+    if not os.path.isfile(path):
+        return False                    # refused by the reader, which says why
+    with open(path, "rb") as fh:
+        return re.search(rb",[ \t]*tau[0-9]", fh.readline(HEADER_BYTES)) is not None
 
 
 def _csv_path(path: Any, n_joints: Any) -> str:
