@@ -267,13 +267,12 @@ def identify(robot: Robot | str | Path,
     beyond = [m for r in train + valid for m in check_joint_limits(prior, r, r.rows)]
     degrees = ("; a recording in degrees? (see the joint-limit warnings)"
                if any("in degrees?" in m for m in beyond) else "")
+    what = "current" if options.current else "torque"
     if not any(np.any(r.tau) for r in train):
-        what = "current" if options.current else "torque"
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "
                          f"identify from (is the {what} column recorded?)")
     silent = [j for j in range(prior.n) if not any(np.any(r.tau[:, j]) for r in train)]
     if silent:          # a joint without its torque: its zeros would be fitted as torque
-        what = "current" if options.current else "torque"
         raise InputError(f"joint {silent[0] + 1}'s {what} is 0 in every row of "
                          f"{'the' if len(train) == 1 else 'every'} training recording: is it "
                          f"recorded? The fit would take the zeros for the joint's {what}",
