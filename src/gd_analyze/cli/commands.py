@@ -53,7 +53,7 @@ from ..model.robot import Robot, with_payload
 from ..model.robot_file import robot_toml
 from ..model.robots import is_urdf, load_robot
 from ..model.urdf_writer import robot_urdf
-from ..ranking.labels import joint_torque_units, joint_units_text
+from ..ranking.labels import joint_units_text
 from ..report.control import dataset_verdict, write_control_report
 from ..report.identify import write_identify_report
 from ..report.main import write_report
@@ -858,8 +858,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     else:
         print(f"{model_robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
-        header, ends = torque_table_header([joint_torque_units(bool(p))
-                                            for p in model_robot.prismatic])
+        header, ends = torque_table_header(joint_units(model_robot.prismatic, "tau"))
         print(header)
         for j in range(model_robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
