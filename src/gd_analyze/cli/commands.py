@@ -53,7 +53,7 @@ from ..model.robot import Robot, with_payload
 from ..model.robot_file import robot_toml
 from ..model.robots import is_urdf, load_robot
 from ..model.urdf_writer import robot_urdf
-from ..ranking.labels import joint_torque_units, joint_units_text
+from ..ranking.labels import joint_units_text
 from ..report.control import dataset_verdict, write_control_report
 from ..report.identify import write_identify_report
 from ..report.main import write_report
@@ -858,8 +858,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     else:
         print(f"{model_robot.name} simplified model on {args.trajectory} "
               f"({traj.n_setpoints} set points)")
-        header, ends = torque_table_header([joint_torque_units(bool(p))
-                                            for p in model_robot.prismatic])
+        header, ends = torque_table_header(joint_units(model_robot.prismatic, "tau"))
         print(header)
         for j in range(model_robot.n):
             print(f"{j + 1:<6}{err['peak_abs_error'][j]:>12.4g}{err['rms_error'][j]:>12.4g}"
@@ -1094,15 +1093,6 @@ def cmd_identify(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _model_settings(args, settings, limits):
-    """The keyword arguments of the budget rule's merged model
-    (:func:`gd_analyze.jobs.sweep_merged.budget_sweep_model`)."""
-    return {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
-            "provenance": {"gd_analyze_version": __version__, **settings},
-            "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
-            "region": limits}
-
-
 def _model_lines(model, ds, args):
     """What the command prints of the merged model: its cost, its worst error where its
     guarantee covers the swept trajectories, the ones it does not cover, and the guarantee
@@ -1211,6 +1201,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     limits = region_limits(args, loaded)
     settings.update({} if limits is None else limits.settings())
+    # the budget rule's merged model (budget_region_model, budget_sweep_model) is made with these
+    model_settings = {"tolerance": args.tolerance, "torque_floor": args.torque_floor,
+                      "provenance": {"gd_analyze_version": __version__, **settings},
+                      "explicit": args.explicit, "form": args.form, "guarantee": args.guarantee,
+                      "region": limits}
     # over the region the merge needs no per-trajectory peaks of the recursive model
     proved = guarantee_region(loaded, args.guarantee, limits)[2]
     budget = args.rule == "budget"
@@ -1231,8 +1226,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def region_model():
         # over the region the merged model does not depend on the ranking: it is built here
         # while the workers rank
-        prepared["model"] = budget_region_model(loaded, trajectories,
-                                                **_model_settings(args, settings, limits))
+        prepared["model"] = budget_region_model(loaded, trajectories, **model_settings)
 
     model = None
     # a small sweep with no cluster asked for is ranked here: a LocalCluster's start and its
@@ -1263,7 +1257,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             errors = None if client is None else WorkerErrors(client)  # one task per worker
             model = budget_sweep_model(loaded, trajectories, ds, held_out=held,
                                        prepared=prepared.get("model"), errors=errors,
-                                       **_model_settings(args, settings, limits))
+                                       **model_settings)
             if errors is not None:
                 ds = with_more_tasks(ds, errors.tasks)
 

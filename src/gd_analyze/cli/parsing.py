@@ -331,20 +331,15 @@ def _add_verbose_argument(p, quiet="print nothing but errors",
     g.add_argument("-v", "--verbose", action="store_true", help="list every file written" + default)
 
 
-def _add_column_argument(p):
-    """--column-figures."""
-    p.add_argument("--column-figures", action="store_true",
-                   help="also write every report figure 3.5 in wide (one column) as "
-                        "figures/<name>_column.pdf and .svg (default: page width only)")
-
-
 def _add_print_arguments(p, skip=None, column=False):
     """--paper and --latex (with ``skip``, the report's files: --no-report before them; with
     ``column``, --column-figures after it)."""
     if skip:
         p.add_argument("--no-report", action="store_true", help=f"skip {skip}")
     if column:
-        _add_column_argument(p)
+        p.add_argument("--column-figures", action="store_true",
+                       help="also write every report figure 3.5 in wide (one column) as "
+                            "figures/<name>_column.pdf and .svg (default: page width only)")
     p.add_argument("--paper", choices=("a4", "letter"), default=defaults["paper"],
                    help="page size of the PDF report (default a4)")
     p.add_argument("--latex", action="store_true",
@@ -384,13 +379,11 @@ def analyze_parser() -> argparse.ArgumentParser:
                              "an element below E times its scale is negligible (default {})")
     _add_budget_arguments(p)
     _add_region_arguments(p)
-    p.add_argument("--no-report", action="store_true", help="skip report.html and report.pdf")
-    _add_column_argument(p)
     p.add_argument("--prefix", metavar="NAME", type=_prefix, default=None,
                    help="prefix of the emitted model's C symbols and CasADi functions, a C "
                         "identifier (default: the robot's name made one, plus _, e.g. "
                         "puma560_)")
-    _add_print_arguments(p)
+    _add_print_arguments(p, "report.html and report.pdf", column=True)
     p.add_argument("--compress", metavar="LEVEL", type=_whole("--compress"), choices=range(10),
                    default=defaults["compress"],
                    help="gzip level 0-9 for the per-set-point variables of results.h5 "

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..dynamics.opcount import book_counts, operation_counts
 from ..simplify.simplified import SOURCE_STEM
-from ..store.datasets import guarantee_fields, joint_units, units_attribute
+from ..store.datasets import guarantee_fields, units_by_type
 from ..store.names import Attr
 from ..store.schema import var
 from ..symbolic.emit_model import artefact_names
@@ -216,8 +216,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
 
 
     robot = getattr(model, "robot", None)
-    torque = ("N m" if robot is None else
-              units_attribute(joint_units(robot.prismatic, "tau"), "tau_units"))
+    torque = "N m" if robot is None else units_by_type(robot.prismatic, "tau")
 
     by_kind = selection.bound_by_kind
     dv = {name: var(("joint",), data, torque, what) for name, data, what in (

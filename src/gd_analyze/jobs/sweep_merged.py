@@ -40,7 +40,7 @@ from ..simplify.budget import DEFAULT_TOLERANCE
 from ..simplify.choices import sweep_choices
 from ..simplify.deploy import guarantee_region
 from ..simplify.merged_model import region_merged_model, trajectory_merged_model
-from ..simplify.options import EXPLICIT, FORMS, GUARANTEES
+from ..simplify.options import SimplifyOptions
 from ..simplify.simplified import SimplifiedModel, choice_masks
 from ..simplify.sweep_model import sweep_validation, trajectories_sha256
 from ..store import explicit_cache
@@ -292,10 +292,7 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
 def _settings(robot, trajectories, provenance, explicit, form, guarantee, region):
     """The checked settings of :func:`budget_sweep_model`: (provenance, digest of the
     trajectories, whether the explicit model is derived, :func:`guarantee_region`'s triple)."""
-    for name, value, allowed in (("explicit", explicit, EXPLICIT), ("form", form, FORMS),
-                                 ("guarantee", guarantee, GUARANTEES)):
-        if value not in allowed:
-            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+    SimplifyOptions(explicit=explicit, form=form, guarantee=guarantee)     # each one checked
     provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
     derive = form == "explicit" or explicit == "always" or (
         explicit == "auto" and not is_expensive(robot))

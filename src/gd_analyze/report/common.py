@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
 from ..store.results_view import Results
-from ..store.schema import EvaluatorCosts, strings
+from ..store.schema import EvaluatorCosts, stored_prismatic, strings
 from ..store.sweep_view import MergedModel
 from . import markup
 from .markup import clean, marked, powers
@@ -453,11 +453,8 @@ def prismatic_joints(ds: Results | MergedModel | xr.Dataset) -> npt.NDArray[np.b
     -------
     ndarray of bool, shape (n,)
     """
-    if isinstance(ds, (Results, MergedModel)):
-        return np.array(ds.prismatic, dtype=bool)
-    if "joint_type" not in ds.variables:
-        return np.zeros(ds.sizes["joint"], dtype=bool)
-    return np.array([t == "prismatic" for t in strings(ds["joint_type"].values)])
+    return np.array(ds.prismatic if isinstance(ds, (Results, MergedModel)) else
+                    stored_prismatic(ds), dtype=bool)
 
 
 def units_text(u: str) -> str:

@@ -37,6 +37,7 @@ from ..ranking.ranking import (
     joint_torque_units,
 )
 from ..store.control_dataset import gain_units, pd_name
+from ..store.datasets import joint_units
 from ..store.names import ControlVar as V
 from ..store.schema import open_results
 from ..store.stored_control import REQUIRED_VARIABLES, ModelFacts, StoredControl
@@ -303,7 +304,7 @@ def _joint_panels(s, values, ylabel, title, log=False, floor=None, which="q",
     t = np.asarray(s.time, dtype=float) - origin
     is_set = s.is_setpoint
     n = s.n
-    units = joint_units_of(s, which)
+    units = joint_units(s.prismatic, which)
     column = width < PAGE_WIDTH
     # a page's row: two panels for up to four joints, else three (six joints in two rows)
     rows, cols = grid_shape(n, 1 if column else 2 if n <= 4 else 3)
@@ -511,16 +512,6 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: Sequence[str],
     return say("markers_words", k=k, ordinal=f"{k}{suffix}", starts=starts, lines=len(names))
 
 
-def joint_units_of(ds: StoredControl | xr.Dataset, which: str) -> list[str]:
-    """Units of q (``"q"``) or tau (``"tau"``) per joint, from the stored joint types
-    (:func:`gd_analyze.ranking.labels.joint_motion_units`, ``joint_torque_units``)."""
-
-    prismatic = StoredControl.of(ds).prismatic
-    if which == "tau":
-        return [joint_torque_units(bool(p)) for p in prismatic]
-    return [joint_motion_units(bool(p))[0] for p in prismatic]
-
-
 def noise_scales(ds: StoredControl | xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
     """The scales against which a closed-loop quantity is integrator noise
     (:func:`noise_floors`), the same for the figures and the tables.
@@ -697,7 +688,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     n = s.n
     joints = [f"joint {j + 1}" for j in range(n)]          # as the main report names them
     desc = s.descriptions if s.descriptions is not None else names
-    q_units = joint_units_of(s, "q")
+    q_units = joint_units(s.prismatic, "q")
     judged = dataset_verdict(s)
     rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
     labels, short = controller_labels(s), controller_labels(s, short=True)
@@ -750,7 +741,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     applied = [([short.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
                if s.tau_peak is not None and s.tau_rms is not None
                for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms))]
-    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units_of(s, "tau"))]
+    tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units(s.prismatic, "tau"))]
     errors = _table(["controller", "sampled at", "figure"]
                     + [f"{j} [{u}]" for j, u in zip(joints, q_units)],
                     _with_columns(error_rows), align=["left", "left", "left"] + ["right"] * n)

@@ -531,12 +531,11 @@ def torque_table_header(units: list[str]) -> tuple[str, list[str]]:
     ends : list of str, length n
         What each row ends with: "" or its units.
     """
-    if len(set(units)) == 1:
-        u = f" [{units[0]}]"
-        return (f"{'joint':<6}{'peak' + u:>12}{'rms' + u:>12}{'peak |tau|':>12}"
-                f"{'rel peak':>10}{'rel rms':>10}"), [""] * len(units)
-    return (f"{'joint':<6}{'peak':>12}{'rms':>12}{'peak |tau|':>12}{'rel peak':>10}"
-            f"{'rel rms':>10}  units"), [f"  {u}" for u in units]
+    same = len(set(units)) == 1
+    unit = f" [{units[0]}]" if same else ""
+    return (f"{'joint':<6}{'peak' + unit:>12}{'rms' + unit:>12}{'peak |tau|':>12}{'rel peak':>10}"
+            f"{'rel rms':>10}{'' if same else '  units'}",
+            [""] * len(units) if same else [f"  {u}" for u in units])
 
 
 @dataclass(frozen=True)
