@@ -507,15 +507,23 @@ def test_an_absolute_value_is_never_split_after_its_opening_bar(tmp_path):
 def test_a_percentage_is_never_split_from_its_sign(tmp_path):
     """ "0.557 %" (a number, a space, a per cent sign, as the tables and sentences write a
     percentage) stays on one line: no line starts with "%". The numbers vary to shift the
-    signs along the lines."""
+    signs along the lines; nor is a number of several digits split before its last digit
+    ("9153.6" at a line's end, "1 %" on the next): every number printed before a sign is one
+    that was written."""
     o = Outline("Report")
+    written = set()
     for p in range(12):
-        o.paragraph(" ".join(f"joint {k} errs by {k / 7 + p:.3f} % of its scale,"
-                             for k in range(10 * p + 1, 10 * p + 13)))
+        numbers = [f"{k / 7 + p:.3f}" if k % 2 else f"{1000 * k / 7 + p:.2f}"
+                   for k in range(10 * p + 1, 10 * p + 13)]
+        written.update(numbers)
+        o.paragraph(" ".join(f"joint {k} errs by {x} % of its scale,"
+                             for k, x in enumerate(numbers)))
     path, _ = _write(tmp_path, o)
     lines = [ln.strip() for ln in text(path).splitlines() if ln.strip()]
     assert sum(ln.count("%") for ln in lines) == 12 * 12                 # every sign printed
     assert not any(ln.startswith("%") for ln in lines), [ln for ln in lines if ln[:1] == "%"]
+    printed = {m for ln in lines for m in re.findall(r"(?<![\d.])(\d[\d.]*) %", ln)}
+    assert printed == written, sorted(printed - written)
 
 
 @pytest.mark.parametrize("paper", ["a4", "letter"])
