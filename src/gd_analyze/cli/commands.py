@@ -174,8 +174,8 @@ def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
     """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
 
     payload = _payload(args)
-    return robot if payload is None else with_payload(robot, payload.mass, payload.com,
-                                                      payload.inertia)
+    return robot if payload is None or not payload.mass else with_payload(
+        robot, payload.mass, payload.com, payload.inertia)
 
 
 def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
@@ -430,13 +430,14 @@ def check_rule_options(args: argparse.Namespace) -> None:
 
 
 def _payload(args):
-    """The --payload options as a Payload, or None; InputError for a shape without a mass."""
+    """The --payload options as a Payload (mass 0 with --payload-sweep alone: the swept loads'
+    shape, the arm analysed unloaded), or None; InputError for a shape without a mass."""
 
-    if args.payload is None:
+    if args.payload is None and getattr(args, "payload_sweep", None) is None:   # evaluate: none
         if any(args.payload_com) or any(args.payload_inertia):
-            raise InputError("--payload-com and --payload-inertia need --payload MASS")
+            raise InputError("--payload-com and --payload-inertia need --payload or --payload-sweep")
         return None
-    return Payload(float(args.payload), tuple(float(v) for v in args.payload_com),
+    return Payload(float(args.payload or 0.0), tuple(float(v) for v in args.payload_com),
                    tuple(float(v) for v in args.payload_inertia))
 
 

@@ -157,7 +157,8 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         simplified-model settings in results.h5 and the model.
     payload : Payload, optional
         A load fixed to the last link for the analysis
-        (:func:`gd_analyze.model.robot.with_payload`).
+        (:func:`gd_analyze.model.robot.with_payload`); one of mass 0 is no load, only the
+        shape (centre of mass, inertia) of ``payload_masses``' loads.
     payload_masses : sequence of float, optional
         Also rank the trajectory for each of these load masses [kg] of the payload's shape,
         on the arm without the payload (variables ``payload_*`` of results.h5); computed
@@ -198,7 +199,7 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         extra = embed_payload(payload_sweep(
             robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
             dominance=options.dominance, negligible=options.negligible))
-    if payload is not None:
+    if payload is not None and payload.mass:            # mass 0: the swept loads' shape
         robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
     settings = _settings(options, settings, shape, robot, prefix)
     prefix = settings["c_prefix"]
