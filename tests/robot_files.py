@@ -80,3 +80,39 @@ def crba(robot, q):
     data = pm.createData()
     D = np.array([pin.crba(pm, data, x) for x in q])
     return np.triu(D) + np.swapaxes(np.triu(D, 1), 1, 2)
+
+
+def random_chain(n, seed=0, prismatic=True):
+    """A random chain of n joints with a joint-limit region: general placements, every third
+    joint prismatic (none without ``prismatic``), limits of +-2.5 rad and +-0.3 m, 2 rad/s,
+    4 rad/s^2 (the chains of analysis/scaling.py).
+
+    Parameters
+    ----------
+    n : int
+    seed : int, optional
+    prismatic : bool, optional
+
+    Returns
+    -------
+    Robot
+    """
+    import numpy as np
+    from scipy.spatial.transform import Rotation
+
+    from gd_analyze.model.robot_spec import robot_from_chain
+
+    rng = np.random.default_rng(seed)
+    joints = []
+    for i in range(n):
+        B = rng.normal(size=(3, 3)) * 0.1
+        S = B @ B.T
+        slides = prismatic and i % 3 == 2
+        lim = 0.3 if slides else 2.5
+        joints.append({
+            "type": "prismatic" if slides else "revolute",
+            "rotation": Rotation.random(random_state=seed * 1000 + i).as_matrix(),
+            "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
+            "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
+            "q_min": -lim, "q_max": lim, "qd_max": 2.0, "qdd_max": 4.0})
+    return robot_from_chain(f"random-{n}", joints, [0.0, 0.0, -9.81])

@@ -33,7 +33,7 @@ from gd_analyze.store.stored_identification import read_identification
 from gd_analyze.store.sweep_view import sweep_size
 from gd_analyze.symbolic.recursive import recursive_program
 from gd_analyze.trajectory.planning import default_motion, random_trajectories
-from gd_analyze.trajectory.trajectory import write_trajectory
+from gd_analyze.trajectory.trajectory import read_trajectory, write_trajectory
 
 
 def _run(capsys, *args):
@@ -56,6 +56,44 @@ def _fast_csv(path, speed=2.0):
     path.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n"
                     + "\n".join(",".join(f"{v:.17g}" for v in r) for r in rows) + "\n")
     return path
+
+
+@pytest.mark.slow
+def test_a_payload_sweep_with_a_shape_and_no_mass_sweeps_that_shape(tmp_path, capsys):
+    """--payload-sweep with --payload-com and --payload-inertia but no --payload: each swept
+    load of that shape moves peak |tau_i| as Pinocchio's rnea of the PUMA with the load's
+    body appended to joint 6 says, and the main analysis is the unloaded arm's (the command
+    refused the shape without --payload before)."""
+    com, inertia = np.array([0.02, -0.01, 0.05]), np.array([0.002, 0.003, 0.001])
+    code, _, err = _run(capsys, "puma560", SHIPPED, "-o", tmp_path / "out", "--no-report",
+                        "-q", "--payload-sweep", "0:2.5:2.5", "--payload-com",
+                        ",".join(map(str, com)), "--payload-inertia",
+                        ",".join(map(str, inertia)), "--explicit", "never",
+                        "--guarantee", "trajectory")
+    assert code == 0, err
+    robot = load_robot("puma560")
+    traj = read_trajectory(SHIPPED, n_joints=robot.n)
+    # the load's centre of mass and inertia from link frame 6 to the body frame of joint 6
+    R, t = np.asarray(robot.link_rotation[-1]), np.asarray(robot.link_translation[-1])
+
+    def peaks(mass):
+        model = pinocchio_model(robot)
+        if mass is not None:
+            model.appendBodyToJoint(robot.n, pin.Inertia(mass, R @ com + t,
+                                                         R @ np.diag(inertia) @ R.T),
+                                    pin.SE3.Identity())
+        data = model.createData()
+        tau = [pin.rnea(model, data, *s) for s in zip(traj.q, traj.qd, traj.qdd)]
+        return np.abs(tau).max(axis=0)
+
+    with xr.open_dataset(tmp_path / "out" / "results.h5", engine="h5netcdf") as ds:
+        np.testing.assert_array_equal(ds["payload"].values, [0.0, 2.5])
+        for k, mass in enumerate((0.0, 2.5)):
+            np.testing.assert_allclose(ds["payload_tau_peak"].values[k], peaks(mass),
+                                       rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(ds["tau_peak"].values, peaks(None), rtol=1e-9, atol=1e-12)
+        assert float(ds.attrs["payload_mass"]) == 0.0
+        np.testing.assert_allclose(ds.attrs["payload_com"], com)
 
 
 @pytest.mark.slow

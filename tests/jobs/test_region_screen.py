@@ -11,6 +11,7 @@ import json
 import numpy as np
 import pytest
 from conftest import SHIPPED
+from robot_files import random_chain
 
 from gd_analyze.certify import regressor_bounds
 from gd_analyze.certify.screen import MIN_SAVING
@@ -127,29 +128,6 @@ def test_a_skipped_search_still_leaves_out_the_pairs_that_are_identically_zero(t
     assert np.all(np.asarray(model.guarantee.bound) == 0)
 
 
-def _random_chain(n, seed=0):
-    """A random chain of n joints with a joint-limit region (general placements, every third
-    joint prismatic, limits of +-2.5 rad and +-0.3 m, 2 rad/s, 4 rad/s^2; the chains of
-    analysis/scaling.py)."""
-    from scipy.spatial.transform import Rotation
-
-    from gd_analyze.model.robot_spec import robot_from_chain
-
-    rng = np.random.default_rng(seed)
-    joints = []
-    for i in range(n):
-        B = rng.normal(size=(3, 3)) * 0.1
-        S = B @ B.T
-        lim = 0.3 if i % 3 == 2 else 2.5
-        joints.append({
-            "type": "prismatic" if i % 3 == 2 else "revolute",
-            "rotation": Rotation.random(random_state=seed * 1000 + i).as_matrix(),
-            "translation": rng.uniform(-0.3, 0.3, 3), "mass": rng.uniform(0.3, 4.0),
-            "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
-            "q_min": -lim, "q_max": lim, "qd_max": 2.0, "qdd_max": 4.0})
-    return robot_from_chain(f"random-{n}", joints, [0.0, 0.0, -9.81])
-
-
 @pytest.mark.slow
 def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
         tmp_path, monkeypatch, capsys):
@@ -177,7 +155,7 @@ def test_a_proved_saving_below_the_threshold_deploys_the_exact_model_unbuilt(
     # the joint sums in balls alone, as on chains of more than BOX_MAX_JOINTS joints: with the
     # balls intersected with interval boxes the search on this chain saves 2.2 %
     monkeypatch.setattr(regressor_bounds, "BOX_MAX_JOINTS", 0)
-    robot = _random_chain(5)
+    robot = random_chain(5)
     base = base_parameters(robot)
     region, _ = robot_region(robot)
     sampled = screen_region(robot, base, region, region_values(robot, base, region), 0.01,

@@ -39,6 +39,7 @@ from ..jobs.evaluate import coverage, evaluate, gate
 from ..jobs.identify import IdentifyOptions, identify
 from ..jobs.options import AnalysisOptions, SimplifyOptions
 from ..jobs.payload import sweep_payloads
+from ..jobs.peak_jobs import derives_explicit
 from ..jobs.run import Payload, run_analysis
 from ..jobs.sweep_merged import (
     budget_region_model,
@@ -174,8 +175,8 @@ def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
     """The robot with the --payload options' load, if any (Sec. 3.4.1's loaded arm)."""
 
     payload = _payload(args)
-    return robot if payload is None else with_payload(robot, payload.mass, payload.com,
-                                                      payload.inertia)
+    return robot if payload is None or not payload.mass else with_payload(
+        robot, payload.mass, payload.com, payload.inertia)
 
 
 def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
@@ -260,55 +261,6 @@ def _cost_lines(costs):
     return lines
 
 
-def _effort_lines(results):
-    """Each joint's peak |tau| against its effort limit, where the robot gives one."""
-
-    rows = effort_rows(results)
-    if not rows:
-        return []
-    lines = ["", "effort limits (peak |tau| of the full model against the robot's limit):",
-             f"{'joint':<6}{'peak |tau|':>12}{'limit':>12}  {'units':<6}{'ratio':>7}  flag"]
-    for j, peak, limit, ratio, flag, unit in rows:
-        lines.append(f"{j:<6}{peak:>12.4g}{limit:>12.4g}  {unit:<6}{ratio:>7.3f}  {flag}")
-    over = [str(r[0]) for r in rows if r.exceeded]
-    if over:
-        lines.append(f"  joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
-                     f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} "
-                     "effort limit along this trajectory")
-    return lines
-
-
-def _guarantee_lines(results):
-    """The region (one line per limit kind), the guarantee line (saying when the analysed
-    trajectory leaves the region, which the guarantee then does not cover) and s_i per
-    joint in N m, from the results view."""
-    region, scope = results.region, results.guarantee
-    lines = [] if region is None else list(region["lines"])
-    statement = scope["statement"]
-    if region is not None and region["covered"] is False and scope["kind"] == "region":
-        statement += ("; this trajectory is not covered: it leaves the region (the guarantee "
-                      "holds in the region, not on this trajectory)")
-    lines.append(f"guarantee: {statement}")
-    screen = results.region_screen
-    if screen:
-        lines.append(("pruned region model not built: " if results.region_screen_proved else
-                      "region certification skipped: ") + screen)
-    if scope.get("scale") is not None and scope["kind"] != "none":
-        pris = results.prismatic
-        mixed = any(pris) and not all(pris)
-        unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
-        where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
-                 "max(peak |tau_i| on the trajectory, torque floor)")
-        eps = scope["tolerance"]
-        lines.append(f"s_i{unit} ({where}): " + ", ".join(
-            f"{j + 1} {v:.4g}" + ((" N" if pris[j] else " N m") if mixed else "")
-            for j, v in enumerate(scope["scale"]))
-            + (f"; {100 * eps:.4g} % of s_i: " + ", ".join(
-                f"{j + 1} {eps * v:.3g}" for j, v in enumerate(scope["scale"]))
-               if eps == eps else ""))
-    return lines
-
-
 def _format_summary(results):
     """The main job's summary as printed, from the typed results view
     (:class:`gd_analyze.store.results_view.Results`)."""
@@ -317,11 +269,46 @@ def _format_summary(results):
              f"{count(results.setpoints)} set points, s = {results.dominance_threshold:g}, "
              f"e = {results.negligible_threshold:g}", "", *results.ranking.text()]
     lines += ["", "simplified model torque error per joint:", *results.torque_error.text()]
-    lines += _effort_lines(results)
+    rows = effort_rows(results)     # each joint's peak |tau| against its effort limit
+    if rows:
+        lines += ["", "effort limits (peak |tau| of the full model against the robot's limit):",
+                  f"{'joint':<6}{'peak |tau|':>12}{'limit':>12}  {'units':<6}{'ratio':>7}  flag"]
+        for j, peak, limit, ratio, flag, unit in rows:
+            lines.append(f"{j:<6}{peak:>12.4g}{limit:>12.4g}  {unit:<6}{ratio:>7.3f}  {flag}")
+        over = [str(r[0]) for r in rows if r.exceeded]
+        if over:
+            lines.append(f"  joint{'s' if len(over) > 1 else ''} {', '.join(over)} exceed"
+                         f"{'' if len(over) > 1 else 's'} {'their' if len(over) > 1 else 'its'} "
+                         "effort limit along this trajectory")
     lines += _cost_lines(results.costs)
-    if results.guarantee is not None:           # the model built, as results.h5 stores it
+    region, scope = results.region, results.guarantee
+    if scope is not None:           # the model built, as results.h5 stores it: the region (one
+        # line per limit kind), the guarantee line (saying when the analysed trajectory leaves
+        # the region, which the guarantee then does not cover) and s_i per joint in N m
         lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
-        lines += _guarantee_lines(results)
+        lines += [] if region is None else list(region["lines"])
+        statement = scope["statement"]
+        if region is not None and region["covered"] is False and scope["kind"] == "region":
+            statement += ("; this trajectory is not covered: it leaves the region (the "
+                          "guarantee holds in the region, not on this trajectory)")
+        lines.append(f"guarantee: {statement}")
+        screen = results.region_screen
+        if screen:
+            lines.append(("pruned region model not built: " if results.region_screen_proved
+                          else "region certification skipped: ") + screen)
+        if scope.get("scale") is not None and scope["kind"] != "none":
+            pris = results.prismatic
+            mixed = any(pris) and not all(pris)
+            unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
+            where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
+                     "max(peak |tau_i| on the trajectory, torque floor)")
+            eps = scope["tolerance"]
+            lines.append(f"s_i{unit} ({where}): " + ", ".join(
+                f"{j + 1} {v:.4g}" + ((" N" if pris[j] else " N m") if mixed else "")
+                for j, v in enumerate(scope["scale"]))
+                + (f"; {100 * eps:.4g} % of s_i: " + ", ".join(
+                    f"{j + 1} {eps * v:.3g}" for j, v in enumerate(scope["scale"]))
+                   if eps == eps else ""))
     if results.inertia_check:                   # the proof of the model built
         lines += ([] if lines[-1].startswith(("guarantee:", "s_i")) else [""]) + [
             f"D_s: {results.inertia_check}"]
@@ -430,13 +417,14 @@ def check_rule_options(args: argparse.Namespace) -> None:
 
 
 def _payload(args):
-    """The --payload options as a Payload, or None; InputError for a shape without a mass."""
+    """The --payload options as a Payload (mass 0 with --payload-sweep alone: the swept loads'
+    shape, the arm analysed unloaded), or None; InputError for a shape without a mass."""
 
-    if args.payload is None:
+    if args.payload is None and getattr(args, "payload_sweep", None) is None:   # evaluate: none
         if any(args.payload_com) or any(args.payload_inertia):
-            raise InputError("--payload-com and --payload-inertia need --payload MASS")
+            raise InputError("--payload-com and --payload-inertia need --payload or --payload-sweep")
         return None
-    return Payload(float(args.payload), tuple(float(v) for v in args.payload_com),
+    return Payload(float(args.payload or 0.0), tuple(float(v) for v in args.payload_com),
                    tuple(float(v) for v in args.payload_inertia))
 
 
@@ -985,15 +973,6 @@ def cmd_control(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _identify_options(args):
-    if args.current and args.drive_gains is None:
-        raise InputError("--current needs --drive-gains K1,.. (tau = K i)", column="--current")
-    if args.drive_gains is not None and not args.current:
-        raise InputError("--drive-gains applies to currents: give --current",
-                         column="--drive-gains")
-    return IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
-
-
 def _comments(result, args):
     lines = [f"identified by gd-analyze {result.version}: {command_line(args)}",
              f"prior: {result.prior.source} (SHA-256 {result.prior.sha256})"]
@@ -1057,7 +1036,12 @@ def cmd_identify(args: argparse.Namespace) -> int:
         On bad input; the command line prints it as one line and exits 2.
     """
     robot = load_robot_arg(args)
-    options = _identify_options(args)
+    if args.current and args.drive_gains is None:
+        raise InputError("--current needs --drive-gains K1,.. (tau = K i)", column="--current")
+    if args.drive_gains is not None and not args.current:
+        raise InputError("--drive-gains applies to currents: give --current",
+                         column="--drive-gains")
+    options = IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
     outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
     train, valid = ([read_recording(path, n_joints=robot.n, current=options.current)
                      for path in paths] for paths in (args.recordings, args.validate))
@@ -1209,6 +1193,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     # over the region the merge needs no per-trajectory peaks of the recursive model
     proved = guarantee_region(loaded, args.guarantee, limits)[2]
     budget = args.rule == "budget"
+    if budget:          # an explicit model asked for beyond its size limit: before the sweep
+        derives_explicit(loaded, SimplifyOptions(explicit=args.explicit, form=args.form))
     size = sweep_size(len(trajectories), robot.n, 0 if masses is None else len(masses))
     check_free_space(outdir, size, "sweep.h5")      # before the sweep, which may take hours
     # the held-out trajectories of the budget rule's merged model (--held-out, at least 0):

@@ -22,12 +22,13 @@ import numpy as np
 
 from ..certify.regressor_bounds import joint_sum_arithmetic
 from ..dynamics.base_parameters import base_parameters
+from ..errors import InputError
 from ..simplify.deploy import guarantee_region, region_searches, robot_region
 from ..simplify.explicit_model import LADDER
 from ..simplify.region_memo import UNKEPT, Derivations
 from ..store import explicit_cache
 from ..symbolic.explicit import term_peaks
-from ..symbolic.explicit_estimate import is_expensive
+from ..symbolic.explicit_estimate import EXPENSIVE_TERMS, MAX_TERMS, estimate_terms
 from ..symbolic.pruning import contribution_peaks
 from . import compile_ahead
 
@@ -62,13 +63,27 @@ def derives_explicit(robot: Robot, options: SimplifyOptions) -> bool:
     bool
         True when the chapter rule or ``form="explicit"`` asks for it, when ``explicit`` is
         ``"always"``, or (``"auto"``) when it may be deployed (``form`` is not
-        ``"recursive"``) and its estimated size is cheap
-        (:func:`gd_analyze.symbolic.explicit_estimate.is_expensive`).
+        ``"recursive"``) and its estimated size is cheap (at most
+        :data:`~gd_analyze.symbolic.explicit_estimate.EXPENSIVE_TERMS` terms by
+        :func:`~gd_analyze.symbolic.explicit_estimate.estimate_terms`).
+
+    Raises
+    ------
+    InputError
+        Where it is asked for and estimated above
+        :data:`~gd_analyze.symbolic.explicit_estimate.MAX_TERMS` terms (its expansion would
+        run for hours), naming the option that asks for it and the recursive form instead.
     """
 
     rule, explicit, form = options.rule, options.explicit, options.form
-    return rule == "chapter" or form == "explicit" or explicit == "always" or (
-        explicit == "auto" and form != "recursive" and not is_expensive(robot))
+    asked, fix = (("--rule chapter", "--rule budget --explicit never") if rule == "chapter" else
+                  ("--form explicit", "--form recursive") if form == "explicit" else
+                  ("--explicit always", "--explicit never") if explicit == "always" else ("", ""))
+    terms = estimate_terms(robot)
+    if asked and terms > MAX_TERMS:
+        raise InputError(f"the explicit model of {robot.name} is estimated at {terms:,} terms, "
+                         f"above the limit of {MAX_TERMS:,}: use the recursive form ({fix})", column=asked)
+    return bool(asked) or explicit == "auto" and form != "recursive" and terms <= EXPENSIVE_TERMS
 
 
 def proves_over_region(robot: Robot, options: SimplifyOptions) -> bool:
@@ -184,22 +199,6 @@ def region_job(recursive: Future, robot: Robot, options: SimplifyOptions,
                            options.torque_floor, LADDER, derive)
 
 
-def _on_daemon(fn, *args) -> Future:
-    """``fn(*args)`` on a daemon thread of its own, as a Future: an interrupted run exits
-    without waiting for it (a pool's threads are joined at the interpreter's exit)."""
-    future: Future = Future()
-
-    def work():
-        if not future.set_running_or_notify_cancel():
-            return
-        try:
-            future.set_result(fn(*args))
-        except BaseException as exc:    # noqa: BLE001  handed to the caller's result()
-            future.set_exception(exc)
-    threading.Thread(target=work, name="gd-region", daemon=True).start()
-    return future
-
-
 def start_peaks(pool, robot, trajectory, options, derive=UNKEPT):
     """Submit the simplification's peak passes to a pool of threads, and start the region
     searches on a thread of their own where the model is proved over the region.
@@ -234,5 +233,16 @@ def start_peaks(pool, robot, trajectory, options, derive=UNKEPT):
     if derives_explicit(robot, options):
         jobs["explicit"] = pool.submit(explicit_job, *args)
     if proved and trajectory.q.shape[0] >= REGION_BESIDE_SETPOINTS:
-        jobs["region"] = _on_daemon(region_job, jobs["recursive"], robot, options, derive)
+        # on a daemon thread of its own, as a Future: an interrupted run exits without waiting
+        # for it (a pool's threads are joined at the interpreter's exit)
+        jobs["region"] = future = Future()
+
+        def work():
+            if not future.set_running_or_notify_cancel():
+                return
+            try:
+                future.set_result(region_job(jobs["recursive"], robot, options, derive))
+            except BaseException as exc:    # noqa: BLE001  handed to the caller's result()
+                future.set_exception(exc)
+        threading.Thread(target=work, name="gd-region", daemon=True).start()
     return jobs

@@ -36,6 +36,7 @@ from ..trajectory.trajectory import as_trajectory
 from .analyze import Analysis, analyze, analyze_to_file
 from .options import AnalysisOptions
 from .payload import payload_sweep
+from .peak_jobs import derives_explicit
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -157,7 +158,8 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
         simplified-model settings in results.h5 and the model.
     payload : Payload, optional
         A load fixed to the last link for the analysis
-        (:func:`gd_analyze.model.robot.with_payload`).
+        (:func:`gd_analyze.model.robot.with_payload`); one of mass 0 is no load, only the
+        shape (centre of mass, inertia) of ``payload_masses``' loads.
     payload_masses : sequence of float, optional
         Also rank the trajectory for each of these load masses [kg] of the payload's shape,
         on the arm without the payload (variables ``payload_*`` of results.h5); computed
@@ -176,7 +178,8 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     ------
     InputError
         If the output folder is not a folder, holds files gd-analyze did not write, or has no
-        room; or the payload range is invalid. Nothing is written then.
+        room; or the payload range is invalid; or an explicit model is asked for above its
+        size limit (:func:`gd_analyze.jobs.peak_jobs.derives_explicit`). Nothing is written then.
     OSError
         If the output folder cannot be written ("cannot write the output folder").
 
@@ -190,16 +193,18 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     outdir = Path(outdir)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)
-    extra = None
+    extra, unloaded = None, robot
     shape = Payload() if payload is None else payload
+    if payload is not None and payload.mass:            # mass 0: the swept loads' shape
+        robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
+    if options.simplify is not None:        # an explicit model too large: refused before any work
+        derives_explicit(robot, options.simplify)
     need = results_size(trajectory.n_setpoints, robot.n)
     check_free_space(outdir, need, "results.h5")        # before the payload sweep
     if payload_masses is not None:                      # computed before any output
         extra = embed_payload(payload_sweep(
-            robot, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
+            unloaded, trajectory, payload_masses, com=shape.com, inertia=shape.inertia,
             dominance=options.dominance, negligible=options.negligible))
-    if payload is not None:
-        robot = with_payload(robot, payload.mass, payload.com, payload.inertia)
     settings = _settings(options, settings, shape, robot, prefix)
     prefix = settings["c_prefix"]
     with staged_output(outdir, command="analyze") as stage, writing(outdir, stage):

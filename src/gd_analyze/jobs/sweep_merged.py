@@ -53,6 +53,7 @@ from ..store.sweep_view import merged_error_variables
 from ..symbolic.explicit_estimate import is_expensive
 from .control import model_cost, model_facts
 from .evaluate import coverages
+from .peak_jobs import derives_explicit
 
 if TYPE_CHECKING:                       # for the type hints only
     import xarray as xr
@@ -292,10 +293,10 @@ def budget_sweep_model(robot: Robot, trajectories: Sequence[Trajectory], sweep_d
 def _settings(robot, trajectories, provenance, explicit, form, guarantee, region):
     """The checked settings of :func:`budget_sweep_model`: (provenance, digest of the
     trajectories, whether the explicit model is derived, :func:`guarantee_region`'s triple)."""
-    SimplifyOptions(explicit=explicit, form=form, guarantee=guarantee)     # each one checked
+    options = SimplifyOptions(explicit=explicit, form=form, guarantee=guarantee)  # each checked
+    # asked for beyond its estimated size's limit: refused, as by the main job
+    derive = derives_explicit(robot, options) or explicit == "auto" and not is_expensive(robot)
     provenance = {**(provenance or {}), "kind": "sweep model", "trajectories": len(trajectories)}
-    derive = form == "explicit" or explicit == "always" or (
-        explicit == "auto" and not is_expensive(robot))
     return (provenance, trajectories_sha256(trajectories), derive,
             guarantee_region(robot, guarantee, region))
 

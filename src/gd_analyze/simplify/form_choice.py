@@ -20,6 +20,7 @@ import numpy as np
 
 from ..certify.positive_definite import with_inertia_check
 from ..dynamics.opcount import operation_counts
+from ..symbolic.explicit_estimate import EXPENSIVE_TERMS, estimate_terms
 from .choices import full_choices
 from .deploy import build_recursive, guarantee_region, recursive_selection, restored_rebuild
 from .explicit_model import (
@@ -286,7 +287,9 @@ class Deployment:
     ladder_skipped : str
         Why the ladder is not built, or "".
     form_note : str
-        Why the deployed form is not the one first chosen, or why the recursive one was, or "".
+        Why the deployed form is not the one first chosen, or why the recursive one was (also
+        where ``--explicit auto`` left the explicit model underived, estimated too large), or
+        "".
     region : Region or None
         The joint-limit region (None under the chapter rule or without limits).
     screen : dict or None
@@ -435,9 +438,13 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
         return dataclasses.replace(m, costs=costs, program_cache=m.program(),
                                    full_cost=dict(costs.get("explicit, full", m.full_cost)))
     model = with_costs(model)
-    if model.guarantee is None:
-        model = dataclasses.replace(model, guarantee=_trajectory_guarantee(
-            model, sel, trajectory, missing, region))
+    if model.guarantee is None and model.rule == "budget":     # the explicit budget model's
+        model = dataclasses.replace(model, guarantee=Guarantee(   # on its trajectory
+            "trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
+            scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
+            region_missing=missing, region=region,
+            method="sum of the dropped terms' peak contributions on the trajectory "
+                   "(triangle inequality)"))
     # D_s proved positive definite where the bound holds; parameters restored where it is
     # not, the bound and sampled error derived again for the model finally deployed
     rebuild = restored_rebuild(q, qd, qdd, region=region if proved else None,
@@ -455,6 +462,11 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
                         if replaced.guarantee is not None and replaced.guarantee.proved else
                         "is not positive definite at the sampled positions of the trajectory "
                         f"(smallest eigenvalue {check['sampled_min_eigenvalue']:.3g})."))
+    if explicit_peaks is None and options.explicit == "auto" and form != "recursive":
+        # not derived: estimated too large (gd_analyze.jobs.peak_jobs.derives_explicit)
+        form_note = (f"The deployed model is the recursive one: the explicit model was not "
+                     f"derived, its {estimate_terms(robot):,} estimated terms above the "
+                     f"{EXPENSIVE_TERMS:,} of --explicit auto.")
     if model.recursive is not None:             # its own bound, restored pairs included
         sel, skipped, rows = recursive_selection(model), _screened_ladder(screened), []
     if model.recursive is not None and not screened:        # the recursive form's ladder
@@ -465,17 +477,6 @@ def deploy(robot: Robot, trajectory: Motion, ranking: Ranking, part_peaks: PartP
                                 derive=derive, searched=None if searched is None
                                 else searched.rungs)
     return Deployment(model, other, sel, rows, skipped, form_note, region, screen, terms, counts)
-
-
-def _trajectory_guarantee(model, sel, trajectory, missing="", region=None):
-    """The explicit budget model's guarantee on its trajectory (None: chapter rule)."""
-    if model.rule != "budget":
-        return None
-    return Guarantee("trajectory", float(model.tolerance), bound=np.asarray(model.bound, float),
-                     scale=np.asarray(sel.scale, float), trajectory_sha256=trajectory.sha256,
-                     region_missing=missing, region=region,
-                     method="sum of the dropped terms' peak contributions on the trajectory "
-                            "(triangle inequality)")
 
 
 def _screened_ladder(screen):
