@@ -281,7 +281,8 @@ def _effort_lines(results):
 def _guarantee_lines(results):
     """The region (one line per limit kind), the guarantee line (saying when the analysed
     trajectory leaves the region, which the guarantee then does not cover) and s_i per
-    joint in N m, from the results view."""
+    joint in N m with how it was found (a region kind's as the analysis stored it), from the
+    results view."""
     region, scope = results.region, results.guarantee
     lines = [] if region is None else list(region["lines"])
     statement = scope["statement"]
@@ -297,7 +298,11 @@ def _guarantee_lines(results):
         pris = results.prismatic
         mixed = any(pris) and not all(pris)
         unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
-        where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
+        where = ((scope.get("scale_source") or "the largest |tau_i| found over the region, a "
+                  "lower bound of the region's largest")
+                 + (", or the torque floor where larger" if results.simplified is not None
+                    and results.simplified.torque_floor > 0 else "")
+                 if scope["kind"] == "region" else
                  "max(peak |tau_i| on the trajectory, torque floor)")
         eps = scope["tolerance"]
         lines.append(f"s_i{unit} ({where}): " + ", ".join(
