@@ -19,7 +19,8 @@ accepts, or a NAME:TIP given with --arms, e.g. a quadruped's leg), the script
    neutral position and at rest): the worst per-joint peak |tau - tau_rnea| / peak |tau_rnea_i|,
    and against the bound the file states (``bound``, EPS x s_i [N m or N]): the worst
    peak |tau - tau_rnea|_i / bound_i, at most 1 (the acceptance criterion; s_i is the
-   region's largest |tau_i| by default, so an error can exceed EPS x the trajectory's peak);
+   largest |tau_i| found over the region by default, so an error can exceed EPS x the
+   trajectory's peak);
 5. builds the exact model (EPS = 0) in-process, ``recursive_program(load_robot(URDF, base,
    tip))``, and compares it with rnea in the same way on 200 random states
    (``base_parameters.random_states``).

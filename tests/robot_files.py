@@ -116,3 +116,23 @@ def random_chain(n, seed=0, prismatic=True):
             "com": rng.uniform(-0.2, 0.2, 3), "inertia": np.trace(S) * np.eye(3) - S,
             "q_min": -lim, "q_max": lim, "qd_max": 2.0, "qdd_max": 4.0})
     return robot_from_chain(f"random-{n}", joints, [0.0, 0.0, -9.81])
+
+
+def chain_toml(n, limits=True, last_qd_max=True):
+    """The robot file (TOML text) of an n-joint arm: parallel joint axes but for a twist of
+    90 deg at joint n - 1 (its explicit model derives in seconds at n = 10); with ``limits``,
+    joint limits of +-170 deg; without ``last_qd_max``, no velocity limit on joint n (no
+    joint-limit region); 180 deg/s and 360 deg/s^2 otherwise."""
+    lines = [f'name = "chain-{n}"', "gravity = [0.0, -9.8062, 0.0]", ""]
+    for k in range(n):
+        length, mass = 0.3 - 0.01 * k, 2.0 - 0.1 * k
+        inertia = mass * length**2 / 12
+        twist = k == n - 2
+        lines += ["[[link]]", f"d = {0.05 if twist else 0.0}", f"a = {length!r}",
+                  f"alpha_deg = {90.0 if twist else 0.0}", "offset_deg = 0.0", f"mass = {mass!r}",
+                  f"com = [{-length / 2!r}, 0.01, 0.005]",
+                  f"inertia = [0.002, {inertia!r}, {inertia!r}, 0.0001, 0.0, 0.0]",
+                  *(["q_limits_deg = [-170.0, 170.0]"] if limits else []),
+                  *(["qd_max_deg = 180.0"] if last_qd_max or k < n - 1 else []),
+                  "qdd_max_deg = 360.0", ""]
+    return "\n".join(lines)

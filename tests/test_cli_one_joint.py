@@ -81,7 +81,7 @@ def test_one_joint_main_job_evaluate_and_plan(kind, tmp_path, capsys):
     guarantee = model_json["guarantee"]
     assert guarantee["kind"] == "region" and "proved" in guarantee["statement"]
     oracle = _urdf_oracle(robot) if kind == "urdf" else _toml_oracle()
-    # s_1 is the region's largest |tau_1|: a lower bound found by search, and reached at
+    # s_1 is the largest |tau_1| found over the region: a lower bound by search, reached at
     # its scale_state (Pinocchio's torque there)
     q, qd, qdd = guarantee["scale_state"][0]
     at_state = abs(pin.rnea(oracle, oracle.createData(), np.array([q]), np.array([qd]),

@@ -206,7 +206,7 @@ def test_tolerance_help_says_the_region_is_the_default(capsys):
     from gd_analyze.cli.parsing import analyze_parser
 
     text = " ".join(analyze_parser().format_help().split())
-    assert "by default the largest |tau_i| over the region" in text
+    assert "by default the largest |tau_i| found over the region" in text
     assert "within EPS times its scale on the analysed trajectory" not in text
 
 

@@ -16,6 +16,7 @@ import json
 import numpy as np
 import pinocchio as pin
 import pytest
+from robot_files import chain_toml
 
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
@@ -24,25 +25,6 @@ from gd_analyze.store.model_file import load_model
 from gd_analyze.trajectory.trajectory import read_trajectory
 
 EPS = 0.01          # the main job's default --tolerance
-
-
-def _chain_toml(n, limits=True, last_qd_max=True):
-    """An n-joint arm: parallel joint axes but for a twist of 90 deg at joint n - 1; with
-    ``limits``, joint limits of +-170 deg; without ``last_qd_max``, no velocity limit on joint n
-    (no joint-limit region)."""
-    lines = [f'name = "chain-{n}"', "gravity = [0.0, -9.8062, 0.0]", ""]
-    for k in range(n):
-        length, mass = 0.3 - 0.01 * k, 2.0 - 0.1 * k
-        inertia = mass * length**2 / 12
-        twist = k == n - 2
-        lines += ["[[link]]", f"d = {0.05 if twist else 0.0}", f"a = {length!r}",
-                  f"alpha_deg = {90.0 if twist else 0.0}", "offset_deg = 0.0", f"mass = {mass!r}",
-                  f"com = [{-length / 2!r}, 0.01, 0.005]",
-                  f"inertia = [0.002, {inertia!r}, {inertia!r}, 0.0001, 0.0, 0.0]",
-                  *(["q_limits_deg = [-170.0, 170.0]"] if limits else []),
-                  *(["qd_max_deg = 180.0"] if last_qd_max or k < n - 1 else []),
-                  "qdd_max_deg = 360.0", ""]
-    return "\n".join(lines)
 
 
 def _run(args, capsys):
@@ -56,11 +38,11 @@ def _run(args, capsys):
 def test_every_command_on_a_chain_of_n_joints(n, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     robot_file = tmp_path / "chain.toml"
-    robot_file.write_text(_chain_toml(n, limits=n == 10, last_qd_max=n == 10))
+    robot_file.write_text(chain_toml(n, limits=n == 10, last_qd_max=n == 10))
     planned = robot_file
     if n == 12:                 # planning needs every velocity limit: the arm with joint 12's
         planned = tmp_path / "planned.toml"
-        planned.write_text(_chain_toml(n, limits=False))
+        planned.write_text(chain_toml(n, limits=False))
     start = ",".join(str(10 * (-1) ** k) for k in range(n))
     goal = ",".join(str(-20 * (-1) ** k) for k in range(n))
     code, _, err = _run(["plan", planned, "-o", "t.csv", "--setpoints", "5",

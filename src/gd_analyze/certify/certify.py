@@ -58,10 +58,7 @@ METHOD = ("per (base parameter, part) pair: |beta| x upper bound of its coeffici
           "the sum of its pairs' bounds there and the bound of their sum (the joint sum: the "
           "pairs' coefficient enclosures on the box added as signed intervals, beta included, "
           "before the acceleration limits, the quadratic form in qd and the gravity term are "
-          "bounded together, so contributions of opposite signs cancel); "
-          "scale s_i: the largest "
-          "|tau_i| found by sampling the region (vertices of qd and qdd) and local "
-          "maximisation (L-BFGS-B), a lower bound of the true maximum")
+          "bounded together, so contributions of opposite signs cancel)")
 
 
 @dataclass(frozen=True, eq=False)

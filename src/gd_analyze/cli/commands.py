@@ -284,7 +284,8 @@ def _format_summary(results):
     region, scope = results.region, results.guarantee
     if scope is not None:           # the model built, as results.h5 stores it: the region (one
         # line per limit kind), the guarantee line (saying when the analysed trajectory leaves
-        # the region, which the guarantee then does not cover) and s_i per joint in N m
+        # the region, which the guarantee then does not cover) and s_i per joint in N m with
+        # how it was found (a region kind's as the analysis stored it)
         lines += ([] if lines[-1].startswith(("simplified model", "  it does")) else [""])
         lines += [] if region is None else list(region["lines"])
         statement = scope["statement"]
@@ -300,7 +301,11 @@ def _format_summary(results):
             pris = results.prismatic
             mixed = any(pris) and not all(pris)
             unit = "" if mixed else f" [{'N' if all(pris) else 'N m'}]"
-            where = ("the region's largest |tau_i|" if scope["kind"] == "region" else
+            where = ((scope.get("scale_source") or "the largest |tau_i| found over the region, "
+                      "a lower bound of the region's largest")
+                     + (", or the torque floor where larger" if results.simplified is not None
+                        and results.simplified.torque_floor > 0 else "")
+                     if scope["kind"] == "region" else
                      "max(peak |tau_i| on the trajectory, torque floor)")
             eps = scope["tolerance"]
             lines.append(f"s_i{unit} ({where}): " + ", ".join(

@@ -280,9 +280,10 @@ def _add_region_arguments(p, what="the region over which the bound is proved (--
                         f"1/{DEFAULT_QDD_PER_QD:g} s, which the printed region says)")
 
 
-def _add_budget_arguments(p, where="s_i: by default the largest |tau_i| over the region (see "
-                          "--guarantee and --q-limits), with --guarantee trajectory max(peak "
-                          "|tau_i| on the analysed trajectory, TAU)",
+def _add_budget_arguments(p, where="s_i: by default the largest |tau_i| found over the region "
+                          "(a search: a lower bound of the region's largest; see --guarantee "
+                          "and --q-limits), with --guarantee trajectory max(peak |tau_i| on the "
+                          "analysed trajectory, TAU)",
                           guarantee="the trajectory only"):
     """The simplified model's options; ``where``: the scale of the budget in these words;
     ``guarantee``: the second choice of --guarantee in these words."""

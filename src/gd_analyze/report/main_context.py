@@ -1166,7 +1166,9 @@ def provenance_rows(results: Results, created: str, version: str,
         value = _setting(asked, built)
         if value is not None and k == 2:                    # the torque floor
             value = (say("no_floor", region=results.guarantee_kind == "region",
-                         drives=results.robot_record.has_drives) if value == "0" else
+                         drives=results.robot_record.has_drives,
+                         source=_scope((results.guarantee or {}).get("scale_source", "")))
+                     if value == "0" else
                      value + " N m" + (", or N for a prismatic joint"
                                        if any(results.prismatic) else ""))
         # the explicit model, the guarantee asked for: in words

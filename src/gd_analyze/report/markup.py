@@ -103,13 +103,13 @@ def code(text: str) -> str:
 
 #: The simplified model's symbols as the core's plain-text statements write them, and the
 #: letter each is set as with its subscript (s_i: the joint's torque scale), or qd, qdd dotted.
-_STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s|qdd|qd)\b")
+_STATEMENT_SYMBOLS = re.compile(r"\b(s_i|D_s|h_s|c_s|tau_s|tau_i|qdd|qd)\b")
 
 
 def scope(statement: str) -> str:
     """A statement of the core (plain text: a guarantee's, a screen's, a proof's) as the
     reports write it: ``s_i`` as s with subscript i, ``D_s``, ``h_s``, ``c_s`` and ``tau_s``
-    as D, h, c and tau with subscript s; qd and qdd as q with one or two dots; a space
+    as D, h, c and tau with subscript s, ``tau_i`` as tau with subscript i; qd and qdd as q with one or two dots; a space
     before % as a non-breaking one (no line break between "1" and "%").
 
     Parameters

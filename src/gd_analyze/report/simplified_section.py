@@ -818,7 +818,8 @@ def _recursive_text(s, eps, floor):
                floor=f"{floor:g}" if floor else "", pairs=s.pairs, dropped=s.pairs_dropped,
                region=s.guarantee_kind == "region", drives=s.has_drives,
                scope=_scope(s, exact=exact), ways=bound_ways(g.get("bound_method") or ()),
-               arithmetic=g.get("joint_sum_arithmetic", ""))
+               arithmetic=g.get("joint_sum_arithmetic", ""),
+               source=scope_markup(g.get("scale_source", "")))
 
 
 def bound_ways(method: Sequence[str]) -> list[tuple[str, str]]:

@@ -496,18 +496,9 @@ def _region_model(robot, base, region, tolerance, pb, pruned, sampled=True):
         scale_state=pb.scale_state, sampled_error=err, region=region, tilings=tilings,
         decomposed=decomposed, bound_method=how,
         joint_sum_arithmetic=joint_sum_arithmetic(robot.n),
-        method=f"{METHOD}; {pb.boxes} boxes, {pb.positions.shape[0]} sampled positions"
-               + _unrefined(robot))
-    return rec, guarantee
-
-
-def _unrefined(robot):
-    """The clause saying s_i was not polished by local maximisation (beyond
-    :data:`gd_analyze.certify.region.REFINE_JOINTS` joints), or ""."""
-
-    return "" if robot.n <= REFINE_JOINTS else (
-        f"; s_i of this {robot.n}-joint arm: the largest sampled |tau_i|, without the local "
-        f"maximisation (done up to {REFINE_JOINTS} joints)")
+        scale_positions=pb.positions.shape[0], scale_polished=robot.n <= REFINE_JOINTS)
+    return rec, dataclasses.replace(guarantee, method=f"{METHOD}; {pb.boxes} boxes; scale s_i: "
+                                                      f"{guarantee.scale_source()}")
 
 
 def trajectory_guarantee(robot: Robot, base: BaseParameters, rec: RecursiveModel,
@@ -1125,12 +1116,11 @@ def _exact_model(robot, base, region, tolerance, found):
         "region", float(tolerance), bound=np.zeros(n), scale=found.scale.copy(),
         q_min=region.q_min, q_max=region.q_max, qd_max=region.qd_max, qdd_max=region.qdd_max,
         scale_state=found.scale_state, sampled_error=np.zeros(n), region=region,
-        method=("the exact recursive model (only pairs proved identically zero left out: its "
-                "error is 0 at every state); "
-                + found.text() + "; scale s_i: the largest |tau_i| found by sampling the "
-                "region (vertices of qd and qdd) and local maximisation (L-BFGS-B), a lower "
-                "bound of the true maximum" + _unrefined(robot)))
-    return rec, guarantee
+        scale_positions=region_values(robot, base, region)[0].shape[0],
+        scale_polished=n <= REFINE_JOINTS)
+    return rec, dataclasses.replace(guarantee, method=(
+        "the exact recursive model (only pairs proved identically zero left out: its error is "
+        "0 at every state); " + found.text() + "; scale s_i: " + guarantee.scale_source()))
 
 
 def restored_rebuild(q: np.ndarray | None, qd: np.ndarray | None, qdd: np.ndarray | None,

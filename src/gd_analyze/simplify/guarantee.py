@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..certify.region import Region, beyond_limits
+from ..certify.region import REFINE_JOINTS, Region, beyond_limits
 from ..dynamics.dalembert import gd_terms
 from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF_CLAUSE
@@ -136,8 +136,9 @@ class Guarantee:
     bound : ndarray, shape (n,)
         The bound per joint [N m or N].
     scale : ndarray, shape (n,)
-        s_i [N m or N]: over R, max(largest |tau_i| found, torque floor); on trajectories,
-        max(peak |tau_i|, torque floor).
+        s_i [N m or N]: over R, max(largest |tau_i| found, torque floor), the largest found a
+        lower bound of R's largest (how it was found: ``scale_positions``,
+        ``scale_polished``); on trajectories, max(peak |tau_i|, torque floor).
     q_min, q_max, qd_max, qdd_max : ndarray, shape (n,), optional
         The region (region kind) [rad, m; rad/s, m/s; rad/s^2, m/s^2]; a continuous joint
         is given as [-pi, pi].
@@ -184,6 +185,12 @@ class Guarantee:
         Region kind: the enclosures the joint sums were added on,
         :func:`gd_analyze.certify.regressor_bounds.joint_sum_arithmetic` (``"both"``: balls
         and interval boxes intersected; ``"ball"``); "" where not stored.
+    scale_positions : int
+        Region kind: the sampled positions of R at which s_i was searched (at each, the worst
+        velocity vertex and acceleration); 0 where not stored (a file written before it was).
+    scale_polished : bool or None
+        Region kind: whether the best samples were then polished by local maximisation
+        over q (:data:`gd_analyze.certify.region.REFINE_JOINTS`); None where not stored.
     read_back : bool
         Read from a model file (:meth:`from_dict`): a trajectory kind's
         ``region_sampled_error`` is the file's figure, not measured again (that is the main
@@ -217,6 +224,8 @@ class Guarantee:
     decomposed: tuple = ()
     bound_method: tuple = ()
     joint_sum_arithmetic: str = ""
+    scale_positions: int = 0
+    scale_polished: bool | None = None
     read_back: bool = False
 
     def __post_init__(self):
@@ -244,6 +253,37 @@ class Guarantee:
         rel = np.asarray(np.nan if self.kind == "region" or self.region_sampled_error is None
                          else self.region_sampled_error, float)
         return float(100.0 * np.nanmax(rel)) if np.isfinite(rel).any() else None
+
+    def scale_source(self) -> str:
+        """How a region kind's s_i was found, in one clause, as the outputs print it.
+
+        Returns
+        -------
+        str
+            From :attr:`scale_positions` and :attr:`scale_polished`: the largest |tau_i| found
+            at the sampled positions, polished by local maximisation or not, always "a lower
+            bound of the region's largest" (a search, not a proof; so the budget EPS s_i is
+            at most EPS times the region's true largest, an absolute bound all the same);
+            without them (a file written before they were stored) the clause without the
+            search's details; "" for the trajectory kind.
+
+        Examples
+        --------
+        >>> g = Guarantee("region", 0.01, np.zeros(1), np.ones(1), scale_positions=1014,
+        ...               scale_polished=False)
+        >>> g.scale_source()
+        "the largest |tau_i| at 1,014 sampled positions of the region, not polished by local maximisation (done up to 7 joints), a lower bound of the region's largest"
+        """
+        if self.kind != "region":
+            return ""
+        lower = "a lower bound of the region's largest"
+        if not self.scale_positions or self.scale_polished is None:
+            return f"the largest |tau_i| found over the region, {lower}"
+        where = f"{self.scale_positions:,} sampled positions of the region"
+        return (f"the largest |tau_i| found at {where} and polished by local maximisation, "
+                f"{lower}" if self.scale_polished else
+                f"the largest |tau_i| at {where}, not polished by local maximisation (done up "
+                f"to {REFINE_JOINTS} joints), {lower}")
 
     def statement(self) -> str:
         """The scope of the bound in one sentence, as every output prints it.
@@ -412,6 +452,9 @@ class Guarantee:
         if self.kind == "region" and self.bound_method:
             out.update(bound_method=list(self.bound_method),
                        joint_sum_arithmetic=self.joint_sum_arithmetic)
+        if self.kind == "region" and self.scale_positions and self.scale_polished is not None:
+            out.update(scale_positions=int(self.scale_positions),
+                       scale_polished=bool(self.scale_polished))
         return out
 
     @classmethod
@@ -480,6 +523,8 @@ class Guarantee:
                 raise InputError(f"expected {n} names", path, column="guarantee.bound_method")
             return cls(**common, **limits, bound_method=method,
                        joint_sum_arithmetic=str(spec.get("joint_sum_arithmetic", "")),
+                       scale_positions=int(spec.get("scale_positions", 0)),
+                       scale_polished=spec.get("scale_polished"),
                        sampled_error=arr("sampled_error", required=False),
                        tilings=tuple(decode_tree(c) for c in spec.get("tilings") or ()),
                        decomposed=tuple((decode_tree(a), decode_tree(b)) for a, b in

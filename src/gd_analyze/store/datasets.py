@@ -167,6 +167,8 @@ def guarantee_fields(model: SimplifiedModel,
         ``simplified_guarantee_statement`` (:meth:`gd_analyze.simplify.simplified.SimplifiedModel.scope`, the one sentence
         every output prints) and, with a guarantee, ``simplified_guarantee_tolerance`` (EPS)
         and, with a way per joint, ``simplified_guarantee_joint_sum_arithmetic``;
+        region kind: ``simplified_guarantee_scale_source``, how s_i was found
+        (:meth:`~gd_analyze.simplify.guarantee.Guarantee.scale_source`);
         with a region, :func:`region_fields`' ``region_*``.
     """
     g: Any = model.guarantee       # a Guarantee or None
@@ -175,6 +177,8 @@ def guarantee_fields(model: SimplifiedModel,
     if g is None:
         return {}, attrs
     attrs[Attr.SIMPLIFIED_GUARANTEE_TOLERANCE] = float(g.tolerance)
+    if g.kind == "region":
+        attrs[Attr.SIMPLIFIED_GUARANTEE_SCALE_SOURCE] = g.scale_source()
     where = "over the region" if g.kind == "region" else "on the trajectory"
     region_vars, region_attrs = region_fields(g.region)
     attrs.update(region_attrs)
@@ -284,8 +288,9 @@ def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     dict or None
         ``kind``, ``statement``, ``tolerance`` (NaN without a guarantee), ``bound`` and
         ``scale`` (ndarray (n,), or None), ``bound_method`` (tuple of str, () where not
-        stored) and ``joint_sum_arithmetic`` ("" where not stored); None for a dataset
-        written by an older version (without a guarantee).
+        stored), ``joint_sum_arithmetic`` and ``scale_source`` (how a region kind's s_i was
+        found; "" where not stored); None for a dataset written by an older version
+        (without a guarantee).
     """
     a = ds.attrs
     if Attr.SIMPLIFIED_GUARANTEE_STATEMENT not in a:
@@ -298,7 +303,8 @@ def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
                                ("scale", Var.SIMPLIFIED_GUARANTEE_SCALE))},
             "bound_method": tuple(str(m) for m in ds[Var.SIMPLIFIED_GUARANTEE_BOUND_METHOD].values)
             if Var.SIMPLIFIED_GUARANTEE_BOUND_METHOD in ds.variables else (),
-            "joint_sum_arithmetic": str(a.get(Attr.SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC, ""))}
+            "joint_sum_arithmetic": str(a.get(Attr.SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC, "")),
+            "scale_source": str(a.get(Attr.SIMPLIFIED_GUARANTEE_SCALE_SOURCE, ""))}
 
 
 def joint_units(prismatic: Sequence[bool] | np.ndarray, which: str) -> list[str]:

@@ -258,6 +258,7 @@ class Attr(_Provenance):
     SIMPLIFIED_GUARANTEE_JOINT_SUM_ARITHMETIC: Final = \
         "simplified_guarantee_joint_sum_arithmetic"
     SIMPLIFIED_GUARANTEE_KIND: Final = "simplified_guarantee_kind"
+    SIMPLIFIED_GUARANTEE_SCALE_SOURCE: Final = "simplified_guarantee_scale_source"
     SIMPLIFIED_GUARANTEE_STATEMENT: Final = "simplified_guarantee_statement"
     SIMPLIFIED_GUARANTEE_TOLERANCE: Final = "simplified_guarantee_tolerance"
     SIMPLIFIED_INERTIA_CHECK_LOWER_BOUND: Final = "simplified_inertia_check_lower_bound"
