@@ -201,6 +201,19 @@ def shared_main():
     return get
 
 
+#: The PUMA 560's main job with a payload sweep and every figure's column twin, no
+#: verification (:func:`column_run`).
+COLUMN_RUN = ("puma560", SHIPPED, "--payload-sweep", "0:1:0.5", "--no-verify",
+              "--column-figures")
+
+
+def column_run(shared_main):
+    """The output folder of :data:`COLUMN_RUN` (:func:`shared_main`), for the tests of the
+    column figures (tests/report/test_figure_print.py, test_main_figures.py). Shared: read
+    only."""
+    return shared_main(*COLUMN_RUN)
+
+
 def printed_by(run):
     """What the shared run ``run`` (an output folder :func:`shared_main` returned) printed."""
     return (run.parent / "printed.txt").read_text(encoding="utf-8")
@@ -310,6 +323,25 @@ def two_link_control(folder, setpoints):
                  "-o", str(folder / "control"), "-q"]) == 0
     with xr.open_dataset(folder / "control" / "control.h5") as ds:
         return ds.load()
+
+
+@pytest.fixture(scope="session")
+def shared_two_link_control():
+    """:func:`two_link_control`'s runs, each built once a session (:func:`built_once`) for the
+    tests that read them (tests/report/test_control_text.py).
+
+    ``shared_two_link_control(setpoints)`` -> ``(folder, dataset)``: the folder of the plan
+    (``two.csv``), the main job (``main``) and the control run (``control``), shared: read
+    only; the control dataset loaded afresh on each call (a test may change its own copy).
+    """
+    import xarray as xr
+
+    def get(setpoints):
+        folder = built_once(f"two-link-control-{setpoints}",
+                            lambda f: two_link_control(f, setpoints))
+        with xr.open_dataset(folder / "control" / "control.h5") as ds:
+            return folder, ds.load()
+    return get
 
 
 def pytest_configure(config):

@@ -14,7 +14,7 @@ import shlex
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import SHIPPED, built_once, two_link_control
+from conftest import SHIPPED, built_once
 from html_checks import context_texts, html_text
 
 from gd_analyze import load_robot
@@ -35,8 +35,8 @@ CONFIGS = {"budget-recursive": ["--rule", "budget", "--form", "recursive"],
            "chapter": ["--rule", "chapter"],
            "gravity-dropped-recursive": ["--form", "recursive", "--tolerance", "0.1",
                                          "--guarantee", "trajectory"],
-           "gravity-dropped-explicit": ["--form", "explicit", "--tolerance", "0.05",
-                                        "--guarantee", "trajectory"]}
+           # tests/report/test_text_truth.py's run of the same name: one main job for both
+           "gravity-dropped-explicit": ["--form", "explicit", "--tolerance", "0.05"]}
 
 
 def _text(html):
@@ -232,15 +232,16 @@ def test_noise_floor_row_in_the_notation_of_the_torque_difference_table():
     assert len(cells) == 3 and all("e-" in c for c in cells), rows
 
 
-def test_verdict_tolerance_option_reaches_the_report(tmp_path):
+def test_verdict_tolerance_option_reaches_the_report(tmp_path, shared_two_link_control):
     """``control --verdict-tolerance RAD,M``: checked (exit 2 on a bad value), stored in
-    control.h5 and stated in the verdict and the provenance."""
+    control.h5 and stated in the verdict and the provenance. The model and trajectory are
+    the shared two-link run's (11 set points: the option's path does not depend on the
+    count), read only; the control run is this test's own."""
     assert main(["control", "x.json", "y.csv", "--verdict-tolerance", "-1"]) == 2
     assert main(["control", "x.json", "y.csv", "--verdict-tolerance", "1,2,3"]) == 2
-    csv = tmp_path / "two.csv"
-    assert main(["plan", "two-link", "-o", str(csv)]) == 0
-    assert main(["two-link", str(csv), "-o", str(tmp_path / "main"), "-q", "--no-report"]) == 0
-    argv = ["control", str(tmp_path / "main" / "simplified_model.json"), str(csv),
+    shared, _ = shared_two_link_control(11)
+    csv = shared / "two.csv"
+    argv = ["control", str(shared / "main" / "simplified_model.json"), str(csv),
             "-o", str(tmp_path / "control"), "-q", "--verdict-tolerance", "0.002,0.004"]
     assert main(list(argv)) == 0
     with xr.open_dataset(tmp_path / "control" / "control.h5") as ds:
@@ -289,16 +290,16 @@ def test_no_code_names_in_the_control_text(built):
     assert "joint 1 [rad]" in control
 
 
-def test_settings_said_once_and_markers_as_drawn(tmp_path):
+def test_settings_said_once_and_markers_as_drawn(shared_two_link_control):
     # presentation: the summary listed "20, 20, 20, ... rad/s", the integrator row
     # printed "rtol = 1.00000e-08", Fig. 2's caption said "markers: set points" where every
     # k-th is marked, and the noise scale was "the joint's scale" in one place and "the
     # joint's range of motion" in another
     from gd_analyze.report.control import control_figures
 
-    ds = two_link_control(tmp_path, 200)
+    folder, ds = shared_two_link_control(200)       # shared, read only
     assert np.all(ds.attrs["wn"] == 20) and np.all(ds.attrs["zeta"] == 1)   # README defaults
-    text = _text((tmp_path / "control" / "control_report.html").read_text())
+    text = _text((folder / "control" / "control_report.html").read_text())
     summary = text[text.index("two-link along"):text.index("The arm, simulated")]
     assert "\u03c9 n = 20 rad/s on every joint, \u03b6 = 1 on every joint." in summary, summary
     assert f"rtol = {float(ds.attrs['rtol']):g}, atol = {float(ds.attrs['atol']):g}" in text
@@ -339,32 +340,33 @@ def test_settings_said_once_and_markers_as_drawn(tmp_path):
         assert -(-200 // k) <= 12                     # at most 12 markers a line
 
 
-def test_the_error_caption_names_only_the_controllers_drawn(tmp_path):
+def test_the_error_caption_names_only_the_controllers_drawn(shared_two_link_control):
     """Oracle: the curves Fig. 1 draws (their labels). A controller whose tracking error is
     integrator noise on every joint has no curve and no markers, so its caption does not give
     its first marker (the full-model controller without an initial offset was listed)."""
     from gd_analyze.report.control import CONTROLLER_LABELS, control_figures
 
-    ds = two_link_control(tmp_path, 200)
+    folder, ds = shared_two_link_control(200)       # shared, read only
     figure = control_figures(ds)["error"]
     drawn = {line.get_label() for ax in figure.axes for line in ax.get_lines()
              if not line.get_label().startswith("_")}
     assert drawn and drawn < set(CONTROLLER_LABELS.values())   # some controller is not drawn
-    text = _text((tmp_path / "control" / "control_report.html").read_text())
+    text = _text((folder / "control" / "control_report.html").read_text())
     caption = text[text.index("Figure 1."):text.index("Figure 2.")]
     named = set(re.findall(r"set point[s]? (?:\d+, |\d+ and )*?\d+ \(([^)]+)\)", caption)) | set(
         re.findall(r"(?:, |and )\d+ \(([^)]+)\)", caption))
     assert named == drawn, (named, drawn, caption)
 
 
-def test_a_joint_type_whose_torque_difference_is_noise_reads_as_the_table(tmp_path):
+def test_a_joint_type_whose_torque_difference_is_noise_reads_as_the_table(
+        shared_two_link_control):
     """The PR2 (prismatic torso) said "by at most 3.30e-06 N m, 0 N" where Table 3.1 gives
     joint 1's difference as \u2261 0: a value at or below its joint's noise floor is said
     \u2261 0 in the summary and the verdict too, never as a measured 0. Oracle: the table's
     rule, the stored noise floor."""
     from gd_analyze.report.control import dataset_verdict
 
-    ds = two_link_control(tmp_path, 11)
+    _, ds = shared_two_link_control(11)     # shared; this test changes its own loaded copy
     ds["joint_type"] = ds["joint_type"].copy(data=np.array(["revolute", "prismatic"], object))
     peak = ds["tau_difference_peak"].values
     ds["tau_difference_floor"].values[:] = [peak[0] / 2, 2 * peak[1]]   # joint 2: noise

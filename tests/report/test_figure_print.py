@@ -10,7 +10,7 @@ Stanford arm (a prismatic joint 3) and the UR5.
 import matplotlib
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, column_run
 from figure_checks import (
     code_names,
     column_twins,
@@ -309,15 +309,10 @@ def test_payload_figure_at_page_and_column_width(payload_figures):
     assert [t.get_text() for t in heat.get_yticklabels()][:2] == ["D(1,1)", "D(1,2)"]
 
 
-def test_every_figure_file_of_the_main_job_has_a_column_twin(tmp_path):
+def test_every_figure_file_of_the_main_job_has_a_column_twin(shared_main):
     """The main job with a payload sweep writes each figure at page width and as
     <name>_column, 3.5 in wide (the PDF's MediaBox)."""
-    from gd_analyze.cli import main
-
-    out = tmp_path / "o"
-    assert main(["puma560", str(ROOT / "data" / "puma560_trajectory.csv"), "-o", str(out),
-                 "--payload-sweep", "0:1:0.5", "--no-verify", "-q", "--column-figures"]) == 0
-    folder = out / "figures"
+    folder = column_run(shared_main) / "figures"
     assert (folder / "fig_payload_dominance_column.pdf").is_file()
     assert not column_twins(folder), column_twins(folder)
 

@@ -4,7 +4,7 @@ drawn above the combined curve, and column-width figures only on request."""
 
 import numpy as np
 import pytest
-from conftest import SHIPPED
+from conftest import SHIPPED, column_run
 
 from gd_analyze.report import main as report
 from gd_analyze.report.main_context import zero_mask
@@ -99,19 +99,21 @@ def test_armature_curve_drawn_above_the_combined_one(drives):
             assert PART_STYLE["arm"]["label"] not in labels
 
 
-def test_column_figures_only_on_request(drives, tmp_path):
+def test_column_figures_only_on_request(drives, shared_main):
     """write_report writes no <name>_column file by default (latency); with
     column_figures=True every page-width figure has its 3.5-in twin; the main job's
-    --column-figures asks for them."""
+    --column-figures asks for them. The reports are shared runs' own (the main job's
+    write_report without column_figures, and with them: test_figure_print's run), not
+    written a second time here."""
+    import inspect
+
     from gd_analyze.cli.parsing import analyze_parser
 
     path, _ = drives
-    plain = report.write_report(path, tmp_path / "plain", formats=("html",))
-    names = [p.name for p in plain]
+    assert inspect.signature(report.write_report).parameters["column_figures"].default is False
+    names = [p.name for p in path.parent.rglob("*")]
     assert "fig_3_10_D.pdf" in names and not any("_column" in n for n in names)
-    both = report.write_report(path, tmp_path / "both", formats=("html",),
-                               column_figures=True)
-    stems = {p.stem for p in both if p.parent.name == "figures"}
+    stems = {p.stem for p in (column_run(shared_main) / "figures").iterdir()}
     page = {s for s in stems if not s.endswith("_column")}
     assert page and {f"{s}_column" for s in page} <= stems
     assert analyze_parser().parse_args(["puma560", "x.csv"]).column_figures is False

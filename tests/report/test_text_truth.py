@@ -13,7 +13,7 @@ import re
 import numpy as np
 import pytest
 import xarray as xr
-from conftest import ROOT, SHIPPED
+from conftest import ROOT, SHIPPED, built_once
 from html_checks import context_texts, html_table
 from html_checks import html_text as _text
 
@@ -142,15 +142,36 @@ def test_provenance_states_each_setting_once_and_no_contradicting_error(stanford
     assert values["guarantee asked for"].startswith("over the joint-limit region where")
 
 
-def test_verification_says_how_many_set_points_it_checked(tmp_path):
-    robot = load_robot("two-link")
-    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3], n_setpoints=2101)
-    ds = analyze(robot, trajectory, AnalysisOptions(formulations=False)).dataset
+@pytest.fixture(scope="module")
+def two_link_runs():
+    """The two-link arm's analysis (no formulations, verified) of a quintic move of
+    ``setpoints`` set points and its HTML report, made once a session per count (conftest's
+    built_once) for the tests of the verification's count and of Sec. 2's marks:
+    ``get(setpoints)`` -> ``(dataset, folder)``, the dataset read back from
+    ``folder / "results.h5"``, the report in ``folder / "out"``. Shared: read only."""
+    from gd_analyze.store.schema import open_results
+
+    def build(folder, setpoints):
+        robot = load_robot("two-link")
+        trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3],
+                                  n_setpoints=setpoints)
+        ds = analyze(robot, trajectory, AnalysisOptions(formulations=False)).dataset
+        write_dataset(ds, folder / "results.h5")
+        report.write_report(folder / "results.h5", folder / "out", formats=("html",))
+
+    def get(setpoints):
+        folder = built_once(f"text-truth-two-link-{setpoints}",
+                            lambda f: build(f, setpoints))
+        with open_results(folder / "results.h5", lazy=True) as ds:
+            return ds.load(), folder
+    return get
+
+
+def test_verification_says_how_many_set_points_it_checked(two_link_runs):
+    ds, folder = two_link_runs(2101)        # shared with test_section_2_names_the_marks...
     checked = int(ds.attrs["verification_setpoints"])
     assert checked < 2101
-    write_dataset(ds, tmp_path / "results.h5")
-    report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
-    text = _text((tmp_path / "out" / "report.html").read_text())
+    text = _text((folder / "out" / "report.html").read_text())
     assert f"passed on {checked:,} of 2,101 set points" in text
 
 
@@ -222,19 +243,14 @@ def test_control_verdict_names_its_torque_difference_closed_loop():
 
 
 @pytest.mark.parametrize("setpoints", [31, 2101])
-def test_section_2_names_the_marks_fig_2_draws(tmp_path, setpoints):
+def test_section_2_names_the_marks_fig_2_draws(two_link_runs, setpoints):
     """Oracle: the drawn Fig. 2. A 2,101-set-point run draws its curves as envelopes without
     markers, so Sec. 2 must not point the reader to ○, × and △ (the 5,000-set-point PUMA
     report did); a 31-set-point run draws them, and Sec. 2 names them."""
     from gd_analyze.report.main_figures import plot_data
 
-    robot = load_robot("two-link")
-    trajectory = plan_quintic(robot, [0.0, 0.0], [np.pi / 2, np.pi / 3],
-                              n_setpoints=setpoints)
-    ds = analyze(robot, trajectory, AnalysisOptions(formulations=False)).dataset
-    write_dataset(ds, tmp_path / "results.h5")
-    report.write_report(tmp_path / "results.h5", tmp_path / "out", formats=("html",))
-    text = _text((tmp_path / "out" / "report.html").read_text())
+    ds, folder = two_link_runs(setpoints)
+    text = _text((folder / "out" / "report.html").read_text())
     section = text[text.index("One panel per element"):text.index("Figure 2.")]
     fig = report.make_figures(ds, plot_data(ds), keys=("D",))["D"]
     marked = {ln.get_label(): ln.get_marker() not in (None, "None", "", " ")
