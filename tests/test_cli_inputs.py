@@ -2,7 +2,8 @@
 whose lower limit is above its upper one, a plan the main job could not read back, a gear ratio
 of 0, an effort limit of NaN, ``1_0`` and full-width digits in an option; a value starting with
 a minus sign is the option's value; a number just beyond a limit is printed with the digits
-that show it."""
+that show it; identify's recordings naming the joints in two styles, or joined on clocks that
+differ."""
 
 import json
 from pathlib import Path
@@ -189,3 +190,21 @@ def test_workers_with_a_scheduler_are_refused(capsys):
     _refused(capsys, ["sweep", "two-link", "--random", "2", "--workers", "4", "--scheduler",
                       "tcp://192.0.2.1:9"], "argument --scheduler: not allowed with argument "
                                             "--workers")
+
+
+@pytest.mark.parametrize("case, match", [
+    ("mixed", "a.csv: row 1, column q1: column 'q1' numbers a joint, column '- joint1_position' of"),
+    ("clock", "b.csv: row 3, column t: the clock is not "),
+])
+def test_identify_refuses_a_recording_it_cannot_join_in_one_line(tmp_path, capsys, case, match):
+    """Joint names are the URDF's (the two-link built-in's ``joint1``, ``joint2``)."""
+    rows = range(12)
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    a.write_text("t,- joint1_position,- joint2_position,joint1_effort,joint2_effort"
+                 + (",q1" if case == "mixed" else "") + "\n"
+                 + "".join(f"{k / 100},{k},{k},{k},{k}" + (",0" if case == "mixed" else "")
+                           + "\n" for k in rows))
+    b.write_text("t,- joint1_velocity,- joint2_velocity\n"
+                 + "".join(f"{(k + (k == 1)) / 100},0,0\n" for k in rows))
+    _refused(capsys, ["identify", "two-link", f"{a}+{b}", "-o", tmp_path / "out"], match)
+    assert not (tmp_path / "out").exists()

@@ -1,6 +1,7 @@
 """The identification job against Pinocchio: recordings the tests make with a true arm (the
 robot file with other inertial parameters, friction and offsets; identify_recordings.py)."""
 
+import hashlib
 import warnings
 
 import numpy as np
@@ -966,3 +967,35 @@ def test_a_long_recording_s_simplified_model_is_streamed_alike(monkeypatch, tmp_
     assert streamed.settings["simplified_guarantee"] == whole.settings["simplified_guarantee"]
     a, b = whole.recordings[1].tau_simplified, streamed.recordings[1].tau_simplified
     np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.abs(a).max())
+
+
+def test_a_recording_naming_the_joints_in_files_on_one_clock_identifies_alike(tmp_path):
+    """One Pinocchio recording of the Panda (changed inertias, friction, offsets, 1 % noise)
+    written as t,q1..,tau1..,qd1.. and as ROS joint_states exports: position, velocity and
+    effort files joined by '+', columns "- <joint>_<field>" shuffled, with a finger joint
+    outside the chain. The identified parameters are the same arrays; the provenance lists
+    each file with its SHA-256. The old reader refused the named columns."""
+    robot = _robot("panda")
+    truth = truth_for(robot, urdf=builtin_urdf("panda"))
+    rec, (t, q, qd, _, _) = _record(truth, robot.n, 15, seed=3, noise=0.01)
+    numbered = write_recording(tmp_path / "run.csv", t, q, rec.tau, qd)
+    rng = np.random.default_rng(4)
+    files = []
+    for field, values in (("position", q), ("velocity", qd), ("effort", rec.tau)):
+        names = [f"{j}_{field}" for j in robot.joint_names()] + [f"panda_finger_joint1_{field}"]
+        columns = np.column_stack([values, rng.normal(size=t.size)])
+        order = rng.permutation(len(names))
+        path = tmp_path / f"run_{field}.csv"
+        path.write_text("t," + ",".join(f"- {names[k]}" for k in order) + "\n" + "".join(
+            ",".join(repr(float(v)) for v in (s, *row[order])) + "\n"
+            for s, row in zip(t, columns)))
+        files.append(str(path))
+    with pytest.warns(InputWarning, match="outside the chain ignored: panda_finger_joint1"):
+        named = identify(robot, "+".join(files))
+    plain = identify(robot, str(numbered))
+    for a, b in ((named.parameters.value, plain.parameters.value),
+                 (named.parameters.std, plain.parameters.std), (named.standard, plain.standard)):
+        np.testing.assert_array_equal(a, b)
+    assert [named.inputs[f] for f in files] == [
+        hashlib.sha256(open(f, "rb").read()).hexdigest() for f in files]
+    assert named.recordings[0].name == "run_position"

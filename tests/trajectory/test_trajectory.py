@@ -1,6 +1,7 @@
 """Trajectory files and plans; reading recordings: irregular, out-of-order and repeated time
 stamps; refusals."""
 
+import hashlib
 import math
 
 import numpy as np
@@ -8,6 +9,7 @@ import pandas as pd
 import pytest
 
 from gd_analyze import InputError
+from gd_analyze.errors import InputNote
 from gd_analyze.trajectory.planning import (
     DEFAULT_GOAL_DEG,
     DEFAULT_START_DEG,
@@ -582,3 +584,69 @@ def test_arguments_of_another_type_are_one_line_naming_the_argument(tmp_path, mo
         read_recording(*args)
     assert str(e.value) == said
     assert read_recording("r.csv", 1).n == 1
+
+
+def _named(path, header, rows=12, shift=0.0):
+    """A recording whose columns name joints as ROS joint_states exports do ("- " prefix)."""
+    cells = ["t"] + [f"- {h}" for h in header]
+    body = "".join(",".join([repr(0.01 * k + shift * (k == 7))] + [f"{0.1 * k + c}" for c in
+                                                                   range(len(header))]) + "\n"
+                   for k in range(rows))
+    return _write(path, ",".join(cells) + "\n" + body)
+
+
+def test_columns_naming_the_robot_s_joints_read_as_numbered_ones(tmp_path):
+    """Columns <joint>_position/_velocity/_effort of the chain's joint names (any order, a
+    leading "- ", files on one clock joined by '+') read as q, qd and tau; another joint's
+    columns are ignored with one note naming it. The old reader refused the name."""
+    joints = ["shoulder", "elbow"]
+    pos = _named(tmp_path / "pos.csv", ["elbow_position", "head_position", "shoulder_position"])
+    eff = _named(tmp_path / "eff.csv", ["shoulder_effort", "elbow_effort", "head_effort"])
+    vel = _named(tmp_path / "vel.csv", ["elbow_velocity", "shoulder_velocity"])
+    with pytest.warns(InputNote, match=r"columns of joints outside the chain ignored: head$"):
+        rec = read_recording(f"{pos}+{vel}+{eff}", 2, joint_names=joints)
+    k = 0.1 * np.arange(12)
+    np.testing.assert_array_equal(rec.q, np.column_stack([k + 2, k]))
+    np.testing.assert_array_equal(rec.tau, np.column_stack([k, k + 1]))
+    np.testing.assert_array_equal(rec.qd, np.column_stack([k + 1, k]))
+    assert rec.qdd is None and rec.source == f"{pos}+{vel}+{eff}"
+    assert [f for f, _ in rec.files] == [str(pos), str(vel), str(eff)]
+    assert [h for _, h in rec.files] == [hashlib.sha256(p.read_bytes()).hexdigest()
+                                         for p in (pos, vel, eff)]
+
+
+@pytest.mark.parametrize("files, said", [
+    ({"a.csv": "t,q1,shoulder_position,tau1"}, "a.csv: row 1, column - shoulder_position: "
+     "column '- shoulder_position' names a joint, column '- q1' of"),
+    ({"a.csv": "t,shoulder_position,elbow_position,shoulder_effort"},
+     "a.csv: row 1, column elbow_effort: missing column 'elbow_effort'"),
+    ({"a.csv": "t,shoulder_position,elbow_position", "b.csv": "t,shoulder_effort,elbow_position"},
+     "b.csv: row 1, column - elbow_position: column '- elbow_position' appears twice, in "),
+    ({"a.csv": "t,shoulder_position,elbow_position", "b.csv": "t,q1,q2"},
+     "b.csv: row 1, column - q1: column '- q1' numbers a joint, column "),
+    ({"a.csv": "t,shoulder_position,elbow_position", "b.csv": "shoulder_effort,elbow_effort"},
+     "b.csv: row 1, column t: no time column t"),
+])
+def test_a_named_or_joined_recording_that_cannot_be_read_is_one_line(tmp_path, files, said):
+    paths = []
+    for name, header in files.items():
+        cells = [c for c in header.split(",") if c != "t"]
+        path = _named(tmp_path / name, cells)
+        if not header.startswith("t,"):
+            lines = path.read_text().splitlines()
+            path.write_text("\n".join(",".join(r.split(",")[1:]) for r in lines) + "\n")
+        paths.append(str(path))
+    with pytest.raises(InputError) as e:
+        read_recording("+".join(paths), 2, joint_names=["shoulder", "elbow"])
+    assert said in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+def test_joined_files_whose_clocks_differ_are_refused_with_the_row(tmp_path):
+    a = _named(tmp_path / "a.csv", ["j_position"])
+    b = _named(tmp_path / "b.csv", ["j_effort"], shift=1e-4)
+    with pytest.raises(InputError, match=r"b\.csv: row 9, column t: the clock is not .*a\.csv's: "
+                                         r"t = 0\.0701 s, there 0\.07 s"):
+        read_recording(f"{a}+{b}", joint_names=["j"])
+    c = _named(tmp_path / "c.csv", ["j_effort"], rows=11)
+    with pytest.raises(InputError, match=r"c\.csv: row 12, column t: .*11 rows, .* has 12"):
+        read_recording(f"{a}+{c}", joint_names=["j"])

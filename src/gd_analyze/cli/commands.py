@@ -1048,7 +1048,7 @@ def cmd_identify(args: argparse.Namespace) -> int:
                          column="--drive-gains")
     options = IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
     outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
-    train, valid = ([read_recording(path, n_joints=robot.n, current=options.current)
+    train, valid = ([read_recording(path, robot.n, options.current, robot.joint_names())
                      for path in paths] for paths in (args.recordings, args.validate))
     size = identification_size([most_samples(r.t, resampled=options.cutoff is not None)
                                 for r in train + valid], robot.n)

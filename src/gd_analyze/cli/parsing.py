@@ -673,8 +673,8 @@ def identify_parser() -> argparse.ArgumentParser:
     p.add_argument("robot", metavar="ROBOT", help=_robot_help() + "; its parameters are the "
                    "prior and the comparison")
     p.add_argument("recordings", metavar="RECORDING.csv", nargs="+",
-                   help="recordings to fit: t,q1..qn,tau1..taun[,qd1..qdn][,qdd1..qddn] in s, "
-                        "rad or m, N m or N")
+                   help="recordings to fit: t,q1..qn,tau1..taun[,qd1..][,qdd1..] or <joint>_position,"
+                        "_effort[,_velocity] (s, rad or m, N m or N); A.csv+B.csv: files on one clock")
     p.add_argument("--validate", metavar="FILE.csv", nargs="+", action="extend", default=[],
                    help="recordings not used for fitting, on which the errors are reported")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",

@@ -154,10 +154,10 @@ def _listed(items):
     return [items] if one else list(items or ())     # not iterable: refused as a recording
 
 
-def _recording(item, n, options):
+def _recording(item, prior, options):
     expect(item, (str, os.PathLike, Recording), "recording", "a CSV file or a Recording")
-    rec = (item if isinstance(item, Recording)
-           else read_recording(item, n_joints=n, current=options.current))
+    n, rec = prior.n, (item if isinstance(item, Recording)
+                       else read_recording(item, prior.n, options.current, prior.joint_names()))
     if rec.n != n:
         raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
     if options.current and len(options.drive_gains) != n:
@@ -261,8 +261,8 @@ def identify(robot: Robot | str | Path,
     recordings, validate = _listed(recordings), _listed(validate)
     if not recordings:
         raise InputError("no recording to identify from")
-    train = [_recording(r, prior.n, options) for r in recordings]
-    valid = [_recording(r, prior.n, options) for r in validate]
+    train = [_recording(r, prior, options) for r in recordings]
+    valid = [_recording(r, prior, options) for r in validate]
     # a recording in degrees by mistake, say: named again on a failure of the fit
     beyond = [m for r in train + valid for m in check_joint_limits(prior, r, r.rows)]
     degrees = ("; a recording in degrees? (see the joint-limit warnings)"
@@ -283,7 +283,7 @@ def identify(robot: Robot | str | Path,
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
                          f"{prep.STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
-    names = group_names([Path(r.source).stem for r in train + valid])
+    names = group_names([Path(r.files[0][0] if r.files else r.source).stem for r in train + valid])
     notes = []
     cutoff = options.cutoff
     if cutoff == "auto":
@@ -345,7 +345,8 @@ def identify(robot: Robot | str | Path,
                 "idle_threshold": fit.threshold.tolist(), "standard_method": fit.method,
                 "robot_file_note": file_note,
                 "simplified_guarantee": None if simplified is None else simplified[1]}
-    inputs = {**{r.source: r.sha256 for r in train + valid}, str(prior.source): prior.sha256}
+    inputs = {**{f: h for r in train + valid for f, h in r.files or [(r.source, r.sha256)]},
+              str(prior.source): prior.sha256}
     return IdentificationResult(
         prior=prior, identified=fit.identified, offsets=fit.offsets, parameters=table,
         condition_number=est.condition_number, rank=est.rank, standard=fit.standard,

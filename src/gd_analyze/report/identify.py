@@ -345,10 +345,8 @@ def _provenance(stored, created):
             ("robot file SHA-256", stored.robot_sha256),
             ("standard parameters", stored.standard_method),
             ("Coulomb friction model", stored.coulomb_model)]
-    if isinstance(inputs, dict):
-        rows += [(f"input {k}", str(v)) for k, v in inputs.items()]
-    rows += [(f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()
-             if not (isinstance(inputs, dict) and rec.file in inputs)]
+    rows += [(f"input {k}", str(v)) for k, v in inputs.items()] if isinstance(inputs, dict) else [
+        (f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()]
     if isinstance(settings, dict):
         rows += [(f"setting {k}", v if isinstance(v, str) else json.dumps(v, default=str))
                  for k, v in sorted(settings.items())]

@@ -12,6 +12,10 @@ and measured torques against time. A recording CSV has a header ``t,q1..qn,tau1.
 optional ``qd1..qdn`` and ``qdd1..qddn`` (the columns in any order), in [s], [rad or m],
 [N m or N], [rad/s or m/s], [rad/s^2 or m/s^2]. With motor currents (``--current``) the torque columns hold currents [A]
 (named ``tau1..taun`` or ``i1..in``) and the drive gains K turn them into torque, tau = K i.
+Given the chain's joint names, the columns may name the joints instead, as a ROS
+``joint_states`` export does (``<joint>_position``, ``_velocity``, ``_acceleration``,
+``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with a note), and
+``A.csv+B.csv`` joins files on one clock into one recording.
 
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
 sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
@@ -39,7 +43,7 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
-from ..errors import InputError, InputNote, check_flags, expect, path_text
+from ..errors import InputError, InputNote, check_flags, expect, one_line, path_text
 from ..files import atomic_path
 from ..model.limits import LIMITS, exact_text, first_beyond, real_values
 
@@ -187,7 +191,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         message names the argument).
     """
     path = _csv_path(path, n_joints)
-    if _recorded(path):         # a recording for identify: its torques are no set point's
+    with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
+        recorded = re.search(rb",[ \t]*tau[0-9]", fh.readline(HEADER_BYTES)) is not None
+    if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints)
         qd, qdd = (_spline(rec.t, rec.q, path, row_of=lambda k: int(np.asarray(rec.rows)[k]))
                    if rec.qd is None or rec.qdd is None else (rec.qd, rec.qdd))
@@ -199,19 +205,20 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
         return Trajectory(t=rec.t, q=rec.q, qd=qd, qdd=qdd, source=path, sha256=rec.sha256,
                           derivatives="file" if given else "cubic-spline")
 
-    def header(fields):
-        names, n = _parse_header(fields, path)
-        return names if n_joints is None or n == n_joints else None
+    def checked(cells, row=1):       # streamed: an InputError falls back to the cells, which say it
+        if all(_FLOAT.fullmatch(c.strip(" \t")) for c in cells):
+            raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path, row=row)
+        names, n = _parse_header(cells, path)
+        if n_joints is not None and n != n_joints:
+            raise InputError(f"the file has {_joints(n)}, the robot has {_joints(n_joints)}",
+                             path, row=row)
+        return names
 
-    values, names, rows, sha256 = _read_csv(path, header,
-                                            lambda raw: _validated_values(raw, path, n_joints))
+    values, names, rows, sha256 = _read_csv(
+        path, checked, lambda raw: _validated_values(raw, path, checked, least=2))
     n = _parse_header(names, path)[1]
     t = values[:, 0]
-    bad = np.nonzero(np.diff(t) <= 0)[0]
-    if bad.size:
-        k = int(bad[0]) + 1
-        raise InputError(f"time not strictly increasing ({t[k]} after {t[k - 1]})", path,
-                         row=int(rows[k]), column="t")
+    _increasing(t, path, rows)
     kinds = ("q", "qd", "qdd")[:(len(names) - 1) // n]       # with derivatives, or without
     check_magnitudes(values, names, {"t": [0], **{k: list(range(1 + i * n, 1 + (i + 1) * n))
                                                  for i, k in enumerate(kinds)}}, path, rows)
@@ -221,15 +228,6 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
                else _spline(t, q, path, row_of=lambda k: k + 2))
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
                       sha256=sha256)
-
-
-def _recorded(path):
-    """True where ``path`` is a regular file whose header names a torque column ``tau1``...
-    (a recording, :func:`read_recording`)."""
-    if not os.path.isfile(path):
-        return False                    # refused by the reader, which says why
-    with open(path, "rb") as fh:
-        return re.search(rb",[ \t]*tau[0-9]", fh.readline(HEADER_BYTES)) is not None
 
 
 def _csv_path(path: Any, n_joints: Any) -> str:
@@ -373,16 +371,21 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
     if n_joints is not None and arrays["q"].shape[1] != n_joints:
         raise InputError(f"the arrays have {_joints(arrays['q'].shape[1])}, the robot has "
                          f"{_joints(n_joints)}", ARRAYS)
-    step = np.nonzero(np.diff(t) <= 0)[0]
-    if step.size:
-        k = int(step[0]) + 1
-        raise InputError(f"time not strictly increasing ({t[k]} at set point {k} after "
-                         f"{t[k - 1]})", ARRAYS, column="t")
+    _increasing(t, ARRAYS)
     how = "cubic-spline" if qd is None else "arrays"
     qd, qdd = (_spline(t, arrays["q"], ARRAYS, row_of=lambda k: None) if qd is None
                else (arrays["qd"], arrays["qdd"]))
     return Trajectory(t=t, q=arrays["q"], qd=qd, qdd=qdd,  # type: ignore[arg-type]  # ndarrays here
                       derivatives=how, source=ARRAYS)
+
+
+def _increasing(t, path, rows=None):
+    """An InputError at the first time not after the one before, naming its row of ``rows``
+    (of a file), else its set point."""
+    for k in np.flatnonzero(np.diff(t) <= 0)[:1] + 1:
+        raise InputError(f"time not strictly increasing ({t[k]}" + (
+            f" at set point {k}" if rows is None else "") + f" after {t[k - 1]})", path,
+            row=None if rows is None else int(rows[k]), column="t")
 
 
 def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any] | Sequence[Any],
@@ -768,22 +771,15 @@ def _joints(n, noun="joint"):
     return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
-def _validated_values(raw, path, n_joints):
-    """Parse cell by cell: (values, names, row numbers); an InputError naming the row and
-    column of the first fault."""
-    numbered = _numbered_rows(raw, path, long_cell=True)
-    header_row, header = numbered[0]
-    if all(_FLOAT.fullmatch(c.strip(" \t")) for c in header):
-        raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path,
-                         row=header_row)
-    names, n = _parse_header(header, path)
-    if n_joints is not None and n != n_joints:
-        raise InputError(f"the file has {_joints(n)}, the robot has {_joints(n_joints)}", path,
-                         row=header_row)
-    data = numbered[1:]
-    if len(data) < 2:
-        raise InputError(f"fewer than 2 set points ({len(data)})", path)
-    return _cell_values(data, names, path), names, np.array([r for r, _ in data])
+def _validated_values(raw, path, header, least=0):
+    """Parse cell by cell: (values, names, row numbers), ``header`` (the header's cells and its
+    row number) giving the names or raising; an InputError naming the row and column of the
+    first fault, or for fewer than ``least`` rows (set points)."""
+    (header_row, cells), *data = _numbered_rows(raw, path, long_cell=True)
+    names = header(cells, header_row)
+    if len(data) < least:
+        raise InputError(f"fewer than {least} set points ({len(data)})", path)
+    return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
 
 
 def _cell_values(data, names, path):
@@ -989,6 +985,9 @@ MIN_SAMPLES = 10
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
 _COLUMN = re.compile(r"^(t|q|qd|qdd|tau|i)(\d*)$")
+#: A column naming a joint of the robot file and a ROS JointState field, and its kind.
+_NAMED = re.compile(r"^(.+)_(position|velocity|acceleration|effort)$")
+_FIELD = {"position": "q", "velocity": "qd", "acceleration": "qdd", "effort": "tau"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -1012,9 +1011,12 @@ class Recording:
     source : str
         The file read.
     sha256 : str
-        SHA-256 of its bytes.
+        SHA-256 of its bytes (of files joined: of their SHA-256s, space-separated).
     notes : tuple of str
         What was done on reading (rows sorted, repeated stamps dropped).
+    files : tuple of (str, str)
+        Each file read and the SHA-256 of its bytes (several: files joined on one clock;
+        empty for arrays).
     """
 
     t: np.ndarray
@@ -1027,6 +1029,7 @@ class Recording:
     source: str = ""
     sha256: str = ""
     notes: tuple = ()
+    files: tuple = ()
 
     @property
     def n(self) -> int:
@@ -1034,24 +1037,51 @@ class Recording:
         return int(self.q.shape[1])
 
 
-def _columns(header, path, n_joints, current):
-    """{kind: [column index per joint]} from the header, or an InputError naming the column."""
-    names = [c.strip() for c in header]
-    found: dict = {}
+def _keys(header, path, joints, current, seen):
+    """(names, keys) of a recording file's header: the names stripped of blanks, each column's
+    (kind, joint 1..n), ("-", name) for a joint outside the chain (``joints``: the chain's joint
+    names, or None); ``seen``, shared by the files of one recording, holds the first (file,
+    column) of each naming style ("number", "name") and each key (of ``t`` per file). An
+    InputError naming the column of an unknown one, one repeated (in this file or another), or
+    of a second style."""
+    names, keys = [c.strip() for c in header], []
     for k, name in enumerate(names):
-        m = _COLUMN.match(name)
-        if not m or (m.group(1) == "t") == bool(m.group(2)) or int(m.group(2) or 1) < 1:
-            raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun and "
-                             f"optionally qd1..qdn, qdd1..qddn)", path, row=1, column=name)
-        kind = "tau" if m.group(1) == "i" else m.group(1)
-        if m.group(1) == "i" and not current:
-            raise InputError(f"column {name!r} holds a current: give --current and "
-                             f"--drive-gains", path, row=1, column=name)
-        slot, j = found.setdefault(kind, {}), int(m.group(2) or 1)
-        if j in slot:
-            raise InputError(f"column {name!r} appears twice", path, row=1, column=name)
-        slot[j] = k
-    n = len(found.get("q", {}))
+        m, named = _COLUMN.match(bare := name.removeprefix("- ").strip()), _NAMED.match(bare)
+        if m and (m.group(1) == "t") != bool(m.group(2)) and int(m.group(2) or 1) >= 1:
+            if m.group(1) == "i" and not current:
+                raise InputError(f"column {name!r} holds a current: give --current, --drive-gains",
+                                 path, row=1, column=name)
+            key = ("tau" if m.group(1) == "i" else m.group(1), int(m.group(2) or 1))
+        elif named and joints is not None:      # ("-", name): a joint outside the chain
+            key = (_FIELD[named[2]], joints.index(named[1]) + 1) if named[1] in joints else \
+                ("-", named[1])
+        else:
+            raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun[,qd1..qdn,"
+                             f"qdd1..qddn] or <joint>_position,_effort[,_velocity,_acceleration])",
+                             path, row=1, column=name)
+        if bare != "t":
+            seen.setdefault("number" if m else "name", (path, name))
+        if {"number", "name"} <= seen.keys():
+            file, first = seen["name" if m else "number"]
+            raise InputError(f"column {name!r} {'numbers' if m else 'names'} a joint, column "
+                             f"{first!r} of {file} {'names' if m else 'numbers'} one", path,
+                             row=1, column=name)
+        other = seen.setdefault((path, key) if key[0] == "t" else key, (path, k))
+        if key[0] != "-" and other != (path, k):
+            raise InputError(f"column {name!r} appears twice" + (
+                "" if other[0] == path else f", in {other[0]} too"), path, row=1, column=name)
+        keys.append(key)
+    return names, keys
+
+
+def _columns(keys, path, n_joints, joints):
+    """{kind: [column index per joint]} of a recording's (kind, joint) keys (:func:`_keys`, of
+    its files together; ``joints``: the chain's joint names where the columns name them, else
+    None), or an InputError naming the missing or surplus column."""
+    found: dict = {}
+    for k, key in enumerate(keys):
+        found.setdefault(key[0], {})[key[1]] = k
+    n = len(found.get("q", {})) if joints is None else len(joints)
     if "t" not in found or n == 0:
         raise InputError(f"no {'time column t' if n else 'joint position columns q1..qn'} in "
                          f"the header", path, row=1, column="t" if n else "q1")
@@ -1062,17 +1092,18 @@ def _columns(header, path, n_joints, current):
     for kind in ("q", "tau", "qd", "qdd"):
         slot = found.get(kind, {})
         missing = [j for j in range(1, n + 1) if j not in slot]
-        if missing and (slot or kind == "tau"):     # qd and qdd may be absent, not in part
-            raise InputError(f"missing column '{kind}{missing[0]}'" + (
-                "" if slot else f" (expected t,q1..q{n},tau1..tau{n})"), path, row=1,
-                column=f"{kind}{missing[0]}")
+        if missing and (slot or kind in ("q", "tau")):   # qd and qdd may be absent, not in part
+            name = f"{kind}{missing[0]}" if joints is None else f"{joints[missing[0] - 1]}_" + \
+                next(f for f, k in _FIELD.items() if k == kind)
+            raise InputError(f"missing column {name!r}" + ("" if slot or joints else (
+                f" (expected t,q1..q{n},tau1..tau{n})")), path, row=1, column=name)
         extra = sorted(set(slot) - set(range(1, n + 1)))
         if extra:
             raise InputError(f"column '{kind}{extra[0]}' beyond the {_joints(n)}", path, row=1,
                              column=f"{kind}{extra[0]}")
         if slot:
             out[kind] = [slot[j] for j in range(1, n + 1)]
-    return names, out, n
+    return out
 
 
 #: A time stamp earlier than the row before by more than this many median steps starts another
@@ -1112,18 +1143,25 @@ def _ordered(t, arrays, rows, path):
 
 
 def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
-                   current: bool = False) -> Recording:
-    """Read and check a recording CSV file.
+                   current: bool = False, joint_names: Sequence[str] | None = None) -> Recording:
+    """Read and check a recording CSV file, or several files on one clock.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The CSV file (layout in the module docstring).
+        The CSV file (layout in the module docstring); ``A.csv+B.csv+..`` (where no file has
+        that whole name) joins the columns of files on one clock: each has the column ``t``,
+        the same in every row, and no other column of another.
     n_joints : int, optional
         The robot's number of joints n; the file must have as many.
     current : bool, optional
         The torque columns hold motor currents [A] (``--current``); ``i1..in`` is accepted as
         their name.
+    joint_names : sequence of str, optional
+        The chain's joint names in chain order (:meth:`gd_analyze.model.robot.Robot.joint_names`):
+        the columns may name the joints by them instead of numbering them,
+        ``<joint>_position``, ``_velocity``, ``_acceleration`` and ``_effort`` (a leading
+        ``"- "`` ignored); other joints' columns are ignored, with an InputNote naming them.
 
     Returns
     -------
@@ -1136,9 +1174,11 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         If the file is missing or unreadable, not UTF-8 text, has an unknown, missing or
         repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
         the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
-        joint count other than ``n_joints``. One line with the file, row and column. Before
-        the file is opened: if ``path`` is not a str or os.PathLike, ``n_joints`` not a
-        whole number >= 1, or ``current`` not a bool (the message names the argument).
+        joint count other than ``n_joints``; if columns number the joints and others name
+        them; if joined files' clocks differ in a row or their columns overlap. One line with
+        the file, row and column. Before the file is opened: if ``path`` is not a str or
+        os.PathLike, ``n_joints`` not a whole number >= 1, or ``current`` not a bool (the
+        message names the argument).
 
     Examples
     --------
@@ -1148,26 +1188,47 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     >>> read_recording(f).q.shape
     (12, 1)
     """
-    path = _csv_path(path, n_joints)
+    source = _csv_path(path, n_joints)
     check_flags(current=current)
+    seen: dict = {}             # the first column of each naming style and of each key
+    parts: list = []
+    joined = [source] if os.path.exists(source) or "+" not in source else source.split("+")
+    for file in joined:
+        def header(fields, row=1):     # called at once, in this round of the loop
+            return _keys(fields, file, joint_names, current, seen)[0]
 
-    def cells(raw):
-        """Cell by cell, naming the row and column of the first fault."""
-        (_, header_cells), *data = _numbered_rows(raw, path)
-        names = _columns(header_cells, path, n_joints, current)[0]
-        return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
-
-    values, names, rows, sha256 = _read_csv(
-        path, lambda fields: _columns(fields, path, n_joints, current)[0], cells)
-    cols = _columns(names, path, n_joints, current)[1]
-    check_magnitudes(values, names, cols, path, rows, _LIMITS)
+        values, names, rows, sha256 = _read_csv(file, header, lambda raw: _validated_values(raw, file, header))
+        keys = _keys(names, file, joint_names, current, seen)[1]
+        kinds = {kind: [k for k, key in enumerate(keys) if key[0] == kind] for kind in _LIMITS}
+        check_magnitudes(values, names, kinds, file, rows, _LIMITS)
+        if ("t", 1) not in keys:
+            raise InputError("no time column t in the header", file, row=1, column="t")
+        t = values[:, keys.index(("t", 1))]
+        t0 = parts[0][-1] if parts else t
+        k = min(t.size, t0.size, *np.flatnonzero(t[:t0.size] != t0[:t.size])[:1])
+        if k < max(t.size, t0.size):            # on the first file's clock, row by row
+            raise InputError(f"the clock is not {joined[0]}'s: " + (
+                f"t = {t[k]:.9g} s, there {t0[k]:.9g} s" if k < min(t.size, t0.size) else
+                f"{t.size} rows, it has {t0.size}"), file, row=int(rows[min(k, t.size - 1)]),
+                column="t")
+        parts.append((file, sha256, values, rows, keys, t))
+    keys = [key for part in parts for key in part[4]]
+    cols = _columns(keys, source, n_joints, joint_names if "name" in seen else None)
+    values = np.hstack([part[2] for part in parts])
     if values.shape[0] < MIN_SAMPLES:
-        raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", path)
+        raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", source)
+    notes = [one_line(f"{source}: columns of joints outside the chain ignored: {ignored}")
+             for ignored in [", ".join(dict.fromkeys(j for kind, j in keys if kind == "-"))] if ignored]
+    for note in notes:
+        warnings.warn(note, InputNote, stacklevel=2)
     get = {k: values[:, idx] for k, idx in cols.items()}
-    t, (q, tau, qd, qdd), rows, notes = _ordered(
-        get["t"][:, 0], [get.get(k) for k in ("q", "tau", "qd", "qdd")], rows, path)
+    t, (q, tau, qd, qdd), rows, more = _ordered(
+        get["t"][:, 0], [get.get(k) for k in ("q", "tau", "qd", "qdd")], parts[0][3], source)
+    sha256 = parts[0][1] if len(parts) == 1 else hashlib.sha256(
+        " ".join(part[1] for part in parts).encode()).hexdigest()
     return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
-                     source=path, sha256=sha256, notes=tuple(notes))
+                     source=source, sha256=sha256, notes=(*notes, *more),
+                     files=tuple(part[:2] for part in parts))
 
 
 def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayLike | None = None,
