@@ -556,9 +556,6 @@ def cmd_plan(args: argparse.Namespace) -> int:
     gd_analyze.errors.InputError
         On bad input; the command line prints it as one line and exits 2.
     """
-
-
-
     robot = load_robot_arg(args)
     robot, limits, qdd_arg = _planning_region(args, robot)
     if args.excitation:
