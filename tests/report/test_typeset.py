@@ -277,6 +277,27 @@ def test_no_word_of_a_wide_table_runs_into_the_next_column(tmp_path, header):
             assert b0 - a1 >= 2.0, (a, b, b0 - a1)
 
 
+def test_a_path_wider_than_the_line_breaks_at_its_slashes_inside_the_page(tmp_path):
+    """A table whose cell holds a path wider than the line (identify's recording of three
+    files joined by "+") breaks the path after its slashes: every word stands inside the
+    text area and the columns right of it are printed (it ran off the page's edge)."""
+    path_cell = "+".join(f"/work/shared/recordings/tiago/tiago_{k}.csv"
+                         for k in ("position", "velocity", "effort"))
+    o = Outline("Report")
+    o.section("1", "Recordings")
+    o.table({"header": ["recording", "role", "samples", "identified model"],
+             "rows": [[path_cell, "train", "6,912", "28.71 %"],
+                      ["data/fit.csv", "validate", "2,192", "21.50 %"]],
+             "align": ["left", "left", "right", "right"]}, "Errors per recording.")
+    path, _ = _write(tmp_path, o)
+    (width, _, ws), = words(path)
+    right = width - MARGINS[0] * 72
+    assert max(x1 for _, _, _, x1, _ in ws) <= right + 0.5, [
+        (w, x1) for w, _, _, x1, _ in ws if x1 > right + 0.5]
+    printed = " ".join(w for w, *_ in ws)
+    assert all(w in printed for w in ("train", "6,912", "28.71", "tiago_effort.csv")), printed
+
+
 @pytest.mark.parametrize("words", [0, 400, 830, 840, 850, 870, 890])
 def test_a_long_table_leaves_no_row_alone_on_a_page(tmp_path, words):
     """A table that breaks over pages puts at least two of its rows on each page: a single row
