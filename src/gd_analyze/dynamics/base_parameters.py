@@ -19,12 +19,12 @@ tau = W_B beta (:func:`base_parameters`).
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from threadpoolctl import threadpool_limits
 
 from ..model.kinematics import as_states, joint_frames
 
@@ -33,7 +33,37 @@ if TYPE_CHECKING:
 
 __all__ = ["PARAMETER_NAMES", "standard_parameters", "regressor", "BaseParameters",
            "base_parameters", "random_states", "base_regressor", "shortest_decimal",
-           "K_DECIMAL_EPS", "PHI_DECIMAL_EPS"]
+           "K_DECIMAL_EPS", "PHI_DECIMAL_EPS", "one_blas_thread"]
+
+#: The BLAS controller of :func:`one_blas_thread` and how many modules were loaded when it was
+#: made: ``[(count, controller)]``, or empty before the first call.
+_BLAS: list[tuple[int, Any]] = []
+
+
+def one_blas_thread() -> Any:
+    """A context manager that runs its block on one BLAS thread: ``threadpoolctl``'s
+    ``threadpool_limits(1, "blas")``, with its controller made once a process.
+
+    Making a ``threadpoolctl.ThreadpoolController`` lists the loaded shared libraries (it reads
+    ``/proc/self/maps`` on Linux, 2 to 10 ms in a process that has loaded numba's and
+    Pinocchio's): ``threadpool_limits`` makes one on every entry, and the identification
+    enters its limit some hundreds of times a fit. The controller kept here is made again only
+    when modules have been imported since (an import may load another BLAS library), so that
+    the limit reaches the same libraries as ``threadpool_limits(1, "blas")`` would.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        ``ThreadpoolController.limit(limits=1, user_api="blas")``: on leaving the block, each
+        library's threads are as they were.
+    """
+    from threadpoolctl import ThreadpoolController
+
+    loaded = len(sys.modules)
+    if not _BLAS or _BLAS[0][0] != loaded:
+        _BLAS[:] = [(loaded, ThreadpoolController())]
+    return _BLAS[0][1].limit(limits=1, user_api="blas")
+
 
 #: The ten standard inertial parameters of a link, in the order of phi_i.
 PARAMETER_NAMES = ("XX", "XY", "XZ", "YY", "YZ", "ZZ", "MX", "MY", "MZ", "M")
@@ -345,7 +375,7 @@ def _decimal_columns(K, WB, WD):
     irrational coefficients, whose decimals fit worse, keep their least-squares values."""
     eps = np.finfo(float).eps
     dec = shortest_decimal(K, K_DECIMAL_EPS * eps * np.maximum(np.abs(K), 1.0))
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         fit = np.linalg.norm(WD - WB @ K, axis=0)
         fit_dec = np.linalg.norm(WD - WB @ dec, axis=0)
     slack = eps * np.linalg.norm(WB, axis=0).max(initial=0.0)
@@ -408,7 +438,7 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     Wo = W[:, order]
     norms = np.linalg.norm(Wo, axis=0)
     zero = norms <= tol * norms.max(initial=0.0)          # rounding noise: a zero column
-    with threadpool_limits(1, "blas"):     # a small factor: threads only cost
+    with one_blas_thread():     # a small factor: threads only cost
         Rm = np.linalg.qr(np.where(zero, 0.0, Wo / np.where(zero, 1.0, norms)), mode="r")
     diag = np.abs(np.diag(Rm))
     keep_o = diag > tol * max(diag.max(), 1e-300)
@@ -417,7 +447,7 @@ def base_parameters(robot: Robot, count: int | None = None, seed: int = 0,
     B = np.flatnonzero(independent)
     D = np.flatnonzero(~independent)
     WB, WD = W[:, B], W[:, D]
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         K = np.linalg.lstsq(WB, WD, rcond=None)[0] if D.size else np.zeros((B.size, 0))
     phi = _snap_standard(standard_parameters(robot))
     scale = np.tile(_kind_scales(phi), n)

@@ -28,7 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 from scipy import linalg
-from threadpoolctl import threadpool_limits
+
+from ..dynamics.base_parameters import one_blas_thread
 
 __all__ = ["Estimate", "least_squares", "joint_factors", "combine_factors", "RANK_TOL",
            "QR_BLOCK"]
@@ -107,7 +108,7 @@ def joint_factors(Y: npt.NDArray[np.float64], tau: npt.NDArray[np.float64],
     counts = np.zeros(n, int)
     tau = np.asarray(tau, float)
     step = max(QR_BLOCK, 4 * (p + 1))
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         for i in range(n):
             rows = np.flatnonzero(np.asarray(used[:, i], bool))
             counts[i] = rows.size
@@ -142,7 +143,7 @@ def combine_factors(a: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]],
     Ra, ca = a
     Rb, cb = b
     out = np.empty_like(Ra)
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         for i in range(Ra.shape[0]):
             out[i] = linalg.qr(np.vstack([Ra[i], Rb[i]]), mode="r", check_finite=False)[0][
                 :Ra.shape[1]]
@@ -174,7 +175,7 @@ def least_squares(factors: tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]
     ValueError
         If no more rows than identifiable parameters enter the fit.
     """
-    with threadpool_limits(1, "blas"):     # small factors: threads only cost
+    with one_blas_thread():     # small factors: threads only cost
         return _least_squares(factors, prior, correlation)
 
 

@@ -39,6 +39,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..dynamics.base_parameters import one_blas_thread
 from ..dynamics.regressor_kernels import regressor_columns_pullback
 from ..model.limits import acceleration_limits
 from ..symbolic.drive_regressor import (
@@ -243,13 +244,11 @@ def scaled_condition(Y: np.ndarray) -> float:
     (8 Panda regressors of 2,800 rows: 1.9 to 11 s threaded, 0.4 to 0.5 s serial, the same
     singular values).
     """
-    from threadpoolctl import threadpool_limits
-
     W = Y.reshape(-1, Y.shape[-1])
     norms = np.linalg.norm(W, axis=0)
     if not np.all(norms > 0):
         return math.inf
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         s = np.linalg.svd(W / norms, compute_uv=False)
     return float(s[0] / s[-1]) if s[-1] > 0 else math.inf
 
@@ -800,15 +799,13 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
                          f"allowed (more than 2 K = {2 * K} per period of w_f, {periods} here; "
                          f"(N - 1) x {robot.n} rows for the {columns.count} regressor columns)")
     import scipy.optimize  # noqa: F401  (loads SciPy's own BLAS before the limit below)
-    from threadpoolctl import threadpool_limits
-
     clock = time.perf_counter()
     # one BLAS thread: the SVDs and eigenproblems here are small, and a threaded LAPACK call
     # on a busy machine takes a hundred times longer than a serial one. The limit reaches only
     # the BLAS libraries loaded when it is set: SciPy's (SLSQP's), loaded by the import above,
     # otherwise ran two threads, the second spinning (the PUMA's plan: 17.8 s CPU in 9.2 s
     # wall, 9.0 s CPU in 9.0 s with one thread)
-    with threadpool_limits(1, "blas"):
+    with one_blas_thread():
         return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
                           int(maxiter), columns, margin, clock)
 
