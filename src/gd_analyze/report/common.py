@@ -300,26 +300,45 @@ def render_template(name: str, context: Mapping[str, Any],
     -------
     str
         The rendered document.
+
+    Notes
+    -----
+    The environment is made once a process per set of globals (:data:`_ENVIRONMENTS`), so
+    that each template (and the macros it imports) is compiled once a process, not once a
+    report: Jinja2 keeps the templates it loaded, and loads one again if its file changed.
     """
     import jinja2
+
+    key = tuple((k, id(v)) for k, v in (env_globals or {}).items())
+    if key not in _ENVIRONMENTS:
+        env = jinja2.Environment(loader=jinja2.PackageLoader("gd_analyze.report"),
+                                 autoescape=True, undefined=jinja2.StrictUndefined,
+                                 finalize=_finalize, trim_blocks=True, lstrip_blocks=True,
+                                 keep_trailing_newline=True)
+        env.globals.update(env_globals or {})
+        _ENVIRONMENTS[key] = env
+    return _ENVIRONMENTS[key].get_template(name).render(**context)
+
+
+#: The environments of :func:`render_template` by their globals' names and their values'
+#: identities (an environment holds its values, so no other object takes their identity).
+_ENVIRONMENTS: dict[tuple[tuple[str, int], ...], Any] = {}
+
+
+def _finalize(value):
+    """How the report templates print a value: sub-, superscripts and code as tags, the rest
+    escaped (by the autoescape), a number's space before its percent sign kept."""
     from markupsafe import Markup
 
-    def finalize(value):                # sub-, superscripts and code as tags, the rest escaped
-        if not isinstance(value, str):
-            return value
-        if not isinstance(value, Markup):
-            value = _PERCENT.sub("\u00a0", value)          # "1.23 %" kept on one line
-        if any(m in value for m in (markup.SUB, markup.SUP, markup.CODE)):
-            return markup.html(value)
-        shown = markup.visible(value)   # format characters (bidi controls) made visible
-        return value if shown == value else (
-            Markup(shown) if isinstance(value, Markup) else shown)
-
-    env = jinja2.Environment(loader=jinja2.PackageLoader("gd_analyze.report"), autoescape=True,
-                             undefined=jinja2.StrictUndefined, finalize=finalize,
-                             trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True)
-    env.globals.update(env_globals or {})
-    return env.get_template(name).render(**context)
+    if not isinstance(value, str):
+        return value
+    if not isinstance(value, Markup):
+        value = _PERCENT.sub("\u00a0", value)          # "1.23 %" kept on one line
+    if any(m in value for m in (markup.SUB, markup.SUP, markup.CODE)):
+        return markup.html(value)
+    shown = markup.visible(value)   # format characters (bidi controls) made visible
+    return value if shown == value else (
+        Markup(shown) if isinstance(value, Markup) else shown)
 
 
 def say(name: str, /, **values: Any) -> str:
