@@ -920,3 +920,25 @@ def test_a_file_size_limit_above_the_estimate_lets_the_sweep_run(tmp_path):
     assert run.returncode == 0, run.stderr[-2000:]
     assert run.stderr == ""
     assert (tmp_path / "out" / "sweep.h5").stat().st_size <= sweep_size(2, 2)
+
+
+def test_identify_names_its_folder_after_the_first_of_files_joined_on_one_clock(tmp_path,
+                                                                              monkeypatch):
+    """Without -o, identify's folder is named after the recording's first file, as its report
+    names the recording: ``P.csv+V.csv+E.csv`` (one recording from files on one clock) gave
+    the last file's name, since a path splits at the slashes after the "+"."""
+    robot = load_robot("puma560")
+    t = irregular_clock(6, seed=1)
+    q, qd, qdd = fourier(robot.n, t, seed=1)
+    tau = truth_for(robot).torque(q, qd, qdd)
+    files = []
+    for field, values in (("position", q), ("velocity", qd), ("effort", tau)):
+        path = tmp_path / "rec" / f"arm_{field}.csv"
+        path.parent.mkdir(exist_ok=True)
+        path.write_text("t," + ",".join(f"{j}_{field}" for j in robot.joint_names()) + "\n"
+                        + "".join(",".join(repr(float(v)) for v in (s, *row)) + "\n"
+                                  for s, row in zip(t, values)))
+        files.append(str(path))
+    monkeypatch.chdir(tmp_path)
+    assert main(["identify", "puma560", "+".join(files), "--no-report"]) == 0
+    assert [p.name for p in (tmp_path / "reports").iterdir()] == ["puma560-arm_position-identify"]

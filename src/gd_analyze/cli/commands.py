@@ -103,6 +103,7 @@ from ..trajectory.trajectory import (
     check_joint_limits,
     read_recording,
     read_trajectory,
+    recording_files,
     write_trajectory_chunks,
 )
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
@@ -1044,7 +1045,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
         raise InputError("--drive-gains applies to currents: give --current",
                          column="--drive-gains")
     options = IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
-    outdir = output_folder(args.outdir, robot.name, Path(args.recordings[0]).stem, "identify")
+    outdir = output_folder(args.outdir, robot.name, Path(recording_files(args.recordings[0])[0]).stem,
+                           "identify")
     train, valid = ([read_recording(path, robot.n, options.current, robot.joint_names())
                      for path in paths] for paths in (args.recordings, args.validate))
     size = identification_size([most_samples(r.t, resampled=options.cutoff is not None)

@@ -1142,6 +1142,29 @@ def _ordered(t, arrays, rows, path):
     return t, arrays, rows, notes
 
 
+def recording_files(source: str) -> list[str]:
+    """The files of one recording as the command line names it: ``A.csv+B.csv+C.csv`` (files
+    on one clock, see :func:`read_recording`) split at its "+", unless a file has that whole
+    name.
+
+    Parameters
+    ----------
+    source : str
+        The recording's argument.
+
+    Returns
+    -------
+    list of str
+        Its files, in the order given.
+
+    Examples
+    --------
+    >>> recording_files("/no/such/p.csv+/no/such/v.csv")
+    ['/no/such/p.csv', '/no/such/v.csv']
+    """
+    return [source] if os.path.exists(source) or "+" not in source else source.split("+")
+
+
 def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
                    current: bool = False, joint_names: Sequence[str] | None = None) -> Recording:
     """Read and check a recording CSV file, or several files on one clock.
@@ -1192,7 +1215,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     check_flags(current=current)
     seen: dict = {}             # the first column of each naming style and of each key
     parts: list = []
-    joined = [source] if os.path.exists(source) or "+" not in source else source.split("+")
+    joined = recording_files(source)
     for file in joined:
         def header(fields, row=1):     # called at once, in this round of the loop
             return _keys(fields, file, joint_names, current, seen)[0]
