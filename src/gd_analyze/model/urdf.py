@@ -229,17 +229,6 @@ def axis_rotation(axis: ArrayLike) -> np.ndarray:
     return np.eye(3) + s * K + (1.0 - c) * (K @ K)
 
 
-def _read_model(path):
-    p = Path(path)
-    if not p.is_file():
-        raise InputError("no such file", path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror}", path) from None
-    return _parse_model(raw, str(path))
-
-
 def _parse_model(raw, label):
     """Pinocchio's model of a URDF document's bytes, and the document as read by
     :mod:`gd_analyze.model.urdf_xml`; ``label`` names the document in errors. A document
@@ -270,12 +259,6 @@ def _parse_model(raw, label):
         os.write(2, said.read())        # a warning about a file it reads
     check_inertias(doc, model, label)
     return model, raw, doc
-
-
-def _body_frames(model):
-    """Link name -> frame id, for every link (BODY frame) of the model."""
-    pin = _pin()
-    return {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
 
 
 def _joint_body(model, links, j):
@@ -383,7 +366,13 @@ def read_urdf_chain(path: str | os.PathLike[str], base: str | None = None,
     Source: the URDF specification (wiki.ros.org/urdf/XML) and Pinocchio's parser; the joint
     model is the fixed placement plus a motion about z described in this module's docstring.
     """
-    model, raw, doc = _read_model(path)
+    if not Path(path).is_file():
+        raise InputError("no such file", path)
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror}", path) from None
+    model, raw, doc = _parse_model(raw, str(path))
     return _chain(model, doc, hashlib.sha256(raw).hexdigest(), base, tip, str(path),
                   name or model.name or Path(path).stem, description,
                   reference if reference is not None else
@@ -397,7 +386,8 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     """The chain from base to tip of a Pinocchio model (doc: the URDF read by
     :mod:`gd_analyze.model.urdf_xml`, None for a model given as it is)."""
     pin = _pin()
-    links = _body_frames(model)
+    # link name -> frame id, for every link (BODY frame) of the model
+    links = {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
     chain, base, tip = _select_chain(model, links, base, tip, label)
     locked = [j for j in range(1, model.njoints) if j not in chain]
     if doc is not None:
