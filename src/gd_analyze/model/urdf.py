@@ -614,30 +614,6 @@ def load_urdf_text(text: str, base: str | None = None, tip: str | None = None) -
                          f"(Pinocchio {_pin().__version__})", URDF_TEXT))
 
 
-def _with_frames(model):
-    """A copy of a Pinocchio model with a JOINT frame for every joint, a BODY frame after it
-    (named as the joint where it has none) and a BODY frame on the universe (``"universe"``),
-    as a model built from a URDF has them."""
-    pin = _pin()
-    model = model.copy()
-    frames = {(f.name, f.type) for f in model.frames}
-    if not any(f.type == pin.FrameType.BODY and f.parentJoint == 0 and f.parentFrame == 0
-               for f in model.frames):
-        model.addBodyFrame("universe", 0, pin.SE3.Identity(), 0)
-    for j in range(1, model.njoints):
-        name = model.names[j]
-        if (name, pin.FrameType.JOINT) not in frames:
-            parent = model.parents[j]
-            above = (model.getFrameId(model.names[parent], pin.FrameType.JOINT)
-                     if parent else 0)
-            model.addJointFrame(j, above)
-        jf = model.getFrameId(name, pin.FrameType.JOINT)
-        if not any(f.type == pin.FrameType.BODY and f.parentFrame == jf for f in model.frames):
-            body = name if (name, pin.FrameType.BODY) not in frames else f"{name}_body"
-            model.addBodyFrame(body, j, pin.SE3.Identity(), jf)
-    return model
-
-
 def load_pinocchio_model(model: pinocchio.Model, base: str | None = None,
                          tip: str | None = None) -> Robot:
     """A robot from a Pinocchio model, e.g. one a notebook built or loaded itself.
@@ -665,7 +641,26 @@ def load_pinocchio_model(model: pinocchio.Model, base: str | None = None,
         prismatic, a mass or inertia is invalid); the model is named ``pinocchio.Model``.
     """
     label = "pinocchio.Model"
-    model = _with_frames(model)
+    # a copy of the model with a JOINT frame for every joint, a BODY frame after it (named as
+    # the joint where it has none) and a BODY frame on the universe ("universe"), as a
+    # model built from a URDF has them
+    pin = _pin()
+    model = model.copy()
+    frames = {(f.name, f.type) for f in model.frames}
+    if not any(f.type == pin.FrameType.BODY and f.parentJoint == 0 and f.parentFrame == 0
+               for f in model.frames):
+        model.addBodyFrame("universe", 0, pin.SE3.Identity(), 0)
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        if (name, pin.FrameType.JOINT) not in frames:
+            parent = model.parents[j]
+            above = (model.getFrameId(model.names[parent], pin.FrameType.JOINT)
+                     if parent else 0)
+            model.addJointFrame(j, above)
+        jf = model.getFrameId(name, pin.FrameType.JOINT)
+        if not any(f.type == pin.FrameType.BODY and f.parentFrame == jf for f in model.frames):
+            body = name if (name, pin.FrameType.BODY) not in frames else f"{name}_body"
+            model.addBodyFrame(body, j, pin.SE3.Identity(), jf)
     sha256 = hashlib.sha256(model.saveToString().encode("utf-8")).hexdigest()
     name = model.name or "pinocchio"
     return _robot(_chain(model, None, sha256, base, tip, label, name, None,
