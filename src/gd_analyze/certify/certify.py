@@ -551,10 +551,8 @@ def certify_tree(robot: Robot, base: BaseParameters, region: Region, split_joint
     leaves, boxes = [], []
     p = 0
     for lo, hi, split in levels:
-        if witness is None:
-            U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero), inherited)
-        else:
-            U = np.minimum(E[p:p + lo.shape[0]], inherited)
+        U = np.minimum(_enclose(robot, lo, hi, cols, region, absb, zero) if witness is None
+                       else E[p:p + lo.shape[0]], inherited)
         p += lo.shape[0]
         leaves.append(U[~split])
         boxes.append(np.stack([lo[~split], hi[~split]], axis=1))

@@ -903,10 +903,8 @@ def velocity_vertices(C, qd_max):
     fixed[0] = 1.0
     if used.size == 0:
         return (fixed * qd_max)[None, :], used
-    if used[0] == 0 or used.size > 13:
-        signs = qd_vertices(np.ones(used.size))
-    else:
-        signs = np.array(list(itertools.product([-1.0, 1.0], repeat=used.size)), float)
+    signs = (qd_vertices(np.ones(used.size)) if used[0] == 0 or used.size > 13
+             else np.array(list(itertools.product([-1.0, 1.0], repeat=used.size)), float))
     verts = np.tile(fixed, (signs.shape[0], 1))
     verts[:, used] = signs
     return verts * qd_max, used

@@ -146,13 +146,6 @@ def _block_columns(robot, frames, link, param, qd, qdd, gravity):
     return W
 
 
-def _sorted(columns):
-    """The columns sorted by link: (link, parameter, where each column went, or None)."""
-    order = np.argsort(columns // 10, kind="stable")
-    back = None if np.all(order == np.arange(columns.size)) else np.argsort(order)
-    return columns[order] // 10, columns[order] % 10, back
-
-
 def _put(dst, W, back):
     """Write W (n, m, N), columns sorted, into dst (N, n, m) in the columns' own order."""
     if back is not None:
@@ -213,7 +206,10 @@ def regressor_columns(robot, columns, q, qd, qdd, gravity=None):
     columns = _checked_columns(robot, columns)
     q, qd, qdd = as_states(robot, q, qd, qdd, finite=False)
     g = np.asarray(robot.gravity if gravity is None else gravity, float).reshape(3)
-    link, param, back = _sorted(columns)
+    # the columns sorted by link: (link, parameter, where each column went, or None)
+    order = np.argsort(columns // 10, kind="stable")
+    back = None if np.all(order == np.arange(columns.size)) else np.argsort(order)
+    link, param = columns[order] // 10, columns[order] % 10
     N = q.shape[0]
     out = np.empty((N, robot.n, columns.size))
     top = int(link.max()) + 1 if link.size else 0      # the links the columns can see

@@ -84,10 +84,8 @@ def prior_values(base: BaseParameters, robot: Robot,
     -------
     ndarray, shape (b + n len(kinds),)
     """
-    parts = [np.asarray(base.beta, float)]
-    for kind in kinds:
-        parts.append(np.asarray(getattr(robot, _FIELD[kind]), float))
-    return np.concatenate(parts)
+    return np.concatenate([np.asarray(base.beta, float)]
+                          + [np.asarray(getattr(robot, _FIELD[kind]), float) for kind in kinds])
 
 
 def moving_rows(qd: npt.NDArray[np.float64],

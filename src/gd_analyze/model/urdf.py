@@ -229,17 +229,6 @@ def axis_rotation(axis: ArrayLike) -> np.ndarray:
     return np.eye(3) + s * K + (1.0 - c) * (K @ K)
 
 
-def _read_model(path):
-    p = Path(path)
-    if not p.is_file():
-        raise InputError("no such file", path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror}", path) from None
-    return _parse_model(raw, str(path))
-
-
 def _parse_model(raw, label):
     """Pinocchio's model of a URDF document's bytes, and the document as read by
     :mod:`gd_analyze.model.urdf_xml`; ``label`` names the document in errors. A document
@@ -270,12 +259,6 @@ def _parse_model(raw, label):
         os.write(2, said.read())        # a warning about a file it reads
     check_inertias(doc, model, label)
     return model, raw, doc
-
-
-def _body_frames(model):
-    """Link name -> frame id, for every link (BODY frame) of the model."""
-    pin = _pin()
-    return {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
 
 
 def _joint_body(model, links, j):
@@ -383,7 +366,13 @@ def read_urdf_chain(path: str | os.PathLike[str], base: str | None = None,
     Source: the URDF specification (wiki.ros.org/urdf/XML) and Pinocchio's parser; the joint
     model is the fixed placement plus a motion about z described in this module's docstring.
     """
-    model, raw, doc = _read_model(path)
+    if not Path(path).is_file():
+        raise InputError("no such file", path)
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read: {exc.strerror}", path) from None
+    model, raw, doc = _parse_model(raw, str(path))
     return _chain(model, doc, hashlib.sha256(raw).hexdigest(), base, tip, str(path),
                   name or model.name or Path(path).stem, description,
                   reference if reference is not None else
@@ -397,7 +386,8 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     """The chain from base to tip of a Pinocchio model (doc: the URDF read by
     :mod:`gd_analyze.model.urdf_xml`, None for a model given as it is)."""
     pin = _pin()
-    links = _body_frames(model)
+    # link name -> frame id, for every link (BODY frame) of the model
+    links = {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
     chain, base, tip = _select_chain(model, links, base, tip, label)
     locked = [j for j in range(1, model.njoints) if j not in chain]
     if doc is not None:
@@ -624,30 +614,6 @@ def load_urdf_text(text: str, base: str | None = None, tip: str | None = None) -
                          f"(Pinocchio {_pin().__version__})", URDF_TEXT))
 
 
-def _with_frames(model):
-    """A copy of a Pinocchio model with a JOINT frame for every joint, a BODY frame after it
-    (named as the joint where it has none) and a BODY frame on the universe (``"universe"``),
-    as a model built from a URDF has them."""
-    pin = _pin()
-    model = model.copy()
-    frames = {(f.name, f.type) for f in model.frames}
-    if not any(f.type == pin.FrameType.BODY and f.parentJoint == 0 and f.parentFrame == 0
-               for f in model.frames):
-        model.addBodyFrame("universe", 0, pin.SE3.Identity(), 0)
-    for j in range(1, model.njoints):
-        name = model.names[j]
-        if (name, pin.FrameType.JOINT) not in frames:
-            parent = model.parents[j]
-            above = (model.getFrameId(model.names[parent], pin.FrameType.JOINT)
-                     if parent else 0)
-            model.addJointFrame(j, above)
-        jf = model.getFrameId(name, pin.FrameType.JOINT)
-        if not any(f.type == pin.FrameType.BODY and f.parentFrame == jf for f in model.frames):
-            body = name if (name, pin.FrameType.BODY) not in frames else f"{name}_body"
-            model.addBodyFrame(body, j, pin.SE3.Identity(), jf)
-    return model
-
-
 def load_pinocchio_model(model: pinocchio.Model, base: str | None = None,
                          tip: str | None = None) -> Robot:
     """A robot from a Pinocchio model, e.g. one a notebook built or loaded itself.
@@ -675,7 +641,26 @@ def load_pinocchio_model(model: pinocchio.Model, base: str | None = None,
         prismatic, a mass or inertia is invalid); the model is named ``pinocchio.Model``.
     """
     label = "pinocchio.Model"
-    model = _with_frames(model)
+    # a copy of the model with a JOINT frame for every joint, a BODY frame after it (named as
+    # the joint where it has none) and a BODY frame on the universe ("universe"), as a
+    # model built from a URDF has them
+    pin = _pin()
+    model = model.copy()
+    frames = {(f.name, f.type) for f in model.frames}
+    if not any(f.type == pin.FrameType.BODY and f.parentJoint == 0 and f.parentFrame == 0
+               for f in model.frames):
+        model.addBodyFrame("universe", 0, pin.SE3.Identity(), 0)
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        if (name, pin.FrameType.JOINT) not in frames:
+            parent = model.parents[j]
+            above = (model.getFrameId(model.names[parent], pin.FrameType.JOINT)
+                     if parent else 0)
+            model.addJointFrame(j, above)
+        jf = model.getFrameId(name, pin.FrameType.JOINT)
+        if not any(f.type == pin.FrameType.BODY and f.parentFrame == jf for f in model.frames):
+            body = name if (name, pin.FrameType.BODY) not in frames else f"{name}_body"
+            model.addBodyFrame(body, j, pin.SE3.Identity(), jf)
     sha256 = hashlib.sha256(model.saveToString().encode("utf-8")).hexdigest()
     name = model.name or "pinocchio"
     return _robot(_chain(model, None, sha256, base, tip, label, name, None,

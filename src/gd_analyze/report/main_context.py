@@ -786,10 +786,8 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     # 5. simplified model and torque error
     built = results.provenance.simplified_form
     form = "explicit" if built is None else str(built)
-    if form == "recursive":
-        choices = base_parameter_table(results)
-    else:
-        choices = choice_table(results, labels, dominance, choice)
+    choices = (base_parameter_table(results) if form == "recursive"
+               else choice_table(results, labels, dominance, choice))
     errors = results.torque_error               # the view the command line prints too
     err_off = errors.column("round_off")        # as stored at analysis
     rel_peak, rel_rms = _pct_columns([errors.column("relative_peak"),  # one format
@@ -1106,11 +1104,8 @@ def _mounting(p):
     rpy, world = _vector(p.mounting_base_rpy_deg), _vector(p.mounting_gravity_world)
     if rpy is None and world is None:
         return None
-    if rpy is None or not np.any(rpy):
-        base = "base not turned"
-    else:
-        base = ("base turned by roll, pitch, yaw " + ", ".join(_fmt(v, 6) for v in rpy)
-                + " deg")
+    base = ("base not turned" if rpy is None or not np.any(rpy) else
+            "base turned by roll, pitch, yaw " + ", ".join(_fmt(v, 6) for v in rpy) + " deg")
     if world is None:
         return base + "; gravity as the robot file gives it (Sec. 1.1)"
     return (base + "; gravity (" + ", ".join(_fmt(v, 6) for v in world) + ") m/s\u00b2 in "

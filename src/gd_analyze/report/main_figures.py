@@ -920,10 +920,8 @@ def plot_data(ds: xr.Dataset,
             progress(N)
         return PlotData(x=t, enveloped=False, series=series, N=N)
     t0, t1 = float(t[0]), float(t[-1])
-    if t1 > t0:
-        col = np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
-    else:
-        col = (np.arange(N) * columns) // N
+    col = (np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
+           if t1 > t0 else (np.arange(N) * columns) // N)
     lo: dict[str, Any] = {v: None for v in names}
     hi: dict[str, Any] = {v: None for v in names}
     for a in range(0, N, chunk):

@@ -679,8 +679,15 @@ def simplified_context(ds: StoredSimplified | xr.Dataset) -> dict[str, Any]:
     choice = s.choice
     dropped = sum({"both": 0, "tran": 1, "rot": 1, "none": 2}.get(c, 0) for c in choice)
     form = s.form
-    if form == "recursive":
-        text = _recursive_text(s, eps, floor)
+    if form == "recursive":             # its rule, what it keeps and its guarantee
+        exact = s.pairs_dropped == 0 or s.guarantee_kind == "region"
+        g = s.guarantee or {}
+        text = say("recursive_rule", b=s.base_parameters, eps=f"{eps:g}",
+                   floor=f"{floor:g}" if floor else "", pairs=s.pairs, dropped=s.pairs_dropped,
+                   region=s.guarantee_kind == "region", drives=s.has_drives,
+                   scope=_scope(s, exact=exact), ways=bound_ways(g.get("bound_method") or ()),
+                   arithmetic=g.get("joint_sum_arithmetic", ""),
+                   source=scope_markup(g.get("scale_source", "")))
     else:
         text = say("explicit_rule", rule=rule, eps=f"{eps:g}", floor=f"{floor:g}" if floor else "",
                    scope=_scope(s))
@@ -808,18 +815,6 @@ def region_table(ds: StoredSimplified | xr.Dataset) -> tuple[dict[str, Any] | No
                covered=r["covered"], coverage=scope_markup(r["coverage"]),
                region=s.guarantee_kind == "region")
     return tab, powers(text)               # s^-1, deg/s^2 as superscripts
-
-
-def _recursive_text(s, eps, floor):
-    """The rule of a model of the recursive form, what it keeps and its guarantee."""
-    exact = s.pairs_dropped == 0 or s.guarantee_kind == "region"
-    g = s.guarantee or {}
-    return say("recursive_rule", b=s.base_parameters, eps=f"{eps:g}",
-               floor=f"{floor:g}" if floor else "", pairs=s.pairs, dropped=s.pairs_dropped,
-               region=s.guarantee_kind == "region", drives=s.has_drives,
-               scope=_scope(s, exact=exact), ways=bound_ways(g.get("bound_method") or ()),
-               arithmetic=g.get("joint_sum_arithmetic", ""),
-               source=scope_markup(g.get("scale_source", "")))
 
 
 def bound_ways(method: Sequence[str]) -> list[tuple[str, str]]:

@@ -228,14 +228,6 @@ _FRACTION_GAP = 0.08
 _SECOND_LINE = 0.13
 
 
-def _more_lines(w, rooms, size):
-    """The most lines beyond the first that a panel's class fractions take, over the panels
-    ``rooms`` ({label: the room [in] of its bottom line}) at ``size`` [pt]."""
-    index = {label: k for k, label in enumerate(w.elements)}
-    return max((_fraction_text(w.class_fraction[index[label]], room, size).count("\n")
-                for label, room in rooms.items()), default=0)
-
-
 def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
     """One element of the stored sweep ``w``: a box of its share_tran over the trajectories,
     thresholds s and 1 - s; trajectories on which the element is round-off are left out of the
@@ -378,7 +370,10 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
             room = min(room, pitch - wgap + 2 * right - 0.02)
         rooms[label] = room
     size = max(_FRACTION_PT, MIN_PRINTED_PT / printed_scale((width, H)))
-    more = _more_lines(w, rooms, size)
+    # the most lines beyond the first that a panel's class fractions take
+    index = {label: k for k, label in enumerate(w.elements)}
+    more = max((_fraction_text(w.class_fraction[index[label]], room, size).count("\n")
+                for label, room in rooms.items()), default=0)
     if triangle:
         H, hgap, bottom, top = (H + n * more * _SECOND_LINE, 0.46 + more * _SECOND_LINE,
                                 0.3 + more * _SECOND_LINE, 0.68)

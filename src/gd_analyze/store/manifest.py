@@ -460,8 +460,7 @@ def write_transition(folder: str | os.PathLike[str], command: str,
     OSError
         If the new manifest cannot be read or the file cannot be written.
     """
-    with open(os.path.join(folder, manifest_name(command)), encoding="utf-8") as fh:
-        data = json.load(fh)
+    data = json.loads(Path(folder, manifest_name(command)).read_text(encoding="utf-8"))
     files = data["files"]
     for path, entry in old.items():
         base = {k: entry[k] for k in ("sha256", "size")}

@@ -356,9 +356,7 @@ def prune_dead(assignments: list[tuple[se.Symbol, se.Basic]],
     >>> prune_dead([(y, x * x), (z, y + 1)], [2 * y])
     [(y, x**2)]
     """
-    live = set()
-    for e in outputs:
-        live |= e.free_symbols
+    live = set().union(*(e.free_symbols for e in outputs))
     kept = []
     for sym, e in reversed(assignments):
         if sym in live:

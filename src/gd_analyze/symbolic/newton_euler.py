@@ -370,11 +370,8 @@ class Recursion:
 
 def link_constants(values: ArrayLike) -> list:
     """(n, 10) parameter values as symengine constants, rounding noise snapped to 0."""
-    values = np.asarray(values, float)
-    out = []
-    for row in values:
-        out.append([_const(v, 0.0) if v != 0.0 else se.Integer(0) for v in row])
-    return out
+    return [[_const(v, 0.0) if v != 0.0 else se.Integer(0) for v in row]
+            for row in np.asarray(values, float)]
 
 
 def link_torques(rec: Recursion, groups: Sequence[Sequence[tuple]]) -> list:

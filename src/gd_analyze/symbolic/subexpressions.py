@@ -41,9 +41,7 @@ def eliminate(assignments: list[tuple[se.Symbol, se.Basic]], outputs: list[se.Ba
     """
     exprs = [e for _, e in assignments] + list(outputs)
     reps, reduced = se.cse(exprs)
-    out = []
-    for i, (sym, e) in enumerate(reps):
-        out.append((se.Symbol(f"x{i}"), e))
+    out = [(se.Symbol(f"x{i}"), e) for i, (_, e) in enumerate(reps)]
     rename = {s: se.Symbol(f"x{i}") for i, (s, _) in enumerate(reps) if s.name != f"x{i}"}
     body = [(s, e.xreplace(rename) if rename else e) for (s, _), e in
             zip(assignments, reduced[:len(assignments)])]
