@@ -29,12 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..store.schema import strings
-from ..store.stored_identification import (
-    REQUIRED_RECORDING,
-    REQUIRED_ROOT,
-    StoredIdentification,
-    StoredRecording,
-)
+from ..store.stored_identification import StoredIdentification, StoredRecording
 from .common import say, settings_table, table, utc_now
 from .drawing import draw_figures, write_report_files
 from .figure_style import BASE_RC, joint_lines, markevery
@@ -49,7 +44,7 @@ if TYPE_CHECKING:
 
 __all__ = ["identify_figures", "shown_recordings", "role_of", "PAGE_WIDTH",
            "MAX_POINTS", "MODEL_STYLES", "FIGURE_RC", "short", "TITLE_CHARS",
-           "identify_context", "REQUIRED_ROOT", "REQUIRED_RECORDING", "parameter_units",
+           "identify_context", "parameter_units",
            "plain_table", "write_identify_report", "identify_outline"]
 
 #: Figure width [in]: the text of a page.
