@@ -615,6 +615,30 @@ def test_columns_naming_the_robot_s_joints_read_as_numbered_ones(tmp_path):
                                          for p in (pos, vel, eff)]
 
 
+def test_joint_limit_warnings_name_a_named_recording_s_own_column(tmp_path, two_link):
+    """A recording whose columns name the two-link's joints as ROS exports do ("- " prefix,
+    positions and efforts in two files on one clock), joint 2's positions in degrees by
+    mistake: the warning names the file's column "- joint2_position" and the file's row of the
+    first sample beyond +-pi (oracle: the header and the rows the test wrote), where it
+    said "column q2", a name the file does not hold."""
+    j1, j2 = two_link.joint_names()
+    t, q2 = (0.01 * np.arange(12)).tolist(), np.degrees(np.linspace(-0.5, 1.0, 12)).tolist()
+    pos, eff = tmp_path / "pos.csv", tmp_path / "eff.csv"
+    pos.write_text(f"t,- {j2}_position,- {j1}_position\n" + "".join(
+        f"{a!r},{b!r},0.1\n" for a, b in zip(t, q2)))
+    eff.write_text(f"t,- {j1}_effort,- {j2}_effort\n" + "".join(f"{a!r},1,2\n" for a in t))
+    rec = read_recording(f"{pos}+{eff}", 2, joint_names=[j1, j2])
+    with pytest.warns(JointLimitWarning) as caught:
+        messages = check_joint_limits(two_link, rec)
+    row = 2 + int(np.flatnonzero(np.abs(q2) > math.pi)[0])     # header = row 1
+    assert messages == [str(w.message) for w in caught] and len(messages) == 1
+    assert messages[0].startswith(f"{pos}+{eff}: row {row}, column - {j2}_position: joint 2 at ")
+    assert messages[0].endswith(f"; in degrees? (- {j2}_position read in degrees lies within "
+                                f"them)")
+    assert [rec.column(k, j) for k in ("q", "tau") for j in (0, 1)] == [
+        f"- {j}_{f}" for f in ("position", "effort") for j in (j1, j2)]
+
+
 @pytest.mark.parametrize("files, said", [
     ({"a.csv": "t,q1,shoulder_position,tau1"}, "a.csv: row 1, column - shoulder_position: "
      "column '- shoulder_position' names a joint, column '- q1' of"),

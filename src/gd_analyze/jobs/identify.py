@@ -187,7 +187,7 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, 
         for j in np.flatnonzero(new.any(axis=0)):
             x, mid = rec.tau[new[:, j], j], rec.tau[:, j].mean()     # the level of each extreme
             at = " and ".join(f"{np.median(v):.6g}" for v in (x[x < mid], x[x > mid]) if v.size)
-            notes.append(f"{rec.source}: column tau{j + 1}: joint {j + 1}'s "
+            notes.append(f"{rec.source}: column {rec.column('tau', j)}: joint {j + 1}'s "
                          f"{'current' if options.current else 'torque'} "
                          f"{'looks' if few[j] else 'is'} clipped at {at} "
                          f"{'A' if options.current else 'N' if prismatic[j] else 'N m'} (flat at "
@@ -264,7 +264,7 @@ def identify(robot: Robot | str | Path,
     train = [_recording(r, prior, options) for r in recordings]
     valid = [_recording(r, prior, options) for r in validate]
     # a recording in degrees by mistake, say: named again on a failure of the fit
-    beyond = [m for r in train + valid for m in check_joint_limits(prior, r, r.rows)]
+    beyond = [m for r in train + valid for m in check_joint_limits(prior, r)]
     degrees = ("; a recording in degrees? (see the joint-limit warnings)"
                if any("in degrees?" in m for m in beyond) else "")
     what = "current" if options.current else "torque"
@@ -374,7 +374,7 @@ def _model_clipped(prior, train, names, cutoff, options, notes):
     try:
         est, rows = fit_columns(prior, _less_kept(firsts, kept), options.drives)
     except FitFailure as exc:
-        coarse = sorted({f"tau{j + 1}" for r in train
+        coarse = sorted({r.column("tau", j) for r in train
                          for j in np.flatnonzero(prep.coarse_columns(r.tau))})
         notes.append(f"the clip check of the torques of fewer than {prep.CLIP_COARSE} levels "
                      f"({', '.join(coarse)}) against the fitted model is skipped: the fit without "

@@ -38,7 +38,7 @@ import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
@@ -216,18 +216,15 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
 
     values, names, rows, sha256 = _read_csv(
         path, checked, lambda raw: _validated_values(raw, path, checked, least=2))
-    n = _parse_header(names, path)[1]
-    t = values[:, 0]
+    n, t = _parse_header(names, path)[1], values[:, 0]
     _increasing(t, path, rows)
     kinds = ("q", "qd", "qdd")[:(len(names) - 1) // n]       # with derivatives, or without
     check_magnitudes(values, names, {"t": [0], **{k: list(range(1 + i * n, 1 + (i + 1) * n))
                                                  for i, k in enumerate(kinds)}}, path, rows)
-    q = values[:, 1:n + 1]
-    how = "file" if len(names) == 3 * n + 1 else "cubic-spline"
+    q, how = values[:, 1:n + 1], "file" if len(names) == 3 * n + 1 else "cubic-spline"
     qd, qdd = ((values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]) if how == "file"
                else _spline(t, q, path, row_of=lambda k: k + 2))
-    return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path,
-                      sha256=sha256)
+    return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path, sha256=sha256)
 
 
 def _csv_path(path: Any, n_joints: Any) -> str:
@@ -852,8 +849,7 @@ def parse_number(text: str, integer: bool = False) -> float | int:
     raise ValueError(f"not {'a whole' if integer else 'a'} number: {text!r}{hint}")
 
 
-def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording,
-                       rows: np.ndarray | None = None) -> list[str]:
+def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording) -> list[str]:
     """Warn for every joint whose position leaves its limits along the trajectory.
 
     Parameters
@@ -861,18 +857,17 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording,
     robot : Robot
         The arm, with n joints and limits q_min, q_max [rad].
     trajectory : Trajectory or Recording
-        Positions q, shape (N, n) [rad] (a recording in degrees by mistake is seen here).
-    rows : ndarray of int, shape (N,), optional
-        The file's row of each sample (a recording's ``rows``); by default sample k is row
-        k + 2.
+        Positions q, shape (N, n) [rad] (a recording in degrees by mistake is seen here); a
+        recording's messages name its file's row and column of the sample (a trajectory's
+        sample k is row k + 2 and joint j's column q{j + 1}).
 
     Returns
     -------
     list of str
         One message per offending joint (also issued as :class:`JointLimitWarning`).
     """
-    messages = []
-    q = trajectory.q
+    messages, q = [], trajectory.q
+    rows = trajectory.rows if isinstance(trajectory, Recording) else None
     for j in range(robot.n):
         x, lo, hi = q[:, j], robot.q_min[j], robot.q_max[j]
         out = np.nonzero((x < lo) | (x > hi))[0]
@@ -883,12 +878,12 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording,
             # the limits), and within them once converted
             deg = (unit == "deg" and np.abs(2 * x - lo - hi).max() > 3 * (hi - lo)
                    and bool(np.all((np.radians(x) >= lo) & (np.radians(x) <= hi))))
+            name = trajectory.column("q", j) if isinstance(trajectory, Recording) else f"q{j + 1}"
             msg = (f"{trajectory.source}: row {k + 2 if rows is None else rows[k]}, column "
-                   f"q{j + 1}: joint {j + 1} at {s * x[k]:.4g} {unit} is outside its limits "
+                   f"{name}: joint {j + 1} at {s * x[k]:.4g} {unit} is outside its limits "
                    f"[{s * lo:.4g}, {s * hi:.4g}] {unit} ({out.size} set point"
                    f"{'s' if out.size > 1 else ''})"
-                   + (f"; in degrees? (q{j + 1} read in degrees lies within them)" if deg
-                      else ""))
+                   + (f"; in degrees? ({name} read in degrees lies within them)" if deg else ""))
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
@@ -1017,6 +1012,9 @@ class Recording:
     files : tuple of (str, str)
         Each file read and the SHA-256 of its bytes (several: files joined on one clock;
         empty for arrays).
+    columns : dict of str to tuple of str
+        Each kind's ("q", "tau", "qd", "qdd") column name per joint as the file's header writes
+        it (blanks around it stripped; empty for arrays).
     """
 
     t: np.ndarray
@@ -1030,11 +1028,29 @@ class Recording:
     sha256: str = ""
     notes: tuple = ()
     files: tuple = ()
+    columns: dict = field(default_factory=dict)
 
     @property
     def n(self) -> int:
         """int: the number of joints."""
         return int(self.q.shape[1])
+
+    def column(self, kind: str, j: int) -> str:
+        """The name of joint ``j``'s column of a kind as the file writes it.
+
+        Parameters
+        ----------
+        kind : str
+            ``"q"``, ``"tau"``, ``"qd"`` or ``"qdd"``.
+        j : int
+            The joint, from 0.
+
+        Returns
+        -------
+        str
+            The header's name (``"- shoulder_position"``, ``"i2"``), else ``f"{kind}{j + 1}"``.
+        """
+        return self.columns[kind][j] if kind in self.columns else f"{kind}{j + 1}"
 
 
 def _keys(header, path, joints, current, seen):
@@ -1234,8 +1250,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
                 f"t = {t[k]:.9g} s, there {t0[k]:.9g} s" if k < min(t.size, t0.size) else
                 f"{t.size} rows, it has {t0.size}"), file, row=int(rows[min(k, t.size - 1)]),
                 column="t")
-        parts.append((file, sha256, values, rows, keys, t))
-    keys = [key for part in parts for key in part[4]]
+        parts.append((file, sha256, values, rows, keys, names, t))
+    keys, names = ([x for part in parts for x in part[i]] for i in (4, 5))
     cols = _columns(keys, source, n_joints, joint_names if "name" in seen else None)
     values = np.hstack([part[2] for part in parts])
     if values.shape[0] < MIN_SAMPLES:
@@ -1250,8 +1266,9 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     sha256 = parts[0][1] if len(parts) == 1 else hashlib.sha256(
         " ".join(part[1] for part in parts).encode()).hexdigest()
     return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
-                     source=source, sha256=sha256, notes=(*notes, *more),
-                     files=tuple(part[:2] for part in parts))
+                     source=source, sha256=sha256, notes=(*notes, *more), files=tuple(
+                         part[:2] for part in parts), columns={
+                         k: tuple(names[i] for i in idx) for k, idx in cols.items()})
 
 
 def recording_from_arrays(t: ArrayLike, q: ArrayLike, tau: ArrayLike, qd: ArrayLike | None = None,
