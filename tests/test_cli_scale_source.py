@@ -20,12 +20,14 @@ import h5py
 import numpy as np
 import pinocchio as pin
 import pytest
+from html_checks import html_text
 from robot_files import chain_toml
 from scipy.optimize import minimize
 
 from gd_analyze.certify.region import REFINE_JOINTS
 from gd_analyze.cli import main
 from gd_analyze.dynamics.pinocchio import pinocchio_model
+from gd_analyze.report.sweep import write_sweep_report
 from gd_analyze.simplify.guarantee import Guarantee
 from gd_analyze.store.model_file import load_model
 
@@ -143,3 +145,30 @@ def test_a_model_file_without_the_search_says_only_what_it_knows():
     del spec["scale_positions"], spec["scale_polished"]
     assert Guarantee.from_dict(spec, 1, 0.01).scale_source() == (
         f"the largest |tau_i| found over the region, {LOWER}")
+
+
+def test_the_sweep_says_how_s_i_was_found_in_the_main_job_s_words(tmp_path, capsys):
+    """``gd-analyze sweep`` over the joint-limit region of a 3-joint arm: sweep.h5 stores how
+    its merged model's s_i was found (``merged_guarantee_scale_source``), the main job's
+    sentence for the same arm and region (its ``simplified_guarantee_scale_source``), and the
+    sweep report says it wherever it defines s_i (the summary's claim and Sec. 5's pruning,
+    which drops pairs here). Oracle: the sentence written from the merged model file's
+    ``scale_positions`` and ``scale_polished`` in the documented words. Before, sweep.h5 held no
+    such attribute and the report said only "the largest |tau_i| found over the region"."""
+    robot_file = tmp_path / "chain.toml"
+    robot_file.write_text(chain_toml(3))
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(robot_file), "--random", "2", "--held-out", "0", "-o", str(out),
+                 "--no-report", "-q"]) == 0
+    guarantee = json.loads((out / "merged_model.json").read_text())["guarantee"]
+    assert guarantee["scale_polished"] is True and guarantee["scale_positions"] >= 1000
+    found = (f"found at {guarantee['scale_positions']:,} sampled positions of the region and "
+             f"polished by local maximisation, {LOWER}")
+    with h5py.File(out / "sweep.h5", "r") as f:
+        stored = f.attrs.get("merged_guarantee_scale_source")      # None: not stored
+        assert f.attrs["merged_pairs_dropped"][0] > 0
+    assert stored == f"the largest |tau_i| {found}"
+    assert stored == _main_job(3, tmp_path, capsys)[2]
+    html = write_sweep_report(out / "sweep.h5", tmp_path / "report", formats=["html"])[0]
+    text = html_text(html.read_text())
+    assert text.count(f"| {found})") == 2 and "found over the region" not in text, text

@@ -252,7 +252,8 @@ def test_round_off_threshold_in_mathematics(swept):
 
 def test_a_region_scale_names_its_torque_floor_only_where_there_is_one(shared_main, tmp_path):
     """s_i of a region model is max(largest |tau_i| over the region, floor): with the default
-    floor 0 the summary says no "at least 0 N m"; a stored floor of 2 is said."""
+    floor 0 the summary says no "at least 0 N m"; a stored floor of 2 is said, after how s_i
+    was found as sweep.h5 stores it."""
     out = shared_main("sweep", "puma560", "--random", "3", "--seed", "1",
                       "--held-out", "0", "--rule", "budget")      # the budget case of ``swept``
 
@@ -264,11 +265,12 @@ def test_a_region_scale_names_its_torque_floor_only_where_there_is_one(shared_ma
     with xr.open_dataset(out / "sweep.h5") as ds:
         stored = ds.load()
     assert float(stored.attrs[SweepAttr.MERGED_TORQUE_FLOOR]) == 0.0
-    assert "found over the region)" in said and "at least" not in said
+    found = stored.attrs[SweepAttr.MERGED_GUARANTEE_SCALE_SOURCE].split("|tau_i| ")[1]
+    assert f"{found})" in said and "at least" not in said
     stored.attrs[SweepAttr.MERGED_TORQUE_FLOOR] = 2.0
     write_dataset(stored, tmp_path / "sweep.h5")
     html = write_sweep_report(tmp_path / "sweep.h5", tmp_path / "r", formats=["html"])[0]
-    assert "found over the region, at least 2 N m)" in summary(html.read_text())
+    assert f"{found}, at least 2 N m)" in summary(html.read_text())
 
 
 def test_the_merged_cost_agrees_in_number_with_its_counts():

@@ -381,9 +381,12 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         (relative to the peak |tau| over all of them); attributes ``merged_rule`` = "budget",
         ``merged_tolerance`` (EPS), ``merged_torque_floor`` (TAU) [N m],
         ``merged_worst_scaled_error``, ``merge_rule`` (the rule in words) and, where the model
-        carries a guarantee, ``merged_guarantee_kind`` (region or trajectory) and
+        carries a guarantee, ``merged_guarantee_kind`` (region or trajectory),
         ``merged_guarantee_statement`` (its
-        :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`); where the model
+        :meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`) and
+        ``merged_guarantee_scale_source`` (how a region model's s_i was found, its
+        :meth:`~gd_analyze.simplify.guarantee.Guarantee.scale_source`, as the main job's
+        ``simplified_guarantee_scale_source``; "" for a trajectory guarantee); where the model
         was measured on held-out trajectories, ``held_out_error_peak`` and
         ``held_out_tau_peak`` (joint) [N m or N] and ``held_out_trajectories`` (their number),
         for a region model ``held_out_inside_region`` (how many lie in the region).
@@ -412,8 +415,8 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         rel = np.where(peak > 0, peak / np.where(scale > 0, scale, 0.0), 0.0)
     ds = sweep_ds.drop_vars([v for v in (SV.PAIR_TAU_PEAK, SV.PAIR_PEAK, SV.PARAMETER_PEAK,
                                          SV.BASE_PARAMETER, SV.PART) if v in sweep_ds.variables])
-    eps = f"{model.tolerance:g}"
-    region = model.guarantee is not None and model.guarantee.kind == "region"
+    eps, g = f"{model.tolerance:g}", model.guarantee
+    region = g is not None and g.kind == "region"
     words = _REGION_WORDS if region else _TRAJECTORY_WORDS
 
     def put(name, dims, data, units, desc):
@@ -455,16 +458,15 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         SA.MERGED_TORQUE_FLOOR: float(model.torque_floor),
         SA.MERGED_WORST_SCALED_ERROR: float(v["worst_scaled_error"]),
         SA.MERGE_RULE: _merge_rule(model)})
-    if model.guarantee is not None:     # its scope, in the model's one sentence
-        ds.attrs.update({SA.MERGED_GUARANTEE_KIND: model.guarantee.kind,
-                         SA.MERGED_GUARANTEE_STATEMENT: model.guarantee.statement()})
-        if model.guarantee.bound_method:  # how each joint's bound was proved
-            put(SV.MERGED_BOUND_METHOD, (SV.JOINT,), np.array(model.guarantee.bound_method,
-                                                               dtype=str), "1",
+    if g is not None:       # its scope, in the model's one sentence, and how s_i was found
+        ds.attrs.update({SA.MERGED_GUARANTEE_KIND: g.kind, SA.MERGED_GUARANTEE_STATEMENT:
+                         g.statement(), SA.MERGED_GUARANTEE_SCALE_SOURCE: g.scale_source()})
+        if g.bound_method:  # how each joint's bound was proved
+            put(SV.MERGED_BOUND_METHOD, (SV.JOINT,), np.array(g.bound_method, dtype=str), "1",
                 "how the merged model's bound of each joint was proved over the region "
                 "(certify.BOUND_METHODS)")
-            ds.attrs[SA.MERGED_JOINT_SUM_ARITHMETIC] = model.guarantee.joint_sum_arithmetic
-        region_vars, region_attrs = region_fields(model.guarantee.region)
+            ds.attrs[SA.MERGED_JOINT_SUM_ARITHMETIC] = g.joint_sum_arithmetic
+        region_vars, region_attrs = region_fields(g.region)
         ds.update(region_vars)
         ds.attrs.update(region_attrs)
     return with_model_cost(ds, model)

@@ -843,7 +843,8 @@ def bound_ways(method: Sequence[str]) -> list[tuple[str, str]]:
 
 
 def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", drives: bool = False,
-                   floor: str = "", method: Sequence[str] = (), arithmetic: str = "") -> str:
+                   floor: str = "", method: Sequence[str] = (), arithmetic: str = "",
+                   source: str = "") -> str:
     """How a recursive model was pruned over the joint-limit region, in the words of every
     report (the main report's Sec. 5.3, the sweep report's Sec. 5).
 
@@ -863,6 +864,10 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
         empty (an older file): not said.
     arithmetic : str, optional
         The joint sums' enclosures as stored (``"both"``, ``"ball"``).
+    source : str, optional
+        How s_i was found, as the model stored it
+        (:meth:`gd_analyze.simplify.guarantee.Guarantee.scale_source`, marked up); empty:
+        "found over the region".
 
     Returns
     -------
@@ -870,7 +875,7 @@ def region_pruning(pairs: int, dropped: int, bound: str = "the bound below", dri
         The sentences.
     """
     return say("region_pruning", pairs=pairs, dropped=dropped, bound=bound, drives=drives,
-               floor=floor, ways=bound_ways(method), arithmetic=arithmetic)
+               floor=floor, ways=bound_ways(method), arithmetic=arithmetic, source=source)
 
 
 def _scope(s, exact=False):

@@ -664,10 +664,9 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
     """
     m = MergedModel.of(ds)
     if m.region:
-        return say("merged_claim", region=True,
-                   floor=_floor(m) if m.torque_floor > 0 else "", bound=_bound_clause(m),
-                   statement=scope_markup(m.guarantee["statement"]),  # type: ignore[index]  # a merged model's
-                   coverage=coverage(m))
+        return say("merged_claim", region=True, floor=_floor(m) if m.torque_floor > 0 else "",
+                   bound=_bound_clause(m), statement=scope_markup(str(m.guarantee_statement)),
+                   coverage=coverage(m), source=scope_markup(m.guarantee_scale_source))
     beyond = m.beyond_floor
     return say("merged_claim", region=False, floor=_floor(m), bound=_bound_clause(m),
                eps=_eps(m), worst=_measured_error(m.worst_scaled_error),
@@ -719,8 +718,8 @@ def _region_rule(m):
                statement=scope_markup(str(m.guarantee_statement)),
                pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}",
                                       floor=_floor(m) if m.torque_floor > 0 else "",
-                                      method=m.bound_method,
-                                      arithmetic=m.joint_sum_arithmetic)
+                                      method=m.bound_method, arithmetic=m.joint_sum_arithmetic,
+                                      source=scope_markup(m.guarantee_scale_source))
                if m.form == "recursive" and dropped else "")
 
 

@@ -436,6 +436,7 @@ class SweepAttr(_Provenance):
     MERGED_GUARANTEE_KIND: Final = "merged_guarantee_kind"
     MERGED_JOINT_SUM_ARITHMETIC: Final = "merged_joint_sum_arithmetic"
     MERGED_GUARANTEE_STATEMENT: Final = "merged_guarantee_statement"
+    MERGED_GUARANTEE_SCALE_SOURCE: Final = "merged_guarantee_scale_source"
     HELD_OUT_INSIDE_REGION: Final = "held_out_inside_region"
 
 

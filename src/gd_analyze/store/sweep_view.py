@@ -677,8 +677,7 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
     sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
         [str(k) for k in range(K)]
-    held = a.get("held_out_trajectories")
-    inside = a.get("held_out_inside_region")
+    held, inside = a.get("held_out_trajectories"), a.get("held_out_inside_region")
     return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
             "covered": covered,
             "outside": [(sources[k], reasons[k], float(worst[k])) for k in range(K)
@@ -719,6 +718,9 @@ class MergedModel(View):
         ``"region"``, ``"trajectory"`` or "" where none is stored.
     guarantee_statement : object
         The guarantee as the model states it (None where not stored).
+    guarantee_scale_source : str
+        How a region model's s_i was found, as the model states it
+        (:meth:`gd_analyze.simplify.guarantee.Guarantee.scale_source`; "" where not stored).
     guarantee : dict or None
         :func:`merged_guarantee`: the guarantee and the swept
         trajectories it covers.
@@ -760,6 +762,7 @@ class MergedModel(View):
     own_rule: str = stored(SA.OWN_MODEL_RULE, str, "chapter", attr=True)
     guarantee_kind: str = stored(SA.MERGED_GUARANTEE_KIND, str, "", attr=True)
     guarantee_statement: Any = stored(SA.MERGED_GUARANTEE_STATEMENT, default=None, attr=True)
+    guarantee_scale_source: str = stored(SA.MERGED_GUARANTEE_SCALE_SOURCE, str, "", attr=True)
     guarantee: dict | None = derived(merged_guarantee)
     bound_method: tuple[str, ...] = stored(SV.MERGED_BOUND_METHOD, texts, ())
     joint_sum_arithmetic: str = stored(SA.MERGED_JOINT_SUM_ARITHMETIC, str, "", attr=True)
