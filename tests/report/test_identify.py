@@ -311,3 +311,24 @@ def test_six_joints_are_drawn_three_a_row_at_page_width():
             lefts = {round(ax.get_position().x0, 3) for ax in panels}
             assert len(panels) == n and len(lefts) == cols, (n, width, sorted(lefts))
             assert fig.get_size_inches()[1] <= 1.6 * math.ceil(n / cols) + 1.2
+
+
+def test_float_settings_are_shown_to_six_significant_digits_and_stored_whole():
+    """The provenance table showed a float setting as the JSON stores it, 17 digits
+    (cutoff_hz_used 12.345678901234567); it shows 6 significant digits (oracle: Python's
+    "%.6g" of the stored number), a list of them joined by ", ", other settings as before;
+    the stored JSON keeps every digit."""
+    rng = np.random.default_rng(7)
+    joints = ("a", "b")
+    root = _root(rng, joints)
+    cutoff, idle = 12.345678901234567, [0.027290053386426198, 3.4567890123456e-05]
+    settings = {"cutoff_hz_used": cutoff, "idle_threshold": idle, "decimate": 1,
+                "drives": ["viscous"], "drive_gains": None, "cutoff_hz": "auto"}
+    root.attrs["settings"] = json.dumps(settings)
+    groups = {"run": _recording(rng, 0.0, 300, "train", "run", joints)}
+    rows = dict(identify_context(root, groups)["provenance"]["rows"])
+    assert rows["setting cutoff_hz_used"] == f"{cutoff:.6g}" == "12.3457"
+    assert rows["setting idle_threshold"] == ", ".join(f"{x:.6g}" for x in idle)
+    assert [rows[f"setting {k}"] for k in ("decimate", "drives", "drive_gains", "cutoff_hz")] \
+        == ["1", '["viscous"]', "null", "auto"]
+    assert json.loads(root.attrs["settings"])["idle_threshold"] == idle

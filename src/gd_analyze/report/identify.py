@@ -332,21 +332,20 @@ def _noise_table(stored):
 
 
 def _provenance(stored, created):
-    version = stored.gd_analyze_version
     inputs, settings = _json(stored.inputs, {}), _json(stored.settings, {})
     rows = [("report created", created),
-            ("gd-analyze version", "\u2014" if version is None else version),
+            ("gd-analyze version", stored.gd_analyze_version or "\u2014"),
             ("robot", stored.robot), ("robot file", stored.robot_source),
             ("robot file SHA-256", stored.robot_sha256),
             ("standard parameters", stored.standard_method),
             ("Coulomb friction model", stored.coulomb_model)]
     rows += [(f"input {k}", str(v)) for k, v in inputs.items()] if isinstance(inputs, dict) else [
         (f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()]
-    if isinstance(settings, dict):
-        rows += [(f"setting {k}", v if isinstance(v, str) else json.dumps(v, default=str))
-                 for k, v in sorted(settings.items())]
-    elif settings:
-        rows.append(("settings", settings))
+    # a float setting (cutoff_hz_used, idle_threshold) to 6 digits; the file keeps every one
+    rows += ([(f"setting {k}", v if isinstance(v, str) else json.dumps(v, default=str)
+               if {type(x) for x in (v if isinstance(v, list) else [v])} != {float} else
+               ", ".join(fmt(x, 6) for x in np.ravel(v))) for k, v in sorted(settings.items())]
+             if isinstance(settings, dict) else [("settings", settings or None)])
     return settings_table(rows, cells=clean)   # names from the files left as text
 
 
