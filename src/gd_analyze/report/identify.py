@@ -341,12 +341,21 @@ def _provenance(stored, created):
             ("Coulomb friction model", stored.coulomb_model)]
     rows += [(f"input {k}", str(v)) for k, v in inputs.items()] if isinstance(inputs, dict) else [
         (f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()]
-    # a float setting (cutoff_hz_used, idle_threshold) to 6 digits; the file keeps every one
-    rows += ([(f"setting {k}", v if isinstance(v, str) else json.dumps(v, default=str)
-               if {type(x) for x in (v if isinstance(v, list) else [v])} != {float} else
-               ", ".join(fmt(x, 6) for x in np.ravel(v))) for k, v in sorted(settings.items())]
-             if isinstance(settings, dict) else [("settings", settings or None)])
+    if isinstance(settings, dict):
+        rows += [(f"setting {k}", _setting(v)) for k, v in sorted(settings.items())]
+    elif settings:
+        rows.append(("settings", settings))
     return settings_table(rows, cells=clean)   # names from the files left as text
+
+
+def _setting(value):
+    """A stored setting as the provenance table shows it: a float, or a list of floats
+    (``cutoff_hz_used``, ``idle_threshold``), to 6 significant digits (the file keeps every
+    digit); text as it is; anything else as JSON."""
+    floats = value if isinstance(value, list) else [value]
+    if floats and all(isinstance(x, float) for x in floats):
+        return ", ".join(fmt(x, 6) for x in floats)
+    return value if isinstance(value, str) else json.dumps(value, default=str)
 
 
 def _sentences(values):

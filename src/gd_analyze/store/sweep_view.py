@@ -677,7 +677,8 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
     sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
         [str(k) for k in range(K)]
-    held, inside = a.get("held_out_trajectories"), a.get("held_out_inside_region")
+    held = a.get("held_out_trajectories")
+    inside = a.get("held_out_inside_region")
     return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
             "covered": covered,
             "outside": [(sources[k], reasons[k], float(worst[k])) for k in range(K)

@@ -216,12 +216,14 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
 
     values, names, rows, sha256 = _read_csv(
         path, checked, lambda raw: _validated_values(raw, path, checked, least=2))
-    n, t = _parse_header(names, path)[1], values[:, 0]
+    n = _parse_header(names, path)[1]
+    t = values[:, 0]
     _increasing(t, path, rows)
     kinds = ("q", "qd", "qdd")[:(len(names) - 1) // n]       # with derivatives, or without
     check_magnitudes(values, names, {"t": [0], **{k: list(range(1 + i * n, 1 + (i + 1) * n))
                                                  for i, k in enumerate(kinds)}}, path, rows)
-    q, how = values[:, 1:n + 1], "file" if len(names) == 3 * n + 1 else "cubic-spline"
+    q = values[:, 1:n + 1]
+    how = "file" if len(names) == 3 * n + 1 else "cubic-spline"
     qd, qdd = ((values[:, n + 1:2 * n + 1], values[:, 2 * n + 1:]) if how == "file"
                else _spline(t, q, path, row_of=lambda k: k + 2))
     return Trajectory(t=t, q=q, qd=qd, qdd=qdd, derivatives=how, source=path, sha256=sha256)
@@ -866,7 +868,8 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording) -> list
     list of str
         One message per offending joint (also issued as :class:`JointLimitWarning`).
     """
-    messages, q = [], trajectory.q
+    messages = []
+    q = trajectory.q
     rows = trajectory.rows if isinstance(trajectory, Recording) else None
     for j in range(robot.n):
         x, lo, hi = q[:, j], robot.q_min[j], robot.q_max[j]
