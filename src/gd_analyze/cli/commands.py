@@ -1093,7 +1093,7 @@ def _model_lines(model, ds, args):
     floor = f"max(peak |tau_i|, {args.torque_floor:g} N m)" if args.torque_floor else \
         "peak |tau_i|"
     scale = "s_i over the joint-limit region" if region else f"each trajectory's {floor}"
-    claim = f"guaranteed <= {eps:g}" if worst <= eps * (1 + 1e-9) or np.isnan(worst) else \
+    claim = f"guaranteed <= {eps:g}" if said["within"] else \
         f"ABOVE the guarantee {eps:g}: please report this bug"
     beyond = beyond_the_floor(ds)
     caveat = ""

@@ -45,6 +45,7 @@ from ..ranking.ranking import (
     element_labels,
     is_round_off,
 )
+from ..simplify.guarantee import within_bound
 from .datasets import TORQUE_ERRORS, error_variables, units_by_type
 from .names import SWEEP_ATTRIBUTES, Attr, Var
 from .names import SweepAttr as SA
@@ -660,8 +661,11 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
         those lying in its region), ``outside`` (list of (source, reason, worst peak
         |tau_merged - tau| / s_i [1]) of the trajectories not covered), ``worst`` (the
         largest peak |tau_merged - tau| / scale_i over the covered trajectories [1], NaN if
-        none; ``merged_tau_error_relative_peak``), ``held_out`` and ``held_out_inside`` (the
-        held-out trajectories, and how many lie in the region; None when not stored).
+        none; ``merged_tau_error_relative_peak``), ``within`` (whether every covered
+        trajectory's peak |tau_merged - tau| is within its bound up to round-off, judged by
+        :func:`~gd_analyze.simplify.guarantee.within_bound`; True if none is covered),
+        ``held_out`` and ``held_out_inside`` (the held-out trajectories, and how many lie in
+        the region; None when not stored).
     """
     a = ds.attrs
     if "merged_guarantee_statement" not in a:
@@ -677,6 +681,11 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
     sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
         [str(k) for k in range(K)]
+    peak = np.asarray(ds[SV.MERGED_TAU_ERROR_PEAK].values, float)
+    scale = np.asarray(ds[SV.MERGED_SCALE].values, float)
+    bound = (np.asarray(ds[SV.MERGED_BOUND].values, float) if SV.MERGED_BOUND in ds.variables
+             else float(a[SA.MERGED_TOLERANCE]) * scale)
+    within = all(within_bound(peak[k], bound[k], scale[k]).all() for k in np.flatnonzero(covered))
     held = a.get("held_out_trajectories")
     inside = a.get("held_out_inside_region")
     return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
@@ -684,6 +693,7 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
             "outside": [(sources[k], reasons[k], float(worst[k])) for k in range(K)
                         if not covered[k]],
             "worst": float(worst[covered].max()) if covered.any() else float("nan"),
+            "within": within,
             "held_out": None if held is None else int(held),
             "held_out_inside": None if inside is None else int(inside)}
 
