@@ -833,8 +833,6 @@ class StoredSweep(View):
         The translational share's spread over the trajectories [1].
     round_off : ndarray of bool, shape (K, M)
         The elements that are round-off on each trajectory (all False in an older file).
-    round_off_stored : bool
-        ``round_off`` is stored.
     duration : ndarray, shape (K,)
         Each trajectory's duration [s].
     setpoints : ndarray, shape (K,)
@@ -870,7 +868,6 @@ class StoredSweep(View):
     round_off: np.ndarray = derived(lambda ds: (
         ds[SV.ROUND_OFF].values.astype(bool) if SV.ROUND_OFF in ds.variables
         else np.zeros(ds[SV.SHARE_TRAN].shape, bool)))
-    round_off_stored: bool = derived(lambda ds: SV.ROUND_OFF in ds.variables)
     duration: np.ndarray = stored(SV.DURATION)
     setpoints: np.ndarray = stored(SV.SETPOINTS, default=np.array([]))
     sources: tuple[str, ...] = stored(SV.SOURCE, texts)
