@@ -212,5 +212,5 @@ def sweep_figure(ds, key):
     with matplotlib.rc_context(SUPTITLE_RC):
         if key == "error":
             return sweep._fig_error(w)
-        width = sweep._PAGE_WIDTH
+        width = sweep.PAGE_WIDTH
         return sweep._share_figures(w, key, width, sweep._share_parts(w, key, (width,)))[key]

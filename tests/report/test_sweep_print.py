@@ -318,8 +318,8 @@ def test_the_share_figures_of_six_joints_have_no_collision_at_their_printed_size
     w = sweep.StoredSweep.of(ds)
     four = fractions is not None and min(fractions) > 0
     with matplotlib.rc_context(SUPTITLE_RC):
-        figs = {f"{key} {width}": f for key in "Dh" for width in (sweep._PAGE_WIDTH, 3.5)
-                if not (four and width < sweep._PAGE_WIDTH)
+        figs = {f"{key} {width}": f for key in "Dh" for width in (sweep.PAGE_WIDTH, 3.5)
+                if not (four and width < sweep.PAGE_WIDTH)
                 for f in sweep._share_figures(w, key, width).values()}
     two = 0
     for key, fig in figs.items():

@@ -33,7 +33,6 @@ from :func:`gd_analyze.trajectory.planning.random_trajectories`; payload sweeps 
 from __future__ import annotations
 
 import contextlib
-import datetime
 import math
 import pickle
 import time
@@ -50,7 +49,7 @@ from ..ranking.ranking import DEFAULT_DOMINANCE, DEFAULT_NEGLIGIBLE
 from ..simplify.simplified import TorqueErrorAccumulator, merge_choices, simplified_torque
 from ..simplify.sweep_model import per_trajectory_errors
 from ..store.names import SweepAttr as SA
-from ..store.schema import attribute_value
+from ..store.schema import attribute_value, utc_now
 from ..store.sweep_view import embed_pair_peaks, sweep_dataset
 from ..symbolic.pruning import stacked_peaks
 from . import compile_ahead
@@ -456,7 +455,7 @@ def run_sweep(robot: Robot, trajectories: Sequence[Trajectory],
     if in_process and (client is not None or scheduler is not None or n_workers is not None):
         raise ValueError("in_process runs without a dask cluster: give no client, scheduler "
                          "or n_workers")
-    started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+    started = utc_now()
     compile_ahead.start(joint_sum_arithmetic(robot.n))    # a first run: on the other core
     base = base_parameters(robot) if recursive_peaks else None
     passes = 2 if base is None and chapter_errors else 1

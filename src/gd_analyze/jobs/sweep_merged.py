@@ -48,8 +48,8 @@ from ..store.datasets import region_fields
 from ..store.derivations import DERIVATIONS
 from ..store.names import SweepAttr as SA
 from ..store.names import SweepVar as SV
-from ..store.schema import strings
-from ..store.sweep_view import merged_error_variables
+from ..store.schema import strings, text_coordinate, var
+from ..store.sweep_view import MERGED_ERRORS, merged_error_variables
 from ..symbolic.explicit_estimate import is_expensive
 from .control import model_cost, model_facts
 from .evaluate import coverages
@@ -70,11 +70,9 @@ __all__ = ["merged_model", "pair_peaks", "budget_sweep_model", "budget_region_mo
 
 
 #: The merged model's validation (its torque error over all trajectories) from the sweep's
-#: variables: key -> variable.
-_VALIDATION = {"peak_abs_error": SV.MERGED_ERROR_PEAK, "rms_error": SV.MERGED_ERROR_RMS,
-               "peak_tau": SV.MERGED_ERROR_TAU_PEAK,
-               "relative_peak_error": SV.MERGED_ERROR_RELATIVE_PEAK,
-               "relative_rms_error": SV.MERGED_ERROR_RELATIVE_RMS}
+#: variables: key -> variable, as :func:`gd_analyze.store.sweep_view.merged_error_variables`
+#: stores them.
+_VALIDATION = {key: name for key, name, *_ in MERGED_ERRORS}
 
 
 def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
@@ -420,7 +418,7 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     words = _REGION_WORDS if region else _TRAJECTORY_WORDS
 
     def put(name, dims, data, units, desc):
-        ds[name] = (dims, np.asarray(data), {"units": units, "long_name": desc})
+        ds[name] = var(dims, np.asarray(data), units, desc)
 
     labels = element_labels(sweep_ds.sizes[SV.JOINT])
     put(SV.MERGED_CHOICE, (SV.ELEMENT,), np.array([model.choices[k] for k in labels], dtype=str),
@@ -550,13 +548,12 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
     facts = model_facts(model)
     names = [("merged model" + name[len("simplified model"):])
              if name.startswith("simplified model") else name for name in cost["evaluators"]]
-    ds = sweep_ds.assign_coords(evaluator=(SV.EVALUATOR, np.array(names, dtype=str),
-                                           {"long_name": "evaluator of tau at one set point",
-                                            "units": "1"}))
+    ds = sweep_ds.assign_coords(evaluator=text_coordinate(SV.EVALUATOR, names,
+                                                          "evaluator of tau at one set point"))
     for name, what in ((SV.MULTIPLICATIONS, "multiplications"),
                        (SV.ADDITIONS, "additions and subtractions")):
-        ds[name] = ((SV.EVALUATOR,), np.array(cost[name], np.int64),
-                    {"units": "1", "long_name": f"{what} per set point (counted)"})
+        ds[name] = var((SV.EVALUATOR,), np.array(cost[name], np.int64), "1",
+                       f"{what} per set point (counted)")
     ds.attrs.update({SA.MERGED_FORM: str(facts["form"]),
                      SA.MERGED_C_TERMS_KEPT: int(facts["c_terms_kept"]),
                      SA.MERGED_C_TERMS: int(facts["c_terms"])})

@@ -12,7 +12,6 @@ the interface, not these functions.
 
 from __future__ import annotations
 
-import datetime
 import functools
 import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -24,7 +23,7 @@ import numpy as np
 from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
 from ..store.results_view import Results
-from ..store.schema import EvaluatorCosts, stored_prismatic, strings
+from ..store.schema import EvaluatorCosts, stored_prismatic, strings, utc_now
 from ..store.sweep_view import MergedModel
 from . import markup
 from .markup import clean, marked, powers
@@ -45,17 +44,6 @@ __all__ = ["CLASS_COLOURS", "utc_now", "keep_units", "strings", "fmt", "fmt_colu
 #: Colour-blind-safe colours (Okabe & Ito) of the dominance classes, the same in every report.
 CLASS_COLOURS = {"translational": "#0072B2", "rotational": "#D55E00", "both": "#6A3D9A",
                  "negligible": "#777777"}
-
-
-def utc_now() -> datetime.datetime:
-    """The current UTC time, to the second.
-
-    Returns
-    -------
-    datetime.datetime
-        Time-zone aware, microseconds zero.
-    """
-    return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
 
 
 def attr_text(value: object, default: str = "\u2014", *, parens: bool = True,

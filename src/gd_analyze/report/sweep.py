@@ -41,7 +41,6 @@ from ..ranking.ranking import (
     CLASSES,
     ROUND_OFF,
     arm_scales,
-    element_label,
     is_round_off,
     joint_units_text,
 )
@@ -74,7 +73,7 @@ from .figure_style import SUPTITLE_RC as _RC
 from .figure_style import gridspec as _gridspec
 from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
-from .main_figures import payload_figure
+from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, payload_figure
 from .main_text import gravity_clause, model_sentence, weightless
 from .markup import label as _math
 from .markup import scope as scope_markup
@@ -100,8 +99,6 @@ _CHOICE_COLOURS = {"tran": _CLASS_COLOURS["translational"], "rot": _CLASS_COLOUR
 KEPT = {"tran": "keeps tran", "rot": "keeps rot", "both": "keeps both", "none": "dropped",
         "pruned": "pruned"}
 _OWN_COLOUR, _MERGED_COLOUR = "#009E73", "#000000"
-#: Width of every figure: the text of a page [in]; the column versions' [in].
-_PAGE_WIDTH, COLUMN_WIDTH = 7.2, 3.5
 #: Relative torque errors at or below this are round-off (:data:`ROUND_OFF`): not drawn.
 ERROR_FLOOR = ROUND_OFF
 
@@ -236,6 +233,7 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
     [pt] (its printed size)."""
     k = list(w.elements).index(label)
     merged, zero, s = w.merged.choice[k], w.round_off[:, k], _thresholds(w)[0]
+    colour = _CHOICE_COLOURS.get(merged, "black")
     values = w.share_tran[:, k][~zero]
     if zero.all():
         ax.text(0.5, 0.5, "\u2261 0", transform=ax.transAxes, ha="center", va="center",
@@ -251,7 +249,7 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
         ax.boxplot([finite], positions=[0.0], widths=0.55, whis=(0, 100), showfliers=False,
                    patch_artist=True, manage_ticks=False, whiskerprops=whisker, capprops=whisker,
                    boxprops={"facecolor": "white", "edgecolor": "black", "linewidth": 0.8},
-                   medianprops={"color": _CHOICE_COLOURS.get(merged, "black"), "linewidth": 1.6})
+                   medianprops={"color": colour, "linewidth": 1.6})
         if finite.size <= 60:
             jitter = np.linspace(-0.18, 0.18, finite.size) if finite.size > 1 else [0.0]
             ax.plot(np.asarray(jitter) + 0.45, finite, ".", ms=2.0, color="0.3")
@@ -264,7 +262,6 @@ def _share_panel(ax, w, label, two_lines=False, room=np.inf, size=_FRACTION_PT):
     ax.set_yticks([0.0, 0.5, 1.0])
     ax.yaxis.set_major_formatter("{x:.2g}")
     ax.tick_params(length=2.0, pad=1.5)
-    colour = _CHOICE_COLOURS.get(merged, "black")
     if zero.all():
         ax.grid(False)
         ax.set_title(f"{_math(label)}: \u2261 0", color=colour, pad=2.5)
@@ -294,12 +291,12 @@ def _parts(labels, per, least=1):
 
 
 def _share_layout(w, key, width):
-    """The panels of D or h (``key``) in reading order and how many a row."""
-    n = w.joints
+    """The panels of D or h (``key``) in reading order (the stored elements of that matrix:
+    D's upper triangle row by row, h in joint order) and how many a row."""
+    labels = [lab for lab in w.elements if lab.startswith(key)]
     if key == "D":
-        return ([element_label("D", i, j) for i in range(n) for j in range(i, n)],
-                3 if width < _PAGE_WIDTH else 6)
-    return [element_label("h", i) for i in range(n)], min(n, 2 if width < _PAGE_WIDTH else 3)
+        return labels, 3 if width < PAGE_WIDTH else 6
+    return labels, min(w.joints, 2 if width < PAGE_WIDTH else 3)
 
 
 def _grid_height(d, column, rows):
@@ -313,7 +310,7 @@ def _grid_height(d, column, rows):
 def _grid_parts(labels, width, cols, least=1):
     """:func:`_share_grid`'s panels in parts no taller than :data:`MOST_HEIGHT` (at least
     ``least`` of them), in whole rows: ``[labels, ...]``."""
-    d, column = labels[0].startswith("D"), width < _PAGE_WIDTH
+    d, column = labels[0].startswith("D"), width < PAGE_WIDTH
     rows = _most(lambda k: _grid_height(d, column, k))
     parts = _parts(range(-(-len(labels) // cols)), rows, least)     # rows, balanced
     return [labels[p[0] * cols:(p[-1] + 1) * cols] for p in parts if p]
@@ -333,7 +330,7 @@ def _share_figures(w, key, width, parts=1):
     ``key``, ``key_2``, ..."""
     labels, cols = _share_layout(w, key, width)
     if key == "D" and w.joints <= TRIANGLE_JOINTS:
-        return {"D": _share_grid(w, labels, width, 3, triangle=width >= _PAGE_WIDTH)}
+        return {"D": _share_grid(w, labels, width, 3, triangle=width >= PAGE_WIDTH)}
     split = _grid_parts(labels, width, cols, parts)
     return {key if k == 0 else f"{key}_{k + 1}": _share_grid(w, part, width, cols,
                                                               (k + 1, len(split)))
@@ -348,7 +345,7 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
     ``part``: (this part, of how many), said in the title where more than one."""
     from matplotlib.figure import Figure
 
-    d, column, n = labels[0].startswith("D"), width < _PAGE_WIDTH, w.joints
+    d, column, n = labels[0].startswith("D"), width < PAGE_WIDTH, w.joints
     if triangle:
         cells = [(i, j) for i in range(n) for j in range(i, n)]
         cols, left, right, wgap = n, 0.5, 0.08, 0.28
@@ -423,7 +420,7 @@ def _class_height(column, M):
 
 def _class_rows(width):
     """The most elements a class figure at ``width`` holds (:data:`MOST_HEIGHT`)."""
-    return _most(lambda M: _class_height(width < _PAGE_WIDTH, M))
+    return _most(lambda M: _class_height(width < PAGE_WIDTH, M))
 
 
 def _most(height):
@@ -443,16 +440,17 @@ def _class_figures(w, width, parts=1):
         w, width, part, (k + 1, len(split))) for k, part in enumerate(split)}
 
 
-def _fig_classes(w, width=_PAGE_WIDTH, rows=None, part=(1, 1)):
+def _fig_classes(w, width, rows, part):
+    """The class fractions of the elements ``rows`` (a list of their indices) as stacked bars,
+    each with the merged model's choice; ``part``: (this part, of how many)."""
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    rows = list(range(len(w.elements))) if rows is None else list(rows)
     labels = [w.elements[k] for k in rows]
     frac = w.class_fraction[rows]
     merged = [w.merged.choice[k] for k in rows]
     M = len(labels)
-    column = width < _PAGE_WIDTH
+    column = width < PAGE_WIDTH
     W, H = width, _class_height(column, M)
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
@@ -524,7 +522,7 @@ def error_marks(ds: StoredSweep | xr.Dataset
     return own, merged, overall, region
 
 
-def _fig_error(w, width=_PAGE_WIDTH):
+def _fig_error(w, width=PAGE_WIDTH):
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.ticker import NullFormatter
@@ -532,7 +530,7 @@ def _fig_error(w, width=_PAGE_WIDTH):
     m = w.merged
     n = w.joints
     own, merged, overall, region = error_marks(w)
-    column = width < _PAGE_WIDTH
+    column = width < PAGE_WIDTH
     W, H = width, (3.9 if column else 3.1)
     fig = Figure(figsize=(W, H))
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
@@ -630,7 +628,7 @@ def make_sweep_figures(ds: StoredSweep | xr.Dataset,
 
     with matplotlib.rc_context(_RC):  # type: ignore[arg-type]  # keys typed as literals
         figs = {}
-        widths = (_PAGE_WIDTH, COLUMN_WIDTH)[:1 + column]
+        widths = (PAGE_WIDTH, COLUMN_WIDTH)[:1 + column]
         parts = {key: _share_parts(w, key, widths) for key in ("D", "h")}
         classes = max(-(-len(w.elements) // _class_rows(x)) for x in widths)
         for width, end in zip(widths, ("", "_column")):      # a column twin for each part
@@ -724,13 +722,13 @@ def _region_rule(m):
 
 
 def _merged_rule(m, no_gravity):
-    """The merged model's rule, the heading of its section and its description, in words that
-    follow the rule: a bound only for the budget rule; ``no_gravity``: the arm has none
+    """The heading of the merged model's section and its description, in words that follow its
+    rule: a bound only for the budget rule; ``no_gravity``: the arm has none
     (:func:`gd_analyze.report.main_text.weightless`)."""
-    rule, recursive, after = m.rule, m.form == "recursive", ""
-    if rule == "budget" and m.region:
+    recursive, after = m.form == "recursive", ""
+    if m.rule == "budget" and m.region:
         said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m)
-    elif rule == "budget":
+    elif m.rule == "budget":
         said = f"budget rule, \u03b5 = {_eps(m)}"
         text = say("merged_budget", recursive=recursive, eps=_eps(m),
                    stored=m.bound is not None, bound=_worst_bound(m))
@@ -738,7 +736,7 @@ def _merged_rule(m, no_gravity):
                                       "may lose some of its terms.")
     else:
         said, text = "chapter rule, no error bound", say("merged_chapter", weightless=no_gravity)
-    return rule, f"5. Merged model ({said}) and its torque error", (
+    return f"5. Merged model ({said}) and its torque error", (
         f"{text} {_keeps(m, no_gravity)}{after} {_cost_sentence(m, table=True)}")
 
 
@@ -818,17 +816,15 @@ def _held_out(m):
         return ""
     peak = np.asarray(m.held_out_error_peak, float)
     tau = np.asarray(m.held_out_tau_peak, float)
-    floor = m.torque_floor
-    region = m.region
     with np.errstate(divide="ignore", invalid="ignore"):
-        rel = peak / (np.asarray(m.scale, float)[0] if region else
-                      np.maximum(tau, floor))
+        rel = peak / (np.asarray(m.scale, float)[0] if m.region else
+                      np.maximum(tau, m.torque_floor))
     rel = np.where(torque_error_round_off(m, peak, tau) | ~np.isfinite(rel), 0.0, rel)
     j = int(np.argmax(rel))
-    return say("held_out", k=m.held_out_trajectories, region=region,
+    return say("held_out", k=m.held_out_trajectories, region=m.region,
                worst=_pct(rel[j]) if rel[j] > 0 else "",
                joint=j + 1, inside=m.held_out_inside_region,
-               floor=_floor(m) if floor != 0 else "") + " "
+               floor=_floor(m) if m.torque_floor != 0 else "") + " "
 
 
 def _cost_sentence(m, table=False):
@@ -912,8 +908,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     inputs = say("sweep_inputs", K=K, kind=str(_or(st.input_kind, "")),
                  seed=None if st.seed is None else _text(st.seed))
     settings = _settings(w, inputs, __version__)
-    zero = np.asarray(w.round_off.all(axis=0) if w.round_off_stored
-                      else np.zeros(len(labels), bool), bool)
+    zero = np.asarray(w.round_off.all(axis=0))      # all False in an older file
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
@@ -939,19 +934,19 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
             [peak[j], rms[j], rel_peak[j], rel_rms[j]])
          + [own_worst[j], units[j]] for j in range(w.joints)],
         align=["left"] + ["right"] * 6 + ["left"])
-    counts = {c: sum(m == c for m in merged) for c in _CHOICES    # the table's words
+    counts = {c: merged.count(c) for c in _CHOICES    # the table's words
               + (("pruned",) if "pruned" in merged else ())}
     worst = _worst_cases(w, labels)
     no_gravity = weightless(w.run.gravity)          # c is then 0: said once, in Sec. 5
-    rule, heading, merged_text = _merged_rule(m, no_gravity)
+    heading, merged_text = _merged_rule(m, no_gravity)
     claim: str | tuple[str, int] | tuple[()]
-    if rule == "budget":
+    if m.rule == "budget":
         claim = merged_claim(m)
     else:                               # the worst error, at that joint; () if round-off
         rel = np.where(merged_off, np.nan, w.merged_error_relative_peak)
         claim = () if merged_off.all() else (_pct(np.nanmax(rel)), int(np.nanargmax(rel)) + 1)
     summary = say("sweep_summary", robot=robot, M=len(labels), inputs=inputs, s=f"{s:g}",
-                  e=f"{e:g}", eps=_eps(m) if rule == "budget" else "",
+                  e=f"{e:g}", eps=_eps(m) if m.rule == "budget" else "",
                   kept=_recursive_clause(m) if m.form == "recursive" else say(
                       "explicit_kept", both=counts['both'], one=counts['tran'] + counts['rot'],
                       dropped=counts['none']),
@@ -976,19 +971,18 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "payload": None}
     if payload is not None:
         part = PayloadSweep.of(payload)
-        masses = part.masses
-        plabels = list(part.elements)
-        dom = part.dominance.reshape(part.share_tran.shape)
-        rows = [[lab, *(dom[p, k] for p in range(len(masses)))] for k, lab in enumerate(plabels)]
-        changed = [lab for k, lab in enumerate(plabels) if len(set(dom[:, k])) > 1]
-        ctx["figure_text"]["payload"] = say("payload_shows", masses=[f"{m:g}" for m in masses])
+        masses = [f"{m:g}" for m in part.masses]          # as printed [kg]
+        dom = part.dominance                                # (mass, element)
+        changed = [lab for k, lab in enumerate(part.elements) if len(set(dom[:, k])) > 1]
+        ctx["figure_text"]["payload"] = say("payload_shows", masses=masses)
         ctx["payload"] = {
-            "table": _table(["element", *(f"{m:g} kg" for m in masses)], rows,
+            "table": _table(["element", *(f"{m} kg" for m in masses)],
+                            [[lab, *dom[:, k]] for k, lab in enumerate(part.elements)],
                             colour_cols=list(range(1, len(masses) + 1))),
             "settings": settings_table([
                 ("trajectory", _text(part.input_file)),
                 ("trajectory SHA-256", _text(part.input_sha256)),
-                ("payload masses [kg]", ", ".join(f"{m:g}" for m in masses)),
+                ("payload masses [kg]", ", ".join(masses)),
                 ("payload centre of mass [m]", _text(part.payload_com)),
                 ("payload inertia [kg m\u00b2]", _text(part.payload_inertia)),
                 ("s, e", f"{_text(part.dominance_threshold)}, "
@@ -1046,13 +1040,12 @@ def _settings(w, inputs, version):
 def _gravity(m):
     """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
     "" where the dataset does not count them."""
-    rule = m.rule
-    if rule == "budget" and m.form == "recursive":
+    if m.rule == "budget" and m.form == "recursive":
         return f"It {_recursive_gravity(m)}. "
     kept, full = m.c_terms_kept, m.c_terms
-    if rule == "budget" and min(kept, full) < 0:
+    if m.rule == "budget" and min(kept, full) < 0:
         return ""
-    return f"It {gravity_clause(rule, c_terms=(kept, full))}. "
+    return f"It {gravity_clause(m.rule, c_terms=(kept, full))}. "
 
 
 def _share(value, zero):
@@ -1080,13 +1073,12 @@ def _worst_cases(w, labels):
     m = w.merged
     off = torque_error_round_off(m, w.merged_tau_error_peak, w.tau_peak)
     rel = np.where(off, np.nan, w.merged_tau_error_relative_peak)          # (K, n)
-    sources = w.sources
     per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
     order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
     scale = (f"{_SI} over the region" if m.region
              else f"its own {_SI}" if m.scale is not None else "its own peak |τ|")
     worst = {k: int(np.nanargmax(rel[k])) for k in order}          # trajectory: its joint
-    parts = [f"{sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})"
+    parts = [f"{w.sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})"
              for k, j in worst.items()]
     spread = w.share_max - w.share_min
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     from ..model.robot import Robot
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
-           "element_coords", "text_coordinate", "joint_type_var", "strings",
+           "element_coords", "text_coordinate", "joint_type_var", "strings", "utc_now",
            "stored_prismatic", "stored_has_drives",
            "Record", "stored_name", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
@@ -118,6 +118,17 @@ def attribute_value(value: object) -> Any:
     return value
 
 
+def utc_now() -> datetime.datetime:
+    """The current UTC time, to the second: the time stamp of every dataset and report.
+
+    Returns
+    -------
+    datetime.datetime
+        Time-zone aware, microseconds zero.
+    """
+    return datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
+
+
 def global_attributes(robot: Robot, title: str,
                       references: str = "Fu, Gonzalez & Lee (1987), Robotics, Sec. 3.4; " "Lee, Lee & Nigam (1983)",
                       **extra: Any) -> dict[str, Any]:
@@ -146,7 +157,7 @@ def global_attributes(robot: Robot, title: str,
         placeholders, ``Robot.metadata["placeholder_inertia"]``), then ``extra``.
     """
 
-    now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat()
+    now = utc_now().isoformat()
     attrs: dict[str, Any] = {
         Attr.CONVENTIONS: CONVENTIONS,
         Attr.TITLE: title,

@@ -80,7 +80,7 @@ __all__ = ["MergedModel", "SweepSettings", "StoredSweep", "PayloadSweep",
            "REQUIRED", "PAYLOAD_REQUIRED", "with_more_tasks", "inputs_attributes", "sweep_dataset",
            "payload_dataset", "sweep_payloads_dataset", "embed_payload", "payload_part",
            "beyond_the_floor", "merged_guarantee", "embed_pair_peaks", "merged_error_variables",
-           "sweep_size"]
+           "sweep_size", "MERGED_ERRORS"]
 
 #: At most this many input files are listed by name in the global attributes (all are in the
 #: per-trajectory variables ``source`` and ``input_sha256``); HDF5 attributes stay small.
@@ -183,8 +183,8 @@ def inputs_attributes(trajectories: Sequence[Trajectory]) -> dict[str, Any]:
 
 #: The merged model's error over all the swept trajectories: its key in a torque error
 #: (:func:`gd_analyze.simplify.simplified.torque_error`), its variable, whether in torque units
-#: (else 1) and its long_name.
-_MERGED_ERRORS = (
+#: (else 1) and its long_name; read back by :func:`gd_analyze.jobs.sweep_merged.merged_model`.
+MERGED_ERRORS = (
     ("peak_abs_error", SV.MERGED_ERROR_PEAK, True,
      "merged model: peak |tau_merged - tau| over all trajectories"),
     ("rms_error", SV.MERGED_ERROR_RMS, True,
@@ -215,7 +215,7 @@ def merged_error_variables(error: Mapping[str, Any], torque: str) -> dict[str, A
         ``merged_error_relative_peak``, ``merged_error_relative_rms`` (dim joint), as
         :func:`gd_analyze.store.schema.var`.
     """
-    return error_variables(error, (SV.JOINT,), torque, _MERGED_ERRORS)
+    return error_variables(error, (SV.JOINT,), torque, MERGED_ERRORS)
 
 
 def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
@@ -265,7 +265,6 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     share_data = np.where(tran_off & ~rot_off, 0.0, np.where(rot_off & ~tran_off, 1.0, share))
     share_data = np.where(round_off, np.nan, share_data)
     summ = [r["summary"] for r in results]
-    err = [s["error"] for s in summ]
 
     def each(key, dtype=None):
         """Per trajectory, the summary's ``key``."""
@@ -300,8 +299,8 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
         SV.Q_START: var(TJ, each("q_start"), position, "joint position at the first set point"),
         SV.Q_GOAL: var(TJ, each("q_goal"), position, "joint position at the last set point"),
         SV.TAU_PEAK: tau_peak,
-        **error_variables({key: [e[key] for e in err] for key, *_ in TORQUE_ERRORS}, TJ, torque,
-                          prefix="own simplified model: "),
+        **error_variables({key: [s["error"][key] for s in summ] for key, *_ in TORQUE_ERRORS},
+                          TJ, torque, prefix="own simplified model: "),
         SV.MERGED_TAU_ERROR_PEAK: var(TJ, m_peak, torque,
                                       "merged model: peak |tau_merged - tau| along the "
                                       "trajectory"),
@@ -663,9 +662,9 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
         largest peak |tau_merged - tau| / scale_i over the covered trajectories [1], NaN if
         none; ``merged_tau_error_relative_peak``), ``within`` (whether every covered
         trajectory's peak |tau_merged - tau| is within its bound up to round-off, judged by
-        :func:`~gd_analyze.simplify.guarantee.within_bound`; True if none is covered),
-        ``held_out`` and ``held_out_inside`` (the held-out trajectories, and how many lie in
-        the region; None when not stored).
+        :func:`~gd_analyze.simplify.guarantee.within_bound`; True if none is covered) and
+        ``held_out_inside`` (how many held-out trajectories lie in the region; None when not
+        stored).
     """
     a = ds.attrs
     if "merged_guarantee_statement" not in a:
@@ -686,15 +685,13 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     bound = (np.asarray(ds[SV.MERGED_BOUND].values, float) if SV.MERGED_BOUND in ds.variables
              else float(a[SA.MERGED_TOLERANCE]) * scale)
     within = all(within_bound(peak[k], bound[k], scale[k]).all() for k in np.flatnonzero(covered))
-    held = a.get("held_out_trajectories")
-    inside = a.get("held_out_inside_region")
+    inside = a.get(SA.HELD_OUT_INSIDE_REGION)
     return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
             "covered": covered,
             "outside": [(sources[k], reasons[k], float(worst[k])) for k in range(K)
                         if not covered[k]],
             "worst": float(worst[covered].max()) if covered.any() else float("nan"),
             "within": within,
-            "held_out": None if held is None else int(held),
             "held_out_inside": None if inside is None else int(inside)}
 
 #: The variables of a payload sweep the report reads.
@@ -704,9 +701,7 @@ PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION, SV.TAU_PEAK,
             SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION, SV.SHARE_TRAN_MIN,
             SV.SHARE_TRAN_MEDIAN, SV.SHARE_TRAN_MAX, SV.MERGED_CHOICE,
-            SV.MERGED_TAU_ERROR_RELATIVE_PEAK, SV.MERGED_ERROR_PEAK, SV.MERGED_ERROR_RMS,
-            SV.MERGED_ERROR_TAU_PEAK, SV.MERGED_ERROR_RELATIVE_PEAK,
-            SV.MERGED_ERROR_RELATIVE_RMS)
+            SV.MERGED_TAU_ERROR_RELATIVE_PEAK, *(name for _, name, *_ in MERGED_ERRORS))
 
 
 @dataclass(frozen=True, eq=False)
@@ -852,8 +847,6 @@ class StoredSweep(View):
         The translational share's spread over the trajectories [1].
     round_off : ndarray of bool, shape (K, M)
         The elements that are round-off on each trajectory (all False in an older file).
-    round_off_stored : bool
-        ``round_off`` is stored.
     duration : ndarray, shape (K,)
         Each trajectory's duration [s].
     setpoints : ndarray, shape (K,)
@@ -889,7 +882,6 @@ class StoredSweep(View):
     round_off: np.ndarray = derived(lambda ds: (
         ds[SV.ROUND_OFF].values.astype(bool) if SV.ROUND_OFF in ds.variables
         else np.zeros(ds[SV.SHARE_TRAN].shape, bool)))
-    round_off_stored: bool = derived(lambda ds: SV.ROUND_OFF in ds.variables)
     duration: np.ndarray = stored(SV.DURATION)
     setpoints: np.ndarray = stored(SV.SETPOINTS, default=np.array([]))
     sources: tuple[str, ...] = stored(SV.SOURCE, texts)
