@@ -1236,8 +1236,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     parts: list = []
     joined = recording_files(source)
     for file in joined:
-        def header(fields, row=1):     # called at once, in this round of the loop
-            return _keys(fields, file, joint_names, current, seen)[0]
+        def header(fields, row=1):     # at once, in this round; maybe twice: a copy of seen
+            return _keys(fields, file, joint_names, current, dict(seen))[0]
 
         values, names, rows, sha256 = _read_csv(file, header, lambda raw: _validated_values(raw, file, header))
         keys = _keys(names, file, joint_names, current, seen)[1]
