@@ -162,6 +162,8 @@ def _recording(item, prior, options):
         raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
     if (step := float(np.median(np.diff(rec.t)))) >= prep.SLOW_STEP:   # a clock in ms read in s
         warnings.warn(f"{rec.source}: column t: steps of {step:.3g} s: in ms?", InputWarning)
+    # a step beyond pi is no arm's motion but a wrap at +-pi, as a continuous joint's log holds it
+    rec = replace(rec, q=np.where(prior.prismatic, rec.q, np.unwrap(rec.q, axis=0)))
     if options.current and len(options.drive_gains) != n:
         raise InputError(f"{len(options.drive_gains)} drive gains for {n} joints",
                          column="--drive-gains")
