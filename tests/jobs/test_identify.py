@@ -672,6 +672,65 @@ def test_a_recording_in_degrees_is_warned_about_with_its_file_row_and_column(tmp
     assert caught and not any("degrees?" in str(w.message) for w in caught)
 
 
+def test_a_recording_with_its_clock_in_milliseconds_is_warned_about(monkeypatch):
+    """Time stamps in ms read as s (a 200 Hz log read as 0.2 Hz): the velocities come out 1000
+    and the accelerations 10^6 times too small, and the fit silently took inertias 10^6 times
+    the true ones for a good fit (exit 0); now one warning line names the file and the column t,
+    and a failed fit's error names the likely cause. In seconds: no such warning."""
+    from gd_analyze.estimation import fit
+    from gd_analyze.estimation.consistent import SolverFailure
+
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 10, seed=2)
+    ms = recording_from_arrays(train.t * 1000, train.q, train.tau, source="ms")
+    with pytest.warns(InputWarning, match=r"^ms: column t: steps of 4\.\d+ s: in ms\?$") as w:
+        wrong = identify(robot, [ms])
+    assert len([x for x in w if "column t" in str(x.message)]) == 1
+    # the oracle: the true arm's base parameters, which the fit on the ms clock misses by far
+    beta = _true_beta(robot, truth, base_parameters(robot))
+    right = identify(robot, [train])
+    b = beta.size
+    assert np.abs(right.parameters.value[:b] - beta).max() < 1e-3 * np.abs(beta).max()
+    assert np.abs(wrong.parameters.value[:b] - beta).max() > 10 * np.abs(beta).max()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InputWarning)
+        identify(robot, [train])
+
+    def fail(*args, **kwargs):
+        raise SolverFailure("CLARABEL: infeasible; SCS: infeasible")
+    monkeypatch.setattr(fit, "consistent_standard", fail)
+    with pytest.warns(InputWarning), pytest.raises(InputError) as err:
+        identify(robot, [ms], options=IdentifyOptions(consistent=True))
+    assert str(err.value).endswith("infeasible; time stamps in ms? (see the warning on column t)")
+
+
+def test_a_joint_s_positions_wrapped_at_pi_identify_as_the_unwrapped_ones(tmp_path):
+    """A continuous joint logged within [-pi, pi), as ROS joint_states holds it: its position
+    jumps by 2 pi at each wrap, no motion of an arm in one step. The fit took the jumps for
+    motion (a Kinova log so wrapped: 16 % off, its robot file 78,000 % off, exit 0); now the
+    positions are unwrapped first, and the identified base parameters are those of the
+    recording unwrapped, and the true arm's (Pinocchio's rnea)."""
+    from robot_files import toml_without_limits
+
+    robot = load_robot(toml_without_limits(tmp_path))     # joint 1 turns freely
+    truth = truth_for(robot, seed=4)
+    t = irregular_clock(20, seed=2)
+    q, qd, qdd = fourier(robot.n, t, seed=2)
+    q[:, 0] += np.pi - 0.5 * (q[:, 0].max() + q[:, 0].min())     # joint 1 swings across pi
+    tau = truth.torque(q, qd, qdd)
+    wrapped = q.copy()
+    wrapped[:, 0] = (q[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    assert (np.abs(np.diff(wrapped[:, 0])) > np.pi).sum() >= 2
+    got = [identify(robot, [recording_from_arrays(t, x, tau, source=name)]).parameters
+           for x, name in ((wrapped, "wrapped"), (q, "unwrapped"))]
+    beta = _true_beta(robot, truth, base_parameters(robot))
+    b = beta.size
+    np.testing.assert_allclose(got[0].value, got[1].value, rtol=0,
+                               atol=1e-9 * np.abs(got[1].value).max())
+    assert np.abs(got[0].value[:b] - beta).max() < 1e-2 * np.abs(beta).max()
+
+
 def test_a_failed_fit_on_a_recording_in_degrees_names_degrees(tmp_path, monkeypatch):
     """The consistent solver failing on positions in degrees: the one error line names the
     likely cause (degrees), not only the solver's message and a guess at the excitation."""

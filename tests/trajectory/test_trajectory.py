@@ -665,6 +665,20 @@ def test_a_named_or_joined_recording_that_cannot_be_read_is_one_line(tmp_path, f
     assert said in str(e.value) and "\n" not in str(e.value), str(e.value)
 
 
+@pytest.mark.parametrize("rows", [12, 12_000])
+def test_a_header_both_naming_and_numbering_joints_names_its_column_at_any_size(tmp_path, rows):
+    """The header's first numbered column after a named one is the one named, whatever the
+    file's size: above FAST_PARSE_BYTES the streamed parse's look at the header is the first,
+    and the message named column 't' and a column of that look (the cell-by-cell parse checked
+    the header again against what the first look had noted)."""
+    path = _named(tmp_path / "m.csv", ["shoulder_position", "q2", "tau1", "tau2"], rows=rows)
+    assert (path.stat().st_size > FAST_PARSE_BYTES) == (rows > 12)
+    with pytest.raises(InputError) as e:
+        read_recording(path, 2, joint_names=["shoulder", "elbow"])
+    assert str(e.value) == (f"{path}: row 1, column - q2: column '- q2' numbers a joint, column "
+                            f"'- shoulder_position' of {path} names one")
+
+
 def test_joined_files_whose_clocks_differ_are_refused_with_the_row(tmp_path):
     a = _named(tmp_path / "a.csv", ["j_position"])
     b = _named(tmp_path / "b.csv", ["j_effort"], shift=1e-4)

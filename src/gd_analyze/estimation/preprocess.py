@@ -50,7 +50,7 @@ import numpy.typing as npt
 __all__ = ["Preprocessed", "preprocess", "most_samples", "default_cutoff", "edge_samples",
            "still_joints", "clipped_samples", "despiked", "CLIP_RUN", "CLIP_LEVELS", "CLIP_REACH",
            "CLIP_NOISE", "CLIP_ORDER", "CLIP_APPROACH", "CLIP_SHARE", "CLIP_SIGMAS", "CLIP_COARSE",
-           "CLIP_FEW", "SPIKE_SIGMAS", "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY",
+           "CLIP_FEW", "SPIKE_SIGMAS", "ORDER", "GAP_STEPS", "CUTOFF_FACTOR", "ENERGY", "SLOW_STEP",
            "EDGE_PERIODS", "STILL_SPAN", "FILTER_BLOCK", "extreme_samples", "model_clipped",
            "coarse_columns", "confirmed_clips"]
 
@@ -68,6 +68,9 @@ EDGE_PERIODS = 3.0
 #: A joint whose kept positions span less than this is held still [rad for a revolute joint
 #: (0.57 deg), m for a prismatic one].
 STILL_SPAN = {"revolute": 1e-2, "prismatic": 1e-3}
+#: A recording whose samples are this far apart or more (median) [s] is warned about: no arm's
+#: torques are logged at 4 Hz or slower, but a clock in ms of a log at up to 4 kHz reads so in s.
+SLOW_STEP = 0.25
 #: The fewest samples in a row at a torque's extreme that are taken for clipping
 #: (:func:`clipped_samples`).
 CLIP_RUN = 3

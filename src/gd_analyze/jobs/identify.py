@@ -160,6 +160,10 @@ def _recording(item, prior, options):
                        else read_recording(item, prior.n, options.current, prior.joint_names()))
     if rec.n != n:
         raise InputError(f"the recording has {rec.n} joints, the robot has {n}", rec.source)
+    if (step := float(np.median(np.diff(rec.t)))) >= prep.SLOW_STEP:   # a clock in ms read in s
+        warnings.warn(f"{rec.source}: column t: steps of {step:.3g} s: in ms?", InputWarning)
+    # a step beyond pi is no arm's motion but a wrap at +-pi, as a continuous joint's log holds it
+    rec = replace(rec, q=np.where(prior.prismatic, rec.q, np.unwrap(rec.q, axis=0)))
     if options.current and len(options.drive_gains) != n:
         raise InputError(f"{len(options.drive_gains)} drive gains for {n} joints",
                          column="--drive-gains")
@@ -265,8 +269,9 @@ def identify(robot: Robot | str | Path,
     valid = [_recording(r, prior, options) for r in validate]
     # a recording in degrees by mistake, say: named again on a failure of the fit
     beyond = [m for r in train + valid for m in check_joint_limits(prior, r)]
-    degrees = ("; a recording in degrees? (see the joint-limit warnings)"
-               if any("in degrees?" in m for m in beyond) else "")
+    degrees = ("; a recording in degrees? (see the joint-limit warnings)" if any(
+        "in degrees?" in m for m in beyond) else "") + ("; time stamps in ms? (see the warning on "
+        "column t)" if any(np.median(np.diff(r.t)) >= prep.SLOW_STEP for r in train) else "")
     what = "current" if options.current else "torque"
     if not any(np.any(r.tau) for r in train):
         raise InputError(f"every {what} in the training recordings is 0: there is nothing to "

@@ -53,7 +53,7 @@ if TYPE_CHECKING:                       # for the type hints only
     from ..model.robot import Robot
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
-           "trajectory_columns",
+           "trajectory_columns", "trajectory_from_arrays", "as_trajectory", "parse_number",
            "JointLimitWarning", "check_joint_limits", "check_magnitudes", "checked_arrays",
            "FAST_PARSE_BYTES", "MAX_CELL", "streamed_values", "Recording", "read_recording",
            "recording_from_arrays", "MIN_SAMPLES", "BACK_STEPS"]
@@ -433,9 +433,6 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
     of = f" of {len(value)}" if isinstance(value, (tuple, list)) else ""    # 2 or 4 are read
     raise InputError("a trajectory is a Trajectory, a CSV file, a mapping of t, q[, qd, qdd] "
                      f"or a sequence (t, q[, qd, qdd]), not a {type(value).__name__}{of}", ARRAYS)
-
-
-__all__ += ["trajectory_from_arrays", "as_trajectory", "parse_number"]
 
 
 _BOM = b"\xef\xbb\xbf"
@@ -1236,8 +1233,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     parts: list = []
     joined = recording_files(source)
     for file in joined:
-        def header(fields, row=1):     # called at once, in this round of the loop
-            return _keys(fields, file, joint_names, current, seen)[0]
+        def header(fields, row=1):     # at once, in this round; maybe twice: a copy of seen
+            return _keys(fields, file, joint_names, current, dict(seen))[0]
 
         values, names, rows, sha256 = _read_csv(file, header, lambda raw: _validated_values(raw, file, header))
         keys = _keys(names, file, joint_names, current, seen)[1]
