@@ -731,6 +731,40 @@ def test_a_joint_s_positions_wrapped_at_pi_identify_as_the_unwrapped_ones(tmp_pa
     assert np.abs(got[0].value[:b] - beta).max() < 1e-2 * np.abs(beta).max()
 
 
+def test_the_lines_on_a_recording_naming_the_joints_name_its_own_columns(tmp_path):
+    """A recording whose columns name the joints ("- joint1_position", ..., shuffled, as a ROS
+    export): the clip warning (joint 2's torque clipped at 85 % of its peak) and the refusal of
+    a torque of zeros name the file's own column, not "tau2", which the file does not have (the
+    refusal did)."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    rec, _ = _record(truth, robot.n, 25, seed=2, noise=0.01, derivatives=False)
+
+    def named(name, q, tau):
+        columns = {"- joint2_effort": tau[:, 1], "- joint1_position": q[:, 0],
+                   "- joint2_position": q[:, 1], "- joint1_effort": tau[:, 0]}
+        path = tmp_path / f"{name}.csv"
+        path.write_text("t," + ",".join(columns) + "\n" + "".join(
+            f"{float(s)!r}," + ",".join(repr(float(c[k])) for c in columns.values()) + "\n"
+            for k, s in enumerate(rec.t)))
+        return str(path)
+
+    tau = rec.tau.copy()
+    limit = 0.85 * np.abs(tau[:, 1]).max()
+    tau[:, 1] = np.clip(tau[:, 1], -limit, limit)
+    clipped = named("clipped", rec.q, tau)
+    with pytest.warns(InputWarning) as caught:
+        identify(robot, [clipped])
+    lines = [str(w.message) for w in caught if "clipped at" in str(w.message)]
+    assert len(lines) == 1 and lines[0].startswith(
+        f"{clipped}: column - joint2_effort: joint 2's torque is clipped at "), lines
+    zero = named("zero", rec.q, np.column_stack([rec.tau[:, 0], 0 * rec.t]))
+    with pytest.raises(InputError) as err:
+        identify(robot, [zero])
+    assert str(err.value).startswith(f"{zero}: row 1, column - joint2_effort: joint 2's torque is "
+                                     "0 in every row")
+
+
 def test_a_failed_fit_on_a_recording_in_degrees_names_degrees(tmp_path, monkeypatch):
     """The consistent solver failing on positions in degrees: the one error line names the
     likely cause (degrees), not only the solver's message and a guess at the excitation."""

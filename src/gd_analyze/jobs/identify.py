@@ -282,7 +282,7 @@ def identify(robot: Robot | str | Path,
                          f"{'the' if len(train) == 1 else 'every'} training recording: is it "
                          f"recorded? The fit would take the zeros for the joint's {what}",
                          train[0].source if len(train) == 1 else None, row=1,
-                         column=f"{'i' if options.current else 'tau'}{silent[0] + 1}")
+                         column=train[0].column("tau", silent[0]))
     if all(prep.still_joints(r.q, prior.prismatic).all() for r in train):
         raise InputError("no joint moves in the training recordings (every joint's position "
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
