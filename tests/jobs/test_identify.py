@@ -685,14 +685,19 @@ def test_a_recording_with_its_clock_in_milliseconds_is_warned_about(monkeypatch)
     train, _ = _record(truth, robot.n, 10, seed=2)
     ms = recording_from_arrays(train.t * 1000, train.q, train.tau, source="ms")
     with pytest.warns(InputWarning, match=r"^ms: column t: steps of 4\.\d+ s: in ms\?$") as w:
-        wrong = identify(robot, [ms])
+        try:    # the robot file's consistent fallback may fail on such inertias (solver builds)
+            wrong = identify(robot, [ms])
+        except InputError as exc:
+            assert str(exc).endswith("; time stamps in ms? (see the warning on column t)")
+            wrong = None
     assert len([x for x in w if "column t" in str(x.message)]) == 1
     # the oracle: the true arm's base parameters, which the fit on the ms clock misses by far
     beta = _true_beta(robot, truth, base_parameters(robot))
     right = identify(robot, [train])
     b = beta.size
     assert np.abs(right.parameters.value[:b] - beta).max() < 1e-3 * np.abs(beta).max()
-    assert np.abs(wrong.parameters.value[:b] - beta).max() > 10 * np.abs(beta).max()
+    if wrong is not None:
+        assert np.abs(wrong.parameters.value[:b] - beta).max() > 10 * np.abs(beta).max()
     with warnings.catch_warnings():
         warnings.simplefilter("error", InputWarning)
         identify(robot, [train])
