@@ -1097,3 +1097,30 @@ def test_a_recording_naming_the_joints_in_files_on_one_clock_identifies_alike(tm
     assert [named.inputs[f] for f in files] == [
         hashlib.sha256(open(f, "rb").read()).hexdigest() for f in files]
     assert named.recordings[0].name == "run_position"
+
+
+@pytest.mark.parametrize("name, hold", [("two-link", 0), ("ur5", 1)])
+def test_a_joint_held_still_identifies_no_more_than_its_recording_holds(name, hold):
+    """A joint held at 0.3 rad, read through a 17-bit encoder with noise: the recording holds
+    only what the arm's regressor at that constant position can separate (the held link's
+    gravity is a constant, one with the joint's offset). The noise of q made more columns
+    'identifiable' (two-link 8 against 7, UR5 50 against 47). Oracle: the rank of Pinocchio's
+    computeJointTorqueRegressor plus the drives' columns (qd, sign(qd), 1) on the exact states."""
+    robot = load_robot(name)
+    truth = truth_for(robot, seed=3)
+    n = robot.n
+    t = irregular_clock(20, 4)
+    q, qd, qdd = fourier(n, t, seed=4)
+    q[:, hold], qd[:, hold], qdd[:, hold] = 0.3, 0.0, 0.0
+    tau = truth.torque(q, qd, qdd)
+    res = 2 * np.pi / 2 ** 17
+    read = q.copy()
+    read[:, hold] = np.round((0.3 + 2e-5 * np.random.default_rng(5).normal(size=t.size)) / res) * res
+    result = identify(robot, [recording_from_arrays(t, read, tau, source="held")])
+    cols = [k for j in truth.ids for k in range(10 * (j - 1), 10 * j)]
+    rows = [np.hstack([pin.computeJointTorqueRegressor(
+        truth.model, truth.data, truth._q(a), truth._v(b), truth._v(c))[truth.v][:, cols],
+        np.diag(b), np.diag(np.sign(b)), np.eye(n)]) for a, b, c in zip(q[::10], qd[::10], qdd[::10])]
+    A = np.vstack(rows)
+    sv = np.linalg.svd(A / np.maximum(np.linalg.norm(A, axis=0), 1e-300), compute_uv=False)
+    assert int(result.parameters.identifiable.sum()) == int((sv > 1e-9 * sv[0]).sum())

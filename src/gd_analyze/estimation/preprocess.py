@@ -20,9 +20,10 @@ Steps, each stated in :attr:`Preprocessed.notes`:
 5. The first and last :func:`edge_samples` samples of each segment are dropped (the filter's
    and the differences' start-up).
 6. Decimation: every k-th sample is kept (the low-pass is the anti-aliasing filter).
-7. A joint held still (its kept positions span less than :data:`STILL_SPAN`) has qd and qdd
-   set to 0: the differences of a held position are its noise and quantisation, which would
-   otherwise enter sign(qd) and qd as motion (:func:`still_joints`).
+7. A joint held still (its kept positions span less than :data:`STILL_SPAN`) has q set to its
+   mean and qd and qdd to 0: the differences of a held position are its noise and
+   quantisation, which would otherwise enter sign(qd) and qd as motion, and the noise of q
+   would make columns identifiable that a still joint cannot separate (:func:`still_joints`).
 8. The kept samples' noise is correlated by the filter: :attr:`Preprocessed.correlation`
    of them hold as much information as one, which the fit's standard deviations take in.
 
@@ -140,8 +141,8 @@ class Preprocessed:
     sos : ndarray or None
         The filter's second-order sections.
     held : ndarray of bool, shape (n,), or None
-        The joints held still (:func:`still_joints`), their qd and qdd set to 0; None if the
-        joints' kinds were not given.
+        The joints held still (:func:`still_joints`), their q set to its mean and their qd and
+        qdd to 0; None if the joints' kinds were not given.
     clipped : ndarray of bool, shape (N, n), or None
         The rows (sample, joint) a clipped torque reaches (:func:`clipped_samples`, widened by
         the filter's reach, half a period of the cutoff): left out of the fit; None if none
@@ -403,7 +404,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
         The recording's name in the notes.
     prismatic : ndarray of bool, shape (n,), optional
         True for a prismatic joint: given, the joints held still are found
-        (:func:`still_joints`) and their qd and qdd set to 0.
+        (:func:`still_joints`), their q set to its mean and their qd and qdd to 0.
     clipped : ndarray of bool, shape (N, n), optional
         The rows (sample, joint) whose torque is clipped (:func:`clipped_samples`), to be left
         out of the fit: :attr:`Preprocessed.clipped` on the output's clock.
@@ -497,9 +498,10 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     held = None if prismatic is None else still_joints(cat["q"][cat["keep"]], prismatic)
     if held is not None and held.any():
         cat["qd"][:, held] = cat["qdd"][:, held] = 0.0
+        cat["q"][:, held] = cat["q"][cat["keep"]][:, held].mean(axis=0)
         notes.append(f"{label}: joint(s) {', '.join(str(j + 1) for j in np.flatnonzero(held))}"
                      f" held still (position span below {STILL_SPAN['revolute']:g} rad or "
-                     f"{STILL_SPAN['prismatic']:g} m): qd and qdd set to 0")
+                     f"{STILL_SPAN['prismatic']:g} m): q set to its mean, qd and qdd to 0")
     stops = np.cumsum([v.size for v in out["t"]])
     segments = tuple((int(a), int(b)) for a, b in zip(np.concatenate([[0], stops[:-1]]), stops))
     return Preprocessed(t=cat["t"], q=cat["q"], qd=cat["qd"], qdd=cat["qdd"], tau=cat["tau"],
