@@ -921,7 +921,8 @@ def test_a_validation_clock_the_chosen_cutoff_cannot_filter_names_the_likely_cau
     held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
     in_ms = recording_from_arrays(train.t * 1000, train.q, train.tau, source="ms")
     with pytest.raises(InputError, match=r"chosen from the training recordings; this one's "
-                       r"median step is .* s: are all time stamps in seconds") as err:
+                       r"median step is .* s and its own data give .* Hz: are all time "
+                       r"stamps in seconds") as err:
         identify(robot, [in_ms], validate=[held])
     assert "rec5" in str(err.value)
 
@@ -938,6 +939,22 @@ def test_a_training_recording_too_short_for_the_filter_says_so():
                        r"filter and the differences \(the longest holds 30 samples; \d+ are "
                        r"needed with this filter\)$"):
         identify(robot, [short])
+
+
+def test_a_validation_recording_too_short_for_the_chosen_cutoff_says_so():
+    """A validation recording of 30 samples (0.14 s), its clock in seconds as the training's:
+    too short for the filter at the cutoff chosen from the training recording. The line says
+    so, and does not ask whether its time stamps are in seconds (they are; before, it asked).
+    A training clock in ms is still asked about (the test above)."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    train, _ = _record(truth, robot.n, 20, seed=2, derivatives=False)
+    held, _ = _record(truth, robot.n, 10, seed=5, derivatives=False)
+    short = recording_from_arrays(held.t[:30], held.q[:30], held.tau[:30], source="short")
+    with pytest.raises(InputError, match=r"^short: .*no segment is long enough.* \(the cutoff "
+                       r"\S+ Hz was chosen from the training recordings; this one's median step "
+                       r"is \S+ s: a longer recording, or a higher --cutoff, is needed\)$"):
+        identify(robot, [train], validate=[short])
 
 def _simplify_inputs():
     """The PUMA 560, recordings of its true arm with 1 % noise (training 12 s, validation
