@@ -12,7 +12,8 @@ DOC = (ROOT / "docs" / "robot-file.md").read_text(encoding="utf-8")
 
 def parser_keys():
     """Every key robot_from_dict accepts: top level, per link (all layouts), drives."""
-    keys = set(robot_spec._TOP_KEYS) | set(robot_spec._INERTIAL_KEYS) | set(DRIVE_KEYS)
+    keys = set(robot_spec._TOP_KEYS) | set(robot_spec._INERTIAL_KEYS) | set(DRIVE_KEYS) \
+        | robot_spec._NAME_KEYS
     for required, optional in robot_spec._KEYS.values():
         keys |= set(required) | set(optional)
     for limit_keys in robot_spec._LIMIT_KEYS.values():

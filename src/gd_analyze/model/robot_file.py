@@ -5,7 +5,9 @@ The layout is the robot-file format :func:`gd_analyze.model.robots.load_robot` r
 accept the file as it is. Every number is written with ``repr`` (the shortest text that reads back as the same float); every
 string as a TOML basic string with its non-ASCII and control characters escaped, so that no
 name from an input file can break the file. Limits that are not given (NaN) or infinite
-position ranges are left out (the loader's defaults are the same).
+position ranges are left out (the loader's defaults are the same). A robot whose joints have
+names (a URDF's) writes each as its link's ``joint_name``, by which recordings may name their
+columns.
 """
 
 from __future__ import annotations
@@ -72,8 +74,9 @@ def robot_toml(robot: Robot, comments: Sequence[str] = ()) -> str:
     lines = ["# " + json.dumps(str(c), ensure_ascii=True)[1:-1] for c in comments]
     for key in ("name", "description", "reference", "convention", "gravity"):
         lines.append(f"{key} = {_value(spec[key])}")
-    for link in spec["link"]:
-        lines += ["", "[[link]]"]
+    names = robot.metadata.get("urdf_joints") and robot.joint_names()   # a URDF's, say
+    for i, link in enumerate(spec["link"]):
+        lines += ["", "[[link]]"] + ([f"joint_name = {_value(names[i])}"] if names else [])
         for key, value in link.items():
             if _given(key, value):
                 lines.append(f"{key} = {_value(value)}")

@@ -67,19 +67,32 @@ def _vector(value, length, path, column, limit=None):
     return [_number(v, path, column, limit=limit) for v in value]
 
 
-def _text(spec, key, path, required=False):
-    """A string: the name one line of at most 200 printable characters; a description or
-    reference at most 100,000 characters without NUL (HDF5 attributes cannot hold one)."""
-    value = spec.get(key, "")
+def _text(spec, key, path, required=False, column=None):
+    """A string: a name (``required``) one line of at most 200 printable characters; a
+    description or reference at most 100,000 characters without NUL (HDF5 attributes cannot
+    hold one)."""
+    value, column = spec.get(key, ""), column or key
     if not isinstance(value, str) or (required and not value):
         raise InputError(f"expected a {'non-empty ' if required else ''}string, got "
-                         f"{_short(value)}", path, column=key)
+                         f"{_short(value)}", path, column=column)
     if required and (len(value) > 200 or not value.isprintable()):
         raise InputError("expected at most 200 printable characters (no control characters "
-                         "such as NUL or newline)", path, column=key)
+                         "such as NUL or newline)", path, column=column)
     if len(value) > 100_000 or "\x00" in value:
-        raise InputError("expected at most 100000 characters and no NUL", path, column=key)
+        raise InputError("expected at most 100000 characters and no NUL", path, column=column)
     return value
+
+
+def _joint_names(links, path):
+    """The links' ``joint_name`` keys: on every link or none, each a name, no two alike."""
+    names = [_text(link, "joint_name", path, True, f"link[{i}].joint_name")
+             if "joint_name" in link else None for i, link in enumerate(links, start=1)]
+    for i, name in enumerate(names, start=1):
+        if any(names) and (name is None or name in names[:i - 1]):
+            raise InputError("joint_name is given on other links: give it on every link or none"
+                             if name is None else f"joint_name {name!r} is that of "
+                             f"link[{names.index(name) + 1}]", path, column=f"link[{i}].joint_name")
+    return names if any(names) else ()
 
 
 def _degrees(link, key, path, where, default=None):
@@ -123,12 +136,13 @@ def _inertial(link, path, where):
     return m, com, _inertia_tensor(link["inertia"], path, f"{where}.inertia")
 
 
-def _limits(lo_hi, qd, qdd, path, where, keys, scale=1.0):
-    """q_min, q_max, qd_max, qdd_max in SI units; keys name the three entries for messages.
+def _limits(link, path, where, keys, scale=1.0):
+    """q_min, q_max, qd_max, qdd_max in SI units from a link's three limit keys ``keys``.
 
     Every limit is optional (only planning needs them): a missing position range (None) is
     (-inf, inf), a missing velocity or acceleration limit NaN."""
     klim, kqd, kqdd = keys
+    lo_hi, qd, qdd = (link.get(k) for k in keys)
     lim = [None, None] if lo_hi is None else lo_hi
     if isinstance(lim, np.ndarray):
         lim = lim.tolist()
@@ -177,6 +191,8 @@ def _effort(link, path, where):
 
 
 _INERTIAL_KEYS = {"mass", "com", "inertia"}
+#: Keys every link may have whatever its layout: the joint's name.
+_NAME_KEYS = {"joint_name"}
 #: Keys every link may have: limits (only planning needs them) and the effort limit.
 _LIMIT_KEYS = {"revolute": {"q_limits_deg", "qd_max_deg", "qdd_max_deg", "tau_max"},
                "prismatic": {"q_limits", "qd_max", "qdd_max", "tau_max"},
@@ -206,7 +222,7 @@ _HINT = {"d": "q is d for a prismatic joint (a constant part is 'offset' [m])",
 def _check_keys(link, convention, joint, path, where):
     required, optional = _KEYS[(convention, joint)]
     required = required | _INERTIAL_KEYS
-    unknown = sorted(set(link) - required - optional - set(DRIVE_KEYS))
+    unknown = sorted(set(link) - required - optional - set(DRIVE_KEYS) - _NAME_KEYS)
     if unknown:
         key = unknown[0]
         hint = f" ({_HINT[key]})" if key in _HINT and convention != "chain" else ""
@@ -328,24 +344,20 @@ def robot_from_dict(spec: Mapping[str, Any], source: str = "<dict>",
                                                f"{where}.translation", "length"))
             for key in ("d", "a", "alpha", "offset"):
                 cols[key].append(math.nan)
-            lims = _limits(link.get("q_limits"), link.get("qd_max"), link.get("qdd_max"), path,
-                           where, ("q_limits", "qd_max", "qdd_max"))
         elif pris:
             cols["d"].append(_number(link.get("offset", 0.0), path, f"{where}.offset",
                                      limit="length"))
             cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
             cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
             cols["offset"].append(_degrees(link, "theta_deg", path, where, 0.0))
-            lims = _limits(link.get("q_limits"), link.get("qd_max"), link.get("qdd_max"), path,
-                           where, ("q_limits", "qd_max", "qdd_max"))
         else:
             cols["d"].append(_number(link["d"], path, f"{where}.d", limit="length"))
             cols["a"].append(_number(link["a"], path, f"{where}.a", limit="length"))
             cols["alpha"].append(_degrees(link, "alpha_deg", path, where))
             cols["offset"].append(_degrees(link, "offset_deg", path, where, 0.0))
-            lims = _limits(link.get("q_limits_deg"), link.get("qd_max_deg"),
-                           link.get("qdd_max_deg"), path, where,
-                           ("q_limits_deg", "qd_max_deg", "qdd_max_deg"), scale=math.pi / 180)
+        deg = "_deg" if convention != "chain" and not pris else ""     # DH revolute: degrees
+        keys = (f"q_limits{deg}", f"qd_max{deg}", f"qdd_max{deg}")
+        lims = _limits(link, path, where, keys, scale=math.pi / 180 if deg else 1.0)
         cols["prismatic"].append(pris)
         for key, v in zip(DRIVE_FIELDS, drive_values(link, path, where)):
             cols[key].append(v)
@@ -357,9 +369,11 @@ def robot_from_dict(spec: Mapping[str, Any], source: str = "<dict>",
         cols["tau_max"].append(_effort(link, path, where))
     if convention != "chain":
         del cols["rotation"], cols["translation"]
+    names = _joint_names(links, path)
     return make_robot(name=name, gravity=gravity, description=description,
                  reference=reference, source=str(source), sha256=sha256,
-                 convention=convention, **cols)
+                 convention=convention, **cols,
+                 **({"metadata": {"urdf_joints": list(names)}} if names else {}))
 
 
 def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: ArrayLike,
