@@ -17,7 +17,7 @@ from identify_recordings import (
 )
 
 from gd_analyze import SimplifiedModel, load_robot
-from gd_analyze.dynamics.base_parameters import base_parameters
+from gd_analyze.dynamics.base_parameters import base_parameters, standard_parameters
 from gd_analyze.dynamics.pinocchio import pinocchio_model
 from gd_analyze.errors import InputError, InputWarning
 from gd_analyze.estimation.consistent import base_map, pseudo_inertia
@@ -1141,3 +1141,26 @@ def test_a_joint_held_still_identifies_no_more_than_its_recording_holds(name, ho
     A = np.vstack(rows)
     sv = np.linalg.svd(A / np.maximum(np.linalg.norm(A, axis=0), 1e-300), compute_uv=False)
     assert int(result.parameters.identifiable.sum()) == int((sv > 1e-9 * sv[0]).sum())
+
+
+@pytest.mark.parametrize("consistent", [False, True])
+def test_a_robot_file_a_million_times_too_light_still_gives_consistent_parameters(consistent):
+    """A prior with every mass and inertia 10^-6 of the two-link's (a file in grams and g mm^2
+    read as kg and kg m^2, say) and a noise-free recording of the true arm: the consistent
+    parameters (asked for, or the robot file's where the least squares are not realisable)
+    are the true arm's, which is consistent. Both solvers failed before (Clarabel: second stage
+    infeasible), the deviation from the prior being 10^6 in its own units. Oracle: the true
+    arm's base parameters by Pinocchio's rnea."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    rec, _ = _record(truth, robot.n, 10, seed=2)
+    prior = robot.with_inertial(mass=robot.mass * 1e-6, inertia=robot.inertia * 1e-6)
+    result = identify(prior, [rec], options=IdentifyOptions(consistent=consistent, cutoff=None))
+    beta = _true_beta(robot, truth, base_parameters(robot))
+    fitted = result.parameters.value[:beta.size]
+    assert np.abs(fitted - beta).max() < 1e-6 * np.abs(beta).max()
+    # the robot file's parameters: every pseudo-inertia >= 0, and they give the true beta
+    phi = standard_parameters(result.identified)
+    assert (np.linalg.eigvalsh(pseudo_inertia(phi)) >= 0).all()
+    ours = base_map(base_parameters(robot)) @ phi.reshape(-1)
+    assert np.abs(ours - beta).max() < 1e-6 * np.abs(beta).max()

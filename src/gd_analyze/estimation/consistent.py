@@ -15,7 +15,9 @@ columns (B, D) of :class:`~gd_analyze.dynamics.base_parameters.BaseParameters` (
   friction >= 0. Two convex problems with cvxpy (Clarabel, else SCS): first the smallest
   weighted torque residual ||R (theta(phi, d) - theta_hat)|| any consistent parameters reach
   (0 when the identified base parameters are consistent), then among the consistent
-  parameters within that residual the ones closest to the prior.
+  parameters within that residual the ones closest to the prior. The unknowns are the
+  deviations from the prior in units of S times the largest of the closest deviation
+  (:func:`closest_standard`'s), so that they are of order 1 however far off the prior is.
 
 The pseudo-inertia of a link with inertia J about the joint's origin, first moment h = m c and
 mass m is P = [[tr(J)/2 1 - J, h], [h^T, m]] (Wensing et al., Eq. (7)).
@@ -219,10 +221,16 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     phi0 = np.asarray(phi0, float)
     n = phi0.shape[0]
     A = base_map(base)
-    S = _scales(phi0)
     theta_hat = np.asarray(theta_hat, float)
     b = base.rank
     nd = theta_hat.size - b
+    # u of order 1: S times k, the prior's largest deviation to the closest beta in units of
+    # S (1 for a prior tens of percent off, 10^6 for one in grams), and the drives' term of
+    # the second cost divided by k^2: the same minimiser, which the solvers now find
+    S = _scales(phi0)
+    k = max(1.0, float(np.abs(np.linalg.lstsq(A * S, theta_hat[:b] - A @ phi0.reshape(-1),
+                                              rcond=None)[0]).max(initial=0.0)))
+    S = k * S
     drive_prior = np.asarray(drive_prior, float)
     d_scale = np.maximum(np.maximum(np.abs(theta_hat[b:]), np.abs(drive_prior)),
                          1e-6 * max(1.0, float(np.abs(theta_hat[b:]).max(initial=0.0))))
@@ -241,7 +249,7 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     if nonneg:
         cons.append(d[nonneg] >= 0)
     second_cost = cp.sum_squares(u) + cp.sum_squares(
-        cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) if nd else cp.sum_squares(u)
+        cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) / k ** 2 if nd else cp.sum_squares(u)
     solver, why = None, []
     for name in ("CLARABEL", "SCS"):        # Clarabel, else SCS, for both stages together
         try:
