@@ -976,3 +976,35 @@ def test_a_sweep_at_tolerance_zero_is_within_its_guarantee_up_to_round_off(capsy
     assert said["within"] and said["worst"] > 0       # round-off, not an exact zero
     ds["merged_tau_error_peak"][0, 0] = 1e-6 * scale.max()     # far above round-off
     assert not merged_guarantee(ds)["within"]
+
+
+def test_the_main_job_on_a_continuous_joint_s_wrapped_log_analyses_the_motion(tmp_path, capsys):
+    """The main job on a continuous joint's positions wrapped at +-pi (positions only, a robot
+    file without limits): results.h5's D qdd + h + c is Pinocchio's rnea on the motion and its
+    own not-a-knot spline's qd and qdd (the oracle), not the spline's spikes at each wrap, and
+    stderr has one warning line naming the file, the row and the column."""
+    from scipy.interpolate import CubicSpline
+
+    free = toml_without_limits(tmp_path)
+    t = np.linspace(0.0, 2.0, 61)
+    q = np.column_stack([np.pi + np.sin(np.pi * t), 0.3 * t])
+    wrapped = q.copy()
+    wrapped[:, 0] = (q[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    path = tmp_path / "wrapped.csv"
+    path.write_text("t,q1,q2\n" + "".join(f"{s!r},{a!r},{b!r}\n" for s, (a, b) in
+                                          zip(t.tolist(), wrapped.tolist())))
+    code, _, err = _run(capsys, free, path, "-o", tmp_path / "out", "--no-report",
+                        "--explicit", "never")
+    assert code == 0, err
+    said = [x for x in err.splitlines() if "wrapped at +-pi" in x]
+    k = int(np.flatnonzero(np.abs(np.diff(wrapped[:, 0])) > np.pi)[0])
+    assert len(said) == 1 and said[0].startswith(
+        f"gd-analyze: warning: {path}: row {k + 3}, column q1: joint 1's positions step by "), err
+    spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+    model = pinocchio_model(load_robot(str(free)))
+    data = model.createData()
+    tau = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, spline(t, 1),
+                                                                        spline(t, 2))])
+    with xr.open_dataset(tmp_path / "out" / "results.h5", engine="h5netcdf") as ds:
+        got = np.einsum("kij,kj->ki", ds.D.values, ds.qdd.values) + ds.h.values + ds.c.values
+    np.testing.assert_allclose(got, tau, rtol=0, atol=1e-9 * np.abs(tau).max())

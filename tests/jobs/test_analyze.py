@@ -297,3 +297,45 @@ def test_an_arm_without_mass_and_inertia_is_refused(tmp_path, capsys):
         assert not out.exists()
         with pytest.raises(InputError, match="every link has zero mass and inertia"):
             analyze(load_robot(str(robot)), read_trajectory(csv, n_joints=2))
+
+
+def test_a_continuous_joint_wrapped_at_pi_is_analysed_unwrapped(tmp_path):
+    """A continuous joint (a robot file without position limits) logged within [-pi, pi), as
+    ROS joint_states holds it, its file with positions only: the spline took each 2 pi jump for
+    motion, and D qdd + h + c was garbage there, silently. Now the positions are unwrapped
+    first, with one warning naming the file, the row and the column; oracle: Pinocchio's rnea
+    on the unwrapped positions and their own not-a-knot spline's qd and qdd."""
+    import pinocchio as pin
+    from robot_files import toml_without_limits
+    from scipy.interpolate import CubicSpline
+
+    import gd_analyze as gd
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
+    from gd_analyze.errors import InputWarning
+
+    robot = gd.load_robot(str(toml_without_limits(tmp_path)))      # both joints turn freely
+    t = np.linspace(0.0, 2.0, 81)
+    q = np.column_stack([np.pi + 1.2 * np.sin(np.pi * t), 0.5 * np.cos(t)])
+    wrapped = q.copy()
+    wrapped[:, 0] = (q[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    assert (np.abs(np.diff(wrapped[:, 0])) > np.pi).sum() >= 2
+    path = tmp_path / "traj.csv"
+    path.write_text("t,q1,q2\n" + "".join(f"{s!r},{a!r},{b!r}\n" for s, (a, b) in
+                                          zip(t.tolist(), wrapped.tolist())))
+    with pytest.warns(InputWarning) as caught:
+        ds = gd.analyze(robot, str(path), AnalysisOptions(simplify=None, formulations=False))
+    lines = [str(w.message) for w in caught if "wrapped at +-pi" in str(w.message)]
+    steps = np.diff(wrapped[:, 0])
+    k = int(np.flatnonzero(np.abs(steps) > np.pi)[0])      # set point k + 1: file row k + 3
+    assert lines == [f"{path}: row {k + 3}, column q1: joint 1's positions step by "
+                     f"{abs(steps[k]):.2g} rad "
+                     f"(wrapped at +-pi, a continuous joint's log?): unwrapped before the cubic "
+                     f"spline gives qd and qdd"], lines
+    spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
+    model = pinocchio_model(robot)
+    data = model.createData()
+    tau = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, spline(t, 1),
+                                                                        spline(t, 2))])
+    got = np.einsum("kij,kj->ki", ds.D.values, ds.qdd.values) + ds.h.values + ds.c.values
+    np.testing.assert_allclose(got, tau, rtol=0, atol=1e-9 * np.abs(tau).max())
+    assert ds.attrs["derivatives"] == "cubic-spline"

@@ -27,6 +27,7 @@ from gd_analyze.trajectory.trajectory import (
     recording_from_arrays,
     trajectory_columns,
     trajectory_from_arrays,
+    unwrapped,
     write_trajectory,
     write_trajectory_chunks,
 )
@@ -688,3 +689,39 @@ def test_joined_files_whose_clocks_differ_are_refused_with_the_row(tmp_path):
     c = _named(tmp_path / "c.csv", ["j_effort"], rows=11)
     with pytest.raises(InputError, match=r"c\.csv: row 12, column t: .*11 rows, .* has 12"):
         read_recording(f"{a}+{c}", joint_names=["j"])
+
+
+def test_only_a_continuous_revolute_joint_s_wraps_are_undone_and_only_for_the_spline():
+    """Of three joints stepping by more than pi, the continuous revolute one (infinite limits)
+    is unwrapped, and its qd and qdd are the not-a-knot spline's through the unwrapped positions
+    (oracle: SciPy's CubicSpline on them); a revolute joint with limits and a prismatic one are
+    left as they are, as is a trajectory whose qd and qdd were given. One warning line."""
+    from types import SimpleNamespace
+
+    from scipy.interpolate import CubicSpline
+
+    from gd_analyze.errors import InputWarning
+
+    robot = SimpleNamespace(q_min=np.array([-np.inf, -np.pi, -np.inf]),
+                            q_max=np.array([np.inf, np.pi, np.inf]),
+                            prismatic=np.array([False, False, True]))
+    t = np.linspace(0.0, 1.0, 41)
+    true = np.pi + np.sin(6 * t)                # crosses pi both ways
+    q = np.column_stack([true, true, np.where(t < 0.5, 0.0, 4.0)])
+    q[:, :2] = (q[:, :2] + np.pi) % (2 * np.pi) - np.pi
+    traj = trajectory_from_arrays(t, q)
+    with pytest.warns(InputWarning) as caught:
+        got = unwrapped(robot, traj)
+    assert [str(w.message) for w in caught] == [
+        f"trajectory arrays: key q1: joint 1's positions step by "
+        f"{abs(np.diff(q[:, 0])).max():.2g} rad (wrapped at +-pi, a continuous joint's log?): "
+        f"unwrapped before the cubic spline gives qd and qdd"]
+    want = q.copy()
+    want[:, 0] = true - true[0] + q[0, 0]      # the motion itself, from the first position
+    np.testing.assert_allclose(got.q, want, rtol=0, atol=1e-13)
+    spline = CubicSpline(t, want, axis=0, bc_type="not-a-knot")
+    np.testing.assert_allclose(got.qd, spline(t, 1), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(got.qdd, spline(t, 2), rtol=1e-12, atol=1e-9)
+    assert (got.source, got.sha256, got.derivatives) == (traj.source, traj.sha256, traj.derivatives)
+    given = trajectory_from_arrays(t, q, traj.qd, traj.qdd)
+    assert unwrapped(robot, given) is given

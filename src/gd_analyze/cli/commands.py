@@ -104,6 +104,7 @@ from ..trajectory.trajectory import (
     read_recording,
     read_trajectory,
     recording_files,
+    unwrapped,
     write_trajectory_chunks,
 )
 from .parsing import EXIT_OK, EXIT_TOLERANCE, EXIT_VERIFY, PROG, parse_range
@@ -232,7 +233,7 @@ def wrote_line(files: Sequence[Path], folder: Path, verbose: bool) -> str:
 
 def _load(args):
     robot = load_robot_arg(args)
-    return robot, read_trajectory(args.trajectory, n_joints=robot.n)
+    return robot, unwrapped(robot, read_trajectory(args.trajectory, n_joints=robot.n))
 
 
 
@@ -787,7 +788,7 @@ def _load_model(args):
     names another robot."""
     model = load_model(args.model)
     model_robot = cast(Robot, model.robot)      # the model file's arm
-    traj = read_trajectory(args.trajectory, n_joints=model_robot.n)
+    traj = unwrapped(model_robot, read_trajectory(args.trajectory, n_joints=model_robot.n))
     warn_if(provenance_mismatch(args.trajectory, model_robot))
     return model, model_robot, traj
 
@@ -1172,7 +1173,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                              column="--scheduler")
     check_rule_options(args)
     if args.csv:
-        trajectories = [read_trajectory(path, n_joints=robot.n) for path in args.csv]
+        trajectories = [unwrapped(robot, read_trajectory(path, n_joints=robot.n))
+                        for path in args.csv]
     else:
         warn_if(check_velocity_limits(robot))               # random plans need them
         trajectories = random_trajectories(robot, args.random, seed=args.seed)

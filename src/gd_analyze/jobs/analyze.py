@@ -42,6 +42,7 @@ from ..simplify.simplified import SimplifiedModel, TorqueErrorAccumulator, simpl
 from ..store.datasets import SetpointWriter, summary_dataset, with_setpoints
 from ..store.derivations import DERIVATIONS
 from ..store.schema import append_dataset, var
+from ..trajectory.trajectory import unwrapped
 from .evaluate import round_off
 from .options import AnalysisOptions
 from .peak_jobs import start_peaks
@@ -653,7 +654,9 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     robot : Robot
         The arm, with n joints.
     trajectory : Trajectory
-        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2].
+        q, qd, qdd of shape (N, n) [rad, rad/s, rad/s^2]; a continuous joint's wraps at +-pi
+        are undone where the spline gave qd and qdd
+        (:func:`gd_analyze.trajectory.trajectory.unwrapped`).
     options : AnalysisOptions, optional
         The ranking's thresholds s and e, whether to verify against Pinocchio
         (:func:`verify`) and store the formulations' agreement and operation counts, and how
@@ -678,6 +681,7 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
     """
 
     options = AnalysisOptions() if options is None else options
+    trajectory = unwrapped(robot, trajectory)
     N = trajectory.q.shape[0]
     result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
                            chunk=max(N, 1))

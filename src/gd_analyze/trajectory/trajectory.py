@@ -3,7 +3,8 @@
 A trajectory CSV has a header ``t,q1..qn,qd1..qdn,qdd1..qddn`` in [s], [rad], [rad/s] and
 [rad/s^2], one set point per row. A file with only ``t,q1..qn`` is accepted too: its velocities
 and accelerations then come from a not-a-knot cubic spline through the positions, and the
-trajectory records that (``derivatives = "cubic-spline"``).
+trajectory records that (``derivatives = "cubic-spline"``). Given the robot, :func:`unwrapped`
+undoes a continuous joint's wraps at +-pi first.
 
 Rows are counted as a spreadsheet counts them: the header is row 1, the first set point row 2.
 
@@ -38,12 +39,12 @@ import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
-from ..errors import InputError, InputNote, check_flags, expect, one_line, path_text
+from ..errors import InputError, InputNote, InputWarning, check_flags, expect, one_line, path_text
 from ..files import atomic_path
 from ..model.limits import LIMITS, exact_text, first_beyond, real_values
 
@@ -54,7 +55,7 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["Trajectory", "read_trajectory", "write_trajectory", "write_trajectory_chunks",
            "trajectory_columns", "trajectory_from_arrays", "as_trajectory", "parse_number",
-           "JointLimitWarning", "check_joint_limits", "check_magnitudes", "checked_arrays",
+           "JointLimitWarning", "check_joint_limits", "unwrapped", "check_magnitudes", "checked_arrays",
            "FAST_PARSE_BYTES", "MAX_CELL", "streamed_values", "Recording", "read_recording",
            "recording_from_arrays", "MIN_SAMPLES", "BACK_STEPS"]
 
@@ -887,6 +888,46 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording) -> list
             warnings.warn(msg, JointLimitWarning, stacklevel=2)
             messages.append(msg)
     return messages
+
+
+def unwrapped(robot: Robot, trajectory: Trajectory) -> Trajectory:
+    """The trajectory with its continuous joints' wraps at +-pi undone, where the cubic spline
+    gave its qd and qdd.
+
+    A continuous revolute joint (no position limits) logged as ROS ``joint_states`` holds it
+    wraps at +-pi: its position steps by about 2 pi between two set points, which the spline
+    takes for motion (huge qd and qdd). Its positions are unwrapped (``np.unwrap``) and qd,
+    qdd derived again by the same spline, with one :class:`~gd_analyze.errors.InputWarning`
+    naming the file, the first row and column. Joints with limits, prismatic joints and given
+    qd, qdd are left as they are (the G-D terms are periodic in a revolute q).
+
+    Parameters
+    ----------
+    robot : Robot
+        The arm: limits q_min, q_max [rad or m] and ``prismatic`` of its n joints.
+    trajectory : Trajectory
+        Its set points, n joints.
+
+    Returns
+    -------
+    Trajectory
+        ``trajectory`` itself when no such joint steps by more than pi; else one with q, qd and
+        qdd unwrapped and its source, sha256 and derivatives.
+    """
+    free = np.isinf(robot.q_min) & np.isinf(robot.q_max) & ~robot.prismatic
+    steps = (np.abs(np.diff(trajectory.q, axis=0)) > np.pi) & free
+    if trajectory.derivatives != "cubic-spline" or not steps.any():
+        return trajectory
+    k, j = (int(i) for i in np.argwhere(steps)[0])
+    step = abs(trajectory.q[k + 1, j] - trajectory.q[k, j])
+    rows = bool(trajectory.sha256)          # read from a file: set point k is row k + 2
+    warnings.warn(str(InputError(
+        f"joint {j + 1}'s positions step by {step:.2g} rad (wrapped at +-pi, a continuous "
+        f"joint's log?): unwrapped before the cubic spline gives qd and qdd", trajectory.source,
+        row=k + 3 if rows else None, column=f"q{j + 1}")), InputWarning, stacklevel=2)
+    q = np.where(steps.any(axis=0), np.unwrap(trajectory.q, axis=0), trajectory.q)
+    qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of=lambda i: i + 2 if rows else None)
+    return replace(trajectory, q=q, qd=qd, qdd=qdd)
 
 
 def write_trajectory(trajectory: Trajectory, path: str | os.PathLike[str]) -> None:
