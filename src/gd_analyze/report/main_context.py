@@ -1021,14 +1021,11 @@ def _formulations_context(f):
     rows = []
     if n in dof:
         k = dof.index(n)
-        for j, name in enumerate(names):
-            if f.arm is not None:             # the arm's own joint types (prismatic joints)
-                mul, add = f.arm[0][j], f.arm[1][j]
-            else:
-                mul, add = f.multiplications[k, j], f.additions[k, j]
-            rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
-                         count(f.multiplications_table_3_5[k, j]),
-                         count(f.additions_table_3_5[k, j])])
+        # as implemented: for the arm's own joint types (prismatic joints) where stored
+        mul, add = f.arm if f.arm is not None else (f.multiplications[k], f.additions[k])
+        rows = [[FORMULATION_NAMES.get(name, name), count(mul[j]), count(add[j]),
+                 count(f.multiplications_table_3_5[k, j]), count(f.additions_table_3_5[k, j])]
+                for j, name in enumerate(names)]
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")

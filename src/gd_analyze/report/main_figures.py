@@ -221,9 +221,8 @@ def panel_grid(count: int, width: float = PAGE_WIDTH) -> tuple[int, float, float
     """
     min_w = MIN_PANEL_W if width >= PAGE_WIDTH else _MIN_COLUMN_PANEL_W
     fit = int((width - _LEFT - _RIGHT + _WGAP) / (min_w + _WGAP) + 1e-9)
-    cols = max(1, min(max(count, 1), fit))
-    if width >= PAGE_WIDTH:             # one panel size for D and h: as many as D has
-        cols = max(1, fit)
+    # at page width one panel size for D and h: as many as D has
+    cols = max(1, fit if width >= PAGE_WIDTH else min(max(count, 1), fit))
     w = (width - _LEFT - _RIGHT - (cols - 1) * _WGAP) / cols
     return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
 
