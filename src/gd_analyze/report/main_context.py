@@ -464,7 +464,6 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     robot, traj = results.robot_record, results.trajectory
     n = len(results.prismatic)
     t = traj.t
-    N = t.size
     labels = [r.label for r in results.ranking.rows]
     robot_kv = _kv([
         ("name", robot_name), ("description", _text(robot.description)),
@@ -485,7 +484,7 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     traj_kv = _kv([
         ("source file", _text(traj.input_file)), ("path", _text(traj.input_path)),
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("set points N", count(N)),
+        ("set points N", count(t.size)),
         ("duration [s]",
          f"{_fmt(t[-1] - t[0], 6)}  (t = {_stamp(t[0], t)} \u2026 {_stamp(t[-1], t)})"),
         ("derivatives", f"{derivatives}: {DERIVATIVES.get(derivatives, 'as recorded')}"

@@ -166,9 +166,8 @@ def _width(text, size):
     measured once per font setting (:func:`_measured`)."""
     import matplotlib
 
-    rc = matplotlib.rcParams
     return _measured(text, float(size), tuple(
-        tuple(v) if isinstance(v := rc.get(k), list) else v for k in _FONT_RC))
+        tuple(v) if isinstance(v := matplotlib.rcParams.get(k), list) else v for k in _FONT_RC))
 
 
 @functools.lru_cache(maxsize=4096)
