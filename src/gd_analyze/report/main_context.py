@@ -815,17 +815,14 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
                      disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
                     if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
                     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
-    n_rigid = None
-    if applicable and results.rigid_dominance is not None:
-        n_rigid = sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
-    conclusions = []
+    n_rigid = (sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
+               if applicable and results.rigid_dominance is not None else None)
     ch = results.chapter
-    if applicable and ch is not None:
-        conclusions = chapter_conclusions(
-            ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
-            ch.model_error_relative_peak, ch.model_error_round_off,
-            errors.column("relative_peak"), err_off,
-            where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
+    conclusions = [] if not applicable or ch is None else chapter_conclusions(
+        ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
+        ch.model_error_relative_peak, ch.model_error_round_off,
+        errors.column("relative_peak"), err_off,
+        where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
     note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
@@ -1112,9 +1109,7 @@ def _prismatic_joints(p):
     """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
     types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
     pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
-    if not pris:
-        return ""
-    return f", {joints_text(pris)} prismatic"
+    return f", {joints_text(pris)} prismatic" if pris else ""
 
 
 def provenance_rows(results: Results, created: str, version: str,

@@ -161,12 +161,11 @@ def _plot(ax, x, y, part, enveloped, lines):
           "linewidth": _PART_WIDTH[part], "zorder": PART_ZORDER[part]}
     if not enveloped:
         every = element_markevery(x.size, lines)
-        kw["marker"] = style["marker"]
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
                  "arm": every // 2}[part]
-        kw["markevery"] = (start, every) if every > 1 else 1
-        kw["markersize"] = _PART_MARKER[part]
-        kw["markeredgewidth"] = 0.5 if part in ("total", "arm") else 0.6   # open, not a blot
+        kw.update(marker=style["marker"], markevery=(start, every) if every > 1 else 1,
+                  markersize=_PART_MARKER[part],
+                  markeredgewidth=0.5 if part in ("total", "arm") else 0.6)   # open, not a blot
         if style["mfc"] is not None:
             kw["markerfacecolor"] = style["mfc"]
     return ax.plot(x, y, **kw)

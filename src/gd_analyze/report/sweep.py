@@ -1219,9 +1219,7 @@ SWEEP_REPORT_FORMATS = ("html", "pdf")
 def _cites(o, ctx, key):
     """The sentence citing the outline ``o``'s next figure, ``key`` ("Fig. 2 shows ..."), or
     "" if that figure was not drawn."""
-    if key not in o.available:
-        return ""
-    return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}"
+    return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}" if key in o.available else ""
 
 
 def _figure_parts(o, key, caption):

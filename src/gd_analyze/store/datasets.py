@@ -353,9 +353,8 @@ def units_attribute(units: Sequence[str], coord: str) -> str:
     >>> units_attribute(["N m", "N"], "tau_units")
     'N m or N by joint type (per joint: tau_units)'
     """
-    if len(set(units)) == 1:
-        return units[0]
-    return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
+    return units[0] if len(set(units)) == 1 else (
+        " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})")
 
 
 def units_by_type(prismatic: Sequence[bool] | np.ndarray, which: str, coord: str = "") -> str:
