@@ -1005,16 +1005,13 @@ def _summary(result, outdir, written, args):
         lines.append(str(result.settings["robot_file_note"]))
     width = max([len("recording")] + [len(f.name) for f in result.recordings])
     simplified = any(f.tau_simplified is not None for f in result.recordings)
-    head = f"{'recording':<{width}}  {'role':<8}  {'identified':>10}  {'robot file':>10}"
-    if simplified:
-        head += f"  {'simplified':>10}"
-    lines += [head + "   total relative torque error ||E||_F / ||T||_F"]
-    for f in result.recordings:
-        row = (f"{f.name:<{width}}  {f.role:<8}  {f.errors()[2]:>10.2%}  "
-               f"{f.errors('prior')[2]:>10.2%}")
-        if f.tau_simplified is not None:
-            row += f"  {f.errors('simplified')[2]:>10.2%}"
-        lines.append(row)
+    lines.append(f"{'recording':<{width}}  {'role':<8}  {'identified':>10}  {'robot file':>10}"
+                 + (f"  {'simplified':>10}" if simplified else "")
+                 + "   total relative torque error ||E||_F / ||T||_F")
+    lines += [f"{f.name:<{width}}  {f.role:<8}  {f.errors()[2]:>10.2%}  "
+              f"{f.errors('prior')[2]:>10.2%}"
+              + ("" if f.tau_simplified is None else f"  {f.errors('simplified')[2]:>10.2%}")
+              for f in result.recordings]
     if simplified and result.settings.get("simplified_guarantee"):
         lines.append(f"simplified model: {result.settings['simplified_guarantee']}")
     lines.append(wrote_line(written, outdir, args.verbose))

@@ -682,9 +682,8 @@ def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | Non
 
     options = AnalysisOptions() if options is None else options
     trajectory = unwrapped(robot, trajectory)
-    N = trajectory.q.shape[0]
     result = analysis_pass(robot, trajectory, options, _provenance(trajectory, settings),
-                           chunk=max(N, 1))
+                           chunk=max(trajectory.q.shape[0], 1))
     return _analysis(robot, trajectory, result, options, settings,
                      _summary(robot, trajectory, result, settings))
 

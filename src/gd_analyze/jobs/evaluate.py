@@ -388,12 +388,9 @@ def gate(err: Mapping[str, Any], model: SimplifiedModel,
         over = np.where(fails, np.nan_to_num(measure / limit, nan=np.inf, posinf=np.inf), -1.0)
     j = int(np.argmax(over))
     u = joint_torque_units(bool(robot.prismatic[j]))
-    if promise:
-        out["message"] = (f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
-                          f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[union-attr]  # the guarantee is not None here
-                          f"{limit[j]:.4g} {u}")
-    else:
-        out["message"] = (f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "
-                          f"{err['relative_to'][j]}) exceeds --max-error {max_error:g}")
-    out["worst_joint"] = j + 1
-    return out
+    return {**out, "worst_joint": j + 1, "message": (
+        f"joint {j + 1}'s torque error {peak[j]:.4g} {u} exceeds the model's "
+        f"tolerance x scale, {g.tolerance:g} x {s[j]:.4g} {u} = "  # type: ignore[union-attr]  # the guarantee is not None here
+        f"{limit[j]:.4g} {u}" if promise else
+        f"joint {j + 1}'s relative torque error {measure[j]:.3e} (of "
+        f"{err['relative_to'][j]}) exceeds --max-error {max_error:g}")}

@@ -518,6 +518,4 @@ def units_said_once(ds: Results | xr.Dataset, kind: str) -> str:
     n = len(prismatic)
     found = {["kg m\u00b2", "kg m", "kg"][int(prismatic[i]) + int(prismatic[j])]
              for i in range(n) for j in range(i, n)}
-    if len(found) == 1:
-        return found.pop()
-    return ", ".join(where[u] for u in where if u in found)
+    return found.pop() if len(found) == 1 else ", ".join(where[u] for u in where if u in found)

@@ -464,7 +464,6 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     robot, traj = results.robot_record, results.trajectory
     n = len(results.prismatic)
     t = traj.t
-    N = t.size
     labels = [r.label for r in results.ranking.rows]
     robot_kv = _kv([
         ("name", robot_name), ("description", _text(robot.description)),
@@ -485,7 +484,7 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
     traj_kv = _kv([
         ("source file", _text(traj.input_file)), ("path", _text(traj.input_path)),
         ("SHA-256", sha_in or "\u2014 (not read from a file)"),
-        ("set points N", count(N)),
+        ("set points N", count(t.size)),
         ("duration [s]",
          f"{_fmt(t[-1] - t[0], 6)}  (t = {_stamp(t[0], t)} \u2026 {_stamp(t[-1], t)})"),
         ("derivatives", f"{derivatives}: {DERIVATIVES.get(derivatives, 'as recorded')}"
@@ -816,17 +815,14 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
                      disagreement_cause(lab, ours, theirs, share[k], zero[k], s, robot_name)]
                     if theirs else [lab, ours, "\u2014", "\u2014", share_cells[k], ""]
                     for k, (lab, ours, theirs) in enumerate(zip(labels, dominance, chapter))]
-    n_rigid = None
-    if applicable and results.rigid_dominance is not None:
-        n_rigid = sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
-    conclusions = []
+    n_rigid = (sum(r == c for r, c in zip(results.rigid_dominance, chapter) if c)
+               if applicable and results.rigid_dominance is not None else None)
     ch = results.chapter
-    if applicable and ch is not None:
-        conclusions = chapter_conclusions(
-            ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
-            ch.model_error_relative_peak, ch.model_error_round_off,
-            errors.column("relative_peak"), err_off,
-            where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
+    conclusions = [] if not applicable or ch is None else chapter_conclusions(
+        ch.blocks, ch.threshold, ch.agreement, ch.elements_compared, n, s,
+        ch.model_error_relative_peak, ch.model_error_round_off,
+        errors.column("relative_peak"), err_off,
+        where=f"this trajectory ({count(N)} set points)", weightless=no_gravity)
     causes, said_once = shared_causes([row[-1] for row in compare_rows])
     compare_rows = [row[:-1] + [cause] for row, cause in zip(compare_rows, causes)]
     note = say("chapter_note", applicable=applicable, n=n, robot=robot_name, n_agree=n_agree,
@@ -1021,14 +1017,11 @@ def _formulations_context(f):
     rows = []
     if n in dof:
         k = dof.index(n)
-        for j, name in enumerate(names):
-            if f.arm is not None:             # the arm's own joint types (prismatic joints)
-                mul, add = f.arm[0][j], f.arm[1][j]
-            else:
-                mul, add = f.multiplications[k, j], f.additions[k, j]
-            rows.append([FORMULATION_NAMES.get(name, name), count(mul), count(add),
-                         count(f.multiplications_table_3_5[k, j]),
-                         count(f.additions_table_3_5[k, j])])
+        # as implemented: for the arm's own joint types (prismatic joints) where stored
+        mul, add = f.arm if f.arm is not None else (f.multiplications[k], f.additions[k])
+        rows = [[FORMULATION_NAMES.get(name, name), count(mul[j]), count(add[j]),
+                 count(f.multiplications_table_3_5[k, j]), count(f.additions_table_3_5[k, j])]
+                for j, name in enumerate(names)]
     costs = _table(["formulation", "multiplications", "additions", "mult. Table 3.5",
                     "add. Table 3.5"], rows, align=["left"] + ["right"] * 4)
     worst = float(np.max(dis)) if dis.size else float("nan")
@@ -1116,9 +1109,7 @@ def _prismatic_joints(p):
     """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
     types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
     pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
-    if not pris:
-        return ""
-    return f", {joints_text(pris)} prismatic"
+    return f", {joints_text(pris)} prismatic" if pris else ""
 
 
 def provenance_rows(results: Results, created: str, version: str,

@@ -161,12 +161,11 @@ def _plot(ax, x, y, part, enveloped, lines):
           "linewidth": _PART_WIDTH[part], "zorder": PART_ZORDER[part]}
     if not enveloped:
         every = element_markevery(x.size, lines)
-        kw["marker"] = style["marker"]
         start = {"tran": 0, "rot": every // 3, "total": (2 * every) // 3,
                  "arm": every // 2}[part]
-        kw["markevery"] = (start, every) if every > 1 else 1
-        kw["markersize"] = _PART_MARKER[part]
-        kw["markeredgewidth"] = 0.5 if part in ("total", "arm") else 0.6   # open, not a blot
+        kw.update(marker=style["marker"], markevery=(start, every) if every > 1 else 1,
+                  markersize=_PART_MARKER[part],
+                  markeredgewidth=0.5 if part in ("total", "arm") else 0.6)   # open, not a blot
         if style["mfc"] is not None:
             kw["markerfacecolor"] = style["mfc"]
     return ax.plot(x, y, **kw)
@@ -221,9 +220,8 @@ def panel_grid(count: int, width: float = PAGE_WIDTH) -> tuple[int, float, float
     """
     min_w = MIN_PANEL_W if width >= PAGE_WIDTH else _MIN_COLUMN_PANEL_W
     fit = int((width - _LEFT - _RIGHT + _WGAP) / (min_w + _WGAP) + 1e-9)
-    cols = max(1, min(max(count, 1), fit))
-    if width >= PAGE_WIDTH:             # one panel size for D and h: as many as D has
-        cols = max(1, fit)
+    # at page width one panel size for D and h: as many as D has
+    cols = max(1, fit if width >= PAGE_WIDTH else min(max(count, 1), fit))
     w = (width - _LEFT - _RIGHT - (cols - 1) * _WGAP) / cols
     return cols, w, float(np.clip(0.68 * w, 0.5, 0.85))
 

@@ -954,15 +954,12 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
         with their peak difference.
     """
     s = StoredSimplified.of(ds)
-    n = s.n
     units = s.tau_units
-    if data is not None and "tau_error" in data.series:
-        t, diff = data.x, data.series["tau_error"]
-    else:
-        t, diff = s.t, s.torque_difference()
+    t, diff = ((data.x, data.series["tau_error"]) if data is not None and "tau_error" in data.series
+               else (s.t, s.torque_difference()))
     bound = s.bound
     quiet = _quiet(s, diff)
-    shown = [i for i in range(n) if i not in quiet]
+    shown = [i for i in range(s.n) if i not in quiet]
     W = width
     column = W < 5.0
     cols = 2 if len(shown) > 1 and not column else 1

@@ -166,9 +166,8 @@ def _width(text, size):
     measured once per font setting (:func:`_measured`)."""
     import matplotlib
 
-    rc = matplotlib.rcParams
     return _measured(text, float(size), tuple(
-        tuple(v) if isinstance(v := rc.get(k), list) else v for k in _FONT_RC))
+        tuple(v) if isinstance(v := matplotlib.rcParams.get(k), list) else v for k in _FONT_RC))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -1220,9 +1219,7 @@ SWEEP_REPORT_FORMATS = ("html", "pdf")
 def _cites(o, ctx, key):
     """The sentence citing the outline ``o``'s next figure, ``key`` ("Fig. 2 shows ..."), or
     "" if that figure was not drawn."""
-    if key not in o.available:
-        return ""
-    return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}"
+    return f"Fig. {o.n_figures + 1} {ctx['figure_text'][key]}" if key in o.available else ""
 
 
 def _figure_parts(o, key, caption):

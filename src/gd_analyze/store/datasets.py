@@ -264,15 +264,14 @@ def stored_region(ds: xr.Dataset) -> dict[str, Any] | None:
     a = ds.attrs
     if Attr.REGION_SUMMARY not in a or Var.REGION_QD_MAX not in ds.variables:
         return None
-    out = {"lines": str(a[Attr.REGION_SUMMARY]).split("\n"),
-           **{k: np.asarray(ds[name].values) for k, name in (
-               ("q_min", Var.REGION_Q_MIN), ("q_max", Var.REGION_Q_MAX),
-               ("q_full_turn", Var.REGION_Q_FULL_TURN), ("qd_max", Var.REGION_QD_MAX),
-               ("qdd_max", Var.REGION_QDD_MAX), ("qdd_max_assumed", Var.REGION_QDD_MAX_ASSUMED))}}
-    out["covered"] = (bool(int(a[Attr.REGION_COVERS_TRAJECTORY]))
-                      if Attr.REGION_COVERS_TRAJECTORY in a else None)
-    out["coverage"] = str(a.get(Attr.REGION_COVERAGE, ""))
-    return out
+    return {"lines": str(a[Attr.REGION_SUMMARY]).split("\n"),
+            **{k: np.asarray(ds[name].values) for k, name in (
+                ("q_min", Var.REGION_Q_MIN), ("q_max", Var.REGION_Q_MAX),
+                ("q_full_turn", Var.REGION_Q_FULL_TURN), ("qd_max", Var.REGION_QD_MAX),
+                ("qdd_max", Var.REGION_QDD_MAX), ("qdd_max_assumed", Var.REGION_QDD_MAX_ASSUMED))},
+            "covered": (bool(int(a[Attr.REGION_COVERS_TRAJECTORY]))
+                        if Attr.REGION_COVERS_TRAJECTORY in a else None),
+            "coverage": str(a.get(Attr.REGION_COVERAGE, ""))}
 
 
 def stored_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
@@ -354,9 +353,8 @@ def units_attribute(units: Sequence[str], coord: str) -> str:
     >>> units_attribute(["N m", "N"], "tau_units")
     'N m or N by joint type (per joint: tau_units)'
     """
-    if len(set(units)) == 1:
-        return units[0]
-    return " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})"
+    return units[0] if len(set(units)) == 1 else (
+        " or ".join(dict.fromkeys(units)) + f" by joint type (per joint: {coord})")
 
 
 def units_by_type(prismatic: Sequence[bool] | np.ndarray, which: str, coord: str = "") -> str:

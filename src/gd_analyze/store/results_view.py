@@ -475,15 +475,12 @@ class RankingTable:
         """
         shown = [(c.cli, self.columns[c.field]) for c in RANKING_COLUMNS
                  if c.cli is not None and c.field in self.columns]
-        lines = ["".join(f"{cli.lead}{cli.header:{cli.align}}" for cli, _ in shown)]
         zero = self.columns["round_off"]
-        for k in range(zero.size):
-            lines.append("".join(
-                cli.lead + (f"{values[k]:{cli.align}}" if not cli.number else
-                            f"{ZERO_MARK:{cli.align}}" if zero[k] else
-                            f"{values[k]:{cli.align}{cli.number}}")
-                for cli, values in shown))
-        return lines
+        return ["".join(f"{cli.lead}{cli.header:{cli.align}}" for cli, _ in shown)] + [
+            "".join(cli.lead + (f"{values[k]:{cli.align}}" if not cli.number else
+                                f"{ZERO_MARK:{cli.align}}" if zero[k] else
+                                f"{values[k]:{cli.align}{cli.number}}") for cli, values in shown)
+            for k in range(zero.size)]
 
 
 @dataclass(frozen=True)

@@ -516,9 +516,7 @@ class View:
         if missing:
             raise InputError(f"not a gd-analyze {cls.what} dataset: missing variable(s) "
                              + ", ".join(missing))
-        if any(name not in ds.variables for name in cls.presence):
-            return None
-        return cls.read(ds)
+        return cls.read(ds) if all(name in ds.variables for name in cls.presence) else None
 
     @classmethod
     def of(cls: type[_V], ds: _V | xr.Dataset, *args: Any) -> _V:

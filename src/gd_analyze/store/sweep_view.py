@@ -261,8 +261,8 @@ def sweep_dataset(robot: Robot, trajectories: Sequence[Trajectory],
     # is round-off on a trajectory
     tran_off, rot_off = (is_round_off(peaks[k], peaks["scale"], arm_scale=arm)
                          for k in ("peak_tran", "peak_rot"))
-    share = ranking[SV.SHARE_TRAN][1]
-    share_data = np.where(tran_off & ~rot_off, 0.0, np.where(rot_off & ~tran_off, 1.0, share))
+    share_data = np.where(tran_off & ~rot_off, 0.0,
+                          np.where(rot_off & ~tran_off, 1.0, ranking[SV.SHARE_TRAN][1]))
     share_data = np.where(round_off, np.nan, share_data)
     summ = [r["summary"] for r in results]
 
@@ -448,12 +448,11 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
         See :func:`gd_analyze.jobs.payload.sweep_payloads`.
     """
     frac, share, dom, choice, tau = (np.array(x) for x in list(zip(*parts))[:5])
-    n = robot.n
     PE = (Var.PAYLOAD, Var.ELEMENT)
     extra = ({Var.ROUND_OFF: _round_off_var(PE, np.array([p[5] for p in parts]),
                                             "on every trajectory")}
              if all(len(p) > 5 for p in parts) else {})
-    coords = element_coords(n, joints=robot.joint_names())
+    coords = element_coords(robot.n, joints=robot.joint_names())
     del coords[Var.ELEMENT_UNITS]
     coords[SV.CLASS] = text_coordinate(SV.CLASS, CLASSES, "dominance class")
     return _by_payload(

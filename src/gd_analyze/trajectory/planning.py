@@ -489,12 +489,10 @@ def random_trajectories(robot: Robot, k: int, seed: int = 0,
     seed = int(seed)
     rng = np.random.default_rng(seed)
     lo, hi = default_motion_range(robot)
-    out = []
-    for i in range(k):          # the start, then the goal (arguments run left to right)
-        traj = plan_quintic(robot, rng.uniform(lo, hi), rng.uniform(lo, hi),
-                            n_setpoints=int(n_setpoints))
-        out.append(dataclasses.replace(traj, source=f"random-{seed}-{i}", sha256=""))
-    return out
+    # each plan's start, then its goal (arguments run left to right)
+    return [dataclasses.replace(plan_quintic(robot, rng.uniform(lo, hi), rng.uniform(lo, hi),
+                                             n_setpoints=int(n_setpoints)),
+                                source=f"random-{seed}-{i}", sha256="") for i in range(k)]
 
 
 def provenance_path(csv_path: str | os.PathLike[str]) -> Path:

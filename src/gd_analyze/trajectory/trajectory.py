@@ -867,10 +867,9 @@ def check_joint_limits(robot: Robot, trajectory: Trajectory | Recording) -> list
         One message per offending joint (also issued as :class:`JointLimitWarning`).
     """
     messages = []
-    q = trajectory.q
     rows = trajectory.rows if isinstance(trajectory, Recording) else None
     for j in range(robot.n):
-        x, lo, hi = q[:, j], robot.q_min[j], robot.q_max[j]
+        x, lo, hi = trajectory.q[:, j], robot.q_min[j], robot.q_max[j]
         out = np.nonzero((x < lo) | (x > hi))[0]
         if out.size:
             k = int(out[0])
