@@ -735,6 +735,7 @@ def analyze_to_file(robot: Robot, trajectory: Trajectory, path: str | os.PathLik
         If the file cannot be written.
     """
     options = AnalysisOptions() if options is None else options
+    trajectory = unwrapped(robot, trajectory)
     N, n = trajectory.q.shape
     chunk = stream_chunk(n) if chunk is None else chunk
     with atomic_path(path, create=False) as tmp:
