@@ -208,17 +208,18 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, 
                                decimate=int(options.decimate), label=label, prismatic=prismatic,
                                clipped=clipped)
     except ValueError as exc:
+        said = str(exc).removeprefix(f"{label}: ")      # the file is named by the error
         if options.cutoff == "auto" and cutoff is not None and not train:   # chosen elsewhere
             own = prep.default_cutoff(rec.t, rec.q, prismatic)    # 1000x apart: ms against s
-            raise InputError(f"{exc} (the cutoff {cutoff:.4g} Hz was chosen from the training "
+            raise InputError(f"{said} (the cutoff {cutoff:.4g} Hz was chosen from the training "
                              f"recordings; this one's median step is "
                              f"{float(np.median(np.diff(rec.t))):.4g} s" + (
                                  f" and its own data give {own:.4g} Hz: are all time stamps "
                                  f"in seconds? Else give --cutoff)" if own > 30 * cutoff else
                                  ": a longer recording, or a higher --cutoff, is needed)"),
                              rec.source) from None
-        raise InputError(str(exc), rec.source,
-                         column="--cutoff" if "cutoff" in str(exc) else None) from None
+        raise InputError(said, rec.source,
+                         column="--cutoff" if "cutoff" in said else None) from None
 
 
 def identify(robot: Robot | str | Path,
