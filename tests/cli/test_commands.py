@@ -983,8 +983,6 @@ def test_the_main_job_on_a_continuous_joint_s_wrapped_log_analyses_the_motion(tm
     file without limits): results.h5's D qdd + h + c is Pinocchio's rnea on the motion and its
     own not-a-knot spline's qd and qdd (the oracle), not the spline's spikes at each wrap, and
     stderr has one warning line naming the file, the row and the column."""
-    from scipy.interpolate import CubicSpline
-
     free = toml_without_limits(tmp_path)
     t = np.linspace(0.0, 2.0, 61)
     q = np.column_stack([np.pi + np.sin(np.pi * t), 0.3 * t])
@@ -1000,11 +998,37 @@ def test_the_main_job_on_a_continuous_joint_s_wrapped_log_analyses_the_motion(tm
     k = int(np.flatnonzero(np.abs(np.diff(wrapped[:, 0])) > np.pi)[0])
     assert len(said) == 1 and said[0].startswith(
         f"gd-analyze: warning: {path}: row {k + 3}, column q1: joint 1's positions step by "), err
+    _check_rnea_on_spline(load_robot(str(free)), t, q, tmp_path / "out" / "results.h5")
+
+
+def test_the_main_job_reads_a_recording_whose_columns_name_the_joints(tmp_path, capsys):
+    """A ROS-style recording ("- joint1_position", "- joint1_effort", ..., shuffled), as
+    identify reads it: the main job analyses its set points (it was refused: "the header must
+    start with 't'"), its torques ignored with a note; results.h5's D qdd + h + c is
+    Pinocchio's rnea on the positions and their own not-a-knot spline's qd and qdd."""
+    t = np.linspace(0.0, 2.0, 41)
+    q = np.column_stack([np.sin(t), 0.5 * np.cos(2 * t)])
+    path = tmp_path / "joint_states.csv"
+    path.write_text("- joint2_effort,t,- joint1_position,- joint2_position,- joint1_effort\n"
+                    + "".join(f"1.0,{s!r},{a!r},{b!r},2.0\n" for s, (a, b) in
+                              zip(t.tolist(), q.tolist())))
+    code, _, err = _run(capsys, "two-link", path, "-o", tmp_path / "out", "--no-report",
+                        "--explicit", "never")
+    assert code == 0, err
+    assert "its torques - joint1_effort..- joint2_effort are ignored" in err, err
+    _check_rnea_on_spline(load_robot("two-link"), t, q, tmp_path / "out" / "results.h5")
+
+
+def _check_rnea_on_spline(robot, t, q, results):
+    """results.h5's D qdd + h + c against Pinocchio's rnea on q and its own not-a-knot cubic
+    spline's qd and qdd (scipy), to 1e-9 of the largest torque."""
+    from scipy.interpolate import CubicSpline
+
     spline = CubicSpline(t, q, axis=0, bc_type="not-a-knot")
-    model = pinocchio_model(load_robot(str(free)))
+    model = pinocchio_model(robot)
     data = model.createData()
     tau = np.array([pin.rnea(model, data, a, b, c) for a, b, c in zip(q, spline(t, 1),
                                                                         spline(t, 2))])
-    with xr.open_dataset(tmp_path / "out" / "results.h5", engine="h5netcdf") as ds:
+    with xr.open_dataset(results, engine="h5netcdf") as ds:
         got = np.einsum("kij,kj->ki", ds.D.values, ds.qdd.values) + ds.h.values + ds.c.values
     np.testing.assert_allclose(got, tau, rtol=0, atol=1e-9 * np.abs(tau).max())

@@ -725,3 +725,33 @@ def test_only_a_continuous_revolute_joint_s_wraps_are_undone_and_only_for_the_sp
     assert (got.source, got.sha256, got.derivatives) == (traj.source, traj.sha256, traj.derivatives)
     given = trajectory_from_arrays(t, q, traj.qd, traj.qdd)
     assert unwrapped(robot, given) is given
+
+
+def test_a_recording_naming_the_joints_is_read_as_a_trajectory(tmp_path):
+    """A recording whose columns name the robot's joints ("- joint2_effort", ...; shuffled, as
+    a ROS joint_states export), as identify reads it: the main job's reader takes its set
+    points as it does those of the same recording numbered (t,q1..,tau1..), its torques
+    ignored with a note naming the file's own columns. It was refused ("the header must start
+    with 't'")."""
+    rng = np.random.default_rng(4)
+    t = np.arange(40) * 0.01
+    q, tau = rng.normal(size=(40, 2)), rng.normal(size=(40, 2))
+    numbered = tmp_path / "numbered.csv"
+    named = tmp_path / "named.csv"
+    cells = {"t": t, "q1": q[:, 0], "q2": q[:, 1], "tau1": tau[:, 0], "tau2": tau[:, 1]}
+    pd.DataFrame(cells).to_csv(numbered, index=False, float_format="%.17g")
+    pd.DataFrame({"- joint2_effort": tau[:, 1], "t": t, "- joint1_position": q[:, 0],
+                  "- joint2_position": q[:, 1], "- joint1_effort": tau[:, 0]}).to_csv(
+        named, index=False, float_format="%.17g")
+    with pytest.warns(InputNote) as notes:
+        ours = read_trajectory(named, 2, ["joint1", "joint2"])
+    with pytest.warns(InputNote):
+        theirs = read_trajectory(numbered, 2)
+    for key in ("t", "q", "qd", "qdd"):
+        assert np.array_equal(getattr(ours, key), getattr(theirs, key)), key
+    assert ours.derivatives == "cubic-spline"
+    assert any("its torques - joint1_effort..- joint2_effort are ignored" in str(w.message)
+               for w in notes), [str(w.message) for w in notes]
+    assert np.array_equal(as_trajectory(str(named), 2, ["joint1", "joint2"]).q, theirs.q)
+    with pytest.raises(InputError, match="unknown column"):       # without the robot's names
+        read_trajectory(named, 2)

@@ -233,7 +233,7 @@ def wrote_line(files: Sequence[Path], folder: Path, verbose: bool) -> str:
 
 def _load(args):
     robot = load_robot_arg(args)
-    return robot, unwrapped(robot, read_trajectory(args.trajectory, n_joints=robot.n))
+    return robot, unwrapped(robot, read_trajectory(args.trajectory, robot.n, robot.joint_names()))
 
 
 
@@ -788,7 +788,8 @@ def _load_model(args):
     names another robot."""
     model = load_model(args.model)
     model_robot = cast(Robot, model.robot)      # the model file's arm
-    traj = unwrapped(model_robot, read_trajectory(args.trajectory, n_joints=model_robot.n))
+    traj = unwrapped(model_robot, read_trajectory(args.trajectory, model_robot.n,
+                                           model_robot.joint_names()))
     warn_if(provenance_mismatch(args.trajectory, model_robot))
     return model, model_robot, traj
 
@@ -1170,7 +1171,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                              column="--scheduler")
     check_rule_options(args)
     if args.csv:
-        trajectories = [unwrapped(robot, read_trajectory(path, n_joints=robot.n))
+        trajectories = [unwrapped(robot, read_trajectory(path, robot.n, robot.joint_names()))
                         for path in args.csv]
     else:
         warn_if(check_velocity_limits(robot))               # random plans need them

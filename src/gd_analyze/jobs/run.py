@@ -292,6 +292,6 @@ def results_dataset(robot: Robot, trajectory: Trajectory | str | os.PathLike | M
     expect(robot, Robot, "robot", "a Robot (gd.load_robot(...) reads a name or a file)")
     expect(options, (AnalysisOptions, type(None)), "options", "an AnalysisOptions")
     options = AnalysisOptions() if options is None else options
-    trajectory = as_trajectory(trajectory, robot.n)
+    trajectory = as_trajectory(trajectory, robot.n, robot.joint_names())
     return analyze(robot, trajectory, options,
                    settings=_settings(options, None, Payload(), robot)).dataset

@@ -153,7 +153,8 @@ def _parse_header(header, path):
                      path, row=1, column=missing)
 
 
-def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -> Trajectory:
+def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
+                    joint_names: Sequence[str] | None = None) -> Trajectory:
     """Read and validate a trajectory CSV file.
 
     One reader for every size: a file is parsed by pandas when it is regular (every line has
@@ -168,10 +169,14 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     path : str or os.PathLike
         The CSV file: header ``t,q1..qn,qd1..qdn,qdd1..qddn`` or ``t,q1..qn`` in [s], [rad],
         [rad/s], [rad/s^2]. A UTF-8 byte-order mark (as Excel writes it) is stripped, with an
-        :class:`~gd_analyze.errors.InputNote`. A recording (torque columns ``tau1..taun``,
+        :class:`~gd_analyze.errors.InputNote`. A recording (torque columns ``tau1..taun``, or
+        columns naming the joints, ``<joint>_position`` and ``<joint>_effort``:
         :func:`read_recording`) is read as one, its torques ignored, with an InputNote.
     n_joints : int, optional
         The robot's number of joints n; the file must have as many.
+    joint_names : sequence of str, optional
+        The robot's joint names (:meth:`~gd_analyze.model.robot.Robot.joint_names`), by which
+        a recording's columns may name the joints.
 
     Returns
     -------
@@ -193,14 +198,16 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None) -
     """
     path = _csv_path(path, n_joints)
     with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
-        recorded = re.search(rb",[ \t]*tau[0-9]", fh.readline(HEADER_BYTES)) is not None
+        recorded = re.search(rb",[ \t]*tau[0-9]|_(position|effort)[ \t]*(,|\r?\n|$)",
+                             fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
-        rec = read_recording(path, n_joints)
+        rec = read_recording(path, n_joints, joint_names=joint_names)
         qd, qdd = (_spline(rec.t, rec.q, path, row_of=lambda k: int(np.asarray(rec.rows)[k]))
                    if rec.qd is None or rec.qdd is None else (rec.qd, rec.qdd))
         given = qd is rec.qd
-        for note in (*rec.notes, f"{path}: a recording: its torques tau1..tau{rec.n} are "
-                     f"ignored, its set points are t, q" + (", qd, qdd" if given else
+        for note in (*rec.notes, f"{path}: a recording: its torques {rec.column('tau', 0)}.."
+                     f"{rec.column('tau', rec.n - 1)} are ignored, its set points are t, q"
+                     + (", qd, qdd" if given else
                      " (qd, qdd by a cubic spline through them, which amplifies their noise)")):
             warnings.warn(note, InputNote, stacklevel=2)
         return Trajectory(t=rec.t, q=rec.q, qd=qd, qdd=qdd, source=path, sha256=rec.sha256,
@@ -389,7 +396,8 @@ def _increasing(t, path, rows=None):
 
 
 def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any] | Sequence[Any],
-                  n_joints: int | None = None) -> Trajectory:
+                  n_joints: int | None = None,
+                  joint_names: Sequence[str] | None = None) -> Trajectory:
     """A trajectory from what a notebook holds: a Trajectory, a CSV file, or arrays.
 
     Parameters
@@ -400,6 +408,8 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
         ``(t, q, qd, qdd)`` (:func:`trajectory_from_arrays`).
     n_joints : int, optional
         The robot's number of joints n.
+    joint_names : sequence of str, optional
+        The robot's joint names, by which a recording file's columns may name the joints.
 
     Returns
     -------
@@ -422,7 +432,7 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
                              f"{_joints(n_joints)}", value.source or ARRAYS)
         return value
     if isinstance(value, (str, os.PathLike)):
-        return read_trajectory(value, n_joints=n_joints)
+        return read_trajectory(value, n_joints=n_joints, joint_names=joint_names)
     if isinstance(value, Mapping):
         unknown = sorted(set(map(str, value)) - {"t", "q", "qd", "qdd"})
         if unknown or "t" not in value or "q" not in value:
