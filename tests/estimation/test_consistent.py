@@ -137,6 +137,41 @@ def test_a_solution_that_is_not_consistent_is_not_taken(monkeypatch):
                        "SCS: optimal(_inaccurate)?, but a pseudo-inertia not >= 0"):
         consistent_standard(*args)
 
+def test_solutions_a_hair_below_zero_are_solved_again_with_a_larger_margin(monkeypatch):
+    """Both solvers' solutions with a pseudo-inertia just below 0, within their tolerance (the
+    UR5 with a joint held still, on numpy 2.5 and scipy 1.18: Clarabel and SCS 'optimal' at
+    the 1e-9 margin, a least eigenvalue below -1e-10 of the link's scale): both are tried again
+    with 100 x the margin, and the solution taken has every pseudo-inertia >= 0. Here the four
+    solves at the first margin are spoiled; with all eight spoiled, SolverFailure lists all."""
+    import cvxpy as cp
+    import pytest
+
+    from gd_analyze.estimation.consistent import SolverFailure
+
+    args = _two_link_problem()
+    real = cp.Problem.solve
+    calls = []
+
+    def solve(self, *a, solver=None, **k):
+        out = real(self, *a, solver=solver, **k)
+        calls.append(solver)
+        if len(calls) <= spoil:
+            for x in self.variables():
+                x.value = np.full(x.shape, -1e3)
+        return out
+
+    monkeypatch.setattr(cp.Problem, "solve", solve)
+    spoil = 4
+    sol = consistent_standard(*args)
+    assert calls == ["CLARABEL", "CLARABEL", "SCS", "SCS", "CLARABEL", "CLARABEL"]
+    assert sol.solver == "CLARABEL" and (min_eigenvalues(sol.phi) >= 0).all()
+    calls.clear()
+    spoil = 8
+    with pytest.raises(SolverFailure, match="CLARABEL with 100x the margin: optimal, but a "
+                       "pseudo-inertia not >= 0; SCS with 100x the margin: "):
+        consistent_standard(*args)
+
+
 def _link(mass, com, inertia_c):
     """Standard parameters (10,) of one link from its mass, centre of mass and inertia about
     it (Huygens-Steiner: J_O = I_c + m (c.c 1 - c c^T))."""
