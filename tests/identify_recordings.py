@@ -3,6 +3,7 @@ inertial parameters changed, plus friction and offsets) driven along a finite Fo
 its torque computed by Pinocchio (``rnea``) plus the drives, with noise and irregular clocks."""
 
 import importlib.metadata
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -124,3 +125,27 @@ def irregular_clock(duration, seed, lo=0.7e-3, hi=8.8e-3):
 def builtin_urdf(name):
     """The path of a URDF built-in."""
     return builtin_urdf_path(name)
+
+
+def write_echo_log(path, t, fields, joints, other_rows=()):
+    """``rostopic echo -p`` of a sensor_msgs/JointState topic as ROS 1 writes it: ``%time``
+    (received, 3 us after the stamp) and ``field.header.stamp`` in ns, the names then each
+    array by index (``field.position0``...), the joints in another order in every other row,
+    a gripper joint beside the chain's; ``other_rows``: the rows after which another publisher's
+    message (the gripper's alone, fewer cells) stands. Returns the stamps [ns] / 1e9: t [s]."""
+    stamp = 1_700_000_000_000_000_000 + np.round(t * 1e9).astype(np.int64)
+    names = [*joints, "gripper"]
+    kinds = [k for k in ("position", "velocity", "effort") if k in fields]
+    lines = ["%time,field.header.seq,field.header.stamp,field.header.frame_id," + ",".join(
+        f"field.{kind}{k}" for kind in ["name", *kinds] for k in range(len(names)))]
+    for r, ns in enumerate(stamp):
+        order = np.roll(np.arange(len(names)), r % 2)
+        cells = [str(ns + 3000), str(r), str(ns), ""] + [names[k] for k in order] + [
+            repr(float(fields[kind][r, k])) if k < len(joints) else "0.5"
+            for kind in kinds for k in order]
+        lines.append(",".join(cells))
+        if r in other_rows:
+            lines.append(",".join([str(ns + 5000), "9", str(ns + 4000), "", "gripper",
+                                   *["0.5"] * len(kinds)]))
+    Path(path).write_text("\n".join(lines) + "\n")
+    return (stamp / 1e9).astype(float)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from identify_recordings import write_echo_log
 
 from gd_analyze import InputError
 from gd_analyze.errors import InputNote
@@ -409,7 +410,8 @@ def test_the_time_column_may_stand_anywhere(tmp_path):
     ("q1,tau1", "column t: no time column t"),
     ("t,q1,tau1,t", "column t: column 't' appears twice"),
     ("t1,q1,tau1", "column t1: unknown column"),
-    ("t,q0,tau1", "column q0: unknown column"),
+    ("t,q0,q2,tau1,tau2", "column q1: missing column 'q1'"),     # from 0: q0, q1, ..
+    ("t,q-1,tau1", "column q-1: unknown column"),
 ])
 def test_bad_headers(tmp_path, header, where):
     path = _write(tmp_path / "h.csv", header + "\n")
@@ -755,3 +757,75 @@ def test_a_recording_naming_the_joints_is_read_as_a_trajectory(tmp_path):
     assert np.array_equal(as_trajectory(str(named), 2, ["joint1", "joint2"]).q, theirs.q)
     with pytest.raises(InputError, match="unknown column"):       # without the robot's names
         read_trajectory(named, 2)
+
+
+def test_a_rostopic_echo_log_of_joint_states_reads_as_the_same_recording_named(tmp_path):
+    """A ``rostopic echo -p /joint_states`` log (ROS 1's CSV: %time, field.header.stamp in ns,
+    the joints named in field.name<k> of each row in any order, their fields by index, a
+    gripper joint and another publisher's rows beside the chain's) reads as the recording
+    whose columns name the joints (oracle: the same values written as <joint>_position...,
+    t = the stamps [ns] / 1e9), with one note; it was refused ("unknown column '%time'"). The
+    main job's reader takes its set points alike."""
+    rng = np.random.default_rng(5)
+    joints = ["shoulder", "elbow"]
+    fields = {k: rng.normal(size=(40, 2)) for k in ("position", "velocity", "effort")}
+    t = write_echo_log(tmp_path / "echo.csv", 0.01 * np.arange(40), fields, joints, other_rows=(3,))
+    named = tmp_path / "named.csv"
+    pd.DataFrame({"t": t, **{f"{j}_{k}": v[:, c] for k, v in fields.items()
+                             for c, j in enumerate(joints)}}).to_csv(named, index=False,
+                                                                     float_format="%.17g")
+    with pytest.warns(InputNote) as caught:
+        ours = read_recording(tmp_path / "echo.csv", 2, joint_names=joints)
+    theirs = read_recording(named, 2, joint_names=joints)
+    for key in ("t", "q", "qd", "tau"):
+        assert np.array_equal(getattr(ours, key), getattr(theirs, key)), key
+    assert ours.rows.tolist() == [2, 3, 4, 5] + list(range(7, 43))     # row 6: the gripper's
+    assert [str(w.message) for w in caught] == [
+        f"{tmp_path / 'echo.csv'}: a rostopic echo -p log of joint states: t from "
+        f"field.header.stamp [ns]; 1 row naming none of the chain's joints left out (first at "
+        f"row 6); joints outside the chain ignored: gripper"]
+    with pytest.warns(InputNote):
+        assert np.array_equal(read_trajectory(tmp_path / "echo.csv", 2, joints).q, theirs.q)
+
+
+@pytest.mark.parametrize("row, said", [
+    ("shoulder,gripper,1,2", "row 3, column field.name0: joint 'elbow' of the chain is not named "
+                             "in this row (it names shoulder, gripper)"),
+    ("shoulder,elbow,1,x", "row 3, column field.position1: not a number: 'x'"),
+    ("shoulder,elbow,1", "row 3: ragged row: 7 cells, the header has 8"),
+])
+def test_a_rostopic_echo_log_row_that_cannot_be_read_is_one_line(tmp_path, row, said):
+    """Row 3 of a rostopic echo -p log names one joint of the chain and not the other, holds a
+    cell that is not a number, or lacks a position: one line with the file, row and column."""
+    head = "%time,field.header.seq,field.header.stamp,field.header.frame_id,field.name0," \
+        "field.name1,field.position0,field.position1\n"
+    rows = [f"{k}0000000,{k},{k}0000000,,shoulder,elbow,0.{k},0.{k}" for k in range(1, 13)]
+    rows[1] = f"20000000,2,20000000,,{row}"
+    _write(tmp_path / "e.csv", head + "\n".join(rows) + "\n")
+    with pytest.raises(InputError) as e:
+        read_recording(tmp_path / "e.csv", 2, joint_names=["shoulder", "elbow"])
+    assert str(e.value) == f"{tmp_path / 'e.csv'}: {said}"
+
+
+def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):
+    """``t,q0..q2,dq0..dq2,ddq0..ddq2,tau1..tau3``, as FIGAROH's UR10 recordings are written:
+    the same recording as ``t,q1..,qd1..,qdd1..,tau1..`` (oracle: the arrays written), with one
+    note; it was refused ("unknown column 'q0'")."""
+    rng = np.random.default_rng(7)
+    t = 0.01 * np.arange(20)
+    q, qd, qdd, tau = (rng.normal(size=(20, 3)) for _ in range(4))
+    cells = {"t": t, **{f"{k}{j}": v[:, j] for k, v in (("q", q), ("dq", qd), ("ddq", qdd))
+                        for j in range(3)}, **{f"tau{j + 1}": tau[:, j] for j in range(3)}}
+    pd.DataFrame(cells).to_csv(tmp_path / "ur.csv", index=False, float_format="%.17g")
+    with pytest.warns(InputNote) as caught:
+        rec = read_recording(tmp_path / "ur.csv", 3)
+    for key, want in (("q", q), ("qd", qd), ("qdd", qdd), ("tau", tau)):
+        assert np.array_equal(getattr(rec, key), want), key
+    assert [str(w.message) for w in caught] == [
+        f"{tmp_path / 'ur.csv'}: columns q0..q2, dq0..dq2, ddq0..ddq2 number the joints from 0: "
+        f"read as joints from 1"]
+    assert (rec.column("q", 0), rec.column("qd", 2)) == ("q0", "dq2")
+    pd.DataFrame({k: v for k, v in cells.items() if k != "q1"}).to_csv(
+        tmp_path / "gap.csv", index=False)
+    with pytest.raises(InputError, match=r"gap\.csv: row 1, column q1: missing column 'q1'"):
+        read_recording(tmp_path / "gap.csv")

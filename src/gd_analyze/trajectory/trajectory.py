@@ -13,10 +13,13 @@ and measured torques against time. A recording CSV has a header ``t,q1..qn,tau1.
 optional ``qd1..qdn`` and ``qdd1..qddn`` (the columns in any order), in [s], [rad or m],
 [N m or N], [rad/s or m/s], [rad/s^2 or m/s^2]. With motor currents (``--current``) the torque columns hold currents [A]
 (named ``tau1..taun`` or ``i1..in``) and the drive gains K turn them into torque, tau = K i.
-Given the chain's joint names, the columns may name the joints instead, as a ROS
-``joint_states`` export does (``<joint>_position``, ``_velocity``, ``_acceleration``,
-``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with a note), and
-``A.csv+B.csv`` joins files on one clock into one recording.
+``dq``, ``ddq`` name velocities and accelerations too, and a kind numbered from 0 (``q0..``)
+counts from joint 1, with a note. Given the chain's joint names, the columns may name the
+joints instead, as a ROS ``joint_states`` export does (``<joint>_position``, ``_velocity``,
+``_acceleration``, ``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with
+a note), or be ROS 1's ``rostopic echo -p`` of a JointState topic (``%time``,
+``field.header.stamp`` in ns, ``field.name<k>``, ``field.position<k>``...), and ``A.csv+B.csv``
+joins files on one clock into one recording.
 
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
 sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
@@ -198,8 +201,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
     """
     path = _csv_path(path, n_joints)
     with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
-        recorded = re.search(rb",[ \t]*tau[0-9]|_(position|effort)[ \t]*(,|\r?\n|$)",
-                             fh.readline(HEADER_BYTES)) is not None
+        recorded = re.search(rb"^(?:\xef\xbb\xbf)?%time,|,[ \t]*tau[0-9]|_(position|effort)"
+                             rb"[ \t]*(,|\r?\n|$)", fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints, joint_names=joint_names)
         qd, qdd = (_spline(rec.t, rec.q, path, row_of=lambda k: int(np.asarray(rec.rows)[k]))
@@ -1029,7 +1032,9 @@ MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
-_COLUMN = re.compile(r"^(t|q|qd|qdd|tau|i)(\d*)$")
+_COLUMN = re.compile(r"^(t|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
+#: Other names of a kind: currents, and velocities and accelerations as FIGAROH's files write them.
+_KIND = {"i": "tau", "dq": "qd", "ddq": "qdd"}
 #: A column naming a joint of the robot file and a ROS JointState field, and its kind.
 _NAMED = re.compile(r"^(.+)_(position|velocity|acceleration|effort)$")
 _FIELD = {"position": "q", "velocity": "qd", "acceleration": "qdd", "effort": "tau"}
@@ -1113,11 +1118,11 @@ def _keys(header, path, joints, current, seen):
     names, keys = [c.strip() for c in header], []
     for k, name in enumerate(names):
         m, named = _COLUMN.match(bare := name.removeprefix("- ").strip()), _NAMED.match(bare)
-        if m and (m.group(1) == "t") != bool(m.group(2)) and int(m.group(2) or 1) >= 1:
+        if m and (m.group(1) == "t") != bool(m.group(2)):
             if m.group(1) == "i" and not current:
                 raise InputError(f"column {name!r} holds a current: give --current, --drive-gains",
                                  path, row=1, column=name)
-            key = ("tau" if m.group(1) == "i" else m.group(1), int(m.group(2) or 1))
+            key = (_KIND.get(m.group(1), m.group(1)), int(m.group(2) or 1))
         elif named and joints is not None:      # ("-", name): a joint outside the chain
             key = (_FIELD[named[2]], joints.index(named[1]) + 1) if named[1] in joints else \
                 ("-", named[1])
@@ -1140,13 +1145,22 @@ def _keys(header, path, joints, current, seen):
     return names, keys
 
 
-def _columns(keys, path, n_joints, joints):
-    """{kind: [column index per joint]} of a recording's (kind, joint) keys (:func:`_keys`, of
-    its files together; ``joints``: the chain's joint names where the columns name them, else
-    None), or an InputError naming the missing or surplus column."""
+def _columns(keys, names, path, n_joints, joints):
+    """({kind: [column index per joint]}, notes) of a recording's (kind, joint) keys
+    (:func:`_keys`, of its files together, whose header ``names`` they are; ``joints``: the
+    chain's joint names where the columns name them, else None), or an InputError naming the
+    missing or surplus column. A kind numbered from 0 (``q0..q5``) is counted from joint 1, with
+    a note."""
     found: dict = {}
+    notes, shift = [], collections.Counter()
     for k, key in enumerate(keys):
         found.setdefault(key[0], {})[key[1]] = k
+    for kind, slot in found.items():
+        if kind != "-" and 0 in slot:
+            found[kind], shift[kind] = {j + 1: k for j, k in slot.items()}, 1
+            notes.append(f"{names[slot[0]]}..{names[slot[max(slot)]]}")
+    notes = [f"{path}: columns {', '.join(notes)} number the joints from 0: read as joints "
+             f"from 1"] if notes else []
     n = len(found.get("q", {})) if joints is None else len(joints)
     if "t" not in found or n == 0:
         raise InputError(f"no {'time column t' if n else 'joint position columns q1..qn'} in "
@@ -1159,17 +1173,82 @@ def _columns(keys, path, n_joints, joints):
         slot = found.get(kind, {})
         missing = [j for j in range(1, n + 1) if j not in slot]
         if missing and (slot or kind in ("q", "tau")):   # qd and qdd may be absent, not in part
-            name = f"{kind}{missing[0]}" if joints is None else f"{joints[missing[0] - 1]}_" + \
-                next(f for f, k in _FIELD.items() if k == kind)
+            name = f"{kind}{missing[0] - shift[kind]}" if joints is None else \
+                f"{joints[missing[0] - 1]}_" + next(f for f, k in _FIELD.items() if k == kind)
             raise InputError(f"missing column {name!r}" + ("" if slot or joints else (
                 f" (expected t,q1..q{n},tau1..tau{n})")), path, row=1, column=name)
         extra = sorted(set(slot) - set(range(1, n + 1)))
         if extra:
-            raise InputError(f"column '{kind}{extra[0]}' beyond the {_joints(n)}", path, row=1,
-                             column=f"{kind}{extra[0]}")
+            raise InputError(f"column '{kind}{extra[0] - shift[kind]}' beyond the {_joints(n)}",
+                             path, row=1, column=f"{kind}{extra[0] - shift[kind]}")
         if slot:
             out[kind] = [slot[j] for j in range(1, n + 1)]
-    return out
+    return out, notes
+
+
+#: Longest joint name a message quotes from a file [characters].
+MAX_NAME = 200
+#: A column of ``rostopic echo -p`` on a sensor_msgs/JointState topic: an array's field and index.
+_ECHO = re.compile(r"field\.(name|position|velocity|effort)(\d+)")
+
+
+def _echoed_values(raw, path, joints, notes):
+    """(values, names, row numbers) of the bytes of a ``rostopic echo -p`` log of a JointState
+    topic (header ``%time,field.header.seq,field.header.stamp,..,field.name0..,
+    field.position0..``, ``field.velocity0..``, ``field.effort0..``): ``t`` [s] the header's
+    stamp [ns] (``%time``, the time received, where a stamp is 0), and each chain joint's
+    fields found in each row by its name (``joints``), as columns ``<joint>_position`` etc.
+    Rows naming none of the chain's joints (another publisher's) are left out, with a note in
+    ``notes``; an InputError names the row and column of a row naming only some of them, or of
+    a cell that is not a number."""
+    (_, header), *data = _numbered_rows(raw, path, long_cell=True)
+    at = {(m[1], int(m[2])): c for c, name in enumerate(header)
+          if (m := _ECHO.fullmatch(name.strip()))}
+    if joints is None or ("position", 0) not in at:
+        raise InputError("a rostopic echo -p log: its rows name the joints by the robot's joint "
+                         "names, and need its field.position0..", path, row=1, column="%time")
+    slots = sorted(k for kind, k in at if kind == "name")
+    fields = [f for f in ("position", "velocity", "effort") if (f, 0) in at]
+    stamp = [c for c, name in enumerate(header) if name.strip() == "field.header.stamp"]
+    values, rows, skipped, others = [], [], [], []
+
+    def number(cells, c, row):
+        if c is None or c >= len(cells):      # a field's array shorter than the names'
+            raise InputError(f"ragged row: {len(cells)} cells, the header has {len(header)}", path,
+                             row=row)
+        try:
+            return parse_number(cells[c].strip(" \t"))
+        except ValueError as exc:
+            raise InputError(str(exc), path, row=row, column=header[c].strip()) from None
+
+    for row, cells in data:
+        named = {cells[at["name", k]].strip(): k for k in slots if at["name", k] < len(cells)}
+        found = [named.get(j) for j in joints]
+        if not any(k is not None for k in found):
+            skipped.append(row)
+            continue
+        if None in found:
+            raise InputError(f"joint {joints[found.index(None)]!r} of the chain is not named in "
+                             f"this row (it names {', '.join(n[:MAX_NAME] for n in named)})",
+                             path, row=row, column=header[at["name", slots[0]]].strip())
+        others = others or [name[:MAX_NAME] for name in named if name not in joints]
+        values.append([number(cells, 0, row), *(number(cells, c, row) for c in stamp)] + [
+            number(cells, at.get((f, k)), row) for f in fields for k in found])
+        rows.append(row)
+    if not values:
+        raise InputError(f"no row names a joint of the chain ({', '.join(joints)})", path, row=2,
+                         column=header[at["name", slots[0]]].strip() if slots else "%time")
+    table = np.array(values)
+    clock = 1 if stamp and (table[:, 1] > 0).all() else 0
+    notes.append(one_line(
+        f"{path}: a rostopic echo -p log of joint states: t from "
+        f"{'field.header.stamp' if clock else '%time'} [ns]" + (
+            f"; {_joints(len(skipped), 'row')} naming none of the chain's joints left out "
+            f"(first at row {skipped[0]})" if skipped else "") + (
+            f"; joints outside the chain ignored: {', '.join(others)}" if others else "")))
+    names = ["t"] + [f"{j}_{f}" for f in fields for j in joints]
+    return np.column_stack([table[:, clock] / 1e9, table[:, 1 + len(stamp):]]), names, \
+        np.array(rows, int)
 
 
 #: A time stamp earlier than the row before by more than this many median steps starts another
@@ -1250,7 +1329,9 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         The chain's joint names in chain order (:meth:`gd_analyze.model.robot.Robot.joint_names`):
         the columns may name the joints by them instead of numbering them,
         ``<joint>_position``, ``_velocity``, ``_acceleration`` and ``_effort`` (a leading
-        ``"- "`` ignored); other joints' columns are ignored, with an InputNote naming them.
+        ``"- "`` ignored); other joints' columns are ignored, with an InputNote naming them. A
+        ``rostopic echo -p`` log of a JointState topic (header ``%time,..``) names them in its
+        rows (``field.name<k>``): rows naming none of them are left out, with an InputNote.
 
     Returns
     -------
@@ -1264,7 +1345,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
         the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
         joint count other than ``n_joints``; if columns number the joints and others name
-        them; if joined files' clocks differ in a row or their columns overlap. One line with
+        them; if a row of a ``rostopic echo -p`` log names some of the chain's joints only; if joined files' clocks differ in a row or their columns overlap. One line with
         the file, row and column. Before the file is opened: if ``path`` is not a str or
         os.PathLike, ``n_joints`` not a whole number >= 1, or ``current`` not a bool (the
         message names the argument).
@@ -1281,12 +1362,15 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
     check_flags(current=current)
     seen: dict = {}             # the first column of each naming style and of each key
     parts: list = []
+    notes: list = []
     joined = recording_files(source)
     for file in joined:
         def header(fields, row=1):     # at once, in this round; maybe twice: a copy of seen
             return _keys(fields, file, joint_names, current, dict(seen))[0]
 
-        values, names, rows, sha256 = _read_csv(file, header, lambda raw: _validated_values(raw, file, header))
+        values, names, rows, sha256 = _read_csv(file, header, lambda raw: (
+            _echoed_values(raw, file, joint_names, notes) if raw.startswith(b"%time,")
+            else _validated_values(raw, file, header)))
         keys = _keys(names, file, joint_names, current, seen)[1]
         kinds = {kind: [k for k, key in enumerate(keys) if key[0] == kind] for kind in _LIMITS}
         check_magnitudes(values, names, kinds, file, rows, _LIMITS)
@@ -1302,12 +1386,13 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
                 column="t")
         parts.append((file, sha256, values, rows, keys, names, t))
     keys, names = ([x for part in parts for x in part[i]] for i in (4, 5))
-    cols = _columns(keys, source, n_joints, joint_names if "name" in seen else None)
+    cols, more = _columns(keys, names, source, n_joints, joint_names if "name" in seen else None)
+    notes += more
     values = np.hstack([part[2] for part in parts])
     if values.shape[0] < MIN_SAMPLES:
         raise InputError(f"{values.shape[0]} rows: at least {MIN_SAMPLES} are needed", source)
-    notes = [one_line(f"{source}: columns of joints outside the chain ignored: {ignored}")
-             for ignored in [", ".join(dict.fromkeys(j for kind, j in keys if kind == "-"))] if ignored]
+    notes += [one_line(f"{source}: columns of joints outside the chain ignored: {ignored}")
+              for ignored in [", ".join(dict.fromkeys(j for kind, j in keys if kind == "-"))] if ignored]
     for note in notes:
         warnings.warn(note, InputNote, stacklevel=2)
     get = {k: values[:, idx] for k, idx in cols.items()}
