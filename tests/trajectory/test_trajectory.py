@@ -829,3 +829,32 @@ def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_pa
         tmp_path / "gap.csv", index=False)
     with pytest.raises(InputError, match=r"gap\.csv: row 1, column q1: missing column 'q1'"):
         read_recording(tmp_path / "gap.csv")
+
+
+def test_a_wrap_in_a_recording_naming_the_joints_is_warned_about_at_the_file_s_row_and_column(
+        tmp_path):
+    """A recording read as a trajectory (columns naming the joints, two rows out of order), its
+    continuous joint wrapped at +-pi: the warning names the file's own column ("- wrist_position")
+    and the file's row of the first sample after the wrap (oracle: the rows the test wrote),
+    where it said "column q2" and the sorted set point's index + 2."""
+    from types import SimpleNamespace
+
+    from gd_analyze.errors import InputWarning
+
+    robot = SimpleNamespace(q_min=np.array([-np.pi, -np.inf]), q_max=np.array([np.pi, np.inf]),
+                            prismatic=np.array([False, False]))
+    t = np.linspace(0.0, 1.0, 30)
+    wrist = (np.pi + np.sin(5 * t) + np.pi) % (2 * np.pi) - np.pi
+    first = int(np.flatnonzero(np.abs(np.diff(wrist)) > np.pi)[0]) + 1    # set point after it
+    order = np.arange(30)
+    order[[first - 1, first]] = order[[first, first - 1]]   # swapped: sorted back on reading
+    lines = ["t,- wrist_position,- arm_position,- arm_effort,- wrist_effort"] + [
+        f"{float(t[k])!r},{float(wrist[k])!r},0.1,1,2" for k in order]
+    _write(tmp_path / "log.csv", "\n".join(lines) + "\n")
+    with pytest.warns(InputNote):
+        traj = read_trajectory(tmp_path / "log.csv", 2, ["arm", "wrist"])
+    with pytest.warns(InputWarning) as caught:
+        unwrapped(robot, traj)
+    row = 2 + int(np.flatnonzero(order == first)[0])
+    assert row == first + 1 and [str(w.message).split(": joint")[0] for w in caught] == [
+        f"{tmp_path / 'log.csv'}: row {row}, column - wrist_position"]

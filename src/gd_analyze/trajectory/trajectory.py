@@ -94,6 +94,12 @@ class Trajectory:
         The file read, or a description of how the trajectory was made.
     sha256 : str
         SHA-256 of the file's bytes ("" for a trajectory not read from a file).
+    rows : ndarray of int, shape (N,), or None
+        The file's row of each set point where it is not the set point's index + 2 (a
+        recording, sorted by time).
+    columns : tuple of str
+        The file's name of each joint's position column where it is not ``q<j>`` (a
+        recording naming the joints), else empty.
     """
 
     t: np.ndarray
@@ -103,6 +109,8 @@ class Trajectory:
     derivatives: str = "file"
     source: str = ""
     sha256: str = ""
+    rows: np.ndarray | None = None
+    columns: tuple = ()
 
     @property
     def n_setpoints(self) -> int:
@@ -214,7 +222,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
                      " (qd, qdd by a cubic spline through them, which amplifies their noise)")):
             warnings.warn(note, InputNote, stacklevel=2)
         return Trajectory(t=rec.t, q=rec.q, qd=qd, qdd=qdd, source=path, sha256=rec.sha256,
-                          derivatives="file" if given else "cubic-spline")
+                          derivatives="file" if given else "cubic-spline", rows=rec.rows,
+                          columns=rec.columns.get("q", ()))
 
     def checked(cells, row=1):       # streamed: an InputError falls back to the cells, which say it
         if all(_FLOAT.fullmatch(c.strip(" \t")) for c in cells):
@@ -932,13 +941,18 @@ def unwrapped(robot: Robot, trajectory: Trajectory) -> Trajectory:
         return trajectory
     k, j = (int(i) for i in np.argwhere(steps)[0])
     step = abs(trajectory.q[k + 1, j] - trajectory.q[k, j])
-    rows = bool(trajectory.sha256)          # read from a file: set point k is row k + 2
+
+    def row_of(i):          # read from a file: set point i is row i + 2, unless rows says
+        return None if not trajectory.sha256 else (
+            i + 2 if trajectory.rows is None else int(trajectory.rows[i]))
+
     warnings.warn(str(InputError(
         f"joint {j + 1}'s positions step by {step:.2g} rad (wrapped at +-pi, a continuous "
         f"joint's log?): unwrapped before the cubic spline gives qd and qdd", trajectory.source,
-        row=k + 3 if rows else None, column=f"q{j + 1}")), InputWarning, stacklevel=2)
+        row=row_of(k + 1), column=(trajectory.columns or [f"q{i + 1}" for i in range(j + 1)])[j])),
+        InputWarning, stacklevel=2)
     q = np.where(steps.any(axis=0), np.unwrap(trajectory.q, axis=0), trajectory.q)
-    qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of=lambda i: i + 2 if rows else None)
+    qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of=row_of)
     return replace(trajectory, q=q, qd=qd, qdd=qdd)
 
 
