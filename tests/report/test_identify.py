@@ -332,3 +332,19 @@ def test_float_settings_are_shown_to_six_significant_digits_and_stored_whole():
     assert [rows[f"setting {k}"] for k in ("decimate", "drives", "drive_gains", "cutoff_hz")] \
         == ["1", '["viscous"]', "null", "auto"]
     assert json.loads(root.attrs["settings"])["idle_threshold"] == idle
+
+
+def test_a_reader_s_note_names_its_file_once():
+    """The reader's notes start with the file ("/data/run.csv: 2 rows repeat an earlier time
+    stamp ..."), and the report names the file before a recording's notes: the file stood twice
+    ("run.csv: run.csv: ..."). Oracle: the stored notes and the file's name."""
+    rng = np.random.default_rng(8)
+    rec = _recording(rng, 0.0, 300, "train", "run", ("a", "b"))
+    rec.attrs["notes"] = json.dumps(["/data/run.csv: 2 rows repeat an earlier time stamp (first "
+                                     "at row 9): the first row of each stamp kept",
+                                     "run: resampled onto a uniform 10 ms clock"])
+    ctx = identify_context(_root(rng, ("a", "b")), {"run": rec})
+    assert ctx["files"]["run"] == "/data/run.csv"
+    assert ctx["notes"]["run"] == ["2 rows repeat an earlier time stamp (first at row 9): the "
+                                   "first row of each stamp kept.",
+                                   "run: resampled onto a uniform 10 ms clock."]

@@ -431,8 +431,9 @@ def identify_context(root: StoredIdentification | xr.Dataset,
         # the tool's own notes: each a sentence, s_i and tau_s typeset
         "preprocessing": [scope(text[:1].upper() + text[1:])
                           for text in _sentences(_json(stored.preprocessing, []))],
-        "notes": {name: _sentences(notes) if isinstance(notes := _json(rec.notes, None), list)
-                  else [] for name, rec in recordings.items()},
+        "notes": {name: _sentences([str(n).removeprefix(f"{rec.file_name}: ") for n in notes])
+                  if isinstance(notes := _json(rec.notes, None), list) else []
+                  for name, rec in recordings.items()},     # the file is named before them
         "provenance": _provenance(stored, utc_now().strftime("%Y-%m-%d %H:%M:%S UTC")),
         "version": clean(str("" if stored.gd_analyze_version is None
                              else stored.gd_analyze_version)),
