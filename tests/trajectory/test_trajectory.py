@@ -858,3 +858,16 @@ def test_a_wrap_in_a_recording_naming_the_joints_is_warned_about_at_the_file_s_r
     row = 2 + int(np.flatnonzero(order == first)[0])
     assert row == first + 1 and [str(w.message).split(": joint")[0] for w in caught] == [
         f"{tmp_path / 'log.csv'}: row {row}, column - wrist_position"]
+
+
+def test_a_spline_beyond_the_limits_on_a_recording_naming_the_joints_names_its_column(tmp_path):
+    """A recording read as a trajectory whose second joint jumps by 3 rad every microsecond:
+    the cubic spline's qd beyond its supported magnitude is refused naming the file's column
+    ("- wrist_position") and row, where it said "column q2", a name the file does not hold."""
+    lines = ["t,- arm_position,- wrist_position,- arm_effort,- wrist_effort"] + [
+        f"{k * 1e-6!r},0.1,{3.0 * (k % 2)!r},1,2" for k in range(12)]
+    _write(tmp_path / "jumps.csv", "\n".join(lines) + "\n")
+    with pytest.raises(InputError) as e:
+        read_trajectory(tmp_path / "jumps.csv", 2, ["arm", "wrist"])
+    assert str(e.value).startswith(f"{tmp_path / 'jumps.csv'}: row 2, column - wrist_position: "
+                                   f"the qd derived by the cubic spline exceeds"), str(e.value)

@@ -213,7 +213,8 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
                              rb"[ \t]*(,|\r?\n|$)", fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints, joint_names=joint_names)
-        qd, qdd = (_spline(rec.t, rec.q, path, row_of=lambda k: int(np.asarray(rec.rows)[k]))
+        qd, qdd = (_spline(rec.t, rec.q, path, lambda k: int(np.asarray(rec.rows)[k]),
+                           rec.columns.get("q"))
                    if rec.qd is None or rec.qdd is None else (rec.qd, rec.qdd))
         given = qd is rec.qd
         for note in (*rec.notes, f"{path}: a recording: its torques {rec.column('tau', 0)}.."
@@ -262,8 +263,9 @@ def _csv_path(path: Any, n_joints: Any) -> str:
     return path
 
 
-def _spline(t, q, path, row_of):
-    """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS."""
+def _spline(t, q, path, row_of, columns=None):
+    """qd and qdd of a not-a-knot cubic spline through the positions, within LIMITS (an
+    InputError naming the row ``row_of`` gives and the column of ``columns``, else ``q<j>``)."""
     from scipy.interpolate import CubicSpline
 
     with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -279,7 +281,7 @@ def _spline(t, q, path, row_of):
             raise InputError(f"the {name} derived by the cubic spline exceeds "
                              f"{LIMITS[name]:g} in magnitude (time steps too short for "
                              f"the positions?)", path, row=row_of(bad[0]),
-                             column=f"q{bad[1] + 1}")
+                             column=columns[bad[1]] if columns else f"q{bad[1] + 1}")
     return qd, qdd
 
 
@@ -952,7 +954,7 @@ def unwrapped(robot: Robot, trajectory: Trajectory) -> Trajectory:
         row=row_of(k + 1), column=(trajectory.columns or [f"q{i + 1}" for i in range(j + 1)])[j])),
         InputWarning, stacklevel=2)
     q = np.where(steps.any(axis=0), np.unwrap(trajectory.q, axis=0), trajectory.q)
-    qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of=row_of)
+    qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of, trajectory.columns)
     return replace(trajectory, q=q, qd=qd, qdd=qdd)
 
 
