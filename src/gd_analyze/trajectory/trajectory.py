@@ -951,7 +951,7 @@ def unwrapped(robot: Robot, trajectory: Trajectory) -> Trajectory:
     warnings.warn(str(InputError(
         f"joint {j + 1}'s positions step by {step:.2g} rad (wrapped at +-pi, a continuous "
         f"joint's log?): unwrapped before the cubic spline gives qd and qdd", trajectory.source,
-        row=row_of(k + 1), column=(trajectory.columns or [f"q{i + 1}" for i in range(j + 1)])[j])),
+        row=row_of(k + 1), column=trajectory.columns[j] if trajectory.columns else f"q{j + 1}")),
         InputWarning, stacklevel=2)
     q = np.where(steps.any(axis=0), np.unwrap(trajectory.q, axis=0), trajectory.q)
     qd, qdd = _spline(trajectory.t, q, trajectory.source, row_of, trajectory.columns)
@@ -1361,8 +1361,9 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         repeated column, a ragged row, a cell that is not a plain finite number, a value beyond
         the supported magnitude, fewer than :data:`MIN_SAMPLES` distinct time stamps, or a
         joint count other than ``n_joints``; if columns number the joints and others name
-        them; if a row of a ``rostopic echo -p`` log names some of the chain's joints only; if joined files' clocks differ in a row or their columns overlap. One line with
-        the file, row and column. Before the file is opened: if ``path`` is not a str or
+        them; if a row of a ``rostopic echo -p`` log names some of the chain's joints only;
+        if joined files' clocks differ in a row or their columns overlap. One line with the
+        file, row and column. Before the file is opened: if ``path`` is not a str or
         os.PathLike, ``n_joints`` not a whole number >= 1, or ``current`` not a bool (the
         message names the argument).
 
