@@ -871,3 +871,17 @@ def test_a_spline_beyond_the_limits_on_a_recording_naming_the_joints_names_its_c
         read_trajectory(tmp_path / "jumps.csv", 2, ["arm", "wrist"])
     assert str(e.value).startswith(f"{tmp_path / 'jumps.csv'}: row 2, column - wrist_position: "
                                    f"the qd derived by the cubic spline exceeds"), str(e.value)
+
+
+def test_a_rostopic_echo_log_without_stamps_is_timed_by_its_time_received(tmp_path):
+    """A publisher that leaves header.stamp at 0: t is %time [ns] / 1e9 (oracle: the %time the
+    test wrote), and the note says so."""
+    rows = [f"{(5 + k) * 10_000_000},{k},0,,elbow,shoulder,0.{k},1.{k},2,3" for k in range(12)]
+    _write(tmp_path / "e.csv", "%time,field.header.seq,field.header.stamp,field.header.frame_id,"
+           "field.name0,field.name1,field.position0,field.position1,field.effort0,field.effort1\n"
+           + "\n".join(rows) + "\n")
+    with pytest.warns(InputNote, match=r"t from %time \[ns\]$"):
+        rec = read_recording(tmp_path / "e.csv", 2, joint_names=["shoulder", "elbow"])
+    assert np.array_equal(rec.t, np.array([(5 + k) * 10_000_000 for k in range(12)]) / 1e9)
+    assert np.array_equal(rec.q, [[float(f"1.{k}"), float(f"0.{k}")] for k in range(12)])
+    assert np.array_equal(rec.tau, np.tile([3.0, 2.0], (12, 1)))
