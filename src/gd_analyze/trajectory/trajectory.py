@@ -1216,16 +1216,40 @@ def _echoed_values(raw, path, joints, notes):
     fields found in each row by its name (``joints``), as columns ``<joint>_position`` etc.
     Rows naming none of the chain's joints (another publisher's) are left out, with a note in
     ``notes``; an InputError names the row and column of a row naming only some of them, or of
-    a cell that is not a number."""
-    (_, header), *data = _numbered_rows(raw, path, long_cell=True)
-    at = {(m[1], int(m[2])): c for c, name in enumerate(header)
-          if (m := _ECHO.fullmatch(name.strip()))}
+    a cell that is not a number. pandas parses a file without quotes, NUL bytes or blank lines
+    before its end (:func:`_echoed_frame`); the cells are read one by one where it cannot, or
+    to name a fault (:func:`_echoed_rows`): both give the same values."""
+    header = [c.strip() for c in next(csv.reader([raw[:raw.find(b"\n") % (len(raw) + 1)]
+                                                  .decode("utf-8", "replace")]), [])]
+    at = {(m[1], int(m[2])): c for c, name in enumerate(header) if (m := _ECHO.fullmatch(name))}
     if joints is None or ("position", 0) not in at:
         raise InputError("a rostopic echo -p log: its rows name the joints by the robot's joint "
                          "names, and need its field.position0..", path, row=1, column="%time")
     slots = sorted(k for kind, k in at if kind == "name")
     fields = [f for f in ("position", "velocity", "effort") if (f, 0) in at]
-    stamp = [c for c, name in enumerate(header) if name.strip() == "field.header.stamp"]
+    # the columns of each row's value: %time, the stamp, then each field of each slot
+    columns = [0, *(c for c, name in enumerate(header) if name == "field.header.stamp")]
+    plain = not re.search(rb'["\x00]|\n[ \t\r]*\n[ \t\r]*\S', raw)
+    table, rows, skipped, others = (plain and _echoed_frame(raw, header, at, slots, fields,
+                                                            columns, joints)) or _echoed_rows(
+        raw, path, header, at, slots, fields, columns, joints)
+    if not rows.size:
+        raise InputError(f"no row names a joint of the chain ({', '.join(joints)})", path, row=2,
+                         column=header[at["name", slots[0]]] if slots else "%time")
+    clock = 1 if len(columns) > 1 and (table[:, 1] > 0).all() else 0
+    notes.append(one_line(
+        f"{path}: a rostopic echo -p log of joint states: t from "
+        f"{'field.header.stamp' if clock else '%time'} [ns]" + (
+            f"; {_joints(len(skipped), 'row')} naming none of the chain's joints left out "
+            f"(first at row {skipped[0]})" if len(skipped) else "") + (
+            f"; joints outside the chain ignored: {', '.join(others)}" if others else "")))
+    names = ["t"] + [f"{j}_{f}" for f in fields for j in joints]
+    return np.column_stack([table[:, clock] / 1e9, table[:, len(columns):]]), names, rows
+
+
+def _echoed_rows(raw, path, header, at, slots, fields, columns, joints):
+    """(values, row numbers, rows left out, other joints named) of a ``rostopic echo -p`` log
+    (:func:`_echoed_values`) read cell by cell: an InputError names the first fault."""
     values, rows, skipped, others = [], [], [], []
 
     def number(cells, c, row):
@@ -1235,9 +1259,9 @@ def _echoed_values(raw, path, joints, notes):
         try:
             return parse_number(cells[c].strip(" \t"))
         except ValueError as exc:
-            raise InputError(str(exc), path, row=row, column=header[c].strip()) from None
+            raise InputError(str(exc), path, row=row, column=header[c]) from None
 
-    for row, cells in data:
+    for row, cells in _numbered_rows(raw, path, long_cell=True)[1:]:
         named = {cells[at["name", k]].strip(): k for k in slots if at["name", k] < len(cells)}
         found = [named.get(j) for j in joints]
         if not any(k is not None for k in found):
@@ -1246,25 +1270,52 @@ def _echoed_values(raw, path, joints, notes):
         if None in found:
             raise InputError(f"joint {joints[found.index(None)]!r} of the chain is not named in "
                              f"this row (it names {', '.join(n[:MAX_NAME] for n in named)})",
-                             path, row=row, column=header[at["name", slots[0]]].strip())
+                             path, row=row, column=header[at["name", slots[0]]])
         others = others or [name[:MAX_NAME] for name in named if name not in joints]
-        values.append([number(cells, 0, row), *(number(cells, c, row) for c in stamp)] + [
+        values.append([number(cells, c, row) for c in columns] + [
             number(cells, at.get((f, k)), row) for f in fields for k in found])
         rows.append(row)
-    if not values:
-        raise InputError(f"no row names a joint of the chain ({', '.join(joints)})", path, row=2,
-                         column=header[at["name", slots[0]]].strip() if slots else "%time")
-    table = np.array(values)
-    clock = 1 if stamp and (table[:, 1] > 0).all() else 0
-    notes.append(one_line(
-        f"{path}: a rostopic echo -p log of joint states: t from "
-        f"{'field.header.stamp' if clock else '%time'} [ns]" + (
-            f"; {_joints(len(skipped), 'row')} naming none of the chain's joints left out "
-            f"(first at row {skipped[0]})" if skipped else "") + (
-            f"; joints outside the chain ignored: {', '.join(others)}" if others else "")))
-    names = ["t"] + [f"{j}_{f}" for f in fields for j in joints]
-    return np.column_stack([table[:, clock] / 1e9, table[:, 1 + len(stamp):]]), names, \
-        np.array(rows, int)
+    return np.array(values).reshape(len(rows), -1), np.array(rows, int), skipped, others
+
+
+def _echoed_frame(raw, header, at, slots, fields, columns, joints):
+    """:func:`_echoed_rows` by pandas, at the speed and memory of a numeric file: None where
+    the file is not such a log whose every kept row is whole and finite (that function then
+    names the fault)."""
+    import pandas as pd
+
+    if any((f, k) not in at for f in fields for k in slots):
+        return None
+    exact = {} if int(pd.__version__.split(".")[0]) >= 3 else {"float_precision": "round_trip"}
+    named = [at["name", k] for k in slots]
+    numeric = columns + [at[f, k] for f in fields for k in slots]
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = pd.read_csv(io.BytesIO(raw.rstrip()), header=0, names=range(len(header)),
+                                usecols=numeric + named, engine="c", skipinitialspace=True,
+                                dtype={**dict.fromkeys(numeric, float),
+                                       **dict.fromkeys(named, "category")}, **exact)
+    except (ValueError, pd.errors.ParserError):
+        return None
+    # each joint's slot in each row, the last slot naming it (as a dict of the names keeps)
+    match = np.stack([np.stack([(frame[c] == j).to_numpy(bool) for c in named], 1)
+                      for j in joints], 1)                               # (N, joints, slots)
+    found = match.shape[2] - 1 - match[:, :, ::-1].argmax(2)
+    some, every = match.any(2), match.any(2).all(1)
+    if (some.any(1) & ~every).any() or any(
+            (cat != cat.strip()) for c in named for cat in frame[c].cat.categories):
+        return None
+    keep = np.flatnonzero(every)
+    table = np.column_stack([frame[columns].to_numpy(float)[keep]] + [
+        np.take_along_axis(frame[[at[f, k] for k in slots]].to_numpy(float)[keep],
+                           found[keep], 1) for f in fields])
+    if not np.isfinite(table).all():
+        return None
+    first = [str(frame[c].iloc[keep[0]]) for c in named if not frame[c].isna().iloc[keep[0]]] \
+        if keep.size else []
+    return table, keep + 2, np.flatnonzero(~some.any(1)) + 2, [
+        n[:MAX_NAME] for n in dict.fromkeys(first) if n not in joints]
 
 
 #: A time stamp earlier than the row before by more than this many median steps starts another
