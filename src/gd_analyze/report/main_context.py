@@ -1075,13 +1075,6 @@ def _mounting(p):
             "the world, in the base frame as Sec. 1.1 gives it")
 
 
-def _prismatic_joints(p):
-    """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
-    types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
-    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
-    return f", {joints_text(pris)} prismatic" if pris else ""
-
-
 def provenance_rows(results: Results, created: str, version: str,
                     verification: str) -> list[tuple[str, str | None]]:
     """The rows (item, value) of the main report's provenance table, each setting once
@@ -1130,11 +1123,14 @@ def provenance_rows(results: Results, created: str, version: str,
         # the explicit model, the guarantee asked for: in words
         rows.append((label, {4: _EXPLICIT, 5: _GUARANTEE}.get(k, {}).get(value, value)))
     engine = _text(p.verification_engine, "Pinocchio")
+    # the joints the operation counts take as prismatic, if any (", joint 3 prismatic")
+    types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
+    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
     return rows + [
         ("mounting", _mounting(p)), ("payload on the last link", _payload(p)),
         ("formulations compared on", None if p.formulations_setpoints is None else
          f"{_text(p.formulations_setpoints)} set points, for n = {_text(p.formulations_n)}"
-         + _prismatic_joints(p)),
+         + (f", {joints_text(pris)} prismatic" if pris else "")),
         ("emitted source files", None if p.simplified_files is None else
          _text(p.simplified_files)),
         guarantee_row("guarantee of the model built", p.simplified_guarantee_kind,
