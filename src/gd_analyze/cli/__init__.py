@@ -100,29 +100,10 @@ def _check_command(argv):
                          f"{', '.join(COMMANDS)}; or a robot for the main job)")
 
 
-def _check_utf8(argv):
-    """Raise InputError for the first argument holding bytes that are not UTF-8 (a file name in
-    another encoding, kept by Python as lone surrogates): the provenance records the command
-    line in UTF-8 files, which cannot hold it."""
-    bad = next((arg for arg in argv if re.search("[\ud800-\udfff]", arg)), None)
-    if bad is not None:
-        raise InputError(f"argument {os.fsencode(bad)!r} is not UTF-8 text (a file name in "
-                         "another encoding?): the provenance is written in UTF-8; rename the file")
-
-
 def _command(name):
     """A command's parser maker (``parsing.<name>_parser``) and its runner
     (``commands.cmd_<name>``); ``"analyze"`` is the main job."""
     return getattr(parsing, f"{name}_parser"), getattr(commands, f"cmd_{name}")
-
-
-def _print_help(rest):
-    """``gd-analyze help [COMMAND]``: the help of the main job or of a command; exit status 0."""
-    name = rest[0] if rest else "analyze"
-    if name not in COMMANDS:
-        raise InputError(f"help: unknown command {name!r} (commands: {', '.join(COMMANDS)})")
-    _command(name)[0]().print_help()
-    return EXIT_OK
 
 
 def run() -> NoReturn:
@@ -216,9 +197,22 @@ def _main(argv):
         with warnings.catch_warnings():
             warnings.simplefilter("always", InputWarning)
             warnings.showwarning = _show_warning
-            _check_utf8(argv)
+            # an argument holding bytes that are not UTF-8 (a file name in another encoding,
+            # kept by Python as lone surrogates): the provenance records the command line in
+            # UTF-8 files, which cannot hold it
+            bad = next((arg for arg in argv if re.search("[\ud800-\udfff]", arg)), None)
+            if bad is not None:
+                raise InputError(f"argument {os.fsencode(bad)!r} is not UTF-8 text (a file name "
+                                 "in another encoding?): the provenance is written in UTF-8; "
+                                 "rename the file")
             if command == "analyze" and argv and argv[0] in ("help", "-help"):
-                return _print_help(argv[1:])
+                # gd-analyze help [COMMAND]: the help of the main job or of a command
+                name = argv[1] if len(argv) > 1 else "analyze"
+                if name not in COMMANDS:
+                    raise InputError(f"help: unknown command {name!r} (commands: "
+                                     f"{', '.join(COMMANDS)})")
+                _command(name)[0]().print_help()
+                return EXIT_OK
             if command == "analyze" and argv:
                 _check_command(argv)
             args = make_parser().parse_intermixed_args(argv)

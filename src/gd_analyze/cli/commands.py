@@ -559,7 +559,21 @@ def cmd_plan(args: argparse.Namespace) -> int:
         On bad input; the command line prints it as one line and exits 2.
     """
     robot = load_robot_arg(args)
-    robot, limits, qdd_arg = _planning_region(args, robot)
+    # the arm with the user's region (--q-limits, --qd-max, clipped to the robot's) as its
+    # limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
+    # m/s^2] (or None)
+    limits = region_limits(args, robot)
+    qdd_arg = None
+    if limits is not None:
+        try:        # the user's position and velocity limits, within the robot's
+            own = joint_region(robot, np.ones(robot.n), limits)
+        except ValueError as exc:
+            option, _, why = str(exc).partition(": ")
+            raise InputError(why or option, column=option if why else None) from None
+        robot = dataclasses.replace(robot, q_min=np.where(own.full_turn, robot.q_min, own.q_min),
+                                    q_max=np.where(own.full_turn, robot.q_max, own.q_max),
+                                    qd_max=own.qd_max)
+        qdd_arg = None if limits.qdd_max is None else own.qdd_max
     if args.excitation:
         return _plan_excitation(args, robot, qdd_arg)
     for name in ("harmonics", "base_frequency", "seed"):
@@ -687,25 +701,6 @@ def _check_plan_options(args, positive=False):
     if args.output != "-":
         check_output_file(args.output)
         check_output_file(provenance_path(args.output))
-
-
-def _planning_region(args, robot):
-    """The arm with the user's region (``--q-limits``, ``--qd-max``, clipped to the robot's) as
-    its limits, the region asked for (or None) and the user's acceleration limits [rad/s^2;
-    m/s^2] (or None)."""
-    limits = region_limits(args, robot)
-    if limits is None:
-        return robot, None, None
-
-    try:        # the user's position and velocity limits, within the robot's
-        own = joint_region(robot, np.ones(robot.n), limits)
-    except ValueError as exc:
-        option, _, why = str(exc).partition(": ")
-        raise InputError(why or option, column=option if why else None) from None
-    lo = np.where(own.full_turn, robot.q_min, own.q_min)
-    hi = np.where(own.full_turn, robot.q_max, own.q_max)
-    robot = dataclasses.replace(robot, q_min=lo, q_max=hi, qd_max=own.qd_max)
-    return robot, limits, (None if limits.qdd_max is None else own.qdd_max)
 
 
 def _plan_excitation(args, robot, qdd_arg):

@@ -117,15 +117,6 @@ def by_type_text(values: ArrayLike, prismatic: ArrayLike, which: str) -> str:
     return ", ".join(_value(v, u) for u, v, _ in _by_type(values, prismatic, which))
 
 
-def _joint_types(prismatic):
-    """For a mixed arm, which joints are revolute and which prismatic, said once; else ""."""
-    groups = _by_type(np.zeros(len(prismatic)), prismatic, "q")
-    return "" if len(groups) < 2 else (
-        "; ".join(f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, "
-                  f"{joint_torque_units(kind)})"
-                  for (u, _, js), kind in zip(groups, (False, True))) + ": ")
-
-
 def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
                     tau_difference: np.ndarray | None = None,
                     tolerance: tuple[float, float] = VERDICT_TOLERANCE,
@@ -209,7 +200,11 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
     units = [u for u, _, _ in groups["full"]]      # each joint type apart
     verdict = ("holds" if covered in (None, True) else "measured") if holds else \
         "beats_pd" if beats_pd else "fails"
-    return say("control_verdict", verdict=verdict, types=_joint_types(prismatic),
+    # for a mixed arm, which joints are revolute and which prismatic, said once
+    types = "" if len(kinds) < 2 else "; ".join(
+        f"{joints_text(js)} {'prismatic' if kind else 'revolute'} ({u}, {joint_torque_units(kind)})"
+        for (u, _, js), kind in zip(groups["full"], kinds)) + ": "
+    return say("control_verdict", verdict=verdict, types=types,
                simplified=said('simplified', simp), full=said('full', full), pd=said('pd_gravity', pd_peaks) if pd_peaks is not None else "", pd_name=pd,
                bounds=[(fmt_number(b), u, "prismatic" if kind else "revolute")
                        for b, u, kind in zip(bounds, units, kinds)],

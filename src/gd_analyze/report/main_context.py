@@ -134,35 +134,6 @@ def effort_rows(results: Results) -> list[EffortRow]:
             for j in kept]
 
 
-def _leads(arm: list[str], arm_t: list[str], wrist: list[str], wrist_r: list[str],
-           n: int) -> str:
-    missed = [k for k in arm if k not in arm_t] + [k for k in wrist if k not in wrist_r]
-    return say("chapter_leads", arm=len(arm), arm_t=len(arm_t), wrist=len(wrist),
-               wrist_r=len(wrist_r), n=n, missed=", ".join(map(marked, missed)))
-
-
-def _agreement(grid: ArrayLike, agree: ArrayLike, compared: int, s: float) -> str:
-    grid = np.asarray(grid, dtype=float)
-    agree = np.asarray(agree, dtype=int)
-    best = int(agree.max(initial=0))
-    return say("chapter_agreement", compared=compared, best=best,
-               at=[f"{v:g}" for v, a in zip(grid, agree) if a == best],
-               parts=[(a, f"{v:g}", v == float(s)) for v, a in zip(grid, agree)])
-
-
-def _own_model(error: ArrayLike, off: ArrayLike, built: ArrayLike, built_off: ArrayLike,
-               where: str, weightless: bool) -> str:
-    err = np.asarray(error, dtype=float)
-    off = np.asarray(off, dtype=bool)
-    shown = np.where(off | ~np.isfinite(err), 0.0, err)
-    worst = int(np.argmax(shown))
-    per_joint = ", ".join(f"{k + 1}: " + ("\u2261 0" if off[k] else pct(err[k]))
-                          for k in range(err.size))
-    mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built, dtype=float))
-    return say("chapter_model", where=where, worst=pct(shown[worst]), joint=worst + 1,
-               per_joint=per_joint, mine=pct(float(mine.max(initial=0.0))), weightless=weightless)
-
-
 def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: ArrayLike,
                         compared: int, n: int, s: float, chapter_error: ArrayLike,
                         chapter_off: ArrayLike, built_error: ArrayLike, built_off: ArrayLike,
@@ -206,10 +177,25 @@ def chapter_conclusions(blocks: dict[str, list[str]], grid: ArrayLike, agree: Ar
     -----
     Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987), Figs. 3.10-3.11.
     """
-    return [_leads(blocks["arm"], blocks["arm_translation"], blocks["wrist"],
-                   blocks["wrist_rotation"], n),
-            _agreement(grid, agree, compared, s),
-            _own_model(chapter_error, chapter_off, built_error, built_off, where, weightless)]
+    arm, arm_t, wrist, wrist_r = (blocks[k] for k in ("arm", "arm_translation", "wrist",
+                                                      "wrist_rotation"))
+    missed = [k for k in arm if k not in arm_t] + [k for k in wrist if k not in wrist_r]
+    grid, agree = np.asarray(grid, dtype=float), np.asarray(agree, dtype=int)
+    best = int(agree.max(initial=0))
+    err, off = np.asarray(chapter_error, dtype=float), np.asarray(chapter_off, dtype=bool)
+    shown = np.where(off | ~np.isfinite(err), 0.0, err)
+    worst = int(np.argmax(shown))
+    per_joint = ", ".join(f"{k + 1}: " + ("\u2261 0" if off[k] else pct(err[k]))
+                          for k in range(err.size))
+    mine = np.where(np.asarray(built_off, dtype=bool), 0.0, np.asarray(built_error, dtype=float))
+    return [say("chapter_leads", arm=len(arm), arm_t=len(arm_t), wrist=len(wrist),
+                wrist_r=len(wrist_r), n=n, missed=", ".join(map(marked, missed))),
+            say("chapter_agreement", compared=compared, best=best,
+                at=[f"{v:g}" for v, a in zip(grid, agree) if a == best],
+                parts=[(a, f"{v:g}", v == float(s)) for v, a in zip(grid, agree)]),
+            say("chapter_model", where=where, worst=pct(shown[worst]), joint=worst + 1,
+                per_joint=per_joint, mine=pct(float(mine.max(initial=0.0))),
+                weightless=weightless)]
 
 
 _CHOICE_TEXT = {"tran": "translational part only", "rot": "rotational part only",
@@ -508,6 +494,7 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
         align=["left", "left"] + ["right"] * 4 + ["left"], widths=[0.6, 0.9, 1, 1, 1, 1, 1.5])
 
     efforts = effort_rows(results)
+    over = [str(r[0]) for r in efforts if r.exceeded]     # the joints beyond their limit
     effort = _table(
         ["joint", "peak |\u03c4|", "effort limit", "peak / limit", "flag", "units"],
         [[*row, flag, unit] for row, (*_, flag, unit) in zip(
@@ -517,7 +504,8 @@ def robot_section(results: Results, robot_name: str) -> dict[str, Any]:
         widths=[0.6, 1, 1, 1, 1, 0.6]) if efforts else None
     return {"robot_kv": robot_kv, "dh": dh, "placements": placements, "link": link,
             "traj_kv": traj_kv, "joints": joints, "effort": effort,
-            "effort_text": _effort_text(efforts), "drives": drives}
+            "drives": drives,
+            "effort_text": say("effort_text", over=over, joints=joints_text(over)) if efforts else ""}
 
 
 def _rows(first, *columns):
@@ -609,14 +597,6 @@ def _drives_context(results: Results | xr.Dataset, labels):
     return {"table": table, "note": note}
 
 
-def _effort_text(rows):
-    """The sentence over the effort-limit table: which joints exceed their limit, if any."""
-    if not rows:
-        return ""
-    over = [str(r[0]) for r in rows if r.exceeded]
-    return say("effort_text", over=over, joints=joints_text(over))
-
-
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
              "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
              "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
@@ -629,21 +609,6 @@ _MODEL_HEADING = {"explicit": "5.3 Explicit model: rule, bound, cost",
                   "recursive": "5.3 Recursive model: rule, bound, cost"}
 
 
-def _statement(ds):
-    """The model's guarantee as stored, and where this trajectory leaves its region (which
-    the region guarantee then does not cover); "" without a guarantee."""
-    g = stored_guarantee(ds) or {}
-    text = g.get("statement") or ""
-    region = stored_region(ds)
-    if text and g.get("kind") == "region" and region is not None and region["covered"] is False:
-        text += (f"; this trajectory is not covered: it leaves the region "
-                 f"({region['coverage']})")
-    return text
-
-def _recursive_facts(results):
-    """(base parameters, dropped pairs, all pairs) of a recursive model, for the summary."""
-    bp = results.base_parameters
-    return (0 if bp is None else len(bp.names), *results.pairs)
 
 
 def zero_mask(ds: Results | xr.Dataset) -> tuple[list[str], npt.NDArray[np.bool_]]:
@@ -701,17 +666,6 @@ def _caption_units(ds):
 
 #: The models every cost is shown against, by their label in the stored cost table.
 _COST_REFERENCES = ("project N-E as implemented", "recursive N-E, exact", "explicit, full")
-
-
-def _model_cost(results):
-    """(multiplications, additions, then the operations of Newton-Euler, of the exact model and
-    of the full explicit model, each None if not counted) of the emitted model, from the stored
-    attributes and cost table; None without a simplified model."""
-    if results.simplified_operations is None:
-        return None
-    totals = {} if results.costs is None else results.costs.totals()
-    return (*results.simplified_operations,
-            *(int(totals[key]) if key in totals else None for key in _COST_REFERENCES))
 
 
 def _gravity_fact(results, form):
@@ -839,13 +793,29 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     formulations = _formulations_context(results.formulations)
     payload = _payload_context(results)
     title = f"G-D dominance analysis: {robot_name} along {_text(results.trajectory.input_file)}"
+    # the emitted model's (multiplications, additions, then the operations of Newton-Euler, of
+    # the exact model and of the full explicit model, each None if not counted), from the stored
+    # attributes and cost table; None without a simplified model
+    totals = {} if results.costs is None else results.costs.totals()
+    cost: Any = None if results.simplified_operations is None else (
+        *results.simplified_operations,
+        *(int(totals[key]) if key in totals else None for key in _COST_REFERENCES))
+    bp = results.base_parameters    # a recursive model's base parameters and dropped pairs
+    # the model's guarantee as stored, and where this trajectory leaves its region (which the
+    # region guarantee then does not cover); "" without a guarantee
+    g, region = stored_guarantee(ds) or {}, stored_region(ds)
+    statement = g.get("statement") or ""
+    if (statement and g.get("kind") == "region" and region is not None
+            and region["covered"] is False):
+        statement += f"; this trajectory is not covered: it leaves the region ({region['coverage']})"
     summary = conclusion(labels, dominance, zero, choice, errors.column("relative_peak"),
-                         errors.column("peak"), errors.column("peak_tau"), _model_cost(results),
-                         recursive=_recursive_facts(results) if form == "recursive" else None,
+                         errors.column("peak"), errors.column("peak_tau"), cost,
+                         recursive=(0 if bp is None else len(bp.names), *results.pairs)
+                         if form == "recursive" else None,
                          gravity=_gravity_fact(results, form), units=tau_units,
-                         scope=powers(_scope(_statement(ds))),
-                         where="the joint-limit region" if (stored_guarantee(ds) or {}).get(
-                             "kind") == "region" else "this trajectory", shown=said,
+                         scope=powers(_scope(statement)),
+                         where="the joint-limit region" if g.get("kind") == "region"
+                         else "this trajectory", shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
                          round_off=err_off, weightless=no_gravity)
     facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
@@ -1105,13 +1075,6 @@ def _mounting(p):
             "the world, in the base frame as Sec. 1.1 gives it")
 
 
-def _prismatic_joints(p):
-    """", joint 3 prismatic" when the operation counts are for an arm with prismatic joints."""
-    types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
-    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
-    return f", {joints_text(pris)} prismatic" if pris else ""
-
-
 def provenance_rows(results: Results, created: str, version: str,
                     verification: str) -> list[tuple[str, str | None]]:
     """The rows (item, value) of the main report's provenance table, each setting once
@@ -1160,11 +1123,14 @@ def provenance_rows(results: Results, created: str, version: str,
         # the explicit model, the guarantee asked for: in words
         rows.append((label, {4: _EXPLICIT, 5: _GUARANTEE}.get(k, {}).get(value, value)))
     engine = _text(p.verification_engine, "Pinocchio")
+    # the joints the operation counts take as prismatic, if any (", joint 3 prismatic")
+    types = "" if p.formulations_joint_types is None else str(p.formulations_joint_types)
+    pris = [str(k + 1) for k, t in enumerate(types) if t == "P"]
     return rows + [
         ("mounting", _mounting(p)), ("payload on the last link", _payload(p)),
         ("formulations compared on", None if p.formulations_setpoints is None else
          f"{_text(p.formulations_setpoints)} set points, for n = {_text(p.formulations_n)}"
-         + _prismatic_joints(p)),
+         + (f", {joints_text(pris)} prismatic" if pris else "")),
         ("emitted source files", None if p.simplified_files is None else
          _text(p.simplified_files)),
         guarantee_row("guarantee of the model built", p.simplified_guarantee_kind,

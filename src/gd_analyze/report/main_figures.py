@@ -179,17 +179,6 @@ def _time_axis(ax, x, labels, nbins=3):
     set_ticks(ax.xaxis, t0 - pad, t1 + pad, nbins, labels)
 
 
-def _element_panel(ax, x, parts, title, cls, enveloped, nbins=3):
-    """Parts (tran, rot, total and, on a diagonal panel of an arm with drives, arm) of one
-    element; y ticks placed, labelled by the figure
-    (:func:`gd_analyze.report.numbers.label_axes`: one notation per figure)."""
-    for part, y in parts.items():
-        _plot(ax, x, y, part, enveloped, len(parts))
-    _y_axis(ax, nbins, *parts.values())
-    ax.set_title(f"{_math(title)}: {SHORT_CLASS.get(cls, cls)}",
-                 color=_CLASS_COLOURS.get(cls, "black"))
-
-
 def _legend_order(ax):
     order = [style["label"] for style in PART_STYLE.values()]     # tran, rot, total, arm
     pairs = sorted(zip(*ax.get_legend_handles_labels()), key=lambda p: order.index(p[1]))
@@ -406,7 +395,13 @@ def _element_figure(x, panels, enveloped, width, key):
     boxes = grid_boxes(fig, len(panels), cols, (_LEFT, _TOP), (w, h), (_WGAP, _HGAP))
     for k, ((label, parts, cls, units), box) in enumerate(zip(panels, boxes)):
         ax = fig.add_axes(box)
-        _element_panel(ax, x, parts, label, cls, enveloped, 2 if h < 0.6 else 3)
+        # the element's parts (tran, rot, total and, on a diagonal panel of an arm with
+        # drives, arm); y ticks placed, labelled by the figure (label_axes: one notation)
+        for part, y in parts.items():
+            _plot(ax, x, y, part, enveloped, len(parts))
+        _y_axis(ax, 2 if h < 0.6 else 3, *parts.values())
+        ax.set_title(f"{_math(label)}: {SHORT_CLASS.get(cls, cls)}",
+                     color=_CLASS_COLOURS.get(cls, "black"))
         if first is None or len(parts) > len(first[1]):
             first = (ax, parts)
         ys.append(ax.yaxis)

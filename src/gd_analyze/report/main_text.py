@@ -41,14 +41,6 @@ def _qty(value, unit):
     return f"{value:.3g}\u00a0" + str(unit).replace(" ", "\u00a0")
 
 
-def _leaders(by: Mapping[str, Sequence[str]]) -> list[str]:
-    """The classes of most ranked elements, of translational, rotational and both: one if it
-    leads, all that tie, none if no element is ranked (every one negligible or \u2261 0)."""
-    counts = {c: len(by[c]) for c in ("translational", "rotational", "both")}
-    most = max(counts.values())
-    return [c for c, k in counts.items() if k == most] if most else []
-
-
 def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArray[np.bool_],
                choice: Sequence[str], rel_peak: npt.NDArray[np.float64],
                abs_peak: npt.NDArray[np.float64], tau_peak: npt.NDArray[np.float64],
@@ -125,6 +117,7 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         ks = [k for k, lab in enumerate(labels) if lab.startswith(name)]
         by = {c: [labels[k] for k in ks if dominance[k] == c and not zero[k]] for c in _CLASSES}
         z = [labels[k] for k in ks if zero[k]]
+        most = max(len(by[c]) for c in ("translational", "rotational", "both"))
         # "≡ 0" is kept with its last element on one line (no-break spaces)
         negl = [", ".join(map(marked, by["negligible"])),
                 ", ".join(map(marked, z)) + "\u00a0\u2261\u00a00" if z else ""]
@@ -133,8 +126,11 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                        "rot": _names(by["rotational"]), "k_both": len(by["both"]),
                        "k_negl": len(by["negligible"]) + len(z),
                        "negl": "; ".join(filter(None, negl)),
-                       "lead": _leaders(by),
-                       "k_most": max(len(by[c]) for c in ("translational", "rotational", "both"))})
+                       # the classes of most ranked elements: one if it leads, all that tie,
+                       # none if no element is ranked (every one negligible or \u2261 0)
+                       "lead": [c for c in ("translational", "rotational", "both")
+                                if len(by[c]) == most] if most else [],
+                       "k_most": most})
     first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
     second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
                             trajectory=where, weightless=weightless)

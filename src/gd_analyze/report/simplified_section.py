@@ -371,16 +371,6 @@ _COST_STYLE = {"exact": ("o", "#000000"), "model": ("*", "#D55E00"),
                "bound": ("s", "#0072B2"), "akb": ("P", "#CC79A7")}
 
 
-def _bound_on_s_i(s, label, eps, safe):
-    """A budget model's bound, EPS times its own scale, relative to the deployed model's s_i:
-    the explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor); under
-    a region guarantee s_i is the region's, larger."""
-    if not label.startswith("explicit") or s.guarantee_kind != "region":
-        return eps
-    own = np.maximum(np.asarray(s.tau_peak, float), s.torque_floor)
-    return float(np.max(eps * own / safe))
-
-
 def cost_points(ds: StoredSimplified | xr.Dataset) -> list[tuple[Any, ...]]:
     """The points of :func:`fig_cost_ladder`: (label, operations, worst error [1], kind).
 
@@ -425,8 +415,13 @@ def cost_points(ds: StoredSimplified | xr.Dataset) -> list[tuple[Any, ...]]:
             if np.isfinite(err).any():          # no torque at all: nothing measured
                 points.append((label, ops, float(np.nanmax(err)), "chapter"))
         elif "budget" in label and not (laddered and label.startswith(rungs)):
-            points.append((label + " (bound)", ops, _bound_on_s_i(s, label, eps, safe),
-                           "bound"))
+            # its bound, EPS times its own scale, relative to the deployed model's s_i: the
+            # explicit model is pruned on this trajectory, its scale max(peak |tau_i|, floor);
+            # under a region guarantee s_i is the region's, larger
+            own = np.maximum(np.asarray(s.tau_peak, float), s.torque_floor)
+            bound = (float(np.max(eps * own / safe)) if label.startswith("explicit")
+                     and s.guarantee_kind == "region" else eps)
+            points.append((label + " (bound)", ops, bound, "bound"))
         elif "exact" in label or "full" in label or "N-E as implemented" in label:
             points.append((label, ops, 0.0, "exact"))
     if ladder is not None:

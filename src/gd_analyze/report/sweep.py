@@ -60,7 +60,6 @@ from .common import (
     say,
     settings_table,
     torque_units,
-    units_said_once,
     utc_now,
 )
 from .common import fmt as _fmt
@@ -920,7 +919,14 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     merged_off = torque_error_round_off(m, w.merged_error_peak, w.merged_error_tau_peak)
     rel_peak = pct_column(w.merged_error_relative_peak, merged_off)   # one format
     rel_rms = pct_column(w.merged_error_relative_rms, merged_off)     # per column
-    own_worst = _own_worst(w)
+    # the trajectories' own models' relative peak torque errors, round-off of that
+    # trajectory's peak |\u03c4| counted as 0 (:func:`gd_analyze.ranking.ranking.is_round_off`)
+    own_off = torque_error_round_off(m, w.tau_error_peak, w.tau_peak)
+    own_rel = np.where(own_off, 0.0, np.asarray(w.tau_error_relative_peak, float))
+    # their largest per joint, as one column in one format (:func:`pct_column`), "\u2261 0"
+    # where it is round-off on every trajectory
+    own_worst = pct_column(np.array([np.nanmax(col) if np.isfinite(col).any() else np.nan
+                                     for col in own_rel.T]), own_off.all(axis=0))
     tau_peak = fmt_column(w.merged_error_tau_peak)     # one notation per column
     peak, rms = (fmt_column(v, off=merged_off)
                  for v in (w.merged_error_peak, w.merged_error_rms))
@@ -938,6 +944,16 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     worst = _worst_cases(w, labels)
     no_gravity = weightless(w.run.gravity)          # c is then 0: said once, in Sec. 5
     heading, merged_text = _merged_rule(m, no_gravity)
+    own_said, merged_said = _models(m)          # each model named with its rule
+    own_sentence = ""       # their worst (no bound under the chapter rule), unless all round-off
+    if np.isfinite(own_rel).any() and np.nanmax(own_rel) > 0:
+        k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(own_rel), own_rel, -np.inf)),
+                                own_rel.shape)
+        own_sentence = say("own_sentence", own=own_said, worst=_pct(own_rel[k, j]), joint=j + 1)
+    # the figure captions, with the models and the merged choice "none" said from the rules
+    said = {"own": own_said, "merged": merged_said, "region": m.region, "rule": m.rule,
+            "round_off": TORQUE_ROUND_OFF_WORDS}
+    said["choice_none"] = say("sweep_caption", key="none", **said)
     claim: str | tuple[str, int] | tuple[()]
     if m.rule == "budget":
         claim = merged_claim(m)
@@ -951,7 +967,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
                       dropped=counts['none']),
                   claim=claim,
                   rest=f"{_held_out(m)}{'' if no_gravity else _gravity(m)}{_cost_sentence(m)}"
-                       f"{_own_sentence(w)}"
+                       f"{own_sentence}"
                   ).strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} "
                                                 f"trajector{'y' if K == 1 else 'ies'}",
@@ -960,8 +976,12 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
            "worst": worst,
            "intro": say("sweep_intro", K=K, created=utc_now().isoformat(), version=__version__),
            "envelope": envelope, "error": err, "cost": cost_table(m.costs),
-           "error_text": _error_text(m),
-           "captions": _captions(m),
+           # Sec. 5.1's note: the table's columns, each model named with its rule
+           "error_text": say("sweep_error_text", units=joint_units_text(units), own=own_said,
+                             merged=merged_said, own_rule=m.own_rule,
+                             held_out=_held_out(m).strip()),
+           "captions": {key: say("sweep_caption", key=key, **said)
+                        for key in ("D", "h", "classes", "error", "payload", "none")},
            # each figure's sentence without its subject ("shows ..."): the report writes
            # "Fig. 2 " before it, with the number the outline gives the figure
            "figure_text": {"D": _share_sentence(w, "D", zero), "h": _share_sentence(w, "h", zero),
@@ -1053,18 +1073,6 @@ def _share(value, zero):
     return "\u2261 0" if zero or not np.isfinite(value) else _share_text(value)
 
 
-def _own_worst(w):
-    """The largest relative peak torque error of the trajectories' own models per joint, as
-    one column in one format (:func:`gd_analyze.report.common.pct_column`): round-off of that
-    trajectory's peak |\u03c4| counted as 0, "\u2261 0" where it is round-off on every
-    trajectory (:func:`gd_analyze.ranking.ranking.is_round_off`)."""
-    rel = np.asarray(w.tau_error_relative_peak, float)
-    off = torque_error_round_off(w.merged, w.tau_error_peak, w.tau_peak)
-    rel = np.where(off, 0.0, rel)
-    worst = np.array([np.nanmax(col) if np.isfinite(col).any() else np.nan for col in rel.T])
-    return pct_column(worst, off.all(axis=0))
-
-
 def _worst_cases(w, labels):
     """The sweep's worst cases, first: trajectories with the largest merged-model error (its
     round-off, :func:`torque_error_round_off`, is no error), and the elements whose share_tran
@@ -1092,37 +1100,6 @@ def _ranges(w, k):
     largest differ in the digits the report gives (a difference below them is rounding)."""
     return _share_text(w.share_min[k]) != _share_text(w.share_max[k])
 
-
-
-def _own_sentence(w):
-    """The own models' worst relative peak error, named with their rule (they carry no
-    bound under the chapter rule)."""
-    m = w.merged
-    rel = np.asarray(w.tau_error_relative_peak, float)
-    rel = np.where(torque_error_round_off(m, w.tau_error_peak, w.tau_peak), 0.0, rel)
-    if not np.isfinite(rel).any() or not np.nanmax(rel) > 0:
-        return ""
-    k, j = np.unravel_index(np.nanargmax(np.where(np.isfinite(rel), rel, -np.inf)), rel.shape)
-    own, _ = _models(m)
-    return say("own_sentence", own=own, worst=_pct(rel[k, j]), joint=j + 1)
-
-
-def _error_text(m):
-    """Sec. 5.1's note: the table's columns, each model named with its rule."""
-    own, merged = _models(m)
-    return say("sweep_error_text", units=units_said_once(m, 'tau'), own=own, merged=merged,
-               own_rule=m.own_rule, held_out=_held_out(m).strip())
-
-
-def _captions(m):
-    """The figure captions, with the models and the merged choice "none" said from the
-    dataset's rules."""
-    own, merged = _models(m)
-    said = {"own": own, "merged": merged, "region": m.region, "rule": m.rule,
-            "round_off": TORQUE_ROUND_OFF_WORDS}
-    said["choice_none"] = say("sweep_caption", key="none", **said)
-    return {key: say("sweep_caption", key=key, **said)
-            for key in ("D", "h", "classes", "error", "payload", "none")}
 
 
 # --------------------------------------------------------------------------------------------

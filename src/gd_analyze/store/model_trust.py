@@ -342,7 +342,13 @@ def _reproved(model, region, path):
     (:func:`gd_analyze.certify.certify.method_bounds`), the last kept."""
     key = _claim_key(model)
     if key not in _REPROVED:
-        pb = _certified(model.robot, region, float(model.torque_floor))
+        # the region's certification (certify.PairBounds), once per process
+        proved = _proved_key(model.robot, region, float(model.torque_floor))
+        if proved not in _PROVED:
+            _keep(proved, certification(model.robot, base_parameters(model.robot), region,
+                                        torque_floor=float(model.torque_floor),
+                                        samples=CERTIFICATION_SAMPLES))
+        pb = _PROVED[proved]
         dropped = np.asarray(model.recursive.dropped, bool)
         bound, trees = region_trees(model.robot, base_parameters(model.robot), region, pb, dropped,
                                     float(model.tolerance) * np.asarray(pb.scale, float))
@@ -398,16 +404,6 @@ def _keep(key, pb):
     while len(_PROVED) >= _PROVED_MAX:
         _PROVED.pop(next(iter(_PROVED)))
     _PROVED[key] = pb
-
-
-def _certified(robot, region, torque_floor):
-    """The region's certification (:class:`~gd_analyze.certify.certify.PairBounds`),
-    once per process."""
-    key = _proved_key(robot, region, torque_floor)
-    if key not in _PROVED:
-        _keep(key, certification(robot, base_parameters(robot), region,
-                                 torque_floor=torque_floor, samples=CERTIFICATION_SAMPLES))
-    return _PROVED[key]
 
 
 def _same_terms(a, b):
