@@ -1219,7 +1219,7 @@ def _echoed_values(raw, path, joints, notes):
     a cell that is not a number. pandas parses a file without quotes, NUL bytes or blank lines
     before its end (:func:`_echoed_frame`); the cells are read one by one where it cannot, or
     to name a fault (:func:`_echoed_rows`): both give the same values."""
-    header = [c.strip() for c in next(csv.reader([raw[:raw.find(b"\n") % (len(raw) + 1)]
+    header = [c.strip() for c in next(csv.reader([raw.split(b"\n", 1)[0]
                                                   .decode("utf-8", "replace")]), [])]
     at = {(m[1], int(m[2])): c for c, name in enumerate(header) if (m := _ECHO.fullmatch(name))}
     if joints is None or ("position", 0) not in at:
