@@ -836,7 +836,7 @@ def test_a_rostopic_echo_log_row_that_cannot_be_read_is_one_line(tmp_path, row, 
 def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):
     """``t,q0..q2,dq0..dq2,ddq0..ddq2,tau1..tau3``, as FIGAROH's UR10 recordings are written:
     the same recording as ``t,q1..,qd1..,qdd1..,tau1..`` (oracle: the arrays written), with one
-    note; it was refused ("unknown column 'q0'")."""
+    note; it was refused ("unknown column 'q0'"). A time column named ``time`` reads as t."""
     rng = np.random.default_rng(7)
     t = 0.01 * np.arange(20)
     q, qd, qdd, tau = (rng.normal(size=(20, 3)) for _ in range(4))
@@ -851,6 +851,10 @@ def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_pa
         f"{tmp_path / 'ur.csv'}: columns q0..q2, dq0..dq2, ddq0..ddq2 number the joints from 0: "
         f"read as joints from 1"]
     assert (rec.column("q", 0), rec.column("qd", 2)) == ("q0", "dq2")
+    pd.DataFrame({"time" if k == "t" else k: v for k, v in cells.items()}).to_csv(
+        tmp_path / "time.csv", index=False, float_format="%.17g")     # "time" for t
+    with pytest.warns(InputNote):
+        assert np.array_equal(read_recording(tmp_path / "time.csv", 3).t, t)
     pd.DataFrame({k: v for k, v in cells.items() if k != "q1"}).to_csv(
         tmp_path / "gap.csv", index=False)
     with pytest.raises(InputError, match=r"gap\.csv: row 1, column q1: missing column 'q1'"):

@@ -13,8 +13,8 @@ and measured torques against time. A recording CSV has a header ``t,q1..qn,tau1.
 optional ``qd1..qdn`` and ``qdd1..qddn`` (the columns in any order), in [s], [rad or m],
 [N m or N], [rad/s or m/s], [rad/s^2 or m/s^2]. With motor currents (``--current``) the torque columns hold currents [A]
 (named ``tau1..taun`` or ``i1..in``) and the drive gains K turn them into torque, tau = K i.
-``dq``, ``ddq`` name velocities and accelerations too, and a kind numbered from 0 (``q0..``)
-counts from joint 1, with a note. Given the chain's joint names, the columns may name the
+``time`` names the time column too, ``dq``, ``ddq`` velocities and accelerations, and a kind
+numbered from 0 (``q0..``) counts from joint 1, with a note. Given the chain's joint names, the columns may name the
 joints instead, as a ROS ``joint_states`` export does (``<joint>_position``, ``_velocity``,
 ``_acceleration``, ``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with
 a note), or be ROS 1's ``rostopic echo -p`` of a JointState topic (``%time``,
@@ -1048,9 +1048,10 @@ MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
-_COLUMN = re.compile(r"^(t|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
-#: Other names of a kind: currents, and velocities and accelerations as FIGAROH's files write them.
-_KIND = {"i": "tau", "dq": "qd", "ddq": "qdd"}
+_COLUMN = re.compile(r"^(t|time|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
+#: Other names of a kind: time, currents, and velocities and accelerations as FIGAROH's files
+#: write them.
+_KIND = {"time": "t", "i": "tau", "dq": "qd", "ddq": "qdd"}
 #: A column naming a joint of the robot file and a ROS JointState field, and its kind.
 _NAMED = re.compile(r"^(.+)_(position|velocity|acceleration|effort)$")
 _FIELD = {"position": "q", "velocity": "qd", "acceleration": "qdd", "effort": "tau"}
@@ -1134,11 +1135,12 @@ def _keys(header, path, joints, current, seen):
     names, keys = [c.strip() for c in header], []
     for k, name in enumerate(names):
         m, named = _COLUMN.match(bare := name.removeprefix("- ").strip()), _NAMED.match(bare)
-        if m and (m.group(1) == "t") != bool(m.group(2)):
+        kind = m and _KIND.get(m.group(1), m.group(1))
+        if m and (kind == "t") != bool(m.group(2)):
             if m.group(1) == "i" and not current:
                 raise InputError(f"column {name!r} holds a current: give --current, --drive-gains",
                                  path, row=1, column=name)
-            key = (_KIND.get(m.group(1), m.group(1)), int(m.group(2) or 1))
+            key = (kind, int(m.group(2) or 1))
         elif named and joints is not None:      # ("-", name): a joint outside the chain
             key = (_FIELD[named[2]], joints.index(named[1]) + 1) if named[1] in joints else \
                 ("-", named[1])
@@ -1146,7 +1148,7 @@ def _keys(header, path, joints, current, seen):
             raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun[,qd1..qdn,"
                              f"qdd1..qddn] or <joint>_position,_effort[,_velocity,_acceleration])",
                              path, row=1, column=name)
-        if bare != "t":
+        if key[0] != "t":
             seen.setdefault("number" if m else "name", (path, name))
         if {"number", "name"} <= seen.keys():
             file, first = seen["name" if m else "number"]
