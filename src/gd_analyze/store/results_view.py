@@ -26,9 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
-from ..ranking.ranking import arm_scales, identically_zero, is_round_off
 from .datasets import JOINT_UNIT_COORDS, stored_guarantee, stored_region
-from .datasets import joint_units as _units_of
 from .names import (
     ATTRIBUTES,
     RANKING_COLUMNS,
@@ -366,9 +364,12 @@ ZERO_MARK = "\u2261 0"
 _TORQUE_ERROR_FIELDS = (("peak", Var.TAU_ERROR_PEAK), ("rms", Var.TAU_ERROR_RMS),
                         ("peak_tau", Var.TAU_PEAK), ("relative_peak", Var.TAU_ERROR_RELATIVE_PEAK),
                         ("relative_rms", Var.TAU_ERROR_RELATIVE_RMS))
-#: The variables a results file must hold for the view.
+#: The variables a results file must hold for the view (the round-off marks and the joints'
+#: units as analysis stores them: they are read, never decided again).
 REQUIRED = (*(c.name for c in RANKING_COLUMNS if c.required),
-            *(name for _, name in _TORQUE_ERROR_FIELDS), Var.JOINT, *ROBOT_VARIABLES)
+            *(c.round_off for c in RANKING_COLUMNS if c.round_off is not None),
+            *(name for _, name in _TORQUE_ERROR_FIELDS), Var.JOINT, *ROBOT_VARIABLES,
+            Var.ELEMENT_ROUND_OFF, Var.TAU_ERROR_ROUND_OFF, *JOINT_UNIT_COORDS)
 #: The global attributes a results file must hold for the view.
 REQUIRED_ATTRS = (Attr.ROBOT, Attr.INPUT_FILE, Attr.SETPOINTS, Attr.DOMINANCE_THRESHOLD,
                   Attr.NEGLIGIBLE_THRESHOLD)
@@ -783,53 +784,34 @@ class Results(View):
 
 
 def _joint_units(ds):
-    """The units of each joint's q, qd, qdd and tau as stored; for a file written before they
-    were stored, from the joint types."""
-    prismatic = stored_prismatic(ds)
-    return types.MappingProxyType(
-        {q: texts(ds[name].values) if name in ds.variables else tuple(_units_of(prismatic, q))
-         for name, (q, _) in JOINT_UNIT_COORDS.items()})
+    """The units of each joint's q, qd, qdd and tau, as stored."""
+    return types.MappingProxyType({q: texts(ds[name].values)
+                                   for name, (q, _) in JOINT_UNIT_COORDS.items()})
 
 
 def _flags(ds, name):
-    return np.asarray(ds[name].values).astype(bool) if name in ds.variables else None
+    return np.asarray(ds[name].values).astype(bool)
 
 
 def _ranking(ds):
-    """The ranking table, as :data:`gd_analyze.store.names.RANKING_COLUMNS` declares it: stored
-    round-off marks; for a file written before they were stored, the same rule once here."""
+    """The ranking table, as :data:`gd_analyze.store.names.RANKING_COLUMNS` declares it, with
+    the round-off marks stored at analysis."""
     M = int(ds.sizes[Var.ELEMENT])
     columns = {c.field: (np.array(strings(ds[c.name].values)) if c.text
                          else np.asarray(ds[c.name].values, float))
                for c in RANKING_COLUMNS if c.source != "armature" and c.name in ds.variables}
     columns.setdefault("scale", np.full(M, np.nan))     # a file written before it was stored
-    scale, units = columns["scale"], list(columns["units"])
-    zero = _flags(ds, Var.ELEMENT_ROUND_OFF)
-    if zero is None:
-        zero = (identically_zero(columns["peak_tran"], columns["peak_rot"],
-                                 columns["peak_total"], scale)
-                if Var.ELEMENT_SCALE in ds.variables else np.zeros(M, bool))
-    columns["round_off"] = np.asarray(zero, bool)
-    offs = {}
-    for c in RANKING_COLUMNS:
-        if c.round_off is not None and c.field in columns:
-            mark = _flags(ds, c.round_off)
-            offs[c.field] = (mark if mark is not None else
-                             np.asarray(is_round_off(columns[c.field], scale,
-                                                     arm_scale=arm_scales(scale, units)), bool))
+    columns["round_off"] = _flags(ds, Var.ELEMENT_ROUND_OFF)
+    offs = {c.field: _flags(ds, c.round_off) for c in RANKING_COLUMNS
+            if c.round_off is not None and c.field in columns}
     return RankingTable(columns=types.MappingProxyType(columns),
                         offs=types.MappingProxyType(offs))
 
 
 def _torque_error(ds, units):
-    """The torque-error table: the round-off marks stored at analysis; for a file written
-    before they were stored, the same rule once here."""
+    """The torque-error table, with the round-off marks stored at analysis."""
     v = {field: np.asarray(ds[name].values, float) for field, name in _TORQUE_ERROR_FIELDS}
     off = _flags(ds, Var.TAU_ERROR_ROUND_OFF)
-    if off is None:
-        tau = v["peak_tau"]
-        off = np.asarray(is_round_off(v["peak"], tau, arm_scale=arm_scales(tau, list(units))),
-                         bool)
     return TorqueErrorTable(rows=tuple(
         TorqueErrorRow(joint=j + 1, **{field: float(x[j]) for field, x in v.items()},
                        units=units[j], round_off=bool(off[j]))
