@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import contextlib
+import logging
 import os
 import signal
 import sys
@@ -174,14 +175,15 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
         If the scheduler cannot be reached, stays silent or is not a dask scheduler
         (:func:`check_scheduler`: ConnectionError).
     """
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError as exc:  # pragma: no cover - the extra is installed for the tests
-        raise ImportError("sweeps need dask.distributed (a dependency of gd-analyze): "
-                          "pip install 'dask[distributed]'") from exc
+    from distributed import Client, LocalCluster
+
     cluster = None
     with contextlib.ExitStack() as env:
-        env.enter_context(_client_logs_quiet())
+        # the client's own log (tracebacks of its lost connection, its attempts to reconnect)
+        # kept off stderr: a cluster failure is told in one line (ClusterLost)
+        logger = logging.getLogger("distributed.client")
+        env.callback(logger.setLevel, logger.level)
+        logger.setLevel(logging.CRITICAL + 1)
         if scheduler is not None:
             check_scheduler(scheduler, timeout)
             client, how = Client(scheduler, timeout=timeout), f"the running scheduler at {scheduler}"
@@ -266,21 +268,6 @@ def _forked_workers():
             yield
     finally:
         _FORKING[0] -= 1
-
-
-@contextlib.contextmanager
-def _client_logs_quiet():
-    """Keep the client's own log (tracebacks of its lost connection, its attempts to
-    reconnect) off stderr: a cluster failure is told in one line (:class:`ClusterLost`)."""
-    import logging
-
-    logger = logging.getLogger("distributed.client")
-    level = logger.level
-    logger.setLevel(logging.CRITICAL + 1)
-    try:
-        yield
-    finally:
-        logger.setLevel(level)
 
 
 @contextlib.contextmanager

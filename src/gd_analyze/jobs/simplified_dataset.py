@@ -235,15 +235,21 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
         dv["simplified_bound_whole"] = var(("joint",), by_kind["whole"], torque,
                                            "share of the bound from base parameters dropped "
                                            "whole")
+    coords = {}
     if cost_table:
         labels = list(cost_table)
         arr = np.array([cost_table[k] for k in labels], float)
+        coords["cost_model"] = var(("cost_model",), np.array(labels, dtype=str), "1",
+                                   "formulation or model whose operations are counted")
         dv.update({
             "cost_multiplications": var(("cost_model",), arr[:, 0], "1", "multiplications"),
             "cost_additions": var(("cost_model",), arr[:, 1], "1", "additions"),
             "cost_total": var(("cost_model",), arr[:, 2], "1", "multiplications + additions"),
         })
     if ladder_rows:
+        coords["ladder_tolerance"] = var(("ladder_tolerance",),
+                                         np.array([r["tolerance"] for r in ladder_rows]), "1",
+                                         "EPS of the error budget")
         dv.update({
             "ladder_operations": var(("ladder_tolerance",),
                                      [r["multiplications"] + r["additions"] for r in
@@ -268,7 +274,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
                 ("joint",), np.array(other_error["relative_peak_error"], float), "1",
                 f"peak |tau_s - tau| / peak |tau| of the {other.rule} rule's model"),
         })
-    coords = {}
     if model.recursive is not None:
         rec = model.recursive
         units = {"M": "kg", "MX": "kg m", "MY": "kg m", "MZ": "kg m"}
@@ -290,13 +295,6 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
             dv["base_parameter_relative_peak"] = var(
                 ("base_parameter", "torque_part"), rec.relative_peak, "1",
                 "largest peak contribution on the trajectory / scale_i (0: none)")
-    if cost_table:
-        coords["cost_model"] = var(("cost_model",), np.array(list(cost_table), dtype=str), "1",
-                                   "formulation or model whose operations are counted")
-    if ladder_rows:
-        coords["ladder_tolerance"] = var(("ladder_tolerance",),
-                                         np.array([r["tolerance"] for r in ladder_rows]), "1",
-                                         "EPS of the error budget")
     ds = xr.Dataset(dv, coords=coords)
     # the (parameter, part) pairs that contribute on the trajectory (round-off excluded)
     facts = None if model.recursive is None else model.recursive.stated_facts()

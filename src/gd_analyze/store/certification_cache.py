@@ -163,7 +163,8 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
     if any(arrays[f].shape != shapes[f] or arrays[f].dtype.kind != "f"
            for f in shapes if f != "boxes") or arrays["boxes"].dtype.kind != "i" \
             or arrays["boxes"].shape != () \
-            or arrays["split_joint"].shape != (int(arrays["boxes"]),):
+            or arrays["split_joint"].shape != (int(arrays["boxes"]),) \
+            or arrays["leaves_sha256"].shape != () or arrays["leaves_sha256"].dtype.kind != "U":
         return "does not hold a certification of this robot (arrays of other types or shapes)"
     if not all(np.isfinite(arrays[f]).all() for f in shapes) or (scale < torque_floor).any() \
             or int(arrays["boxes"]) < 1 or float(arrays["seconds"]) < 0:
@@ -185,8 +186,6 @@ def _checked(robot, base, region, torque_floor, samples, seed, arrays, values=No
             and np.all(scale >= value - tol)):
         return ("fails its self-check (its scale is not reached at its state, or is below "
                 "the sampled torques)")
-    if arrays["leaves_sha256"].shape != () or arrays["leaves_sha256"].dtype.kind != "U":
-        return "does not hold a certification of this robot (arrays of other types or shapes)"
     try:
         pb = certify_tree(robot, base, region, arrays["split_joint"], arrays["split_at"],
                           (q, V, scale, state, *(values or ())[4:]),

@@ -38,17 +38,6 @@ def _is_number(checker, value) -> bool:
         return False
 
 
-@functools.cache
-def _validator_class():
-    """Draft 2020-12 with JSON's own types: ``1.0`` is not an integer, ``true`` not a number,
-    and a number is one a float holds (the file's reader refuses NaN and Infinity already).
-    Made at the first check: jsonschema is imported only when a model file is read."""
-    from jsonschema import Draft202012Validator, validators
-
-    checker = Draft202012Validator.TYPE_CHECKER.redefine_many({"integer": _is_int,
-                                                               "number": _is_number})
-    return validators.extend(Draft202012Validator, type_checker=checker)
-
 _TYPE_NAMES = {"object": "an object", "array": "a list", "string": "a string",
                "boolean": "true/false", "null": "null", "integer": "an integer",
                "number": "a number"}
@@ -119,9 +108,15 @@ class Schema:
 
     @functools.cached_property
     def validator(self) -> Any:
-        """The :class:`jsonschema.Draft202012Validator` (with JSON's own types) of the
-        document, made at the first check."""
-        return _validator_class()(self.document)
+        """The :class:`jsonschema.Draft202012Validator` of the document with JSON's own types
+        (``1.0`` is not an integer, ``true`` not a number, and a number is one a float holds;
+        the file's reader refuses NaN and Infinity already), made at the first check:
+        jsonschema is imported only when a model file is read."""
+        from jsonschema import Draft202012Validator, validators
+
+        checker = Draft202012Validator.TYPE_CHECKER.redefine_many({"integer": _is_int,
+                                                                   "number": _is_number})
+        return validators.extend(Draft202012Validator, type_checker=checker)(self.document)
 
     def check(self, value: object, path: str | os.PathLike, where: str = "") -> None:
         """Validate a parsed JSON document.
