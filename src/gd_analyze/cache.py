@@ -24,6 +24,7 @@ cache folder is silent.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
@@ -229,7 +230,7 @@ def write_entry(path: Path, key: Mapping[str, Any], arrays: Mapping[str, Any]) -
     arrays : dict of str to ndarray
         Plain (not object) arrays, stored in this order with their checksum.
     """
-    try:
+    with contextlib.suppress(OSError):        # read-only cache: computed again next time
         if os.path.lexists(path) and not (path.is_symlink() or path.is_file()):
             return      # a FIFO, a device, a folder: never replaced
         path.parent.mkdir(mode=0o700, parents=True, exist_ok=True)
@@ -238,8 +239,6 @@ def write_entry(path: Path, key: Mapping[str, Any], arrays: Mapping[str, Any]) -
                      checksum=np.array(checksum(arrays, list(arrays))), **arrays)
             fh.flush()
             os.fsync(fh.fileno())
-    except OSError:
-        pass        # read-only cache: computed again next time
 
 
 def lookup(key: Mapping[str, Any], fields: Sequence[str], max_bytes: int,

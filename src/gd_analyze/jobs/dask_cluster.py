@@ -5,9 +5,9 @@ one thread per worker, no dashboard, no statistical profiler) on which
 :func:`gd_analyze.jobs.sweep.run_sweep` and
 :func:`gd_analyze.jobs.payload.sweep_payloads` run their tasks. The interpreters that
 multiprocessing starts for the LocalCluster (workers, resource tracker) would put the current
-folder first on their ``sys.path``; :func:`_safe_path_children` and :func:`_working_folder`
-keep it off, so that a ``pickle.py`` where the sweep starts cannot run in them. On Linux the
-workers are forked, not spawned (:func:`_forked_workers`): they start without importing
+folder first on their ``sys.path``; ``PYTHONSAFEPATH`` and :func:`_working_folder` keep
+it off, so that a ``pickle.py`` where the sweep starts cannot run in them. On Linux the
+workers are forked, not spawned (:func:`dask_client`): they start without importing
 anything again.
 """
 
@@ -191,8 +191,31 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
             import dask
 
             workers = int(n_workers) if n_workers else (os.cpu_count() or 2)
-            env.enter_context(_safe_path_children())
-            env.enter_context(_forked_workers())
+            # multiprocessing starts dask's workers and its resource tracker as
+            # ``python -c ...``, which puts the current folder first on sys.path and imports
+            # pickle, socket and more before the parent's path is restored: a pickle.py where
+            # the sweep starts would run in each of them. PYTHONSAFEPATH=1 (Python >= 3.11, a
+            # value set already kept) leaves that entry out for the cluster's whole life
+            # (workers the nanny restarts too), restored when the stack closes.
+            before = os.environ.get("PYTHONSAFEPATH")
+            os.environ["PYTHONSAFEPATH"] = before or "1"
+            if before is None:
+                env.callback(os.environ.pop, "PYTHONSAFEPATH", None)
+            else:
+                env.callback(os.environ.__setitem__, "PYTHONSAFEPATH", before)
+            # On Linux the worker processes are forked, not spawned: a spawned worker is a new
+            # interpreter that imports dask, distributed and then this package before its
+            # first task (about 1-2 s each, the two in parallel on two cores); a forked one has
+            # them already (multiprocessing's fork method, which distributed supports through
+            # distributed.worker.multiprocessing-method). The children run no interpreter of
+            # their own, so no folder is put on their sys.path; their signal handlers are
+            # reset (_default_signals). Elsewhere (macOS, Windows, where fork is unsafe or
+            # absent) they are spawned.
+            if sys.platform.startswith("linux"):
+                _FORKING.append(True)
+                env.callback(_FORKING.pop)
+                env.enter_context(dask.config.set(
+                    {"distributed.worker.multiprocessing-method": "fork"}))
             # The workers' statistical profiler samples every thread's stack every 10 ms while
             # holding the GIL; for these many short numpy calls it costs about 40 % of the
             # time, so the cluster started here runs without it.
@@ -222,15 +245,16 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
             cluster.close()
 
 
-#: LocalClusters of this process whose worker processes are forked (:func:`_forked_workers`).
-_FORKING = [0]
+#: One item per LocalCluster of this process whose worker processes are forked
+#: (:func:`dask_client`, on Linux).
+_FORKING: list = []
 
 
 def _default_signals():
     """In a child forked while :data:`_FORKING` (a worker process of a LocalCluster started
     here): SIGINT, SIGTERM and SIGHUP handled as in a new interpreter, not by the command
     line's handler (:mod:`gd_analyze.store.signals`) inherited from the parent."""
-    if _FORKING[0]:
+    if _FORKING:
         for sig in SIGNALS:
             signal.signal(sig, signal.default_int_handler if sig == signal.SIGINT
                           else signal.SIG_DFL)
@@ -241,43 +265,13 @@ if hasattr(os, "register_at_fork"):
 
 
 @contextlib.contextmanager
-def _forked_workers():
-    """Start the LocalCluster's worker processes by fork (on Linux), not spawn, in the block.
-
-    A spawned worker is a new interpreter that imports dask, distributed and then this
-    package before its first task (about 1-2 s each, the two in parallel on two cores); a
-    forked one has them already, and starts in a fraction of that (multiprocessing's
-    ``fork`` method, which distributed supports through
-    ``distributed.worker.multiprocessing-method``). The children run no interpreter of their
-    own, so no folder is put on their ``sys.path``; their signal handlers are reset
-    (:func:`_default_signals`). Elsewhere (macOS, Windows, where fork is unsafe or absent)
-    the workers are spawned as before.
-
-    Yields
-    ------
-    None
-    """
-    import dask
-
-    if not sys.platform.startswith("linux"):
-        yield
-        return
-    _FORKING[0] += 1
-    try:
-        with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}):
-            yield
-    finally:
-        _FORKING[0] -= 1
-
-
-@contextlib.contextmanager
 def _working_folder(folder):
     """Run the block in ``folder`` (an empty private one), then return to the current folder.
 
     The interpreters that multiprocessing starts inside the block (dask's workers and its
     resource tracker, as ``python -c ...``) put their working folder first on ``sys.path``
     before anything else runs; started here, that is an empty folder on every Python version
-    (``PYTHONSAFEPATH`` of :func:`_safe_path_children` needs Python >= 3.11). The block only
+    (the ``PYTHONSAFEPATH`` :func:`dask_client` sets needs Python >= 3.11). The block only
     starts the cluster: the parent uses no relative path inside it.
 
     Parameters
@@ -298,30 +292,3 @@ def _working_folder(folder):
             os.fchdir(back)
     finally:
         os.close(back)
-
-
-@contextlib.contextmanager
-def _safe_path_children():
-    """Keep the current folder off the sys.path of the child interpreters started inside the
-    block: ``PYTHONSAFEPATH=1`` (Python >= 3.11), restored afterwards.
-
-    multiprocessing starts dask's workers and its resource tracker as ``python -c ...``,
-    which puts the current folder first on ``sys.path`` and imports ``pickle``, ``socket``
-    and more before the parent's path is restored: a ``pickle.py`` in the folder where the
-    sweep starts would run in each of them. ``PYTHONSAFEPATH`` (``-P``) leaves that entry
-    out; the spawned workers then take the parent's ``sys.path`` as multiprocessing passes
-    it. The block spans the cluster's life, so workers the nanny restarts are covered too.
-
-    Yields
-    ------
-    None
-    """
-    before = os.environ.get("PYTHONSAFEPATH")
-    os.environ["PYTHONSAFEPATH"] = before or "1"        # a value set already is kept
-    try:
-        yield
-    finally:
-        if before is None:
-            os.environ.pop("PYTHONSAFEPATH", None)
-        else:
-            os.environ["PYTHONSAFEPATH"] = before

@@ -499,12 +499,11 @@ def _on_dask(robot, trajectories, dominance, negligible, client, cluster, schedu
     batch size, the cluster in words, tasks, seconds computing once a worker joined)."""
     from distributed import as_completed
 
-    own = contextlib.ExitStack()
-    if client is None:
-        client, how = own.enter_context(dask_client(scheduler, n_workers))
-    else:
-        how = cluster or "a client given by the caller"
-    try:
+    with contextlib.ExitStack() as own:
+        if client is None:
+            client, how = own.enter_context(dask_client(scheduler, n_workers))
+        else:
+            how = cluster or "a client given by the caller"
         with cluster_failures(str(client.scheduler.address)):
             try:
                 client.wait_for_workers(1, timeout=60)
@@ -549,7 +548,5 @@ def _on_dask(robot, trajectories, dominance, negligible, client, cluster, schedu
                 merged_stats = collect(submit(_error_batch, merged))
             bar.close()
             compute_s = time.perf_counter() - t_compute
-    finally:
-        own.close()
     return (results, merged, merged_stats, address, n_w, size, how,
             passes * len(batches), compute_s)

@@ -13,6 +13,7 @@ the files of the other commands' manifests are kept as they are.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
@@ -388,10 +389,8 @@ def _yield_cpu():
     run's computation leaves."""
     if not sys.platform.startswith("linux"):  # elsewhere the id would name a process
         return
-    try:
+    with contextlib.suppress(AttributeError, OSError):
         os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 19)
-    except (AttributeError, OSError):
-        pass
 
 
 def hash_beside(path: str | os.PathLike[str]) -> None:
@@ -420,10 +419,8 @@ def _staged_digest(path, st):
     unchanged since, else hashed now."""
     known = _STAGED.pop(os.path.abspath(path), None)
     if known is not None and known[0] == _key(st):
-        try:
+        with contextlib.suppress(OSError):      # hashed again, which reports the error
             return known[1].result()
-        except OSError:
-            pass                                # hashed again, which reports the error
     return file_sha256(path)
 
 

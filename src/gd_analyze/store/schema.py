@@ -605,11 +605,8 @@ def _dump(ds, path, mode, encoding=None, **options):
     from xarray.backends import H5NetCDFStore
     from xarray.backends.locks import HDF5_LOCK
 
-    store = H5NetCDFStore.open(str(path), mode=mode, lock=HDF5_LOCK, **options)
-    try:
+    with H5NetCDFStore.open(str(path), mode=mode, lock=HDF5_LOCK, **options) as store:
         ds.dump_to_store(store, encoding=encoding or {})
-    finally:
-        store.close()
 
 
 def open_results(path: str | os.PathLike[str], lazy: bool = False) -> xr.Dataset:

@@ -21,6 +21,7 @@ places would lose the signal:
 
 from __future__ import annotations
 
+import contextlib
 import gc
 import os
 import signal
@@ -125,10 +126,8 @@ _TORN = [False]
 def _flush_output():
     """Flush stdout and stderr, whatever state they are in (closed, replaced, a full pipe)."""
     for stream in (sys.stdout, sys.stderr):
-        try:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
             stream.flush()
-        except (OSError, ValueError, AttributeError):
-            pass
 
 
 def without_teardown() -> None:
