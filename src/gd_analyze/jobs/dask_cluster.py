@@ -283,12 +283,9 @@ def _working_folder(folder):
     ------
     None
     """
-    back = os.open(".", os.O_RDONLY)
-    try:
+    with contextlib.ExitStack() as undo:
+        back = os.open(".", os.O_RDONLY)
+        undo.callback(os.close, back)
         os.chdir(folder)
-        try:
-            yield
-        finally:
-            os.fchdir(back)
-    finally:
-        os.close(back)
+        undo.callback(os.fchdir, back)
+        yield

@@ -189,7 +189,6 @@ def run_analysis(robot: Robot, trajectory: Trajectory, options: AnalysisOptions,
     Eqs. (3.4-24) to (3.4-28).
     """
 
-    options = AnalysisOptions() if options is None else options
     outdir = Path(outdir)
     if outdir.exists() and not outdir.is_dir():
         raise InputError("exists and is not a folder", outdir)

@@ -118,7 +118,7 @@ class Schema:
                                                                    "number": _is_number})
         return validators.extend(Draft202012Validator, type_checker=checker)(self.document)
 
-    def check(self, value: object, path: str | os.PathLike, where: str = "") -> None:
+    def check(self, value: object, path: str | os.PathLike) -> None:
         """Validate a parsed JSON document.
 
         Parameters
@@ -127,8 +127,6 @@ class Schema:
             The parsed JSON document.
         path : str or os.PathLike
             The file, for the message.
-        where : str, optional
-            A key path to put before the faulty key (for a document inside another).
 
         Raises
         ------
@@ -154,9 +152,6 @@ class Schema:
             err = next((e for e in errors if e.validator == "type"
                         and e.absolute_path == err.absolute_path), err)
         key, message = _message(err)
-        if where and key:
-            key = where + ("" if key.startswith("[") else ".") + key
-        key = key or where
         raise InputError(message, path, column=key or "(document)")
 
 

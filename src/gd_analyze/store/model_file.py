@@ -106,7 +106,7 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     if isinstance(spec, dict) and spec.get("schema_version") not in READABLE_SCHEMAS:
         raise InputError(f"expected schema_version {SCHEMA_VERSION}, got "
                          f"{spec.get('schema_version')!r}"[:120], path, column="schema_version")
-    MODEL_SCHEMA.check(spec, path, "")
+    MODEL_SCHEMA.check(spec, path)
     rob = spec["robot"]
     if parameters_sha256(rob["parameters"]) != rob["parameters_sha256"]:
         raise InputError("the robot's parameters do not match their SHA-256 (edited after "
