@@ -627,22 +627,19 @@ def _analysis(robot, trajectory, result, options, settings, ds):
     if result.terms is not None:
         ds = with_setpoints(ds, robot, trajectory, result.terms, result.tau,
                             result.tau_simplified)
-    return Analysis(dataset=ds, model=_model(robot, trajectory, result, options, settings),
-                    verification=result.verification)
-
-
-def _model(robot, trajectory, result, options, settings):
     if result.model is not None:                 # the explicit simplified model
         # a recursive model with its choices as results.h5 stores them
         own = {} if result.model.recursive is None else {"choices": dict(result.choices)}
         g, arm = result.model.guarantee, result.model.robot     # where s_i is reached kept
-        return dataclasses.replace(result.model, validation=result.error, **own,
-                                   guarantee=g and g.with_scale_states(arm, [trajectory]))
-    return SimplifiedModel(robot=robot, choices=result.choices,
-                           dominance_threshold=float(options.dominance),
-                           negligible_threshold=float(options.negligible),
-                           trajectory_sha256=trajectory.sha256, validation=result.error,
-                           provenance=_provenance(trajectory, settings))
+        model = dataclasses.replace(result.model, validation=result.error, **own,
+                                    guarantee=g and g.with_scale_states(arm, [trajectory]))
+    else:
+        model = SimplifiedModel(robot=robot, choices=result.choices,
+                                dominance_threshold=float(options.dominance),
+                                negligible_threshold=float(options.negligible),
+                                trajectory_sha256=trajectory.sha256, validation=result.error,
+                                provenance=_provenance(trajectory, settings))
+    return Analysis(dataset=ds, model=model, verification=result.verification)
 
 
 def analyze(robot: Robot, trajectory: Trajectory, options: AnalysisOptions | None = None,

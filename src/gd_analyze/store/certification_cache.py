@@ -369,14 +369,17 @@ def read_search(key: Mapping[str, Any], n: int, b: int) -> dict[str, Any] | str 
             "pruned_forms": None if none else tuple(FORMS[int(k)] for k in pruned)}
 
 
-def write_search(key: Mapping[str, Any], dropped: np.ndarray, whole: np.ndarray,
-                 exact_forms: Sequence[str], pruned_forms: Sequence[str] | None) -> None:
-    """Keep the searches' outcome (silent when the cache is off or not writable).
+def write_search(robot: Robot, region: Region, tolerance: float, torque_floor: float,
+                 samples: int, dropped: np.ndarray, whole: np.ndarray,
+                 exact_forms: Sequence[str], pruned_forms: Sequence[str] | None,
+                 screened: bool = False) -> None:
+    """Keep the searches' outcome at their :func:`search_key` (silent when the cache is off
+    or not writable).
 
     Parameters
     ----------
-    key : dict
-        From :func:`search_key`.
+    robot, region, tolerance, torque_floor, samples, screened
+        As :func:`search_key` takes them.
     dropped : ndarray of bool, shape (b, 3)
     whole : ndarray of bool, shape (b,)
     exact_forms : sequence of str, length n
@@ -386,7 +389,7 @@ def write_search(key: Mapping[str, Any], dropped: np.ndarray, whole: np.ndarray,
     """
 
     n = len(exact_forms)
-    store(key, {
+    store(search_key(robot, region, tolerance, torque_floor, samples, screened), {
         "dropped": np.asarray(dropped, bool), "whole": np.asarray(whole, bool),
         "exact_forms": np.array([FORMS.index(f) for f in exact_forms], np.int64),
         "pruned_forms": np.array([FORMS.index(f) for f in pruned_forms] if pruned_forms

@@ -454,9 +454,26 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     zero = identically_zero(ranking.peak_tran, ranking.peak_rot, ranking.peak_total,
                             ranking.scale)
     arm = arm_scales(ranking.scale, element_coords(n, prismatic)[Var.ELEMENT_UNITS][1])
-    data_vars = _ranking_variables(ranking, zero, arm, {
-        "choices": [choices[lab] for lab in labels],
-        "chapter": [CHAPTER_DOMINANCE.get(lab, "") if puma else "" for lab in labels]})
+    other = {"choices": [choices[lab] for lab in labels],       # the columns not from ranking
+             "chapter": [CHAPTER_DOMINANCE.get(lab, "") if puma else "" for lab in labels]}
+    # the ranking's per-element variables and their round-off flags, as RANKING_COLUMNS
+    # declares them (an optional Ranking attribute that is None left out)
+    data_vars = {}
+    for column in RANKING_COLUMNS:
+        if not column.stored:
+            continue
+        values = (getattr(ranking, column.field, None) if column.source == "ranking"
+                  else other[column.source])
+        if values is None:
+            continue
+        values = np.array(values, dtype=str) if column.text else np.asarray(values)
+        if column.nan_where_zero:
+            values = np.where(zero, np.nan, values)
+        units = MIXED_UNITS if column.units == ELEMENT_UNITS_RULE else column.units
+        data_vars[column.name] = var(("element",), values, units, column.long_name)
+        if column.round_off is not None:
+            data_vars[column.round_off] = flag(("element",), is_round_off(
+                values, ranking.scale, arm_scale=arm), column.round_off_long_name)
     data_vars.update({
         **error_variables(error, ("joint",), torque),
         Var.TAU_PEAK: var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
@@ -521,47 +538,6 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         attrs[VERIFICATION_PREFIX + key] = value
     attrs.update(settings or {})
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
-
-
-def _ranking_variables(ranking, zero, arm, other):
-    """The ranking's per-element variables and their round-off flags, as
-    :data:`gd_analyze.store.names.RANKING_COLUMNS` declares them.
-
-    Parameters
-    ----------
-    ranking : Ranking
-        The dominance of each of the M elements.
-    zero : ndarray of bool, shape (M,)
-        The elements zero in every part.
-    arm : ndarray, shape (M,)
-        Each element's arm scale (:func:`gd_analyze.ranking.ranking.arm_scales`).
-    other : dict
-        Source -> values (length M) of the columns not from the Ranking (``"choices"``,
-        ``"chapter"``).
-
-    Returns
-    -------
-    dict
-        Variable name -> (dims, values, attributes); an optional Ranking attribute that is
-        None is left out.
-    """
-    out = {}
-    for column in RANKING_COLUMNS:
-        if not column.stored:
-            continue
-        values = (getattr(ranking, column.field, None) if column.source == "ranking"
-                  else other[column.source])
-        if values is None:
-            continue
-        values = np.array(values, dtype=str) if column.text else np.asarray(values)
-        if column.nan_where_zero:
-            values = np.where(zero, np.nan, values)
-        units = MIXED_UNITS if column.units == ELEMENT_UNITS_RULE else column.units
-        out[column.name] = var(("element",), values, units, column.long_name)
-        if column.round_off is not None:
-            out[column.round_off] = flag(("element",), is_round_off(
-                values, ranking.scale, arm_scale=arm), column.round_off_long_name)
-    return out
 
 
 def with_setpoints(ds, robot, trajectory, terms, tau, tau_simplified):

@@ -11,10 +11,7 @@ bound was proved, for the checks of a model file built in the same process
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
-
-import numpy as np
 
 from ..cache import entry_path
 from ..simplify.region_memo import Derivations
@@ -34,13 +31,6 @@ def _read(robot: Robot, region: Region, tolerance: float, torque_floor: float, s
     return read_search(key, n, b), str(entry_path(key))
 
 
-def _write(robot: Robot, region: Region, tolerance: float, torque_floor: float, samples: int,
-           dropped: np.ndarray, whole: np.ndarray, exact_forms: Sequence[str],
-           pruned_forms: Sequence[str] | None, screened: bool = False) -> None:
-    write_search(search_key(robot, region, tolerance, torque_floor, samples, screened),
-                 dropped, whole, exact_forms, pruned_forms)
-
-
 #: The derivation cache (:mod:`gd_analyze.cache`; off with ``GD_ANALYZE_NO_CACHE``).
-DERIVATIONS = Derivations(certification=certification, read_search=_read, write_search=_write,
-                          made=remember, claimed=remember_claim)
+DERIVATIONS = Derivations(certification=certification, read_search=_read,
+                          write_search=write_search, made=remember, claimed=remember_claim)

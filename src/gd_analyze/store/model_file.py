@@ -119,7 +119,18 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
                              column="robot.joint_names")
         robot = dataclasses.replace(robot, metadata=types.MappingProxyType(
             {**robot.metadata, "urdf_joints": list(rob["joint_names"])}))
-    robot = _recorded_mounting(robot, spec, path)
+    # the mounting the model was built with (key mounting; in files written before it, the
+    # provenance's mounting_base_rpy_deg), recorded so that a --base-rpy or --gravity is not
+    # applied on top of it (gd_analyze.model.mounting.with_mounting)
+    said, key = spec.get("mounting"), "mounting"
+    if said is None:
+        rpy = (spec.get("provenance") or {}).get("mounting_base_rpy_deg", (0.0, 0.0, 0.0))
+        said, key = {"base_rpy_deg": rpy, "gravity_world": None}, "provenance"
+    try:
+        robot = as_mounted(robot, said["base_rpy_deg"], said["gravity_world"])
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"the mounting the model was built with is not usable: {exc}"[:200],
+                         path, column=key) from None
     # a guarantee's region and scale, checked against the robot (model_trust.check_region)
     # before the model's program is built and sampled
     if isinstance(guarantee := spec.get("guarantee"), dict):
@@ -129,19 +140,3 @@ def load_model(path: str | os.PathLike[str]) -> SimplifiedModel:
     check_guarantee(model, path)
     return model
 
-
-def _recorded_mounting(robot, spec, path):
-    """The model's robot with the mounting it was built with recorded (key ``mounting``; in
-    files written before it, the provenance's ``mounting_base_rpy_deg``), so that a
-    ``--base-rpy`` or ``--gravity`` is not applied on top of it
-    (:func:`gd_analyze.model.mounting.with_mounting`)."""
-
-    said, key = spec.get("mounting"), "mounting"
-    if said is None:
-        rpy = (spec.get("provenance") or {}).get("mounting_base_rpy_deg", (0.0, 0.0, 0.0))
-        said, key = {"base_rpy_deg": rpy, "gravity_world": None}, "provenance"
-    try:
-        return as_mounted(robot, said["base_rpy_deg"], said["gravity_world"])
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"the mounting the model was built with is not usable: {exc}"[:200],
-                         path, column=key) from None
