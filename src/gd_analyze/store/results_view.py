@@ -597,8 +597,7 @@ class Verification:
         The set points checked.
     terms : tuple of (str, float, float)
         Each term checked (``"D"``, ``"D_rot"`` ... in the order of its attribute's name), its
-        largest relative difference and that beyond round-off (NaN in a file written before
-        it was stored).
+        largest relative difference and that beyond round-off.
     tolerance : object
         The relative tolerance as stored (None where missing).
     """
@@ -834,11 +833,9 @@ def _verification(attrs):
               if k.startswith(VERIFICATION_PREFIX + "max_rel_excess")]
     error = verification_attribute("")
     terms = tuple((k[len(error):], float(attrs[k]),
-                   float(attrs.get(verification_attribute(k[len(error):], excess=True),
-                                   np.nan)))
+                   float(attrs[verification_attribute(k[len(error):], excess=True)]))
                   for k in sorted(attrs) if k.startswith(error))
     return Verification(passed=bool(int(attrs[Attr.VERIFICATION_PASSED])),
                         worst_excess=float(np.max(excess)) if excess else float("nan"),
-                        setpoints=int(attrs.get(Attr.VERIFICATION_SETPOINTS,
-                                                attrs[Attr.SETPOINTS])),
+                        setpoints=int(attrs[Attr.VERIFICATION_SETPOINTS]),
                         terms=terms, tolerance=attrs.get(Attr.VERIFICATION_TOLERANCE))
