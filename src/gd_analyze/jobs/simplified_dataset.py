@@ -215,8 +215,7 @@ def simplified_dataset(model: SimplifiedModel, selection: Selection,
     import xarray as xr
 
 
-    robot = getattr(model, "robot", None)
-    torque = "N m" if robot is None else units_by_type(robot.prismatic, "tau")
+    torque = units_by_type(model.robot.prismatic, "tau")
 
     by_kind = selection.bound_by_kind
     dv = {name: var(("joint",), data, torque, what) for name, data, what in (
