@@ -3,6 +3,7 @@ stamps; refusals."""
 
 import hashlib
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -759,6 +760,22 @@ def test_a_recording_naming_the_joints_is_read_as_a_trajectory(tmp_path):
         read_trajectory(named, 2)
 
 
+def _read_as_named(path, t, fields, joints):
+    """(recording read, the same values read from columns naming the joints, the notes) of a
+    ROS log ``path`` of the fields written (oracle: ``t,<joint>_position,..`` in the same
+    values): each array read from the log equals the named file's."""
+    named = path.with_name("named.csv")
+    pd.DataFrame({"t": t, **{f"{j}_{k}": v[:, c] for k, v in fields.items()
+                             for c, j in enumerate(joints)}}).to_csv(named, index=False,
+                                                                     float_format="%.17g")
+    with pytest.warns(InputNote) as caught:
+        ours = read_recording(path, len(joints), joint_names=joints)
+    theirs = read_recording(named, len(joints), joint_names=joints)
+    for key in ("t", "q", "qd", "tau"):
+        assert np.array_equal(getattr(ours, key), getattr(theirs, key)), key
+    return ours, theirs, caught
+
+
 def test_a_rostopic_echo_log_of_joint_states_reads_as_the_same_recording_named(tmp_path):
     """A ``rostopic echo -p /joint_states`` log (ROS 1's CSV: %time, field.header.stamp in ns,
     the joints named in field.name<k> of each row in any order, their fields by index, a
@@ -770,15 +787,7 @@ def test_a_rostopic_echo_log_of_joint_states_reads_as_the_same_recording_named(t
     joints = ["shoulder", "elbow"]
     fields = {k: rng.normal(size=(40, 2)) for k in ("position", "velocity", "effort")}
     t = write_echo_log(tmp_path / "echo.csv", 0.01 * np.arange(40), fields, joints, other_rows=(3,))
-    named = tmp_path / "named.csv"
-    pd.DataFrame({"t": t, **{f"{j}_{k}": v[:, c] for k, v in fields.items()
-                             for c, j in enumerate(joints)}}).to_csv(named, index=False,
-                                                                     float_format="%.17g")
-    with pytest.warns(InputNote) as caught:
-        ours = read_recording(tmp_path / "echo.csv", 2, joint_names=joints)
-    theirs = read_recording(named, 2, joint_names=joints)
-    for key in ("t", "q", "qd", "tau"):
-        assert np.array_equal(getattr(ours, key), getattr(theirs, key)), key
+    ours, theirs, caught = _read_as_named(tmp_path / "echo.csv", t, fields, joints)
     assert ours.rows.tolist() == [2, 3, 4, 5] + list(range(7, 43))     # row 6: the gripper's
     assert [str(w.message) for w in caught] == [
         f"{tmp_path / 'echo.csv'}: a rostopic echo -p log of joint states: t from "
@@ -831,6 +840,71 @@ def test_a_rostopic_echo_log_row_that_cannot_be_read_is_one_line(tmp_path, row, 
     with pytest.raises(InputError) as e:
         read_recording(tmp_path / "e.csv", 2, joint_names=["shoulder", "elbow"])
     assert str(e.value) == f"{tmp_path / 'e.csv'}: {said}"
+
+
+def _plotjuggler_export(path, t, fields, joints, blank_rows=(), extra=""):
+    """PlotJuggler's CSV export of a bag holding a JointState topic (a gripper joint beside the
+    chain's, its header stamp) and a second topic whose samples fall between: ``__time`` [s],
+    the series in its alphabetical order, a row per stamp of any series, blank cells where a
+    series has none; ``blank_rows``: rows (from 0) whose first joint's position is blank."""
+    series = {"/joint_states/header/stamp": t}
+    for kind, values in fields.items():
+        for c, joint in enumerate([*joints, "gripper"]):
+            series[f"/joint_states/{joint}/{kind}"] = values[:, c] if c < len(joints) else 0 * t
+    names = sorted(series) + ["/wrench/force/x"]
+    lines = ["__time," + ",".join(names) + extra]
+    for r, stamp in enumerate(t):
+        cells = ["" if (r in blank_rows and name == f"/joint_states/{joints[0]}/position")
+                 else repr(float(series[name][r])) for name in names[:-1]]
+        lines.append(",".join([repr(float(stamp)), *cells, ""]))
+        if r % 4 == 1:                     # the other topic's sample, between two joint states
+            lines.append(",".join([repr(float(stamp) + 1e-4), *[""] * (len(names) - 1), "2.5"]))
+    Path(path).write_text("\n".join(lines) + "\n")
+
+
+def test_plotjuggler_s_csv_export_of_joint_states_reads_as_the_same_recording_named(tmp_path):
+    """PlotJuggler's CSV export (``__time``; ``/joint_states/<joint>/position``, ``/velocity``,
+    ``/effort``, in its alphabetical order, a gripper's series, the header stamp and another
+    topic's series beside them; the other topic's rows blank in the joint states' series), as
+    ROS 1 and ROS 2 users export a bag, reads as the recording whose columns name the joints
+    (oracle: the same values written as <joint>_position...), with one note; it was refused
+    ("unknown column '__time'"). The main job's reader takes its set points alike."""
+    rng = np.random.default_rng(12)
+    joints = ["shoulder", "elbow"]
+    t = 1.7e9 + 0.01 * np.arange(30)
+    fields = {k: rng.normal(size=(30, 2)) for k in ("position", "velocity", "effort")}
+    _plotjuggler_export(tmp_path / "pj.csv", t, fields, joints)
+    ours, theirs, caught = _read_as_named(tmp_path / "pj.csv", t, fields, joints)
+    assert ours.rows[:4].tolist() == [2, 3, 5, 6]          # row 4: the other topic's sample
+    assert [str(w.message) for w in caught] == [
+        f"{tmp_path / 'pj.csv'}: PlotJuggler's CSV export: t from __time [s]; 5 other columns "
+        f"ignored (joints outside the chain: gripper); 8 rows holding none of the chain's "
+        f"series left out (first at row 4)"]
+    assert ours.column("q", 1) == "/joint_states/elbow/position"
+    with pytest.warns(InputNote):
+        assert np.array_equal(read_trajectory(tmp_path / "pj.csv", 2, joints).q, theirs.q)
+
+
+@pytest.mark.parametrize("blank, extra, said", [
+    ((5,), "", "row 8, column /joint_states/shoulder/position: a blank cell beside the other "
+               "joints' values in this row"),
+    ((), ",/arm/joint_states/elbow/position", "row 1, column /arm/joint_states/elbow/position: "
+     "columns '/joint_states/elbow/position' and '/arm/joint_states/elbow/position' both hold "
+     "joint 'elbow''s position"),
+])
+def test_a_plotjuggler_export_that_cannot_be_read_is_one_line(tmp_path, blank, extra, said):
+    """A PlotJuggler export whose row lacks one joint's position beside the others', or that
+    holds a joint's series of two topics: one line with the file, row and column."""
+    rng = np.random.default_rng(3)
+    fields = {k: rng.normal(size=(12, 2)) for k in ("position", "effort")}
+    _plotjuggler_export(tmp_path / "p.csv", 0.01 * np.arange(12), fields, ["shoulder", "elbow"],
+                        blank_rows=blank, extra=extra)
+    if extra:       # the second topic's series: a cell in each row
+        lines = (tmp_path / "p.csv").read_text().splitlines()
+        (tmp_path / "p.csv").write_text("\n".join([lines[0], *(x + ",0" for x in lines[1:])]))
+    with pytest.raises(InputError) as e:
+        read_recording(tmp_path / "p.csv", 2, joint_names=["shoulder", "elbow"])
+    assert str(e.value) == f"{tmp_path / 'p.csv'}: {said}"
 
 
 def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):

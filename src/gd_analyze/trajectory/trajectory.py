@@ -18,7 +18,8 @@ numbered from 0 (``q0..``) counts from joint 1, with a note. Given the chain's j
 joints instead, as a ROS ``joint_states`` export does (``<joint>_position``, ``_velocity``,
 ``_acceleration``, ``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with
 a note), or be ROS 1's ``rostopic echo -p`` of a JointState topic (``%time``,
-``field.header.stamp`` in ns, ``field.name<k>``, ``field.position<k>``...), and ``A.csv+B.csv``
+``field.header.stamp`` in ns, ``field.name<k>``, ``field.position<k>``...) or PlotJuggler's CSV
+export of one (``__time`` [s], ``/<topic>/<joint>/position``...), and ``A.csv+B.csv``
 joins files on one clock into one recording.
 
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
@@ -209,7 +210,7 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
     """
     path = _csv_path(path, n_joints)
     with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
-        recorded = re.search(rb"^(?:\xef\xbb\xbf)?%time,|,[ \t]*tau[0-9]|_(position|effort)"
+        recorded = re.search(rb"^(?:\xef\xbb\xbf)?(%|__)time,|,[ \t]*tau[0-9]|_(position|effort)"
                              rb"[ \t]*(,|\r?\n|$)", fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints, joint_names=joint_names)
@@ -1048,12 +1049,14 @@ MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
-_COLUMN = re.compile(r"^(t|time|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
-#: Other names of a kind: time, currents, and velocities and accelerations as FIGAROH's files
-#: write them.
-_KIND = {"time": "t", "i": "tau", "dq": "qd", "ddq": "qdd"}
-#: A column naming a joint of the robot file and a ROS JointState field, and its kind.
-_NAMED = re.compile(r"^(.+)_(position|velocity|acceleration|effort)$")
+_COLUMN = re.compile(r"^(t|time|__time|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
+#: Other names of a kind: time (PlotJuggler's ``__time``), currents, and velocities and
+#: accelerations as FIGAROH's files write them.
+_KIND = {"time": "t", "__time": "t", "i": "tau", "dq": "qd", "ddq": "qdd"}
+#: A column naming a joint of the robot file and a ROS JointState field, and its kind:
+#: ``<joint>_position`` or, as PlotJuggler names a JointState topic's series,
+#: ``/<topic>/<joint>/position``.
+_NAMED = re.compile(r"^(?:/.*/)?(.+?)[_/](position|velocity|acceleration|effort)$")
 _FIELD = {"position": "q", "velocity": "qd", "acceleration": "qdd", "effort": "tau"}
 
 
@@ -1320,6 +1323,56 @@ def _echoed_frame(raw, header, at, slots, fields, columns, joints):
         n[:MAX_NAME] for n in dict.fromkeys(first) if n not in joints]
 
 
+def _juggled_values(raw, path, joints, notes):
+    """(values, names, row numbers) of the bytes of PlotJuggler's CSV export (header ``__time``
+    [s], then a column per series, a JointState topic's ``/<topic>/<joint>/position``,
+    ``/velocity``, ``/effort``; a row per time stamp of any series exported, a cell blank where
+    its series has no sample): ``t`` and each chain joint's series (``joints``) as columns
+    ``<joint>_position`` etc., every other series ignored. Rows where the chain's series are all
+    blank (another topic's stamps) are left out, with a note in ``notes``; an InputError names
+    the row and column of a ragged row, of a blank cell beside the chain's others, or of a cell
+    that is not a number, or the column of a series given twice or missing."""
+    (_, header), *data = _numbered_rows(raw, path, long_cell=True)
+    header = [c.strip() for c in header]
+    if joints is None:
+        raise InputError("PlotJuggler's CSV export: its columns name the joints by the robot's "
+                         "joint names", path, row=1, column="__time")
+    at: dict = {}
+    for c, name in enumerate(header):
+        m = _NAMED.fullmatch(name) if name.startswith("/") else None
+        if m and m[1] in joints and at.setdefault((m[2], m[1]), c) != c:
+            raise InputError(f"columns {header[at[m[2], m[1]]]!r} and {name!r} both hold joint "
+                             f"{m[1]!r}'s {m[2]}", path, row=1, column=name)
+    fields = [f for f in ("position", "velocity", "effort") if any((f, j) in at for j in joints)]
+    for f, j in ((f, j) for f in fields for j in joints if (f, j) not in at):
+        raise InputError(f"no {f} series of joint {j!r} (a column /<topic>/{j}/{f}) beside the "
+                         f"other joints'", path, row=1, column=f"/<topic>/{j}/{f}")
+    cols = [0] + [at[f, j] for f in fields for j in joints]
+    kept, skipped = [], []
+    for row, cells in data:
+        if len(cells) != len(header):
+            raise InputError(f"ragged row: {len(cells)} cells, the header has {len(header)}",
+                             path, row=row)
+        blank = [c for c in cols[1:] if not cells[c].strip(" \t")]
+        if len(blank) == len(cols) - 1:
+            skipped.append(row)
+        elif blank:
+            raise InputError("a blank cell beside the other joints' values in this row", path,
+                             row=row, column=header[blank[0]])
+        else:
+            kept.append((row, [cells[c] for c in cols]))
+    others = dict.fromkeys(m[1][:MAX_NAME] for name in header if name.startswith("/") and (
+        m := _NAMED.fullmatch(name)) and m[1] not in joints)
+    notes.append(one_line(
+        f"{path}: PlotJuggler's CSV export: t from __time [s]" + (
+            f"; {len(header) - len(cols)} other columns ignored" if len(header) > len(cols)
+            else "") + (f" (joints outside the chain: {', '.join(others)})" if others else "") + (
+            f"; {_joints(len(skipped), 'row')} holding none of the chain's series left out "
+            f"(first at row {skipped[0]})" if skipped else "")))
+    names = [header[c] for c in cols]
+    return _cell_values(kept, names, path), names, np.array([row for row, _ in kept], int)
+
+
 #: A time stamp earlier than the row before by more than this many median steps starts another
 #: recording (a file appended to another), not a stamp out of order: refused.
 BACK_STEPS = 20
@@ -1440,6 +1493,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
 
         values, names, rows, sha256 = _read_csv(file, header, lambda raw: (
             _echoed_values(raw, file, joint_names, notes) if raw.startswith(b"%time,")
+            else _juggled_values(raw, file, joint_names, notes) if raw.startswith(b"__time,")
             else _validated_values(raw, file, header)))
         keys = _keys(names, file, joint_names, current, seen)[1]
         kinds = {kind: [k for k, key in enumerate(keys) if key[0] == kind] for kind in _LIMITS}
