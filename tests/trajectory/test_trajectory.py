@@ -380,6 +380,10 @@ def test_a_recording_appended_to_another_is_refused_at_the_row_its_time_restarts
     with pytest.raises(InputError, match="row 52, column t: the time goes back"):
         recording_from_arrays(np.concatenate([t, t]), np.concatenate([q, q + 1])[:, None],
                               np.zeros((100, 1)))
+    for name in ("time", "__time"):     # the file's own name of its time column
+        _write(path, f"{name},q1,tau1\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in rows))
+        with pytest.raises(InputError, match=f"row 52, column {name}: the time goes back"):
+            read_recording(path)
 
 def test_columns_in_any_order_with_derivatives(tmp_path):
     body = "".join(f"{0.01 * k},{k},{2 * k},{3 * k},{4 * k}\n" for k in range(12))

@@ -210,8 +210,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
     """
     path = _csv_path(path, n_joints)
     with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
-        recorded = re.search(rb"^(?:\xef\xbb\xbf)?(%|__)time,|,[ \t]*tau[0-9]|_(position|effort)"
-                             rb"[ \t]*(,|\r?\n|$)", fh.readline(HEADER_BYTES)) is not None
+        recorded = re.search(rb"^(?:\xef\xbb\xbf)?(%time,|" + _JUGGLED.pattern + rb")|,[ \t]*"
+                             rb"tau[0-9]|_(position|effort)[ \t]*(,|\r?\n|$)",
+                             fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints, joint_names=joint_names)
         qd, qdd = (_spline(rec.t, rec.q, path, lambda k: int(np.asarray(rec.rows)[k]),
@@ -1207,6 +1208,8 @@ def _columns(keys, names, path, n_joints, joints):
     return out, notes
 
 
+#: The header of PlotJuggler's CSV export: ``__time`` and a series' path.
+_JUGGLED = re.compile(rb"__time,(?:[^\r\n]*,)?/")
 #: Longest joint name a message quotes from a file [characters].
 MAX_NAME = 200
 #: A column of ``rostopic echo -p`` on a sensor_msgs/JointState topic: an array's field and index.
@@ -1378,8 +1381,9 @@ def _juggled_values(raw, path, joints, notes):
 BACK_STEPS = 20
 
 
-def _ordered(t, arrays, rows, path):
-    """Sort by time (stable), drop repeated stamps (keep the first), and say what was done."""
+def _ordered(t, arrays, rows, path, column="t"):
+    """Sort by time (stable), drop repeated stamps (keep the first), and say what was done;
+    ``column``: the time column's name in the file."""
     notes = []
     order = np.argsort(t, kind="stable")
     back = np.flatnonzero(np.diff(t) < 0)          # a stamp earlier than the one before
@@ -1391,7 +1395,7 @@ def _ordered(t, arrays, rows, path):
         raise InputError(f"the time goes back from {t[k]:.9g} s to {t[k + 1]:.9g} s, "
                          f"{(t[k] - t[k + 1]) / step:.3g} median steps (a recording appended to "
                          f"another? Sorted by time, the two would interleave): give each "
-                         f"recording as its own file", path, row=int(rows[k + 1]), column="t")
+                         f"recording as its own file", path, row=int(rows[k + 1]), column=column)
     if back.size:
         notes.append(f"{path}: {back.size} time stamps earlier than the row before (first at "
                      f"row {rows[back[0] + 1]}): rows sorted by time")
@@ -1405,7 +1409,7 @@ def _ordered(t, arrays, rows, path):
     if t.size < MIN_SAMPLES:
         raise InputError(f"{t.size} distinct time stamps (this row repeats an earlier one, as "
                          f"{repeated.size - 1} more do): at least {MIN_SAMPLES} are needed",
-                         path, row=int(repeated[0]), column="t")
+                         path, row=int(repeated[0]), column=column)
     return t, arrays, rows, notes
 
 
@@ -1493,7 +1497,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
 
         values, names, rows, sha256 = _read_csv(file, header, lambda raw: (
             _echoed_values(raw, file, joint_names, notes) if raw.startswith(b"%time,")
-            else _juggled_values(raw, file, joint_names, notes) if raw.startswith(b"__time,")
+            else _juggled_values(raw, file, joint_names, notes) if _JUGGLED.match(raw)
             else _validated_values(raw, file, header)))
         keys = _keys(names, file, joint_names, current, seen)[1]
         kinds = {kind: [k for k, key in enumerate(keys) if key[0] == kind] for kind in _LIMITS}
@@ -1507,7 +1511,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
             raise InputError(f"the clock is not {joined[0]}'s: " + (
                 f"t = {t[k]:.9g} s, there {t0[k]:.9g} s" if k < min(t.size, t0.size) else
                 f"{t.size} rows, it has {t0.size}"), file, row=int(rows[min(k, t.size - 1)]),
-                column="t")
+                column=names[keys.index(("t", 1))])
         parts.append((file, sha256, values, rows, keys, names, t))
     keys, names = ([x for part in parts for x in part[i]] for i in (4, 5))
     cols, more = _columns(keys, names, source, n_joints, joint_names if "name" in seen else None)
@@ -1521,7 +1525,8 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         warnings.warn(note, InputNote, stacklevel=2)
     get = {k: values[:, idx] for k, idx in cols.items()}
     t, (q, tau, qd, qdd), rows, more = _ordered(
-        get["t"][:, 0], [get.get(k) for k in ("q", "tau", "qd", "qdd")], parts[0][3], source)
+        get["t"][:, 0], [get.get(k) for k in ("q", "tau", "qd", "qdd")], parts[0][3], source,
+        names[cols["t"][0]])
     sha256 = parts[0][1] if len(parts) == 1 else hashlib.sha256(
         " ".join(part[1] for part in parts).encode()).hexdigest()
     return Recording(t=t, q=q, tau=tau, qd=qd, qdd=qdd, rows=rows, current=bool(current),
