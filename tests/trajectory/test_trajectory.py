@@ -911,6 +911,72 @@ def test_a_plotjuggler_export_that_cannot_be_read_is_one_line(tmp_path, blank, e
     assert str(e.value) == f"{tmp_path / 'p.csv'}: {said}"
 
 
+def _rtde_log(path, t, fields, delimiter=" ", torques=True):
+    """A UR RTDE log as the RTDE client's record.py (spaces) or ur_rtde's file recording
+    (commas) writes it with a recipe of targets, measurements and others: ``timestamp``, each
+    6-vector as ``<field>_0..<field>_5``, an integer field; ``fields``: the measured
+    ``actual_q``, ``actual_qd``, ``actual_current`` and (``torques``)
+    ``actual_current_as_torque`` [N m], the targets random."""
+    rng = np.random.default_rng(1)
+    recipe = ["target_q", "target_qd", "target_qdd", "target_current", "target_moment",
+              "actual_current", "actual_q", "actual_qd", "actual_TCP_pose", "robot_mode",
+              *(["actual_current_as_torque"] if torques else [])]
+    head, blocks = ["timestamp"], [t[:, None]]
+    for name in recipe:
+        width = 1 if name == "robot_mode" else 6
+        head += [name] if width == 1 else [f"{name}_{k}" for k in range(6)]
+        blocks.append(fields[name] if name in fields else np.round(
+            rng.normal(size=(t.size, width)), 1 if width == 1 else 6))
+    lines = [delimiter.join(head)] + [delimiter.join(repr(float(v)) for v in row)
+                                      for row in np.hstack(blocks)]
+    Path(path).write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("delimiter", [" ", ","])
+def test_a_ur_rtde_log_reads_as_the_recording_of_its_measured_fields(tmp_path, delimiter):
+    """A UR RTDE log (record.py's spaces, ur_rtde's commas; targets, currents, the TCP pose and
+    the robot mode beside the measured fields) reads as the recording t = timestamp, q =
+    actual_q, qd = actual_qd, tau = actual_current_as_torque (oracle: the arrays written), its
+    joints numbered from 0 counted from 1; with --current, tau holds actual_current. It was
+    refused ("unknown column 'timestamp target_q_0 ..'")."""
+    rng = np.random.default_rng(4)
+    t = 1234.5 + 0.008 * np.arange(25)
+    fields = {k: rng.normal(size=(25, 6)) for k in (
+        "actual_q", "actual_qd", "actual_current", "actual_current_as_torque")}
+    _rtde_log(tmp_path / "ur.csv", t, fields, delimiter)
+    for current, tau in ((False, "actual_current_as_torque"), (True, "actual_current")):
+        with pytest.warns(InputNote) as caught:
+            rec = read_recording(tmp_path / "ur.csv", 6, current=current)
+        for key, want in (("t", t), ("q", fields["actual_q"]), ("qd", fields["actual_qd"]),
+                          ("tau", fields[tau])):
+            assert np.array_equal(getattr(rec, key), want), key
+        assert rec.qdd is None and rec.column("tau", 5) == f"{tau}_5"
+        said = [str(w.message) for w in caught]
+        assert said[0] == f"{tmp_path / 'ur.csv'}: a UR RTDE log: t from timestamp [s], " + (
+            "motor currents from actual_current" if current else
+            "torques from actual_current_as_torque") + "; 43 other columns ignored"
+        kinds = [f"{k}_0..{k}_5" for k in ("actual_q", "actual_qd", tau)]    # the file's order
+        kinds = kinds[2:] + kinds[:2] if current else kinds
+        assert said[1] == f"{tmp_path / 'ur.csv'}: columns {', '.join(kinds)} number the joints " \
+            f"from 0: read as joints from 1"
+    with pytest.warns(InputNote):
+        assert np.array_equal(read_trajectory(tmp_path / "ur.csv", 6).q, fields["actual_q"])
+
+
+def test_a_ur_rtde_log_without_torques_says_what_to_record(tmp_path):
+    """An RTDE log of a controller before PolyScope 5.23 (no actual_current_as_torque), read
+    without --current: one line naming the field to record, or the currents to give."""
+    rng = np.random.default_rng(2)
+    fields = {k: rng.normal(size=(12, 6)) for k in ("actual_q", "actual_qd", "actual_current")}
+    _rtde_log(tmp_path / "old.csv", 0.008 * np.arange(12), fields, torques=False)
+    with pytest.raises(InputError) as e:
+        read_recording(tmp_path / "old.csv", 6)
+    assert str(e.value) == (
+        f"{tmp_path / 'old.csv'}: row 1, column actual_current_as_torque_0: a UR RTDE log "
+        f"without actual_current_as_torque_0..: record it (PolyScope 5.23 or later), or "
+        f"actual_current with --current --drive-gains")
+
+
 def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):
     """``t,q0..q2,dq0..dq2,ddq0..ddq2,tau1..tau3``, as FIGAROH's UR10 recordings are written:
     the same recording as ``t,q1..,qd1..,qdd1..,tau1..`` (oracle: the arrays written), with one

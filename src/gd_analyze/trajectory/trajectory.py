@@ -19,8 +19,10 @@ joints instead, as a ROS ``joint_states`` export does (``<joint>_position``, ``_
 ``_acceleration``, ``_effort``, a leading ``"- "`` ignored; other joints' columns ignored with
 a note), or be ROS 1's ``rostopic echo -p`` of a JointState topic (``%time``,
 ``field.header.stamp`` in ns, ``field.name<k>``, ``field.position<k>``...) or PlotJuggler's CSV
-export of one (``__time`` [s], ``/<topic>/<joint>/position``...), and ``A.csv+B.csv``
-joins files on one clock into one recording.
+export of one (``__time`` [s], ``/<topic>/<joint>/position``...), or a UR RTDE log
+(``timestamp``, ``actual_q_0``.., ``actual_qd_0``.., ``actual_current_as_torque_0``.. or with
+``--current`` ``actual_current_0``..), and ``A.csv+B.csv`` joins files on one clock into one
+recording.
 
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
 sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
@@ -210,8 +212,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
     """
     path = _csv_path(path, n_joints)
     with open(path, "rb") if os.path.isfile(path) else io.BytesIO() as fh:   # else refused below
-        recorded = re.search(rb"^(?:\xef\xbb\xbf)?(%time,|" + _JUGGLED.pattern + rb")|,[ \t]*"
-                             rb"tau[0-9]|_(position|effort)[ \t]*(,|\r?\n|$)",
+        recorded = re.search(rb"^(?:\xef\xbb\xbf)?(%time,|" + _JUGGLED.pattern + rb"|"
+                             + _RTDE_HEAD.pattern + rb")|,[ \t]*tau[0-9]|_(position|effort)"
+                             rb"[ \t]*(,|\r?\n|$)",
                              fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
         rec = read_recording(path, n_joints, joint_names=joint_names)
@@ -473,7 +476,7 @@ _PLAIN_BYTES = b"0123456789.eE+-, \t\r\n"
 MAX_CELL = 1000
 
 
-def _numbered_rows(raw, path, long_cell=False):
+def _numbered_rows(raw, path, long_cell=False, delimiter=","):
     """The rows of a CSV file's bytes that are not blank, (row number, cells) each; an
     InputError for bytes that are not UTF-8 text without a NUL byte (naming the row and the
     byte that is not UTF-8), not CSV, or no row
@@ -486,7 +489,7 @@ def _numbered_rows(raw, path, long_cell=False):
     if "\x00" in text:
         raise InputError("not a text file (holds a NUL byte)", path)
     try:
-        rows = list(csv.reader(io.StringIO(text, newline="")))
+        rows = list(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter))
     except csv.Error as exc:
         if long_cell and "field larger than field limit" in str(exc):
             raise InputError(f"a cell longer than {csv.field_size_limit()} characters: not a "
@@ -1050,10 +1053,14 @@ MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
-_COLUMN = re.compile(r"^(t|time|__time|q|qd|qdd|dq|ddq|tau|i)(\d*)$")
-#: Other names of a kind: time (PlotJuggler's ``__time``), currents, and velocities and
-#: accelerations as FIGAROH's files write them.
-_KIND = {"time": "t", "__time": "t", "i": "tau", "dq": "qd", "ddq": "qdd"}
+_COLUMN = re.compile(r"^(t|time|__time|timestamp|q|qd|qdd|dq|ddq|tau|i|actual_q_|actual_qd_|"
+                     r"actual_current_as_torque_|actual_current_)(\d*)$")
+#: Other names of a kind: time (PlotJuggler's ``__time``, a UR RTDE log's ``timestamp``),
+#: currents, velocities and accelerations as FIGAROH's files write them, and a UR RTDE log's
+#: measured positions, velocities, torques and currents (numbered from 0).
+_KIND = {"time": "t", "__time": "t", "timestamp": "t", "i": "tau", "dq": "qd", "ddq": "qdd",
+         "actual_q_": "q", "actual_qd_": "qd", "actual_current_as_torque_": "tau",
+         "actual_current_": "tau"}
 #: A column naming a joint of the robot file and a ROS JointState field, and its kind:
 #: ``<joint>_position`` or, as PlotJuggler names a JointState topic's series,
 #: ``/<topic>/<joint>/position``.
@@ -1141,7 +1148,7 @@ def _keys(header, path, joints, current, seen):
         m, named = _COLUMN.match(bare := name.removeprefix("- ").strip()), _NAMED.match(bare)
         kind = m and _KIND.get(m.group(1), m.group(1))
         if m and (kind == "t") != bool(m.group(2)):
-            if m.group(1) == "i" and not current:
+            if m.group(1) in ("i", "actual_current_") and not current:
                 raise InputError(f"column {name!r} holds a current: give --current, --drive-gains",
                                  path, row=1, column=name)
             key = (kind, int(m.group(2) or 1))
@@ -1210,6 +1217,8 @@ def _columns(keys, names, path, n_joints, joints):
 
 #: The header of PlotJuggler's CSV export: ``__time`` and a series' path.
 _JUGGLED = re.compile(rb"__time,(?:[^\r\n]*,)?/")
+#: A UR RTDE log's header: the controller's ``timestamp`` and each joint's measured position.
+_RTDE_HEAD = re.compile(rb"timestamp[ ,][^\r\n]*\bactual_q_0\b")
 #: Longest joint name a message quotes from a file [characters].
 MAX_NAME = 200
 #: A column of ``rostopic echo -p`` on a sensor_msgs/JointState topic: an array's field and index.
@@ -1352,18 +1361,15 @@ def _juggled_values(raw, path, joints, notes):
                          f"other joints'", path, row=1, column=f"/<topic>/{j}/{f}")
     cols = [0] + [at[f, j] for f in fields for j in joints]
     kept, skipped = [], []
-    for row, cells in data:
-        if len(cells) != len(header):
-            raise InputError(f"ragged row: {len(cells)} cells, the header has {len(header)}",
-                             path, row=row)
-        blank = [c for c in cols[1:] if not cells[c].strip(" \t")]
+    for row, cells in _picked(data, len(header), cols, path):
+        blank = [k for k, x in enumerate(cells) if k and not x.strip(" \t")]
         if len(blank) == len(cols) - 1:
             skipped.append(row)
         elif blank:
             raise InputError("a blank cell beside the other joints' values in this row", path,
-                             row=row, column=header[blank[0]])
+                             row=row, column=header[cols[blank[0]]])
         else:
-            kept.append((row, [cells[c] for c in cols]))
+            kept.append((row, cells))
     others = dict.fromkeys(m[1][:MAX_NAME] for name in header if name.startswith("/") and (
         m := _NAMED.fullmatch(name)) and m[1] not in joints)
     notes.append(one_line(
@@ -1373,6 +1379,43 @@ def _juggled_values(raw, path, joints, notes):
             f"; {_joints(len(skipped), 'row')} holding none of the chain's series left out "
             f"(first at row {skipped[0]})" if skipped else "")))
     names = [header[c] for c in cols]
+    return _cell_values(kept, names, path), names, np.array([row for row, _ in kept], int)
+
+
+def _picked(data, width, cols, path):
+    """The cells of the columns ``cols`` of each row ``data`` ((row number, cells) each), or an
+    InputError naming the first ragged row (``width``: the header's number of cells)."""
+    for row, cells in data:
+        if len(cells) != width:
+            raise InputError(f"ragged row: {len(cells)} cells, the header has {width}", path,
+                             row=row)
+    return [(row, [cells[c] for c in cols]) for row, cells in data]
+
+
+def _rtde_values(raw, path, current, notes):
+    """(values, names, row numbers) of the bytes of a UR RTDE log (header ``timestamp``, then
+    the recipe's fields, a vector's as ``actual_q_0..``, separated by spaces as the RTDE
+    client's ``record.py`` writes it or by commas as ``ur_rtde``'s file recording does):
+    ``timestamp`` [s] and each joint's measured position ``actual_q``, velocity ``actual_qd``
+    and torque ``actual_current_as_torque`` (PolyScope 5.23 or later), or with ``current`` its
+    motor current ``actual_current`` [A]; every other field ignored, with a note in ``notes``.
+    An InputError names the row and column of a fault, or a log without the torques asked."""
+    delimiter = "," if b"," in raw.split(b"\n", 1)[0] else " "
+    (_, header), *data = _numbered_rows(raw, path, long_cell=True, delimiter=delimiter)
+    header = [c.strip() for c in header]
+    torque = "actual_current" if current else "actual_current_as_torque"
+    cols = [c for c, name in enumerate(header)
+            if re.fullmatch(rf"timestamp|actual_qd?_\d+|{torque}_\d+", name)]
+    names = [header[c] for c in cols]
+    if not any(name.startswith(torque) for name in names):
+        raise InputError(f"a UR RTDE log without {torque}_0..: record it" + (
+            "" if current else " (PolyScope 5.23 or later), or actual_current with --current "
+            "--drive-gains"), path, row=1, column=f"{torque}_0")
+    notes.append(f"{path}: a UR RTDE log: t from timestamp [s], " + (
+        "motor currents from actual_current" if current else "torques from "
+        "actual_current_as_torque") + (f"; {len(header) - len(cols)} other columns ignored"
+                                       if len(header) > len(cols) else ""))
+    kept = _picked(data, len(header), cols, path)
     return _cell_values(kept, names, path), names, np.array([row for row, _ in kept], int)
 
 
@@ -1498,6 +1541,7 @@ def read_recording(path: str | os.PathLike[str], n_joints: int | None = None,
         values, names, rows, sha256 = _read_csv(file, header, lambda raw: (
             _echoed_values(raw, file, joint_names, notes) if raw.startswith(b"%time,")
             else _juggled_values(raw, file, joint_names, notes) if _JUGGLED.match(raw)
+            else _rtde_values(raw, file, current, notes) if _RTDE_HEAD.match(raw)
             else _validated_values(raw, file, header)))
         keys = _keys(names, file, joint_names, current, seen)[1]
         kinds = {kind: [k for k, key in enumerate(keys) if key[0] == kind] for kind in _LIMITS}
