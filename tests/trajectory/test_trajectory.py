@@ -977,6 +977,31 @@ def test_a_ur_rtde_log_without_torques_says_what_to_record(tmp_path):
         f"actual_current with --current --drive-gains")
 
 
+def test_files_of_one_kind_each_naming_the_joints_bare_read_as_one_recording(tmp_path):
+    """FIGAROH's SO-101 recordings: one file per kind, ``q.csv``, ``dq.csv``,
+    ``current_mA.csv``, each ``t`` and a column per joint by its bare name (the gripper's
+    beside the chain's), joined by ``+``: the kind from the file's name, the currents read
+    with --current (oracle: the arrays written), the gripper ignored with a note. They were
+    refused ("unknown column 'shoulder_pan'"); without --current the currents are refused."""
+    rng = np.random.default_rng(8)
+    joints = ["shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll"]
+    t = 0.02 * np.arange(30)
+    arrays = {name: rng.normal(size=(30, 6)) for name in ("q", "dq", "current_mA")}
+    for name, values in arrays.items():
+        pd.DataFrame({"t": t, **{j: values[:, c] for c, j in enumerate([*joints, "gripper"])}}
+                     ).to_csv(tmp_path / f"{name}.csv", index=False, float_format="%.17g")
+    joined = "+".join(str(tmp_path / f"{name}.csv") for name in arrays)
+    with pytest.warns(InputNote) as caught:
+        rec = read_recording(joined, 5, current=True, joint_names=joints)
+    for key, name in (("q", "q"), ("qd", "dq"), ("tau", "current_mA")):
+        assert np.array_equal(getattr(rec, key), arrays[name][:, :5]), key
+    assert [str(w.message) for w in caught] == [
+        f"{joined}: columns of joints outside the chain ignored: gripper"]
+    with pytest.raises(InputError, match="column 'shoulder_pan' holds a current .by the file's "
+                                         "name.: give --current, --drive-gains"):
+        read_recording(joined, 5, joint_names=joints)
+
+
 def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):
     """``t,q0..q2,dq0..dq2,ddq0..ddq2,tau1..tau3``, as FIGAROH's UR10 recordings are written:
     the same recording as ``t,q1..,qd1..,qdd1..,tau1..`` (oracle: the arrays written), with one

@@ -22,7 +22,8 @@ a note), or be ROS 1's ``rostopic echo -p`` of a JointState topic (``%time``,
 export of one (``__time`` [s], ``/<topic>/<joint>/position``...), or a UR RTDE log
 (``timestamp``, ``actual_q_0``.., ``actual_qd_0``.., ``actual_current_as_torque_0``.. or with
 ``--current`` ``actual_current_0``..), and ``A.csv+B.csv`` joins files on one clock into one
-recording.
+recording (files of one kind each, ``q.csv+dq.csv+current_mA.csv``, may name the joints bare:
+the kind from the file's name).
 
 Real logs have irregular clocks, out-of-order and repeated time stamps: :func:`read_recording`
 sorts the rows by time (stable) and keeps the first of rows with the same time stamp, and says
@@ -1066,6 +1067,10 @@ _KIND = {"time": "t", "__time": "t", "timestamp": "t", "i": "tau", "dq": "qd", "
 #: ``/<topic>/<joint>/position``.
 _NAMED = re.compile(r"^(?:/.*/)?(.+?)[_/](position|velocity|acceleration|effort)$")
 _FIELD = {"position": "q", "velocity": "qd", "acceleration": "qdd", "effort": "tau"}
+#: The kind of a file of one kind whose columns are the joints' bare names (as FIGAROH's SO-101
+#: recordings, ``q.csv``, ``dq.csv``, ``current_mA.csv``), by its name up to the first ``_``.
+_FILE_KIND = {"q": "q", "qd": "qd", "dq": "qd", "qdd": "qdd", "ddq": "qdd", "tau": "tau",
+              "effort": "tau", "torque": "tau", "current": "i", "i": "i"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -1155,6 +1160,13 @@ def _keys(header, path, joints, current, seen):
         elif named and joints is not None:      # ("-", name): a joint outside the chain
             key = (_FIELD[named[2]], joints.index(named[1]) + 1) if named[1] in joints else \
                 ("-", named[1])
+        elif joints is not None and (of_file := _FILE_KIND.get(
+                os.path.basename(path).split(".")[0].split("_")[0].lower())):
+            if of_file == "i" and not current:
+                raise InputError(f"column {name!r} holds a current (by the file's name): give "
+                                 f"--current, --drive-gains", path, row=1, column=name)
+            key = ("tau" if of_file == "i" else of_file, joints.index(bare) + 1) \
+                if bare in joints else ("-", bare)
         else:
             raise InputError(f"unknown column {name!r} (expected t,q1..qn,tau1..taun[,qd1..qdn,"
                              f"qdd1..qddn] or <joint>_position,_effort[,_velocity,_acceleration])",
