@@ -156,6 +156,10 @@ class Consistent:
         True if the identified base and drive parameters were reached (residual below
         :data:`REPRODUCED`).
     solver : str
+    closest : bool
+        True if, among the consistent parameters of the smallest residual, these are the
+        closest to the prior (the second problem solved); False if only the first was: the
+        consistent parameters of the smallest residual the solver found.
     """
 
     phi: np.ndarray
@@ -163,6 +167,7 @@ class Consistent:
     residual: float
     reproduces: bool
     solver: str
+    closest: bool = True
 
 
 #: A relative weighted residual below this counts as reproducing the identified parameters.
@@ -214,8 +219,11 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     Raises
     ------
     SolverFailure
-        If neither Clarabel nor SCS solves the problem (a RuntimeError), or a solution it calls
-        (inaccurately) optimal has a pseudo-inertia not >= 0 (to 1e-10 of its scale).
+        If neither Clarabel nor SCS solves the first problem (a RuntimeError), or each solution
+        it calls (inaccurately) optimal has a pseudo-inertia not >= 0 (to 1e-10 of its scale).
+        Where no solver solves the second problem (its feasible set a sliver around the first's
+        optimum: a small arm whose prior is far off, in units of its largest link's), the
+        first's consistent solution of the smallest residual is returned, ``closest`` False.
     """
     import cvxpy as cp
 
@@ -247,7 +255,13 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
     nonneg = [k for k, kind in enumerate(drive_kinds) if kind != "offset"]
     second_cost = cp.sum_squares(u) + cp.sum_squares(
         cp.multiply(d_scale, v) + theta_hat[b:] - drive_prior) / k ** 2 if nd else cp.sum_squares(u)
-    solver, why = None, []
+    solver, why, firsts = None, [], []
+
+    def consistent(u_v):        # phi of u, if each pseudo-inertia >= 0 to 1e-10 of its scale
+        phi_v = (phi0.reshape(-1) + S * u_v).reshape(n, 10)
+        return None if (min_eigenvalues(phi_v) < -1e-10 * np.abs(phi_v[:, :6]).max(
+            axis=1)).any() else phi_v
+
     # Clarabel, else SCS, for both stages together; where both end a hair below 0 (within
     # their tolerance), both again with a margin 100 times larger
     for name, times in (("CLARABEL", 1), ("SCS", 1), ("CLARABEL", 100), ("SCS", 100)):
@@ -263,6 +277,8 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
             if first.status not in ("optimal", "optimal_inaccurate"):
                 why.append(f"{label}: {first.status}")
                 continue
+            if (phi_v := consistent(u.value)) is not None:    # kept, should the second fail
+                firsts.append((float(first.value), name, phi_v, v.value if nd else None))
             bound = float(first.value) * (1 + 1e-6) + REPRODUCED * 0.1
             second = cp.Problem(cp.Minimize(second_cost), cons + [resid <= bound])
             with warnings.catch_warnings():
@@ -271,8 +287,7 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
             if second.status not in ("optimal", "optimal_inaccurate"):
                 why.append(f"{label}: second stage {second.status}")
                 continue
-            phi_v = (phi0.reshape(-1) + S * u.value).reshape(n, 10)
-            if (min_eigenvalues(phi_v) < -1e-10 * np.abs(phi_v[:, :6]).max(axis=1)).any():
+            if (phi_v := consistent(u.value)) is None:
                 why.append(f"{label}: {second.status}, but a pseudo-inertia not >= 0")
                 continue        # an inaccurate solution that is not consistent: not one
         except cp.error.SolverError as exc:
@@ -280,16 +295,21 @@ def consistent_standard(base: BaseParameters, theta_hat: npt.NDArray[np.float64]
             continue
         solver = name
         break
-    if solver is None:
+    if solver is None and not firsts:
         raise SolverFailure("the consistency problem was solved by neither Clarabel nor SCS ("
                             + "; ".join(why) + ")")
-    d_v = theta_hat[b:] + d_scale * v.value if nd else np.zeros(0)
+    closest = solver is not None
+    if closest:
+        v_v = v.value if nd else None
+    else:                       # the first problem's consistent solution of least residual
+        _, solver, phi_v, v_v = min(firsts, key=lambda f: f[0])
+    d_v = theta_hat[b:] + d_scale * v_v if nd else np.zeros(0)
     if nonneg:
         d_v[nonneg] = np.maximum(d_v[nonneg], 0.0)
     th = np.concatenate([A @ phi_v.reshape(-1), d_v])
     residual = float(np.linalg.norm(R @ th[ok] - target) / norm)
     return Consistent(phi=phi_v, drives=d_v, residual=residual,
-                      reproduces=residual <= REPRODUCED, solver=solver)
+                      reproduces=residual <= REPRODUCED, solver=str(solver), closest=closest)
 
 
 class SolverFailure(RuntimeError):

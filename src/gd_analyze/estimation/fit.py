@@ -339,13 +339,15 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                                   theta0[b:])
         phi, drives = sol.phi, sol.drives
         theta = np.concatenate([base_map(base) @ phi.reshape(-1), drives])
+        closest = ("the closest to the robot file's" if sol.closest else "any: the solvers "
+                   "did not find which are the closest to the robot file's")
         method = (f"physically consistent (every pseudo-inertia >= 0, armature and friction "
                   f">= 0; cvxpy with {sol.solver}): "
-                  + ("they reproduce the identified base parameters; among those, the closest "
-                     "to the robot file's" if sol.reproduces else
+                  + (f"they reproduce the identified base parameters; among those, {closest}"
+                     if sol.reproduces else
                      f"no consistent parameters reproduce the identified ones: the closest fit "
                      f"(weighted residual {sol.residual:.3g} of the fit's scale), and among "
-                     f"those the closest to the robot file's"))
+                     f"those {closest}"))
         file_phi, file_drives, file_note = phi, drives, None
     else:
         phi = closest_standard(base, theta[:b], phi0)
@@ -362,7 +364,8 @@ def fit_robot(prior: Robot, train: Sequence[Preprocessed], drive_columns: Sequen
                          "hold: identified_robot.toml holds the physically consistent "
                          "parameters (as --consistent)"
                          + ("" if sol.reproduces else ", which do not reproduce the identified "
-                            "ones exactly"))
+                            "ones exactly") + ("" if sol.closest else " (the best consistent fit "
+                                               "found, not the closest to the robot file's)"))
             notes.append(file_note)
     per_kind = {k: np.array(getattr(prior, "torque_offset" if k == "offset" else k), float)
                 for k in DRIVE_KINDS}           # the file's, where not a column
