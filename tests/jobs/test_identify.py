@@ -1209,6 +1209,24 @@ def test_a_small_arm_s_noisy_recording_gives_consistent_parameters():
                for note in result.preprocessing)
 
 
+def test_recordings_joined_from_files_of_one_folder_are_named_by_the_folder(tmp_path):
+    """Two recordings each joined from files of one kind (fit/q.csv+fit/tau.csv,
+    held/q.csv+held/tau.csv): named fit and held in the results (and the reports), not q and
+    q_2 after their first files, which every recording shares."""
+    robot = _robot("two-link")
+    truth = truth_for(robot, seed=4)
+    paths = []
+    for folder, seconds, seed in (("fit", 10, 2), ("held", 5, 5)):
+        _, (t, q, _, _, tau) = _record(truth, robot.n, seconds, seed=seed)
+        (tmp_path / folder).mkdir()
+        for kind, values in (("q", q), ("tau", tau)):
+            np.savetxt(tmp_path / folder / f"{kind}.csv", np.column_stack([t, values]),
+                       delimiter=",", header=f"t,{kind}1,{kind}2", comments="")
+        paths.append(f"{tmp_path / folder / 'q.csv'}+{tmp_path / folder / 'tau.csv'}")
+    result = identify(robot, paths[:1], validate=paths[1:])
+    assert [fit.name for fit in result.recordings] == ["fit", "held"]
+
+
 def test_a_rostopic_echo_log_identifies_as_its_numbered_recording(tmp_path):
     """One Pinocchio recording of the UR5 (changed inertias, friction, offsets, 1 % noise)
     written as ``rostopic echo -p /joint_states`` writes it (ns stamps, the joints named in each

@@ -293,7 +293,10 @@ def identify(robot: Robot | str | Path,
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
                          f"{prep.STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
-    names = group_names([Path(r.files[0][0] if r.files else r.source).stem for r in train + valid])
+    # each recording's file's name; files joined from one folder (q.csv+dq.csv+..): the folder's
+    names = group_names([files[0].parent.name if len(files) > 1 and files[0].parent.name and len(
+        {f.parent for f in files}) == 1 else files[0].stem for files in (
+        [Path(f) for f, _ in r.files] or [Path(r.source)] for r in train + valid)])
     notes = []
     cutoff = options.cutoff
     if cutoff == "auto":
