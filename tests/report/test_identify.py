@@ -348,3 +348,17 @@ def test_a_reader_s_note_names_its_file_once():
     assert ctx["notes"]["run"] == ["2 rows repeat an earlier time stamp (first at row 9): the "
                                    "first row of each stamp kept.",
                                    "run: resampled onto a uniform 10 ms clock."]
+
+
+def test_the_robot_file_stands_once_in_the_provenance():
+    """identification.h5's inputs hold the recordings' files and the robot file; the provenance
+    table showed the robot file twice, as "robot file" with its SHA-256 and again as an "input"
+    row. Oracle: the stored inputs and robot_source."""
+    rng = np.random.default_rng(9)
+    root = _root(rng, ("a", "b"))
+    root.attrs["inputs"] = json.dumps({"/data/fit.csv": "ab" * 32, "arm.urdf": "cd" * 32})
+    rows = identify_context(root, {"run": _recording(rng, 0.0, 300, "train", "run", ("a", "b"))}
+                            )["provenance"]["rows"]
+    assert [k for k, _ in rows if "arm.urdf" in k or k.startswith("input")] == [
+        "input /data/fit.csv"]
+    assert dict(rows)["robot file"] == "arm.urdf"

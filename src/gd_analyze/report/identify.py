@@ -339,7 +339,8 @@ def _provenance(stored, created):
             ("robot file SHA-256", stored.robot_sha256),
             ("standard parameters", stored.standard_method),
             ("Coulomb friction model", stored.coulomb_model)]
-    rows += [(f"input {k}", str(v)) for k, v in inputs.items()] if isinstance(inputs, dict) else [
+    rows += [(f"input {k}", str(v)) for k, v in inputs.items()    # the robot file stands above
+             if k != stored.robot_source] if isinstance(inputs, dict) else [
         (f"input {_file_of(rec)}", rec.sha256) for rec in stored.recordings.values()]
     if isinstance(settings, dict):
         rows += [(f"setting {k}", _setting(v)) for k, v in sorted(settings.items())]
