@@ -553,13 +553,8 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
                        (SV.ADDITIONS, "additions and subtractions")):
         ds[name] = var((SV.EVALUATOR,), np.array(cost[name], np.int64), "1",
                        f"{what} per set point (counted)")
-    ds.attrs.update({SA.MERGED_FORM: str(facts["form"]),
-                     SA.MERGED_C_TERMS_KEPT: int(facts["c_terms_kept"]),
-                     SA.MERGED_C_TERMS: int(facts["c_terms"])})
-    if facts["form"] == "recursive":
-        ds.attrs.update({SA.MERGED_BASE_PARAMETERS: int(facts["base_parameters"]),
-                         SA.MERGED_PAIRS: int(facts["pairs"]),
-                         SA.MERGED_PAIRS_DROPPED: int(facts["pairs_dropped"]),
-                         SA.MERGED_DROPPED_PAIRS: str(facts["dropped_pairs"]),
-                         SA.MERGED_GRAVITY_DROPPED: str(facts["gravity_dropped"])})
+    # the model's facts as control.h5 states them (model_<fact>), here merged_<fact>
+    recursive = ("base_parameters", "pairs", "pairs_dropped", "dropped_pairs", "gravity_dropped")
+    ds.attrs.update({f"merged_{k}": facts[k] for k in ("form", "c_terms_kept", "c_terms",
+                     *(recursive if facts["form"] == "recursive" else ()))})
     return ds
