@@ -704,7 +704,9 @@ class Results(View):
     region_screen_proved: bool = stored(Attr.SIMPLIFIED_REGION_SCREEN_PROVED,
                                         lambda v: bool(int(v)), False, attr=True)
     base_parameters: BaseParameters | None = derived(BaseParameters.from_dataset)
-    simplified_operations: tuple[int, int] | None = derived(lambda ds: _operations(ds.attrs))
+    simplified_operations: tuple[int, int] | None = derived(lambda ds: (
+        (int(ds.attrs[Attr.SIMPLIFIED_MULTIPLICATIONS]), int(ds.attrs[Attr.SIMPLIFIED_ADDITIONS]))
+        if Attr.SIMPLIFIED_MULTIPLICATIONS in ds.attrs else None))
     pairs: tuple[int, int] = derived(lambda ds: (
         int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
         int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS, 0))))
@@ -812,15 +814,6 @@ def _torque_error(ds, units):
         TorqueErrorRow(joint=j + 1, **{field: float(x[j]) for field, x in v.items()},
                        units=units[j], round_off=bool(off[j]))
         for j in range(len(units))))
-
-
-def _operations(attrs):
-    """The emitted model's (multiplications, additions), or None where not stored."""
-    try:
-        return (int(attrs[Attr.SIMPLIFIED_MULTIPLICATIONS]),
-                int(attrs[Attr.SIMPLIFIED_ADDITIONS]))
-    except (KeyError, TypeError, ValueError):
-        return None
 
 
 def _verification(attrs):
