@@ -366,8 +366,8 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
         ``merged_choice`` = the model's whole-part choices (for the recursive form, which
         drops parameter parts, not element parts: ``pruned`` where those change the element
         on the swept trajectories, else ``both``);
-        ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory,
-        where the model gives it; ``merged_tau_error_peak``
+        ``merged_bound`` (trajectory, joint) [N m], the guaranteed bound on each trajectory
+        (``per_trajectory["bound"]``); ``merged_tau_error_peak``
         (trajectory, joint) [N m] and ``merged_tau_error_relative_peak`` (divided by that
         trajectory's scale_{t,i} = max(peak |tau_i|, TAU), guaranteed <= EPS; for a model
         proved over the joint-limit region, by its s_i over the region, the same on every
@@ -428,9 +428,8 @@ def with_budget_model(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Datase
     put(SV.MERGED_TAU_ERROR_PEAK, (SV.TRAJECTORY, SV.JOINT), peak, torque,
         "merged model: peak |tau_merged - tau| along the trajectory")
     put(SV.MERGED_SCALE, (SV.TRAJECTORY, SV.JOINT), scale, torque, words["scale"])
-    if "bound" in per:                  # the guarantee on each trajectory
-        put(SV.MERGED_BOUND, (SV.TRAJECTORY, SV.JOINT), np.asarray(per["bound"], float), torque,
-            words["bound"])
+    put(SV.MERGED_BOUND, (SV.TRAJECTORY, SV.JOINT), np.asarray(per["bound"], float), torque,
+        words["bound"])                 # the guarantee on each trajectory
     put(SV.MERGED_TAU_ERROR_RELATIVE_PEAK, (SV.TRAJECTORY, SV.JOINT), np.nan_to_num(rel, nan=np.inf),
         "1", words["relative"].format(eps=eps))
     if region:                          # the proof holds where the trajectory lies in R
@@ -554,13 +553,8 @@ def with_model_cost(sweep_ds: xr.Dataset, model: SimplifiedModel) -> xr.Dataset:
                        (SV.ADDITIONS, "additions and subtractions")):
         ds[name] = var((SV.EVALUATOR,), np.array(cost[name], np.int64), "1",
                        f"{what} per set point (counted)")
-    ds.attrs.update({SA.MERGED_FORM: str(facts["form"]),
-                     SA.MERGED_C_TERMS_KEPT: int(facts["c_terms_kept"]),
-                     SA.MERGED_C_TERMS: int(facts["c_terms"])})
-    if facts["form"] == "recursive":
-        ds.attrs.update({SA.MERGED_BASE_PARAMETERS: int(facts["base_parameters"]),
-                         SA.MERGED_PAIRS: int(facts["pairs"]),
-                         SA.MERGED_PAIRS_DROPPED: int(facts["pairs_dropped"]),
-                         SA.MERGED_DROPPED_PAIRS: str(facts["dropped_pairs"]),
-                         SA.MERGED_GRAVITY_DROPPED: str(facts["gravity_dropped"])})
+    # the model's facts as control.h5 states them (model_<fact>), here merged_<fact>
+    recursive = ("base_parameters", "pairs", "pairs_dropped", "dropped_pairs", "gravity_dropped")
+    ds.attrs.update({f"merged_{k}": facts[k] for k in ("form", "c_terms_kept", "c_terms",
+                     *(recursive if facts["form"] == "recursive" else ()))})
     return ds

@@ -428,7 +428,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
     choices : dict
         Element label -> kept part (``"tran"``, ``"rot"``, ``"both"``, ``"none"``).
     error : dict
-        Torque error per joint, as :func:`gd_analyze.simplify.simplified.torque_error` gives it.
+        Torque error per joint, as :func:`gd_analyze.simplify.simplified.torque_error` gives it,
+        with its round-off marks ``round_off`` (bool, per joint).
     verification : dict, optional
         Largest relative disagreement with Pinocchio per term, and the set points checked.
     settings : dict, optional
@@ -479,9 +480,8 @@ def summary_dataset(robot, trajectory, ranking, choices, error, verification=Non
         Var.TAU_PEAK: var(("joint",), np.array(error["peak_tau"]), torque, "peak |tau|"),
         Var.TAU_MAX: var(("joint",), np.asarray(robot.tau_max, float), torque,
                         "joint effort limit |tau| <= tau_max (NaN: not given)"),
-        **({} if "round_off" not in error else {Var.TAU_ERROR_ROUND_OFF: flag(
-            ("joint",), error["round_off"],
-            "1 where the torque error is floating-point round-off (shown as \u2261 0), not data")}),
+        Var.TAU_ERROR_ROUND_OFF: flag(("joint",), error["round_off"], "1 where the torque error "
+                                      "is floating-point round-off (shown as \u2261 0), not data"),
         Var.JOINT_TYPE: joint_type_var(robot),
         Var.DH_D: var(("joint",), robot.d, "m",
                     "DH link offset d (prismatic joint: its constant part, d = q + dh_d)"),

@@ -585,7 +585,7 @@ class RankingColumn:
         armature is not).
     required : bool
         A results file must hold it; an optional column a file does not hold is absent from
-        the view (the element's scale of a file written before it was stored reads NaN).
+        the view.
     nan_where_zero : bool
         Stored as NaN where the element is zero in every part (a ratio of round-off).
     round_off : str or None
@@ -682,8 +682,7 @@ RANKING_COLUMNS: Final[tuple[RankingColumn, ...]] = (
                   cli=CliShown("peak_total", ">12", ".4g"),
                   report=ReportShown("peak |{X}|", "peak", 1)),
     RankingColumn(Var.ELEMENT_SCALE, "scale", "ranking", ELEMENT_UNITS_RULE,
-                  "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|",
-                  required=False),
+                  "scale of the negligibility test: peak sqrt(D_ii D_jj) or |tau_i|"),
     RankingColumn(Var.DOMINANCE_RIGID_LINKS, "rigid_dominance", "ranking", "1",
                   "dominance class of the rigid links alone: drives (armature, friction) left "
                   "out", text=True, required=False),

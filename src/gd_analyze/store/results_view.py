@@ -416,8 +416,7 @@ class RankingTable:
     ----------
     columns : Mapping of str to ndarray, each shape (M,)
         Field -> values: ``label``, ``share_tran``, ``dominance``, ``chapter_dominance``,
-        ``choice``, ``peak_tran``, ``peak_rot``, ``peak_total``, ``scale`` (NaN for an older
-        file), ``units``, ``round_off``, and ``share_arm``, ``rigid_dominance`` where stored.
+        ``choice``, ``peak_tran``, ``peak_rot``, ``peak_total``, ``scale``, ``units``, ``round_off``, and ``share_arm``, ``rigid_dominance`` where stored.
     offs : Mapping of str to ndarray of bool, each shape (M,)
         Field -> its round-off flag (:func:`gd_analyze.ranking.ranking.is_round_off`),
         for the columns that declare one.
@@ -705,7 +704,9 @@ class Results(View):
     region_screen_proved: bool = stored(Attr.SIMPLIFIED_REGION_SCREEN_PROVED,
                                         lambda v: bool(int(v)), False, attr=True)
     base_parameters: BaseParameters | None = derived(BaseParameters.from_dataset)
-    simplified_operations: tuple[int, int] | None = derived(lambda ds: _operations(ds.attrs))
+    simplified_operations: tuple[int, int] | None = derived(lambda ds: (
+        (int(ds.attrs[Attr.SIMPLIFIED_MULTIPLICATIONS]), int(ds.attrs[Attr.SIMPLIFIED_ADDITIONS]))
+        if Attr.SIMPLIFIED_MULTIPLICATIONS in ds.attrs else None))
     pairs: tuple[int, int] = derived(lambda ds: (
         int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS_DROPPED, 0)),
         int(ds.attrs.get(Attr.SIMPLIFIED_PAIRS, 0))))
@@ -795,11 +796,9 @@ def _flags(ds, name):
 def _ranking(ds):
     """The ranking table, as :data:`gd_analyze.store.names.RANKING_COLUMNS` declares it, with
     the round-off marks stored at analysis."""
-    M = int(ds.sizes[Var.ELEMENT])
     columns = {c.field: (np.array(strings(ds[c.name].values)) if c.text
                          else np.asarray(ds[c.name].values, float))
                for c in RANKING_COLUMNS if c.source != "armature" and c.name in ds.variables}
-    columns.setdefault("scale", np.full(M, np.nan))     # a file written before it was stored
     columns["round_off"] = _flags(ds, Var.ELEMENT_ROUND_OFF)
     offs = {c.field: _flags(ds, c.round_off) for c in RANKING_COLUMNS
             if c.round_off is not None and c.field in columns}
@@ -815,15 +814,6 @@ def _torque_error(ds, units):
         TorqueErrorRow(joint=j + 1, **{field: float(x[j]) for field, x in v.items()},
                        units=units[j], round_off=bool(off[j]))
         for j in range(len(units))))
-
-
-def _operations(attrs):
-    """The emitted model's (multiplications, additions), or None where not stored."""
-    try:
-        return (int(attrs[Attr.SIMPLIFIED_MULTIPLICATIONS]),
-                int(attrs[Attr.SIMPLIFIED_ADDITIONS]))
-    except (KeyError, TypeError, ValueError):
-        return None
 
 
 def _verification(attrs):

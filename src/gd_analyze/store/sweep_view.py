@@ -671,18 +671,16 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
     kind = str(a.get("merged_guarantee_kind", "none"))
     rel = np.asarray(ds[SV.MERGED_TAU_ERROR_RELATIVE_PEAK].values, float)
     K = rel.shape[0]
-    if kind == "region" and SV.MERGED_COVERED in ds.variables:
+    if kind == "region":
         covered = np.asarray(ds[SV.MERGED_COVERED].values).astype(bool)
         reasons = strings(ds[SV.MERGED_COVERAGE].values)
     else:
         covered, reasons = np.ones(K, bool), [""] * K
     worst = np.where(np.isfinite(rel), rel, np.inf).max(axis=1) if rel.size else np.zeros(K)
-    sources = strings(ds[SV.SOURCE].values) if SV.SOURCE in ds.variables else \
-        [str(k) for k in range(K)]
+    sources = strings(ds[SV.SOURCE].values)
     peak = np.asarray(ds[SV.MERGED_TAU_ERROR_PEAK].values, float)
     scale = np.asarray(ds[SV.MERGED_SCALE].values, float)
-    bound = (np.asarray(ds[SV.MERGED_BOUND].values, float) if SV.MERGED_BOUND in ds.variables
-             else float(a[SA.MERGED_TOLERANCE]) * scale)
+    bound = np.asarray(ds[SV.MERGED_BOUND].values, float)
     within = all(within_bound(peak[k], bound[k], scale[k]).all() for k in np.flatnonzero(covered))
     inside = a.get(SA.HELD_OUT_INSIDE_REGION)
     return {"kind": kind, "statement": str(a["merged_guarantee_statement"]),
@@ -697,9 +695,9 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
 PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 
 #: The variables of a sweep dataset the report reads.
-REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION, SV.TAU_PEAK,
-            SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION, SV.SHARE_TRAN_MIN,
-            SV.SHARE_TRAN_MEDIAN, SV.SHARE_TRAN_MAX, SV.MERGED_CHOICE,
+REQUIRED = (SV.SHARE_TRAN, SV.ROUND_OFF, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION,
+            SV.SETPOINTS, SV.TAU_PEAK, SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION,
+            SV.SHARE_TRAN_MIN, SV.SHARE_TRAN_MEDIAN, SV.SHARE_TRAN_MAX, SV.MERGED_CHOICE,
             SV.MERGED_TAU_ERROR_RELATIVE_PEAK, *(name for _, name, *_ in MERGED_ERRORS))
 
 
@@ -845,11 +843,11 @@ class StoredSweep(View):
     share_min, share_median, share_max : ndarray, shape (M,)
         The translational share's spread over the trajectories [1].
     round_off : ndarray of bool, shape (K, M)
-        The elements that are round-off on each trajectory (all False in an older file).
+        The elements that are round-off on each trajectory.
     duration : ndarray, shape (K,)
         Each trajectory's duration [s].
     setpoints : ndarray, shape (K,)
-        Each trajectory's set points (empty where not stored).
+        Each trajectory's set points.
     sources : tuple of str, length K
         Each trajectory's name.
     tau_peak, tau_error_peak, tau_error_relative_peak : ndarray, shape (K, n)
@@ -878,11 +876,9 @@ class StoredSweep(View):
     share_min: np.ndarray = stored(SV.SHARE_TRAN_MIN)
     share_median: np.ndarray = stored(SV.SHARE_TRAN_MEDIAN)
     share_max: np.ndarray = stored(SV.SHARE_TRAN_MAX)
-    round_off: np.ndarray = derived(lambda ds: (
-        ds[SV.ROUND_OFF].values.astype(bool) if SV.ROUND_OFF in ds.variables
-        else np.zeros(ds[SV.SHARE_TRAN].shape, bool)))
+    round_off: np.ndarray = stored(SV.ROUND_OFF, lambda v: v.astype(bool))
     duration: np.ndarray = stored(SV.DURATION)
-    setpoints: np.ndarray = stored(SV.SETPOINTS, default=np.array([]))
+    setpoints: np.ndarray = stored(SV.SETPOINTS)
     sources: tuple[str, ...] = stored(SV.SOURCE, texts)
     tau_peak: np.ndarray = stored(SV.TAU_PEAK)
     tau_error_peak: np.ndarray = stored(SV.TAU_ERROR_PEAK)
