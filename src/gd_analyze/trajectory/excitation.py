@@ -49,7 +49,7 @@ from ..symbolic.drive_regressor import (
     identification_columns,
     identification_regressor,
 )
-from .planning import SampledMotion, default_motion_range
+from .planning import SampledMotion, check_velocity_limits, default_motion_range
 from .trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -423,12 +423,11 @@ def _gradient(x, columns, basis, s, V, up, down, Ws, norms, b, pullback, slope):
 
 
 def _limits(robot, qdd_max=None):
-    """lo, hi, qd_max, qdd_max (n,) each, and where qdd_max comes from."""
+    """lo, hi, qd_max, qdd_max (n,) each, and where qdd_max comes from; an InputError (a
+    ValueError) naming the first joint without a velocity limit
+    (:func:`~gd_analyze.trajectory.planning.check_velocity_limits`)."""
+    check_velocity_limits(robot)
     qd = np.asarray(robot.qd_max, float)
-    bad = ~(np.isfinite(qd) & (qd > 0))
-    if bad.any():
-        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has no velocity limit: an "
-                         "excitation needs one")
     qdd, source = acceleration_limits(robot, qdd_max)
     lo, hi = default_motion_range(robot)
     return lo, hi, qd, qdd, source
@@ -483,7 +482,8 @@ def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
     Raises
     ------
     ValueError
-        If K < 2 or a joint has no velocity limit.
+        If K < 2 or a joint has no velocity limit (an :class:`~gd_analyze.errors.InputError`,
+        :func:`~gd_analyze.trajectory.planning.check_velocity_limits`).
     """
     K = int(harmonics)
     if K < 2:
@@ -761,7 +761,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
         If K < 2, starts < 1, N > 10^8 or N below the least that resolves the highest
         harmonic and can identify the regressor's p columns (max(2 K periods + 2, ceil(p / n) +
         1): the last set point repeats the first's state), the timing is inconsistent
-        (:func:`excitation_timing`), or a joint has no velocity limit.
+        (:func:`excitation_timing`), or a joint has no velocity limit (an
+        :class:`~gd_analyze.errors.InputError`).
 
     Notes
     -----
