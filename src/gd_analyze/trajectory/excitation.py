@@ -117,31 +117,26 @@ class FourierSeries:
         """float: 2 pi / w_f [s]."""
         return 2 * math.pi / self.wf
 
-    def evaluate(self, t: np.ndarray, order: int = 2) -> tuple:
-        """Positions and their derivatives at given times.
+    def evaluate(self, t: np.ndarray) -> tuple:
+        """Positions, velocities and accelerations at given times.
 
         Parameters
         ----------
         t : array_like, shape (N,)
             Times [s].
-        order : int, optional
-            The highest derivative returned, 2 or 3.
 
         Returns
         -------
-        q, qd, qdd[, qddd] : ndarray, shape (N, n)
-            [rad, rad/s, rad/s^2, rad/s^3; m... for a prismatic joint].
+        q, qd, qdd : ndarray, shape (N, n)
+            [rad, rad/s, rad/s^2; m... for a prismatic joint].
         """
         t = np.asarray(t, float).reshape(-1)
         w = self.wf * np.arange(1, self.harmonics + 1)          # (K,)
         s, c = np.sin(np.outer(t, w)), np.cos(np.outer(t, w))    # (N, K)
         a, b = self.a.T, self.b.T                                  # (K, n)
-        out = [self.q0 + s @ (a / w[:, None]) - c @ (b / w[:, None]),
-               c @ a + s @ b,
-               c @ (w[:, None] * b) - s @ (w[:, None] * a)]
-        if order >= 3:
-            out.append(-c @ (w[:, None] ** 2 * a) - s @ (w[:, None] ** 2 * b))
-        return tuple(out)
+        return (self.q0 + s @ (a / w[:, None]) - c @ (b / w[:, None]),
+                c @ a + s @ b,
+                c @ (w[:, None] * b) - s @ (w[:, None] * a))
 
     def derivative_bounds(self) -> np.ndarray:
         """Bounds of |qd|, |qdd| and |qddd| over all times, from the amplitudes.
@@ -274,7 +269,7 @@ def excitation_condition(robot: Robot, columns: IdentificationColumns, series: F
     float
         :func:`scaled_condition` of the regressor stacked at the samples.
     """
-    q, qd, qdd = series.evaluate(_middles(series.period, samples))[:3]
+    q, qd, qdd = series.evaluate(_middles(series.period, samples))
     return scaled_condition(identification_regressor(robot, q, qd, qdd, columns))
 
 
