@@ -579,3 +579,20 @@ print(len(seen), max(n for _, n in seen), os.cpu_count())
     assert run.returncode == 0, run.stderr
     libraries, threads, cpus = map(int, run.stdout.split())
     assert libraries >= 2 and threads == 1, run.stdout
+
+
+def test_a_joint_without_a_velocity_limit_is_refused_as_plan_refuses_it():
+    """An excitation keeps to the limits a plan keeps to: a joint without a velocity limit is
+    refused by planning's own check, an InputError naming the joint and the robot file's key
+    that gives one, before any optimisation (the random start and the optimised plan alike)."""
+    import dataclasses
+
+    from gd_analyze.errors import InputError
+
+    robot = load_robot("puma560")
+    free = dataclasses.replace(robot, qd_max=np.where(np.arange(robot.n) == 1, np.nan,
+                                                      robot.qd_max))
+    for make in (random_excitation, plan_excitation):
+        with pytest.raises(InputError, match=r"^puma560: joint 2 has no velocity limit: planning "
+                                             r"needs one \(qd_max_deg\)$"):
+            make(free)

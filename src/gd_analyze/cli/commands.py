@@ -509,10 +509,9 @@ def _check_plan(robot, start, goal, duration):
     """Refuse a plan that breaks the robot's limits: InputError naming the joint and limit.
 
     start, goal in SI (rad, m for a prismatic joint); robot with the limits the plan uses."""
-    prismatic = np.asarray(getattr(robot, "prismatic", np.zeros(robot.n, bool)), bool)
 
     def show(j, v, unit=""):
-        return f"{v:g} m{unit}" if prismatic[j] else f"{math.degrees(v):g} deg{unit}"
+        return f"{v:g} m{unit}" if robot.prismatic[j] else f"{math.degrees(v):g} deg{unit}"
 
     for name, vals in (("--start", start), ("--goal", goal)):
         for j, v in enumerate(vals):
@@ -620,36 +619,32 @@ def cmd_plan(args: argparse.Namespace) -> int:
         raise InputError(f"the planned duration, {exact_text(T)} s, is beyond the supported "
                          f"magnitude {LIMITS['t']:g} s: the {kind} limits ({source}) are too small",
                          column=next((o for o in ("--qdd-max", "--qd-max") if o in source), None))
-    return _write_plan(args, robot, plan.chunks, ": choose a longer --duration", {
+    return _write_plan(args, robot, plan, {
+        "q_min": robot.q_min, "q_max": robot.q_max, "qd_max": robot.qd_max, "qdd_max": qdd_max,
+        "qdd_source": qdd_source}, ": choose a longer --duration", {
         "start": [float(v) for v in start], "goal": [float(v) for v in goal],
         "start_goal_units": "rad (m for a prismatic joint)",
-        "setpoints": plan.n_setpoints, "duration_s": float(T),
         "duration_from": "--duration" if args.duration is not None else "limits",
-        **({} if limits is None else {"region": limits.settings()}),
-        **{k: _limits(v) for k, v in (("q_min", robot.q_min), ("q_max", robot.q_max),
-                                      ("qd_max", robot.qd_max), ("qdd_max", qdd_max))},
-        "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: no "
-                        "limit",
-        "qdd_max_source": qdd_source,
-        "trajectory": plan.source,
-    }, f"{plan.n_setpoints} set points over {T:.4f} s ({plan.source}); acceleration limits: "
-       f"{qdd_source}")
+        **({} if limits is None else {"region": limits.settings()})})
 
 
-def _write_plan(args, robot, pieces, advice, record, summary):
-    """Write a planned trajectory piece by piece to ``args.output``, every piece's values
-    checked against the CSV reader's limits before it is written, then its provenance beside
-    it: the tool, the command, the robot and its chain and mounting, then ``record``.
+def _write_plan(args, robot, motion, limits, advice, record, detail=""):
+    """Write a planned motion (:class:`~gd_analyze.trajectory.planning.SampledMotion`) piece by
+    piece to ``args.output``, every piece's values checked against the CSV reader's limits
+    before it is written, then its provenance beside it: the tool, the command, the robot and
+    its chain and mounting, ``record``, then the set points, the duration, the ``limits`` the
+    plan kept to (``q_min``, ``q_max``, ``qd_max``, ``qdd_max``, per joint, and
+    ``qdd_source``) and how the motion was made.
 
     A file is written under a temporary name (:func:`write_trajectory_chunks`), each piece
     checked just before it is written: a piece beyond the limits stops the write and removes
-    the temporary file, so nothing is left, and the pieces are computed once. Standard output
-    cannot take back what it was given: every piece is checked first, then written.
+    the temporary file, so nothing is left, and the pieces are computed once (``advice`` ends
+    the refusal). Standard output cannot take back what it was given: every piece is checked
+    first, then written (the pieces computed twice).
 
-    ``pieces`` is a callable returning the trajectory's pieces in order (called twice for
-    standard output). Then, for a file, one line on stderr: ``wrote FILE: <summary>;
-    provenance in <its provenance file>`` (standard output: no provenance, no line). Returns
-    0."""
+    Then, for a file, one line on stderr: ``wrote FILE: N set points over T s (how);
+    <detail>acceleration limits: <qdd_source>; provenance in <its provenance file>`` (standard
+    output: no provenance, no line). Returns 0."""
 
     def checked(pieces):
         for piece in pieces:
@@ -661,11 +656,11 @@ def _write_plan(args, robot, pieces, advice, record, summary):
 
     output = args.output
     if output == "-":
-        for _ in checked(pieces()):
+        for _ in checked(motion.chunks()):
             pass
-        written = pieces()
+        written = motion.chunks()
     else:
-        written = checked(pieces())
+        written = checked(motion.chunks())
     try:
         write_trajectory_chunks(written, robot.n, output)
     except OSError as exc:
@@ -676,11 +671,18 @@ def _write_plan(args, robot, pieces, advice, record, summary):
         side = write_provenance(output, {
             "tool": "gd-analyze", "version": __version__, **run_settings(
                 args, robot, robot=robot.name, robot_source=robot.source,
-                robot_sha256=robot.sha256), **record})
+                robot_sha256=robot.sha256), **record, "setpoints": motion.n_setpoints,
+            "duration_s": float(motion.duration),
+            **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
+            "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: "
+                            "no limit",
+            "qdd_max_source": limits["qdd_source"], "trajectory": motion.source})
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          output) from None
-    print(f"wrote {output}: {summary}; provenance in {side}", file=sys.stderr)
+    print(f"wrote {output}: {motion.n_setpoints} set points over {motion.duration:.4f} s "
+          f"({motion.source}); {detail}acceleration limits: {limits['qdd_source']}; provenance "
+          f"in {side}", file=sys.stderr)
     return EXIT_OK
 
 
@@ -739,15 +741,13 @@ def _plan_excitation(args, robot, qdd_arg):
                   else "--qdd-max" if qdd_arg is not None and "acceleration" in str(exc)
                   else None)
         raise InputError(str(exc), column=column) from None
-    if first_beyond([ex.duration], LIMITS["t"]) is not None:
-        raise InputError(f"the planned duration exceeds the supported magnitude "
-                         f"{LIMITS['t']:g} s", column="--duration")
+    # its duration is within the CSV reader's LIMITS["t"]: --duration at most
+    # LIMITS["duration"], else one period 2 pi / w_f (w_f at least 1e-6 rad/s) or 10 s
     if ex.condition > 1 / RANK_TOL:     # beyond it the estimator's rank test may drop columns
         warn_if(f"scaled condition number {ex.condition:.4g} above {1 / RANK_TOL:g} (1 / the "
                 "estimator's rank tolerance): identify may find parameters not identifiable")
-    series, limits = ex.series, ex.limits
-    return _write_plan(args, robot, ex.chunks, "", {
-        "trajectory": ex.source,
+    series = ex.series
+    return _write_plan(args, robot, ex, ex.limits, "", {
         "excitation": {
             "method": "finite Fourier series (Swevers et al. 1997), coefficients constrained to "
                       "start and end at rest, optimised by SLSQP for the scaled condition "
@@ -767,14 +767,9 @@ def _plan_excitation(args, robot, qdd_arg):
                           for k in ("q_low", "q_high", "qd_peak", "qdd_peak")},
                        "grid_points_per_period": ex.bounds.points},
         },
-        "setpoints": ex.n_setpoints, "duration_s": ex.duration,
-        **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
-        "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint)",
-        "qdd_max_source": limits["qdd_source"],
-    }, f"{ex.n_setpoints} set points over {ex.duration:.4f} s ({ex.source}); scaled condition "
-       f"number {ex.condition:.4g} of {ex.columns.count} columns on {OBJECTIVE_SAMPLES} samples "
-       f"of a period (random starts: {float(np.min(ex.start_conditions)):.4g} at best), "
-       f"{ex.seconds:.1f} s; acceleration limits: {limits['qdd_source']}")
+    }, f"scaled condition number {ex.condition:.4g} of {ex.columns.count} columns on "
+       f"{OBJECTIVE_SAMPLES} samples of a period (random starts: "
+       f"{float(np.min(ex.start_conditions)):.4g} at best), {ex.seconds:.1f} s; ")
 
 
 def _load_model(args):
@@ -1177,10 +1172,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     settings = run_settings(args, robot, payload_mass=float(args.payload or 0.0))
     if args.random is not None:
         settings["seed"] = args.seed
-        try:
-            settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
-        except ValueError as exc:
-            raise InputError(str(exc), robot.source) from None
+        # never raises: check_velocity_limits gave every joint a velocity limit
+        settings["random_qdd_max_source"] = acceleration_limits(robot)[1]
 
     limits = region_limits(args, loaded)
     settings.update({} if limits is None else limits.settings())

@@ -332,11 +332,10 @@ def _add_verbose_argument(p, quiet="print nothing but errors",
     g.add_argument("-v", "--verbose", action="store_true", help="list every file written" + default)
 
 
-def _add_print_arguments(p, skip=None, column=False):
-    """--paper and --latex (with ``skip``, the report's files: --no-report before them; with
-    ``column``, --column-figures after it)."""
-    if skip:
-        p.add_argument("--no-report", action="store_true", help=f"skip {skip}")
+def _add_print_arguments(p, skip, column=False):
+    """--no-report (skipping ``skip``, the report's files), then --paper and --latex (with
+    ``column``, --column-figures between them)."""
+    p.add_argument("--no-report", action="store_true", help=f"skip {skip}")
     if column:
         p.add_argument("--column-figures", action="store_true",
                        help="also write every report figure 3.5 in wide (one column) as "

@@ -49,7 +49,7 @@ from ..symbolic.drive_regressor import (
     identification_columns,
     identification_regressor,
 )
-from .planning import SampledMotion, default_motion_range
+from .planning import SampledMotion, check_velocity_limits, default_motion_range
 from .trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -117,31 +117,26 @@ class FourierSeries:
         """float: 2 pi / w_f [s]."""
         return 2 * math.pi / self.wf
 
-    def evaluate(self, t: np.ndarray, order: int = 2) -> tuple:
-        """Positions and their derivatives at given times.
+    def evaluate(self, t: np.ndarray) -> tuple:
+        """Positions, velocities and accelerations at given times.
 
         Parameters
         ----------
         t : array_like, shape (N,)
             Times [s].
-        order : int, optional
-            The highest derivative returned, 2 or 3.
 
         Returns
         -------
-        q, qd, qdd[, qddd] : ndarray, shape (N, n)
-            [rad, rad/s, rad/s^2, rad/s^3; m... for a prismatic joint].
+        q, qd, qdd : ndarray, shape (N, n)
+            [rad, rad/s, rad/s^2; m... for a prismatic joint].
         """
         t = np.asarray(t, float).reshape(-1)
         w = self.wf * np.arange(1, self.harmonics + 1)          # (K,)
         s, c = np.sin(np.outer(t, w)), np.cos(np.outer(t, w))    # (N, K)
         a, b = self.a.T, self.b.T                                  # (K, n)
-        out = [self.q0 + s @ (a / w[:, None]) - c @ (b / w[:, None]),
-               c @ a + s @ b,
-               c @ (w[:, None] * b) - s @ (w[:, None] * a)]
-        if order >= 3:
-            out.append(-c @ (w[:, None] ** 2 * a) - s @ (w[:, None] ** 2 * b))
-        return tuple(out)
+        return (self.q0 + s @ (a / w[:, None]) - c @ (b / w[:, None]),
+                c @ a + s @ b,
+                c @ (w[:, None] * b) - s @ (w[:, None] * a))
 
     def derivative_bounds(self) -> np.ndarray:
         """Bounds of |qd|, |qdd| and |qddd| over all times, from the amplitudes.
@@ -274,7 +269,7 @@ def excitation_condition(robot: Robot, columns: IdentificationColumns, series: F
     float
         :func:`scaled_condition` of the regressor stacked at the samples.
     """
-    q, qd, qdd = series.evaluate(_middles(series.period, samples))[:3]
+    q, qd, qdd = series.evaluate(_middles(series.period, samples))
     return scaled_condition(identification_regressor(robot, q, qd, qdd, columns))
 
 
@@ -423,12 +418,11 @@ def _gradient(x, columns, basis, s, V, up, down, Ws, norms, b, pullback, slope):
 
 
 def _limits(robot, qdd_max=None):
-    """lo, hi, qd_max, qdd_max (n,) each, and where qdd_max comes from."""
+    """lo, hi, qd_max, qdd_max (n,) each, and where qdd_max comes from; an InputError (a
+    ValueError) naming the first joint without a velocity limit
+    (:func:`~gd_analyze.trajectory.planning.check_velocity_limits`)."""
+    check_velocity_limits(robot)
     qd = np.asarray(robot.qd_max, float)
-    bad = ~(np.isfinite(qd) & (qd > 0))
-    if bad.any():
-        raise ValueError(f"joint {int(np.argmax(bad)) + 1} has no velocity limit: an "
-                         "excitation needs one")
     qdd, source = acceleration_limits(robot, qdd_max)
     lo, hi = default_motion_range(robot)
     return lo, hi, qd, qdd, source
@@ -483,7 +477,8 @@ def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
     Raises
     ------
     ValueError
-        If K < 2 or a joint has no velocity limit.
+        If K < 2 or a joint has no velocity limit (an :class:`~gd_analyze.errors.InputError`,
+        :func:`~gd_analyze.trajectory.planning.check_velocity_limits`).
     """
     K = int(harmonics)
     if K < 2:
@@ -761,7 +756,8 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
         If K < 2, starts < 1, N > 10^8 or N below the least that resolves the highest
         harmonic and can identify the regressor's p columns (max(2 K periods + 2, ceil(p / n) +
         1): the last set point repeats the first's state), the timing is inconsistent
-        (:func:`excitation_timing`), or a joint has no velocity limit.
+        (:func:`excitation_timing`), or a joint has no velocity limit (an
+        :class:`~gd_analyze.errors.InputError`).
 
     Notes
     -----

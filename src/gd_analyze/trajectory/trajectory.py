@@ -236,9 +236,7 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
         if all(_FLOAT.fullmatch(c.strip(" \t")) for c in cells):
             raise InputError("no header (expected t,q1..qn[,qd1..qdn,qdd1..qddn])", path, row=row)
         names, n = _parse_header(cells, path)
-        if n_joints is not None and n != n_joints:
-            raise InputError(f"the file has {_joints(n)}, the robot has {_joints(n_joints)}",
-                             path, row=row)
+        _same_joints(n, n_joints, "file has", path, row=row)
         return names
 
     values, names, rows, sha256 = _read_csv(
@@ -395,9 +393,7 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
                          ARRAYS)
     t, arrays = checked_arrays({"t": t, "q": q, "qd": qd, "qdd": qdd}, ARRAYS, LIMITS, 2,
                                "set point")
-    if n_joints is not None and arrays["q"].shape[1] != n_joints:
-        raise InputError(f"the arrays have {_joints(arrays['q'].shape[1])}, the robot has "
-                         f"{_joints(n_joints)}", ARRAYS)
+    _same_joints(arrays["q"].shape[1], n_joints, "arrays have", ARRAYS)
     _increasing(t, ARRAYS)
     how = "cubic-spline" if qd is None else "arrays"
     qd, qdd = (_spline(t, arrays["q"], ARRAYS, row_of=lambda k: None) if qd is None
@@ -447,9 +443,7 @@ def as_trajectory(value: Trajectory | str | os.PathLike[str] | Mapping[str, Any]
     2
     """
     if isinstance(value, Trajectory):
-        if n_joints is not None and value.q.shape[1] != n_joints:
-            raise InputError(f"the trajectory has {_joints(value.q.shape[1])}, the robot has "
-                             f"{_joints(n_joints)}", value.source or ARRAYS)
+        _same_joints(value.q.shape[1], n_joints, "trajectory has", value.source or ARRAYS)
         return value
     if isinstance(value, (str, os.PathLike)):
         return read_trajectory(value, n_joints=n_joints, joint_names=joint_names)
@@ -798,35 +792,48 @@ def _joints(n, noun="joint"):
     return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
+def _same_joints(n, n_joints, what, source, noun="joint", **where):
+    """An InputError ``"the <what> <n nouns>, the robot has <n_joints joints>"`` (``what`` with
+    its verb, e.g. ``"file has"``; ``where``: the row and column) unless ``n_joints`` is None
+    or ``n``."""
+    if n_joints is not None and n != n_joints:
+        raise InputError(f"the {what} {_joints(n, noun)}, the robot has {_joints(n_joints)}",
+                         source, **where)
+
+
 def _validated_values(raw, path, header, least=0):
     """Parse cell by cell: (values, names, row numbers), ``header`` (the header's cells and its
     row number) giving the names or raising; an InputError naming the row and column of the
-    first fault, or for fewer than ``least`` rows (set points)."""
+    first fault (a ragged row, a cell not a number: :func:`_cell`), or for fewer than
+    ``least`` rows (set points)."""
     (header_row, cells), *data = _numbered_rows(raw, path, long_cell=True)
     names = header(cells, header_row)
     if len(data) < least:
         raise InputError(f"fewer than {least} set points ({len(data)})", path)
-    return _cell_values(data, names, path), names, np.array([r for r, _ in data], int)
-
-
-def _cell_values(data, names, path):
-    """The numbers of the rows ``data`` ((row number, cells) each) as an array, or an
-    InputError naming the row and column of the first ragged row or cell not a number."""
     values = np.empty((len(data), len(names)))
     for k, (row_no, row) in enumerate(data):
         if len(row) != len(names):
             raise InputError(f"ragged row: {len(row)} cells, the header has {len(names)}", path,
                              row=row_no)
-        for j, cell in enumerate(row):
-            text = cell.strip(" \t")
-            if len(text) > MAX_CELL:
-                raise InputError(f"a cell of {len(text)} characters is not a number", path,
-                                 row=row_no, column=names[j])
-            try:
-                values[k, j] = parse_number(text)
-            except ValueError as exc:
-                raise InputError(str(exc), path, row=row_no, column=names[j]) from None
-    return values
+        values[k] = [_cell(row, j, names, path, row_no) for j in range(len(row))]
+    return values, names, np.array([r for r, _ in data], int)
+
+
+def _cell(cells, c, names, path, row):
+    """The number in cell ``c`` (None: none) of the row ``cells``, row ``row`` of a file
+    whose header is ``names``; an InputError naming the row (and the column) of a row too short
+    to hold it (ragged), a cell longer than :data:`MAX_CELL` or not a plain finite number."""
+    if c is None or c >= len(cells):
+        raise InputError(f"ragged row: {len(cells)} cells, the header has {len(names)}", path,
+                         row=row)
+    text = cells[c].strip(" \t")
+    if len(text) > MAX_CELL:
+        raise InputError(f"a cell of {len(text)} characters is not a number", path, row=row,
+                         column=names[c])
+    try:
+        return parse_number(text)
+    except ValueError as exc:
+        raise InputError(str(exc), path, row=row, column=names[c]) from None
 
 
 def parse_number(text: str, integer: bool = False) -> float | int:
@@ -1206,9 +1213,7 @@ def _columns(keys, names, path, n_joints, joints):
     if "t" not in found or n == 0:
         raise InputError(f"no {'time column t' if n else 'joint position columns q1..qn'} in "
                          f"the header", path, row=1, column="t" if n else "q1")
-    if n_joints is not None and n != n_joints:
-        raise InputError(f"the file has {_joints(n, 'joint position column')}, the robot "
-                         f"has {_joints(n_joints)}", path, row=1, column="q")
+    _same_joints(n, n_joints, "file has", path, "joint position column", row=1, column="q")
     out = {"t": [found["t"][1]]}
     for kind in ("q", "tau", "qd", "qdd"):
         slot = found.get(kind, {})
@@ -1280,16 +1285,6 @@ def _echoed_rows(raw, path, header, at, slots, fields, columns, joints):
     """(values, row numbers, rows left out, other joints named) of a ``rostopic echo -p`` log
     (:func:`_echoed_values`) read cell by cell: an InputError names the first fault."""
     values, rows, skipped, others = [], [], [], []
-
-    def number(cells, c, row):
-        if c is None or c >= len(cells):      # a field's array shorter than the names'
-            raise InputError(f"ragged row: {len(cells)} cells, the header has {len(header)}", path,
-                             row=row)
-        try:
-            return parse_number(cells[c].strip(" \t"))
-        except ValueError as exc:
-            raise InputError(str(exc), path, row=row, column=header[c]) from None
-
     for row, cells in _numbered_rows(raw, path, long_cell=True)[1:]:
         named = {cells[at["name", k]].strip(): k for k in slots if at["name", k] < len(cells)}
         found = [named.get(j) for j in joints]
@@ -1301,8 +1296,9 @@ def _echoed_rows(raw, path, header, at, slots, fields, columns, joints):
                              f"this row (it names {', '.join(n[:MAX_NAME] for n in named)})",
                              path, row=row, column=header[at["name", slots[0]]])
         others = others or [name[:MAX_NAME] for name in named if name not in joints]
-        values.append([number(cells, c, row) for c in columns] + [
-            number(cells, at.get((f, k)), row) for f in fields for k in found])
+        # a field's array shorter than the names' (no cell): a ragged row
+        values.append([_cell(cells, c, header, path, row) for c in columns] + [
+            _cell(cells, at.get((f, k)), header, path, row) for f in fields for k in found])
         rows.append(row)
     return np.array(values).reshape(len(rows), -1), np.array(rows, int), skipped, others
 
