@@ -1387,7 +1387,7 @@ def _juggled_values(raw, path, joints, notes):
             f"; {_joints(len(skipped), 'row')} holding none of the chain's series left out "
             f"(first at row {skipped[0]})" if skipped else "")))
     names = [header[c] for c in cols]
-    return _cell_values(kept, names, path), names, np.array([row for row, _ in kept], int)
+    return _numbers(kept, names, path), names, np.array([row for row, _ in kept], int)
 
 
 def _picked(data, width, cols, path):
@@ -1398,6 +1398,13 @@ def _picked(data, width, cols, path):
             raise InputError(f"ragged row: {len(cells)} cells, the header has {width}", path,
                              row=row)
     return [(row, [cells[c] for c in cols]) for row, cells in data]
+
+
+def _numbers(rows, names, path):
+    """The numbers of the rows ``rows`` ((row number, cells) each, a cell per name of ``names``)
+    as an array, or an InputError naming the row and column of the first cell not a number."""
+    return np.array([[_cell(cells, c, names, path, row) for c in range(len(names))]
+                     for row, cells in rows], float).reshape(len(rows), len(names))
 
 
 def _rtde_values(raw, path, current, notes):
@@ -1424,7 +1431,7 @@ def _rtde_values(raw, path, current, notes):
         "actual_current_as_torque") + (f"; {len(header) - len(cols)} other columns ignored"
                                        if len(header) > len(cols) else ""))
     kept = _picked(data, len(header), cols, path)
-    return _cell_values(kept, names, path), names, np.array([row for row, _ in kept], int)
+    return _numbers(kept, names, path), names, np.array([row for row, _ in kept], int)
 
 
 #: A time stamp earlier than the row before by more than this many median steps starts another
