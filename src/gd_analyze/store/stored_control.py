@@ -39,12 +39,13 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["REQUIRED_VARIABLES", "ControlSettings", "ModelFacts", "StoredControl"]
 
+#: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
+_TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
 #: Variables a control dataset must have.
 REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOINTS,
                       V.ERROR_RMS_SETPOINTS, V.ERROR_PEAK_GRID, V.ERROR_RMS_GRID, V.KP, V.KV,
-                      V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE, V.CHOICE, V.NFEV)
-#: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
-_TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
+                      V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE, V.CHOICE, V.NFEV,
+                      *(f"{k}_units" for k in _TYPED_GAINS))
 
 
 class ControlSettings(Record, namedtuple("ControlSettings", """
@@ -91,10 +92,10 @@ class ModelFacts(Record, namedtuple("ModelFacts", """
         gravity_dropped c_terms c_terms_kept scope guarantee_kind guarantee_covered
         guarantee_coverage gravity""")):
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
-    them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
-    missing.
+    them from the model file (:func:`gd_analyze.jobs.control.model_facts`).
 
-    Each field is the global attribute ``model_<field>``.
+    Each field is the global attribute ``model_<field>``, which a control dataset must have
+    (:meth:`StoredControl.from_dataset`); a dict of attributes lacking one reads it as None.
 
     Attributes
     ----------
@@ -162,9 +163,8 @@ class StoredControl(View):
         Its peak and RMS at the set points.
     gains : Mapping of str to ndarray, shape (n,)
         ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
-    gain_units : Mapping of str to tuple of str or None
-        The stored units per joint of ``inertia_scale``, ``Kp_pd`` and ``Kv_pd`` (None in an
-        older file).
+    gain_units : Mapping of str to tuple of str
+        The stored units per joint of ``inertia_scale``, ``Kp_pd`` and ``Kv_pd``.
     q0_offset : ndarray, shape (n,), or None
         The initial position error [rad or m].
     elements, choice : tuple of str, length M
@@ -201,9 +201,8 @@ class StoredControl(View):
         V.TAU_DIFFERENCE_RMS_SETPOINTS, default=None)
     gains: Mapping[str, np.ndarray] = derived(lambda ds: types.MappingProxyType(
         {k: ds[k].values for k in (V.WN, V.ZETA, V.KP, V.KV, V.INERTIA_SCALE, V.KP_PD, V.KV_PD)}))
-    gain_units: Mapping[str, tuple[str, ...] | None] = derived(lambda ds: types.MappingProxyType({
-        k: texts(ds[f"{k}_units"].values) if f"{k}_units" in ds.coords else None
-        for k in _TYPED_GAINS}))
+    gain_units: Mapping[str, tuple[str, ...]] = derived(lambda ds: types.MappingProxyType({
+        k: texts(ds[f"{k}_units"].values) for k in _TYPED_GAINS}))
     q0_offset: np.ndarray | None = stored(V.Q0_OFFSET, default=None)
     elements: tuple[str, ...] = stored(V.ELEMENT, texts, ())
     choice: tuple[str, ...] = stored(V.CHOICE, texts)
@@ -235,10 +234,11 @@ class StoredControl(View):
         Raises
         ------
         InputError
-            If a variable or dim of a control dataset is missing (one line naming the first
-            three).
+            If a variable, dim or model's fact (:class:`ModelFacts`) of a control dataset is
+            missing (one line naming the first three).
         """
-        missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
+        missing = ([v for v in REQUIRED_VARIABLES if v not in ds.variables]
+                   + [a for a in (f"model_{k}" for k in ModelFacts._fields) if a not in ds.attrs])
         if missing or V.CONTROLLER not in ds.dims or V.TIME not in ds.dims:
             raise InputError("not a gd-analyze control dataset "
                              f"(missing {missing[:3] or 'dims'})", source)
