@@ -57,7 +57,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import BASE_RC, grid_shape, joint_axes, markevery, panel_markevery
 from .main_context import DERIVATIVES, command_row, gravity_row, run_row, software_row
-from .main_text import gravity_clause, model_sentence, weightless
+from .main_text import StoredModel, weightless
 from .markup import scope as scope_markup
 from .markup import sub
 from .numbers import decade_formatter, label_axes, set_ticks, time_origin
@@ -820,31 +820,19 @@ def _per_joint(stored, unit=""):
 def _model_note(s):
     """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
     the model's facts stored by the control run (:func:`gd_analyze.jobs.control.model_facts`)
-    in the words of the main report (:func:`gd_analyze.report.main_text.model_sentence`).
+    in the words of the main report (:class:`gd_analyze.report.main_text.StoredModel`).
     Returns (text, whether the model has the recursive form)."""
-    m, st = s.model, s.settings
-    rule, recursive = str(m.rule), str(m.form) == "recursive"
-    no_gravity = weightless(m.gravity)          # the model's own gravity, not the plant's
-    if recursive:
-        dropped_g = [v for v in str(m.gravity_dropped).split(", ") if v]
-        gravity = gravity_clause(rule, gravity_dropped=dropped_g)
-        facts = (int(m.base_parameters), int(m.pairs_dropped), int(m.pairs))
-        where = ("this trajectory" if str(st.trajectory_is_models) == "1"
-                 else "the trajectory the model was built on")
-        if str(m.guarantee_kind) == "region":
-            where = "the joint-limit region"           # pruned on bounds over the region
-        if str(m.pairs_known) == "0":
-            where += (" (or are structurally 0: the model file does not record which pairs "
-                      "act)")
-        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where,
-                              weightless=no_gravity)
-        if facts[1]:
-            text += f" The dropped pairs: {m.dropped_pairs}."
-    else:
-        kept, full = int(m.c_terms_kept), int(m.c_terms)
-        gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-        text = model_sentence(choice=list(s.choice), gravity=gravity, weightless=no_gravity)
-    return text + " " + scope_sentences(m, float(m.tolerance)), recursive
+    m = s.model
+    where = ("the joint-limit region" if str(m.guarantee_kind) == "region"    # pruned on bounds
+             else "this trajectory" if str(s.settings.trajectory_is_models) == "1"    # over it
+             else "the trajectory the model was built on")
+    if str(m.pairs_known) == "0":
+        where += " (or are structurally 0: the model file does not record which pairs act)"
+    kept = StoredModel.of(m, s.choice, where, weightless(m.gravity))   # the model's own gravity
+    text = kept.sentence()
+    if kept.recursive is not None and kept.recursive[1]:
+        text += f" The dropped pairs: {m.dropped_pairs}."
+    return text + " " + scope_sentences(m, float(m.tolerance)), kept.recursive is not None
 
 
 def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:

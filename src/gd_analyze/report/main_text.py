@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -21,7 +22,7 @@ from .numbers import share as _share
 if TYPE_CHECKING:
     import numpy.typing as npt
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "weightless", "disagreement_cause", "shared_causes", "captions",
+__all__ = ["conclusion", "model_sentence", "StoredModel", "gravity_clause", "weightless", "disagreement_cause", "shared_causes", "captions",
            "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -221,6 +222,83 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
     return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity,
                weightless=weightless)
+
+
+@dataclass(frozen=True)
+class StoredModel:
+    """What a simplified model keeps, as the facts stored with it state it
+    (:func:`gd_analyze.jobs.control.model_facts`: a control run's ``model_<fact>`` attributes,
+    a sweep's ``merged_<fact>``), and where it was built: the one value from which the control
+    and the sweep reports say it (:meth:`sentence`, :attr:`gravity`).
+
+    Attributes
+    ----------
+    recursive : tuple of (int, int, int) or None
+        A model of the recursive form: its base parameters, dropped (parameter, part) pairs and
+        pairs that act; None for the explicit form.
+    choice : tuple of str
+        The explicit form: the part kept of each element of D and h.
+    gravity : str or None
+        :func:`gravity_clause` of the model: for the recursive form from the base parameters
+        whose gravity part it drops, for the explicit form from its terms of c kept and the
+        full model's (None where the budget rule's are not counted).
+    where : str
+        Where the recursive form's pairs were judged, as the sentence names it.
+    weightless : bool
+        The model was built without gravity (:func:`weightless`).
+    """
+
+    recursive: tuple[int, int, int] | None
+    choice: tuple[str, ...]
+    gravity: str | None
+    where: str
+    weightless: bool
+
+    @classmethod
+    def of(cls, facts: Any, choice: Sequence[str], where: str, weightless: bool
+           ) -> StoredModel:
+        """The value of a model's stored facts.
+
+        Parameters
+        ----------
+        facts : ModelFacts or MergedModel
+            The facts as stored (:class:`gd_analyze.store.stored_control.ModelFacts`,
+            :class:`gd_analyze.store.sweep_view.MergedModel`): ``rule``, ``form``,
+            ``base_parameters``, ``pairs_dropped``, ``pairs``, ``gravity_dropped``
+            (comma-separated), ``c_terms_kept`` and ``c_terms`` (-1 where not counted).
+        choice : sequence of str
+            The part kept of each element of D and h.
+        where, weightless : str, bool
+            As the attributes.
+
+        Returns
+        -------
+        StoredModel
+        """
+        if str(facts.form) == "recursive":
+            return cls((int(facts.base_parameters), int(facts.pairs_dropped), int(facts.pairs)),
+                       tuple(choice), gravity_clause(str(facts.rule), gravity_dropped=[
+                           x.strip() for x in str(facts.gravity_dropped).split(",") if x.strip()]),
+                       where, weightless)
+        c_terms = (int(facts.c_terms_kept), int(facts.c_terms))
+        return cls(None, tuple(choice), gravity_clause(
+            str(facts.rule), c_terms=c_terms if min(c_terms) >= 0 else None), where, weightless)
+
+    def sentence(self, subject: str = "The simplified model") -> str:
+        """:func:`model_sentence` of the model, its subject ``subject``.
+
+        Parameters
+        ----------
+        subject : str, optional
+            How the sentence names the model (``"The merged model"``).
+
+        Returns
+        -------
+        str
+        """
+        return model_sentence(recursive=self.recursive, choice=self.choice, gravity=self.gravity,
+                              trajectory=self.where, weightless=self.weightless
+                              ).replace("The simplified model", subject, 1)
 
 
 def weightless(gravity: npt.ArrayLike | None) -> bool:
