@@ -878,7 +878,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     inputs = say("sweep_inputs", K=K, kind=str(_or(st.input_kind, "")),
                  seed=None if st.seed is None else _text(st.seed))
     settings = _settings(w, inputs, __version__)
-    zero = np.asarray(w.round_off.all(axis=0))      # all False in an older file
+    zero = np.asarray(w.round_off.all(axis=0))      # round-off on every trajectory
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],

@@ -697,8 +697,8 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
 PAYLOAD_REQUIRED = (Var.SHARE_TRAN, Var.DOMINANCE, Var.CHOICE, Var.TAU_PEAK)
 
 #: The variables of a sweep dataset the report reads.
-REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.SOURCE, SV.DURATION, SV.TAU_PEAK,
-            SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION, SV.SHARE_TRAN_MIN,
+REQUIRED = (SV.SHARE_TRAN, SV.DOMINANCE, SV.CHOICE, SV.ROUND_OFF, SV.SOURCE, SV.DURATION,
+            SV.TAU_PEAK, SV.TAU_ERROR_RELATIVE_PEAK, SV.CLASS_FRACTION, SV.SHARE_TRAN_MIN,
             SV.SHARE_TRAN_MEDIAN, SV.SHARE_TRAN_MAX, SV.MERGED_CHOICE,
             SV.MERGED_TAU_ERROR_RELATIVE_PEAK, *(name for _, name, *_ in MERGED_ERRORS))
 
@@ -845,7 +845,7 @@ class StoredSweep(View):
     share_min, share_median, share_max : ndarray, shape (M,)
         The translational share's spread over the trajectories [1].
     round_off : ndarray of bool, shape (K, M)
-        The elements that are round-off on each trajectory (all False in an older file).
+        The elements that are round-off on each trajectory.
     duration : ndarray, shape (K,)
         Each trajectory's duration [s].
     setpoints : ndarray, shape (K,)
@@ -878,9 +878,7 @@ class StoredSweep(View):
     share_min: np.ndarray = stored(SV.SHARE_TRAN_MIN)
     share_median: np.ndarray = stored(SV.SHARE_TRAN_MEDIAN)
     share_max: np.ndarray = stored(SV.SHARE_TRAN_MAX)
-    round_off: np.ndarray = derived(lambda ds: (
-        ds[SV.ROUND_OFF].values.astype(bool) if SV.ROUND_OFF in ds.variables
-        else np.zeros(ds[SV.SHARE_TRAN].shape, bool)))
+    round_off: np.ndarray = stored(SV.ROUND_OFF, lambda v: v.astype(bool))
     duration: np.ndarray = stored(SV.DURATION)
     setpoints: np.ndarray = stored(SV.SETPOINTS, default=np.array([]))
     sources: tuple[str, ...] = stored(SV.SOURCE, texts)
