@@ -46,11 +46,10 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                choice: Sequence[str], rel_peak: npt.NDArray[np.float64],
                abs_peak: npt.NDArray[np.float64], tau_peak: npt.NDArray[np.float64],
                cost: tuple[int, int, int | None] | tuple[int, int, int | None, int | None, int | None] | None = None,
-               recursive: tuple[int, int, int] | None = None, gravity: str | None = None,
-               units: Sequence[str] | None = None, scope: str | None = None,
-               where: str = "this trajectory", shown: Mapping[str, Sequence[str]] | None = None,
+               model: StoredModel | None = None, units: Sequence[str] | None = None,
+               scope: str | None = None, shown: Mapping[str, Sequence[str]] | None = None,
                placeholder_inertia: bool = False,
-               round_off: npt.ArrayLike | None = None, weightless: bool = False) -> str:
+               round_off: npt.ArrayLike | None = None) -> str:
     """The report's conclusion in three sentences.
 
     Parameters
@@ -76,20 +75,13 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         operations as implemented (None if not counted), and optionally the operations of the
         exact (nothing dropped) model and of the full explicit model, which the sentence then
         names beside Newton-Euler's.
-    recursive : tuple of (int, int, int), optional
-        For a model of the recursive form: its number of base parameters, of dropped
-        (parameter, part) pairs and of pairs; ``choice`` is then not used.
-    gravity : str, optional
-        What the model does with the gravity loading c, as a clause (``"keeps c whole"``,
-        ``"drops terms of c ..."``); the sentence on the model ends with it.
-    weightless : bool, optional
-        The model was built without gravity (:func:`weightless`): the sentence on the model
-        says so in place of ``gravity``.
+    model : StoredModel, optional
+        What the simplified model keeps (its form's counts or ``choice``, what it does with
+        the gravity loading c, where its pairs were judged, whether it was built without
+        gravity), said by :meth:`StoredModel.sentence`; if not given, the explicit model of
+        ``choice``, nothing said of c.
     units : list of str, optional
         Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
-    where : str, optional
-        Where the recursive model's pairs were judged: ``"this trajectory"``, or ``"the
-        joint-limit region"`` for a model pruned over the region.
     scope : str, optional
         The model's guarantee in one sentence
         (:meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`, as stored), said
@@ -133,8 +125,8 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                                 if len(by[c]) == most] if most else [],
                        "k_most": most})
     first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
-    second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
-                            trajectory=where, weightless=weightless)
+    second = (model or StoredModel(None, tuple(choice), None, "this trajectory", False)
+              ).sentence()
     rel = np.asarray(rel_peak, float)
     said = f" Its guarantee: {scope}." if scope else ""
     if not np.any(np.isfinite(rel)):
@@ -228,8 +220,8 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
 class StoredModel:
     """What a simplified model keeps, as the facts stored with it state it
     (:func:`gd_analyze.jobs.control.model_facts`: a control run's ``model_<fact>`` attributes,
-    a sweep's ``merged_<fact>``), and where it was built: the one value from which the control
-    and the sweep reports say it (:meth:`sentence`, :attr:`gravity`).
+    a sweep's ``merged_<fact>``; the main report's from its results), and where it was built:
+    the one value from which every report says it (:meth:`sentence`).
 
     Attributes
     ----------
