@@ -46,7 +46,7 @@ def test_the_view_reads_the_summary_as_stored():
     assert run.sources == ("a", "b", "c") and run.duration.tolist() == [1.0, 2.0, 3.0]
 
 
-@pytest.mark.parametrize("missing", ["share_tran_median", "merged_choice"])
+@pytest.mark.parametrize("missing", ["share_tran_median", "merged_choice", "round_off"])
 def test_a_missing_variable_is_one_line_naming_it(missing):
     ds = _sweep().drop_vars(missing)
     with pytest.raises(InputError) as err:

@@ -36,7 +36,7 @@ from ..ranking.ranking import (
     joint_motion_units,
     joint_torque_units,
 )
-from ..store.control_dataset import gain_units, pd_name
+from ..store.control_dataset import pd_name
 from ..store.datasets import joint_units
 from ..store.names import ControlVar as V
 from ..store.schema import open_results
@@ -57,7 +57,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import BASE_RC, grid_shape, joint_axes, markevery, panel_markevery
 from .main_context import DERIVATIVES, command_row, gravity_row, run_row, software_row
-from .main_text import gravity_clause, model_sentence, weightless
+from .main_text import StoredModel, weightless
 from .markup import scope as scope_markup
 from .markup import sub
 from .numbers import decade_formatter, label_axes, set_ticks, time_origin
@@ -151,7 +151,7 @@ def control_verdict(peaks: Mapping[str, np.ndarray], prismatic: ArrayLike,
         desired motion and the closed loop (``model_guarantee_covered``; a trajectory-kind
         guarantee holds at the trajectory's set points only, never at the closed loop's
         states); where not, a run within the tolerance is said to be within it in this run
-        only, never "good enough"; None (an older file): not said.
+        only, never "good enough"; None: not said.
     pd : str, optional
         The PD controller's name (:func:`controller_labels`): ``"PD"`` where the controlled
         arm has no gravity.
@@ -419,9 +419,9 @@ def noise_words(ds: StoredControl | xr.Dataset, which: str, figure: bool = False
     stored = which == "tau" and s.tau_difference_floor is not None
     times = tighten = ""
     if stored:                          # a measured floor: its factor and tighter tolerances
-        factor = float(_or(s.settings.noise_factor, np.nan))
+        factor = float(s.settings.noise_factor)
         times = {1.0: "", 2.0: "twice "}.get(factor, f"{factor:g} times ")
-        tighten = f"{float(s.settings.rtol) / float(_or(s.settings.noise_rtol, np.nan)):g}"
+        tighten = f"{float(s.settings.rtol) / float(s.settings.noise_rtol):g}"
     return say("noise_words", which=which, figure=figure, tol=f"{tol:g}", stored=stored,
                times=times, tighten=tighten)
 
@@ -649,10 +649,10 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     tolerance = tuple(float(d if v is None else v) for v, d in
                       zip((st.verdict_tolerance_revolute, st.verdict_tolerance_prismatic),
                           VERDICT_TOLERANCE))
-    covered = None if (c := s.model.guarantee_covered) is None else (    # a trajectory kind:
-        str(c) == "1" and str(s.model.guarantee_kind) == "region")  # its set points only
+    covered = (str(s.model.guarantee_covered) == "1"        # a trajectory kind: its set
+               and str(s.model.guarantee_kind) == "region")   # points only
     departure = None            # from an offset, every loop's peak error is the offset's
-    if s.q0_offset is not None and np.any(s.q0_offset) and {"full", "simplified"} <= set(names):
+    if np.any(s.q0_offset) and {"full", "simplified"} <= set(names):
         departure = {c: np.where(is_round_off(d := np.max(np.abs(s.error[c] - s.error["full"]),
                                                           axis=0), q_floor, 1.0), 0.0, d)
                      for c in names if c != "full"}
@@ -682,7 +682,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     names = s.controllers
     n = s.n
     joints = [f"joint {j + 1}" for j in range(n)]          # as the main report names them
-    desc = s.descriptions if s.descriptions is not None else names
     q_units = joint_units(s.prismatic, "q")
     judged = dataset_verdict(s)
     rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
@@ -695,7 +694,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
-        ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, desc))
+        ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, s.descriptions))
          + " (control laws below)"],
         ["desired motion", stored_text(st.interpolation).replace(
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
@@ -703,7 +702,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
                        f"atol = {float(st.atol):g}"],
         [noise, None if st.noise_rtol is None else say(
             "noise_measured", rtol=f"{float(st.noise_rtol):g}", atol=f"{float(st.noise_atol):g}",
-            nfev=int(_or(st.noise_nfev, 0)), factor=f"{float(_or(st.noise_factor, np.nan)):g}",
+            nfev=int(st.noise_nfev), factor=f"{float(st.noise_factor):g}",
             floor=f"{float(st.rtol):g}")],
         [noise, None if st.noise_unmeasured is None else "not measured ("
          + str(st.noise_unmeasured) + "): the floor is rtol \u00d7 the full-model controller's "
@@ -711,8 +710,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         ["samples", f"{stored_text(st.samples)} ({stored_text(st.setpoints)} set points + fine grid "
                     f"of {stored_text(st.grid_points)})"],
         ["initial offset q(0) \u2212 q" + sub("d") + "(0)",
-         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))
-         if s.q0_offset is not None else "0"],
+         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))],
     ])
     gains = _gains_table(s, joints)
     # each row: its leading cells, its numbers per joint, and which are integrator noise (at
@@ -734,7 +732,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         diff = [([fig], value, is_round_off(peak, tau_floor, 1.0)) for fig, value, peak in pairs]
         diff.append((["noise floor (\u2261 0 at or below)"], tau_floor, np.zeros(n, bool)))
     applied = [([short.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
-               if s.tau_peak is not None and s.tau_rms is not None
                for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms))]
     tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units(s.prismatic, "tau"))]
     errors = _table(["controller", "sampled at", "figure"]
@@ -766,8 +763,8 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         "version": __version__,
         "title": f"Computed-torque control with the simplified G-D model: {stored_text(st.robot)}",
         "summary": judged["summary"], "verdict": judged["verdict"],
-        "intro": say("control_intro", rule=str(_or(s.model.rule, "")),
-                     eps=f"{float(_or(s.model.tolerance, np.nan)):g}", created=created,
+        "intro": say("control_intro", rule=str(s.model.rule),
+                     eps=f"{float(s.model.tolerance):g}", created=created,
                      version=__version__, pd=labels["pd_gravity"]),
         "setup": setup, "gains": gains, "gains_note": say("gains_note", pd=labels["pd_gravity"]),
         "errors": errors, "noise_rule": rule, "captions": captions, "tau_diff": tau_diff,
@@ -820,42 +817,19 @@ def _per_joint(stored, unit=""):
 def _model_note(s):
     """Sec. 5's text: what the simplified model keeps, its rule and guarantee, generated from
     the model's facts stored by the control run (:func:`gd_analyze.jobs.control.model_facts`)
-    in the words of the main report (:func:`gd_analyze.report.main_text.model_sentence`).
+    in the words of the main report (:class:`gd_analyze.report.main_text.StoredModel`).
     Returns (text, whether the model has the recursive form)."""
-    m, st = s.model, s.settings
-    form, rule = str(_or(m.form, "")), str(_or(m.rule, ""))
-    if form not in ("recursive", "explicit"):
-        return ("The control dataset does not record what the simplified model keeps.",
-                False)
-    recursive, own = form == "recursive", str(st.trajectory_is_models) == "1"
-    no_gravity = weightless(m.gravity)          # the model's own gravity, not the plant's
-    if recursive:
-        dropped_g = [v for v in str(_or(m.gravity_dropped, "")).split(", ") if v]
-        gravity = gravity_clause(rule, gravity_dropped=dropped_g)
-        facts = (int(_or(m.base_parameters, 0)), int(_or(m.pairs_dropped, 0)),
-                 int(_or(m.pairs, 0)))
-        where = "this trajectory" if own else "the trajectory the model was built on"
-        if str(_or(m.guarantee_kind, "")) == "region":
-            where = "the joint-limit region"           # pruned on bounds over the region
-        if str(_or(m.pairs_known, "1")) == "0":
-            where += (" (or are structurally 0: the model file does not record which pairs "
-                      "act)")
-        text = model_sentence(recursive=facts, gravity=gravity, trajectory=where,
-                              weightless=no_gravity)
-        if facts[1]:
-            text += f" The dropped pairs: {_or(m.dropped_pairs, '')}."
-    else:
-        kept, full = int(_or(m.c_terms_kept, -1)), int(_or(m.c_terms, -1))
-        gravity = gravity_clause(rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-        text = model_sentence(choice=list(s.choice), gravity=gravity, weightless=no_gravity)
-    eps = float(_or(m.tolerance, np.nan))
-    if m.scope is not None:             # the scope stored from the model itself
-        return text + " " + scope_sentences(m, eps), recursive
-    if rule == "budget":                # an older control.h5
-        text += " " + say("budget_rule_said", eps=f"{eps:g}", own=own)
-    elif rule == "chapter":
-        text += " " + say("chapter_rule")
-    return text, recursive
+    m = s.model
+    where = ("the joint-limit region" if str(m.guarantee_kind) == "region"    # pruned on bounds
+             else "this trajectory" if str(s.settings.trajectory_is_models) == "1"    # over it
+             else "the trajectory the model was built on")
+    if str(m.pairs_known) == "0":
+        where += " (or are structurally 0: the model file does not record which pairs act)"
+    kept = StoredModel.of(m, s.choice, where, weightless(m.gravity))   # the model's own gravity
+    text = kept.sentence()
+    if kept.recursive is not None and kept.recursive[1]:
+        text += f" The dropped pairs: {m.dropped_pairs}."
+    return text + " " + scope_sentences(m, float(m.tolerance)), kept.recursive is not None
 
 
 def scope_sentences(attrs: ModelFacts | Mapping[str, Any], eps: float) -> str:
@@ -901,16 +875,12 @@ def _gains_table(s, joints):
     """The gains per joint. D_ii and the PD gains carry the units of their joint's type
     (the stored ``<name>_units`` per joint): in the header where every joint agrees, else in
     each cell."""
-
-    prismatic = np.array(s.prismatic, dtype=bool)
     header = ["joint", "\u03c9" + sub("n") + " [rad/s]", "\u03b6",
               "K" + sub("p") + " [1/s\u00b2]", "K" + sub("v") + " [1/s]"]
     per_joint = {}
     for name, title in ((V.INERTIA_SCALE, "D" + sub("ii") + " at the start"),
                         (V.KP_PD, "PD K" + sub("p")), (V.KV_PD, "PD K" + sub("v"))):
-        stored = s.gain_units[name]         # an older file: units from the joint types
-        units = [_GAIN_UNITS.get(u, u) for u in
-                 (gain_units(prismatic)[name] if stored is None else stored)]
+        units = [_GAIN_UNITS.get(u, u) for u in s.gain_units[name]]
         same = len(set(units)) == 1
         header.append(f"{title} [{units[0]}]" if same else title)
         per_joint[name] = ([""] * len(units) if same else

@@ -60,6 +60,7 @@ from .common import share as _share
 from .common import table as _table
 from .main_figures import ENVELOPE_COLUMNS, ENVELOPE_THRESHOLD
 from .main_text import (
+    StoredModel,
     captions,
     conclusion,
     disagreement_cause,
@@ -808,16 +809,15 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     if (statement and g.get("kind") == "region" and region is not None
             and region["covered"] is False):
         statement += f"; this trajectory is not covered: it leaves the region ({region['coverage']})"
+    kept = StoredModel((0 if bp is None else len(bp.names), *results.pairs)
+                       if form == "recursive" else None, tuple(choice),
+                       _gravity_fact(results, form), "the joint-limit region"
+                       if g.get("kind") == "region" else "this trajectory", no_gravity)
     summary = conclusion(labels, dominance, zero, choice, errors.column("relative_peak"),
-                         errors.column("peak"), errors.column("peak_tau"), cost,
-                         recursive=(0 if bp is None else len(bp.names), *results.pairs)
-                         if form == "recursive" else None,
-                         gravity=_gravity_fact(results, form), units=tau_units,
-                         scope=powers(_scope(statement)),
-                         where="the joint-limit region" if g.get("kind") == "region"
-                         else "this trajectory", shown=said,
+                         errors.column("peak"), errors.column("peak_tau"), cost, kept,
+                         units=tau_units, scope=powers(_scope(statement)), shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
-                         round_off=err_off, weightless=no_gravity)
+                         round_off=err_off)
     facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
              f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
              + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
@@ -840,7 +840,7 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
         **robot,
         "ranking": ranking, "counts": counts, "choices": choices, "error": err,
         "simplified_intro": (say("simplified_intro", form=form, weightless=no_gravity,
-                                 gravity=_gravity_fact(results, form)) + zero_parameters(results)),
+                                 gravity=kept.gravity) + zero_parameters(results)),
         "choices_heading": _CHOICES_HEADING[form],
         "choices_note": base_note(results) if form == "recursive" else "",
         "model_heading": _MODEL_HEADING[form],

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -21,7 +22,7 @@ from .numbers import share as _share
 if TYPE_CHECKING:
     import numpy.typing as npt
 
-__all__ = ["conclusion", "model_sentence", "gravity_clause", "weightless", "disagreement_cause", "shared_causes", "captions",
+__all__ = ["conclusion", "model_sentence", "StoredModel", "gravity_clause", "weightless", "disagreement_cause", "shared_causes", "captions",
            "prismatic_count_note"]
 
 _CLASSES = ("translational", "rotational", "both", "negligible")
@@ -45,11 +46,10 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                choice: Sequence[str], rel_peak: npt.NDArray[np.float64],
                abs_peak: npt.NDArray[np.float64], tau_peak: npt.NDArray[np.float64],
                cost: tuple[int, int, int | None] | tuple[int, int, int | None, int | None, int | None] | None = None,
-               recursive: tuple[int, int, int] | None = None, gravity: str | None = None,
-               units: Sequence[str] | None = None, scope: str | None = None,
-               where: str = "this trajectory", shown: Mapping[str, Sequence[str]] | None = None,
+               model: StoredModel | None = None, units: Sequence[str] | None = None,
+               scope: str | None = None, shown: Mapping[str, Sequence[str]] | None = None,
                placeholder_inertia: bool = False,
-               round_off: npt.ArrayLike | None = None, weightless: bool = False) -> str:
+               round_off: npt.ArrayLike | None = None) -> str:
     """The report's conclusion in three sentences.
 
     Parameters
@@ -75,20 +75,13 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
         operations as implemented (None if not counted), and optionally the operations of the
         exact (nothing dropped) model and of the full explicit model, which the sentence then
         names beside Newton-Euler's.
-    recursive : tuple of (int, int, int), optional
-        For a model of the recursive form: its number of base parameters, of dropped
-        (parameter, part) pairs and of pairs; ``choice`` is then not used.
-    gravity : str, optional
-        What the model does with the gravity loading c, as a clause (``"keeps c whole"``,
-        ``"drops terms of c ..."``); the sentence on the model ends with it.
-    weightless : bool, optional
-        The model was built without gravity (:func:`weightless`): the sentence on the model
-        says so in place of ``gravity``.
+    model : StoredModel, optional
+        What the simplified model keeps (its form's counts or ``choice``, what it does with
+        the gravity loading c, where its pairs were judged, whether it was built without
+        gravity), said by :meth:`StoredModel.sentence`; if not given, the explicit model of
+        ``choice``, nothing said of c.
     units : list of str, optional
         Units of each joint's torque (N m, or N for a prismatic joint); N m if not given.
-    where : str, optional
-        Where the recursive model's pairs were judged: ``"this trajectory"``, or ``"the
-        joint-limit region"`` for a model pruned over the region.
     scope : str, optional
         The model's guarantee in one sentence
         (:meth:`~gd_analyze.simplify.guarantee.Guarantee.statement`, as stored), said
@@ -132,8 +125,8 @@ def conclusion(labels: Sequence[str], dominance: Sequence[str], zero: npt.NDArra
                                 if len(by[c]) == most] if most else [],
                        "k_most": most})
     first = say("dominance", groups=groups, placeholder_inertia=placeholder_inertia)
-    second = model_sentence(recursive=recursive, choice=choice, gravity=gravity,
-                            trajectory=where, weightless=weightless)
+    second = (model or StoredModel(None, tuple(choice), None, "this trajectory", False)
+              ).sentence()
     rel = np.asarray(rel_peak, float)
     said = f" Its guarantee: {scope}." if scope else ""
     if not np.any(np.isfinite(rel)):
@@ -221,6 +214,83 @@ def model_sentence(recursive: tuple[int, int, int] | None = None,
     kept = {c: sum(1 for v in choice if v == c) for c in ("tran", "rot", "both", "none")}
     return say("explicit_model", kept=kept, parts=2 * len(choice), gravity=gravity,
                weightless=weightless)
+
+
+@dataclass(frozen=True)
+class StoredModel:
+    """What a simplified model keeps, as the facts stored with it state it
+    (:func:`gd_analyze.jobs.control.model_facts`: a control run's ``model_<fact>`` attributes,
+    a sweep's ``merged_<fact>``; the main report's from its results), and where it was built:
+    the one value from which every report says it (:meth:`sentence`).
+
+    Attributes
+    ----------
+    recursive : tuple of (int, int, int) or None
+        A model of the recursive form: its base parameters, dropped (parameter, part) pairs and
+        pairs that act; None for the explicit form.
+    choice : tuple of str
+        The explicit form: the part kept of each element of D and h.
+    gravity : str or None
+        :func:`gravity_clause` of the model: for the recursive form from the base parameters
+        whose gravity part it drops, for the explicit form from its terms of c kept and the
+        full model's (None where the budget rule's are not counted).
+    where : str
+        Where the recursive form's pairs were judged, as the sentence names it.
+    weightless : bool
+        The model was built without gravity (:func:`weightless`).
+    """
+
+    recursive: tuple[int, int, int] | None
+    choice: tuple[str, ...]
+    gravity: str | None
+    where: str
+    weightless: bool
+
+    @classmethod
+    def of(cls, facts: Any, choice: Sequence[str], where: str, weightless: bool
+           ) -> StoredModel:
+        """The value of a model's stored facts.
+
+        Parameters
+        ----------
+        facts : ModelFacts or MergedModel
+            The facts as stored (:class:`gd_analyze.store.stored_control.ModelFacts`,
+            :class:`gd_analyze.store.sweep_view.MergedModel`): ``rule``, ``form``,
+            ``base_parameters``, ``pairs_dropped``, ``pairs``, ``gravity_dropped``
+            (comma-separated), ``c_terms_kept`` and ``c_terms`` (-1 where not counted).
+        choice : sequence of str
+            The part kept of each element of D and h.
+        where, weightless : str, bool
+            As the attributes.
+
+        Returns
+        -------
+        StoredModel
+        """
+        if str(facts.form) == "recursive":
+            return cls((int(facts.base_parameters), int(facts.pairs_dropped), int(facts.pairs)),
+                       tuple(choice), gravity_clause(str(facts.rule), gravity_dropped=[
+                           x.strip() for x in str(facts.gravity_dropped).split(",") if x.strip()]),
+                       where, weightless)
+        c_terms = (int(facts.c_terms_kept), int(facts.c_terms))
+        return cls(None, tuple(choice), gravity_clause(
+            str(facts.rule), c_terms=c_terms if min(c_terms) >= 0 else None), where, weightless)
+
+    def sentence(self, subject: str = "The simplified model") -> str:
+        """:func:`model_sentence` of the model, its subject ``subject``.
+
+        Parameters
+        ----------
+        subject : str, optional
+            How the sentence names the model (``"The merged model"``).
+
+        Returns
+        -------
+        str
+        """
+        return model_sentence(recursive=self.recursive, choice=self.choice, gravity=self.gravity,
+                              trajectory=self.where, weightless=self.weightless
+                              ).replace("The simplified model", subject, 1)
 
 
 def weightless(gravity: npt.ArrayLike | None) -> bool:

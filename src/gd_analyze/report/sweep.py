@@ -73,7 +73,7 @@ from .figure_style import gridspec as _gridspec
 from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, payload_figure
-from .main_text import gravity_clause, model_sentence, weightless
+from .main_text import StoredModel, weightless
 from .markup import label as _math
 from .markup import scope as scope_markup
 from .markup import sub as _sub
@@ -700,32 +700,28 @@ def _measured_error(scaled):
     return "" if is_round_off(scaled, 1.0) else _pct(scaled)
 
 
-def _acts_on(m):
-    """Where the recursive merged model's pairs were judged, in words."""
-    return "the joint-limit region" if m.region else "the swept trajectories"
-
-
-def _region_rule(m):
+def _region_rule(m, kept):
     """How a region model was built and what it guarantees, for Sec. 5: the main report's
     words on pruning over the region (:func:`gd_analyze.report.simplified_section.region_pruning`),
-    the guarantee's statement and the swept trajectories it covers."""
-    dropped = int(0 if m.pairs_dropped is None else m.pairs_dropped)
+    the guarantee's statement and the swept trajectories it covers; ``kept``: its
+    :class:`~gd_analyze.report.main_text.StoredModel`."""
+    _, dropped, pairs = kept.recursive or (0, 0, 0)
     return say("region_rule", eps=_eps(m), form=m.form, coverage=coverage(m),
                statement=scope_markup(str(m.guarantee_statement)),
-               pruning=region_pruning(int(m.pairs), dropped, bound=f"at most {_worst_bound(m)}",
+               pruning=region_pruning(pairs, dropped, bound=f"at most {_worst_bound(m)}",
                                       floor=_floor(m) if m.torque_floor > 0 else "",
                                       method=m.bound_method, arithmetic=m.joint_sum_arithmetic,
                                       source=scope_markup(m.guarantee_scale_source))
-               if m.form == "recursive" and dropped else "")
+               if dropped else "")
 
 
-def _merged_rule(m, no_gravity):
+def _merged_rule(m, kept):
     """The heading of the merged model's section and its description, in words that follow its
-    rule: a bound only for the budget rule; ``no_gravity``: the arm has none
-    (:func:`gd_analyze.report.main_text.weightless`)."""
+    rule: a bound only for the budget rule; ``kept``: its
+    :class:`~gd_analyze.report.main_text.StoredModel`."""
     recursive, after = m.form == "recursive", ""
     if m.rule == "budget" and m.region:
-        said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m)
+        said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m, kept)
     elif m.rule == "budget":
         said = f"budget rule, \u03b5 = {_eps(m)}"
         text = say("merged_budget", recursive=recursive, eps=_eps(m),
@@ -733,9 +729,9 @@ def _merged_rule(m, no_gravity):
         after = "" if recursive else (" The budget weighs single terms too, so a part it keeps "
                                       "may lose some of its terms.")
     else:
-        said, text = "chapter rule, no error bound", say("merged_chapter", weightless=no_gravity)
+        said, text = "chapter rule, no error bound", say("merged_chapter", weightless=kept.weightless)
     return f"5. Merged model ({said}) and its torque error", (
-        f"{text} {_keeps(m, no_gravity)}{after} {_cost_sentence(m, table=True)}")
+        f"{text} {_keeps(m, kept)}{after} {_cost_sentence(m, table=True)}")
 
 
 def _eps(m):
@@ -743,39 +739,15 @@ def _eps(m):
     return f"{float(m.tolerance):g}"
 
 
-def _keeps(m, no_gravity):
+def _keeps(m, kept):
     """What the merged model keeps of D, h and c, in the words of the main and the control
-    reports (:func:`gd_analyze.report.main_text.model_sentence`), from the stored choices and
-    counts of its terms of c (:func:`gd_analyze.jobs.sweep_merged.with_model_cost`)."""
-    if m.form == "recursive":
-        text = model_sentence(recursive=_pairs(m), gravity=_recursive_gravity(m),
-                              trajectory=_acts_on(m), weightless=no_gravity)
-        pruned = [lab for lab, c in zip(m.elements, m.choice) if c == "pruned"]
-        return text.replace("The simplified model", "The merged model", 1) + say(
-            "merged_keeps", pruned=pruned)
-    kept, full = m.c_terms_kept, m.c_terms
-    gravity = gravity_clause(m.rule, c_terms=(kept, full) if min(kept, full) >= 0 else None)
-    text = model_sentence(choice=list(m.choice), gravity=gravity, weightless=no_gravity)
-    return text.replace("The simplified model", "The merged model", 1)
-
-
-def _pairs(m):
-    """A recursive merged model's (base parameters, pairs dropped, pairs), as stored."""
-    return int(m.base_parameters), int(m.pairs_dropped), int(m.pairs)
-
-
-def _recursive_gravity(m):
-    """gravity_clause of a recursive merged model, from the names stored with it."""
-    names = [x.strip() for x in m.gravity_dropped.split(",")]
-    return gravity_clause("budget", gravity_dropped=[x for x in names if x])
-
-
-def _recursive_clause(m):
-    """What a recursive merged model is and drops, for the summary: "is the ... model on 36
-    base parameters and drops 5 of the 80 (parameter, part) pairs that act on the swept
-    trajectories" (on the joint-limit region, for a region model)."""
-    b, dropped, pairs = _pairs(m)
-    return say("recursive_clause", b=b, dropped=dropped, pairs=pairs, where=_acts_on(m))
+    reports (:class:`gd_analyze.report.main_text.StoredModel` ``kept``), and for the
+    recursive form the elements its dropped parts change."""
+    text = kept.sentence("The merged model")
+    if kept.recursive is None:
+        return text
+    return text + say("merged_keeps", pruned=[lab for lab, c in zip(m.elements, m.choice)
+                                              if c == "pruned"])
 
 
 def _worst_bound(m):
@@ -906,7 +878,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     inputs = say("sweep_inputs", K=K, kind=str(_or(st.input_kind, "")),
                  seed=None if st.seed is None else _text(st.seed))
     settings = _settings(w, inputs, __version__)
-    zero = np.asarray(w.round_off.all(axis=0))      # all False in an older file
+    zero = np.asarray(w.round_off.all(axis=0))      # round-off on every trajectory
     envelope = _table(
         ["element", "translational", "rotational", "both", "negligible", "min share",
          "median share", "max share", "merged choice"],
@@ -943,7 +915,9 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
               + (("pruned",) if "pruned" in merged else ())}
     worst = _worst_cases(w, labels)
     no_gravity = weightless(w.run.gravity)          # c is then 0: said once, in Sec. 5
-    heading, merged_text = _merged_rule(m, no_gravity)
+    kept = StoredModel.of(m, m.choice, "the joint-limit region" if m.region else
+                          "the swept trajectories", no_gravity)   # where its pairs were judged
+    heading, merged_text = _merged_rule(m, kept)
     own_said, merged_said = _models(m)          # each model named with its rule
     own_sentence = ""       # their worst (no bound under the chapter rule), unless all round-off
     if np.isfinite(own_rel).any() and np.nanmax(own_rel) > 0:
@@ -954,6 +928,7 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
     said = {"own": own_said, "merged": merged_said, "region": m.region, "rule": m.rule,
             "round_off": TORQUE_ROUND_OFF_WORDS}
     said["choice_none"] = say("sweep_caption", key="none", **said)
+    gravity = "" if no_gravity or kept.gravity is None else f"It {kept.gravity}. "
     claim: str | tuple[str, int] | tuple[()]
     if m.rule == "budget":
         claim = merged_claim(m)
@@ -962,11 +937,12 @@ def sweep_context(ds: StoredSweep | xr.Dataset,
         claim = () if merged_off.all() else (_pct(np.nanmax(rel)), int(np.nanargmax(rel)) + 1)
     summary = say("sweep_summary", robot=robot, M=len(labels), inputs=inputs, s=f"{s:g}",
                   e=f"{e:g}", eps=_eps(m) if m.rule == "budget" else "",
-                  kept=_recursive_clause(m) if m.form == "recursive" else say(
+                  kept=say("recursive_clause", facts=kept.recursive, where=kept.where)
+                  if kept.recursive else say(
                       "explicit_kept", both=counts['both'], one=counts['tran'] + counts['rot'],
                       dropped=counts['none']),
                   claim=claim,
-                  rest=f"{_held_out(m)}{'' if no_gravity else _gravity(m)}{_cost_sentence(m)}"
+                  rest=f"{_held_out(m)}{gravity}{_cost_sentence(m)}"
                        f"{own_sentence}"
                   ).strip()
     ctx = {"version": __version__, "title": f"G-D dominance sweep: {robot}, {K} "
@@ -1054,17 +1030,6 @@ def _settings(w, inputs, version):
                             scheduler=_text(st.scheduler_address), batch=batch)),
         ("time [s]", f"{_text(st.elapsed_s)} in all, {_text(st.compute_s)} computing"),
         *other_rows(st.others)]
-
-
-def _gravity(m):
-    """The merged model's terms of c as a sentence ("It drops 8 of the 28 terms of c. "), or
-    "" where the dataset does not count them."""
-    if m.rule == "budget" and m.form == "recursive":
-        return f"It {_recursive_gravity(m)}. "
-    kept, full = m.c_terms_kept, m.c_terms
-    if m.rule == "budget" and min(kept, full) < 0:
-        return ""
-    return f"It {gravity_clause(m.rule, c_terms=(kept, full))}. "
 
 
 def _share(value, zero):

@@ -39,14 +39,14 @@ if TYPE_CHECKING:                       # for the type hints only
 
 __all__ = ["REQUIRED_VARIABLES", "ControlSettings", "ModelFacts", "StoredControl"]
 
-#: Variables a control dataset must have.
-REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOINTS,
-                      V.ERROR_RMS_SETPOINTS, V.ERROR_PEAK_GRID, V.ERROR_RMS_GRID, V.TAU_PEAK,
-                      V.TAU_RMS, V.KP, V.KV, V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE,
-                      V.INERTIA_SCALE_UNITS, V.KP_PD_UNITS, V.KV_PD_UNITS, V.Q0_OFFSET,
-                      V.CHOICE, V.ELEMENT, V.NFEV, V.CONTROLLER_DESCRIPTION)
 #: The gains whose units depend on the joint's type, each stored with ``<name>_units``.
 _TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
+#: Variables a control dataset must have.
+REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOINTS,
+                      V.ERROR_RMS_SETPOINTS, V.ERROR_PEAK_GRID, V.ERROR_RMS_GRID, V.KP, V.KV,
+                      V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE, V.CHOICE, V.ELEMENT,
+                      V.NFEV, V.TAU_PEAK, V.TAU_RMS, V.Q0_OFFSET, V.CONTROLLER_DESCRIPTION,
+                      *(f"{k}_units" for k in _TYPED_GAINS))
 
 
 class ControlSettings(Record, namedtuple("ControlSettings", """
@@ -93,10 +93,10 @@ class ModelFacts(Record, namedtuple("ModelFacts", """
         gravity_dropped c_terms c_terms_kept scope guarantee_kind guarantee_covered
         guarantee_coverage gravity""")):
     """What the simplified model keeps, its rule and its guarantee, as the control run stored
-    them from the model file (:func:`gd_analyze.jobs.control.model_facts`); None where
-    missing.
+    them from the model file (:func:`gd_analyze.jobs.control.model_facts`).
 
-    Each field is the global attribute ``model_<field>``.
+    Each field is the global attribute ``model_<field>``, which a control dataset must have
+    (:meth:`StoredControl.from_dataset`); a dict of attributes lacking one reads it as None.
 
     Attributes
     ----------
@@ -197,8 +197,8 @@ class StoredControl(View):
         V.TAU_DIFFERENCE_RMS_SETPOINTS, default=None)
     gains: Mapping[str, np.ndarray] = derived(lambda ds: types.MappingProxyType(
         {k: ds[k].values for k in (V.WN, V.ZETA, V.KP, V.KV, V.INERTIA_SCALE, V.KP_PD, V.KV_PD)}))
-    gain_units: Mapping[str, tuple[str, ...]] = derived(lambda ds: types.MappingProxyType(
-        {k: texts(ds[f"{k}_units"].values) for k in _TYPED_GAINS}))
+    gain_units: Mapping[str, tuple[str, ...]] = derived(lambda ds: types.MappingProxyType({
+        k: texts(ds[f"{k}_units"].values) for k in _TYPED_GAINS}))
     q0_offset: np.ndarray = stored(V.Q0_OFFSET)
     elements: tuple[str, ...] = stored(V.ELEMENT, texts)
     choice: tuple[str, ...] = stored(V.CHOICE, texts)
@@ -230,10 +230,11 @@ class StoredControl(View):
         Raises
         ------
         InputError
-            If a variable or dim of a control dataset is missing (one line naming the first
-            three).
+            If a variable, dim or model's fact (:class:`ModelFacts`) of a control dataset is
+            missing (one line naming the first three).
         """
-        missing = [v for v in REQUIRED_VARIABLES if v not in ds.variables]
+        missing = ([v for v in REQUIRED_VARIABLES if v not in ds.variables]
+                   + [a for a in (f"model_{k}" for k in ModelFacts._fields) if a not in ds.attrs])
         if missing or V.CONTROLLER not in ds.dims or V.TIME not in ds.dims:
             raise InputError("not a gd-analyze control dataset "
                              f"(missing {missing[:3] or 'dims'})", source)
