@@ -532,12 +532,6 @@ def _check_plan(robot, start, goal, duration):
                                  f"--ignore-limits to plan anyway)", column="--duration")
 
 
-def _limits(values):
-    """Per joint a limit as JSON writes it: a number, or None (null) where there is none (a
-    robot without that limit stores NaN or inf, which JSON cannot hold)."""
-    return [float(v) if math.isfinite(float(v)) else None for v in values]
-
-
 def cmd_plan(args: argparse.Namespace) -> int:
     """``plan``: a quintic rest-to-rest trajectory within the robot's limits, written as CSV.
 
@@ -668,15 +662,16 @@ def _write_plan(args, robot, motion, limits, advice, record, detail=""):
     if output == "-":
         return EXIT_OK
     try:
-        side = write_provenance(output, {
+        # JSON holds no NaN or inf: a limit the robot does not give (NaN or inf) is null
+        side = write_provenance(output, json_safe({
             "tool": "gd-analyze", "version": __version__, **run_settings(
                 args, robot, robot=robot.name, robot_source=robot.source,
                 robot_sha256=robot.sha256), **record, "setpoints": motion.n_setpoints,
             "duration_s": float(motion.duration),
-            **{k: _limits(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
+            **{k: list(limits[k]) for k in ("q_min", "q_max", "qd_max", "qdd_max")},
             "limits_units": "rad, rad/s, rad/s^2 (m, m/s, m/s^2 for a prismatic joint); null: "
                             "no limit",
-            "qdd_max_source": limits["qdd_source"], "trajectory": motion.source})
+            "qdd_max_source": limits["qdd_source"], "trajectory": motion.source}))
     except OSError as exc:
         raise InputError(f"cannot write its provenance: {exc.strerror or exc}",
                          output) from None
@@ -758,8 +753,8 @@ def _plan_excitation(args, robot, qdd_arg):
             "coefficients_units": "q0 rad, a and b rad/s (m, m/s for a prismatic joint)",
             "regressor_columns": ex.columns.names(),
             "drive_columns_regrouped": ex.columns.dropped(),
-            "scaled_condition_number": _limits([ex.condition])[0],
-            "random_starts_scaled_condition_numbers": _limits(ex.start_conditions),
+            "scaled_condition_number": ex.condition,
+            "random_starts_scaled_condition_numbers": ex.start_conditions,
             "shrink": ex.shrink.tolist(),
             "optimiser": list(ex.messages),
             "seconds": ex.seconds,
