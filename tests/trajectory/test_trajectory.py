@@ -1002,6 +1002,21 @@ def test_files_of_one_kind_each_naming_the_joints_bare_read_as_one_recording(tmp
         read_recording(joined, 5, joint_names=joints)
 
 
+def test_a_recording_read_as_a_trajectory_says_each_note_once(tmp_path):
+    """A recording numbering its joints from 0 (``t,q0,q1,tau0,tau1``) read by the main job's
+    reader: the reader's note ("... number the joints from 0") was said twice, by
+    read_recording and again by read_trajectory from the recording's notes (seen on
+    ``gd-analyze compare``). Oracle: each note once, the recording's note last."""
+    t = 0.01 * np.arange(20)
+    pd.DataFrame({"t": t, "q0": np.sin(t), "q1": np.cos(t), "tau0": t, "tau1": t}).to_csv(
+        tmp_path / "rec.csv", index=False, float_format="%.17g")
+    with pytest.warns(InputNote) as caught:
+        read_trajectory(tmp_path / "rec.csv", 2)
+    said = [str(w.message) for w in caught if issubclass(w.category, InputNote)]
+    assert len(said) == len(set(said)) == 2, said
+    assert "number the joints from 0" in said[0] and "a recording: its torques" in said[1]
+
+
 def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_path):
     """``t,q0..q2,dq0..dq2,ddq0..ddq2,tau1..tau3``, as FIGAROH's UR10 recordings are written:
     the same recording as ``t,q1..,qd1..,qdd1..,tau1..`` (oracle: the arrays written), with one

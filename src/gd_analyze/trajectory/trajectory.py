@@ -218,7 +218,9 @@ def read_trajectory(path: str | os.PathLike[str], n_joints: int | None = None,
                              rb"[ \t]*(,|\r?\n|$)",
                              fh.readline(HEADER_BYTES)) is not None
     if recorded:        # a recording for identify (read_recording): its torques are no set point's
-        rec = read_recording(path, n_joints, joint_names=joint_names)
+        with warnings.catch_warnings():     # its notes are said once, from rec.notes below
+            warnings.simplefilter("ignore", InputNote)
+            rec = read_recording(path, n_joints, joint_names=joint_names)
         qd, qdd = (_spline(rec.t, rec.q, path, lambda k: int(np.asarray(rec.rows)[k]),
                            rec.columns.get("q"))
                    if rec.qd is None or rec.qdd is None else (rec.qd, rec.qdd))
