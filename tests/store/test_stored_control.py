@@ -1,5 +1,6 @@
 """The control run's typed view (gd_analyze.store.stored_control): a control.h5 without what
-the control run always stores (the model's facts, the gains' units) is refused in one line
+the control run always stores (the model's facts, the gains' units, the applied torques'
+figures, the initial offset, the control laws) is refused in one line
 naming what is missing, never reported through a fallback."""
 
 import numpy as np
@@ -24,7 +25,9 @@ def test_a_control_dataset_without_a_model_fact_is_refused_naming_it(missing):
     assert "\n" not in str(err.value) and missing in str(err.value)
 
 
-def test_a_control_dataset_without_the_gains_units_is_refused_naming_them():
+@pytest.mark.parametrize("missing", ["Kp_pd_units", "tau_peak", "q0_offset",
+                                     "controller_description"])
+def test_a_control_dataset_without_a_variable_the_run_stores_is_refused_naming_it(missing):
     with pytest.raises(InputError) as err:
-        StoredControl.from_dataset(_control(drop_var="Kp_pd_units"), "old/control.h5")
-    assert "\n" not in str(err.value) and "Kp_pd_units" in str(err.value)
+        StoredControl.from_dataset(_control(drop_var=missing), "old/control.h5")
+    assert "\n" not in str(err.value) and missing in str(err.value)

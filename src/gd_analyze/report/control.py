@@ -652,7 +652,7 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     covered = (str(s.model.guarantee_covered) == "1"        # a trajectory kind: its set
                and str(s.model.guarantee_kind) == "region")   # points only
     departure = None            # from an offset, every loop's peak error is the offset's
-    if s.q0_offset is not None and np.any(s.q0_offset) and {"full", "simplified"} <= set(names):
+    if np.any(s.q0_offset) and {"full", "simplified"} <= set(names):
         departure = {c: np.where(is_round_off(d := np.max(np.abs(s.error[c] - s.error["full"]),
                                                           axis=0), q_floor, 1.0), 0.0, d)
                      for c in names if c != "full"}
@@ -682,7 +682,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     names = s.controllers
     n = s.n
     joints = [f"joint {j + 1}" for j in range(n)]          # as the main report names them
-    desc = s.descriptions if s.descriptions is not None else names
     q_units = joint_units(s.prismatic, "q")
     judged = dataset_verdict(s)
     rule, (q_floor, tau_floor) = judged["rule"], judged["floors"]
@@ -695,7 +694,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
         ["plant", _plant(st)],
-        ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, desc))
+        ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, s.descriptions))
          + " (control laws below)"],
         ["desired motion", stored_text(st.interpolation).replace(
             "(q, qd, qdd)", "(q, q\u0307, q\u0308)")],        # the stored words, as mathematics
@@ -711,8 +710,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         ["samples", f"{stored_text(st.samples)} ({stored_text(st.setpoints)} set points + fine grid "
                     f"of {stored_text(st.grid_points)})"],
         ["initial offset q(0) \u2212 q" + sub("d") + "(0)",
-         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))
-         if s.q0_offset is not None else "0"],
+         ", ".join(f"{fmt_number(v)}\u00a0{u}" for v, u in zip(s.q0_offset, q_units))],
     ])
     gains = _gains_table(s, joints)
     # each row: its leading cells, its numbers per joint, and which are integrator noise (at
@@ -734,7 +732,6 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
         diff = [([fig], value, is_round_off(peak, tau_floor, 1.0)) for fig, value, peak in pairs]
         diff.append((["noise floor (\u2261 0 at or below)"], tau_floor, np.zeros(n, bool)))
     applied = [([short.get(c, c), fig], figures[c], np.zeros(n, bool)) for c in names
-               if s.tau_peak is not None and s.tau_rms is not None
                for fig, figures in (("peak |\u03c4|", s.tau_peak), ("RMS \u03c4", s.tau_rms))]
     tau_u = [f"{j} [{u}]" for j, u in zip(joints, joint_units(s.prismatic, "tau"))]
     errors = _table(["controller", "sampled at", "figure"]

@@ -45,6 +45,7 @@ _TYPED_GAINS = (V.INERTIA_SCALE, V.KP_PD, V.KV_PD)
 REQUIRED_VARIABLES = (V.IS_SETPOINT, V.Q_D, V.ERROR, V.TAU, V.ERROR_PEAK_SETPOINTS,
                       V.ERROR_RMS_SETPOINTS, V.ERROR_PEAK_GRID, V.ERROR_RMS_GRID, V.KP, V.KV,
                       V.KP_PD, V.KV_PD, V.WN, V.ZETA, V.INERTIA_SCALE, V.CHOICE, V.NFEV,
+                      V.TAU_PEAK, V.TAU_RMS, V.Q0_OFFSET, V.CONTROLLER_DESCRIPTION,
                       *(f"{k}_units" for k in _TYPED_GAINS))
 
 
@@ -135,8 +136,8 @@ class StoredControl(View):
     ----------
     controllers : tuple of str, length C
         ``"full"``, ``"simplified"``, ``"pd_gravity"``.
-    descriptions : tuple of str or None
-        Each controller's control law; None where not stored.
+    descriptions : tuple of str
+        Each controller's control law.
     prismatic : tuple of bool, length n
         The prismatic joints.
     time : ndarray, shape (T,)
@@ -151,7 +152,7 @@ class StoredControl(View):
             Mapping of str to ndarray, shape (n,)
         Per controller, peak and RMS of the tracking error at the set points and on the fine
         grid [rad or m].
-    tau_peak, tau_rms : Mapping of str to ndarray, shape (n,), or None
+    tau_peak, tau_rms : Mapping of str to ndarray, shape (n,)
         Per controller, peak |tau| and RMS of tau on the fine grid [N m or N].
     tau_difference : ndarray, shape (T, n), or None
         The simplified-model controller's torque minus the full-model controller's.
@@ -165,7 +166,7 @@ class StoredControl(View):
         ``wn``, ``zeta``, ``Kp``, ``Kv``, ``inertia_scale``, ``Kp_pd``, ``Kv_pd``.
     gain_units : Mapping of str to tuple of str
         The stored units per joint of ``inertia_scale``, ``Kp_pd`` and ``Kv_pd``.
-    q0_offset : ndarray, shape (n,), or None
+    q0_offset : ndarray, shape (n,)
         The initial position error [rad or m].
     elements, choice : tuple of str, length M
         The elements of D (i <= j) and h, and the part the simplified model keeps of each.
@@ -178,7 +179,7 @@ class StoredControl(View):
     """
 
     controllers: tuple[str, ...] = stored(V.CONTROLLER, texts)
-    descriptions: tuple[str, ...] | None = stored(V.CONTROLLER_DESCRIPTION, texts, None)
+    descriptions: tuple[str, ...] = stored(V.CONTROLLER_DESCRIPTION, texts)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
     time: np.ndarray = stored(V.TIME)
     is_setpoint: np.ndarray = stored(V.IS_SETPOINT, lambda v: np.asarray(v).astype(bool))
@@ -189,8 +190,8 @@ class StoredControl(View):
     error_rms_setpoints: Mapping[str, np.ndarray] = _by_controller(V.ERROR_RMS_SETPOINTS)
     error_peak_grid: Mapping[str, np.ndarray] = _by_controller(V.ERROR_PEAK_GRID)
     error_rms_grid: Mapping[str, np.ndarray] = _by_controller(V.ERROR_RMS_GRID)
-    tau_peak: Mapping[str, np.ndarray] | None = _by_controller(V.TAU_PEAK)
-    tau_rms: Mapping[str, np.ndarray] | None = _by_controller(V.TAU_RMS)
+    tau_peak: Mapping[str, np.ndarray] = _by_controller(V.TAU_PEAK)
+    tau_rms: Mapping[str, np.ndarray] = _by_controller(V.TAU_RMS)
     tau_difference: np.ndarray | None = stored(V.TAU_DIFFERENCE, default=None)
     tau_difference_floor: np.ndarray | None = stored(V.TAU_DIFFERENCE_FLOOR, default=None)
     tau_difference_peak: np.ndarray | None = stored(V.TAU_DIFFERENCE_PEAK, default=None)
@@ -203,7 +204,7 @@ class StoredControl(View):
         {k: ds[k].values for k in (V.WN, V.ZETA, V.KP, V.KV, V.INERTIA_SCALE, V.KP_PD, V.KV_PD)}))
     gain_units: Mapping[str, tuple[str, ...]] = derived(lambda ds: types.MappingProxyType({
         k: texts(ds[f"{k}_units"].values) for k in _TYPED_GAINS}))
-    q0_offset: np.ndarray | None = stored(V.Q0_OFFSET, default=None)
+    q0_offset: np.ndarray = stored(V.Q0_OFFSET)
     elements: tuple[str, ...] = stored(V.ELEMENT, texts, ())
     choice: tuple[str, ...] = stored(V.CHOICE, texts)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
