@@ -598,11 +598,10 @@ def _drives_context(results: Results | xr.Dataset, labels):
     return {"table": table, "note": note}
 
 
+#: The series the report draws: the rest it reads, the results view requires
+#: (:data:`gd_analyze.store.results_view.REQUIRED`).
 _REQUIRED = ("t", "q", "qd", "qdd", "D_tran", "D_rot", "D", "h_tran", "h_rot", "h", "tau",
-             "tau_simplified", "share_tran", "dominance", "chapter_dominance", "choice",
-             "peak_tran", "peak_rot", "peak_total", "tau_error_peak", "tau_error_rms",
-             "tau_peak", "tau_error_relative_peak", "tau_error_relative_rms", "dh_d", "dh_a",
-             "dh_alpha", "dh_offset", "link_mass", "link_com", "link_inertia")
+             "tau_simplified")
 
 _CHOICES_HEADING = {"explicit": "5.2 Choice per element",
                     "recursive": "5.2 Base parameters and the parts kept"}
