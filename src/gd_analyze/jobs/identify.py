@@ -293,9 +293,11 @@ def identify(robot: Robot | str | Path,
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
                          f"{prep.STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
-    # each recording's file's name; files joined from one folder (q.csv+dq.csv+..): the folder's
+    # each recording's (first) file's name; files joined from one folder whose names have
+    # nothing in common (q.csv+dq.csv+current_mA.csv): the folder's
     names = group_names([files[0].parent.name if len(files) > 1 and files[0].parent.name and len(
-        {f.parent for f in files}) == 1 else files[0].stem for files in (
+        {f.parent for f in files}) == 1 and not os.path.commonprefix([f.stem for f in files])
+        else files[0].stem for files in (
         [Path(f) for f, _ in r.files] or [Path(r.source)] for r in train + valid)])
     notes = []
     cutoff = options.cutoff
