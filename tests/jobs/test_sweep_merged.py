@@ -56,7 +56,7 @@ def test_the_validation_is_the_stored_error_over_all_trajectories(two_link):
 def test_a_dataset_without_a_merged_variable_is_refused_naming_it(two_link, name):
     with pytest.raises(InputError) as err:
         merged_model(two_link, _sweep(two_link).drop_vars(name))
-    assert str(err.value) == f"not a gd-analyze sweep dataset: missing {name}"
+    assert str(err.value) == f"not a gd-analyze sweep dataset: missing variable(s) {name}"
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from gd_analyze.errors import InputError
 from gd_analyze.report import common as rp
 from gd_analyze.report import figure_style
 from gd_analyze.report.control import fmt_number as control_fmt
@@ -94,12 +93,7 @@ def test_table_alignment():
     assert rp.table(["a", "b"], [], align=["right", "left"])["align"] == ["right", "left"]
 
 
-def test_check_and_formats():
-    ds = xr.Dataset({"x": ("i", [1.0])})
-    rp.check(ds, ["x"], "results")
-    with pytest.raises(InputError, match="not a gd-analyze sweep dataset: missing variable"
-                                         r"\(s\) y, z"):
-        rp.check(ds, ["x", "y", "z"], "sweep")
+def test_check_formats():
     assert rp.check_formats(("HTML", "pdf", "html"), ("html", "pdf")) == ["html", "pdf"]
     assert rp.check_formats("pdf", ("html", "pdf")) == ["pdf"]
     for bad in ([], ["xml"]):

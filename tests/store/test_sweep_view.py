@@ -54,6 +54,24 @@ def test_a_missing_variable_is_one_line_naming_it(missing):
     assert "\n" not in str(err.value) and missing in str(err.value)
 
 
+@pytest.mark.parametrize("missing", ["merged_bound", "merged_covered", "merged_scale"])
+def test_a_stored_guarantee_without_what_it_is_checked_on_is_one_line_naming_it(missing):
+    """A sweep stores a merged model's region guarantee with each trajectory's bound, scale
+    and coverage; a file holding the guarantee but not one of those is refused in one line
+    naming it (it was a KeyError from deep in the reading)."""
+    ds = _sweep().assign_attrs(merged_guarantee_statement="within 1 % of s_i over the region",
+                               merged_guarantee_kind="region")
+    K, n = 3, 2
+    ds = ds.assign({"merged_bound": (("trajectory", "joint"), np.ones((K, n))),
+                    "merged_scale": (("trajectory", "joint"), np.ones((K, n))),
+                    "merged_covered": ("trajectory", [1, 1, 0]),
+                    "merged_coverage": ("trajectory", ["", "", "q1 outside"])})
+    assert StoredSweep.from_dataset(ds).merged.guarantee["outside"] == [("c", "q1 outside", 0.0)]
+    with pytest.raises(InputError) as err:
+        StoredSweep.from_dataset(ds.drop_vars(missing))
+    assert str(err.value) == f"not a gd-analyze sweep dataset: missing variable(s) {missing}"
+
+
 def test_more_tasks_are_counted_on_a_new_dataset():
     ds = _sweep()
     more = with_more_tasks(ds, 3)

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 from gd_analyze.errors import InputError
-from gd_analyze.store.schema import View, derived, stored, stored_has_drives, texts
+from gd_analyze.store.schema import View, derived, require, stored, stored_has_drives, texts
 
 
 @dataclass(frozen=True, eq=False)
@@ -71,3 +71,11 @@ def test_drives_are_stored_where_one_of_their_variables_is_nonzero():
         one = zero.copy(deep=True)
         one[name].values[1] = 0.5
         assert stored_has_drives(one), name
+
+
+def test_require_names_every_missing_variable_in_one_line():
+    ds = xr.Dataset({"x": ("i", [1.0])})
+    require(ds, ["x"], "results")
+    with pytest.raises(InputError) as err:
+        require(ds, ["x", "y", "z"], "sweep")
+    assert str(err.value) == "not a gd-analyze sweep dataset: missing variable(s) y, z"

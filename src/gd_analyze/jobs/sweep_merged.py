@@ -48,7 +48,7 @@ from ..store.datasets import region_fields
 from ..store.derivations import DERIVATIONS
 from ..store.names import SweepAttr as SA
 from ..store.names import SweepVar as SV
-from ..store.schema import strings, text_coordinate, var
+from ..store.schema import require, strings, text_coordinate, var
 from ..store.sweep_view import MERGED_ERRORS, merged_error_variables
 from ..symbolic.explicit_estimate import is_expensive
 from .control import model_cost, model_facts
@@ -106,10 +106,7 @@ def merged_model(robot: Robot, sweep_ds: xr.Dataset) -> SimplifiedModel:
     The validation is computed by :func:`~gd_analyze.jobs.sweep.run_sweep` along every
     trajectory and stored in the dataset; nothing is recomputed here. Source: Sec. 3.4.1 of Fu, Gonzalez & Lee (1987).
     """
-    missing = [v for v in (SV.MERGED_CHOICE, *_VALIDATION.values())
-               if v not in sweep_ds.variables]
-    if missing:
-        raise InputError("not a gd-analyze sweep dataset: missing " + ", ".join(missing))
+    require(sweep_ds, (SV.MERGED_CHOICE, *_VALIDATION.values()), "sweep")
     sha = sweep_ds.attrs.get(SA.ROBOT_SHA256, "")
     if sha and robot.sha256 and sha != robot.sha256:
         raise InputError(f"the sweep was computed for robot {sweep_ds.attrs.get('robot')!r} "

@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..errors import InputError
 from ..ranking.ranking import ROUND_OFF, ROUND_OFF_CLAUSE, joint_torque_units, joint_units_text
 from ..store.results_view import Results
 from ..store.schema import EvaluatorCosts, stored_prismatic, strings, utc_now
@@ -36,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CLASS_COLOURS", "utc_now", "keep_units", "strings", "fmt", "fmt_column",
            "fmt_columns", "given", "count", "share", "pct", "pct_column", "pct_columns",
-           "attr_text", "check", "table", "render_template", "say", "check_formats",
+           "attr_text", "table", "render_template", "say", "check_formats",
            "prismatic_joints", "torque_units", "FORMULATION_NAMES", "FORMULATION_ABBR",
            "units_text", "units_said_once", "cost_table", "settings_table", "other_rows",
            "or_default", "joints_text"]
@@ -117,29 +116,6 @@ def joints_text(joints: Sequence[object]) -> str:
         "joint 3" for one, "joints 1, 2, 4" for several.
     """
     return f"joint{'s' if len(joints) > 1 else ''} {', '.join(map(str, joints))}"
-
-
-def check(ds: xr.Dataset, required: Sequence[str], what: str) -> None:
-    """Raise if a dataset lacks a variable a report needs.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        The dataset.
-    required : sequence of str
-        Names of the variables needed.
-    what : str
-        The kind of dataset, for the message ("results", "sweep", ...).
-
-    Raises
-    ------
-    InputError
-        Naming the missing variables.
-    """
-    missing = [v for v in required if v not in ds.variables]
-    if missing:
-        raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
-                         + ", ".join(missing))
 
 
 #: How the report names each formulation and implementation of the stored comparison (the

@@ -33,7 +33,7 @@ from ..ranking.ranking import is_chapter_puma, joint_motion_units
 from ..store.datasets import stored_guarantee, stored_region
 from ..store.names import RANKING_COLUMNS
 from ..store.results_view import Results
-from ..store.schema import RunRecord
+from ..store.schema import RunRecord, require
 from .common import CLASS_COLOURS as _CLASS_COLOURS
 from .common import (
     FORMULATION_ABBR,
@@ -51,7 +51,6 @@ from .common import (
     utc_now,
 )
 from .common import attr_text as _text
-from .common import check as _check
 from .common import fmt as _fmt
 from .common import fmt_column as _column
 from .common import fmt_columns as _columns
@@ -711,7 +710,7 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
     """
     results = Results.of(results)
     ds = results.dataset
-    _check(ds, _REQUIRED, "results")
+    require(ds, _REQUIRED, "results")
     n = len(results.prismatic)
     t = results.trajectory.t
     N = t.size

@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CONVENTIONS", "MIXED_UNITS", "var", "flag", "attribute_value", "global_attributes",
            "element_coords", "text_coordinate", "joint_type_var", "strings", "utc_now",
-           "stored_prismatic", "stored_has_drives",
+           "stored_prismatic", "stored_has_drives", "require",
            "Record", "stored_name", "texts", "stored", "derived", "View", "RunRecord", "EvaluatorCosts", "write_dataset", "append_dataset", "open_results", "open_sweep"]
 
 #: The CF conventions the datasets follow.
@@ -446,6 +446,30 @@ def derived(read: Callable[[xr.Dataset], Any]) -> Any:
     return field(metadata={"derived": read})
 
 
+def require(ds: xr.Dataset, names: Sequence[str], what: str) -> None:
+    """Raise if a dataset lacks a variable that a reader of it needs.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The dataset.
+    names : sequence of str
+        The variables (coordinates included) needed.
+    what : str
+        The kind of dataset, for the message ("results", "sweep", ...).
+
+    Raises
+    ------
+    InputError
+        One line naming every missing variable: "not a gd-analyze sweep dataset: missing
+        variable(s) merged_bound".
+    """
+    missing = [name for name in names if name not in ds.variables]
+    if missing:
+        raise InputError(f"not a gd-analyze {what} dataset: missing variable(s) "
+                         + ", ".join(missing))
+
+
 class View:
     """A typed view read from a dataset by one path, :meth:`read`: each field that is
     :func:`stored` where it says, each :func:`derived` one computed from the dataset, any other
@@ -512,10 +536,7 @@ class View:
         InputError
             If a variable of ``required`` is missing (one line naming them).
         """
-        missing = [name for name in cls.required if name not in ds.variables]
-        if missing:
-            raise InputError(f"not a gd-analyze {cls.what} dataset: missing variable(s) "
-                             + ", ".join(missing))
+        require(ds, cls.required, cls.what)
         return cls.read(ds) if all(name in ds.variables for name in cls.presence) else None
 
     @classmethod

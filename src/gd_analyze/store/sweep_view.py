@@ -61,6 +61,7 @@ from .schema import (
     flag,
     global_attributes,
     joint_type_var,
+    require,
     stored,
     stored_prismatic,
     strings,
@@ -664,11 +665,18 @@ def merged_guarantee(ds: xr.Dataset) -> dict[str, Any] | None:
         :func:`~gd_analyze.simplify.guarantee.within_bound`; True if none is covered) and
         ``held_out_inside`` (how many held-out trajectories lie in the region; None when not
         stored).
+
+    Raises
+    ------
+    InputError
+        If the file stores a guarantee but not the variables it is checked on (one line).
     """
     a = ds.attrs
     if "merged_guarantee_statement" not in a:
         return None
     kind = str(a.get("merged_guarantee_kind", "none"))
+    require(ds, (SV.MERGED_TAU_ERROR_PEAK, SV.MERGED_SCALE, SV.MERGED_BOUND)
+            + ((SV.MERGED_COVERED, SV.MERGED_COVERAGE) if kind == "region" else ()), "sweep")
     rel = np.asarray(ds[SV.MERGED_TAU_ERROR_RELATIVE_PEAK].values, float)
     K = rel.shape[0]
     if kind == "region":
