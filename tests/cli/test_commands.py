@@ -14,6 +14,7 @@ import re
 import sys
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -942,6 +943,26 @@ def test_identify_names_its_folder_after_the_first_of_files_joined_on_one_clock(
     monkeypatch.chdir(tmp_path)
     assert main(["identify", "puma560", "+".join(files), "--no-report"]) == 0
     assert [p.name for p in (tmp_path / "reports").iterdir()] == ["puma560-arm_position-identify"]
+
+
+def test_identify_names_its_folder_as_the_recording_joined_from_one_folders_files(tmp_path,
+                                                                                  monkeypatch):
+    """Without -o, a recording joined from files of one folder whose names share nothing
+    (``log/q.csv+log/tau.csv``) names identify's folder as it names the recording in the
+    results: after the folder (``log``), not its first file (``q``)."""
+    robot = load_robot("two-link")
+    t = irregular_clock(6, seed=2)
+    q, qd, qdd = fourier(robot.n, t, seed=2)
+    tau = truth_for(robot).torque(q, qd, qdd)
+    (tmp_path / "log").mkdir()
+    for kind, values in (("q", q), ("tau", tau)):
+        np.savetxt(tmp_path / "log" / f"{kind}.csv", np.column_stack([t, values]),
+                   delimiter=",", header=f"t,{kind}1,{kind}2", comments="")
+    monkeypatch.chdir(tmp_path)
+    assert main(["identify", "two-link", "log/q.csv+log/tau.csv", "--no-report"]) == 0
+    assert [p.name for p in (tmp_path / "reports").iterdir()] == ["two-link-log-identify"]
+    with h5py.File(tmp_path / "reports" / "two-link-log-identify" / "identification.h5") as f:
+        assert "log" in f
 
 
 def test_a_sweep_at_tolerance_zero_is_within_its_guarantee_up_to_round_off(capsys, tmp_path):

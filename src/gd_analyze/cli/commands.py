@@ -36,7 +36,7 @@ from ..files import file_sha256
 from ..jobs.analyze import progress_bar
 from ..jobs.control import CONTROL_FILE, DEFAULT_GRID_POINTS, run_control
 from ..jobs.evaluate import coverage, evaluate, gate
-from ..jobs.identify import IdentifyOptions, identify
+from ..jobs.identify import IdentifyOptions, identify, recording_name
 from ..jobs.options import AnalysisOptions, SimplifyOptions
 from ..jobs.payload import sweep_payloads
 from ..jobs.peak_jobs import derives_explicit
@@ -1029,8 +1029,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
         raise InputError("--drive-gains applies to currents: give --current",
                          column="--drive-gains")
     options = IdentifyOptions(**{f.name: getattr(args, f.name) for f in dataclasses.fields(IdentifyOptions)})
-    outdir = output_folder(args.outdir, robot.name, Path(recording_files(args.recordings[0])[0]).stem,
-                           "identify")
+    outdir = output_folder(args.outdir, robot.name, recording_name(recording_files(
+        args.recordings[0])), "identify")
     train, valid = ([read_recording(path, robot.n, options.current, robot.joint_names())
                      for path in paths] for paths in (args.recordings, args.validate))
     size = identification_size([most_samples(r.t, resampled=options.cutoff is not None)

@@ -677,7 +677,7 @@ def identify_parser() -> argparse.ArgumentParser:
     p.add_argument("--validate", metavar="FILE.csv", nargs="+", action="extend", default=[],
                    help="recordings not used for fitting, on which the errors are reported")
     p.add_argument("-o", "--outdir", metavar="OUTDIR",
-                   help="output folder (default reports/ROBOT-STEM-identify)")
+                   help="output folder (default reports/ROBOT-NAME-identify, NAME the first recording's name)")
     p.add_argument("--json", action="store_true",
                    help="print one JSON object: the recordings' errors and the condition number")
     p.add_argument("--cutoff", metavar="HZ", type=_cutoff, default="auto",

@@ -46,7 +46,7 @@ from .analyze import analyze, analyze_to_file, stream_chunk
 from .evaluate import model_torque as simplified_torque
 from .options import AnalysisOptions
 
-__all__ = ["IdentifyOptions", "identify", "DEFAULT_DRIVES"]
+__all__ = ["IdentifyOptions", "identify", "recording_name", "DEFAULT_DRIVES"]
 
 #: The drive columns identified by default.
 DEFAULT_DRIVES = ("viscous", "coulomb", "offset")
@@ -222,6 +222,31 @@ def _prepared(rec, cutoff, options, label, prismatic, train, notes, extra=None, 
                          column="--cutoff" if "cutoff" in said else None) from None
 
 
+def recording_name(files: Sequence[str | os.PathLike[str]]) -> str:
+    """What a recording is called in the results, the reports and the output folder's name:
+    its (first) file's name, or the folder's where files of one folder whose names have
+    nothing in common are joined (``log/q.csv+log/dq.csv+log/current_mA.csv``: ``log``).
+
+    Parameters
+    ----------
+    files : sequence of str or os.PathLike, length >= 1
+        The recording's files, in the order given.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> recording_name(["log/q.csv", "log/dq.csv"]), recording_name(["a/arm_q.csv", "a/arm_dq.csv"])
+    ('log', 'arm_q')
+    """
+    paths = [Path(f) for f in files]
+    folder = paths[0].parent.name if len({p.parent for p in paths}) == 1 else ""
+    common = os.path.commonprefix([p.stem for p in paths])
+    return folder if len(paths) > 1 and folder and not common else paths[0].stem
+
+
 def identify(robot: Robot | str | Path,
              recordings: Sequence[str | os.PathLike | Recording],
              validate: Sequence[str | os.PathLike | Recording] = (),
@@ -293,12 +318,8 @@ def identify(robot: Robot | str | Path,
                          f"spans less than {prep.STILL_SPAN['revolute']:g} rad or "
                          f"{prep.STILL_SPAN['prismatic']:g} m in each): there is nothing to "
                          "identify from")
-    # each recording's (first) file's name; files joined from one folder whose names have
-    # nothing in common (q.csv+dq.csv+current_mA.csv): the folder's
-    names = group_names([files[0].parent.name if len(files) > 1 and files[0].parent.name and len(
-        {f.parent for f in files}) == 1 and not os.path.commonprefix([f.stem for f in files])
-        else files[0].stem for files in (
-        [Path(f) for f, _ in r.files] or [Path(r.source)] for r in train + valid)])
+    names = group_names([recording_name([f for f, _ in r.files] or [r.source])
+                         for r in train + valid])
     notes = []
     cutoff = options.cutoff
     if cutoff == "auto":
