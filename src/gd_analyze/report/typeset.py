@@ -36,6 +36,7 @@ import os
 import re
 import warnings
 from collections.abc import Mapping
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from . import markup
@@ -93,8 +94,6 @@ def fonts_loaded() -> Any:
     -------
     typst.Fonts
     """
-    from pathlib import Path
-
     import matplotlib
     import typst
 
@@ -306,6 +305,15 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
         If Typst fails (a section numbered otherwise than the outline numbers it).
     OSError
         If the file cannot be written.
+
+    Notes
+    -----
+    Typst lays a document out again until what its figures' placement reads (positions,
+    pages) stops changing, at most five times. Where the plain setting does not settle (a
+    figure set inline in one pass and at the next page's top in the next, as in the SO-101's
+    report of example-robot-data), the tighter setting is tried, then the one with no figure
+    floating past a heading; the first that settles is kept (its warnings issued only if none
+    does).
     """
     data = document_data(outline, {k: size for k, (_, size) in figures.items()}, paper,
                          metadata, footer)
@@ -327,6 +335,9 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
             pdf, end = tried, where
             kept.update(flags)
 
+    for flags in ({"tight": True}, {"barrier": True}):
+        if end["warnings"]:     # a layout that did not settle: tighter, else no float past a heading
+            again(lambda e: True, **flags)
     if end["page"] > 1 and end["alone"]:
         # a last page holding a figure alone: no figure floating past the next heading (the
         # figure heads its page with the rest of its section), if that ends no later
@@ -340,8 +351,7 @@ def write_pdf(outline: Outline, figures: Mapping[str, tuple[str, tuple[float, fl
         again(lambda e: e["page"] <= end["page"] and e["fill"] >= NEAR_EMPTY, turn=True)
     for message in end["warnings"]:
         warnings.warn(f"typst: {message}", RuntimeWarning, stacklevel=2)
-    with open(path, "wb") as fh:
-        fh.write(pdf)
+    Path(path).write_bytes(pdf)
     return len(re.findall(rb"/Type\s*/Page\b", pdf))
 
 
