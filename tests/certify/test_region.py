@@ -221,15 +221,28 @@ def test_channel_values_rebuild_rnea(name):
     assert np.abs(tau - ref).max() <= 1e-10 * np.abs(ref).max()
 
 
+#: :func:`_pinocchio_parts`'s results by arm and state.
+_PARTS: dict = {}
+
+
 def _pinocchio_parts(robot, q, qd):
-    """Pinocchio's mass matrix M(q), velocity torque h(q, qd) (no gravity) and gravity g(q)."""
-    model = pinocchio_model(robot)
-    data = model.createData()
-    M = np.triu(pin.crba(model, data, q))
-    g = pin.computeGeneralizedGravity(model, data, q).copy()
-    model.gravity.linear = np.zeros(3)
-    h = pin.rnea(model, model.createData(), q, qd, np.zeros(robot.n)).copy()
-    return M + np.triu(M, 1).T, h, g
+    """Pinocchio's mass matrix M(q), velocity torque h(q, qd) (no gravity) and gravity g(q):
+    computed once per process for the same arm and state (the cases of
+    :func:`test_the_sampled_error_of_dropped_parts_is_pinocchios_largest` ask for the same
+    states, whatever parts they drop); read only."""
+    key = (robot.name, robot.sha256, np.asarray(q, float).tobytes(),
+           np.asarray(qd, float).tobytes())
+    if key not in _PARTS:
+        model = pinocchio_model(robot)
+        data = model.createData()
+        M = np.triu(pin.crba(model, data, q))
+        g = pin.computeGeneralizedGravity(model, data, q).copy()
+        model.gravity.linear = np.zeros(3)
+        h = pin.rnea(model, model.createData(), q, qd, np.zeros(robot.n)).copy()
+        _PARTS[key] = (M + np.triu(M, 1).T, h, g)
+        for a in _PARTS[key]:
+            a.setflags(write=False)
+    return _PARTS[key]
 
 
 @pytest.mark.parametrize("parts", [(0, 0, 1), (0, 1, 1), (1, 0, 0), (1, 1, 0), (1, 1, 1)])

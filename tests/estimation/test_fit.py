@@ -16,7 +16,8 @@ def _prepared(truth, robot, seconds, seed, noise=0.0, outliers=0):
     n = robot.n
     t = irregular_clock(seconds, seed)
     q, qd, qdd = fourier(n, t, seed=seed)
-    tau = truth.torque(q, qd, qdd)
+    true = truth.torque(q, qd, qdd)         # returned as it is: noise and outliers on a copy
+    tau = true.copy()
     rng = np.random.default_rng(seed + 7)
     if noise:
         tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
@@ -24,7 +25,7 @@ def _prepared(truth, robot, seconds, seed, noise=0.0, outliers=0):
         rows = rng.choice(len(t) - 1, outliers, replace=False)
         tau[np.concatenate([rows, rows + 1]), 0] += 50 * tau[:, 0].std()
     return preprocess(t, q, tau, qd, qdd, cutoff=None, label=f"rec{seed}",
-                      prismatic=robot.prismatic), (q, qd, qdd)
+                      prismatic=robot.prismatic), (q, qd, qdd), true
 
 
 def _stacked(rows):
@@ -38,9 +39,9 @@ def _stacked(rows):
 def test_noise_free_training_gives_the_true_torques_and_drives():
     robot = load_robot("puma560")
     truth = truth_for(robot)
-    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=3)
+    pre, (q, qd, qdd), true = _prepared(truth, robot, 20, seed=3)
     fit, regressors = fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
-    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    tau_true = true[pre.keep]
     scale = np.abs(tau_true).max()
     assert np.abs(_stacked(regressors[0]) @ fit.theta - tau_true).max() < 1e-8 * scale
     values = dict(zip(fit.names, fit.theta))
@@ -59,12 +60,12 @@ def test_noise_free_training_gives_the_true_torques_and_drives():
 def test_outlier_rows_are_left_out_and_the_fit_repeated():
     robot = load_robot("puma560")
     truth = truth_for(robot)
-    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=4, noise=1e-3, outliers=5)
+    pre, (q, qd, qdd), true = _prepared(truth, robot, 20, seed=4, noise=1e-3, outliers=5)
     fit, regressors = fit_robot(robot, [pre], ("viscous", "coulomb", "offset"))
     assert any("outlier rows" in note for note in fit.notes)
     moving = moving_rows(pre.qd[pre.keep], fit.threshold)[0] | pre.held[None, :]
     assert (moving[:, 0] & ~fit.used[0][:, 0]).sum() >= 5     # the five, at least
-    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    tau_true = true[pre.keep]
     assert np.abs(_stacked(regressors[0]) @ fit.theta - tau_true).max() < 1e-2 * np.abs(tau_true).max()
 
 
@@ -82,9 +83,9 @@ def test_the_least_squares_alone_give_the_true_torques_without_the_standard_para
     monkeypatch.setattr(fit_module, "consistent_standard", failed)
     robot = load_robot("puma560")
     truth = truth_for(robot)
-    pre, (q, qd, qdd) = _prepared(truth, robot, 20, seed=3)
+    pre, (q, qd, qdd), true = _prepared(truth, robot, 20, seed=3)
     est, regressors = fit_module.fit_columns(robot, [pre], ("viscous", "coulomb", "offset"))
-    tau_true = truth.torque(q, qd, qdd)[pre.keep]
+    tau_true = true[pre.keep]
     scale = np.abs(tau_true).max()
     assert np.abs(_stacked(regressors[0]) @ est.value - tau_true).max() < 1e-8 * scale
     np.testing.assert_allclose(est.value[-robot.n:], truth.offset, rtol=0, atol=1e-8 * scale)
@@ -98,12 +99,12 @@ def test_the_standard_deviations_hold_for_filtered_recordings():
     truth = truth_for(robot, seed=2)
     clocks = [np.arange(0, 30, 1 / 500), np.arange(0, 30, 1 / 100)]     # two rates
     paths = [fourier(robot.n, t, seed=k) for k, t in enumerate(clocks)]
+    clean = [truth.torque(q, qd, qdd) for q, qd, qdd in paths]     # once: each fit adds noise
     rng = np.random.default_rng(0)
 
     def fitted(noise):
         pres = []
-        for t, (q, qd, qdd) in zip(clocks, paths):
-            tau = truth.torque(q, qd, qdd)
+        for t, (q, qd, qdd), tau in zip(clocks, paths, clean):
             tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
             pres.append(preprocess(t, q, tau, cutoff=4.0, prismatic=robot.prismatic))
         return fit_robot(robot, pres, ("viscous", "coulomb", "offset"))[0].estimate

@@ -291,17 +291,11 @@ def _clipped(x, frac, where, noise):
     return np.clip(x + before, -limit, limit) + after, limit
 
 
-@pytest.mark.parametrize("where", ["none", "before", "after"])
-def test_a_clipped_sinusoid_or_excitation_torque_is_found_in_every_seed(where):
-    """Clipped at 80, 85, 90 and 95 % of its peak, without noise or with noise of 1e-3 of the
-    peak before or after the clip: in each of 30 seeds a sinusoid (random frequency and phase,
-    2,000 samples over 2 to 5 periods) and a random excitation (5 harmonics of 0.2 Hz, random
-    weights and phases, 3,000 samples over 10 s), and the two-link arm's torque on each joint (Pinocchio's rnea, friction,
-    offsets; 25 s Fourier excitations of 5 seeds) are found clipped, every sample marked within
-    6 noise deviations (or 1e-9 of the peak) of the limit. The same torques unclipped, with the
-    noise: nothing. (The arm's 95 % clips with noise after them are left out: in seed 0 the
-    stretch longest at joint 2's limit passes it by 0.5 % of the peak, 5 noise deviations, and
-    approaches it as slowly as an honest peak of order 8 would.)"""
+@pytest.fixture(scope="module")
+def clip_signals():
+    """(t or q, x) of :func:`test_a_clipped_sinusoid_or_excitation_torque_is_found_in_every_seed`:
+    30 seeds' sinusoid and random excitation, then the two-link arm's torque along 5 seeds'
+    Fourier excitations (Pinocchio's rnea, once a module for the three cases); read only."""
     t, t_x = np.linspace(0.0, 1.0, 2000), np.linspace(0.0, 10.0, 3000)
     robot = load_robot("two-link")
     truth, clock = truth_for(robot, seed=4), irregular_clock(25, 2)
@@ -316,7 +310,24 @@ def test_a_clipped_sinusoid_or_excitation_torque_is_found_in_every_seed(where):
     for seed in range(5):
         q, qd, qdd = fourier(robot.n, clock, seed=seed)
         signals.append((q, truth.torque(q, qd, qdd)))
-    for k, (q, tau) in enumerate(signals):
+    for pair in signals:
+        for a in pair:
+            a.setflags(write=False)
+    return tuple(signals)
+
+
+@pytest.mark.parametrize("where", ["none", "before", "after"])
+def test_a_clipped_sinusoid_or_excitation_torque_is_found_in_every_seed(where, clip_signals):
+    """Clipped at 80, 85, 90 and 95 % of its peak, without noise or with noise of 1e-3 of the
+    peak before or after the clip: in each of 30 seeds a sinusoid (random frequency and phase,
+    2,000 samples over 2 to 5 periods) and a random excitation (5 harmonics of 0.2 Hz, random
+    weights and phases, 3,000 samples over 10 s), and the two-link arm's torque on each joint (Pinocchio's rnea, friction,
+    offsets; 25 s Fourier excitations of 5 seeds) are found clipped, every sample marked within
+    6 noise deviations (or 1e-9 of the peak) of the limit. The same torques unclipped, with the
+    noise: nothing. (The arm's 95 % clips with noise after them are left out: in seed 0 the
+    stretch longest at joint 2's limit passes it by 0.5 % of the peak, 5 noise deviations, and
+    approaches it as slowly as an honest peak of order 8 would.)"""
+    for k, (q, tau) in enumerate(clip_signals):
         sigma = 1e-3 * np.abs(tau).max(axis=0)
         noise = sigma * np.random.default_rng(100 + k).normal(size=tau.shape)
         assert not clipped_samples(q, tau + noise).any(), k

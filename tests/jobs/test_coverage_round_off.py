@@ -57,7 +57,9 @@ def _exact_at(traj, t, j, k):
     i = np.clip(np.searchsorted(traj.t, t, side="right") - 1, 0, len(traj.t) - 2)
     cache, out = {}, []
     for ti, ii in zip(t, i):
-        a = cache.setdefault(ii, _exact(traj, ii, j))
+        if ii not in cache:                 # each interval's system solved once
+            cache[ii] = _exact(traj, ii, j)
+        a = cache[ii]
         s = Fraction(ti) - Fraction(traj.t[ii])
         out.append(sum(a[m] * math.perm(m, k) * s ** (m - k) for m in range(k, 6)))
     return out

@@ -44,15 +44,17 @@ def _urdf(name, urdf):
 
 
 def _record(truth, n, seconds, seed, noise=0.0, derivatives=True):
+    """A recording of the true arm's torque (with noise if asked) along a Fourier motion, and
+    (t, q, qd, qdd, the true torque without noise): rnea evaluated once, its torque copied."""
     t = irregular_clock(seconds, seed)
     q, qd, qdd = fourier(n, t, seed=seed)
-    tau = truth.torque(q, qd, qdd)
+    tau = true = truth.torque(q, qd, qdd)
     if noise:
         rng = np.random.default_rng(seed + 7)
         tau = tau + noise * tau.std(axis=0) * rng.normal(size=tau.shape)
     rec = recording_from_arrays(t, q, tau, qd if derivatives else None,
                                 qdd if derivatives else None, source=f"rec{seed}")
-    return rec, (t, q, qd, qdd, truth.torque(q, qd, qdd))
+    return rec, (t, q, qd, qdd, true.copy())
 
 
 @pytest.mark.slow

@@ -294,22 +294,37 @@ def test_joint_labels_and_nothing_dropped_never_touch(shipped_dataset, n, width,
     assert (labels == full) == (width == 7.2 and n != 15)   # short where "joint i" won't fit
 
 
+@pytest.fixture(scope="module")
+def contributions_drawn(shipped_dataset):
+    """The figure of the torque contributions of an arm of n joints (the PUMA 560's joints
+    over again) as SVG text and size, by n: drawn once a module for both papers of
+    :func:`test_the_contributions_of_many_joints_leave_their_page_room_for_the_error_table`
+    (the figure does not depend on the paper). Shared: read only."""
+    drawn = {}
+
+    def get(n):
+        if n not in drawn:
+            data = plot_data(shipped_dataset("puma560"))
+            cols = np.arange(n) % 6                       # the PUMA 560's joints over again
+            data = dataclasses.replace(data, series={k: np.asarray(v)[:, cols] for k, v in
+                                                     data.series.items() if np.ndim(v) == 2})
+            with matplotlib.rc_context(FIG_RC):
+                fig = fig_torque_contributions(data, ["N m"] * n)
+                size = tuple(fig.get_size_inches())
+                drawn[n] = figure_svg(fig), size
+        return drawn[n]
+    return get
+
+
 @pytest.mark.parametrize("paper", ["a4", "letter"])
 @pytest.mark.parametrize("n", [10, 12, 15])
 def test_the_contributions_of_many_joints_leave_their_page_room_for_the_error_table(
-        n, paper, shipped_dataset, tmp_path):
+        n, paper, contributions_drawn, tmp_path):
     """The figure of a 10- to 15-joint arm, set under its heading at a page's top, leaves room
     under it for the next section's table of the torque error per joint (n rows): that page is
     not left with its foot blank (the G1 right arm's figure of four rows of three panels, 8.07
     in tall, stood alone on its page, the table going to the next)."""
-    data = plot_data(shipped_dataset("puma560"))
-    cols = np.arange(n) % 6                       # the PUMA 560's joints over again
-    data = dataclasses.replace(data, series={k: np.asarray(v)[:, cols] for k, v in
-                                             data.series.items() if np.ndim(v) == 2})
-    with matplotlib.rc_context(FIG_RC):
-        fig = fig_torque_contributions(data, ["N m"] * n)
-        size = tuple(fig.get_size_inches())
-        svg = figure_svg(fig)
+    svg, size = contributions_drawn(n)
     o = Outline("Report", figures={"c"})
     o.section("1", "Simplified model and torque error")
     o.figure("c", "What the error budget acts on.")

@@ -228,8 +228,18 @@ def test_joint_motion_labels_stand_clear_of_the_next_panel(n, prismatic, width):
     assert not bad, bad
 
 
+@pytest.fixture(scope="module")
+def d_parts():
+    """The parts of Fig. 2 :func:`test_the_first_part_of_fig_2_fills_the_foot_of_its_page`
+    draws, by (n, first_rows, rows): each drawn once a module (the cases of the same n draw
+    the same parts before they are fitted to their paper), as SVG text and size. Shared:
+    read only."""
+    return {}
+
+
 @pytest.mark.parametrize("n, paper, filler", [(10, "a4", 7), (10, "letter", 5), (15, "a4", 9)])
-def test_the_first_part_of_fig_2_fills_the_foot_of_its_page(n, paper, filler, tmp_path):
+def test_the_first_part_of_fig_2_fills_the_foot_of_its_page(n, paper, filler, tmp_path,
+                                                           d_parts):
     """A D figure in parts whose first part does not fit under the text citing it: drawn
     again as the room reported by Typst and part_rows say, that part stands on the page of
     its lead, filling its foot to within a row, and every later part's page but the last is
@@ -265,12 +275,15 @@ def test_the_first_part_of_fig_2_fills_the_foot_of_its_page(n, paper, filler, tm
     classes = {lab: "both" for lab in labels}
 
     def drawn(first=None, rows=None):
+        if (n, first, rows) in d_parts:
+            return d_parts[n, first, rows]
         out = {}
         with matplotlib.rc_context(RC):
             for k in range(len(element_parts(labels, first_rows=first, rows=rows))):
                 fig = fig_D(data, classes, {}, 0.9, 0.01, part=k, first_rows=first, rows=rows)
                 out["D" if k == 0 else f"D_{k + 1}"] = (figure_svg(fig),
                                                         tuple(fig.get_size_inches()))
+        d_parts[n, first, rows] = out
         return out
 
     def outline(figures):

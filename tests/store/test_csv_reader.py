@@ -275,26 +275,38 @@ def test_fuzz_large_files_parsed_in_pieces_match_the_reference(tmp_path_factory,
         trajectory.PARSE_PIECE = saved
 
 
-@pytest.mark.parametrize("threads", [1, 3])
-@pytest.mark.parametrize("piece", [509, 4099, 1 << 25])
-def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, piece, threads):
-    """The pandas path, not its cell-by-cell fall-back (which hides a fault of the fast path
-    behind the same answer): a regular file in many pieces, parsed on one or three threads,
-    gives the reference's values, in order."""
-    import gd_analyze.trajectory.trajectory as trajectory
-
+@pytest.fixture(scope="module")
+def regular_file():
+    """A regular file of 3,000 random rows and the reference's values of it (reference_parse),
+    made once for the cases of
+    :func:`test_the_fast_path_itself_gives_the_reference_values_in_pieces`; read only."""
     rng = np.random.default_rng(5)
     rows = [[repr(k * 0.001)] + [repr(float(v)) for v in
                                  rng.normal(size=6) * 10.0 ** rng.integers(-3, 3, 6)]
             for k in range(3000)]
     raw = ("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "\n".join(",".join(r) for r in rows)
            + "\n").encode()
+    expected = reference_parse(raw)
+    expected.setflags(write=False)
+    return raw, expected
+
+
+@pytest.mark.parametrize("threads", [1, 3])
+@pytest.mark.parametrize("piece", [509, 4099, 1 << 25])
+def test_the_fast_path_itself_gives_the_reference_values_in_pieces(monkeypatch, piece, threads,
+                                                                   regular_file):
+    """The pandas path, not its cell-by-cell fall-back (which hides a fault of the fast path
+    behind the same answer): a regular file in many pieces, parsed on one or three threads,
+    gives the reference's values, in order."""
+    import gd_analyze.trajectory.trajectory as trajectory
+
+    raw, expected = regular_file
     monkeypatch.setattr(trajectory, "PARSE_PIECE", piece)
     monkeypatch.setattr(trajectory, "PARSE_THREADS", threads)
     parsed = trajectory.streamed_values(io.BytesIO(raw), "f.csv",
                                         lambda fields: [c.strip() for c in fields])
     assert parsed is not None
     values, names, sha256 = parsed
-    np.testing.assert_array_equal(values, reference_parse(raw))
+    np.testing.assert_array_equal(values, expected)
     assert sha256 == hashlib.sha256(raw).hexdigest()
     assert names == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"]

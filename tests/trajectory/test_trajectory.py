@@ -203,13 +203,25 @@ def test_joint_limit_warning_shows_a_narrow_range(tmp_path, two_link):
             f"[0, {math.degrees(0.0005):.4g}] deg (1 set point)" in str(caught[0].message))
 
 
+@pytest.fixture(scope="module")
+def big_plan(puma, tmp_path_factory):
+    """The default plan of 12,001 set points and the lines write_trajectory writes of it,
+    planned and written once a module (the same for every case of
+    :func:`test_large_files_parse_fast_and_errors_stay_exact`, which writes its own file of
+    them). Shared: tests must not modify them."""
+    plan = _default_plan(puma, n=12001)
+    path = tmp_path_factory.mktemp("big") / "big.csv"
+    write_trajectory(plan, path)
+    return plan, tuple(path.read_text().splitlines())
+
+
 @pytest.mark.parametrize("defect, row, column", [
     (None, None, None), ("nan", 5002, "q3"), ("ragged", 7002, None), ("text", 9002, "qd2"),
     ("time", 3002, "t")])
 @pytest.mark.parametrize("end, blank", [("\n", ""), ("\n", "\n"), ("\r\n", "\r\n\r\n"),
                                         ("\n", " \t\n\t\n  "), ("\r\n", "  \r\n\t \r\n")])
-def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, monkeypatch, defect, row,
-                                                      column, end, blank):
+def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, big_plan, monkeypatch, defect,
+                                                      row, column, end, blank):
     """Files above FAST_PARSE_BYTES go through pandas, also with LF or CRLF line ends and blank
     lines at the end, empty or of spaces and tabs (as many recorded files have): the
     cell-by-cell parser is not called; a fault is still located exactly (by that parser)."""
@@ -218,10 +230,9 @@ def test_large_files_parse_fast_and_errors_stay_exact(tmp_path, puma, monkeypatc
     import gd_analyze.trajectory.trajectory as trajectory
     from gd_analyze.trajectory.trajectory import FAST_PARSE_BYTES
 
-    plan = _default_plan(puma, n=12001)
+    plan, written = big_plan
     path = tmp_path / "big.csv"
-    write_trajectory(plan, path)
-    lines = path.read_text().splitlines()
+    lines = list(written)
     cells = {r: lines[r - 1].split(",") for r in (3002, 5002, 7002, 9002)}
     if defect == "nan":
         cells[5002][3] = "nan"
