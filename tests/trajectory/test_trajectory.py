@@ -3,6 +3,7 @@ stamps; refusals."""
 
 import hashlib
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -1054,6 +1055,41 @@ def test_columns_numbered_from_0_and_named_dq_ddq_read_as_numbered_from_1(tmp_pa
         tmp_path / "gap.csv", index=False)
     with pytest.raises(InputError, match=r"gap\.csv: row 1, column q1: missing column 'q1'"):
         read_recording(tmp_path / "gap.csv")
+
+
+@pytest.mark.parametrize("style", [
+    "{kind}_{j}",             # q_1, tau_1 (many loggers)
+    "{KIND}{j}",              # Q1, TAU1
+    "{kind}[{j0}]",           # q[0], tau[0] (an array's index: numbered from 0)
+    "{kind}_{j0}",            # q_0 (numbered from 0)
+])
+@pytest.mark.parametrize("torque", ["tau", "effort", "torque", "Torque"])
+def test_numbered_columns_in_any_case_with_separators_and_torque_names_read_alike(tmp_path,
+                                                                                style, torque):
+    """A recording whose numbered columns are written in another case, with ``_`` or an
+    array's brackets before the number, and its torques named ``effort`` or ``torque``: the
+    same recording as ``t,q1..,qd1..,tau1..`` (oracle: the arrays written); a column numbered
+    from 0 is read from joint 1 with the note, a time column ``Time`` reads as t. They were
+    refused ("unknown column 'q_1'")."""
+    rng = np.random.default_rng(3)
+    t = 0.01 * np.arange(20)
+    q, qd, tau = (rng.normal(size=(20, 3)) for _ in range(3))
+
+    def name(kind, j):
+        return style.format(kind=kind, KIND=kind.upper(), j=j + 1, j0=j)
+    cells = {"Time": t, **{name(k, j): v[:, j] for k, v in (("q", q), ("qd", qd), (torque, tau))
+                           for j in range(3)}}
+    pd.DataFrame(cells).to_csv(tmp_path / "r.csv", index=False, float_format="%.17g")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        rec = read_recording(tmp_path / "r.csv", 3)
+    for key, want in (("t", t), ("q", q), ("qd", qd), ("tau", tau)):
+        assert np.array_equal(getattr(rec, key), want), key
+    assert rec.column("tau", 2) == name(torque, 2) and not rec.current
+    assert [str(w.message) for w in caught] == ([
+        f"{tmp_path / 'r.csv'}: columns {name('q', 0)}..{name('q', 2)}, {name('qd', 0)}.."
+        f"{name('qd', 2)}, {name(torque, 0)}..{name(torque, 2)} number the joints from 0: "
+        "read as joints from 1"] if "{j0}" in style else [])
 
 
 def test_a_wrap_in_a_recording_naming_the_joints_is_warned_about_at_the_file_s_row_and_column(

@@ -137,10 +137,8 @@ def trajectory_columns(n: int, derivatives: bool = True) -> list[str]:
     list of str
         ``["t", "q1", ..., "qn", "qd1", ..., "qddn"]``.
     """
-    cols = ["t"] + [f"q{i}" for i in range(1, n + 1)]
-    if derivatives:
-        cols += [f"qd{i}" for i in range(1, n + 1)] + [f"qdd{i}" for i in range(1, n + 1)]
-    return cols
+    kinds = ("q", "qd", "qdd") if derivatives else ("q",)
+    return ["t"] + [f"{kind}{i}" for kind in kinds for i in range(1, n + 1)]
 
 
 def _parse_header(header, path):
@@ -1063,14 +1061,18 @@ MIN_SAMPLES = 10
 #: Largest accepted |torque| [N m or N] or |current| [A] in a recording.
 TAU_LIMIT = 1e7
 _LIMITS = {**LIMITS, "tau": TAU_LIMIT}
-_COLUMN = re.compile(r"^(t|time|__time|timestamp|q|qd|qdd|dq|ddq|tau|i|actual_q_|actual_qd_|"
-                     r"actual_current_as_torque_|actual_current_)(\d*)$")
+#: A numbered column, in any case, its number plain, after ``_`` or in brackets (``tau_1``,
+#: ``Q[0]``).
+_COLUMN = re.compile(r"^(t|time|__time|timestamp|q|qd|qdd|dq|ddq|tau|effort|torque|i|actual_q_|"
+                     r"actual_qd_|actual_current_as_torque_|actual_current_)(?:_?(\d+)|\[(\d+)\])?$",
+                     re.IGNORECASE)
 #: Other names of a kind: time (PlotJuggler's ``__time``, a UR RTDE log's ``timestamp``),
-#: currents, velocities and accelerations as FIGAROH's files write them, and a UR RTDE log's
-#: measured positions, velocities, torques and currents (numbered from 0).
+#: torques (a JointState's ``effort``), currents, velocities and accelerations as FIGAROH's
+#: files write them, and a UR RTDE log's measured positions, velocities, torques and currents
+#: (numbered from 0).
 _KIND = {"time": "t", "__time": "t", "timestamp": "t", "i": "tau", "dq": "qd", "ddq": "qdd",
-         "actual_q_": "q", "actual_qd_": "qd", "actual_current_as_torque_": "tau",
-         "actual_current_": "tau"}
+         "effort": "tau", "torque": "tau", "actual_q_": "q", "actual_qd_": "qd",
+         "actual_current_as_torque_": "tau", "actual_current_": "tau"}
 #: A column naming a joint of the robot file and a ROS JointState field, and its kind:
 #: ``<joint>_position`` or, as PlotJuggler names a JointState topic's series,
 #: ``/<topic>/<joint>/position``.
@@ -1160,12 +1162,13 @@ def _keys(header, path, joints, current, seen):
     names, keys = [c.strip() for c in header], []
     for k, name in enumerate(names):
         m, named = _COLUMN.match(bare := name.removeprefix("- ").strip()), _NAMED.match(bare)
-        kind = m and _KIND.get(m.group(1), m.group(1))
-        if m and (kind == "t") != bool(m.group(2)):
-            if m.group(1) in ("i", "actual_current_") and not current:
+        stem, number = (m[1].lower(), m[2] or m[3]) if m else (None, None)
+        kind = m and _KIND.get(stem, stem)
+        if m and (kind == "t") != bool(number):
+            if stem in ("i", "actual_current_") and not current:
                 raise InputError(f"column {name!r} holds a current: give --current, --drive-gains",
                                  path, row=1, column=name)
-            key = (kind, int(m.group(2) or 1))
+            key = (kind, int(number or 1))
         elif named and joints is not None:      # ("-", name): a joint outside the chain
             key = (_FIELD[named[2]], joints.index(named[1]) + 1) if named[1] in joints else \
                 ("-", named[1])
