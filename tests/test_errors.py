@@ -1,5 +1,6 @@
 """One-line errors (gd_analyze.errors)."""
 
+import os
 import pathlib
 
 import numpy as np
@@ -7,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from gd_analyze.errors import InputError, check_flags, expect, path_text
+from gd_analyze.errors import InputError, check_flags, expect, path_text, regular_file
 
 
 def test_the_parts_and_their_order():
@@ -58,3 +59,16 @@ def test_an_empty_file_name_is_written_as_two_quotes():
     out."""
     assert str(InputError("no such file", "")) == "'': no such file"
     assert str(InputError("x", pathlib.Path("a.csv"))) == "a.csv: x"
+
+
+def test_a_file_to_read_is_a_regular_file_or_one_line_says_what_it_is(tmp_path):
+    """Oracle: the file system (a file written, a folder, os.devnull, a missing name)."""
+    (tmp_path / "a.csv").write_text("t\n")
+    regular_file(tmp_path / "a.csv", "a CSV file")
+    for path, said in [(tmp_path, "is a folder, not a CSV file"),
+                       (os.devnull, "not a regular file (a device, FIFO or socket?): give a "
+                                    "CSV file"),
+                       (tmp_path / "missing.csv", "no such file"), ("", "no such file")]:
+        with pytest.raises(InputError) as e:
+            regular_file(path, "a CSV file")
+        assert str(e.value) == (f"{path}: {said}" if path else f"'': {said}")

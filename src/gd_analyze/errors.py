@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["InputError", "InputWarning", "InputNote", "expect", "check_flags", "is_number",
-           "path_text"]
+           "path_text", "regular_file"]
 
 
 class InputError(ValueError):
@@ -192,3 +192,28 @@ class InputWarning(UserWarning):
 class InputNote(InputWarning):
     """Input the tool corrected on its own (e.g. a byte-order mark stripped); printed as
     ``gd-analyze: note: ...``."""
+
+
+def regular_file(path: str | os.PathLike[str], what: str) -> None:
+    """Refuse, in one line, a file to read that is not a regular file: every reader says alike
+    what stands there instead.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    what : str
+        What it should be, for the message: "a CSV file", "a robot file", ...
+
+    Raises
+    ------
+    InputError
+        "no such file", "is a folder, not WHAT" or "not a regular file (a device, FIFO or
+        socket?): give WHAT".
+    """
+    if not os.path.exists(path):
+        raise InputError("no such file", path)
+    if os.path.isdir(path):
+        raise InputError(f"is a folder, not {what}", path)
+    if not os.path.isfile(path):
+        raise InputError(f"not a regular file (a device, FIFO or socket?): give {what}", path)

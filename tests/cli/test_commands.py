@@ -226,6 +226,16 @@ def test_the_output_folder_is_refused_where_a_file_stands(tmp_path):
     assert output_folder(None, "puma 560", "t") == Path("reports") / "puma_560-t"
 
 
+def test_an_empty_output_folder_name_is_refused(tmp_path, monkeypatch, capsys):
+    """-o "" (a shell variable left empty) wrote to the default reports/ROBOT-STEM, a folder
+    the user did not name, where plan's -o "" is refused: one line naming the option."""
+    monkeypatch.chdir(tmp_path)
+    csv = _fast_csv(tmp_path / "t.csv", speed=0.5)
+    code, _, err = _run(capsys, "two-link", csv, "-o", "", "-q", "--no-report")
+    assert (code, err) == (2, "gd-analyze: error: --outdir: an empty name is no folder\n")
+    assert not (tmp_path / "reports").exists()
+
+
 def test_a_plan_without_velocity_limits_takes_the_duration_it_is_told(tmp_path, capsys):
     """example-robot-data's double pendulum gives no velocity limits: the refusal says to give
     --duration with --ignore-limits, and that plan is then written, with rest at both ends and

@@ -47,3 +47,17 @@ def test_a_file_name_that_is_not_utf8_is_bad_input(tmp_path, capsys):
         assert len(lines) == 1 and lines[0].startswith("gd-analyze: error: ") and "UTF-8" in err
         assert "tl\\xff.csv" in err
     assert not (tmp_path / "out").exists() and not (tmp_path / "id").exists()
+
+
+def test_a_closed_stdout_or_stderr_is_no_internal_error(tmp_path, monkeypatch):
+    """Run with standard output or error closed (``>&-``, ``2>&-``: Python then sets
+    sys.stdout or sys.stderr to None, as the oracle below does): compare exited 4, "internal
+    error: AttributeError: 'NoneType' object has no attribute 'write'", and a missing file
+    exited 1, the status of a failed verification. What would be printed goes nowhere, as
+    print() does with no stream; the status is the run's."""
+    plan = tmp_path / "plan.csv"
+    assert main(["plan", str(TWO_LINK), "-o", str(plan), "--setpoints", "5"]) == 0
+    monkeypatch.setattr("sys.stdout", None)
+    assert main(["compare", str(TWO_LINK), str(plan)]) == 0
+    monkeypatch.setattr("sys.stderr", None)
+    assert main(["compare", str(TWO_LINK), str(tmp_path / "missing.csv")]) == 2

@@ -119,6 +119,24 @@ def test_a_urdf_not_named_urdf_is_said_to_be_xml(tmp_path, name):
     assert load_robot(tmp_path / "ur5.urdf").n == 6
 
 
+@pytest.mark.parametrize("name", ["arm.urdf", "arm.toml"])
+def test_a_robot_that_is_a_folder_or_a_fifo_is_said_to_be_so(tmp_path, name):
+    """A folder named arm.urdf was "no such file", a FIFO or device given as the robot
+    "unknown robot ... and no such file": both exist, so the line says what they are, as the
+    CSV reader says it. Oracle: the file system (os.mkdir, os.mkfifo, os.devnull)."""
+    import os
+
+    folder, fifo = tmp_path / name, tmp_path / f"fifo-{name}"
+    folder.mkdir()
+    os.mkfifo(fifo)
+    with pytest.raises(InputError, match=r": is a folder, not a robot file$"):
+        load_robot(folder)
+    for path in (fifo, os.devnull):
+        with pytest.raises(InputError, match=r": not a regular file \(a device, FIFO or socket"
+                                             r"\?\): give a robot file$"):
+            load_robot(path)
+
+
 def test_an_empty_robot_name_is_no_folder():
     """load_robot("") said ": is a folder, not a robot file" (Path("") is "."): an empty name
     is an unknown robot and no file."""

@@ -146,7 +146,7 @@ def test_huge_integer_in_the_robot_is_refused(tmp_path, model_doc):
 
 
 def test_folder_as_model(tmp_path):
-    with pytest.raises(InputError, match="not a regular file"):
+    with pytest.raises(InputError, match="is a folder, not a simplified-model JSON file$"):
         load_model(tmp_path)
 
 

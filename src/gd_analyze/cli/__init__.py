@@ -175,8 +175,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         4 internal error. Control characters of the output (an ESC from an input file) are
         written as escapes (:func:`escape_control`).
     """
-    with contextlib.redirect_stdout(_Escaping(sys.stdout)), \
-            contextlib.redirect_stderr(_Escaping(sys.stderr)):  # no control character shown
+    # no control character shown; a stream closed (>&-, 2>&-: None) writes to nowhere, as
+    # print() does, and never makes the run an internal error
+    with contextlib.redirect_stdout(_Escaping(sys.stdout or open(os.devnull, "w"))), \
+            contextlib.redirect_stderr(_Escaping(sys.stderr or open(os.devnull, "w"))):
         return _main(argv)
 
 

@@ -184,7 +184,9 @@ def apply_payload(robot: Robot, args: argparse.Namespace) -> Robot:
 def output_folder(args_outdir: str | os.PathLike[str] | None, *parts: str) -> Path:
     """The output folder: -o as given, or reports/<sanitised parts joined by '-'>; InputError
     if it is there and is not a folder, or a name in it is too long for the file system."""
-    folder = Path(args_outdir) if args_outdir else \
+    if args_outdir == "":   # -o "$DIR" with DIR unset: no folder the user named
+        raise InputError("an empty name is no folder", column="--outdir")
+    folder = Path(args_outdir) if args_outdir is not None else \
         Path("reports") / "-".join(safe_name(p) for p in parts)
     base = folder.absolute()
     while not os.path.exists(base) and base != base.parent:

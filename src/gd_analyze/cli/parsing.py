@@ -324,6 +324,11 @@ def _add_threshold_arguments(p, dominance="default {}", negligible="default {}")
                    default=defaults["negligible"], help=negligible.format(defaults["negligible"]))
 
 
+def _add_outdir_argument(p, default):
+    """-o, the output folder (``default``: where it goes without -o)."""
+    p.add_argument("-o", "--outdir", metavar="OUTDIR", help=f"output folder (default: {default})")
+
+
 def _add_verbose_argument(p, quiet="print nothing but errors",
                           default=" (default: how many, and the folder)"):
     """-q (help ``quiet``) and -v (its help ending in ``default``), one or the other."""
@@ -373,8 +378,7 @@ def analyze_parser() -> argparse.ArgumentParser:
     p.add_argument("robot", metavar="ROBOT", help=_robot_help())
     p.add_argument("trajectory", metavar="TRAJECTORY.csv",
                    help="CSV with header t,q1..qn[,qd1..qdn,qdd1..qddn] [s, rad, rad/s, rad/s^2]")
-    p.add_argument("-o", "--outdir", metavar="OUTDIR",
-                   help="output folder (default: reports/<robot>-<csv stem>/)")
+    _add_outdir_argument(p, "reports/<robot>-<csv stem>/")
     _add_threshold_arguments(p, "share at which one part dominates, in (0.5, 1] (default {})",
                              "an element below E times its scale is negligible (default {})")
     _add_budget_arguments(p)
@@ -532,8 +536,7 @@ def control_parser() -> argparse.ArgumentParser:
                             "compensation (plain PD on an arm without gravity); write control.h5 and control_report.html/.pdf.")
     p.add_argument("model", metavar="MODEL.json")
     p.add_argument("trajectory", metavar="TRAJECTORY.csv")
-    p.add_argument("-o", "--outdir", metavar="OUTDIR",
-                   help="output folder (default: reports/<robot>-<csv stem>-control/)")
+    _add_outdir_argument(p, "reports/<robot>-<csv stem>-control/")
     (wn_lo, wn_hi), (z_lo, z_hi) = GAIN_RANGES["wn"], GAIN_RANGES["zeta"]
     p.add_argument("--wn", metavar="RAD/S", type=_fraction(wn_lo, wn_hi, "--wn", "[]"),
                    default=DEFAULT_WN,
@@ -587,8 +590,7 @@ def sweep_parser() -> argparse.ArgumentParser:
                         "joint limits, shortest duration within the limits, 31 set points)")
     p.add_argument("--seed", metavar="S", type=_seed, default=0,
                    help="seed for --random, an integer in [0, 2^63)")
-    p.add_argument("-o", "--outdir", metavar="OUTDIR",
-                   help="output folder (default: reports/<robot>-sweep/)")
+    _add_outdir_argument(p, "reports/<robot>-sweep/")
     cluster = p.add_mutually_exclusive_group()      # a running cluster has its own workers
     cluster.add_argument("--scheduler", metavar="ADDRESS",
                          help="address of a running dask scheduler (default: start a LocalCluster; "
@@ -676,8 +678,7 @@ def identify_parser() -> argparse.ArgumentParser:
                         "_effort[,_velocity] (s, rad or m, N m or N); A.csv+B.csv: files on one clock")
     p.add_argument("--validate", metavar="FILE.csv", nargs="+", action="extend", default=[],
                    help="recordings not used for fitting, on which the errors are reported")
-    p.add_argument("-o", "--outdir", metavar="OUTDIR",
-                   help="output folder (default reports/ROBOT-NAME-identify, NAME the first recording's name)")
+    _add_outdir_argument(p, "reports/ROBOT-NAME-identify, NAME the first recording's name")
     p.add_argument("--json", action="store_true",
                    help="print one JSON object: the recordings' errors and the condition number")
     p.add_argument("--cutoff", metavar="HZ", type=_cutoff, default="auto",

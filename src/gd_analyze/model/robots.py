@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from ..errors import InputError, InputNote, expect
+from ..errors import InputError, InputNote, expect, regular_file
 from .robot_spec import robot_from_dict
 from .urdf import URDF_BUILTIN, is_urdf_text, load_pinocchio_model, load_urdf, load_urdf_text
 
@@ -205,10 +205,9 @@ def load_toml_robot(name_or_path: str | os.PathLike[str]) -> Robot:
         source = key
     else:
         path = Path(key)
-        if path.is_dir() and key:          # "" is no folder, though Path("") is "."
-            raise InputError("is a folder, not a robot file", key)
-        if not path.is_file():
+        if not key or not os.path.exists(key):     # "" is no folder, though Path("") is "."
             raise InputError(f"unknown robot (built-in: {robots_text()}) and no such file", key)
+        regular_file(key, "a robot file")
         try:
             raw = path.read_bytes()
         except OSError as exc:

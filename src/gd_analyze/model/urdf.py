@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, TypeGuard
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, regular_file
 from .limits import exact_text
 from .mounting import MOUNTING_KEY
 from .robot_spec import robot_from_chain
@@ -366,8 +366,7 @@ def read_urdf_chain(path: str | os.PathLike[str], base: str | None = None,
     Source: the URDF specification (wiki.ros.org/urdf/XML) and Pinocchio's parser; the joint
     model is the fixed placement plus a motion about z described in this module's docstring.
     """
-    if not Path(path).is_file():
-        raise InputError("no such file", path)
+    regular_file(path, "a robot file")
     try:
         raw = Path(path).read_bytes()
     except OSError as exc:

@@ -67,12 +67,17 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     str
         Starts with ``<svg``: fit to be a file of its own and to be inlined in HTML.
     """
+    import warnings
+
     import matplotlib
 
     meta = {"Date": None, "Creator": None, "Format": None, "Type": None}
     extent = []         # measured on the drawing itself: its text laid out once
     buf = io.BytesIO()
-    with matplotlib.rc_context(rc or {}):  # type: ignore[arg-type]  # keys typed as literals
+    with matplotlib.rc_context(rc or {}), warnings.catch_warnings():  # type: ignore[arg-type]  # keys typed as literals
+        # a name in a script DejaVu Sans lacks (a joint named in Japanese): the SVG keeps the
+        # text as text, which the reader's fonts show; matplotlib warned once a glyph a drawing
+        warnings.filterwarnings("ignore", r"Glyph \d+ .* missing from font", UserWarning)
         # every text at least MIN_PRINTED_PT where the PDF report prints the figure smallest
         raise_small_text(fig, MIN_PRINTED_PT / printed_scale(tuple(fig.get_size_inches())))
         with kept_in_the_draw(fig):     # ticks and text layouts worked out once a drawing

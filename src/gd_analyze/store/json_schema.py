@@ -20,7 +20,7 @@ import os
 from importlib import resources
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, regular_file
 
 __all__ = ["Schema", "load_json", "MODEL_SCHEMA", "MAX_DEPTH"]
 
@@ -215,10 +215,7 @@ def load_json(path: str | os.PathLike[str], what: str = "JSON") -> Any:
         :data:`MAX_DEPTH`. One line.
     """
     path = str(path)
-    if not os.path.exists(path):
-        raise InputError("no such file", path)
-    if not os.path.isfile(path):
-        raise InputError(f"not a regular file: give a {what} file", path)
+    regular_file(path, f"a {what} file")
     try:
         with open(path, encoding="utf-8") as fh:
             document = json.loads(fh.read(), object_pairs_hook=_no_duplicates,

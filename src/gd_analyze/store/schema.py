@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._version import VERSION as __version__
-from ..errors import InputError
+from ..errors import InputError, regular_file
 from ..files import atomic_path
 from ..ranking.labels import element_index, element_units
 from ..ranking.ranking import element_labels
@@ -655,8 +655,7 @@ def open_results(path: str | os.PathLike[str], lazy: bool = False) -> xr.Dataset
     import xarray as xr
     from xarray.backends import H5netcdfBackendEntrypoint
 
-    if not os.path.isfile(path):
-        raise InputError("no such file", path)
+    regular_file(path, "a results file")
     # the backend given as its entry-point class (xarray's documented alternative to the name):
     # the name would have xarray list every installed package's backends first
     engine = H5netcdfBackendEntrypoint

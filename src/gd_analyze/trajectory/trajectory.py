@@ -536,13 +536,9 @@ def _read_csv(path, header, cells):
     by ``cells`` (its bytes, without a byte-order mark, to (values, names, row numbers)); an
     InputNote where a UTF-8 byte-order mark was stripped; an InputError if the file is not a
     readable regular file."""
-    if not os.path.exists(path):
-        raise InputError("no such file", path)
-    if os.path.isdir(path):
-        raise InputError("is a folder, not a CSV file", path)
-    if not os.path.isfile(path):
-        raise InputError("not a regular file (a device, FIFO or socket?): give a CSV file",
-                         path)
+    from ..errors import regular_file  # the import line above holds no more names
+
+    regular_file(path, "a CSV file")
     try:
         with open(path, "rb") as fh:
             if fh.read(len(_BOM)) == _BOM:
