@@ -97,15 +97,14 @@ def test_a_urdfs_robot_name_with_a_line_break_is_named_as_its_attribute(source, 
 
 
 @pytest.mark.parametrize("bad", ["j\n1", "j\u202e1", "j" * 201])
-def test_a_urdf_joint_name_a_robot_file_cannot_hold_is_refused(bad):
+def test_a_urdf_joint_name_a_robot_file_cannot_hold_is_refused(bad, tmp_path):
     """identify writes a URDF's joint names to identified_robot.toml as joint_name, which the
     robot-file reader refuses beyond 200 printable characters: a URDF joint named "j\\n1"
     (&#10;), with U+202E or of 300 characters was taken, and its identified robot could not be
     read back (the main job's model, for 300 characters, neither: "string longer than 200
     characters"). Oracle: the robot-file reader, on the names robot_toml writes."""
-    import tomllib
-
     from gd_analyze.model.robot_file import robot_toml
+    from gd_analyze.model.robots import load_toml_robot
 
     spec = _chain_spec()
     joints = [{"type": "revolute", "rotation": link["rotation"],
@@ -113,7 +112,8 @@ def test_a_urdf_joint_name_a_robot_file_cannot_hold_is_refused(bad):
                "inertia": np.diag(link["inertia"])} for link in spec["link"]]
     good = robot_from_chain("arm", joints, [0.0, -G, 0.0], source="arm.urdf",
                             urdf_joints=["shoulder", "elbow \u00e9"])
-    back = robot_from_dict(tomllib.loads(robot_toml(good)))
+    (tmp_path / "arm.toml").write_text(robot_toml(good), encoding="utf-8")
+    back = load_toml_robot(tmp_path / "arm.toml")
     assert back.joint_names() == ["shoulder", "elbow \u00e9"]
     with pytest.raises(InputError) as err:
         robot_from_chain("arm", joints, [0.0, -G, 0.0], source="arm.urdf",

@@ -27,6 +27,7 @@ import functools
 import io
 import os
 import re
+import warnings
 from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -67,8 +68,6 @@ def figure_svg(fig: Figure, rc: Mapping[str, Any] | None = None) -> str:
     str
         Starts with ``<svg``: fit to be a file of its own and to be inlined in HTML.
     """
-    import warnings
-
     import matplotlib
 
     meta = {"Date": None, "Creator": None, "Format": None, "Type": None}

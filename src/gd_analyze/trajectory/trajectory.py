@@ -51,6 +51,7 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 
 import numpy as np
 
+from .. import errors
 from ..errors import InputError, InputNote, InputWarning, check_flags, expect, one_line, path_text
 from ..files import atomic_path
 from ..model.limits import LIMITS, exact_text, first_beyond, real_values
@@ -536,9 +537,7 @@ def _read_csv(path, header, cells):
     by ``cells`` (its bytes, without a byte-order mark, to (values, names, row numbers)); an
     InputNote where a UTF-8 byte-order mark was stripped; an InputError if the file is not a
     readable regular file."""
-    from ..errors import regular_file  # the import line above holds no more names
-
-    regular_file(path, "a CSV file")
+    errors.regular_file(path, "a CSV file")
     try:
         with open(path, "rb") as fh:
             if fh.read(len(_BOM)) == _BOM:
