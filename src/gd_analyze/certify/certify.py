@@ -1182,9 +1182,7 @@ def decomposed_pairs(robot: Robot, base: BaseParameters, dropped: np.ndarray,
         if split_joints(robot, base, first).sum() > JOINT_DIMS:
             break
         best = first
-    if best is None or not best.any():
-        return None
-    return best
+    return None if best is None or not best.any() else best
 
 
 #: The grid, relative to the budget, that :func:`decomposed_limit` rounds down to.

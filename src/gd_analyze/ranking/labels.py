@@ -144,10 +144,8 @@ def parse_element_label(text: str, n: int) -> tuple:
     m = _PATTERN.fullmatch(text) if isinstance(text, str) else None
     if m is not None:
         one, two = (m.group(1), m.group(2)) if m.group(1) else (m.group(3), m.group(4))
-        if m.group(5):
-            kind, i, j = "h", int(m.group(5)) - 1, None
-        else:
-            kind, i, j = "D", int(one) - 1, int(two) - 1
+        kind, i, j = ("h", int(m.group(5)) - 1, None) if m.group(5) else (
+            "D", int(one) - 1, int(two) - 1)
         if (max(i, -1 if j is None else j) < n and (j is None or i <= j)
                 and element_label(kind, i, j) == text):
             return kind, i, j

@@ -177,7 +177,6 @@ def _no_keeping(*args: Any, **kwargs: Any) -> None:
     **kwargs
         ``write_search``'s ``screened``; unused.
     """
-    return None
 
 
 @dataclass(frozen=True)

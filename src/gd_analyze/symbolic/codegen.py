@@ -122,11 +122,6 @@ def _key(K, S):
     return (bool(S),) + tuple(int(v) for v in K)
 
 
-#: How cos and sin of compound angles are formed: "products" (angle-addition formulas from the
-#: n joint angles' cos and sin: only 2n calls) or "calls" (one call per compound angle).
-TRIG_MODES = ("products", "calls")
-
-
 #: Above this many terms the sums are factored after cse: cse on the nested sums of a large
 #: factored program is slow (Panda's full model: 12 s instead of 6 s, 85,770 not 97,231 ops).
 LATE_FACTORING = 50_000
@@ -552,6 +547,4 @@ def _harmonic_text(key):
 def _coef(c):
     if c == 1.0:
         return se.Integer(1)
-    if c == -1.0:
-        return se.Integer(-1)
-    return se.RealDouble(c)
+    return se.Integer(-1) if c == -1.0 else se.RealDouble(c)

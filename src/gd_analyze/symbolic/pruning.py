@@ -221,10 +221,7 @@ def prune(robot: Robot, base: BaseParameters, q: ArrayLike, qd: ArrayLike, qdd: 
             if peaks is None else peaks
     scale = np.maximum(tau_peak, torque_floor)
     sel = _Selection(robot, base, C, peak, whole_peak, eps * scale, criterion)
-    if strategy == "peak":
-        dropped, whole = sel.by_peak()
-    else:
-        dropped, whole = sel.by_cost()
+    dropped, whole = sel.by_peak() if strategy == "peak" else sel.by_cost()
     return Pruning(eps=float(eps), dropped=_normalize(dropped, sel.live), peak=peak,
                    whole_peak=whole_peak, whole=whole, bound=sel.bound(dropped, whole),
                    scale=scale, criterion=criterion)
