@@ -432,8 +432,6 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
     gravity = np.asarray(gravity, dtype=float).tolist()
     if not isinstance(joints, (list, tuple)) or not joints:
         raise InputError("a chain needs at least one moving joint", path, column="joint")
-    for jn in metadata.get("urdf_joints") or ():    # identify writes them as robot-file joint_name
-        _text({"n": jn}, "n", path, True, f"<joint name> {jn!r}")
     links = []
     for i, j in enumerate(joints, start=1):
         where = f"joint[{i}]"
