@@ -383,6 +383,17 @@ def test_program_exits_with_its_status_and_all_its_output(tmp_path):
     assert last.count(str(out)) == 6
 
 
+def test_a_plan_on_stdout_whose_reader_goes_away_exits_0_and_says_nothing():
+    # `gd-analyze plan ... -o - | head -1`: the reader closes the pipe after one line
+    proc = subprocess.Popen([sys.executable, "-m", "gd_analyze.cli", "plan", "two-link", "-o",
+                             "-", "--setpoints", "100000"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    header = proc.stdout.readline()
+    proc.stdout.close()
+    assert proc.wait(timeout=300) == 0
+    assert header == "t,q1,q2,qd1,qd2,qdd1,qdd2\n" and proc.stderr.read() == ""
+
+
 _AT_EXIT = """
 import atexit, sys
 from gd_analyze.cli import run

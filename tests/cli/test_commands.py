@@ -297,6 +297,23 @@ def two_link_model(tmp_path_factory):
     return folder / "main" / "simplified_model.json", csv
 
 
+@pytest.mark.parametrize("step", [1e-101, 1e-63])
+def test_control_on_time_steps_whose_fifth_power_underflows_is_one_line(two_link_model, tmp_path,
+                                                                         capsys, step):
+    """The desired motion's quintics divide by each step's fifth power: 0 in doubles below
+    about 1e-62 s. Such a step printed numpy's warnings, then a line without file or row; it
+    is now refused where the file is read, naming its row and column, and nothing is written."""
+    model, _ = two_link_model
+    csv = tmp_path / "tiny.csv"
+    csv.write_text("t,q1,q2,qd1,qd2,qdd1,qdd2\n" + "".join(
+        f"{k * step!r},0.1,0.2,0.3,0.1,0,0\n" for k in range(5)))
+    assert main(["control", str(model), str(csv), "-o", str(tmp_path / "out"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"gd-analyze: error: {csv}: row 3, column t: time not strictly increasing, "
+                   f"by 1e-60 s or more ({step!r} after 0.0)\n")
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_FSIZE")
 @pytest.mark.parametrize("limit", [40_000, 200_000])
 def test_control_refuses_a_file_size_limit_below_control_h5(two_link_model, tmp_path, limit):

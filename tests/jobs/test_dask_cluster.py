@@ -4,18 +4,21 @@ Two tiny servers on 127.0.0.1, each in a thread: one accepts and stays silent, o
 an HTTP server does (its first 8 bytes, read as dask's frame count, ask for 3 EiB); and a real
 scheduler, which passes."""
 
+import logging
 import os
 import socket
 import subprocess
 import sys
 import threading
 import time
+import warnings
 
+import numpy as np
 import pytest
 import xarray as xr
 
 from gd_analyze.cli import main
-from gd_analyze.jobs.dask_cluster import HANDSHAKE_TIMEOUT, check_scheduler
+from gd_analyze.jobs.dask_cluster import HANDSHAKE_TIMEOUT, check_scheduler, dask_client
 
 HTTP = b"HTTP/1.1 200 OK\r\nContent-Length: 0\r\n\r\n"
 
@@ -95,6 +98,32 @@ def test_sweep_at_a_server_that_is_not_dask_exits_2_with_one_line(server, tmp_pa
 def test_a_dask_scheduler_passes(cluster):
     cl, _ = cluster
     check_scheduler(cl.scheduler_address, timeout=HANDSHAKE_TIMEOUT)
+
+
+@pytest.mark.slow
+def test_dask_s_advice_and_log_are_kept_from_the_user(cluster):
+    """A task carrying more than 10 MB (as each sweep task carries its trajectories, on
+    purpose) and a nanny's restart of a lost worker: dask warns and logs; under the client
+    neither reaches a warning handler or a log handler, and the warning filters and log
+    levels are as before after it."""
+    cl, _ = cluster
+    logged = []
+    handler = logging.Handler()
+    handler.emit = logged.append
+    logging.getLogger("distributed").addHandler(handler)
+    before = logging.getLogger("distributed").level
+    try:
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")       # the CLI shows what reaches it
+            filters = list(warnings.filters)
+            with dask_client(cl.scheduler_address) as (client, _):
+                assert client.submit(len, np.zeros(2_000_000), pure=False).result() == 2_000_000
+                logging.getLogger("distributed.nanny").warning("Restarting worker")
+            assert list(warnings.filters) == filters
+    finally:
+        logging.getLogger("distributed").removeHandler(handler)
+    assert [str(w.message) for w in seen] == [] and logged == []
+    assert logging.getLogger("distributed").level == before
 
 
 def _busy_workers(client):

@@ -58,7 +58,6 @@ def test_block_leads_on_hand_built_shares():
     assert b.arm_translation == ("D11", "D12", "h1")
     assert b.wrist == ("D33", "D44", "h3", "h4")
     assert b.wrist_rotation == ("D33", "D44", "h4")
-    assert not b.chapter_holds
 
 
 def test_the_chapters_own_model_is_its_classes_on_pinocchios_half_models(puma):

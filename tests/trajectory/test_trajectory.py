@@ -102,6 +102,7 @@ def test_a_count_of_one_is_singular(tmp_path, robot, csv, said):
     ("t,q1,q2\n0,1,inf\n1,2,3\n", 2, "q2", "not a finite number"),
     ("t,q1,q2\n0,1,2\n0,2,3\n", 3, "t", "not strictly increasing"),
     ("t,q1,q2\n1,1,2\n0.5,2,3\n", 3, "t", "not strictly increasing"),
+    ("t,q1,q2\n0,1,2\n1e-61,2,3\n", 3, "t", "not strictly increasing, by 1e-60 s or more"),
     ("t,q1,q2\n0,1,2\n", None, None, "fewer than 2 set points"),
     ("x,q1,q2\n0,1,2\n1,2,3\n", 1, "x", "must start with 't'"),
 ])
@@ -131,17 +132,24 @@ def test_an_empty_header_cell_is_named_by_its_number(tmp_path, text, column, sai
     assert str(err.value).startswith(f"{path}: row 1, column {column}: {said}")
 
 
-@pytest.mark.parametrize("t1, row", [("5e-324", 3), ("1e-300", 2)])
-def test_time_steps_too_short_for_a_spline_are_one_line(tmp_path, recwarn, t1, row):
+@pytest.mark.parametrize("t1, row, column, match", [
+    ("5e-324", 3, "t", "not strictly increasing, by 1e-60 s or more"),
+    ("1e-300", 3, "t", "not strictly increasing, by 1e-60 s or more"),
+    ("1e-60", 2, "q1", "the qd derived by the cubic spline exceeds"),
+])
+def test_time_steps_too_short_for_a_spline_are_one_line(tmp_path, recwarn, t1, row, column,
+                                                         match):
     """Positions only, a step of the smallest double (5e-324 s): its slope 1 / 5e-324 is
     beyond a float and SciPy's spline raised ValueError ("`dydx` must contain only finite
     values"), exit 4; a step of 1e-300 s gave SciPy's "ill-conditioned matrix" warning beside
-    the error. Now one InputError, the row where the slope ends, and no warning."""
+    the error. Now one InputError and no warning: a step below the least the tool takes
+    (1e-60 s) where it is read; the least step, with a slope beyond the limit of qd, at the row
+    where the slope ends."""
     path = tmp_path / "short.csv"
     path.write_text(f"t,q1,q2\n0,0,0\n{t1},1,1\n{2 * float(t1)!r},0,2\n")
-    with pytest.raises(InputError, match=r"the qd derived by the cubic spline exceeds") as err:
+    with pytest.raises(InputError, match=match) as err:
         read_trajectory(path, n_joints=2)
-    assert (err.value.row, err.value.column) == (row, "q1") and not recwarn.list
+    assert (err.value.row, err.value.column) == (row, column) and not recwarn.list
 
 
 def test_a_byte_not_utf8_names_its_row(tmp_path):

@@ -659,8 +659,9 @@ def _write_plan(args, robot, motion, limits, advice, record, detail=""):
         written = checked(motion.chunks())
     try:
         write_trajectory_chunks(written, robot.n, output)
-    except OSError as exc:
-        raise InputError(f"cannot write: {exc.strerror or exc}", output) from None
+    except OSError as exc:      # a reader of stdout gone away (`| head`) is not bad input
+        raise (exc if isinstance(exc, BrokenPipeError) else
+               InputError(f"cannot write: {exc.strerror or exc}", output)) from None
     if output == "-":
         return EXIT_OK
     try:

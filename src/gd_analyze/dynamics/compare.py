@@ -346,9 +346,8 @@ def format_compare(report: dict[str, Any]) -> str:
     lines = [f"{report['robot']} (n = {report['n']}), {report['set_points']} set points",
              "", "Largest relative disagreement, max|a - b| / max(max|a|, max|b|):",
              f"{'pair':<{width}}  " + "  ".join(f"{q:>9}" for q in _QUANTITIES)]
-    for p in pairs:
-        lines.append(f"{p:<{width}}  "
-                     + "  ".join(f"{agreement[q][p]:9.2e}" for q in _QUANTITIES))
+    lines.extend(f"{p:<{width}}  " + "  ".join(f"{agreement[q][p]:9.2e}" for q in _QUANTITIES)
+                 for p in pairs)
     lines += ["", "Operations per set point (measured as implemented / Fu, Gonzalez & Lee "
               "Table 3.5):",
               f"{'method':<15} {'mult':>8} {'add':>8} {'mult T3.5':>10} {'add T3.5':>10}"]

@@ -20,6 +20,7 @@ import os
 import signal
 import sys
 import tempfile
+import warnings
 from collections.abc import Iterator
 from typing import Any
 
@@ -179,11 +180,14 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
 
     cluster = None
     with contextlib.ExitStack() as env:
-        # the client's own log (tracebacks of its lost connection, its attempts to reconnect)
-        # kept off stderr: a cluster failure is told in one line (ClusterLost)
-        logger = logging.getLogger("distributed.client")
+        # dask's own log (the client's tracebacks of a lost connection, the nanny's restart of
+        # a lost worker) kept off stderr: a cluster failure is told in one line (ClusterLost);
+        # and its advice on a large graph: each task carries its data on purpose (sweep.py)
+        logger = logging.getLogger("distributed")
         env.callback(logger.setLevel, logger.level)
         logger.setLevel(logging.CRITICAL + 1)
+        env.enter_context(warnings.catch_warnings())
+        warnings.filterwarnings("ignore", "Sending large graph", UserWarning)
         if scheduler is not None:
             check_scheduler(scheduler, timeout)
             client, how = Client(scheduler, timeout=timeout), f"the running scheduler at {scheduler}"

@@ -37,6 +37,10 @@ LIMITS = {
     "gravity": 1e3,     # |gravity vector component| [m/s^2]
     "duration": 1e9,    # planned duration [s]
     "min_duration": 1e-6,   # shortest planned duration [s]
+    # the least time step of a trajectory [s]: control's desired motion, a quintic per step,
+    # divides by the step's fifth power, 0 in doubles below about 1e-62 s (numpy's warnings,
+    # then NaN); a plan's steps are at least 1e-14 s (min_duration over 10^8 set points)
+    "min_step": 1e-60,
     "angle_deg": 1e6,   # |an angle or angular limit given in degrees| [deg]
     # the least velocity or acceleration limit of a region, as the command line reads it [deg/s,
     # deg/s^2; m/s, m/s^2]: a smaller one overflows a planned duration (15 |dq| / (8 qd_max))

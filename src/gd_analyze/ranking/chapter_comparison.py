@@ -144,13 +144,6 @@ class BlockLeads:
     wrist: tuple[str, ...]
     wrist_rotation: tuple[str, ...]
 
-    @property
-    def chapter_holds(self) -> bool:
-        """Whether translation leads every ranked arm-block element and rotation every ranked
-        wrist element (and each block has one)."""
-        return (bool(self.arm) and bool(self.wrist) and len(self.arm_translation) == len(self.arm)
-                and len(self.wrist_rotation) == len(self.wrist))
-
 
 def block_leads(labels: list[str] | tuple[str, ...], share_tran: ArrayLike,
                 negligible: ArrayLike, n: int, n_arm: int = 3) -> BlockLeads:

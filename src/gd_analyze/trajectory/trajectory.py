@@ -404,10 +404,11 @@ def trajectory_from_arrays(t: ArrayLike, q: ArrayLike, qd: ArrayLike | None = No
 
 
 def _increasing(t, path, rows=None):
-    """An InputError at the first time not after the one before, naming its row of ``rows``
-    (of a file), else its set point."""
-    for k in np.flatnonzero(np.diff(t) <= 0)[:1] + 1:
-        raise InputError(f"time not strictly increasing ({t[k]}" + (
+    """An InputError at the first time not at least ``LIMITS["min_step"]`` after the one
+    before, naming its row of ``rows`` (of a file), else its set point."""
+    step = LIMITS["min_step"]
+    for k in np.flatnonzero(np.diff(t) < step)[:1] + 1:
+        raise InputError(f"time not strictly increasing, by {step:g} s or more ({t[k]}" + (
             f" at set point {k}" if rows is None else "") + f" after {t[k - 1]})", path,
             row=None if rows is None else int(rows[k]), column="t")
 
