@@ -229,19 +229,20 @@ def test_missing_velocity_limit_is_not_given(tmp_path):
     assert math.isnan(chain.joints[0]["qd_max"]) and math.isnan(chain.joints[0]["tau_max"])
 
 
-@pytest.mark.parametrize("joint, link", [("fix0", "base"), ("j2", "l2")])
+@pytest.mark.parametrize("joint, link", [("fix0", "base"), ("j2", "l2"), ("jb", "side"), ("jb", "l2")])
 def test_a_joint_named_as_a_link_is_read(tmp_path, toy, joint, link):
     """A URDF may give a joint a link's name (example-robot-data's b1-z1: the fixed joint
-    "gripperStator" into the link "gripperStator"); Pinocchio's buildReducedModel, which locks
-    the side branch, looked the frames up by name and refused one that two frames hold (an
-    internal error, exit 4). A joint's name changes no dynamics: the chain is the toy's, and
-    it matches the URDF's own Pinocchio model."""
+    "gripperStator" into the link "gripperStator"; its anymal_c names every joint as its child
+    link, so a leg's chain locks joints so named); Pinocchio's buildReducedModel, which locks
+    the side branch, looked the frames up by name and refused one that two frames hold, or
+    that the locked joint's frame takes (an internal error, exit 4). A joint's name changes no
+    dynamics: the chain is the toy's, and it matches the URDF's own Pinocchio model."""
     text = TOY_URDF.replace(f'<joint name="{joint}"', f'<joint name="{link}"')
     assert text != TOY_URDF
     same = tmp_path / "same_name.urdf"
     same.write_text(text)
     chain = read_urdf_chain(same, tip="tool")
-    assert chain.locked == ("jb",)
+    assert chain.locked == ((link,) if joint == "jb" else ("jb",))
     ref = read_urdf_chain(toy, tip="tool")
     for a, b in zip(chain.joints, ref.joints):
         for key in ("rotation", "translation", "mass", "com", "inertia"):

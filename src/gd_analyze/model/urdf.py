@@ -395,7 +395,7 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     kinds = [_joint_kind(model, data, j, label) for j in chain]
-    reduced = (pin.buildReducedModel(_unique_frame_names(model), locked, pin.neutral(model))
+    reduced = (pin.buildReducedModel(_unique_frame_names(model, locked), locked, pin.neutral(model))
                if locked else model)
     ids = [reduced.getJointId(model.names[j]) for j in chain]
     if ids != list(range(1, len(chain) + 1)):  # pragma: no cover - Pinocchio's ordering
@@ -457,21 +457,22 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
                      locked=locked_names, metadata=metadata)
 
 
-def _unique_frame_names(model):
-    """The model, or a copy whose frames that share a link's name (a URDF may name a joint as
-    its child link) are renamed "NAME (joint)": Pinocchio's buildReducedModel looks frames up by
-    name alone and refuses a name two frames hold; the links keep theirs."""
+def _unique_frame_names(model, locked):
+    """A copy of the model whose frames that share a link's name (a URDF may name a joint as
+    its child link) are renamed "NAME (joint)", and so are the ``locked`` joints of such a name
+    (buildReducedModel makes each a frame of its name): Pinocchio's buildReducedModel looks
+    frames up by name alone and refuses a name two frames hold; the links keep theirs."""
     pin = _pin()
     bodies = {f.name for f in model.frames if f.type == pin.FrameType.BODY}
     clash = [k for k, f in enumerate(model.frames)
              if f.type != pin.FrameType.BODY and f.name in bodies]
-    if not clash:
-        return model
     model = pin.Model(model)
     for k in clash:
         frame = model.frames[k]
         frame.name += " (joint)"
         model.frames[k] = frame
+    for j in locked:
+        model.names[j] += " (joint)" * (model.names[j] in bodies)
     return model
 
 
