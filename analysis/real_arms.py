@@ -67,7 +67,9 @@ def erd_urdfs():
     for f in dist.files or []:
         if str(f).endswith(".urdf") and "/robots/" in str(f):
             path = Path(dist.locate_file(f))
-            out.setdefault(path.stem, path)
+            # a stem two packages share (anymal_b's and anymal_c's anymal.urdf): the second is
+            # named with its package folder, stem@package
+            out[path.stem if path.stem not in out else f"{path.stem}@{path.parts[-3]}"] = path
     return dict(sorted(out.items()))
 
 
