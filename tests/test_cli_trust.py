@@ -210,7 +210,9 @@ def test_case8_full_disk_before_hdf5(cwd, capsys, monkeypatch):
 
 @pytest.mark.parametrize("args, match", [
     (["--payload-sweep", "0:1:1e-30"], "--payload-sweep"),
-    (["--payload-sweep", "0:1e300:1e299"], "load masses up to"),
+    (["--payload-sweep", "0:1e300:1e299"], "--payload-sweep: load masses in [0, 1e+06] kg, got 0 to"),
+    # a negative first mass was refused naming --payload, an option not given
+    (["--payload-sweep=-5:1:0.5"], "--payload-sweep: load masses in [0, 1e+06] kg, got -5 to 1"),
 ])
 def test_case8_payload_sweep(cwd, capsys, args, match):
     traj = _plan(cwd, capsys)

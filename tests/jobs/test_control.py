@@ -11,6 +11,7 @@ tests; the crude-model and offset runs reuse the same settings (the offset run s
 from dataclasses import replace
 
 import numpy as np
+import pinocchio as pin
 import pytest
 import xarray as xr
 from conftest import SHIPPED
@@ -18,10 +19,11 @@ from figure_checks import check_print_ready, column_twins
 
 from gd_analyze import gd_terms, load_robot
 from gd_analyze.dynamics.opcount import count_operations
-from gd_analyze.dynamics.pinocchio import reference_terms
+from gd_analyze.dynamics.pinocchio import pinocchio_model, reference_terms
 from gd_analyze.errors import InputError
 from gd_analyze.files import file_sha256
-from gd_analyze.jobs.control import CONTROLLERS, run_control
+from gd_analyze.jobs.control import CONTROLLERS, run_control, singular_inertia
+from gd_analyze.model.robot_spec import robot_from_chain
 from gd_analyze.ranking.ranking import element_labels
 from gd_analyze.report.control import write_control_report
 from gd_analyze.simplify.simplified import SimplifiedModel, full_choices
@@ -447,3 +449,30 @@ def test_gains_beyond_the_command_lines_ranges_are_refused_without_overflow(name
     for bound in (lo, hi):
         args = control_parser().parse_intermixed_args(["m.json", "t.csv", f"--{name}", repr(bound)])
         assert getattr(args, name) == bound
+
+
+@pytest.mark.parametrize("mass1, said", [
+    (0.0, "it moves only what the other joints move"),     # joints 1 and 2 one axis
+    (1.0, None)])                                          # link 1's mass: D invertible
+def test_a_singular_D_of_two_joints_on_one_axis_is_not_said_to_move_no_inertia(mass1, said):
+    """Two revolute joints on the same axis with a massless, inertialess link between them:
+    Pinocchio's crba gives D = [[a, a], [a, a]], singular though each D_ii = a > 0. The line
+    said "no inertia moves with it" of a joint whose D_ii is the largest element."""
+    joints = [{"type": "revolute", "rotation": np.eye(3), "translation": [0.0, 0.0, 0.0],
+               "mass": m, "com": [0.3, 0.0, 0.0], "inertia": np.eye(3) * 0.01 * m}
+              for m in (mass1, 2.0)]
+    robot = robot_from_chain("coaxial", joints, [0.0, 0.0, -9.81])
+    model = pinocchio_model(robot)
+    q = np.array([[0.3, -0.2], [1.0, 0.5]])
+    D = np.array([pin.crba(model, model.createData(), x) for x in q])
+    D = np.triu(D) + np.swapaxes(np.triu(D, 1), -1, -2)
+    line = singular_inertia(robot, D)
+    if said is None:
+        assert line is None and np.linalg.eigvalsh(D).min() > 1e-3
+        return
+    assert np.abs(D - D[:, :1, :1]).max() <= 1e-12 * D.max()     # a = every element
+    assert line.startswith("the inertia matrix D is singular at set point 1: ") and said in line
+    assert "no inertia moves with it" not in line
+    D[:, 0, :] = D[:, :, 0] = 0.0       # joint 1 moving nothing: that is what the line says
+    assert "joint 1" in singular_inertia(robot, D) and "no inertia moves with it" in \
+        singular_inertia(robot, D)

@@ -356,9 +356,9 @@ def payload_mass_list(args: argparse.Namespace) -> list[float] | None:
         return None
 
     masses = parse_range(args.payload_sweep)
-    if masses[-1] > LIMITS["mass"]:
-        raise InputError(f"load masses up to {LIMITS['mass']:g} kg, got {masses[-1]:g}",
-                         column="--payload-sweep")
+    if masses[0] < 0 or masses[-1] > LIMITS["mass"]:
+        raise InputError(f"load masses in [0, {LIMITS['mass']:g}] kg, got {masses[0]:g} to "
+                         f"{masses[-1]:g}", column="--payload-sweep")
     return masses
 
 

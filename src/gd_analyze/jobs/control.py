@@ -245,7 +245,8 @@ def singular_inertia(robot: Robot, D: np.ndarray, rtol: float = 1e-12) -> str | 
     units = element_units("D", j, j, robot.prismatic)
     return (f"the inertia matrix D is singular at set point {k + 1}: {joint_title(robot, j)} has "
             f"D_{j + 1}{j + 1} = {float(D[k, j, j]):.3g} {units.replace('m2', 'm^2')} (of "
-            f"largest eigenvalue {float(big[k]):.3g}): no inertia moves with it, so the arm "
+            f"largest eigenvalue {float(big[k]):.3g}): " + ("no inertia moves with it" if D[k, j, j]
+            <= rtol * big[k] else "it moves only what the other joints move") + ", so the arm "
             "cannot be simulated; give that link a mass or inertia (or the joint an armature)")
 
 
