@@ -260,3 +260,21 @@ def test_example_robot_datas_b1_z1_arm_whose_joint_has_its_links_name():
     chain = read_urdf_chain(path, tip="gripperMover")
     assert chain.n == 7 and '<joint name="gripperStator"' in Path(path).read_text()
     _check_against_urdf(path, chain, seed=7)
+
+
+@pytest.mark.parametrize("lower, upper, expected", [
+    ("-1e+16", "1e+16", (-math.inf, math.inf)),     # SDF's default, in Gazebo's URDF export
+    ("-1e4", "1e4", (-1e4, 1e4)),                    # the largest travel taken as a limit
+])
+def test_a_position_limit_beyond_any_travel_is_no_limit(tmp_path, lower, upper, expected):
+    """A URDF exported from Gazebo writes a joint without limits as lower -1e16, upper 1e16;
+    it was refused ("-1e+16 is beyond the supported magnitude 10000"). Now it is read as no
+    limit, as Pinocchio's largest float is; a limit within 1e4 rad is kept."""
+    old = '<limit lower="-2" upper="2" velocity="1.5" effort="10"/>'
+    assert TOY_URDF.count(old) == 1
+    path = tmp_path / "sdf.urdf"
+    path.write_text(TOY_URDF.replace(old, f'<limit lower="{lower}" upper="{upper}" '
+                                          'velocity="1.5" effort="10"/>'))
+    chain = read_urdf_chain(path, tip="tool")
+    assert (chain.joints[2]["q_min"], chain.joints[2]["q_max"]) == expected
+    _check_against_urdf(path, chain, seed=7)

@@ -19,7 +19,8 @@ first joint, B the base link's frame) and the centre of mass and inertia tensor 
 the turned frame (A_i^T r_i, A_i^T I_i A_i). A continuous joint is a revolute joint without
 position limits. URDF has no acceleration limits: ``qdd_max`` is None. ROS's placeholders for an
 unset limit mean "not given": ``lower = upper`` (no position limits), ``velocity="0"`` and
-``effort="0"`` (NaN); only planning needs the limits.
+``effort="0"`` (NaN), and so does a position limit beyond any joint's travel (SDF's 1e16); only
+planning needs the limits.
 
 A placement's rotation whose every entry lies within :data:`RIGHT_ANGLE_TOL` of 0 or +-1 is
 taken as that exact signed permutation (:func:`right_angle_rotation`): URDF files write pi and
@@ -47,7 +48,7 @@ from typing import TYPE_CHECKING, Any, TypeGuard
 import numpy as np
 
 from ..errors import InputError, regular_file
-from .limits import exact_text
+from .limits import LIMITS, exact_text
 from .mounting import MOUNTING_KEY
 from .robot_spec import robot_from_chain
 from .urdf_xml import check_inertias, check_mimic, read_urdf_xml
@@ -477,9 +478,11 @@ def _unique_frame_names(model, locked):
 
 
 def _bound(limit):
-    """A position limit, infinite where Pinocchio holds the largest float (no limit given)."""
+    """A position limit, infinite where Pinocchio holds the largest float (no limit given) or
+    the file a placeholder beyond any joint's travel (above ``LIMITS["q"]``, 1e4 rad or m:
+    SDF's default 1e16, which Gazebo's URDF export writes for a joint without limits)."""
     v = float(limit)
-    return math.copysign(math.inf, v) if abs(v) >= 1e300 else v
+    return math.copysign(math.inf, v) if abs(v) > LIMITS["q"] else v
 
 
 def _given(limit):
