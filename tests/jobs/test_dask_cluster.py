@@ -111,7 +111,7 @@ def test_dask_s_advice_and_log_are_kept_from_the_user(cluster):
     handler = logging.Handler()
     handler.emit = logged.append
     logging.getLogger("distributed").addHandler(handler)
-    before = logging.getLogger("distributed").level
+    before = [logging.getLogger(n).level for n in ("distributed", "distributed.client")]
     try:
         with warnings.catch_warnings(record=True) as seen:
             warnings.simplefilter("always")       # the CLI shows what reaches it
@@ -119,11 +119,13 @@ def test_dask_s_advice_and_log_are_kept_from_the_user(cluster):
             with dask_client(cl.scheduler_address) as (client, _):
                 assert client.submit(len, np.zeros(2_000_000), pure=False).result() == 2_000_000
                 logging.getLogger("distributed.nanny").warning("Restarting worker")
+                # dask's configuration gives the client's logger a level of its own
+                logging.getLogger("distributed.client").error("Failed to reconnect")
             assert list(warnings.filters) == filters
     finally:
         logging.getLogger("distributed").removeHandler(handler)
     assert [str(w.message) for w in seen] == [] and logged == []
-    assert logging.getLogger("distributed").level == before
+    assert [logging.getLogger(n).level for n in ("distributed", "distributed.client")] == before
 
 
 def _busy_workers(client):

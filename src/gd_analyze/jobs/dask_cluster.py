@@ -182,10 +182,11 @@ def dask_client(scheduler: str | None = None, n_workers: int | None = None,
     with contextlib.ExitStack() as env:
         # dask's own log (the client's tracebacks of a lost connection, the nanny's restart of
         # a lost worker) kept off stderr: a cluster failure is told in one line (ClusterLost);
-        # and its advice on a large graph: each task carries its data on purpose (sweep.py)
-        logger = logging.getLogger("distributed")
-        env.callback(logger.setLevel, logger.level)
-        logger.setLevel(logging.CRITICAL + 1)
+        # and its advice on a large graph: each task carries its data on purpose (sweep.py).
+        # dask's configuration gives the client's logger a level of its own.
+        for logger in map(logging.getLogger, ("distributed", "distributed.client")):
+            env.callback(logger.setLevel, logger.level)
+            logger.setLevel(logging.CRITICAL + 1)
         env.enter_context(warnings.catch_warnings())
         warnings.filterwarnings("ignore", "Sending large graph", UserWarning)
         if scheduler is not None:
