@@ -69,16 +69,16 @@ def pinocchio_model(robot: Robot, part: str = "full") -> pinocchio.Model:
         raise ValueError(f"part must be 'full', 'tran' or 'rot', got {part!r}")
     model = pin.Model()
     model.name = robot.name
-    parent = 0
     com, inertia = robot.body_com, robot.body_inertia
-    for i in range(robot.n):
+    for i in range(robot.n):        # a chain: joint i + 1's parent is joint i (0: the universe)
         placement = pin.SE3(np.array(robot.rotation[i]), np.array(robot.translation[i]))
         joint = pin.JointModelPZ() if robot.prismatic[i] else pin.JointModelRZ()
-        jid = model.addJoint(parent, joint, placement, f"joint{i + 1}")
-        mass = 0.0 if part == "rot" else float(robot.mass[i])
-        I = np.zeros((3, 3)) if part == "tran" else np.array(inertia[i])
-        model.appendBodyToJoint(jid, pin.Inertia(mass, np.array(com[i]), I), pin.SE3.Identity())
-        parent = jid
+        jid = model.addJoint(i, joint, placement, f"joint{i + 1}")
+        body = pin.Inertia(0.0 if part == "rot" else float(robot.mass[i]), np.array(com[i]),
+                           np.zeros((3, 3)))
+        # the tensor as read: Inertia() refuses a diagonal round-off below 0 (iCub's -5e-20)
+        body.inertia = np.zeros((3, 3)) if part == "tran" else np.array(inertia[i])
+        model.appendBodyToJoint(jid, body, pin.SE3.Identity())
     model.gravity = pin.Motion(np.array(robot.gravity, dtype=float), np.zeros(3))
     if part == "full":
         model.armature = np.array(robot.armature, dtype=float)
