@@ -11,6 +11,7 @@ from gd_analyze.dynamics.base_parameters import standard_parameters
 from gd_analyze.errors import InputError
 from gd_analyze.model.robot_file import robot_toml
 from gd_analyze.trajectory.trajectory import read_recording
+from urdf_oracle import TOY_URDF
 
 
 @pytest.mark.parametrize("name", ["puma560", "puma560-drives", "stanford", "panda", "ur5"])
@@ -61,19 +62,20 @@ def test_a_urdf_robot_s_file_keeps_its_joint_names_for_recordings_that_name_them
 @pytest.mark.parametrize("change, column, message", [
     ({2: None}, "link[2].joint_name", "give it on every link or none"),
     ({2: "a"}, "link[2].joint_name", "is that of link[1]"),
-    ({1: "a\nb"}, "link[1].joint_name", "printable"),
+    ({1: "a" * 201}, "link[1].joint_name", "expected at most 200 characters"),
+    ({1: "a\x00b"}, "link[1].joint_name", "no NUL"),
     ({1: 3}, "link[1].joint_name", "expected a non-empty string"),
 ])
 def test_joint_names_in_a_robot_file_are_checked(tmp_path, change, column, message):
-    """joint_name on every link or none, a one-line name, no two alike; hostile text read back
-    as the same string."""
+    """joint_name on every link or none, at most 200 characters without NUL, no two alike;
+    hostile text read back as the same string."""
     names = {1: "a", 2: "b"} | change
     text = robot_toml(load_robot("two-link"))
     plain, parts = text.split("[[link]]"), text.split("[[link]]")
     for i, name in names.items():
         if name is not None:
             parts[i] = "\njoint_name = " + (repr(name) if isinstance(name, int) else
-                                             '"' + name.replace("\n", "\\n") + '"') + parts[i]
+                                             '"' + name.replace("\x00", "\\u0000") + '"') + parts[i]
     path = tmp_path / "r.toml"
     path.write_text("[[link]]".join(parts))
     with pytest.raises(InputError) as err:
@@ -83,3 +85,28 @@ def test_joint_names_in_a_robot_file_are_checked(tmp_path, change, column, messa
     path.write_text("[[link]]".join([plain[0]] + [f"\njoint_name = {json.dumps(evil + str(i))}"
                                                   + p for i, p in enumerate(plain[1:])]))
     assert load_robot(str(path)).joint_names() == [evil + "0", evil + "1"]
+
+
+def test_a_urdf_s_joint_names_read_back_from_its_robot_file_or_are_refused_by_both(tmp_path):
+    """A URDF may name a joint with a tab, a newline or a carriage return (XML writes them as
+    character references); identify writes such a robot's identified_robot.toml with
+    robot_toml. The robot file reads those names back as they were. A name of over 200
+    characters is refused on reading the URDF, as the robot file refuses it, in one line that
+    names the joint; before, the URDF was read and the file it wrote was refused."""
+    names = ["j1\tα", "j2\nnext line", "j3\r" + "x" * 197]
+    text = TOY_URDF
+    for k, name in enumerate(names, start=1):
+        attr = "".join(c if c.isprintable() else f"&#{ord(c)};" for c in name)
+        text = text.replace(f'name="j{k}"', f'name="{attr}"')
+    robot = load_robot(text, tip="tool")
+    assert robot.joint_names() == names and len(names[2]) == 200
+    path = tmp_path / "r.toml"
+    path.write_text(robot_toml(robot))
+    back = load_robot(str(path))
+    assert back.joint_names() == names
+    assert np.array_equal(standard_parameters(back), standard_parameters(robot))
+    long = "j" * 201
+    with pytest.raises(InputError) as err:
+        load_robot(text.replace('name="j1&#9;α"', f'name="{long}"'), tip="tool")
+    assert err.value.column == f"joint[1].name (joint {long!r})"
+    assert "expected at most 200 characters" in str(err.value) and "\n" not in str(err.value)

@@ -67,17 +67,19 @@ def _vector(value, length, path, column, limit=None):
     return [_number(v, path, column, limit=limit) for v in value]
 
 
-def _text(spec, key, path, required=False, column=None):
-    """A string: a name (``required``) one line of at most 200 printable characters; a
-    description or reference at most 100,000 characters without NUL (HDF5 attributes cannot
-    hold one)."""
+def _text(spec, key, path, required=False, column=None, printable=True):
+    """A string: a name (``required``) of at most 200 characters, one line of printable ones
+    unless not ``printable`` (a joint's name, which a URDF may give with a tab or a newline);
+    a description or reference at most 100,000 characters; none with NUL (HDF5 attributes
+    cannot hold one)."""
     value, column = spec.get(key, ""), column or key
     if not isinstance(value, str) or (required and not value):
         raise InputError(f"expected a {'non-empty ' if required else ''}string, got "
                          f"{_short(value)}", path, column=column)
-    if required and (len(value) > 200 or not value.isprintable()):
-        raise InputError("expected at most 200 printable characters (no control characters "
-                         "such as NUL or newline)", path, column=column)
+    if required and (len(value) > 200 or printable and not value.isprintable()):
+        raise InputError("expected at most 200 " + ("printable characters (no control "
+                         "characters such as NUL or newline)" if printable else "characters"),
+                         path, column=column)
     if len(value) > 100_000 or "\x00" in value:
         raise InputError("expected at most 100000 characters and no NUL", path, column=column)
     return value
@@ -85,7 +87,7 @@ def _text(spec, key, path, required=False, column=None):
 
 def _joint_names(links, path):
     """The links' ``joint_name`` keys: on every link or none, each a name, no two alike."""
-    names = [_text(link, "joint_name", path, True, f"link[{i}].joint_name")
+    names = [_text(link, "joint_name", path, True, f"link[{i}].joint_name", printable=False)
              if "joint_name" in link else None for i, link in enumerate(links, start=1)]
     for i, name in enumerate(names, start=1):
         if any(names) and (name is None or name in names[:i - 1]):
@@ -428,7 +430,7 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
     """
     fields = {k: metadata.pop(k) for k in ("description", "reference", "source", "sha256")
               if k in metadata}
-    path = fields.get("source")
+    path, names = fields.get("source"), metadata.get("urdf_joints") or ()
     gravity = np.asarray(gravity, dtype=float).tolist()
     if not isinstance(joints, (list, tuple)) or not joints:
         raise InputError("a chain needs at least one moving joint", path, column="joint")
@@ -443,6 +445,8 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
                 "com": np.asarray(j["com"]).tolist(),
                 "inertia": np.asarray(j["inertia"], dtype=float).tolist(),
                 "q_limits": [float(j.get("q_min", -math.inf)), float(j.get("q_max", math.inf))]}
+        if names:   # a URDF's joint names: those a robot file takes (robot_toml writes them)
+            link["joint_name"] = names[i - 1]
         given = {k: j[k] for k in ("qd_max", "qdd_max", "tau_max") if j.get(k) is not None}
         link.update({k: v for k, v in given.items()         # None or NaN: not given
                      if not (isinstance(v, float) and math.isnan(v))})
@@ -454,9 +458,8 @@ def robot_from_chain(name: str, joints: Sequence[Mapping[str, Any]], gravity: Ar
     try:
         robot = robot_from_dict(spec, source=path or "<chain>", sha256=fields.get("sha256"))
     except InputError as err:
-        col = (err.column or "").replace("link[", "joint[").replace(".joint", ".type")
-        col = col.replace(".q_limits", ".q_min/q_max")
-        names = metadata.get("urdf_joints") or ()
+        col = (err.column or "").replace("link[", "joint[").replace(".joint_name", ".name")
+        col = col.replace(".joint", ".type").replace(".q_limits", ".q_min/q_max")
         k = int(col[len("joint["):col.index("]")]) if col.startswith("joint[") else 0
         if col == "name" and names:         # a URDF's name, or a Pinocchio model's
             col = "model.name" if path == "pinocchio.Model" else "<robot name>"
