@@ -5,13 +5,13 @@ import json
 
 import numpy as np
 import pytest
+from urdf_oracle import TOY_URDF
 
 from gd_analyze import load_robot
 from gd_analyze.dynamics.base_parameters import standard_parameters
 from gd_analyze.errors import InputError
 from gd_analyze.model.robot_file import robot_toml
 from gd_analyze.trajectory.trajectory import read_recording
-from urdf_oracle import TOY_URDF
 
 
 @pytest.mark.parametrize("name", ["puma560", "puma560-drives", "stanford", "panda", "ur5"])

@@ -60,11 +60,8 @@ def test_missing_inertia_element_refused(tmp_path):
 @pytest.mark.parametrize("old, new, column", [
     # the hand is merged into link 7 through fixed joints: its inertial counts too
     ('<mass value="0.73"/>', '<mass value="0,73"/>', "link 'panda_hand' <mass value>"),
-    # the fingers are locked at q = 0: a mimic that follows a chain joint, or has an offset,
-    # would not be at 0
+    # the fingers are locked: a mimic that follows a chain joint would move with the chain
     ('<mimic joint="panda_finger_joint1"/>', '<mimic joint="panda_joint7"/>',
-     "joint 'panda_finger_joint2' <mimic>"),
-    ('<mimic joint="panda_finger_joint1"/>', '<mimic joint="panda_finger_joint1" offset="0.01"/>',
      "joint 'panda_finger_joint2' <mimic>"),
 ])
 def test_broken_panda_refused(tmp_path, old, new, column):
@@ -72,6 +69,34 @@ def test_broken_panda_refused(tmp_path, old, new, column):
     with pytest.raises(InputError) as err:
         read_urdf_chain(path, "panda_link0", "panda_hand")
     assert err.value.column == column
+
+
+def test_a_locked_mimic_joint_is_locked_at_its_offset(tmp_path):
+    """A finger that mimics the other with an offset (example-robot-data's alex_psyonic hands
+    have one of 0.72) is locked where its <mimic> puts it: offset + multiplier x the other
+    finger, locked at 0. Before, every chain of such a file was refused. Oracle: Pinocchio's
+    rnea on the whole URDF, the fingers at (0, 0.03) m and at rest, against the chain's."""
+    from gd_analyze import load_robot
+    from gd_analyze.dynamics.pinocchio import pinocchio_model
+
+    path = _write(tmp_path, PANDA, '<mimic joint="panda_finger_joint1"/>',
+                  '<mimic joint="panda_finger_joint1" multiplier="-2" offset="0.03"/>')
+    robot = load_robot(str(path), base="panda_link0", tip="panda_hand")
+    assert "(panda_finger_joint2 at 0.03, its <mimic> offset)" in robot.description
+    full = pin.buildModelFromUrdf(str(path))
+    chain = pinocchio_model(robot)
+    rng = np.random.default_rng(3)
+    worst = 0.0
+    for _ in range(20):
+        q, qd, qdd = (rng.uniform(-1.5, 1.5, 7) for _ in range(3))
+        tau = pin.rnea(full, full.createData(), np.r_[q, 0.0, 0.03], np.r_[qd, 0, 0],
+                       np.r_[qdd, 0, 0])[:7]
+        at_zero = pin.rnea(full, full.createData(), np.r_[q, 0.0, 0.0], np.r_[qd, 0, 0],
+                           np.r_[qdd, 0, 0])[:7]
+        assert np.abs(at_zero - tau).max() > 1e-6 * np.abs(tau).max()   # the offset matters
+        worst = max(worst, np.abs(pin.rnea(chain, chain.createData(), q, qd, qdd) - tau).max()
+                    / np.abs(tau).max())
+    assert worst <= 1e-12
 
 
 def test_a_link_with_two_parent_joints_is_refused_naming_the_second():

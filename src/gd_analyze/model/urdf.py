@@ -390,13 +390,17 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
     links = {f.name: k for k, f in enumerate(model.frames) if f.type == pin.FrameType.BODY}
     chain, base, tip = _select_chain(model, links, base, tip, label)
     locked = [j for j in range(1, model.njoints) if j not in chain]
-    if doc is not None:
-        check_mimic(doc, [model.names[j] for j in chain], [model.names[j] for j in locked],
-                    label)
+    at = {} if doc is None else check_mimic(doc, [model.names[j] for j in chain],
+                                            [model.names[j] for j in locked], label)
+    q_locked = pin.neutral(model)
+    for name, q in at.items():  # a locked <mimic> joint where its offset puts it
+        joint = model.joints[model.getJointId(name)]    # a continuous joint's q is (cos, sin)
+        q_locked[joint.idx_q:joint.idx_q + joint.nq] = [q] if joint.nq == 1 else [
+            math.cos(q), math.sin(q)]
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     kinds = [_joint_kind(model, data, j, label) for j in chain]
-    reduced = (pin.buildReducedModel(_unique_frame_names(model, locked), locked, pin.neutral(model))
+    reduced = (pin.buildReducedModel(_unique_frame_names(model, locked), locked, q_locked)
                if locked else model)
     ids = [reduced.getJointId(model.names[j]) for j in chain]
     if ids != list(range(1, len(chain) + 1)):  # pragma: no cover - Pinocchio's ordering
@@ -442,7 +446,9 @@ def _chain(model, doc, sha256, base, tip, label, robot_name, description, refere
                        f"({', '.join(joint_names)}), base {base}, tip {tip}; fixed joints "
                        "merged into their links")
         if locked_names:
-            description += f"; {', '.join(locked_names)} locked at q = 0 and merged"
+            offsets = "".join(f" ({name} at {exact_text(q)}, its <mimic> offset)"
+                              for name, q in at.items() if name in locked_names)
+            description += f"; {', '.join(locked_names)} locked at q = 0{offsets} and merged"
     metadata = {"description": description, "reference": reference, "source": source,
                 "sha256": sha256, "base_link": base, "tip_link": tip,
                 "urdf_joints": list(joint_names), "locked_joints": list(locked_names)}

@@ -12,8 +12,9 @@ joints added in, as Pinocchio merges them) with the ones Pinocchio loaded. A lin
 ``<inertial>`` is massless, as the URDF specification says (e.g. a frame link).
 
 ``<mimic>`` joints are not modelled (Pinocchio's ``mimic=False`` treats them as independent
-joints): :func:`check_mimic` refuses a mimic joint on the chain, and one off the chain (locked
-at q = 0) that would not be at 0 (it follows a chain joint, or has an offset).
+joints): :func:`check_mimic` refuses a mimic joint on the chain, and one off the chain that
+follows a chain joint; one off the chain that follows a locked joint is locked where its
+``<mimic>`` puts it (its offset).
 """
 
 from __future__ import annotations
@@ -355,37 +356,44 @@ def check_inertias(doc: UrdfXml, model: pinocchio.Model, path: str) -> None:
                 column=f"link {child!r} <inertial>")
 
 
-def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str], path: str) -> None:
-    """Refuse ``<mimic>`` joints that the locked-at-zero chain model would get wrong.
+def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str],
+                path: str) -> dict[str, float]:
+    """Refuse ``<mimic>`` joints that the chain model would get wrong, and give the position
+    of each locked one.
 
     Parameters
     ----------
     doc : UrdfXml
         The file as :func:`read_urdf_xml` read it.
     chain, locked : iterable of str
-        The names of the chain's joints and of the moving joints locked at q = 0.
+        The names of the chain's joints and of the moving joints locked off it.
     path : str
         The file, for the messages.
+
+    Returns
+    -------
+    dict
+        Locked mimic joint name -> its position [rad or m] where it is not 0: ``offset +
+        multiplier * position`` of the joint it follows (URDF specification), which is locked
+        too, at 0 unless it is a mimic joint itself.
 
     Raises
     ------
     InputError
         Naming the joint: a mimic joint on the chain (gd-analyze does not model mimic joints);
-        a locked mimic joint that follows a chain joint, or has a non-zero offset (it would not
-        be at q = 0).
+        a locked mimic joint that follows a chain joint (it would move with the chain).
     """
-    chain, locked = set(chain), set(locked)
-    for name, (*_, mimic) in doc.joints.items():
-        if mimic is None:
-            continue
-        followed, _, offset = mimic
+    chain, locked, at = set(chain), set(locked), {}
+    mimics = {name: mimic for name, (*_, mimic) in doc.joints.items() if mimic is not None}
+    for _ in mimics:    # a mimic of a mimic: its leader's position first (one round a level)
+        at = {name: off + mult * at.get(led, 0.0) for name, (led, mult, off) in mimics.items()}
+    for name, (followed, _, _) in mimics.items():
         if name in chain:
             why = f"a mimic joint on the chain (it follows {followed!r})"
         elif name in locked and followed in chain:
-            why = f"locked at q = 0 off the chain, but it follows the chain joint {followed!r}"
-        elif name in locked and offset != 0.0:
-            why = f"locked at q = 0 off the chain, but its offset {offset:g} puts it elsewhere"
+            why = f"locked off the chain, but it follows the chain joint {followed!r}"
         else:
             continue
         raise InputError(f"{why}: gd-analyze does not model <mimic> joints", path,
                          column=f"joint {name!r} <mimic>")
+    return {name: float(q) for name, q in at.items() if name in locked and q != 0.0}
