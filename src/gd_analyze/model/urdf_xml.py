@@ -383,8 +383,8 @@ def check_mimic(doc: UrdfXml, chain: Iterable[str], locked: Iterable[str],
         Naming the joint: a mimic joint on the chain (gd-analyze does not model mimic joints);
         a locked mimic joint that follows a chain joint (it would move with the chain).
     """
-    chain, locked, at = set(chain), set(locked), {}
     mimics = {name: mimic for name, (*_, mimic) in doc.joints.items() if mimic is not None}
+    chain, locked, at = set(chain), set(locked), dict.fromkeys(mimics, 0.0)
     for _ in mimics:    # a mimic of a mimic: its leader's position first (one round a level)
         at = {name: off + mult * at.get(led, 0.0) for name, (led, mult, off) in mimics.items()}
     for name, (followed, _, _) in mimics.items():
