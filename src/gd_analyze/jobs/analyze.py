@@ -144,8 +144,7 @@ def _verify_sample(robot, q, qd, terms, qdd=None):
 
 
 def verify(robot: Robot, q: NDArray[np.float64], qd: NDArray[np.float64],
-           terms: GDTerms | None = None, max_setpoints: int = VERIFY_MAX_SETPOINTS,
-           qdd: NDArray[np.float64] | None = None) -> dict[str, Any]:
+           terms: GDTerms | None = None, qdd: NDArray[np.float64] | None = None) -> dict[str, Any]:
     """Check G-D terms against Pinocchio's crba, nonLinearEffects and generalized gravity.
 
     Parameters
@@ -155,9 +154,8 @@ def verify(robot: Robot, q: NDArray[np.float64], qd: NDArray[np.float64],
     q, qd : ndarray, shape (N, n)
         Joint positions [rad] and velocities [rad/s].
     terms : GDTerms, optional
-        The G-D terms at those N states; computed at the checked set points if not given.
-    max_setpoints : int, optional
-        At most this many set points, evenly spread, are checked.
+        The G-D terms at those N states; computed at the checked set points if not given
+        (at most :data:`VERIFY_MAX_SETPOINTS`, evenly spread).
     qdd : ndarray, shape (N, n), optional
         Joint accelerations [rad/s^2], for the torque scale (zero if not given).
 
@@ -179,7 +177,7 @@ def verify(robot: Robot, q: NDArray[np.float64], qd: NDArray[np.float64],
     The split parts are checked against the half-models with zero rotational inertia and with
     zero mass (see :mod:`gd_analyze.dynamics.pinocchio`).
     """
-    idx = _subsample(q.shape[0], max_setpoints)
+    idx = _subsample(q.shape[0], VERIFY_MAX_SETPOINTS)
     sample = gd_terms(robot, q[idx], qd[idx]) if terms is None else terms.rows(idx)
     return _verify_sample(robot, q[idx], qd[idx], sample, None if qdd is None else qdd[idx])
 

@@ -172,21 +172,6 @@ class LimitBounds:
     qdd_peak: np.ndarray
     points: int
 
-    def within(self, lo: ArrayLike, hi: ArrayLike, qd_max: ArrayLike, qdd_max: ArrayLike) -> bool:
-        """Whether every bound is inside the limits (NaN is not).
-
-        Parameters
-        ----------
-        lo, hi, qd_max, qdd_max : array_like, shape (n,)
-            The limits [rad, rad/s, rad/s^2; m, m/s, m/s^2].
-
-        Returns
-        -------
-        bool
-        """
-        return bool(np.all(self.q_low >= lo) and np.all(self.q_high <= hi)
-                    and np.all(self.qd_peak <= qd_max) and np.all(self.qdd_peak <= qdd_max))
-
 
 def limit_bounds(series: FourierSeries, points: int | None = None) -> LimitBounds:
     """Bounds of q, |qd| and |qdd| over all times.
@@ -447,8 +432,7 @@ def _fit(series, lo, hi, qd_max, qdd_max):
 
 def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
                       wf: float = 2 * math.pi / 10, seed: int | Sequence[int] = 0,
-                      qdd_max: ArrayLike | None = None,
-                      margin: float = LIMIT_MARGIN) -> FourierSeries:
+                      qdd_max: ArrayLike | None = None) -> FourierSeries:
     """A random Fourier series from rest to rest, each joint scaled to fit its limits.
 
     Parameters
@@ -464,15 +448,13 @@ def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
         Seed of :func:`numpy.random.default_rng`.
     qdd_max : array_like, shape (n,), optional
         Acceleration limits [rad/s^2] replacing the robot's.
-    margin : float, optional
-        Fraction of each limit (of each position range) left free.
 
     Returns
     -------
     FourierSeries
         q0 the middle of each joint's range; a_il, b_il (l >= 2) drawn from N(0, 1/l^2), a_i1
         and b_i1 set for rest at t = 0; each joint's oscillation then scaled so that its
-        :func:`limit_bounds` touch the margined limits.
+        :func:`limit_bounds` touch the limits less :data:`LIMIT_MARGIN`.
 
     Raises
     ------
@@ -484,7 +466,7 @@ def random_excitation(robot: Robot, harmonics: int = DEFAULT_HARMONICS,
     if K < 2:
         raise ValueError("an excitation from rest to rest needs at least 2 harmonics")
     lo, hi, qd, qdd, _ = _limits(robot, qdd_max)
-    lo_m, hi_m, qd_m, qdd_m = _margined(lo, hi, qd, qdd, margin)
+    lo_m, hi_m, qd_m, qdd_m = _margined(lo, hi, qd, qdd, LIMIT_MARGIN)
     rng = np.random.default_rng(seed)
     basis = _Basis(K, float(wf), np.zeros(1))
     n = robot.n
@@ -714,8 +696,7 @@ def _constrained_minimum(fun, z, A, c, room, maxiter):
 def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int = DEFAULT_HARMONICS,
                     base_frequency: float | None = None, n_setpoints: int | None = None,
                     seed: int = 0, qdd_max: ArrayLike | None = None, starts: int = 2,
-                    maxiter: int = 40, drives: Sequence[str] = DRIVE_COLUMNS,
-                    margin: float = LIMIT_MARGIN) -> Excitation:
+                    maxiter: int = 40, drives: Sequence[str] = DRIVE_COLUMNS) -> Excitation:
     """An excitation trajectory: a Fourier series minimising the scaled condition number.
 
     Parameters
@@ -743,8 +724,6 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
         SLSQP iterations per start and stage (:data:`STAGES`).
     drives : sequence of str, optional
         The drive columns of the regressor (:data:`DRIVE_COLUMNS`).
-    margin : float, optional
-        Fraction of every limit kept free in the optimisation (:data:`LIMIT_MARGIN`).
 
     Returns
     -------
@@ -803,15 +782,14 @@ def plan_excitation(robot: Robot, duration: float | None = None, harmonics: int 
     # wall, 9.0 s CPU in 9.0 s with one thread)
     with one_blas_thread():
         return _optimised(robot, K, T, wf, periods, N, int(seed), qdd_max, int(starts),
-                          int(maxiter), columns, margin, clock)
+                          int(maxiter), columns, clock)
 
 
-def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, columns, margin,
-               clock):
+def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, columns, clock):
     """plan_excitation's work, with its arguments checked."""
     n = robot.n
     lo, hi, qd, qdd, qdd_source = _limits(robot, qdd_max)
-    inner = _margined(lo, hi, qd, qdd, margin)
+    inner = _margined(lo, hi, qd, qdd, LIMIT_MARGIN)
     period = 2 * math.pi / wf
     objective = _Basis(K, wf, _middles(period, OBJECTIVE_SAMPLES))
     G = CONSTRAINT_POINTS_PER_HARMONIC * K
@@ -829,7 +807,7 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, colu
               for v, power in STAGES]
     best, start_conditions, messages = None, [], []
     for s in range(int(starts)):
-        start = random_excitation(robot, K, wf, [int(seed), s], qdd_max, margin)
+        start = random_excitation(robot, K, wf, [int(seed), s], qdd_max)
         start_conditions.append(excitation_condition(robot, columns, start))
         z, said = _variables(start) / D, []
         for scale, power in stages:
@@ -847,7 +825,7 @@ def _optimised(robot, K, T, wf, periods, N, seed, qdd_max, starts, maxiter, colu
             best = (cond, fitted, found)
     if best is None:            # every start left the range: keep the best start
         k = int(np.argmin(start_conditions))
-        start = random_excitation(robot, K, wf, [int(seed), k], qdd_max, margin)
+        start = random_excitation(robot, K, wf, [int(seed), k], qdd_max)
         best = (start_conditions[k], start, start)
     cond, series, found = best
     found_amp = np.hypot(found.a, found.b).sum(1)      # the oscillation as optimised
