@@ -230,27 +230,34 @@ def test_one_recording_given_alone_is_one_recording(tmp_path):
         np.testing.assert_allclose(result.identified.viscous, truth.viscous, rtol=1e-6)
 
 
-@pytest.mark.parametrize("wrong", ["zero", "zero-joint-2", "degrees", "sign"])
-def test_a_given_velocity_that_is_not_the_joints_is_differentiated_instead(wrong):
+@pytest.mark.parametrize("column, wrong", [("qd", "zero"), ("qd", "zero-joint-2"),
+                                           ("qd", "degrees"), ("qd", "sign"), ("qdd", "zero"),
+                                           ("qdd", "degrees"), ("qdd", "sign")])
+def test_a_given_velocity_or_acceleration_that_is_not_the_joints_is_differentiated(column,
+                                                                                  wrong):
     """A driver may publish zero velocities, or velocities in deg/s or of the other sign. Taken
     as they stand, all-zero columns left no row to fit ("0 rows enter the fit") and joint 2's
     column alone zero gave a fit 72.8 % off on its own training data, without a word. Such a
-    column is now replaced by the differences of q, with one note naming the joints. Oracle:
-    the true arm's torque (Pinocchio, noise-free): the fit reproduces it within 1 % on every
-    joint, as it does from the correct qd, which no note names."""
+    column is now replaced by the differences of q, with one note naming the joints; a given
+    qdd alike, against the differences of the qd used (fitted as it stood, it set the fit more
+    than 1 % off). Oracle: the true arm's torque (Pinocchio, noise-free): the fit reproduces it
+    within 1 % on every joint, as it does from the correct columns, which no note names."""
     robot = _robot("two-link")
     truth = truth_for(robot)
-    _, (t, q, qd, _, tau) = _record(truth, robot.n, 25, seed=2)
-    bad = {"zero": qd * 0.0, "zero-joint-2": qd * [1.0, 0.0], "degrees": np.degrees(qd),
-           "sign": -qd}[wrong]
-    for given, joints in ((qd, None), (bad, "2" if wrong == "zero-joint-2" else "1, 2")):
-        rec = recording_from_arrays(t, q, tau, given, None, source=wrong)
+    _, (t, q, qd, qdd, tau) = _record(truth, robot.n, 25, seed=2)
+    right = {"qd": qd, "qdd": qdd}[column]
+    bad = {"zero": right * 0.0, "zero-joint-2": right * [1.0, 0.0], "degrees": np.degrees(right),
+           "sign": -right}[wrong]
+    of = {"qd": "q", "qdd": "qd"}[column]
+    for given, joints in ((right, None), (bad, "2" if wrong == "zero-joint-2" else "1, 2")):
+        columns = {"qd": qd, "qdd": None if column == "qd" else qdd} | {column: given}
+        rec = recording_from_arrays(t, q, tau, columns["qd"], columns["qdd"], source=wrong)
         fit = identify(robot, [rec]).recordings[0]
         assert (fit.errors()[1] < 0.01).all(), (wrong, joints, fit.errors()[1])
-        said = [n for n in fit.notes if "off the differences of q" in n]
+        said = [n for n in fit.notes if f"off the differences of {of}:" in n]
         assert said == ([] if joints is None else [
-            f"{wrong}: the given qd of joint(s) {joints} is over 50% off the differences of "
-            "q: differentiated instead"]), fit.notes
+            f"{wrong}: the given {column} of joint(s) {joints} is over 50% off the differences "
+            f"of {of}: differentiated instead"]), fit.notes
 
 
 def test_a_robot_options_or_recording_of_another_type_is_one_input_error():

@@ -293,7 +293,8 @@ def not_velocities(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64],
     t : ndarray, shape (N,)
         Time [s], strictly increasing.
     q, qd : ndarray, shape (N, n)
-        Positions [rad or m] and the velocities given [rad/s or m/s].
+        Positions [rad or m] and the velocities given [rad/s or m/s]; or velocities and the
+        accelerations given [rad/s^2 or m/s^2], as :func:`preprocess` checks a given qdd.
 
     Returns
     -------
@@ -467,11 +468,15 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
     if len(segs) > 1:
         notes.append(f"{label}: {len(segs) - 1} gaps longer than {GAP_STEPS} median steps "
                      f"({step * 1e3:.3g} ms): processed as {len(segs)} separate segments")
-    off = np.zeros(q.shape[1], bool) if qd is None else not_velocities(t, q, qd)
-    if off.any():
-        notes.append(f"{label}: the given qd of joint(s) "
-                     f"{', '.join(map(str, np.flatnonzero(off) + 1))} is over {MISMATCH:.0%} off "
-                     f"the differences of q: differentiated instead")
+    off = {"qd": np.zeros(q.shape[1], bool) if qd is None else not_velocities(t, q, qd)}
+    rate = np.gradient(q, t, axis=0)    # qdd against the qd used: the given one where it is
+    rate = rate if qd is None else np.where(off["qd"], rate, qd)
+    off["qdd"] = np.zeros_like(off["qd"]) if qdd is None else not_velocities(t, rate, qdd)
+    for k, x in (("qd", "q"), ("qdd", "qd")):
+        if off[k].any():
+            notes.append(f"{label}: the given {k} of joint(s) "
+                         f"{', '.join(map(str, np.flatnonzero(off[k]) + 1))} is over "
+                         f"{MISMATCH:.0%} off the differences of {x}: differentiated instead")
     dts = np.diff(t)
     if dts.min() < 0.9 * step or dts.max() > 1.1 * step:
         notes.append(f"{label}: irregular clock, steps {dts.min() * 1e3:.3g} to "
@@ -514,7 +519,7 @@ def preprocess(t: npt.NDArray[np.float64], q: npt.NDArray[np.float64], tau: npt.
             d["t"], spacing = ts, ts
         for k, x in (("qd", "q"), ("qdd", "qd")):    # differences where not given (or qd off)
             diff = _derivative(d[x], spacing)
-            d[k] = diff if d[k] is None else np.where(off & (k == "qd"), diff, d[k])
+            d[k] = diff if d[k] is None else np.where(off[k], diff, d[k])
         d["keep"] = np.zeros(d["t"].size, bool)
         d["keep"][slice(trim, d["t"].size - trim, int(decimate))] = True
         for k in out:
