@@ -393,15 +393,19 @@ def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, co
         robot, masses, {"long_name": "payload mass on the last link", "units": "kg"},
         data_vars, element_coords(n, robot.prismatic, robot.joint_names()),
         f"G-D dominance of {robot.name} vs payload along {source.name}", dominance, negligible,
-        {Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
-         "payload_com_units": "m",
-         Attr.PAYLOAD_INERTIA: I_p.ravel(),
-         "payload_inertia_units": "kg m2 (3 x 3 tensor, row by row)",
+        {**_payload_attrs(com, I_p, "kg m2 (3 x 3 tensor, row by row)"),
          Attr.INPUT_FILE: source.name,
          Attr.INPUT_PATH: str(trajectory.source),
          Attr.INPUT_SHA256: str(trajectory.sha256),
          Attr.DERIVATIVES: str(trajectory.derivatives),
          Attr.SETPOINTS: int(np.asarray(trajectory.t).shape[0])})
+
+
+def _payload_attrs(com, inertia, inertia_units):
+    """The load's centre of mass [m] and inertia (``inertia_units``), with their units."""
+    return {Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3), "payload_com_units": "m",
+            Attr.PAYLOAD_INERTIA: np.asarray(inertia, dtype=float).reshape(-1),
+            "payload_inertia_units": inertia_units}
 
 
 def _by_payload(robot, masses, mass_attrs, data_vars, coords, title, dominance, negligible,
@@ -470,11 +474,7 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
                            "peak |tau| over all trajectories")},
         coords, f"G-D dominance of {robot.name} vs payload over {n_trajectories} trajectories",
         dominance, negligible,
-        {"kind": "payload",
-         Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
-         "payload_com_units": "m",
-         Attr.PAYLOAD_INERTIA: np.asarray(inertia, dtype=float).reshape(-1),
-         "payload_inertia_units": "kg m2 (principal moments)"})
+        {"kind": "payload", **_payload_attrs(com, inertia, "kg m2 (principal moments)")})
 
 
 def _ranking_vars(dims, results, labels, robot, kept, where):
