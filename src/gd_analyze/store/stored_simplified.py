@@ -245,6 +245,8 @@ class StoredSimplified(View):
         :func:`gd_analyze.store.datasets.stored_guarantee`.
     prismatic : tuple of bool, length n
         The prismatic joints.
+    n : int
+        The joints.
     has_drives : bool
         The robot has armature, friction or a torque offset.
     dataset : xarray.Dataset
@@ -300,6 +302,7 @@ class StoredSimplified(View):
     region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
     guarantee: dict | None = derived(stored_guarantee)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    n: int = derived(lambda ds: len(stored_prismatic(ds)))
     has_drives: bool = derived(stored_has_drives)
     dataset: xr.Dataset = derived(lambda ds: ds)
 
@@ -327,11 +330,6 @@ class StoredSimplified(View):
         if view is None:
             raise ValueError(f"no simplified model stored (no {Var.SIMPLIFIED_BOUND!r})")
         return view
-
-    @property
-    def n(self) -> int:
-        """int: the joints."""
-        return len(self.prismatic)
 
     @property
     def tau_units(self) -> list[str]:
