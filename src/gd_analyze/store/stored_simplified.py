@@ -249,6 +249,8 @@ class StoredSimplified(View):
         The prismatic joints.
     n : int
         The joints.
+    tau_units : list of str, length n
+        Each joint's torque units, ``"N m"`` or ``"N"``.
     has_drives : bool
         The robot has armature, friction or a torque offset.
     dataset : xarray.Dataset
@@ -306,6 +308,7 @@ class StoredSimplified(View):
     guarantee_kind: str = derived(lambda ds: (stored_guarantee(ds) or {}).get("kind", "none"))
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
     n: int = derived(lambda ds: len(stored_prismatic(ds)))
+    tau_units: list[str] = derived(lambda ds: joint_units(stored_prismatic(ds), "tau"))
     has_drives: bool = derived(stored_has_drives)
     dataset: xr.Dataset = derived(lambda ds: ds)
 
@@ -333,11 +336,6 @@ class StoredSimplified(View):
         if view is None:
             raise ValueError(f"no simplified model stored (no {Var.SIMPLIFIED_BOUND!r})")
         return view
-
-    @property
-    def tau_units(self) -> list[str]:
-        """list of str, length n: each joint's torque units, ``"N m"`` or ``"N"``."""
-        return joint_units(self.prismatic, "tau")
 
     @property
     def t(self) -> np.ndarray:

@@ -727,6 +727,8 @@ class MergedModel(View):
         The rule of each trajectory's own simplified model.
     guarantee_kind : str
         ``"region"``, ``"trajectory"`` or "" where none is stored.
+    region : bool
+        Its guarantee is proved over the joint-limit region.
     guarantee_statement : object
         The guarantee as the model states it (None where not stored).
     guarantee_scale_source : str
@@ -772,6 +774,7 @@ class MergedModel(View):
     torque_floor: float = stored(SA.MERGED_TORQUE_FLOOR, lambda v: float(v or 0.0), 0.0, attr=True)
     own_rule: str = stored(SA.OWN_MODEL_RULE, str, "chapter", attr=True)
     guarantee_kind: str = stored(SA.MERGED_GUARANTEE_KIND, str, "", attr=True)
+    region: bool = derived(lambda ds: str(ds.attrs.get(SA.MERGED_GUARANTEE_KIND, "")) == "region")
     guarantee_statement: Any = stored(SA.MERGED_GUARANTEE_STATEMENT, default=None, attr=True)
     guarantee_scale_source: str = stored(SA.MERGED_GUARANTEE_SCALE_SOURCE, str, "", attr=True)
     guarantee: dict | None = derived(merged_guarantee)
@@ -795,11 +798,6 @@ class MergedModel(View):
     held_out_inside_region: int = stored(SA.HELD_OUT_INSIDE_REGION, int, 0, attr=True)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-
-    @property
-    def region(self) -> bool:
-        """bool: its guarantee is proved over the joint-limit region."""
-        return self.guarantee_kind == "region"
 
 
 class SweepSettings(Record, namedtuple("SweepSettings", """
@@ -829,7 +827,6 @@ class SweepSettings(Record, namedtuple("SweepSettings", """
         ones the report says in rows of their own or that are results): a setting added
         later. Sorted by name.
     """
-
 
 
 @dataclass(frozen=True, eq=False)
