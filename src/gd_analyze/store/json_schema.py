@@ -71,7 +71,7 @@ def _message(err) -> tuple[str, str]:
         missing = next(k for k in needed if k not in value)
         return _key([*err.absolute_path, missing]), "missing key"
     if rule == "additionalProperties":
-        unknown = sorted(set(value) - set(schema.get("properties", {})))[0]
+        unknown = min(set(value) - set(schema.get("properties", {})))
         known = ", ".join(schema.get("properties", {}))
         return _key([*err.absolute_path, unknown]), f"unknown key (known: {known})"
     if rule == "enum":

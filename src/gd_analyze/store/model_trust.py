@@ -220,7 +220,7 @@ def check_guarantee(model: SimplifiedModel, path: str = "<model>") -> None:
         j = int(np.argmax(np.where(short, reproved - bound, -np.inf)))
         raise InputError(f"is below the bound re-proved for its dropped terms (joint {j + 1}: "
                          f"{bound[j]:.4g} < {reproved[j]:.4g})", path, column="guarantee.bound")
-    unmet = unproved_way(how, bound, _reproved(model, region, path)[1], limit) if how else None
+    unmet = unproved_way(how, bound, _reproved(model, region)[1], limit) if how else None
     if unmet is not None:
         raise InputError(f"joint {unmet + 1}'s {how[unmet]!r} does not give its bound "
                          f"{bound[unmet]:.4g} when derived again", path,
@@ -330,14 +330,14 @@ def reproved_bound(model: SimplifiedModel, region: Region, path: str = "<model>"
                              "keeps other terms: its bound cannot be proved", path,
                              column="guarantee.bound")
         return np.zeros(robot.n)
-    return _reproved(model, region, path)[0]
+    return _reproved(model, region)[0]
 
 
 #: The last re-derivation (:func:`_reproved`): claim key -> (bound, each way's bound).
 _REPROVED: dict = {}
 
 
-def _reproved(model, region, path):
+def _reproved(model, region):
     """:func:`reproved_bound` of a recursive model and each way's bound
     (:func:`gd_analyze.certify.certify.method_bounds`), the last kept."""
     key = _claim_key(model)

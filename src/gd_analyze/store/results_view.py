@@ -635,6 +635,8 @@ class Results(View):
         :func:`gd_analyze.store.datasets.stored_region`.
     guarantee : dict or None
         :func:`gd_analyze.store.datasets.stored_guarantee`.
+    guarantee_kind : str
+        Its kind, ``"region"``, ``"trajectory"`` or ``"none"`` (also where none is stored).
     inertia_check : str
         The proof (or sample) of D_s's positive definiteness, "" where none is stored.
     verification : Verification or None
@@ -694,6 +696,7 @@ class Results(View):
         ds, _joint_units(ds)["tau"]))
     region: dict | None = derived(stored_region)
     guarantee: dict | None = derived(stored_guarantee)
+    guarantee_kind: str = derived(lambda ds: (stored_guarantee(ds) or {}).get("kind", "none"))
     inertia_check: str = stored(Attr.SIMPLIFIED_INERTIA_CHECK_STATEMENT, str, "", attr=True)
     verification: Verification | None = derived(lambda ds: _verification(ds.attrs))
     robot_record: StoredRobot = derived(StoredRobot.read)
@@ -722,12 +725,6 @@ class Results(View):
     attrs: Mapping = derived(lambda ds: types.MappingProxyType(dict(ds.attrs)))
     dataset: xr.Dataset = derived(lambda ds: ds)
     source: str = "<memory>"
-
-    @property
-    def guarantee_kind(self) -> str:
-        """str: the stored guarantee's kind, ``"region"``, ``"trajectory"`` or ``"none"``
-        (also where the file stores none)."""
-        return "none" if self.guarantee is None else str(self.guarantee["kind"])
 
     @classmethod
     def open(cls, path: str | Path, lazy: bool = False) -> Results:

@@ -311,19 +311,20 @@ def _signals_held():
 def _conflict(new, owners):
     """The first new path that would replace a file of another command's manifest (the file,
     a folder above it, or a file where the path has a folder), with that command; or None."""
-    taken, dirs = owners.others, {}
-    for path, cmd in taken.items():
-        parts = path.split("/")
-        for k in range(1, len(parts)):
-            dirs.setdefault("/".join(parts[:k]), cmd)
+    taken = owners.others               # reversed: the first file under a folder names it
+    dirs = {folder: cmd for path, cmd in reversed(taken.items()) for folder in _folders(path)}
     for path in new:
-        parts = path.split("/")
         cmd = taken.get(path) or dirs.get(path) or next(
-            (taken["/".join(parts[:k])] for k in range(1, len(parts))
-             if "/".join(parts[:k]) in taken), None)
+            (taken[folder] for folder in _folders(path) if folder in taken), None)
         if cmd is not None:
             return path, cmd
     return None
+
+
+def _folders(path):
+    """The folders above a relative path: ``a`` and ``a/b`` for ``a/b/c``."""
+    parts = path.split("/")
+    return ["/".join(parts[:k]) for k in range(1, len(parts))]
 
 
 def _carry(real, stage, owners, command, tops=None):
@@ -628,10 +629,9 @@ def is_inside(name: str | bytes | os.PathLike[str] | os.PathLike[bytes],
     >>> is_inside("/a/b/c", "/a/b"), is_inside("/a/bc", "/a/b")
     (True, False)
     """
-    try:
-        return os.path.commonpath([os.path.abspath(os.fsdecode(name)),
-                                   os.path.abspath(folder)]) == os.path.abspath(folder)
-    except (TypeError, ValueError):
+    try:                            # both normalised: a comparison of their parts
+        return Path(os.path.abspath(os.fsdecode(name))).is_relative_to(os.path.abspath(folder))
+    except TypeError:               # not a path (a file descriptor)
         return False
 
 

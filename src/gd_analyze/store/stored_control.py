@@ -135,6 +135,8 @@ class StoredControl(View):
         Each controller's control law.
     prismatic : tuple of bool, length n
         The prismatic joints.
+    n : int
+        The joints.
     time : ndarray, shape (T,)
         The times of the runs [s].
     is_setpoint : ndarray of bool, shape (T,)
@@ -176,6 +178,7 @@ class StoredControl(View):
     controllers: tuple[str, ...] = stored(V.CONTROLLER, texts)
     descriptions: tuple[str, ...] = stored(V.CONTROLLER_DESCRIPTION, texts)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    n: int = derived(lambda ds: len(stored_prismatic(ds)))
     time: np.ndarray = stored(V.TIME)
     is_setpoint: np.ndarray = stored(V.IS_SETPOINT, lambda v: np.asarray(v).astype(bool))
     q_d: np.ndarray = stored(V.Q_D)
@@ -206,11 +209,6 @@ class StoredControl(View):
     settings: ControlSettings = derived(lambda ds: ControlSettings.from_attrs(ds.attrs))
     model: ModelFacts = derived(lambda ds: ModelFacts.from_attrs(ds.attrs, "model_"))
     run: RunRecord = derived(lambda ds: RunRecord.from_attrs(ds.attrs))
-
-    @property
-    def n(self) -> int:
-        """int: the joints."""
-        return len(self.prismatic)
 
     @classmethod
     def from_dataset(cls, ds: xr.Dataset, source: str = "<dataset>") -> StoredControl:

@@ -512,6 +512,8 @@ class StoredRecording(View):
         The time [s].
     torques : Mapping of str to ndarray, shape (N, n)
         The stored series of :data:`TORQUES`, by name [N m or N].
+    n : int
+        The joints.
     joint : ndarray, shape (n,), or None
         The joints' names, as stored.
     rms_error, relative_error, prior_relative_error, simplified_relative_error :
@@ -535,6 +537,7 @@ class StoredRecording(View):
     t: np.ndarray = stored("t", lambda v: np.asarray(v, float))
     torques: Mapping[str, np.ndarray] = derived(lambda ds: {
         v: ds[v].values for v in TORQUES if v in ds.variables})
+    n: int = derived(lambda ds: int(ds["tau_measured"].shape[1]))
     joint: np.ndarray | None = stored("joint", default=None)
     rms_error: np.ndarray | None = stored("rms_error", default=None)
     relative_error: np.ndarray | None = stored("relative_error", default=None)
@@ -554,11 +557,6 @@ class StoredRecording(View):
     def file_name(self) -> Any:
         """object: the recording's file name as stored, or else the group's name."""
         return self.name if self.file is None else self.file
-
-    @property
-    def n(self) -> int:
-        """int: the joints."""
-        return int(self.torques["tau_measured"].shape[1])
 
     @classmethod
     def from_dataset(cls, name: str,  # type: ignore[override]  # and its group

@@ -243,8 +243,14 @@ class StoredSimplified(View):
         Where the region's limits come from, and what was clipped to the robot's.
     guarantee : dict or None
         :func:`gd_analyze.store.datasets.stored_guarantee`.
+    guarantee_kind : str
+        Its kind, ``"region"``, ``"trajectory"`` or ``"none"`` (also where none is stored).
     prismatic : tuple of bool, length n
         The prismatic joints.
+    n : int
+        The joints.
+    tau_units : list of str, length n
+        Each joint's torque units, ``"N m"`` or ``"N"``.
     has_drives : bool
         The robot has armature, friction or a torque offset.
     dataset : xarray.Dataset
@@ -299,7 +305,10 @@ class StoredSimplified(View):
     region_source: str = stored(Attr.REGION_SOURCE, str, "the robot limits", attr=True)
     region_notes: str = stored(Attr.REGION_NOTES, lambda v: str(v or ""), "", attr=True)
     guarantee: dict | None = derived(stored_guarantee)
+    guarantee_kind: str = derived(lambda ds: (stored_guarantee(ds) or {}).get("kind", "none"))
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
+    n: int = derived(lambda ds: len(stored_prismatic(ds)))
+    tau_units: list[str] = derived(lambda ds: joint_units(stored_prismatic(ds), "tau"))
     has_drives: bool = derived(stored_has_drives)
     dataset: xr.Dataset = derived(lambda ds: ds)
 
@@ -327,22 +336,6 @@ class StoredSimplified(View):
         if view is None:
             raise ValueError(f"no simplified model stored (no {Var.SIMPLIFIED_BOUND!r})")
         return view
-
-    @property
-    def n(self) -> int:
-        """int: the joints."""
-        return len(self.prismatic)
-
-    @property
-    def tau_units(self) -> list[str]:
-        """list of str, length n: each joint's torque units, ``"N m"`` or ``"N"``."""
-        return joint_units(self.prismatic, "tau")
-
-    @property
-    def guarantee_kind(self) -> str:
-        """str: the stored guarantee's kind, ``"region"``, ``"trajectory"`` or ``"none"``
-        (also where none is stored)."""
-        return "none" if self.guarantee is None else str(self.guarantee["kind"])
 
     @property
     def t(self) -> np.ndarray:

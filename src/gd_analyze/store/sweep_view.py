@@ -393,15 +393,19 @@ def payload_dataset(robot: Robot, trajectory: Trajectory, masses: np.ndarray, co
         robot, masses, {"long_name": "payload mass on the last link", "units": "kg"},
         data_vars, element_coords(n, robot.prismatic, robot.joint_names()),
         f"G-D dominance of {robot.name} vs payload along {source.name}", dominance, negligible,
-        {Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
-         "payload_com_units": "m",
-         Attr.PAYLOAD_INERTIA: I_p.ravel(),
-         "payload_inertia_units": "kg m2 (3 x 3 tensor, row by row)",
+        {**_payload_attrs(com, I_p, "kg m2 (3 x 3 tensor, row by row)"),
          Attr.INPUT_FILE: source.name,
          Attr.INPUT_PATH: str(trajectory.source),
          Attr.INPUT_SHA256: str(trajectory.sha256),
          Attr.DERIVATIVES: str(trajectory.derivatives),
          Attr.SETPOINTS: int(np.asarray(trajectory.t).shape[0])})
+
+
+def _payload_attrs(com, inertia, inertia_units):
+    """The load's centre of mass [m] and inertia (``inertia_units``), with their units."""
+    return {Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3), "payload_com_units": "m",
+            Attr.PAYLOAD_INERTIA: np.asarray(inertia, dtype=float).reshape(-1),
+            "payload_inertia_units": inertia_units}
 
 
 def _by_payload(robot, masses, mass_attrs, data_vars, coords, title, dominance, negligible,
@@ -470,11 +474,7 @@ def sweep_payloads_dataset(robot: Robot, n_trajectories: int, masses: Sequence[f
                            "peak |tau| over all trajectories")},
         coords, f"G-D dominance of {robot.name} vs payload over {n_trajectories} trajectories",
         dominance, negligible,
-        {"kind": "payload",
-         Attr.PAYLOAD_COM: np.asarray(com, dtype=float).reshape(3),
-         "payload_com_units": "m",
-         Attr.PAYLOAD_INERTIA: np.asarray(inertia, dtype=float).reshape(-1),
-         "payload_inertia_units": "kg m2 (principal moments)"})
+        {"kind": "payload", **_payload_attrs(com, inertia, "kg m2 (principal moments)")})
 
 
 def _ranking_vars(dims, results, labels, robot, kept, where):
@@ -727,6 +727,8 @@ class MergedModel(View):
         The rule of each trajectory's own simplified model.
     guarantee_kind : str
         ``"region"``, ``"trajectory"`` or "" where none is stored.
+    region : bool
+        Its guarantee is proved over the joint-limit region.
     guarantee_statement : object
         The guarantee as the model states it (None where not stored).
     guarantee_scale_source : str
@@ -772,6 +774,7 @@ class MergedModel(View):
     torque_floor: float = stored(SA.MERGED_TORQUE_FLOOR, lambda v: float(v or 0.0), 0.0, attr=True)
     own_rule: str = stored(SA.OWN_MODEL_RULE, str, "chapter", attr=True)
     guarantee_kind: str = stored(SA.MERGED_GUARANTEE_KIND, str, "", attr=True)
+    region: bool = derived(lambda ds: str(ds.attrs.get(SA.MERGED_GUARANTEE_KIND, "")) == "region")
     guarantee_statement: Any = stored(SA.MERGED_GUARANTEE_STATEMENT, default=None, attr=True)
     guarantee_scale_source: str = stored(SA.MERGED_GUARANTEE_SCALE_SOURCE, str, "", attr=True)
     guarantee: dict | None = derived(merged_guarantee)
@@ -795,11 +798,6 @@ class MergedModel(View):
     held_out_inside_region: int = stored(SA.HELD_OUT_INSIDE_REGION, int, 0, attr=True)
     costs: EvaluatorCosts | None = derived(EvaluatorCosts.from_dataset)
     prismatic: tuple[bool, ...] = derived(stored_prismatic)
-
-    @property
-    def region(self) -> bool:
-        """bool: its guarantee is proved over the joint-limit region."""
-        return self.guarantee_kind == "region"
 
 
 class SweepSettings(Record, namedtuple("SweepSettings", """
@@ -829,7 +827,6 @@ class SweepSettings(Record, namedtuple("SweepSettings", """
         ones the report says in rows of their own or that are results): a setting added
         later. Sorted by name.
     """
-
 
 
 @dataclass(frozen=True, eq=False)
