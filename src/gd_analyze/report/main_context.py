@@ -652,15 +652,12 @@ def _caption_units(ds):
     """The units the captions state, from the joint types (:func:`captions`)."""
 
     prismatic = prismatic_joints(ds)
-    motion = []
-    for kind in (False, True):
-        joints = [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
-        if joints:
-            what = "prismatic" if kind else "revolute"
-            motion.append(", ".join(joint_motion_units(kind, shown=True))
-                          + (f" for {what} {joints_text(joints)}" if prismatic.any() else ""))
-    return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
-            "tau": units_said_once(ds, "tau")}
+    joints = {kind: [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
+              for kind in (False, True)}
+    return {"joints": say("motion_units", mixed=bool(prismatic.any()), kinds=[
+        (", ".join(joint_motion_units(kind, shown=True)), kind, joints_text(js))
+        for kind, js in joints.items() if js]),
+        "D": units_said_once(ds, "D"), "tau": units_said_once(ds, "tau")}
 
 
 #: The models every cost is shown against, by their label in the stored cost table.
