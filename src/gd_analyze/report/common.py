@@ -345,7 +345,7 @@ def _passages() -> dict[str, str]:
     text = re.sub(r"(?<=%}|#})\n|[ \t]*\n(?={[%#])", "", text)
     text = re.sub(r"[ \t]*\n", " ", text).replace("~", "\u00a0")
     return {m.group(1): m.group(0)
-            for m in re.finditer(r"{% macro (\w+)\(.*?{% endmacro %}", text, re.S)}
+            for m in re.finditer(r"{% macro (\w+)\(.*?{% endmacro %}", text, re.DOTALL)}
 
 
 @functools.cache
@@ -489,9 +489,6 @@ def units_said_once(ds: Results | xr.Dataset, kind: str) -> str:
     if kind != "D":
         return joint_units_text(torque_units(ds))
     prismatic = prismatic_joints(ds)
-    where = {"kg m\u00b2": "kg m\u00b2 where joints i and j are both revolute",
-             "kg m": "kg m where one of them is prismatic", "kg": "kg where both are"}
     n = len(prismatic)
-    found = {["kg m\u00b2", "kg m", "kg"][int(prismatic[i]) + int(prismatic[j])]
-             for i in range(n) for j in range(i, n)}
-    return found.pop() if len(found) == 1 else ", ".join(where[u] for u in where if u in found)
+    return say("d_units", found=sorted({int(prismatic[i]) + int(prismatic[j])     # prismatic
+                                        for i in range(n) for j in range(i, n)}))  # of i, j

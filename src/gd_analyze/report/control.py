@@ -503,8 +503,7 @@ def markers_words(ds: StoredControl | xr.Dataset, lines: Sequence[str],
               if drawn is None or c in drawn]
     if not starts:
         return "no curve drawn"
-    suffix = "th" if 10 <= k % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(k % 10, "th")
-    return say("markers_words", k=k, ordinal=f"{k}{suffix}", starts=starts, lines=len(names))
+    return say("markers_words", k=k, starts=starts, lines=len(names))
 
 
 def noise_scales(ds: StoredControl | xr.Dataset) -> tuple[float, np.ndarray, np.ndarray]:
@@ -632,13 +631,11 @@ def dataset_verdict(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     rule = {k: noise_words(s, k) for k in ("q", "tau")}     # the rules, said everywhere
     quiet = {c: not peaks[c].any() for c in names}   # every joint's error is noise: not data
     labels = controller_labels(s)
-    summary = "; ".join(f"{labels.get(c, c)}: peak |e| "
-                        + (NOISE if quiet[c] else by_type_text(peaks[c], prismatic, "q"))
-                        for c in names)
-    summary = summary[:1].upper() + summary[1:]
-    summary = (f"{stored_text(st.robot)} along {stored_text(st.trajectory_file)}, "
-               f"\u03c9{sub('n')} = {_per_joint(st.wn, ' rad/s')}, "
-               f"\u03b6 = {_per_joint(st.zeta)}. {summary}.")
+    summary = say("control_summary", robot=stored_text(st.robot),
+                  trajectory=stored_text(st.trajectory_file), wn=_per_joint(st.wn, " rad/s"),
+                  zeta=_per_joint(st.zeta), peaks=[(labels.get(c, c), NOISE if quiet[c] else
+                                                    by_type_text(peaks[c], prismatic, "q"))
+                                                   for c in names])
     diff = s.tau_difference_peak
     if diff is not None:
         diff = np.where(is_round_off(diff, tau_floor, 1.0), 0.0, diff)
@@ -693,7 +690,7 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
     setup = settings_table([
         *([{"model": "simplified model"}.get(k, k), f"{stored_text(file)} (SHA-256 "
            f"{stored_text(sha)})"] for k, (file, sha) in files.items()),
-        ["plant", _plant(st)],
+        ["plant", say("plant", stored=stored_text(st.plant))],
         ["controllers", "; ".join(labels.get(c, d) for c, d in zip(names, s.descriptions))
          + " (control laws below)"],
         ["desired motion", stored_text(st.interpolation).replace(
@@ -704,9 +701,8 @@ def control_context(ds: StoredControl | xr.Dataset) -> dict[str, Any]:
             "noise_measured", rtol=f"{float(st.noise_rtol):g}", atol=f"{float(st.noise_atol):g}",
             nfev=int(st.noise_nfev), factor=f"{float(st.noise_factor):g}",
             floor=f"{float(st.rtol):g}")],
-        [noise, None if st.noise_unmeasured is None else "not measured ("
-         + str(st.noise_unmeasured) + "): the floor is rtol \u00d7 the full-model controller's "
-         "peak |\u03c4|"],
+        [noise, None if st.noise_unmeasured is None else say(
+            "noise_unmeasured", why=str(st.noise_unmeasured))],
         ["samples", f"{stored_text(st.samples)} ({stored_text(st.setpoints)} set points + fine grid "
                     f"of {stored_text(st.grid_points)})"],
         ["initial offset q(0) \u2212 q" + sub("d") + "(0)",
@@ -820,11 +816,8 @@ def _model_note(s):
     in the words of the main report (:class:`gd_analyze.report.main_text.StoredModel`).
     Returns (text, whether the model has the recursive form)."""
     m = s.model
-    where = ("the joint-limit region" if str(m.guarantee_kind) == "region"    # pruned on bounds
-             else "this trajectory" if str(s.settings.trajectory_is_models) == "1"    # over it
-             else "the trajectory the model was built on")
-    if str(m.pairs_known) == "0":
-        where += " (or are structurally 0: the model file does not record which pairs act)"
+    where = say("model_where", region=str(m.guarantee_kind) == "region",   # pruned on bounds
+                own=str(s.settings.trajectory_is_models) == "1", unknown=str(m.pairs_known) == "0")
     kept = StoredModel.of(m, s.choice, where, weightless(m.gravity))   # the model's own gravity
     text = kept.sentence()
     if kept.recursive is not None and kept.recursive[1]:
@@ -893,16 +886,6 @@ def _gains_table(s, joints):
     return _table(header, rows, align="right")
 
 
-def _plant(settings):
-    """The simulated plant: the full G-D model's forward dynamics, written as mathematics."""
-    plant = stored_text(settings.plant)
-    friction = " \u2212 \u03c4" + sub("f") if "tau_f" in plant else ""     # the drives'
-    rest = plant.partition("; ")[2]                  # how the plant's Coulomb friction is set
-    return plant if not plant.startswith("full G-D model") else (
-        f"full G-D model, q\u0308 = D\u207b\u00b9 (\u03c4 \u2212 h \u2212 c{friction}) (Eq. 3.4-24)"
-        + f"; {rest}" * bool(rest))
-
-
 #: The controllers as a table's rows name them (the figures' keys: ``CONTROLLER_LABELS``;
 #: a run's own: :func:`controller_labels`).
 _SHORT = {"full": "full model", "simplified": "simplified model", "pd_gravity": "PD + gravity"}
@@ -941,11 +924,10 @@ def _provenance(s, version):
         rows.append((label, value))
     if st.verdict_tolerance_revolute is not None:
         kinds = set(s.prismatic)
-        said = [f"{stored_text(st.verdict_tolerance_revolute)} rad"
-                + (" (revolute joints)" if len(kinds) > 1 else "")] * (False in kinds) + \
-            [f"{stored_text(st.verdict_tolerance_prismatic)} m"
-             + (" (prismatic joints)" if len(kinds) > 1 else "")] * (True in kinds)
-        rows.append(("verdict tolerance", ", ".join(said)))
+        rows.append(("verdict tolerance", say(
+            "verdict_tolerance", both=len(kinds) > 1,
+            revolute=stored_text(st.verdict_tolerance_revolute) if False in kinds else "",
+            prismatic=stored_text(st.verdict_tolerance_prismatic) if True in kinds else "")))
     return rows
 
 

@@ -469,10 +469,8 @@ def joint_axes(n: int, cols: int, size: tuple[float, float], top: float, bottom:
     axes : list of matplotlib.axes.Axes
         The n panels in reading order; the grid's spare panels are hidden.
     """
-    from matplotlib.figure import Figure
-
     W, H = size
-    fig = Figure(figsize=size)
+    fig = new_figure(W, H)
     fig.subplots_adjust(left=0.75 / W, right=1 - 0.15 / W, top=1 - top / H,
                         bottom=bottom / H, wspace=wspace, hspace=hspace)
     axes = fig.subplots(math.ceil(n / cols), cols, squeeze=False, sharex=True).ravel()

@@ -406,8 +406,7 @@ def identify_context(root: StoredIdentification | xr.Dataset,
          said(rec.simplified_total_relative_error)) for rec in validated],
         inconsistent=isinstance(settings, dict) and bool(settings.get("robot_file_note")))
     unident = _json(stored.unidentifiable, [])
-    which = (f": {', '.join(clean(str(u)) for u in unident)}" if isinstance(unident, list)
-             and unident else "")
+    which = [clean(str(u)) for u in unident] if isinstance(unident, list) else []
     summary = say("identify_summary", parameters=len(names), unidentifiable=n_unident,
                   which=which, condition=fmt(cond, 4),
                   recordings=sum(role_of(rec) == 'train' for rec in recordings.values()))

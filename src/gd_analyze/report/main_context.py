@@ -296,7 +296,7 @@ def base_note(results: Results) -> str:
         return say("base_note")
     for j in range(com.shape[0]):
         for axis, c in (("X", 0), ("Y", 1)):
-            if values.get(f"M{axis}{j + 1}", None) == 0 and com[j, c] != 0:
+            if values.get(f"M{axis}{j + 1}") == 0 and com[j, c] != 0:
                 return say("base_note", moment=f"M{axis}{j + 1}", axis=axis.lower(),
                            com=_fmt(com[j, c]), link=j + 1)
     return say("base_note")
@@ -652,15 +652,12 @@ def _caption_units(ds):
     """The units the captions state, from the joint types (:func:`captions`)."""
 
     prismatic = prismatic_joints(ds)
-    motion = []
-    for kind in (False, True):
-        joints = [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
-        if joints:
-            what = "prismatic" if kind else "revolute"
-            motion.append(", ".join(joint_motion_units(kind, shown=True))
-                          + (f" for {what} {joints_text(joints)}" if prismatic.any() else ""))
-    return {"joints": "; ".join(motion), "D": units_said_once(ds, "D"),
-            "tau": units_said_once(ds, "tau")}
+    joints = {kind: [str(k + 1) for k in range(len(prismatic)) if prismatic[k] == kind]
+              for kind in (False, True)}
+    return {"joints": say("motion_units", mixed=bool(prismatic.any()), kinds=[
+        (", ".join(joint_motion_units(kind, shown=True)), kind, joints_text(js))
+        for kind, js in joints.items() if js]),
+        "D": units_said_once(ds, "D"), "tau": units_said_once(ds, "tau")}
 
 
 #: The models every cost is shown against, by their label in the stored cost table.
@@ -816,10 +813,8 @@ def report_context(results: Results | xr.Dataset) -> dict[str, Any]:
                          units=tau_units, scope=powers(_scope(statement)), shown=said,
                          placeholder_inertia=results.robot_record.placeholder_inertia,
                          round_off=err_off)
-    facts = (f"{robot_name}, {n} joint{'s' if n != 1 else ''}, {count(N)} set points over {_fmt(t[-1] - t[0], 4)} s; "
-             f"{len(labels)} elements ranked with s = {s:g}, e = {e:g}: "
-             + ", ".join(f"{counts[c]} {c}" for c in _CLASS_COLOURS)
-             + f". Verification against Pinocchio: {verified}.")
+    facts = say("main_facts", robot=robot_name, n=n, N=count(N), span=_fmt(t[-1] - t[0], 4),
+                M=len(labels), s=f"{s:g}", e=f"{e:g}", counts=counts, verified=verified)
     enveloped = N > ENVELOPE_THRESHOLD
     simplified = results.simplified
     model = None if simplified is None else simplified_context(simplified)
@@ -1046,10 +1041,8 @@ def _setting(asked, built):
 
 def _payload(p):
     mass = float(p.payload_mass or 0.0)
-    if mass == 0.0:
-        return "none"
-    return (f"{mass:g} kg, centre of mass {_text(p.payload_com)} m in link frame n, "
-            f"inertia diagonal {_text(p.payload_inertia)} kg m\u00b2")
+    return say("payload_row", mass=f"{mass:g}" if mass else "", com=_text(p.payload_com),
+               inertia=_text(p.payload_inertia))
 
 
 def _vector(value):
@@ -1063,14 +1056,9 @@ def _vector(value):
 def _mounting(p):
     """The mounting in words: how the base is turned, and where gravity comes from."""
     rpy, world = _vector(p.mounting_base_rpy_deg), _vector(p.mounting_gravity_world)
-    if rpy is None and world is None:
-        return None
-    base = ("base not turned" if rpy is None or not np.any(rpy) else
-            "base turned by roll, pitch, yaw " + ", ".join(_fmt(v, 6) for v in rpy) + " deg")
-    if world is None:
-        return base + "; gravity as the robot file gives it (Sec. 1.1)"
-    return (base + "; gravity (" + ", ".join(_fmt(v, 6) for v in world) + ") m/s\u00b2 in "
-            "the world, in the base frame as Sec. 1.1 gives it")
+    return None if rpy is None and world is None else say(
+        "mounting", rpy=[_fmt(v, 6) for v in rpy] if rpy is not None and np.any(rpy) else [],
+        world=[] if world is None else [_fmt(v, 6) for v in world])
 
 
 def provenance_rows(results: Results, created: str, version: str,
@@ -1215,18 +1203,13 @@ def gravity_row(ds: RunRecord | xr.Dataset) -> tuple[str, str]:
     r = _record(ds)
 
     def vector(value):
-        return ", ".join(f"{float(v):g}" for v in np.atleast_1d(value))
+        return None if value is None else ", ".join(f"{float(v):g}" for v in np.atleast_1d(value))
 
     base = r.mounting_gravity_base if r.mounting_gravity_base is not None else r.gravity
-    text = f"{vector(base)} m/s\u00b2 in the base frame" if base is not None else "not recorded"
-    if r.mounting_gravity_world is not None:
-        text += f" (given as {vector(r.mounting_gravity_world)} m/s\u00b2 in the world)"
-    rpy = np.atleast_1d([0.0] if r.mounting_base_rpy_deg is None else r.mounting_base_rpy_deg)
-    if np.any(np.asarray(rpy, float) != 0):
-        text += f"; base turned by roll, pitch, yaw {vector(r.mounting_base_rpy_deg)} deg"
-    elif r.mounting_base_rpy_deg is not None:
-        text += "; base as in the robot file"
-    return ("gravity and mounting", text)
+    rpy = r.mounting_base_rpy_deg
+    return ("gravity and mounting", say(
+        "gravity_row", base=vector(base), world=vector(r.mounting_gravity_world), rpy=vector(rpy),
+        turned=rpy is not None and bool(np.any(np.asarray(np.atleast_1d(rpy), float) != 0))))
 
 
 def guarantee_row(label: str, kind: object, statement: object) -> tuple[str, str | None]:

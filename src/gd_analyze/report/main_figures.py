@@ -711,7 +711,6 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
     carries through link n's inertial parameters.
     """
     from matplotlib.colors import LinearSegmentedColormap
-    from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
     part = PayloadSweep.of(ds)
@@ -730,10 +729,7 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
         W = width
         s, e = (float(np.nan if v is None else v)
                 for v in (part.dominance_threshold, part.negligible_threshold))
-        title = (f"Dominance against the payload on the last link (s = {s:g}, e = {e:g})\n"
-                 "T/R/B/N = translational/rotational/both/negligible; framed: class "
-                 "differs from the first payload\ngrey: \u2261 0 (round-off in every part), no "
-                 "share drawn")
+        title = say("payload_title", s=f"{s:g}", e=f"{e:g}")
         if column:          # bold 8 pt: about 44 characters a line; elements down, 7 pt a row
             title = textwrap.fill(title.replace("\n", "; "), 44)
             heat_h, top, left = 0.15 * M, 0.22 + 0.15 * (title.count("\n") + 1), 0.5
@@ -745,7 +741,7 @@ def payload_figure(ds: PayloadSweep | xr.Dataset, width: float = PAGE_WIDTH) -> 
             tau_h = 2.6
             H = heat_h + 4.6
             heat_w = W - 2.0
-        fig = Figure(figsize=(W, H))
+        fig = new_figure(W, H)
         ax = fig.add_axes((left / W, (H - top - heat_h) / H, heat_w / W, heat_h / H))
         cmap = LinearSegmentedColormap.from_list(
             "rot_tran", [CLASS_COLOURS["rotational"], "#FFFFFF",
@@ -907,7 +903,7 @@ def plot_data(ds: xr.Dataset,
     names = [v for v in names if v not in OPTIONAL or _held(ds, v)]
     t = np.asarray(ds[Var.T].values, dtype=float)
     N = t.size
-    if N <= threshold:
+    if threshold >= N:
         series = {v: _chunk(ds, v, 0, N) for v in names}
         if progress:
             progress(N)
@@ -915,8 +911,8 @@ def plot_data(ds: xr.Dataset,
     t0, t1 = float(t[0]), float(t[-1])
     col = (np.minimum(((t - t0) * (columns / (t1 - t0))).astype(np.intp), columns - 1)
            if t1 > t0 else (np.arange(N) * columns) // N)
-    lo: dict[str, Any] = {v: None for v in names}
-    hi: dict[str, Any] = {v: None for v in names}
+    lo: dict[str, Any] = dict.fromkeys(names)
+    hi: dict[str, Any] = dict.fromkeys(names)
     for a in range(0, N, chunk):
         b = min(N, a + chunk)
         c = col[a:b]

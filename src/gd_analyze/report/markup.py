@@ -34,8 +34,7 @@ if TYPE_CHECKING:
     from markupsafe import Markup
 
 __all__ = ["SUB", "SUP", "CODE", "END", "sub", "sup", "code", "element", "tau", "html",
-           "unicode", "spans", "plain", "clean", "visible", "label", "marked", "scope", "powers",
-           "TRAN", "ROT"]
+           "unicode", "spans", "plain", "clean", "visible", "label", "marked", "scope", "powers"]
 
 #: Start of a subscript, of a superscript, end of either, start of code (Unicode private use
 #: area).
@@ -327,8 +326,7 @@ def spans(text: str) -> list[tuple[str, str | None]]:
     out: list[tuple[str, str | None]] = []
     pos = 0
     for m in _MARKS.finditer(text):
-        out.append((clean(text[pos:m.start()]), None))
-        out.append((clean(m.group(2)), _KIND[m.group(1)]))
+        out.extend(((clean(text[pos:m.start()]), None), (clean(m.group(2)), _KIND[m.group(1)])))
         pos = m.end()
     out.append((clean(text[pos:]), None))
     return [(t, k) for t, k in out if t]
@@ -379,7 +377,3 @@ def visible(text: str) -> str:
     shown = {ord(c): f"[U+{ord(c):04X}]" for c in set(text)
              if unicodedata.category(c) == "Cf"}  # each distinct character looked up once
     return text.translate(shown) if shown else text
-
-
-#: The translational and rotational parts of an element X, as figures letter them.
-TRAN, ROT = label("X^tran"), label("X^rot")

@@ -15,11 +15,7 @@ from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["Block", "Section", "Outline", "PARAGRAPH_SIZE"]
-
-#: The paragraph styles and their type size [pt] (the PDF sets its own, by the same names:
-#: ``templates/report.typ``; the HTML's classes have the same names).
-PARAGRAPH_SIZE = {"lead": 9.5, "summary": 9.5, "body": 9.0, "note": 8.5, "strong": 9.0}
+__all__ = ["Block", "Section", "Outline"]
 
 
 @dataclass(frozen=True)
@@ -33,7 +29,9 @@ class Block:
         The paragraph's text (str); the table (dict of :func:`gd_analyze.report.common.table`);
         the figure's key; the counts (dict class -> number).
     style : str
-        Paragraph style (a key of :data:`PARAGRAPH_SIZE`); ``"kv"`` for an item/value table.
+        Paragraph style, one of :data:`gd_analyze.report.typeset.PARAGRAPH_STYLES` (the PDF
+        sets their sizes, ``templates/report.typ``; the HTML's classes have the same names);
+        ``"kv"`` for an item/value table.
     number : str
         A table's number within its top-level section ("5.2") or a figure's ("3").
     text : str
@@ -158,7 +156,7 @@ class Outline:
         text : str
             May hold the marks of :mod:`gd_analyze.report.markup`.
         style : str, optional
-            A key of :data:`PARAGRAPH_SIZE`.
+            One of :data:`gd_analyze.report.typeset.PARAGRAPH_STYLES`.
         """
         if text:
             self._add(Block("paragraph", text, style))

@@ -518,7 +518,7 @@ def fig_cost_ladder(ds: StoredSimplified | xr.Dataset, width: float = _PAGE) -> 
     # (linear below _COST_LINEAR %, where 0 sits)
     ax.set_yscale("symlog", linthresh=_COST_LINEAR, linscale=0.5)
     top = max([100 * p[2] for p in points] + [10 * _COST_LINEAR]) * 2.5
-    for k, (label, ops, err, kind) in enumerate(points):
+    for (label, ops, err, kind) in points:
         marker, colour = _COST_STYLE[kind]
         filled = kind not in ("bound", "akb")
         ax.plot([ops], [100 * err], linestyle="none", marker=marker, color=colour,
@@ -963,10 +963,8 @@ def error_figure(ds: StoredSimplified | xr.Dataset, width: float = 7.2,
     top, hgap, h = (0.45, 0.5, 1.0) if column else (0.5, 0.62, 1.6)
     note = ""
     if quiet:                       # wrapped for 8.5 pt (the least printed size's text)
-        peaks = "; ".join(
-            f"{i + 1}: "
-            + f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", "\u2212") + f" {units[i]}"
-            for i in quiet)
+        peaks = [f"{float(np.max(np.abs(diff[:, i]))):.1e}".replace("-", "\u2212")
+                 + f" {units[i]}" for i in quiet]
         note = textwrap.fill(say("nothing_dropped", joints=[i + 1 for i in quiet], peaks=peaks),
                              int((W - 0.3) / 0.075))
     note_h = 0.12 + 0.16 * (note.count("\n") + 1) if quiet else 0.0

@@ -70,6 +70,7 @@ from .common import table as _table
 from .drawing import draw_figures, write_report_files
 from .figure_style import SUPTITLE_RC as _RC
 from .figure_style import gridspec as _gridspec
+from .figure_style import new_figure
 from .main_context import command_row, gravity_row, guarantee_row, run_row, software_row
 from .main_figures import CLASS_LETTER as _LETTER
 from .main_figures import COLUMN_WIDTH, PAGE_WIDTH, payload_figure
@@ -341,8 +342,6 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
     lower left: D's panels with titles of two lines and y tick labels on a row's first panel
     only, h's each with its axis label; in reading order, ``cols`` a row, otherwise.
     ``part``: (this part, of how many), said in the title where more than one."""
-    from matplotlib.figure import Figure
-
     d, column, n = labels[0].startswith("D"), width < PAGE_WIDTH, w.joints
     if triangle:
         cells = [(i, j) for i in range(n) for j in range(i, n)]
@@ -377,7 +376,7 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
         more *= _SECOND_LINE
         hgap, bottom, top = ((0.55 if d else 0.5) + more, 1.75 + more,
                              0.74 if d else 0.55 if column else 0.5)
-    fig = Figure(figsize=(width, H))
+    fig = new_figure(width, H)
     gs = _gridspec(fig, rows, cols, left=left, right=right, top=top, bottom=bottom, wgap=wgap,
                    hgap=hgap)
     for label, (r, c), own in zip(labels, cells, first):
@@ -403,10 +402,8 @@ def _share_grid(w, labels, width, cols, part=(1, 1), triangle=False):
                  ha="left", fontsize=7, linespacing=1.25 if column or d else 1.3)
     if d:
         fig.supylabel("translational share [1]", x=0.05 / width, ha="left")
-    of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
-    fig.suptitle(f"Translational share of the elements of {labels[0][0]}"
-                 f"{chr(10) if column else ' '}over the sweep (layout of Fig. "
-                 f"{'3.10' if d else '3.11'}{of})", y=1 - (0.08 if column else 0.15) / H,
+    fig.suptitle(say("sweep_title", key=labels[0][0], column=column, part=part),
+                 y=1 - (0.08 if column else 0.15) / H,
                  va="top", **({} if triangle else {"fontsize": 9 if column else None}))
     return fig
 
@@ -441,7 +438,6 @@ def _class_figures(w, width, parts=1):
 def _fig_classes(w, width, rows, part):
     """The class fractions of the elements ``rows`` (a list of their indices) as stacked bars,
     each with the merged model's choice; ``part``: (this part, of how many)."""
-    from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
     labels = [w.elements[k] for k in rows]
@@ -450,7 +446,7 @@ def _fig_classes(w, width, rows, part):
     M = len(labels)
     column = width < PAGE_WIDTH
     W, H = width, _class_height(column, M)
-    fig = Figure(figsize=(W, H))
+    fig = new_figure(W, H)
     ax = fig.add_axes(((0.45 if column else 1.0) / W, (1.05 if column else 0.8) / H,
                        (W - (1.4 if column else 2.6)) / W,
                        (H - (1.6 if column else 1.4)) / H))
@@ -471,9 +467,7 @@ def _fig_classes(w, width, rows, part):
     fig.legend(handles=[Patch(color=_CLASS_COLOURS[c], label=c) for c in CLASSES],
                loc="lower center", ncol=2 if column else 4, frameon=False,
                bbox_to_anchor=(0.5, 0.0), fontsize=7 if column else None)
-    of = f", part {part[0]} of {part[1]}" if part[1] > 1 else ""
-    fig.suptitle(f"Dominance class per element{chr(10) if column else ' '}over "
-                 f"{w.trajectories} trajector{'y' if w.trajectories == 1 else 'ies'}{of}",
+    fig.suptitle(say("sweep_title", key="classes", column=column, part=part, K=w.trajectories),
                  y=1 - 0.12 / H, va="top", fontsize=9 if column else None)
     return fig
 
@@ -511,17 +505,14 @@ def error_marks(ds: StoredSweep | xr.Dataset
         s_i = np.where(s_i > 0, s_i, np.inf)
         own = np.asarray(w.tau_error_peak, float) / s_i
         overall = np.asarray(w.merged_error_peak, float) / s_i.max(axis=0)
-    tau = w.tau_peak
-    own = np.where(torque_error_round_off(m, w.tau_error_peak, tau), 0.0, own)
-    merged = np.where(torque_error_round_off(m, w.merged_tau_error_peak, tau), 0.0,
-                      merged)
-    overall = np.where(torque_error_round_off(m, w.merged_error_peak,
-                                              w.merged_error_tau_peak), 0.0, overall)
+    marks = ((own, w.tau_error_peak, w.tau_peak), (merged, w.merged_tau_error_peak, w.tau_peak),
+             (overall, w.merged_error_peak, w.merged_error_tau_peak))
+    own, merged, overall = (np.where(torque_error_round_off(m, peak, tau), 0.0, rel)
+                            for rel, peak, tau in marks)
     return own, merged, overall, region
 
 
 def _fig_error(w, width=PAGE_WIDTH):
-    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.ticker import NullFormatter
 
@@ -530,7 +521,7 @@ def _fig_error(w, width=PAGE_WIDTH):
     own, merged, overall, region = error_marks(w)
     column = width < PAGE_WIDTH
     W, H = width, (3.9 if column else 3.1)
-    fig = Figure(figsize=(W, H))
+    fig = new_figure(W, H)
     ax = fig.add_axes((0.75 / W, (1.25 if column else 0.9) / H, (W - 0.95) / W,
                        (H - (2.05 if column else 1.6)) / H))
     # "joint i" across, or "i" where those would touch (a column, or 12 joints and more)
@@ -579,11 +570,8 @@ def _fig_error(w, width=PAGE_WIDTH):
               loc="upper center",       # below the tick labels, and the axis label if any
               bbox_to_anchor=(0.5, -0.2 if column else -0.3 if short else -0.12),
               ncol=1 if column else 2, frameon=False, fontsize=7)
-    fig.suptitle("Relative peak torque error per joint\n(box: quartiles, whiskers: min/max;\n"
-                 "round-off not drawn)" if column else
-                 "Relative peak torque error per joint (box: quartiles, whiskers: min/max;\n"
-                 f"round-off, {TORQUE_ROUND_OFF_WORDS}, not drawn)", y=1 - 0.08 / H,
-                 va="top", fontsize=8.5)
+    fig.suptitle(say("sweep_title", key="error", column=column, round_off=TORQUE_ROUND_OFF_WORDS),
+                 y=1 - 0.08 / H, va="top", fontsize=8.5)
     return fig
 
 
@@ -661,10 +649,10 @@ def merged_claim(ds: MergedModel | xr.Dataset) -> str:
     m = MergedModel.of(ds)
     if m.region:
         return say("merged_claim", region=True, floor=_floor(m) if m.torque_floor > 0 else "",
-                   bound=_bound_clause(m), statement=scope_markup(str(m.guarantee_statement)),
+                   bound=_worst_bound(m), statement=scope_markup(str(m.guarantee_statement)),
                    coverage=coverage(m), source=scope_markup(m.guarantee_scale_source))
     beyond = m.beyond_floor
-    return say("merged_claim", region=False, floor=_floor(m), bound=_bound_clause(m),
+    return say("merged_claim", region=False, floor=_floor(m), bound=_worst_bound(m),
                eps=_eps(m), worst=_measured_error(m.worst_scaled_error),
                beyond=None if beyond is None else (_pct(beyond[0]), beyond[1],
                                                    joints_text(beyond[2])))
@@ -719,19 +707,14 @@ def _merged_rule(m, kept):
     """The heading of the merged model's section and its description, in words that follow its
     rule: a bound only for the budget rule; ``kept``: its
     :class:`~gd_analyze.report.main_text.StoredModel`."""
-    recursive, after = m.form == "recursive", ""
-    if m.rule == "budget" and m.region:
-        said, text = f"budget rule over the joint-limit region, \u03b5 = {_eps(m)}", _region_rule(m, kept)
-    elif m.rule == "budget":
-        said = f"budget rule, \u03b5 = {_eps(m)}"
-        text = say("merged_budget", recursive=recursive, eps=_eps(m),
-                   stored=m.bound is not None, bound=_worst_bound(m))
-        after = "" if recursive else (" The budget weighs single terms too, so a part it keeps "
-                                      "may lose some of its terms.")
-    else:
-        said, text = "chapter rule, no error bound", say("merged_chapter", weightless=kept.weightless)
-    return f"5. Merged model ({said}) and its torque error", (
-        f"{text} {_keeps(m, kept)}{after} {_cost_sentence(m, table=True)}")
+    budget, recursive = m.rule == "budget", m.form == "recursive"
+    eps = _eps(m) if budget else ""
+    text = (_region_rule(m, kept) if budget and m.region else say(
+        "merged_budget", recursive=recursive, eps=eps, stored=m.bound is not None,
+        bound=_worst_bound(m)) if budget else say("merged_chapter", weightless=kept.weightless))
+    return say("merged_heading", region=m.region, eps=eps), say(
+        "merged_text", text=text, keeps=_keeps(m, kept), cost=_cost_sentence(m, table=True),
+        terms=budget and not m.region and not recursive)
 
 
 def _eps(m):
@@ -765,16 +748,6 @@ def _worst_bound(m):
         return "0 (nothing dropped contributes)"
     k, j = np.unravel_index(np.argmax(rel), rel.shape)
     return f"{_pct(rel[k, j])} of {_SI} (joint {j + 1})"
-
-
-def _bound_clause(m):
-    """The summary's clause on the bound per trajectory ("its bound there is at most 0.41 %
-    of s_i (joint 2), "); "" without merged_bound."""
-    worst = _worst_bound(m)
-    if worst is None:
-        return ""
-    return f"its bound is at most {worst}; " if m.region else \
-        f"its bound there is at most {worst}, "
 
 
 def _held_out(m):
@@ -1013,10 +986,9 @@ def _settings(w, inputs, version):
                            most=count(setpoints.max()) if setpoints.size else "")),
         ("duration [s]", say("sweep_duration", least=_fmt(np.min(durations)),
                              most=_fmt(np.max(durations)), median=_fmt(np.median(durations)))),
-        ("merge rule", f"{_or(st.merged_rule, 'chapter')} rule (Sec. 5)"
-                       + (f", \u03b5 = {_text(m.tolerance)}, torque floor "
-                          f"{_floor(m)}"
-                          if m.tolerance is not None else "")),
+        ("merge rule", say("merge_rule", rule=_or(st.merged_rule, "chapter"),
+                           eps=None if m.tolerance is None else _text(m.tolerance),
+                           floor=None if m.tolerance is None else _floor(m))),
         ("payload on the last link", f"{_text(st.payload_mass, '0')} kg"
          if float(_or(st.payload_mass, 0.0) or 0.0) else "none"),
         guarantee_row("guarantee of the merged model", m.guarantee_kind,
@@ -1047,17 +1019,15 @@ def _worst_cases(w, labels):
     rel = np.where(off, np.nan, w.merged_tau_error_relative_peak)          # (K, n)
     per_traj = np.where(np.isfinite(rel), rel, -np.inf).max(axis=1)
     order = [k for k in np.argsort(per_traj)[::-1][:3] if np.isfinite(per_traj[k])]
-    scale = (f"{_SI} over the region" if m.region
-             else f"its own {_SI}" if m.scale is not None else "its own peak |τ|")
     worst = {k: int(np.nanargmax(rel[k])) for k in order}          # trajectory: its joint
-    parts = [f"{w.sources[k]} ({_pct(rel[k, j])} of {scale} at joint {j + 1})"
-             for k, j in worst.items()]
     spread = w.share_max - w.share_min
     top = [k for k in np.argsort(np.nan_to_num(spread, nan=-1.0))[::-1][:3]
            if np.isfinite(spread[k]) and _ranges(w, k)]
-    elems = [f"{markup.marked(labels[k])} ({_share_text(w.share_min[k])}\u2013"
-             f"{_share_text(w.share_max[k])})" for k in top]
-    return say("worst_cases", cases=parts, elements=elems, round_off=bool(off.all()))
+    return say("worst_cases", round_off=bool(off.all()),
+               scale="region" if m.region else "own" if m.scale is not None else "",
+               cases=[(w.sources[k], _pct(rel[k, j]), j + 1) for k, j in worst.items()],
+               elements=[(markup.marked(labels[k]), _share_text(w.share_min[k]),
+                          _share_text(w.share_max[k])) for k in top])
 
 
 def _ranges(w, k):
@@ -1238,7 +1208,7 @@ _KEYWORD_ROWS = ("robot file", "dominance threshold s, negligibility threshold e
 def _keywords(ctx):
     """The provenance in the PDF's document information: the inputs' SHA-256 and the
     settings, from the settings table (one fact in one place)."""
-    rows = dict((markup.plain(k), markup.plain(v)) for k, v in ctx["settings"]["rows"])
+    rows = {markup.plain(k): markup.plain(v) for k, v in ctx["settings"]["rows"]}
     return "; ".join(["G-D dominance sweep", f"gd-analyze {ctx['version']}"]
                      + [f"{k}: {rows[k]}" for k in _KEYWORD_ROWS if k in rows])
 
